@@ -1,0 +1,627 @@
+/*
+ * tgm_cnc.h -- the C ABI of the SF_TCh CNC module library (libSF_TCh.so).
+ *
+ * This header is the single source of truth for the library's binary interface:
+ * the Cython sources declare their structures from it, the C compiler checks every
+ * exported definition against the prototypes below, and abi_check compares the
+ * Python ctypes mirror (sf_tch.abi) with it field by field.
+ *
+ * Layouts follow the vendor's data-structure description (natural C alignment, no
+ * packing pragma). Sizes on Linux x86_64 are asserted at the end of this file.
+ *
+ * Threading: every function may be called from any host thread. Long work
+ * (compilation, simulation, motion) runs in the library's own threads; the calls
+ * that start it return at once. Callbacks may be called from those threads.
+ *
+ * Valid C99 and C++.
+ */
+#ifndef TGM_CNC_H
+#define TGM_CNC_H
+
+#include <stdint.h>
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#if defined(_WIN32)
+#  define TOOLCHAIN_CALLTYPE __cdecl
+#  define TOOLCHAIN_API __declspec(dllexport)
+#else
+#  define TOOLCHAIN_CALLTYPE
+#  define TOOLCHAIN_API __attribute__((visibility("default")))
+#endif
+
+/* File names, directories and returned texts (UTF-16 on Windows; this build is Linux). */
+typedef const char *TGM_LPCTSTR;
+typedef char *TGM_LPTSTR;
+/* G-code text and error texts: always narrow. */
+typedef const char *TGM_LPCSTR;
+
+/* ------------------------------------------------------------------ constants */
+
+/* Return codes. */
+#define TOOL_CHAIN_BAD_INTR_INDEX (-2) /* intIdx is not a core of this library */
+#define TOOL_CHAIN_ERROR          (-1) /* bad argument, NULL pointer, wrong status */
+#define TOOL_CHAIN_SUCCESS          0
+#define TOOL_CHAIN_XEXEC            1  /* runtime failure (e.g. LoadFromIni) */
+#define TOOL_CHAIN_XBREAK           2
+
+/* Number of CNC cores (independent interpolator channels) of this build. */
+#define TOOL_CHAIN_MAX_CORES 3
+
+/* "Address not present" marker of P10DOUBLE / P26FLOAT cells. */
+#define INVALID_VALUE   1e38
+#define INVALID_VALUE_F 1e38f
+
+/* Special file indexes of FileToIdx / IdxToFile. */
+#define TOOL_CHAIN_FILE_UNKNOWN (-1) /* "__unknown__" */
+#define TOOL_CHAIN_FILE_END     (-2) /* "__end__"     */
+#define TOOL_CHAIN_FILE_STOP    (-3) /* "__stop__"    */
+#define TOOL_CHAIN_FILE_EXEC    (-4) /* "__exec__"    */
+/* File names of this many characters or more are refused. */
+#define TOOL_CHAIN_MAX_FILE_NAME 252
+
+/* Status of a core (ToolChainCore_StatusCNC, GM_PARAMS_ENHANCED.m_statusCNC). */
+enum cnc_status {
+    CNC_STATUS_NOTHING_LOADED      = 0,
+    CNC_STATUS_NOT_CONNECTED       = -2,
+    CNC_STATUS_COMPILING           = 1,
+    CNC_STATUS_COMPILED            = -1,
+    CNC_STATUS_SIMULATING          = 10,
+    CNC_STATUS_SIMULATION_DONE     = -10,
+    CNC_STATUS_SIMULATION_STOPPED  = -11,
+    CNC_STATUS_TESTING             = 20,
+    CNC_STATUS_TEST_DONE           = -20,
+    CNC_STATUS_TEST_STOPPED        = -21,
+    CNC_STATUS_AT_START            = -30,
+    CNC_STATUS_STOPPED             = -31,
+    CNC_STATUS_AT_END              = -32,
+    CNC_STATUS_STOPPED_BY_M0       = -33,
+    CNC_STATUS_FORWARD             = 30,
+    CNC_STATUS_FORWARD_NO_M        = 31,
+    CNC_STATUS_BACKWARD            = 32,
+    CNC_STATUS_FORWARD_SKIP_FIRST_M = 33,
+    CNC_STATUS_CONNECT_CALCULATING = 40,
+    CNC_STATUS_CONNECT_MOVING      = 41,
+    CNC_STATUS_MANUAL_MOVE         = 50,
+    CNC_STATUS_OUT_OF_TRAJECTORY   = -50,
+    CNC_STATUS_INTERNAL_CALC       = 60,
+    CNC_STATUS_SENDING_START_M     = 70,
+    CNC_STATUS_SENDING_STOP_M      = 80,
+    CNC_STATUS_SENDING_CONNECT_M   = 90,
+    CNC_STATUS_INVALID             = -1234
+};
+
+/* Regimes of ToolChainCore_StartCNCEx. */
+enum run_regime {
+    RUN_SIMULATION        = 10,
+    RUN_TEST              = 20,
+    RUN_FORWARD           = 30,
+    RUN_FORWARD_NO_M      = 31,
+    RUN_BACKWARD          = 32,
+    RUN_FORWARD_SKIP_FIRST_M = 33
+};
+
+/* Regime of ToolChainCore_ResetCNC: only mark the program start. */
+#define RESET_MARK_START_ONLY 1
+
+/* nType of ToolChainCore_ConnectCNCEx_Plane. */
+enum connect_type {
+    CONNECT_NEAREST_AND_STOP       = 0,
+    CONNECT_LINE_START             = 1,
+    CONNECT_LINE_END               = 2,
+    CONNECT_NEAREST_CONTINUE       = 10,
+    CONNECT_LINE_START_CONTINUE    = 11,
+    CONNECT_LINE_END_CONTINUE      = 12,
+    CONNECT_MFUNC_ABSOLUTE         = 20,
+    CONNECT_MFUNC_RELATIVE         = 21,
+    CONNECT_INDEX_START            = 30,
+    CONNECT_INDEX_NEAREST          = 31,
+    CONNECT_INDEX_END              = 32,
+    CONNECT_NEAREST_NO_PAUSE       = 40,
+    CONNECT_LINE_START_NO_PAUSE    = 41,
+    CONNECT_LINE_END_NO_PAUSE      = 42,
+    CONNECT_INDEX_NEAREST_NO_PAUSE = 44,
+    CONNECT_EXACT_POINT            = 46
+};
+
+/* Axis bits (axesForCalc / axesForConnect), in P10DOUBLE order. */
+#define AXIS_BIT_X 0x001
+#define AXIS_BIT_Y 0x002
+#define AXIS_BIT_Z 0x004
+#define AXIS_BIT_C 0x008
+#define AXIS_BIT_B 0x010
+#define AXIS_BIT_U 0x020
+#define AXIS_BIT_V 0x040
+#define AXIS_BIT_W 0x080
+#define AXIS_BIT_A 0x100
+#define AXIS_BIT_O 0x200
+#define AXIS_BITS_ALL 0x3FF
+
+/* Log mask of ToolChainCore_SetLogValue: sources ... */
+#define LOG_DEBUG      0x00000001u
+#define LOG_VERBOSE    0x00000002u
+#define LOG_WORKER     0x00000004u
+#define LOG_TOOLCHAIN  0x00000008u
+#define LOG_DRIVER     0x00000010u
+#define LOG_COMPILER   0x00000020u
+#define LOG_EXECUTOR   0x00000040u
+#define LOG_MATH       0x00000080u
+/* ... and outputs. */
+#define LOG_TO_CONSOLE 0x10000000u /* debug view / console (stderr) */
+#define LOG_TO_FILE    0x20000000u /* file SF_TCh.log in the log directory */
+#define LOG_TO_TGM     0x40000000u /* TG Motion console (offline: stderr) */
+
+/* GCODE_PARAMETERS.correctionStrategy bits. */
+#define CORR_START_MODE_MASK        0x000000FFu /* 0: already compensated; 1: compensate from next move */
+#define CORR_SEARCH_DEPTH_MASK      0x00000700u /* 0x100 10 ... 0x600 2000, 0x700 whole buffer */
+#define CORR_ALLOW_FIRST_LAST_CROSS 0x00010000u
+#define CORR_JOIN_BY_G1             0x00020000u
+#define CORR_JOIN_BY_MOVING_START   0x00040000u
+#define CORR_REMOVE_CROSSING        0x00080000u
+#define CORR_ALLOW_REVERSE_SEARCH   0x00100000u
+#define CORR_DROP_NEGATIVE_ARCS     0x00200000u
+#define CORR_CORNER_FACTOR_2        0x00400000u
+#define CORR_CORNER_INTERSECTION    0x00800000u
+#define CORR_G0_NEVER_COMPENSATED   0x40000000u
+#define CORR_OLD_COMPATIBILITY      0x80000000u
+
+/* AddOutputLog tabs and flags. */
+#define OUTPUT_TAB_ERRORS 0
+#define OUTPUT_TAB_CNC    1
+#define OUTPUT_TAB_PRINT  2
+#define OUTPUT_TAB_STATUS 3
+#define OUTPUT_FLAG_ACTIVATE    0x100
+#define OUTPUT_FLAG_PREFIX_TIME 0x200
+#define OUTPUT_FLAG_HIDE_VIEW   0x400
+
+/* ------------------------------------------------------------------ structures */
+
+/* Ten axis values in the fixed axis order x y z c b u v w a o. */
+typedef struct P10DOUBLE {
+    double x, y, z, c, b, u, v, w, a, o;
+} P10DOUBLE;
+
+/* Ten int32 flags in the same axis order. */
+typedef struct P10BOOL {
+    int32_t x, y, z, c, b, u, v, w, a, o;
+} P10BOOL;
+
+/* All 26 address letters of a G-code line; a letter not present holds > 1e38. */
+typedef struct P26FLOAT {
+    float A, B, C, D, E, F, G, H, I, J, K, L, M,
+          N, O, P, Q, R, S, T, U, V, W, X, Y, Z;
+} P26FLOAT;
+
+/* Argument of ToolChainCore_Init. */
+typedef struct DLL_INIT_STRUCT {
+    TGM_LPCTSTR CNC_Dll_Dir;     /* directory of the CNC libraries */
+    TGM_LPCTSTR Macros_Dir;      /* directory of macros (external G functions as G-code) */
+    TGM_LPCTSTR Comm_Int2_Dir;   /* directory of the communication libraries */
+    int32_t     Local_Core_Mode; /* 0 TG Motion, 1 calculations in the library, 2 offline (demo) */
+} DLL_INIT_STRUCT;
+
+/* One G-code part (a G or an M function). */
+typedef struct SIMPLE_GM_PARAMS {
+    P10DOUBLE m_s;        /* start position as programmed */
+    P10DOUBLE m_e;        /* end position as programmed */
+    P10DOUBLE m_calcS;    /* compensated start (GetPos: current position) */
+    P10DOUBLE m_calcE;    /* compensated end */
+    P10DOUBLE m_zero;     /* active zero offset */
+    P10DOUBLE m_cc;       /* arc centre x y z, radius in c (GoToPositionEx: feed in a) */
+    P26FLOAT  m_pars;     /* the line's addresses, > 1e38 = absent */
+    int32_t   m_func;     /* G number; in GetPos an M function is + 10000 */
+    int32_t   m_planeTool;   /* low 16 bits plane 17/18/19/-18, high 16 bits tool */
+    uint32_t  m_reserved;
+    uint32_t  m_editorLine;  /* 1-based line in the file */
+    int32_t   m_fileIdx;     /* file index (FileToIdx), -1 unknown */
+    int32_t   m_gCodeIndex;  /* unique increasing index; odd for inserted parts */
+    int32_t   m_bFeedIsMin;  /* low 16 bits mm/min (1) or mm/rev (0); high 16 bits 40/41/42 */
+    float     m_fp;          /* FP relative feed, usually 1.0 */
+} SIMPLE_GM_PARAMS;
+
+/* Extended position information of ToolChainCore_GetPos. */
+typedef struct GM_PARAMS_ENHANCED {
+    double   m_setFeed;          /* programmed feed, mm/min */
+    double   m_calcFeed;         /* planned feed, mm/min */
+    double   m_actFeed;          /* current feed */
+    double   m_relFeed;          /* current override, 1 = 100 % */
+    double   m_actPartLen;       /* length of the current part */
+    double   m_actPartRemain;    /* remaining length of the current part */
+    double   m_actWorkPartsLen;  /* cutting (G1/G2/G3) length so far */
+    double   m_actG00PartsLen;   /* rapid (G0) length so far */
+    double   m_actPartsLen;      /* all motion so far */
+    int32_t  m_nWorkCounter;
+    int32_t  m_nG00Counter;
+    int32_t  m_nG00ToWorkChanges;
+    int32_t  m_nWorkToG00Changes;
+    int32_t  m_nMCounter;
+    uint32_t m_MasterEditorLine; /* current line in the main file */
+    uint32_t m_MasterFileIdx;    /* main file index */
+    int32_t  m_statusCNC;        /* same as ToolChainCore_StatusCNC */
+    double   m_cncRunTime;       /* estimated run time, valid after a simulation with calcTime */
+} GM_PARAMS_ENHANCED;
+
+/* Error / progress information of callbacks and GetLastError. */
+typedef struct CALLBACK_INFO {
+    int32_t    stringId;         /* error number; -1: only nLines/actLine valid */
+    int32_t    nLines;           /* lines of the G-code, 0 unknown */
+    int32_t    actLine;          /* 1-based line, 0 unused */
+    int32_t    fileIdx;          /* file index, -1: only nLines/actLine valid */
+    TGM_LPCSTR m_fullError;      /* complete text (GetLastError only) */
+    TGM_LPCSTR m_errorArguments; /* arguments separated by '\n' (GetLastError only) */
+} CALLBACK_INFO;
+
+/* Extent of a program. */
+typedef struct GCODE_SIZE {
+    P10DOUBLE m_startPos;
+    P10DOUBLE m_endPos;
+    P10DOUBLE m_minimalPos;
+    P10DOUBLE m_maximalPos;
+} GCODE_SIZE;
+
+/* [0] original, [1] compensated, [2] original rotated, [3] compensated rotated. */
+typedef struct GCODE_INFO {
+    GCODE_SIZE m_size[4];
+} GCODE_INFO;
+
+typedef struct MACHINE_PARAMETERS {
+    P10DOUBLE minCoords;   /* minimum allowed coordinates, relative to refCoords */
+    P10DOUBLE maxCoords;   /* maximum allowed coordinates, relative to refCoords */
+    P10DOUBLE refCoords;   /* reference point */
+    P10BOOL   enableMask;  /* limit test per axis */
+    P10DOUBLE backlash;    /* mm */
+    P10DOUBLE backlashInc; /* mm per 100 us */
+    int32_t   backlashValuesSource;           /* 0 from the INI, 1 from these fields */
+    int32_t   enhancedInterpolatorParameters; /* bit field, see ABI.md */
+} MACHINE_PARAMETERS;
+
+typedef struct MACHINE_STATUS {
+    uint32_t m_axesStatus;
+    uint32_t m_refDone;
+    uint32_t m_endSwitches;
+    uint32_t m_reserved1, m_reserved2, m_reserved3, m_reserved4, m_reserved5,
+             m_reserved6, m_reserved7, m_reserved8, m_reserved9, m_reserved10;
+} MACHINE_STATUS;
+
+typedef struct GCODE_FEED {
+    double  feed;
+    double  acc;
+    double  dec;
+    int32_t rampType; /* 1 trapezoid, 2 sine */
+    int32_t padding1;
+} GCODE_FEED;
+
+typedef struct GCODE_CORRECTION {
+    double  size;  /* tool radius; negative swaps left and right */
+    int32_t gCode; /* 41, 42 (unused) */
+    int32_t padding1;
+} GCODE_CORRECTION;
+
+typedef struct ARC_FEED_TABLE {
+    double m_r;
+    double m_relFeed;
+} ARC_FEED_TABLE;
+
+typedef struct INTERNAL_MFUNC_INSERT_TABLE {
+    int32_t mFunc; /* 0 = unused */
+    int32_t padding1;
+    double  relFeed;  /* 0.01 .. 1.0 */
+    double  distance;
+} INTERNAL_MFUNC_INSERT_TABLE;
+
+typedef struct AXIS_LIMITS {
+    double maxFeed;
+    double maxAcc;
+    double maxDec;
+} AXIS_LIMITS;
+
+/* G-code properties of a core; defaults in ABI.md and ToolChainCore_GetGCodeParameters. */
+typedef struct GCODE_PARAMETERS {
+    int32_t  absMode;            /* 1 absolute (default), 0 relative */
+    int32_t  swapG2G3;
+    uint32_t correctionStrategy; /* CORR_* bits */
+    int32_t  forceMode;          /* 0 feeds from G-code, 1 all from motion[], 2 F/FF from motion[] */
+    GCODE_FEED motion[8];        /* rapid, forward, backward, connect, no-M, goto, stop, e-stop */
+    GCODE_CORRECTION correction[8]; /* radii of G41 .. G48 */
+    double   maxConnectionDistance;
+    double   startAngle;
+    double   endAngle;
+    double   minAngleFeed;
+    int32_t  disableG0FeedOverride;
+    int32_t  interpolatorConfig0;
+    double   overrideInc;
+    ARC_FEED_TABLE arcFeedTable[5];
+    double   centripetalAcc;
+    INTERNAL_MFUNC_INSERT_TABLE mFuncInsertTable[3];
+    int32_t  MfuncInsertType;
+    int32_t  paddingTo8Bytes_2;
+    double   reserved;
+    int32_t  M02_programEnd1;
+    int32_t  M30_programEnd2;
+    int32_t  M03_startSpindleCW;
+    int32_t  M04_startSpindleCCW;
+    int32_t  M05_stopSpindle;
+    int32_t  M06_changeTool;
+    int32_t  M07_coolOn;
+    int32_t  M08_oilOn;
+    int32_t  M09_coolOilOff;
+    int32_t  M17_return;
+    int32_t  M29_print;
+    int32_t  M80_mirrorOff;
+    int32_t  M81_mirrorX;
+    int32_t  M82_mirrorY;
+    int32_t  M83_mirrorZ;
+    int32_t  M84_mirrorXY;
+    int32_t  M85_mirrorXZ;
+    int32_t  M86_mirrorYZ;
+    int32_t  M87_mirrorXYZ;
+    int32_t  M99_defFeed;
+    int32_t  insertArcMode;
+    int32_t  paddingTo8Bytes_3;
+    double   insertArcToleranceRMax;
+    double   insertArcToleranceRMin;
+    double   insertArcMaxAngle;
+    double   insertArcMinAngle;
+    int32_t  insertArcPlane;
+    int32_t  rezerva1;
+    int32_t  calcTime;
+    int32_t  rezerva2;
+    double   dynamicG41Correction_mm;
+    double   dynamicG42Correction_mm;
+    AXIS_LIMITS axisLimits[10];
+    double   dynamicG41Correction_percent;
+    double   dynamicG42Correction_percent;
+    double   tolerance[10];
+} GCODE_PARAMETERS;
+
+/* ------------------------------------------------------------------ callbacks */
+
+/* Numbers of ToolChainCore_SetCallBack. */
+enum callback_number {
+    CB_ADD_OUTPUT_LOG              = 1,
+    CB_SET_STATUS_BAR_TEXT         = 2,
+    CB_IS_DEBUG_MODE               = 3,
+    CB_IS_VERBOSE_MODE             = 4,
+    CB_GET_LIB_PATH                = 5,
+    CB_GET_TOOL_PATH               = 6,
+    CB_GET_SYSTEM_PATH             = 7,
+    CB_GET_FILE_TIME_STAMP         = 10,
+    CB_DO_YIELD                    = 11,
+    CB_READ_INI_STRING             = 12,
+    CB_READ_INI_DOUBLE             = 13,
+    CB_READ_INI_INT                = 14,
+    CB_IS_BREAKPOINT               = 17,
+    CB_DISP_AND_LOCATE_ERROR       = 18,
+    CB_ADD_OUTPUT_LOG_WITH_MSG_BOX = 31,
+    CB_SET_STATUS_BAR_PROGRESS     = 32,
+    CB_DRIVER_INITIALIZE           = 1001,
+    CB_DRIVER_G_FUNC               = 1002,
+    CB_DRIVER_M_FUNC               = 1003,
+    CB_CONNECT_POINT_CALC_START    = 1004,
+    CB_CONNECT_POINT_CALC          = 1005,
+    CB_CONNECT_POINT_CALC_END      = 1006,
+    CB_DRIVER_END                  = 1007,
+    CB_MATH_WARNING                = 2001
+};
+
+/* Every callback receives the userData given to SetCallBack first. */
+typedef int32_t (*TC_AddOutputLog)(intptr_t userData, uint32_t tab, TGM_LPCTSTR text, CALLBACK_INFO *info);
+typedef int32_t (*TC_SetStatusBarText)(intptr_t userData, uint32_t pane, TGM_LPCTSTR text, CALLBACK_INFO *info);
+typedef int32_t (*TC_IsDebugMode)(intptr_t userData);
+typedef int32_t (*TC_IsVerboseMode)(intptr_t userData);
+typedef TGM_LPCTSTR (*TC_GetPath)(intptr_t userData); /* 5, 6, 7 */
+typedef int64_t (*TC_GetFileTimeStamp)(intptr_t userData, int32_t fileIdx);
+typedef int32_t (*TC_DoYield)(intptr_t userData, int32_t messageOnly);
+typedef void    (*TC_ReadIniString)(intptr_t userData, TGM_LPCTSTR section, TGM_LPCTSTR key, TGM_LPCTSTR def, TGM_LPTSTR buf, uint32_t bufChars);
+typedef double  (*TC_ReadIniDouble)(intptr_t userData, TGM_LPCTSTR section, TGM_LPCTSTR key, double def);
+typedef int32_t (*TC_ReadIniInt)(intptr_t userData, TGM_LPCTSTR section, TGM_LPCTSTR key, int32_t def);
+typedef int32_t (*TC_IsBreakpoint)(intptr_t userData, uint32_t editorLine, int32_t fileIdx);
+typedef int32_t (*TC_DispAndLocateError)(intptr_t userData, uint32_t editorLine, int32_t fileIdx, TGM_LPCTSTR text, CALLBACK_INFO *info);
+typedef int32_t (*TC_AddOutputLogWithMsgBox)(intptr_t userData, uint32_t tab, uint32_t buttons, TGM_LPCTSTR text, CALLBACK_INFO *info);
+typedef int32_t (*TC_SetStatusBarProgress)(intptr_t userData, uint32_t percent);
+typedef int32_t (*TC_DriverInitialize)(intptr_t userData, double *params, uint32_t nParams, int32_t runMode);
+typedef int32_t (*TC_DriverGFunc)(intptr_t userData, const SIMPLE_GM_PARAMS *part);
+typedef int32_t (*TC_DriverMFunc)(intptr_t userData, const SIMPLE_GM_PARAMS *part);
+typedef int32_t (*TC_ConnectPointCalcStart)(intptr_t userData, uint32_t nType, uint32_t nCoords, const double *coords, uint32_t axesForCalc);
+typedef int32_t (*TC_ConnectPointCalc)(intptr_t userData, const SIMPLE_GM_PARAMS *part, double *sqDistance, P10DOUBLE *point);
+typedef int32_t (*TC_ConnectPointCalcEnd)(intptr_t userData, SIMPLE_GM_PARAMS *part, P10DOUBLE *point);
+typedef int32_t (*TC_DriverEnd)(intptr_t userData);
+typedef int32_t (*TC_MathWarning)(intptr_t userData, CALLBACK_INFO *info);
+
+/* ------------------------------------------------------------------ functions */
+
+/*
+ * Lifecycle
+ */
+
+/* First call of a session: stores the directories and Local_Core_Mode.
+ * Returns 0; -1 if p or any of its strings is NULL or the mode is not 0..2.
+ * Without it the current directory and the offline mode apply. */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_Init(const DLL_INIT_STRUCT *p);
+
+/* Loads the core's configuration from a Windows-syntax INI file ([Modules], [CNC],
+ * [GCodeParameters]) and writes the number of cores to *pnMaxCores (may be NULL).
+ * Returns 0, or 1 (TOOL_CHAIN_XEXEC) when the file is missing or unreadable (the reason
+ * via GetLastError and DispAndLocateError); -2 bad core; -1 while the core is busy. */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_LoadFromIni(uint32_t intIdx, TGM_LPCTSTR iniFile, uint32_t *pnMaxCores);
+
+/* Stops everything on the core (interrupts a compilation, ends a simulation or motion,
+ * joins the core's threads) and frees its program. Safe to call twice and at any time.
+ * Returns 0, -2 bad core. */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_DestroyCNC(uint32_t intIdx);
+
+/* Version and build date/time; valid until the library is unloaded. Never NULL
+ * (an empty string for a bad core). */
+TOOLCHAIN_API TGM_LPCTSTR TOOLCHAIN_CALLTYPE ToolChainCore_GetVersionString(uint32_t intIdx);
+
+/* Fills up to nItems entries of items: [0] number of sizes known (8), then the sizes of
+ * GCODE_PARAMETERS, SIMPLE_GM_PARAMS, GM_PARAMS_ENHANCED, CALLBACK_INFO, GCODE_INFO,
+ * MACHINE_STATUS, MACHINE_PARAMETERS, DLL_INIT_STRUCT. Always 0 (items NULL: nothing written). */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GetStructuresSize(uint32_t intIdx, uint32_t nItems, uint32_t *items);
+
+/*
+ * G-code, machine and user parameters
+ */
+
+/* Sets the core's G-code properties. -1 for NULL, while compiling or moving; while
+ * stopped on the trajectory only the feed-related fields (motion, startAngle, endAngle,
+ * minAngleFeed, overrideInc, arcFeedTable, axisLimits) are taken. */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_SetGCodeParameters(uint32_t intIdx, const GCODE_PARAMETERS *p);
+
+/* Copies the current G-code properties (defaults, INI or the last Set). -1 NULL. */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GetGCodeParameters(uint32_t intIdx, GCODE_PARAMETERS *p);
+
+/* Soft limits and backlash; any status. -1 NULL. */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GetMachineParameters(uint32_t intIdx, MACHINE_PARAMETERS *p);
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_SetMachineParameters(uint32_t intIdx, MACHINE_PARAMETERS *p);
+
+/* Presets P00..P99 for the next compilations: n = 100 (p not NULL) sets them, n = 0
+ * clears the preset (parameters start at 0). Other n: -1. */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_SetUserParams(uint32_t intIdx, const double *p, uint32_t n);
+
+/* G-code compiled before / after every main program; NULL = none. -1 while compiling. */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GCodePrefixPostfix(uint32_t intIdx, TGM_LPCSTR prefix, TGM_LPCSTR postfix);
+
+/*
+ * Compilation
+ */
+
+/* Starts compiling a file in the core's background thread and returns at once:
+ * 0 (status already reads 1 or -1), -1 bad name / unreadable file / already busy, -2.
+ * The result: StatusCNC -1, then GetLastError. */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_CompileFromFile(uint32_t intIdx, TGM_LPCTSTR fileName);
+
+/* Same for G-code text in memory; fileName names it for errors and file indexes. */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_CompileFromMemory(uint32_t intIdx, TGM_LPCTSTR fileName, TGM_LPCSTR code);
+
+/* 0 idle, 1 busy (compiling, simulating, moving), -2 bad core. */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_IsBusy(uint32_t intIdx);
+
+/* 0 no error (info untouched); 1 the last compilation or run failed and info is filled
+ * (the strings stay valid until the next compilation or start on the core); -1 NULL. */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GetLastError(uint32_t intIdx, CALLBACK_INFO *info);
+
+/* Index of a file name (new names get the next index, 64 per core). Special names give
+ * -1..-4; NULL, empty or names of 252 characters or more: -1. */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_FileToIdx(uint32_t intIdx, TGM_LPCTSTR fileName);
+
+/* Inverse of FileToIdx; special and unknown indexes give the special names. Never NULL. */
+TOOLCHAIN_API TGM_LPCTSTR TOOLCHAIN_CALLTYPE ToolChainCore_IdxToFile(uint32_t intIdx, int32_t fileIdx);
+
+/* Start/end/min/max of the compiled program (arcs with their true extremes). -1 NULL or
+ * nothing compiled. */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GetGCodeSizeInfo(uint32_t intIdx, GCODE_INFO *p);
+
+/* Run time in seconds of the file (its index) from the last simulation with calcTime = 1
+ * or SetGCodeRunTime; negative if unknown. */
+TOOLCHAIN_API double TOOLCHAIN_CALLTYPE ToolChainCore_GetGCodeRunTime(uint32_t intIdx, int32_t fileIdx);
+
+/* Stores a known run time for a file index. -1 for a negative index or time. */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_SetGCodeRunTime(uint32_t intIdx, int32_t fileIdx, double seconds);
+
+/* Legacy single-core names: core 0. */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChain_GetLastError(CALLBACK_INFO *info);
+TOOLCHAIN_API TGM_LPCTSTR TOOLCHAIN_CALLTYPE ToolChain_IdxToFile(int32_t fileIdx);
+
+/*
+ * Running
+ */
+
+/* Ends any activity (interrupts a compilation, stops a run) and sets the start position:
+ * regime 1 only marks the program start; otherwise the first nCoords machine coordinates
+ * come from coords (axis order; nCoords 0 keeps all). Status -30 when a program is
+ * compiled. -1 when nCoords > 10 or coords is NULL with nCoords > 0. */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_ResetCNC(uint32_t intIdx, int32_t regime, uint32_t nCoords, const double *coords);
+
+/* Starts a run in the core's thread (run_regime). addCode: M functions sent first.
+ * -1 when compiling, nothing compiled, or the regime cannot start in this status. */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_StartCNCEx(uint32_t intIdx, int32_t regime, TGM_LPCSTR addCode);
+
+/* Controlled stop (simulation: -11, test: -21, motion: -31). -1 when nothing runs. */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_StopCNCEx(uint32_t intIdx, TGM_LPCSTR addCode);
+
+/* Moves back onto the trajectory (connect_type). See API.md. */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_ConnectCNCEx_Plane(uint32_t intIdx, uint32_t nType, uint32_t nCoords, const double *coords, TGM_LPCSTR addCode, uint32_t axesForCalc, uint32_t axesForConnect, int32_t stateAfter);
+
+/* Manual linear move to absolute coordinates with motion[5]. */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GoToPosition(uint32_t intIdx, uint32_t nCoords, const double *coords);
+
+/* Manual move by line or arc described by dest (m_func 1/2/3, m_calcE, m_cc). */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GoToPositionEx(uint32_t intIdx, const SIMPLE_GM_PARAMS *dest);
+
+/* Signals M function fun->m_func to the machine while stopped. */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_MFunc(uint32_t intIdx, const SIMPLE_GM_PARAMS *fun, int32_t bDirectToPLC);
+
+/* Feed override, clamped to 0.001 .. 2.0. */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_SetRelFeed(uint32_t intIdx, double relFeed);
+
+/* One built-in breakpoint: the run stops just before the part on that line. */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_SetBreakpoint(uint32_t intIdx, uint32_t editorLine, int32_t fileIdx);
+
+/* In a negative status: mode 0 drops the program (status 0), mode 1 declares
+ * "out of trajectory" (-50). -1 otherwise. */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_ResetStatusCNC(uint32_t intIdx, uint32_t mode);
+
+/* The core's cnc_status; cheap, never blocks. A bad core gives -1234. */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_StatusCNC(uint32_t intIdx);
+
+/* Current state for the HMI; either pointer may be NULL, not both. Never blocks on a
+ * running compilation. */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GetPos(uint32_t intIdx, int32_t reserved, SIMPLE_GM_PARAMS *pos, GM_PARAMS_ENHANCED *enh);
+
+/* Loads (or with an empty name unloads) a calculation plug-in. 1 success, -1 error. */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_LoadCNCCalcPlugIn(TGM_LPCTSTR fileName, uint32_t flags, int64_t userValue);
+
+/*
+ * Callbacks
+ */
+
+/* Sets (fn non-NULL) or removes (fn NULL) callback fceNo (callback_number) of the core;
+ * userData is passed back as the first argument. 0; -1 unknown number, or a driver
+ * number (> 1000) before LoadFromIni; -2 bad core. */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_SetCallBack(uint32_t intIdx, uint32_t fceNo, intptr_t userData, void *fn);
+
+/*
+ * Logging (any thread, any time)
+ */
+
+/* Sets the log mask (LOG_*); always 0. */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_SetLogValue(uint32_t value);
+TOOLCHAIN_API uint32_t TOOLCHAIN_CALLTYPE ToolChainCore_GetLogValue(void);
+/* Appends a line to the log outputs selected by the mask (NULL ignored). */
+TOOLCHAIN_API void TOOLCHAIN_CALLTYPE ToolChain_LogANSI(TGM_LPCSTR text);
+/* Flushes the log file. */
+TOOLCHAIN_API void TOOLCHAIN_CALLTYPE ToolChain_FlushLogFile(void);
+
+/* ------------------------------------------------------------------ layout checks */
+#if defined(__x86_64__) || defined(_M_X64)
+#  if defined(__cplusplus)
+#    define TGM_STATIC_ASSERT(c, m) static_assert(c, m)
+#  else
+#    define TGM_STATIC_ASSERT(c, m) _Static_assert(c, m)
+#  endif
+TGM_STATIC_ASSERT(sizeof(P10DOUBLE) == 80, "P10DOUBLE");
+TGM_STATIC_ASSERT(sizeof(P10BOOL) == 40, "P10BOOL");
+TGM_STATIC_ASSERT(sizeof(P26FLOAT) == 104, "P26FLOAT");
+TGM_STATIC_ASSERT(sizeof(DLL_INIT_STRUCT) == 32, "DLL_INIT_STRUCT");
+TGM_STATIC_ASSERT(sizeof(SIMPLE_GM_PARAMS) == 616, "SIMPLE_GM_PARAMS");
+TGM_STATIC_ASSERT(sizeof(GM_PARAMS_ENHANCED) == 112, "GM_PARAMS_ENHANCED");
+TGM_STATIC_ASSERT(sizeof(CALLBACK_INFO) == 32, "CALLBACK_INFO");
+TGM_STATIC_ASSERT(sizeof(MACHINE_STATUS) == 52, "MACHINE_STATUS");
+TGM_STATIC_ASSERT(sizeof(GCODE_PARAMETERS) == 1112, "GCODE_PARAMETERS");
+TGM_STATIC_ASSERT(sizeof(GCODE_SIZE) == 320, "GCODE_SIZE");
+TGM_STATIC_ASSERT(sizeof(GCODE_INFO) == 1280, "GCODE_INFO");
+TGM_STATIC_ASSERT(sizeof(MACHINE_PARAMETERS) == 448, "MACHINE_PARAMETERS");
+TGM_STATIC_ASSERT(offsetof(GCODE_PARAMETERS, M02_programEnd1) == 624, "M02_programEnd1");
+TGM_STATIC_ASSERT(offsetof(GCODE_PARAMETERS, tolerance) == 1032, "tolerance");
+TGM_STATIC_ASSERT(offsetof(SIMPLE_GM_PARAMS, m_fp) == 612, "m_fp");
+#  undef TGM_STATIC_ASSERT
+#endif
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* TGM_CNC_H */

@@ -1,0 +1,53 @@
+# The error catalogue: numbers are stable, part of the documented behaviour
+# (docs/errors.md lists them); the English formats live in errors.pyx.
+cdef enum ErrorNumber:
+    # configuration and host input (1..99)
+    ERR_FILE_OPEN = 1               # Cannot open file '%s'
+    ERR_FILE_READ = 2               # Cannot read file '%s'
+    ERR_INI_OPEN = 3                # Cannot open INI file '%s'
+    ERR_OUT_OF_MEMORY = 4           # Out of memory
+    ERR_CANCELLED = 5               # Compilation interrupted
+    ERR_NOTHING_COMPILED = 6        # No compiled program
+    ERR_DRIVER_REFUSED = 7          # Driver callback %s returned %d
+    ERR_BUSY = 8                    # Core busy: %s running
+    ERR_BAD_STATUS = 9              # %s not allowed in status %d
+    ERR_NOT_IMPLEMENTED = 10        # %s is not implemented yet
+    ERR_INI_FIRST = 11              # Callback %d needs LoadFromIni first
+    # lexical (100..199)
+    ERR_UNKNOWN_WORD = 100          # Unknown word '%s'
+    ERR_BAD_NUMBER = 101            # Bad number '%s'
+    ERR_MISSING_VALUE = 102         # Address %s without a value
+    ERR_UNBALANCED_BRACKETS = 103   # Unbalanced brackets
+    ERR_UNTERMINATED_COMMENT = 104  # Comment '(' not closed on this line
+    ERR_LINE_TOO_LONG = 105         # Line longer than %d characters
+    # expressions and parameters (200..299)
+    ERR_DIVISION_BY_ZERO = 200      # Division by zero
+    ERR_BAD_PARAMETER = 201         # Parameter P%g does not exist (P00..P99)
+    ERR_BAD_EXPRESSION = 202        # Syntax error in expression '%s'
+    ERR_UNKNOWN_FUNCTION = 203      # Unknown function '%s'
+    ERR_MATH_DOMAIN = 204           # Argument out of domain in %s(%g)
+    ERR_BAD_PLC_ADDRESS = 205       # PLC address %g out of range (1..%d)
+    # program flow (300..399)
+    ERR_UNDEFINED_LABEL = 300       # Undefined label '%s'
+    ERR_DUPLICATE_LABEL = 301       # Label '%s' defined twice (first on line %d)
+    ERR_UNBALANCED_END = 302        # END without FOR, WHILE or IF
+    ERR_MISSING_END = 303           # %s without END
+    ERR_CALL_STACK_OVERFLOW = 304   # Subroutine calls nested deeper than %d
+    ERR_RETURN_WITHOUT_CALL = 305   # RETURN outside a subroutine
+    ERR_BLOCK_LIMIT = 306           # More than %d blocks executed: endless loop?
+    ERR_BREAK_OUTSIDE_LOOP = 307    # %s outside a loop
+    ERR_BAD_CONDITION = 308         # Bad condition '%s'
+    ERR_PART_LIMIT = 309            # More than %d parts: program too large
+    # geometry (400..499)
+    ERR_ARC_CENTRE = 400            # Wrongly entered centre of circular interpolation ...
+    ERR_ARC_RADIUS = 401            # Arc radius %g too small for chord %g
+    ERR_ARC_NO_CENTRE = 402         # Arc without centre (I J K or R)
+    ERR_BAD_PLANE = 403             # Bad plane G%d
+    ERR_BAD_G = 404                 # Unknown G function G%g
+    ERR_BAD_M = 405                 # Bad M function M%g
+    ERR_MACHINE_LIMIT = 406         # Axis %s position %g outside the machine limits <%g, %g>
+    # tool radius compensation (500..599)
+    ERR_COMP_NOT_FOUND = 500        # Intersection of equidistants not found
+    ERR_COMP_ON_ARC = 501           # Compensation switched on or off on an arc
+    ERR_COMP_PLANE_CHANGE = 502     # Plane changed while tool radius compensation is active
+    ERR_COMP_NEGATIVE_ARC = 503     # Arc radius %g smaller than the tool radius %g

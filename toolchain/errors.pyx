@@ -1,0 +1,152 @@
+# The English texts of the error catalogue (numbers in errors.pxd) and the one way
+# an error is recorded: set_error formats the text and its '\n'-separated arguments.
+from libc.stdio cimport snprintf
+from libc.string cimport memset, strlen
+from errors cimport *
+
+
+cdef const char *error_format(int32_t number) noexcept nogil:
+    if number == ERR_FILE_OPEN: return "Cannot open file '%s'"
+    if number == ERR_FILE_READ: return "Cannot read file '%s'"
+    if number == ERR_INI_OPEN: return "Cannot open INI file '%s'"
+    if number == ERR_OUT_OF_MEMORY: return "Out of memory"
+    if number == ERR_CANCELLED: return "Compilation interrupted"
+    if number == ERR_NOTHING_COMPILED: return "No compiled program"
+    if number == ERR_DRIVER_REFUSED: return "Driver callback %s returned %d"
+    if number == ERR_BUSY: return "Core busy: %s running"
+    if number == ERR_BAD_STATUS: return "%s not allowed in status %d"
+    if number == ERR_NOT_IMPLEMENTED: return "%s is not implemented yet"
+    if number == ERR_INI_FIRST: return "Callback %d needs LoadFromIni first"
+    if number == ERR_UNKNOWN_WORD: return "Unknown word '%s'"
+    if number == ERR_BAD_NUMBER: return "Bad number '%s'"
+    if number == ERR_MISSING_VALUE: return "Address %s without a value"
+    if number == ERR_UNBALANCED_BRACKETS: return "Unbalanced brackets"
+    if number == ERR_UNTERMINATED_COMMENT: return "Comment '(' not closed on this line"
+    if number == ERR_LINE_TOO_LONG: return "Line longer than %d characters"
+    if number == ERR_DIVISION_BY_ZERO: return "Division by zero"
+    if number == ERR_BAD_PARAMETER: return "Parameter P%g does not exist (P00..P99)"
+    if number == ERR_BAD_EXPRESSION: return "Syntax error in expression '%s'"
+    if number == ERR_UNKNOWN_FUNCTION: return "Unknown function '%s'"
+    if number == ERR_MATH_DOMAIN: return "Argument out of domain in %s(%g)"
+    if number == ERR_BAD_PLC_ADDRESS: return "PLC address %g out of range (1..%d)"
+    if number == ERR_UNDEFINED_LABEL: return "Undefined label '%s'"
+    if number == ERR_DUPLICATE_LABEL: return "Label '%s' defined twice (first on line %d)"
+    if number == ERR_UNBALANCED_END: return "END without FOR, WHILE or IF"
+    if number == ERR_MISSING_END: return "%s without END"
+    if number == ERR_CALL_STACK_OVERFLOW: return "Subroutine calls nested deeper than %d"
+    if number == ERR_RETURN_WITHOUT_CALL: return "RETURN outside a subroutine"
+    if number == ERR_BLOCK_LIMIT: return "More than %d blocks executed: endless loop?"
+    if number == ERR_BREAK_OUTSIDE_LOOP: return "%s outside a loop"
+    if number == ERR_BAD_CONDITION: return "Bad condition '%s'"
+    if number == ERR_PART_LIMIT: return "More than %d parts: program too large"
+    if number == ERR_ARC_CENTRE:
+        return ("Wrongly entered centre of circular interpolation %s\n"
+                "Start %s = %g %s = %g | End %s = %g %s = %g\nDelta (%.7f) > 2*R (%.7f)")
+    if number == ERR_ARC_RADIUS: return "Arc radius %g too small for chord %g"
+    if number == ERR_ARC_NO_CENTRE: return "Arc without centre (I J K or R)"
+    if number == ERR_BAD_PLANE: return "Bad plane G%d"
+    if number == ERR_BAD_G: return "Unknown G function G%g"
+    if number == ERR_BAD_M: return "Bad M function M%g"
+    if number == ERR_MACHINE_LIMIT: return "Axis %s position %g outside the machine limits <%g, %g>"
+    if number == ERR_COMP_NOT_FOUND: return "Intersection of equidistants not found"
+    if number == ERR_COMP_ON_ARC: return "Compensation switched on or off on an arc"
+    if number == ERR_COMP_PLANE_CHANGE: return "Plane changed while tool radius compensation is active"
+    if number == ERR_COMP_NEGATIVE_ARC: return "Arc radius %g smaller than the tool radius %g"
+    return NULL
+
+
+cdef size_t _append(char *buf, size_t cap, size_t pos, const char *s, size_t n) noexcept nogil:
+    # Copies n bytes of s at buf[pos], truncating at cap - 1; keeps buf terminated.
+    cdef size_t i = 0
+    while i < n and pos + 1 < cap:
+        buf[pos] = s[i]
+        pos += 1
+        i += 1
+    buf[pos] = 0
+    return pos
+
+
+cdef void set_error(ErrorInfo *err, int32_t number, int32_t file_idx, int32_t line,
+                    const ErrArg *args, int n_args) noexcept nogil:
+    """Records error `number` at file/line: the catalogue's format with `args`
+    substituted in order (numbers for %g %f %d ..., texts for %s)."""
+    cdef const char *fmt = error_format(number)
+    cdef char spec[16]
+    cdef char piece[256]
+    cdef size_t tpos = 0, apos = 0, k
+    cdef int used = 0, n
+    cdef const char *p = fmt
+    cdef char conv
+    cdef const char *text_arg
+    err.number = number
+    err.file_idx = file_idx
+    err.line = line
+    err.text[0] = 0
+    err.args[0] = 0
+    if fmt == NULL:  # not in the catalogue: keep the number visible
+        n = snprintf(piece, sizeof(piece), "Error %d", number)
+        _append(err.text, ERROR_TEXT_BYTES, 0, piece, <size_t>n)
+        return
+    while p[0] != 0:
+        if p[0] != b'%':
+            tpos = _append(err.text, ERROR_TEXT_BYTES, tpos, p, 1)
+            p += 1
+            continue
+        if p[1] == b'%':
+            tpos = _append(err.text, ERROR_TEXT_BYTES, tpos, p, 1)
+            p += 2
+            continue
+        # copy the conversion spec: flags, width, precision, then the conversion letter
+        k = 0
+        while p[k] != 0 and k < 15 and not (p[k] in b'gGfFeEdisx' and k > 0):
+            spec[k] = p[k]
+            k += 1
+        if p[k] == 0 or k >= 15:
+            break
+        conv = p[k]
+        spec[k] = conv
+        spec[k + 1] = 0
+        p += k + 1
+        if used < n_args:
+            if conv == b's':
+                text_arg = args[used].text
+                if text_arg == NULL:
+                    text_arg = "(null)"
+                n = snprintf(piece, sizeof(piece), spec, text_arg)
+            elif conv == b'd' or conv == b'i' or conv == b'x':
+                n = snprintf(piece, sizeof(piece), spec, <int>args[used].num)
+            else:
+                n = snprintf(piece, sizeof(piece), spec, args[used].num)
+            used += 1
+        else:
+            n = snprintf(piece, sizeof(piece), "?")
+        if n < 0:
+            n = 0
+        if n >= <int>sizeof(piece):
+            n = sizeof(piece) - 1
+        tpos = _append(err.text, ERROR_TEXT_BYTES, tpos, piece, <size_t>n)
+        if apos > 0:
+            apos = _append(err.args, ERROR_ARGS_BYTES, apos, "\n", 1)
+        apos = _append(err.args, ERROR_ARGS_BYTES, apos, piece, <size_t>n)
+
+
+cdef void set_error_text(ErrorInfo *err, int32_t number, int32_t file_idx, int32_t line,
+                         const char *text) noexcept nogil:
+    """set_error with a single text argument."""
+    cdef ErrArg a
+    a.num = 0
+    a.text = text
+    set_error(err, number, file_idx, line, &a, 1)
+
+
+cdef void set_error_num(ErrorInfo *err, int32_t number, int32_t file_idx, int32_t line,
+                        double value) noexcept nogil:
+    """set_error with a single numeric argument."""
+    cdef ErrArg a
+    a.num = value
+    a.text = NULL
+    set_error(err, number, file_idx, line, &a, 1)
+
+
+cdef void clear_error(ErrorInfo *err) noexcept nogil:
+    memset(err, 0, sizeof(ErrorInfo))

@@ -1,0 +1,539 @@
+# The exported C functions of include/tgm_cnc.h. Each one checks its arguments
+# (core index, NULL pointers, status), then calls into the core. The C compiler
+# checks every signature here against the header's prototype.
+from libc.string cimport memset, memcpy, strlen, strdup
+from libc.stdlib cimport free, malloc
+
+# PLC memory of the offline machine (TGM_Data): the G-code's ReadPLC*/WritePLC* and
+# the host (ctypes: (c_ubyte * 524288).in_dll(lib, "TGM_Data")) share it.
+cdef public uint8_t TGM_Data[524288]
+
+
+# ------------------------------------------------------------------ lifecycle
+
+cdef public int32_t ToolChainCore_Init(const DLL_INIT_STRUCT *p) noexcept nogil:
+    global g_core_mode
+    core_get(0)
+    if p == NULL or p.CNC_Dll_Dir == NULL or p.Macros_Dir == NULL or p.Comm_Int2_Dir == NULL:
+        return TOOL_CHAIN_ERROR
+    if p.Local_Core_Mode < 0 or p.Local_Core_Mode > 2:
+        return TOOL_CHAIN_ERROR
+    g_core_mode = p.Local_Core_Mode
+    log_set_dir(p.CNC_Dll_Dir)
+    strncpy(g_macros_dir, p.Macros_Dir, sizeof(g_macros_dir) - 1)
+    return TOOL_CHAIN_SUCCESS
+
+
+cdef public int32_t ToolChainCore_LoadFromIni(uint32_t intIdx, TGM_LPCTSTR iniFile, uint32_t *pnMaxCores) noexcept nogil:
+    cdef Core *core = core_get(intIdx)
+    cdef int keys
+    if core == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX
+    if iniFile == NULL:
+        core_fail(core, ERR_INI_OPEN, "(null)")
+        return TOOL_CHAIN_XEXEC
+    if status_is_running(core_status(core)):
+        core_fail(core, ERR_BUSY, "LoadFromIni")
+        return TOOL_CHAIN_ERROR
+    pthread_mutex_lock(&core.lock)
+    keys = ini_read(iniFile, _apply_ini, core)
+    if keys >= 0:
+        core.ini_loaded = True
+    pthread_mutex_unlock(&core.lock)
+    if keys < 0:
+        core_fail(core, ERR_INI_OPEN, iniFile)
+        return TOOL_CHAIN_XEXEC
+    if pnMaxCores != NULL:
+        pnMaxCores[0] = TOOL_CHAIN_MAX_CORES
+    return TOOL_CHAIN_SUCCESS
+
+
+cdef public int32_t ToolChainCore_DestroyCNC(uint32_t intIdx) noexcept nogil:
+    cdef Core *core = core_get(intIdx)
+    if core == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX
+    core_destroy(core)
+    return TOOL_CHAIN_SUCCESS
+
+
+cdef public TGM_LPCTSTR ToolChainCore_GetVersionString(uint32_t intIdx) noexcept nogil:
+    if core_get(intIdx) == NULL:
+        return ""
+    return TC_VERSION_STRING
+
+
+cdef public int32_t ToolChainCore_GetStructuresSize(uint32_t intIdx, uint32_t nItems, uint32_t *items) noexcept nogil:
+    cdef uint32_t sizes[9]
+    cdef uint32_t i
+    sizes[0] = 8
+    sizes[1] = sizeof(GCODE_PARAMETERS)
+    sizes[2] = sizeof(SIMPLE_GM_PARAMS)
+    sizes[3] = sizeof(GM_PARAMS_ENHANCED)
+    sizes[4] = sizeof(CALLBACK_INFO)
+    sizes[5] = sizeof(GCODE_INFO)
+    sizes[6] = sizeof(MACHINE_STATUS)
+    sizes[7] = sizeof(MACHINE_PARAMETERS)
+    sizes[8] = sizeof(DLL_INIT_STRUCT)
+    if items == NULL:
+        return TOOL_CHAIN_SUCCESS
+    for i in range(nItems if nItems < 9 else 9):
+        items[i] = sizes[i]
+    return TOOL_CHAIN_SUCCESS
+
+
+# ------------------------------------------------------------------ parameters
+
+cdef public int32_t ToolChainCore_SetGCodeParameters(uint32_t intIdx, const GCODE_PARAMETERS *p) noexcept nogil:
+    cdef Core *core = core_get(intIdx)
+    cdef int32_t status
+    cdef int i
+    if core == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX
+    if p == NULL:
+        return TOOL_CHAIN_ERROR
+    status = core_status(core)
+    if status_is_running(status):
+        core_fail(core, ERR_BUSY, "SetGCodeParameters")
+        return TOOL_CHAIN_ERROR
+    pthread_mutex_lock(&core.lock)
+    if status == CNC_STATUS_STOPPED or status == CNC_STATUS_STOPPED_BY_M0:
+        # stopped on the trajectory: only what the feeds depend on may change
+        memcpy(core.params.motion, p.motion, sizeof(p.motion))
+        core.params.startAngle = p.startAngle
+        core.params.endAngle = p.endAngle
+        core.params.minAngleFeed = p.minAngleFeed
+        core.params.overrideInc = p.overrideInc
+        memcpy(core.params.arcFeedTable, p.arcFeedTable, sizeof(p.arcFeedTable))
+        memcpy(core.params.axisLimits, p.axisLimits, sizeof(p.axisLimits))
+    else:
+        core.params = p[0]
+    if core.params.overrideInc <= 0.0:
+        core.params.overrideInc = 0.001
+    elif core.params.overrideInc > 0.1:
+        core.params.overrideInc = 0.1
+    pthread_mutex_unlock(&core.lock)
+    return TOOL_CHAIN_SUCCESS
+
+
+cdef public int32_t ToolChainCore_GetGCodeParameters(uint32_t intIdx, GCODE_PARAMETERS *p) noexcept nogil:
+    cdef Core *core = core_get(intIdx)
+    if core == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX
+    if p == NULL:
+        return TOOL_CHAIN_ERROR
+    pthread_mutex_lock(&core.lock)
+    p[0] = core.params
+    pthread_mutex_unlock(&core.lock)
+    return TOOL_CHAIN_SUCCESS
+
+
+cdef public int32_t ToolChainCore_GetMachineParameters(uint32_t intIdx, MACHINE_PARAMETERS *p) noexcept nogil:
+    cdef Core *core = core_get(intIdx)
+    if core == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX
+    if p == NULL:
+        return TOOL_CHAIN_ERROR
+    pthread_mutex_lock(&core.lock)
+    p[0] = core.machine
+    pthread_mutex_unlock(&core.lock)
+    return TOOL_CHAIN_SUCCESS
+
+
+cdef public int32_t ToolChainCore_SetMachineParameters(uint32_t intIdx, MACHINE_PARAMETERS *p) noexcept nogil:
+    cdef Core *core = core_get(intIdx)
+    if core == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX
+    if p == NULL:
+        return TOOL_CHAIN_ERROR
+    pthread_mutex_lock(&core.lock)
+    core.machine = p[0]
+    pthread_mutex_unlock(&core.lock)
+    return TOOL_CHAIN_SUCCESS
+
+
+cdef public int32_t ToolChainCore_SetUserParams(uint32_t intIdx, const double *p, uint32_t n) noexcept nogil:
+    cdef Core *core = core_get(intIdx)
+    if core == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX
+    if n != 0 and n != 100:
+        return TOOL_CHAIN_ERROR
+    if n == 100 and p == NULL:
+        return TOOL_CHAIN_ERROR
+    pthread_mutex_lock(&core.lock)
+    if n == 100:
+        memcpy(core.user_params, p, sizeof(core.user_params))
+        core.has_user_params = True
+    else:
+        memset(core.user_params, 0, sizeof(core.user_params))
+        core.has_user_params = False
+    pthread_mutex_unlock(&core.lock)
+    return TOOL_CHAIN_SUCCESS
+
+
+cdef public int32_t ToolChainCore_GCodePrefixPostfix(uint32_t intIdx, TGM_LPCSTR prefix, TGM_LPCSTR postfix) noexcept nogil:
+    cdef Core *core = core_get(intIdx)
+    cdef char *pre = NULL
+    cdef char *post = NULL
+    if core == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX
+    if core_status(core) == CNC_STATUS_COMPILING:
+        core_fail(core, ERR_BUSY, "compilation")
+        return TOOL_CHAIN_ERROR
+    if prefix != NULL and prefix[0] != 0:
+        pre = strdup(prefix)
+    if postfix != NULL and postfix[0] != 0:
+        post = strdup(postfix)
+    pthread_mutex_lock(&core.lock)
+    free(core.prefix)
+    free(core.postfix)
+    core.prefix = pre
+    core.postfix = post
+    pthread_mutex_unlock(&core.lock)
+    return TOOL_CHAIN_SUCCESS
+
+
+# ------------------------------------------------------------------ compilation
+
+cdef public int32_t ToolChainCore_CompileFromFile(uint32_t intIdx, TGM_LPCTSTR fileName) noexcept nogil:
+    cdef Core *core = core_get(intIdx)
+    cdef char *source
+    cdef size_t length = 0
+    if core == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX
+    if fileName == NULL:
+        core_fail(core, ERR_FILE_OPEN, "(null)")
+        return TOOL_CHAIN_ERROR
+    if fileName[0] == 0 or strlen(fileName) >= <size_t>TOOL_CHAIN_MAX_FILE_NAME:
+        core_fail(core, ERR_FILE_OPEN, fileName)
+        return TOOL_CHAIN_ERROR
+    if status_is_running(core_status(core)):
+        core_fail(core, ERR_BUSY, "compilation or run")
+        return TOOL_CHAIN_ERROR
+    source = read_whole_file(fileName, &length)
+    if source == NULL:
+        core_fail(core, ERR_FILE_OPEN, fileName)
+        return TOOL_CHAIN_ERROR
+    return core_start_compile(core, fileName, source, length)
+
+
+cdef public int32_t ToolChainCore_CompileFromMemory(uint32_t intIdx, TGM_LPCTSTR fileName, TGM_LPCSTR code) noexcept nogil:
+    cdef Core *core = core_get(intIdx)
+    cdef char *source
+    if core == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX
+    if fileName == NULL or code == NULL or fileName[0] == 0 or strlen(fileName) >= <size_t>TOOL_CHAIN_MAX_FILE_NAME:
+        return TOOL_CHAIN_ERROR
+    if status_is_running(core_status(core)):
+        core_fail(core, ERR_BUSY, "compilation or run")
+        return TOOL_CHAIN_ERROR
+    source = strdup(code)
+    if source == NULL:
+        core_fail(core, ERR_OUT_OF_MEMORY, NULL)
+        return TOOL_CHAIN_ERROR
+    return core_start_compile(core, fileName, source, strlen(source))
+
+
+cdef public int32_t ToolChainCore_IsBusy(uint32_t intIdx) noexcept nogil:
+    cdef Core *core = core_get(intIdx)
+    if core == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX
+    return 1 if status_is_running(core_status(core)) else 0
+
+
+cdef public int32_t ToolChainCore_GetLastError(uint32_t intIdx, CALLBACK_INFO *info) noexcept nogil:
+    cdef Core *core = core_get(intIdx)
+    cdef int32_t result = 0
+    if core == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX
+    if info == NULL:
+        return TOOL_CHAIN_ERROR
+    pthread_mutex_lock(&core.lock)
+    if core.error.number != 0:
+        fill_callback_info(core, &core.error, info)
+        result = 1
+    pthread_mutex_unlock(&core.lock)
+    return result
+
+
+cdef public int32_t ToolChain_GetLastError(CALLBACK_INFO *info) noexcept nogil:
+    return ToolChainCore_GetLastError(0, info)
+
+
+cdef public int32_t ToolChainCore_FileToIdx(uint32_t intIdx, TGM_LPCTSTR fileName) noexcept nogil:
+    cdef Core *core = core_get(intIdx)
+    if core == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX
+    return core_file_to_idx(core, fileName)
+
+
+cdef public TGM_LPCTSTR ToolChainCore_IdxToFile(uint32_t intIdx, int32_t fileIdx) noexcept nogil:
+    cdef Core *core = core_get(intIdx)
+    if core == NULL:
+        return "__unknown__"
+    return core_idx_to_file(core, fileIdx)
+
+
+cdef public TGM_LPCTSTR ToolChain_IdxToFile(int32_t fileIdx) noexcept nogil:
+    return ToolChainCore_IdxToFile(0, fileIdx)
+
+
+cdef public int32_t ToolChainCore_GetGCodeSizeInfo(uint32_t intIdx, GCODE_INFO *p) noexcept nogil:
+    cdef Core *core = core_get(intIdx)
+    cdef int32_t result = TOOL_CHAIN_ERROR
+    if core == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX
+    if p == NULL or core_status(core) == CNC_STATUS_COMPILING:
+        return TOOL_CHAIN_ERROR
+    pthread_mutex_lock(&core.lock)
+    if core.has_program:
+        p[0] = core.size_info
+        result = TOOL_CHAIN_SUCCESS
+    pthread_mutex_unlock(&core.lock)
+    return result
+
+
+cdef public double ToolChainCore_GetGCodeRunTime(uint32_t intIdx, int32_t fileIdx) noexcept nogil:
+    cdef Core *core = core_get(intIdx)
+    cdef double seconds = -1.0
+    if core == NULL or fileIdx < 0 or fileIdx >= MAX_FILES:
+        return -1.0
+    pthread_mutex_lock(&core.lock)
+    if fileIdx < core.n_files:
+        seconds = core.run_times[fileIdx]
+    pthread_mutex_unlock(&core.lock)
+    return seconds
+
+
+cdef public int32_t ToolChainCore_SetGCodeRunTime(uint32_t intIdx, int32_t fileIdx, double seconds) noexcept nogil:
+    cdef Core *core = core_get(intIdx)
+    cdef int32_t result = TOOL_CHAIN_ERROR
+    if core == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX
+    if fileIdx < 0 or not (seconds >= 0.0):
+        return TOOL_CHAIN_ERROR
+    pthread_mutex_lock(&core.lock)
+    if fileIdx < core.n_files:
+        core.run_times[fileIdx] = seconds
+        result = TOOL_CHAIN_SUCCESS
+    pthread_mutex_unlock(&core.lock)
+    return result
+
+
+# ------------------------------------------------------------------ running
+
+cdef public int32_t ToolChainCore_ResetCNC(uint32_t intIdx, int32_t regime, uint32_t nCoords, const double *coords) noexcept nogil:
+    cdef Core *core = core_get(intIdx)
+    if core == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX
+    if regime != RESET_MARK_START_ONLY and (nCoords > 10 or (nCoords > 0 and coords == NULL)):
+        return TOOL_CHAIN_ERROR
+    core_end_activity(core)
+    pthread_mutex_lock(&core.lock)
+    if regime != RESET_MARK_START_ONLY and nCoords > 0:
+        memcpy(core.position, coords, nCoords * sizeof(double))
+        if core.has_program:
+            program_move_start(&core.program, core.position)
+            program_extent(&core.program, &core.size_info)
+    memset(&core.enh, 0, sizeof(GM_PARAMS_ENHANCED))
+    core.enh.m_relFeed = core.rel_feed
+    pthread_mutex_unlock(&core.lock)
+    if core.has_program:
+        core_set_status(core, CNC_STATUS_AT_START)
+    elif core_status(core) != CNC_STATUS_NOTHING_LOADED:
+        core_set_status(core, CNC_STATUS_COMPILED)
+    return TOOL_CHAIN_SUCCESS
+
+
+cdef public int32_t ToolChainCore_StartCNCEx(uint32_t intIdx, int32_t regime, TGM_LPCSTR addCode) noexcept nogil:
+    cdef Core *core = core_get(intIdx)
+    if core == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX
+    return core_start_run(core, regime, addCode)
+
+
+cdef public int32_t ToolChainCore_StopCNCEx(uint32_t intIdx, TGM_LPCSTR addCode) noexcept nogil:
+    cdef Core *core = core_get(intIdx)
+    cdef int32_t status
+    if core == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX
+    status = core_status(core)
+    if status != CNC_STATUS_SIMULATING and status != CNC_STATUS_TESTING:
+        core_fail(core, ERR_BAD_STATUS, "StopCNCEx")
+        return TOOL_CHAIN_ERROR
+    TC_ATOMIC_STORE(&core.stop, 1)
+    return TOOL_CHAIN_SUCCESS
+
+
+cdef int32_t not_implemented(uint32_t intIdx, const char *what) noexcept nogil:
+    """Functions of the offline machine that are not implemented yet: the documented
+    error code -1, and an error saying so."""
+    cdef Core *core = core_get(intIdx)
+    if core == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX
+    core_fail(core, ERR_NOT_IMPLEMENTED, what)
+    return TOOL_CHAIN_ERROR
+
+
+cdef public int32_t ToolChainCore_ConnectCNCEx_Plane(uint32_t intIdx, uint32_t nType, uint32_t nCoords, const double *coords, TGM_LPCSTR addCode, uint32_t axesForCalc, uint32_t axesForConnect, int32_t stateAfter) noexcept nogil:
+    if core_get(intIdx) == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX
+    if nCoords > 11 or (nCoords > 0 and coords == NULL) or (stateAfter != 0 and stateAfter != 2):
+        return TOOL_CHAIN_ERROR
+    return not_implemented(intIdx, "ConnectCNCEx_Plane")
+
+
+cdef public int32_t ToolChainCore_GoToPosition(uint32_t intIdx, uint32_t nCoords, const double *coords) noexcept nogil:
+    if core_get(intIdx) == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX
+    if nCoords > 10 or (nCoords > 0 and coords == NULL):
+        return TOOL_CHAIN_ERROR
+    return not_implemented(intIdx, "GoToPosition")
+
+
+cdef public int32_t ToolChainCore_GoToPositionEx(uint32_t intIdx, const SIMPLE_GM_PARAMS *dest) noexcept nogil:
+    if core_get(intIdx) == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX
+    if dest == NULL:
+        return TOOL_CHAIN_ERROR
+    return not_implemented(intIdx, "GoToPositionEx")
+
+
+cdef public int32_t ToolChainCore_MFunc(uint32_t intIdx, const SIMPLE_GM_PARAMS *fun, int32_t bDirectToPLC) noexcept nogil:
+    if core_get(intIdx) == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX
+    if fun == NULL:
+        return TOOL_CHAIN_ERROR
+    return not_implemented(intIdx, "MFunc")
+
+
+cdef public int32_t ToolChainCore_SetRelFeed(uint32_t intIdx, double relFeed) noexcept nogil:
+    cdef Core *core = core_get(intIdx)
+    if core == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX
+    if not (relFeed == relFeed):        # NaN
+        return TOOL_CHAIN_ERROR
+    if relFeed < 0.001:
+        relFeed = 0.001
+    elif relFeed > 2.0:
+        relFeed = 2.0
+    pthread_mutex_lock(&core.lock)
+    core.rel_feed = relFeed
+    core.enh.m_relFeed = relFeed
+    pthread_mutex_unlock(&core.lock)
+    return TOOL_CHAIN_SUCCESS
+
+
+cdef public int32_t ToolChainCore_SetBreakpoint(uint32_t intIdx, uint32_t editorLine, int32_t fileIdx) noexcept nogil:
+    cdef Core *core = core_get(intIdx)
+    if core == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX
+    pthread_mutex_lock(&core.lock)
+    core.breakpoint_line = editorLine
+    core.breakpoint_file = fileIdx
+    pthread_mutex_unlock(&core.lock)
+    return TOOL_CHAIN_SUCCESS
+
+
+cdef public int32_t ToolChainCore_ResetStatusCNC(uint32_t intIdx, uint32_t mode) noexcept nogil:
+    cdef Core *core = core_get(intIdx)
+    cdef int32_t status
+    if core == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX
+    status = core_status(core)
+    if status >= 0 or mode > 1:
+        core_fail(core, ERR_BAD_STATUS, "ResetStatusCNC")
+        return TOOL_CHAIN_ERROR
+    core_end_activity(core)
+    if mode == 0:
+        pthread_mutex_lock(&core.lock)
+        program_free(&core.program)
+        core.has_program = False
+        memset(&core.size_info, 0, sizeof(GCODE_INFO))
+        pthread_mutex_unlock(&core.lock)
+        core_set_status(core, CNC_STATUS_NOTHING_LOADED)
+    else:
+        core_set_status(core, CNC_STATUS_OUT_OF_TRAJECTORY)
+    return TOOL_CHAIN_SUCCESS
+
+
+cdef public int32_t ToolChainCore_StatusCNC(uint32_t intIdx) noexcept nogil:
+    cdef Core *core = core_get(intIdx)
+    if core == NULL:
+        return CNC_STATUS_INVALID
+    return core_status(core)
+
+
+cdef public int32_t ToolChainCore_GetPos(uint32_t intIdx, int32_t reserved, SIMPLE_GM_PARAMS *pos, GM_PARAMS_ENHANCED *enh) noexcept nogil:
+    cdef Core *core = core_get(intIdx)
+    if core == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX
+    if pos == NULL and enh == NULL:
+        return TOOL_CHAIN_ERROR
+    pthread_mutex_lock(&core.lock)
+    if pos != NULL:
+        pos[0] = core.pos
+    if enh != NULL:
+        enh[0] = core.enh
+        enh.m_statusCNC = core_status(core)
+    pthread_mutex_unlock(&core.lock)
+    return TOOL_CHAIN_SUCCESS
+
+
+cdef public int32_t ToolChainCore_LoadCNCCalcPlugIn(TGM_LPCTSTR fileName, uint32_t flags, int64_t userValue) noexcept nogil:
+    # Plug-ins (kinematics) are not supported yet: the documented error code.
+    cdef int i
+    if fileName == NULL:
+        return TOOL_CHAIN_ERROR
+    for i in range(TOOL_CHAIN_MAX_CORES):
+        if status_is_running(core_status(core_get(i))):
+            return TOOL_CHAIN_ERROR
+    if fileName[0] == 0:
+        return 1                          # unloading: nothing is loaded
+    log_line(LOG_TOOLCHAIN, "LoadCNCCalcPlugIn: plug-ins are not implemented yet")
+    return TOOL_CHAIN_ERROR
+
+
+# ------------------------------------------------------------------ callbacks
+
+cdef public int32_t ToolChainCore_SetCallBack(uint32_t intIdx, uint32_t fceNo, intptr_t userData, void *fn) noexcept nogil:
+    cdef Core *core = core_get(intIdx)
+    cdef int32_t slot
+    if core == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX
+    slot = callback_slot(fceNo)
+    if slot < 0:
+        return TOOL_CHAIN_ERROR
+    if fceNo > 1000 and fn != NULL and not core.ini_loaded:
+        _fail_ini_first(core, fceNo)
+        return TOOL_CHAIN_ERROR
+    pthread_mutex_lock(&core.lock)
+    core.callbacks[slot].fn = fn
+    core.callbacks[slot].user = userData if fn != NULL else 0
+    pthread_mutex_unlock(&core.lock)
+    return TOOL_CHAIN_SUCCESS
+
+
+cdef void _fail_ini_first(Core *core, uint32_t number) noexcept nogil:
+    pthread_mutex_lock(&core.lock)
+    set_error_num(&core.error, ERR_INI_FIRST, -1, 0, <double>number)
+    pthread_mutex_unlock(&core.lock)
+    core_report_error(core, &core.error)
+
+
+# ------------------------------------------------------------------ logging
+
+cdef public int32_t ToolChainCore_SetLogValue(uint32_t value) noexcept nogil:
+    log_set_mask(value)
+    return TOOL_CHAIN_SUCCESS
+
+
+cdef public uint32_t ToolChainCore_GetLogValue() noexcept nogil:
+    return g_log_mask
+
+
+cdef public void ToolChain_LogANSI(TGM_LPCSTR text) noexcept nogil:
+    log_line(0, text)
+
+
+cdef public void ToolChain_FlushLogFile() noexcept nogil:
+    log_flush()

@@ -1,0 +1,101 @@
+# The extent of a compiled program (GetGCodeSizeInfo): start, end, minimum and
+# maximum over every motion part, arcs with their true extreme points.
+from libc.math cimport M_PI, floor, ceil, cos, sin
+from libc.string cimport memcpy
+
+
+cdef inline void _widen(GCODE_SIZE *size, const double *point) noexcept nogil:
+    cdef double *lo = <double *>&size.m_minimalPos
+    cdef double *hi = <double *>&size.m_maximalPos
+    cdef int k
+    for k in range(10):
+        if point[k] < lo[k]:
+            lo[k] = point[k]
+        if point[k] > hi[k]:
+            hi[k] = point[k]
+
+
+cdef void _widen_arc(GCODE_SIZE *size, const double *s, const double *e, const double *cc,
+                     double radius, int plane, bint ccw) noexcept nogil:
+    """Adds the quadrant points (0, 90, 180, 270 degrees) the arc passes through."""
+    cdef int first, second, normal, q, q0, q1
+    cdef double a0, sweep, angle
+    cdef double point[10]
+    if radius <= 0 or not plane_axes(plane, &first, &second, &normal):
+        return
+    sweep = arc_sweep(s[first], s[second], e[first], e[second], cc[first], cc[second], ccw)
+    a0 = atan2(s[second] - cc[second], s[first] - cc[first])
+    memcpy(point, e, sizeof(point))
+    if sweep > 0:
+        q0 = <int>ceil(a0 / (M_PI / 2))
+        q1 = <int>floor((a0 + sweep) / (M_PI / 2))
+    else:
+        q0 = <int>ceil((a0 + sweep) / (M_PI / 2))
+        q1 = <int>floor(a0 / (M_PI / 2))
+    for q in range(q0, q1 + 1):
+        angle = q * (M_PI / 2)
+        point[first] = cc[first] + radius * cos(angle)
+        point[second] = cc[second] + radius * sin(angle)
+        _widen(size, point)
+
+
+cdef void _extent(const Program *prog, GCODE_SIZE *size, bint compensated) noexcept nogil:
+    cdef size_t i
+    cdef const Part *p
+    cdef double s[10]
+    cdef double e[10]
+    cdef double programmed_radius
+    cdef int first, second, normal
+    memcpy(&size.m_startPos, prog.start, sizeof(P10DOUBLE))
+    memcpy(&size.m_minimalPos, prog.start, sizeof(P10DOUBLE))
+    memcpy(&size.m_maximalPos, prog.start, sizeof(P10DOUBLE))
+    memcpy(&size.m_endPos, prog.start, sizeof(P10DOUBLE))
+    for i in range(prog.n_parts):
+        p = &prog.parts[i]
+        if p.kind != PART_MOTION:
+            continue
+        if compensated:
+            part_calc_start(prog, i, s)
+            memcpy(e, p.e, sizeof(e))
+            e[0] = p.ce[0]; e[1] = p.ce[1]; e[2] = p.ce[2]
+        else:
+            memcpy(s, part_start(prog, i), sizeof(s))
+            memcpy(e, p.e, sizeof(e))
+        _widen(size, e)
+        memcpy(&size.m_endPos, e, sizeof(P10DOUBLE))
+        if p.func == 2 or p.func == 3:
+            if compensated:
+                _widen_arc(size, s, e, p.cc, p.radius, p.plane, p.func == 3)
+            elif plane_axes(p.plane, &first, &second, &normal):
+                programmed_radius = hypot(s[first] - p.cc[first], s[second] - p.cc[second])
+                _widen_arc(size, s, e, p.cc, programmed_radius, p.plane, p.func == 3)
+
+
+cdef void program_extent(const Program *prog, GCODE_INFO *info) noexcept nogil:
+    """[0] programmed, [1] compensated; the program's coordinates are already rotated
+    (G168), so [2] and [3] repeat [0] and [1]."""
+    _extent(prog, &info.m_size[0], False)
+    _extent(prog, &info.m_size[1], True)
+    info.m_size[2] = info.m_size[0]
+    info.m_size[3] = info.m_size[1]
+
+
+cdef void program_move_start(Program *prog, const double *position) noexcept nogil:
+    """ResetCNC with coordinates: a program written relative to its start (G91 from
+    the first block) moves with it; any other keeps its positions and only its
+    first move starts from the new position."""
+    cdef double delta[10]
+    cdef size_t i
+    cdef int k
+    cdef Part *p
+    if prog.relative_only:
+        for k in range(10):
+            delta[k] = position[k] - prog.start[k]
+        for i in range(prog.n_parts):
+            p = &prog.parts[i]
+            for k in range(10):
+                p.e[k] += delta[k]
+            for k in range(3):
+                p.ce[k] += delta[k]
+                p.cc[k] += delta[k]
+    memcpy(prog.start, position, sizeof(prog.start))

@@ -1,0 +1,44 @@
+# C declarations of the system libraries the library uses that Cython's own
+# includes lack: POSIX threads and atomics. Gathered here, declared once.
+from libc.stdint cimport int32_t, int64_t
+
+cdef extern from "<pthread.h>" nogil:
+    ctypedef struct pthread_t:
+        pass
+    ctypedef struct pthread_attr_t:
+        pass
+    ctypedef struct pthread_mutex_t:
+        pass
+    ctypedef struct pthread_mutexattr_t:
+        pass
+    ctypedef struct pthread_cond_t:
+        pass
+    ctypedef struct pthread_condattr_t:
+        pass
+    ctypedef struct pthread_once_t:
+        pass
+    pthread_mutex_t PTHREAD_MUTEX_INITIALIZER
+    pthread_once_t PTHREAD_ONCE_INIT
+    int pthread_create(pthread_t *thread, const pthread_attr_t *attr,
+                       void *(*start)(void *) noexcept nogil, void *arg)
+    int pthread_join(pthread_t thread, void **retval)
+    int pthread_mutex_init(pthread_mutex_t *m, const pthread_mutexattr_t *a)
+    int pthread_mutex_lock(pthread_mutex_t *m)
+    int pthread_mutex_unlock(pthread_mutex_t *m)
+    int pthread_cond_init(pthread_cond_t *c, const pthread_condattr_t *a)
+    int pthread_cond_wait(pthread_cond_t *c, pthread_mutex_t *m)
+    int pthread_cond_broadcast(pthread_cond_t *c)
+    int pthread_once(pthread_once_t *once, void (*init)() noexcept nogil)
+
+# GCC/Clang atomic builtins on int32 flags shared between the host's threads and
+# the core's worker thread (status, cancel requests).
+cdef extern from *:
+    """
+    #define TC_ATOMIC_LOAD(p) __atomic_load_n((p), __ATOMIC_ACQUIRE)
+    #define TC_ATOMIC_STORE(p, v) __atomic_store_n((p), (v), __ATOMIC_RELEASE)
+    #define TC_ATOMIC_CAS(p, expected, desired) \
+        __atomic_compare_exchange_n((p), (expected), (desired), 0, __ATOMIC_ACQ_REL, __ATOMIC_ACQUIRE)
+    """
+    int32_t TC_ATOMIC_LOAD(int32_t *p) nogil
+    void TC_ATOMIC_STORE(int32_t *p, int32_t v) nogil
+    bint TC_ATOMIC_CAS(int32_t *p, int32_t *expected, int32_t desired) nogil

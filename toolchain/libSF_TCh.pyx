@@ -1,0 +1,26 @@
+# cython: language_level=3, boundscheck=False, wraparound=False, cdivision=True
+# cython: initializedcheck=False, nonecheck=False, overflowcheck=False
+#
+# libSF_TCh: the CNC module library. One C library built from the stages below,
+# in pipeline order. Every function is C-level and runs without the GIL; no code
+# here needs the Python module to be initialised, so a host may load the library
+# with ctypes alone. Module-level variables are therefore only zero-initialised C
+# statics (constants live in functions or C literals).
+from libc.stdint cimport int8_t, int16_t, int32_t, int64_t, uint8_t, uint16_t, uint32_t, intptr_t
+from includes.tgm_cnc cimport *
+from includes.system cimport *
+from program cimport *
+from errors cimport *
+
+include "errors.pyx"
+include "geometry.pyx"
+include "program.pyx"
+include "compiler/compiler.pyx"
+include "compensation.pyx"
+include "extent.pyx"
+include "planner.pyx"
+include "logging.pyx"
+include "ini.pyx"
+include "core.pyx"
+include "simulator.pyx"
+include "exports.pyx"

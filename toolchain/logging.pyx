@@ -1,0 +1,86 @@
+# The library's log: a bit mask of sources and outputs (LOG_* in tgm_cnc.h), a
+# file SF_TCh.log in the log directory, and stderr for the console outputs.
+# Callable from any thread: one mutex guards the file.
+from libc.stdio cimport FILE, fopen, fclose, fputs, fflush, fprintf, stderr, snprintf
+from libc.stdlib cimport getenv
+from libc.string cimport strlen, strncpy
+from posix.time cimport clock_gettime, timespec, CLOCK_REALTIME, time_t
+from libc.time cimport tm, localtime_r, strftime
+
+cdef extern from "tgm_cnc.h":
+    uint32_t LOG_TO_CONSOLE, LOG_TO_FILE, LOG_TO_TGM
+    uint32_t LOG_DEBUG, LOG_VERBOSE, LOG_WORKER, LOG_TOOLCHAIN, LOG_DRIVER, LOG_COMPILER
+    uint32_t LOG_EXECUTOR, LOG_MATH
+
+cdef uint32_t g_log_mask          # zero: nothing is logged until SetLogValue
+cdef pthread_mutex_t g_log_lock   # zero-initialised == PTHREAD_MUTEX_INITIALIZER (glibc)
+cdef FILE *g_log_file
+cdef char g_log_dir[1024]         # empty: $SF_TCH_LOG_DIR or the current directory
+cdef char g_log_path[1100]
+
+
+cdef void log_set_dir(const char *directory) noexcept nogil:
+    """Directory of SF_TCh.log (from ToolChainCore_Init); reopens the file on next write."""
+    global g_log_file
+    pthread_mutex_lock(&g_log_lock)
+    strncpy(g_log_dir, directory, sizeof(g_log_dir) - 1)
+    g_log_dir[sizeof(g_log_dir) - 1] = 0
+    if g_log_file != NULL:
+        fclose(g_log_file)
+        g_log_file = NULL
+    pthread_mutex_unlock(&g_log_lock)
+
+
+cdef const char *log_file_path() noexcept nogil:
+    cdef const char *d = getenv("SF_TCH_LOG_DIR")
+    if d == NULL or d[0] == 0:
+        d = g_log_dir
+        if d[0] == 0:
+            d = "."
+    snprintf(g_log_path, sizeof(g_log_path), "%s/SF_TCh.log", d)
+    return g_log_path
+
+
+cdef void log_set_mask(uint32_t mask) noexcept nogil:
+    global g_log_file, g_log_mask
+    pthread_mutex_lock(&g_log_lock)
+    g_log_mask = mask
+    if not (mask & LOG_TO_FILE) and g_log_file != NULL:
+        fclose(g_log_file)
+        g_log_file = NULL
+    pthread_mutex_unlock(&g_log_lock)
+
+
+cdef void log_line(uint32_t source, const char *text) noexcept nogil:
+    """Writes one line to the outputs of the mask when `source` is enabled
+    (source 0: always, e.g. ToolChain_LogANSI)."""
+    global g_log_file
+    cdef char stamp[64]
+    cdef timespec now
+    cdef tm local
+    cdef time_t seconds
+    if text == NULL:
+        return
+    pthread_mutex_lock(&g_log_lock)
+    if source != 0 and not (g_log_mask & source):
+        pthread_mutex_unlock(&g_log_lock)
+        return
+    clock_gettime(CLOCK_REALTIME, &now)
+    seconds = now.tv_sec
+    localtime_r(&seconds, &local)
+    strftime(stamp, sizeof(stamp), "%Y-%m-%d %H:%M:%S", &local)
+    if g_log_mask & LOG_TO_FILE:
+        if g_log_file == NULL:
+            g_log_file = fopen(log_file_path(), "a")
+        if g_log_file != NULL:
+            fprintf(g_log_file, "%s.%03ld %s\n", stamp, <long>(now.tv_nsec // 1000000), text)
+    if g_log_mask & (LOG_TO_CONSOLE | LOG_TO_TGM):
+        fprintf(stderr, "SF_TCh %s %s\n", stamp, text)
+    pthread_mutex_unlock(&g_log_lock)
+
+
+cdef void log_flush() noexcept nogil:
+    pthread_mutex_lock(&g_log_lock)
+    if g_log_file != NULL:
+        fflush(g_log_file)
+    pthread_mutex_unlock(&g_log_lock)

@@ -1,0 +1,112 @@
+# The data that flows through the pipeline: compiler -> compensation -> planner ->
+# simulator/interpolator. One compact Part per compiled G or M function, kept in a
+# growable C array; SIMPLE_GM_PARAMS (616 bytes) is only built at the API boundary
+# (program.pyx: part_to_gm).
+from libc.stdint cimport int8_t, int16_t, int32_t, uint8_t, uint16_t, uint32_t, int64_t
+from includes.tgm_cnc cimport GCODE_PARAMETERS, P10DOUBLE
+
+
+cdef enum:
+    AXES = 10               # x y z c b u v w a o
+    PLC_MEMORY_BYTES = 524288
+
+# Part.kind
+cdef enum PartKind:
+    PART_MOTION = 1         # G0 G1 G2 G3 G33: moves from the previous part's end to e
+    PART_MFUNC = 2          # waiting (< 1000) or continuous (>= 1001) M function, M0, M1
+    PART_DWELL = 3          # G4: func 4, dwell seconds in value
+    PART_PRINT = 4          # M29 / PRINT: text in Program.texts at aux
+
+# Part.flags
+cdef enum PartFlags:
+    FLAG_FEED_PER_MIN = 0x01     # G94 (else G95 mm/rev)
+    FLAG_INSERTED = 0x02         # inserted by the system (compensation, G167 arcs)
+    FLAG_CONTINUOUS_M = 0x04     # M >= 1001: signalled at the start of the next move, no wait
+    FLAG_HELIX = 0x08            # arc with off-plane motion
+    FLAG_COMP_START = 0x10       # first part of a compensated run
+    FLAG_COMP_END = 0x20         # last part of a compensated run
+
+ctypedef struct Part:
+    double e[10]            # programmed end, machine coordinates (program + zero offset); M parts: current position
+    double ce[3]            # compensated end x y z (other axes = e); equal to e[0..2] when not compensated
+    double cc[3]            # arc centre x y z (machine coordinates), programmed
+    double radius           # arc radius of the tool path (compensated); 0 for lines
+    double feed             # F in mm/min (G94) or mm/rev (G95) after forceMode/M99; rapid: motion[0].feed
+    double value            # dwell seconds (G4), thread pitch (G33)
+    float fp                # FP relative feed (1.0)
+    float spindle           # S
+    int32_t func            # G number (0 1 2 3 4 33) or M number
+    int32_t gcode_index     # even for programmed parts, odd for inserted ones
+    uint32_t line           # 1-based line in its file
+    uint32_t pars_off       # offset of this part's addresses in Program.pars (see pars_mask)
+    uint32_t pars_mask      # bit (letter - 'A') set for every address written on the line
+    uint32_t aux            # PART_PRINT: offset of its text in Program.texts
+    uint16_t zero_idx       # index into Program.zeros (active zero offset)
+    uint16_t tool           # T
+    int16_t file_idx        # file index (FileToIdx), -1 unknown
+    int16_t plane           # 17 18 19 -18
+    uint8_t kind            # PartKind
+    uint8_t flags           # PartFlags
+    uint8_t comp            # 40 41 42 (side after the sign of the radius), see m_bFeedIsMin
+    uint8_t comp_slot       # 0..7: index of correction[] used (G41 -> 0, G42 -> 1, G43 -> 2, ...)
+
+ctypedef struct Program:
+    Part *parts
+    size_t n_parts, cap_parts
+    float *pars             # addresses of all parts, packed in letter order per part
+    size_t n_pars, cap_pars
+    P10DOUBLE *zeros        # zero offsets referenced by Part.zero_idx (zeros[0] = none)
+    size_t n_zeros, cap_zeros
+    char *texts             # NUL-terminated PRINT texts
+    size_t n_texts, cap_texts
+    double start[10]        # machine position before the first part
+    int32_t main_file_idx
+    uint32_t n_lines        # lines of the main file
+    bint compensated        # some part has comp != 40
+    bint relative_only      # every position is relative to the start (G91 throughout): ResetCNC moves it
+
+# One error: number of the catalogue (errors.pyx), location and the formatted texts.
+cdef enum:
+    ERROR_TEXT_BYTES = 1024
+    ERROR_ARGS_BYTES = 512
+
+ctypedef struct ErrorInfo:
+    int32_t number          # 0 = no error
+    int32_t file_idx
+    int32_t line            # 1-based, 0 unknown
+    int32_t n_lines
+    char text[1024]         # full English text
+    char args[512]          # arguments separated by '\n'
+
+# One argument of an error format: a number, or a string when text is not NULL.
+ctypedef struct ErrArg:
+    double num
+    const char *text
+
+# Hooks a stage may call while it works (all optional: NULL function = none).
+ctypedef void (*progress_fn)(void *ctx, int percent) noexcept nogil
+ctypedef void (*output_fn)(void *ctx, int tab, const char *text) noexcept nogil
+
+# What a compilation needs; the core fills it, the compiler reads it.
+ctypedef struct CompileInput:
+    const char *text        # main program (NUL-terminated)
+    size_t length
+    int32_t file_idx
+    const char *prefix      # may be NULL
+    const char *postfix     # may be NULL
+    int32_t prefix_idx
+    int32_t postfix_idx
+    GCODE_PARAMETERS params
+    double user_params[100] # P00..P99 at the start
+    double start[10]        # machine position at the start
+    uint8_t *plc            # PLC memory (PLC_MEMORY_BYTES), shared with the host
+    int32_t *cancel         # set non-zero (atomically) to interrupt: the compiler returns COMPILE_CANCELLED
+    progress_fn progress
+    output_fn output        # compile-time messages (warnings) to the output log
+    void *ctx
+    int64_t max_blocks      # limit of executed blocks (endless loops); 0 = default
+
+cdef enum CompileResult:
+    COMPILE_OK = 0
+    COMPILE_ERROR = -1      # ErrorInfo filled
+    COMPILE_CANCELLED = -2

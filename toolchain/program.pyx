@@ -1,0 +1,216 @@
+# The compiled program: growable arrays of parts, their addresses, zero offsets and
+# texts, and the one place a Part becomes a SIMPLE_GM_PARAMS.
+from libc.stdlib cimport malloc, realloc, free
+from libc.string cimport memset, memcpy, memcmp
+from libc.math cimport sqrt, fabs
+from program cimport *
+from includes.tgm_cnc cimport SIMPLE_GM_PARAMS, P10DOUBLE, P26FLOAT
+
+
+cdef void program_init(Program *prog) noexcept nogil:
+    memset(prog, 0, sizeof(Program))
+    prog.main_file_idx = -1
+
+
+cdef void program_free(Program *prog) noexcept nogil:
+    free(prog.parts)
+    free(prog.pars)
+    free(prog.zeros)
+    free(prog.texts)
+    program_init(prog)
+
+
+cdef bint _grow(void **buf, size_t *cap, size_t need, size_t item) noexcept nogil:
+    # Ensures room for `need` items (doubling); False when memory is exhausted.
+    cdef size_t new_cap
+    cdef void *p
+    if need <= cap[0]:
+        return True
+    new_cap = cap[0] * 2 if cap[0] else 256
+    while new_cap < need:
+        new_cap *= 2
+    p = realloc(buf[0], new_cap * item)
+    if p == NULL:
+        return False
+    buf[0] = p
+    cap[0] = new_cap
+    return True
+
+
+cdef Part *program_add_part(Program *prog) noexcept nogil:
+    """Appends a zeroed part (zero_idx 0, file -1); NULL when out of memory."""
+    cdef Part *p
+    if not _grow(<void **>&prog.parts, &prog.cap_parts, prog.n_parts + 1, sizeof(Part)):
+        return NULL
+    p = &prog.parts[prog.n_parts]
+    prog.n_parts += 1
+    memset(p, 0, sizeof(Part))
+    p.file_idx = -1
+    p.fp = 1.0
+    p.plane = 17
+    p.comp = 40
+    return p
+
+
+cdef Part *program_insert_part(Program *prog, size_t at) noexcept nogil:
+    """Inserts a zeroed part before index `at` (compensation, inserted arcs)."""
+    cdef Part *p
+    if at > prog.n_parts:
+        at = prog.n_parts
+    if program_add_part(prog) == NULL:
+        return NULL
+    if at < prog.n_parts - 1:
+        memcpy(&prog.parts[at + 1], &prog.parts[at], (prog.n_parts - 1 - at) * sizeof(Part))
+    p = &prog.parts[at]
+    memset(p, 0, sizeof(Part))
+    p.file_idx = -1
+    p.fp = 1.0
+    p.plane = 17
+    p.comp = 40
+    return p
+
+
+cdef bint program_set_pars(Program *prog, Part *part, const float *values, uint32_t mask) noexcept nogil:
+    """Stores the addresses of `mask` (values indexed by letter - 'A') for the part."""
+    cdef int letter, n = 0
+    cdef size_t part_pos = part - prog.parts
+    for letter in range(26):
+        if mask & (1u << letter):
+            n += 1
+    if not _grow(<void **>&prog.pars, &prog.cap_pars, prog.n_pars + n, sizeof(float)):
+        return False
+    part = &prog.parts[part_pos]
+    part.pars_off = <uint32_t>prog.n_pars
+    part.pars_mask = mask
+    for letter in range(26):
+        if mask & (1u << letter):
+            prog.pars[prog.n_pars] = values[letter]
+            prog.n_pars += 1
+    return True
+
+
+cdef int program_add_zero(Program *prog, const double *offset) noexcept nogil:
+    """Index of a zero offset (reusing the last one when equal); -1 out of memory."""
+    cdef int i
+    if prog.n_zeros == 0:
+        if not _grow(<void **>&prog.zeros, &prog.cap_zeros, 1, sizeof(P10DOUBLE)):
+            return -1
+        memset(&prog.zeros[0], 0, sizeof(P10DOUBLE))
+        prog.n_zeros = 1
+    if memcmp(&prog.zeros[prog.n_zeros - 1], offset, sizeof(P10DOUBLE)) == 0:
+        return <int>prog.n_zeros - 1
+    if prog.n_zeros >= 65535:
+        return -1
+    if not _grow(<void **>&prog.zeros, &prog.cap_zeros, prog.n_zeros + 1, sizeof(P10DOUBLE)):
+        return -1
+    memcpy(&prog.zeros[prog.n_zeros], offset, sizeof(P10DOUBLE))
+    prog.n_zeros += 1
+    return <int>prog.n_zeros - 1
+
+
+cdef int64_t program_add_text(Program *prog, const char *text, size_t n) noexcept nogil:
+    """Stores a NUL-terminated copy of text[0:n]; its offset, -1 out of memory."""
+    cdef size_t off = prog.n_texts
+    if not _grow(<void **>&prog.texts, &prog.cap_texts, prog.n_texts + n + 1, 1):
+        return -1
+    memcpy(&prog.texts[off], text, n)
+    prog.texts[off + n] = 0
+    prog.n_texts += n + 1
+    return <int64_t>off
+
+
+cdef inline const double *part_start(const Program *prog, size_t i) noexcept nogil:
+    """Programmed start of part i: the previous part's end, or the program start."""
+    if i > 0:
+        return prog.parts[i - 1].e
+    return prog.start
+
+
+cdef void part_calc_start(const Program *prog, size_t i, double *out) noexcept nogil:
+    """Compensated start of part i (all ten axes)."""
+    cdef const Part *prev
+    memcpy(out, part_start(prog, i), 10 * sizeof(double))
+    if i > 0:
+        prev = &prog.parts[i - 1]
+        out[0] = prev.ce[0]
+        out[1] = prev.ce[1]
+        out[2] = prev.ce[2]
+
+
+cdef double part_length(const Program *prog, size_t i) noexcept nogil:
+    """Path length of the tool (compensated) for part i; 0 for M functions."""
+    cdef const Part *p = &prog.parts[i]
+    cdef double s[10]
+    cdef double e[10]
+    cdef int first, second, normal, k
+    cdef double sweep, planar, rest
+    if p.kind != PART_MOTION:
+        return 0.0
+    part_calc_start(prog, i, s)
+    memcpy(e, p.e, sizeof(e))
+    e[0] = p.ce[0]; e[1] = p.ce[1]; e[2] = p.ce[2]
+    if (p.func == 2 or p.func == 3) and p.radius > 0 and plane_axes(p.plane, &first, &second, &normal):
+        sweep = arc_sweep(s[first], s[second], e[first], e[second], p.cc[first], p.cc[second],
+                          p.func == 3)
+        planar = fabs(sweep) * p.radius
+        rest = 0.0
+        for k in range(10):
+            if k != first and k != second:
+                rest += (e[k] - s[k]) * (e[k] - s[k])
+        return sqrt(planar * planar + rest)
+    return segment_length(s, e)
+
+
+cdef inline void _p10(P10DOUBLE *dst, const double *src) noexcept nogil:
+    memcpy(dst, src, sizeof(P10DOUBLE))
+
+
+cdef void part_to_gm(const Program *prog, size_t i, SIMPLE_GM_PARAMS *gm) noexcept nogil:
+    """Builds the API view of part i: every field as API.md/ABI.md describe."""
+    cdef const Part *p = &prog.parts[i]
+    cdef float *cells = <float *>&gm.m_pars
+    cdef int letter
+    cdef size_t k
+    cdef double e[10]
+    _p10(&gm.m_s, part_start(prog, i))
+    _p10(&gm.m_e, p.e)
+    part_calc_start(prog, i, <double *>&gm.m_calcS)
+    memcpy(e, p.e, sizeof(e))
+    e[0] = p.ce[0]; e[1] = p.ce[1]; e[2] = p.ce[2]
+    _p10(&gm.m_calcE, e)
+    if prog.n_zeros > p.zero_idx:
+        gm.m_zero = prog.zeros[p.zero_idx]
+    else:
+        memset(&gm.m_zero, 0, sizeof(P10DOUBLE))
+    memset(&gm.m_cc, 0, sizeof(P10DOUBLE))
+    # addresses of the line, then the cells the callbacks define
+    for letter in range(26):
+        cells[letter] = INVALID_VALUE_F
+    k = p.pars_off
+    for letter in range(26):
+        if p.pars_mask & (1u << letter):
+            cells[letter] = prog.pars[k]
+            k += 1
+    gm.m_func = p.func
+    if p.kind == PART_MOTION:
+        gm.m_pars.F = <float>p.feed
+        gm.m_pars.G = <float>p.func
+        gm.m_pars.N = <float>part_length(prog, i)
+        if p.func == 2 or p.func == 3:
+            gm.m_cc.x = p.cc[0]
+            gm.m_cc.y = p.cc[1]
+            gm.m_cc.z = p.cc[2]
+            gm.m_cc.c = p.radius
+            gm.m_pars.I = <float>p.cc[0]
+            gm.m_pars.J = <float>p.cc[1]
+            gm.m_pars.K = <float>p.cc[2]
+    elif p.kind == PART_DWELL:
+        gm.m_pars.G = <float>p.func
+    gm.m_pars.S = p.spindle
+    gm.m_planeTool = (<int32_t>p.tool << 16) | (<int32_t>p.plane & 0xFFFF)
+    gm.m_reserved = 0
+    gm.m_editorLine = p.line
+    gm.m_fileIdx = p.file_idx
+    gm.m_gCodeIndex = p.gcode_index
+    gm.m_bFeedIsMin = (<int32_t>p.comp << 16) | (1 if p.flags & FLAG_FEED_PER_MIN else 0)
+    gm.m_fp = p.fp
