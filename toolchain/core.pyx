@@ -104,6 +104,7 @@ ctypedef struct Core:
     uint32_t breakpoint_line
     int32_t breakpoint_file
     # GetPos snapshot (written by the worker under lock)
+    int32_t last_motion         # 0 none, 1 rapid, 2 cut: for the transition counters
     SIMPLE_GM_PARAMS pos
     GM_PARAMS_ENHANCED enh
 
@@ -518,12 +519,26 @@ cdef char *read_whole_file(const char *path, size_t *length) noexcept nogil:
 
 # ------------------------------------------------------------------ reset / destroy
 
+cdef bint core_on_worker(Core *core) noexcept nogil:
+    """True inside the worker thread (a callback calling back into the library)."""
+    cdef bint inside
+    pthread_mutex_lock(&core.lock)
+    inside = core.worker_started and pthread_equal(core.worker, pthread_self())
+    pthread_mutex_unlock(&core.lock)
+    return inside
+
+
 cdef void core_end_activity(Core *core) noexcept nogil:
     """Interrupts a compilation or a run and waits until the worker has ended."""
     core_join_worker(core)
 
 
 cdef void core_destroy(Core *core) noexcept nogil:
+    if core_on_worker(core):
+        # called from a callback: the worker still uses the program; ask it to end
+        # and leave the memory to the next DestroyCNC from a host thread
+        TC_ATOMIC_STORE(&core.cancel, 1)
+        return
     core_end_activity(core)
     pthread_mutex_lock(&core.lock)
     program_free(&core.program)

@@ -440,7 +440,7 @@ cdef public int32_t ToolChainCore_ResetStatusCNC(uint32_t intIdx, uint32_t mode)
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
     status = core_status(core)
-    if status >= 0 or mode > 1:
+    if status >= 0 or mode > 1 or core_on_worker(core):
         core_fail(core, ERR_BAD_STATUS, "ResetStatusCNC")
         return TOOL_CHAIN_ERROR
     core_end_activity(core)
