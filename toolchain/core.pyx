@@ -396,9 +396,15 @@ cdef void *_compile_body(void *arg) noexcept nogil:
     cdef Program prog
     cdef ErrorInfo *err = <ErrorInfo *>calloc(1, sizeof(ErrorInfo))
     cdef int result
+    cdef int32_t read_error = 0
     cdef char text[400]
     program_init(&prog)
-    if inp == NULL or err == NULL:
+    if core.source == NULL and inp != NULL and err != NULL:
+        core.source = read_whole_file(core.source_name, &core.source_len, &read_error)
+    if read_error != 0:
+        result = COMPILE_ERROR
+        set_error_text(err, read_error, core.source_idx, 0, core.source_name)
+    elif inp == NULL or err == NULL:
         result = COMPILE_ERROR
         if err != NULL:
             set_error(err, ERR_OUT_OF_MEMORY, core.source_idx, 0, NULL, 0)
@@ -461,7 +467,8 @@ cdef void *_compile_body(void *arg) noexcept nogil:
 
 
 cdef int32_t core_start_compile(Core *core, const char *name, char *source, size_t length) noexcept nogil:
-    """Takes ownership of `source` and compiles it in the worker; -1 when busy."""
+    """Takes ownership of `source` and compiles it in the worker; -1 when busy.
+    source NULL: the worker reads the file `name`."""
     cdef int32_t idx
     if not core_claim(core, CNC_STATUS_COMPILING):
         free(source)
@@ -489,27 +496,41 @@ cdef int32_t core_start_compile(Core *core, const char *name, char *source, size
     return TOOL_CHAIN_SUCCESS
 
 
-cdef char *read_whole_file(const char *path, size_t *length) noexcept nogil:
-    """The file's bytes, NUL-terminated (malloc'ed); NULL when unreadable."""
+cdef enum:
+    MAX_SOURCE_BYTES = 1 << 30      # 1 GiB: larger G-code files are refused
+
+
+cdef char *read_whole_file(const char *path, size_t *length, int32_t *error) noexcept nogil:
+    """The file's bytes, NUL-terminated (malloc'ed); NULL with *error set
+    (ERR_FILE_OPEN, ERR_FILE_READ, ERR_FILE_TOO_LARGE, ERR_OUT_OF_MEMORY)."""
     cdef FILE *f = fopen(path, "rb")
     cdef long size
     cdef char *buf
     if f == NULL:
+        error[0] = ERR_FILE_OPEN
         return NULL
     if fseek(f, 0, SEEK_END) != 0:
         fclose(f)
+        error[0] = ERR_FILE_READ
         return NULL
     size = ftell(f)
     if size < 0 or fseek(f, 0, SEEK_SET) != 0:
         fclose(f)
+        error[0] = ERR_FILE_READ
+        return NULL
+    if size > MAX_SOURCE_BYTES:
+        fclose(f)
+        error[0] = ERR_FILE_TOO_LARGE
         return NULL
     buf = <char *>malloc(<size_t>size + 1)
     if buf == NULL:
         fclose(f)
+        error[0] = ERR_OUT_OF_MEMORY
         return NULL
     if fread(buf, 1, <size_t>size, f) != <size_t>size:
         free(buf)
         fclose(f)
+        error[0] = ERR_FILE_READ
         return NULL
     fclose(f)
     buf[size] = 0
