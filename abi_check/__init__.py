@@ -310,6 +310,8 @@ def _compare_struct(report: Report, name: str, fields: list[Field], c: dict, cls
     c_names = [f.name for f in fields]
     if ct_names != c_names:
         report.diff(f"{name}: field names/order differ: header {c_names}, ctypes {ct_names}")
+    for extra in [n for n in ct_names if n not in c_names]:
+        report.diff(f"{name}.{extra}: in ctypes, missing in the header")
     ct_by_name = {f[0]: f[1] for f in ct_fields}
     end = 0
     for f in fields:
