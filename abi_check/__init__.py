@@ -364,7 +364,7 @@ def format_report(report: Report, diff_only: bool = False) -> str:
     rows = [head] + [tuple("" if v is None else str(v) for v in row) for row in shown]
     widths = [max(len(r[i]) for r in rows) for i in range(len(head))]
     lines = ["  ".join(v.ljust(w) if i < 3 else v.rjust(w) for i, (v, w) in enumerate(zip(r, widths))).rstrip()
-             for r in rows]
+             for r in rows] if shown else []
     if report.differences:
         lines.append("")
         lines += [f"DIFF {d}" for d in report.differences]
