@@ -197,14 +197,16 @@ def test_legacy_get_last_error_is_core_0(run_python):
         from sf_tch import abi, library
         lib = library.load(LIB_PATH)
         info, legacy = abi.CALLBACK_INFO(), abi.CALLBACK_INFO()
-        print(lib.ToolChain_GetLastError(ctypes.byref(legacy)))
+        legacy.stringId = info.stringId = 4321
+        print(lib.ToolChain_GetLastError(ctypes.byref(legacy)), lib.ToolChainCore_GetLastError(0, ctypes.byref(info)),
+              legacy.stringId, info.stringId)   # no error yet: info untouched
         lib.ToolChainCore_StopCNCEx(1, None)                     # an error on core 1 only
         print(lib.ToolChain_GetLastError(ctypes.byref(legacy)))
         lib.ToolChainCore_StartCNCEx(0, 10, None)                # an error on core 0
         print(lib.ToolChain_GetLastError(ctypes.byref(legacy)), lib.ToolChainCore_GetLastError(0, ctypes.byref(info)))
         print(legacy.stringId == info.stringId != 0, legacy.m_fullError == info.m_fullError, legacy.m_fullError)
     """).stdout.splitlines()
-    assert out[:3] == ["0", "0", "1 1"]
+    assert out[:3] == ["0 0 4321 4321", "0", "1 1"]
     assert out[3].startswith("True True b'")
 
 
@@ -404,6 +406,25 @@ def test_status_errors_without_program(fresh_core):
     assert lib.ToolChainCore_StopCNCEx(0, None) == -1
     assert lib.ToolChainCore_GetGCodeSizeInfo(0, byref(abi.GCODE_INFO())) == -1
     assert lib.ToolChainCore_StatusCNC(0) == 0
+
+
+def test_reset_status_after_compilation(run_python):
+    out = run_python("""
+        import time
+        from sf_tch import library
+        lib = library.load(LIB_PATH)
+        def compiled():
+            assert lib.ToolChainCore_CompileFromMemory(0, b"prog.nc", b"G1 X10\\n") == 0
+            deadline = time.time() + 10
+            while lib.ToolChainCore_StatusCNC(0) == 1 and time.time() < deadline:
+                time.sleep(0.005)
+            return lib.ToolChainCore_StatusCNC(0)
+        print(compiled(), lib.ToolChainCore_ResetStatusCNC(0, 2), lib.ToolChainCore_StatusCNC(0))
+        print(lib.ToolChainCore_ResetStatusCNC(0, 0), lib.ToolChainCore_StatusCNC(0))
+        compiled()
+        print(lib.ToolChainCore_ResetStatusCNC(0, 1), lib.ToolChainCore_StatusCNC(0), lib.ToolChainCore_IsBusy(0))
+    """).stdout.splitlines()
+    assert out == ["-1 -1 -1", "0 0", "0 -50 0"]
 
 
 NOT_IMPLEMENTED = {
