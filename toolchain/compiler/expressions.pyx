@@ -208,6 +208,7 @@ cdef int ex_primary(CState *st, const char **pp, const char *eol, double *out, i
 
 
 cdef int ex_unary(CState *st, const char **pp, const char *eol, double *out, int depth) noexcept nogil:
+    """Unary minus binds looser than '^': -2^2 = -4, 2^-1 = 0.5."""
     cdef const char *p = lx_skip_ws(pp[0], eol)
     if p < eol and (p[0] == b'-' or p[0] == b'+'):
         if depth > EXPR_DEPTH:
@@ -219,20 +220,20 @@ cdef int ex_unary(CState *st, const char **pp, const char *eol, double *out, int
             out[0] = -out[0]
         return 0
     pp[0] = p
-    return ex_primary(st, pp, eol, out, depth)
+    return ex_power(st, pp, eol, out, depth)
 
 
 cdef int ex_power(CState *st, const char **pp, const char *eol, double *out, int depth) noexcept nogil:
     cdef const char *p
     cdef double rhs
-    if ex_unary(st, pp, eol, out, depth) != 0:
+    if ex_primary(st, pp, eol, out, depth) != 0:
         return R_ERR
     p = lx_skip_ws(pp[0], eol)
     if p < eol and p[0] == b'^':
         pp[0] = p + 1
         if depth > EXPR_DEPTH:
             return ex_error(st, p, eol)
-        if ex_power(st, pp, eol, &rhs, depth + 1) != 0:
+        if ex_unary(st, pp, eol, &rhs, depth + 1) != 0:
             return R_ERR
         out[0] = pow(out[0], rhs)
         if not isfinite(out[0]):
@@ -244,7 +245,7 @@ cdef int ex_product(CState *st, const char **pp, const char *eol, double *out, i
     cdef const char *p
     cdef double rhs
     cdef char op
-    if ex_power(st, pp, eol, out, depth) != 0:
+    if ex_unary(st, pp, eol, out, depth) != 0:
         return R_ERR
     while True:
         p = lx_skip_ws(pp[0], eol)
@@ -254,7 +255,7 @@ cdef int ex_product(CState *st, const char **pp, const char *eol, double *out, i
             return 0        # '//' comment
         op = p[0]
         pp[0] = p + 1
-        if ex_power(st, pp, eol, &rhs, depth) != 0:
+        if ex_unary(st, pp, eol, &rhs, depth) != 0:
             return R_ERR
         if op == b'*':
             out[0] = out[0] * rhs

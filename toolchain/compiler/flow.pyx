@@ -290,6 +290,8 @@ cdef int fl_target(CState *st, const char *name, int n, double num, bint has_num
             return cerr_text(st, ERR_UNDEFINED_LABEL, buf)
     else:
         e = lb_find(st.unit, name, n, 0)
+        if e == NULL and n > 1 and (name[0] == b'L' or name[0] == b'l'):
+            e = lb_find(st.unit, name + 1, n - 1, 0)    # G27 LNAME written without a blank
         if e == NULL:
             return cerr_text(st, ERR_UNDEFINED_LABEL, cword(st, name, name + n, n))
     st.jpos = e.pos

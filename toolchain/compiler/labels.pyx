@@ -110,9 +110,7 @@ cdef int lb_build(CState *st, Unit *u) noexcept nogil:
             if q < eol and q[0] == b':':
                 if lb_insert(st, u, p, n, 0, pos, line, True) != 0:
                     return R_ERR
-            elif (p[0] == b'N' or p[0] == b'n') and n == 1 and p + 1 < eol and lx_is_digit(p[1]):
-                pass
-            elif (p[0] == b'G' or p[0] == b'g') and n == 1:
+            elif (p[0] == b'G' or p[0] == b'g') and lx_alpha_run(p, eol) == 1:
                 q = p + 1
                 while q < eol and q[0] == b'0':
                     q += 1
