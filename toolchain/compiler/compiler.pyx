@@ -660,6 +660,33 @@ cdef void cp_init(CState *st, const CompileInput *inp, Program *prog, ErrorInfo 
     st.last_percent = -1
 
 
+cdef extern from "<sys/mman.h>" nogil:
+    int madvise(void *addr, size_t length, int advice)
+    int MADV_HUGEPAGE
+
+
+cdef void reserve_parts(Program *prog, uint32_t lines) noexcept nogil:
+    """Reserves room for about one part per line up front (one allocation instead of
+    a doubling series) and asks for transparent huge pages: on large programs most
+    of the compile time is otherwise spent faulting in fresh 4 KiB pages. Only a
+    hint; the arrays still grow on demand."""
+    cdef size_t n = <size_t>lines + 64
+    cdef size_t start, end
+    if lines < 100000:
+        return
+    if _grow(<void **>&prog.parts, &prog.cap_parts, n, sizeof(Part)):
+        _advise_huge(prog.parts, prog.cap_parts * sizeof(Part))
+    if _grow(<void **>&prog.pars, &prog.cap_pars, n * 4, sizeof(float)):
+        _advise_huge(prog.pars, prog.cap_pars * sizeof(float))
+
+
+cdef void _advise_huge(void *buf, size_t size) noexcept nogil:
+    cdef size_t start = (<size_t>buf + 0x1FFFFF) & ~(<size_t>0x1FFFFF)
+    cdef size_t end = (<size_t>buf + size) & ~(<size_t>0x1FFFFF)
+    if end > start:
+        madvise(<void *>start, end - start, MADV_HUGEPAGE)
+
+
 cdef int compile_program(const CompileInput *inp, Program *prog, ErrorInfo *err) noexcept nogil:
     """Compiles inp.text (prefix, main, postfix) into prog; COMPILE_OK, or COMPILE_ERROR
     with err filled, or COMPILE_CANCELLED when inp.cancel was set."""
@@ -688,6 +715,7 @@ cdef int compile_program(const CompileInput *inp, Program *prog, ErrorInfo *err)
         if units[i].len > 0:
             lines += count_lines(units[i].text, units[i].len)
     cp_init(st, inp, prog, err)
+    reserve_parts(prog, prog.n_lines)
     st.unit = &units[1]
     st.block_limit = (inp.max_blocks if inp.max_blocks > 0 else DEFAULT_MAX_BLOCKS) + <int64_t>lines
     if not update_zero(st):
