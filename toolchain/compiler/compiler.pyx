@@ -320,7 +320,7 @@ cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
     """Executes the words of one line: G settings, modal values, continuous M,
     motion or dwell, then the other M functions and the flow words."""
     cdef int i, g, m, r, motion = -1, jump = 0
-    cdef bint dwell = False, g9x = False, end = False, ret = False, g900 = False
+    cdef bint dwell = False, g9x = False, end = False, ret = False, g900 = False, g168 = False
     cdef uint32_t consumed = 0, saved
     cdef uint32_t axes = axes_mask()
     cdef const GCODE_PARAMETERS *pr = &st.params
@@ -386,6 +386,7 @@ cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
         elif g == 168:
             consumed |= (bit_of(b'X') | bit_of(b'Y') | bit_of(b'Z') | bit_of(b'I') | bit_of(b'J')
                          | bit_of(b'K') | bit_of(b'R') | bit_of(b'Q'))
+            g168 = True
             if cp_g168(st, lw) != 0:
                 return R_ERR
         elif g == 169:
@@ -434,7 +435,10 @@ cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
         if motion < 0:
             motion = 1 if (g9x and (lw.mask & axes & ~consumed)) else st.motion
         saved = lw.mask
-        lw.mask &= ~(consumed & (axes | bit_of(b'I') | bit_of(b'J') | bit_of(b'K') | bit_of(b'R')))
+        # words a G/M function of this line used are not axis moves (G168 also takes I J K R)
+        lw.mask &= ~(consumed & axes)
+        if g168:
+            lw.mask &= ~(bit_of(b'I') | bit_of(b'J') | bit_of(b'K') | bit_of(b'R'))
         r = em_motion(st, lw, motion)
         lw.mask = saved
         if r != 0:
