@@ -1,5 +1,5 @@
 """Modal state of the compiler: compensation records, G900 parameter changes,
-G167/G172 storage, lathe words, progress reporting and CompileFromFile (core 0)."""
+G167/G172 storage, lathe words, progress reporting and CompileFromFile (core 1)."""
 import ctypes
 import time
 
@@ -11,7 +11,7 @@ from sf_tch import abi
 
 @pytest.fixture(scope="module")
 def host(tmp_path_factory):
-    h = Host(0, tmp_path_factory.mktemp("core0"))
+    h = Host(1, tmp_path_factory.mktemp("core1m"))
     yield h
     h.close()
 
@@ -69,17 +69,17 @@ def test_progress_and_compile_from_file(host, tmp_path):
     path = tmp_path / "big.nc"
     path.write_text("".join(f"G1 X{i % 100} Y{i % 7}.5\n" for i in range(300000)))
     p = host.params()
-    assert lib.ToolChainCore_SetGCodeParameters(0, ctypes.byref(p)) == 0
-    assert lib.ToolChainCore_CompileFromFile(0, str(path).encode()) == 0
+    assert lib.ToolChainCore_SetGCodeParameters(1, ctypes.byref(p)) == 0
+    assert lib.ToolChainCore_CompileFromFile(1, str(path).encode()) == 0
     while True:
-        status = lib.ToolChainCore_StatusCNC(0)
+        status = lib.ToolChainCore_StatusCNC(1)
         if status != 1:
             break
         time.sleep(0.001)
     assert status == -1
-    assert last_error(lib, 0) is None
+    assert last_error(lib, 1) is None
     info = abi.GCODE_INFO()
-    assert lib.ToolChainCore_GetGCodeSizeInfo(0, ctypes.byref(info)) == 0
+    assert lib.ToolChainCore_GetGCodeSizeInfo(1, ctypes.byref(info)) == 0
     assert info.m_size[0].m_maximalPos.x == 99
 
 
