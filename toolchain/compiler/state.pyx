@@ -65,7 +65,6 @@ ctypedef struct LineWords:
     double m[MAX_WORD_LIST]
     bint has_ff, has_fp
     double ff, fp
-    bint adjacent_fp        # unused
     const char *label       # G25/G26/G27 L target given as a name
     int label_len
     const char *text        # M29 / PRINT text
