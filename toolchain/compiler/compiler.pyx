@@ -196,7 +196,7 @@ cdef int cp_g168(CState *st, const LineWords *lw) noexcept nogil:
         az = val(lw, b'K') if has(lw, b'K') else 0.0
     else:
         if has(lw, b'Q'):
-            plane = <int>val(lw, b'Q')
+            plane = to_int(val(lw, b'Q'))
         if plane == 17:
             ax = 0.0; ay = 0.0; az = 1.0
         elif plane == 18:
@@ -218,7 +218,7 @@ cdef void _feed_set(CState *st, const LineWords *lw, int k) noexcept nogil:
     if has(lw, b'F'): st.params.motion[k].feed = val(lw, b'F')
     if has(lw, b'C'): st.params.motion[k].acc = val(lw, b'C')
     if has(lw, b'D'): st.params.motion[k].dec = val(lw, b'D')
-    if has(lw, b'R'): st.params.motion[k].rampType = <int32_t>val(lw, b'R')
+    if has(lw, b'R'): st.params.motion[k].rampType = to_int(val(lw, b'R'))
 
 
 cdef uint32_t _axis_flags(const LineWords *lw) noexcept nogil:
@@ -238,7 +238,7 @@ cdef int cp_g900(CState *st, const LineWords *lw) noexcept nogil:
     if not has(lw, b'S'):
         return cerr_text(st, ERR_MISSING_VALUE, "S")
     sv = val(lw, b'S')
-    s = <int>sv
+    s = to_int(sv)
     if s == 1:
         if st.n_pstack >= PARAM_STACK_DEPTH:
             return cerr_text(st, ERR_PARAM_STACK, "overflow")
@@ -250,7 +250,7 @@ cdef int cp_g900(CState *st, const LineWords *lw) noexcept nogil:
         st.n_pstack -= 1
         st.params = st.pstack[st.n_pstack]
     elif s == 7:
-        a = <int>val(lw, b'A') if has(lw, b'A') else -1
+        a = to_int(val(lw, b'A')) if has(lw, b'A') else -1
         if a < 0 or a > 9:
             return _bad_value(st, val(lw, b'A') if has(lw, b'A') else -1.0, "A")
         if has(lw, b'F'): st.params.axisLimits[a].maxFeed = val(lw, b'F')
@@ -265,9 +265,9 @@ cdef int cp_g900(CState *st, const LineWords *lw) noexcept nogil:
     elif s == 11:
         st.g900_ignore_feed = _axis_flags(lw)
     elif s == 12:
-        st.g900_stop_mode = <int32_t>val(lw, b'A') if has(lw, b'A') else 0
+        st.g900_stop_mode = to_int(val(lw, b'A')) if has(lw, b'A') else 0
     elif s == 13:
-        st.g900_arc_table = <int32_t>val(lw, b'A') if has(lw, b'A') else 0
+        st.g900_arc_table = to_int(val(lw, b'A')) if has(lw, b'A') else 0
     elif s == 20: _feed_set(st, lw, 0)
     elif s == 30: _feed_set(st, lw, 1)
     elif s == 31: _feed_set(st, lw, 4)
@@ -329,7 +329,7 @@ cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
     cdef int addr
     # consumed letters of M functions with addresses of their own
     for i in range(lw.nm):
-        m = <int>lw.m[i]
+        m = to_int(lw.m[i])
         if m == -5 or _is_m(pr, m, pr.M06_changeTool):
             consumed |= axes
         elif m == -6:
@@ -339,7 +339,7 @@ cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
     # G functions, in the order written
     for i in range(lw.ng):
         gv = lw.g[i]
-        g = <int>gv
+        g = to_int(gv)
         if gv != <double>g:
             return cerr_num(st, ERR_BAD_G, gv)
         if g == 0 or g == 1 or g == 2 or g == 3 or g == 33:
@@ -413,7 +413,7 @@ cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
     if not (consumed & bit_of(b'S')) and has(lw, b'S'):
         st.spindle = <float>val(lw, b'S')
     if not (consumed & bit_of(b'T')) and has(lw, b'T'):
-        st.tool = <int>val(lw, b'T')
+        st.tool = to_int(val(lw, b'T'))
     if lw.has_fp and pr.forceMode != 1:
         st.fp = lw.fp
     if lw.has_ff:
@@ -421,7 +421,7 @@ cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
         st.ff_set = True
     # continuous M functions go before the motion of their line
     for i in range(lw.nm):
-        m = <int>lw.m[i]
+        m = to_int(lw.m[i])
         if lw.m[i] != <double>m or m == 1000 or m < -6 or m > 1000000000 or (m < 0 and m != -5 and m != -6):
             return cerr_num(st, ERR_BAD_M, lw.m[i])
         if m >= 1001:
@@ -445,7 +445,7 @@ cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
             return R_ERR
     # the other M functions, in the order written
     for i in range(lw.nm):
-        m = <int>lw.m[i]
+        m = to_int(lw.m[i])
         if m >= 1001:
             continue
         if m == -5:
@@ -458,7 +458,7 @@ cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
                 iv = st.gindex
                 memcpy(st.inp.plc + addr, &iv, 4)
             if has(lw, b'S'):
-                st.gindex = <int32_t>val(lw, b'S')
+                st.gindex = to_int(val(lw, b'S'))
                 st.gindex += st.gindex & 1
         elif _is_m(pr, m, pr.M29_print):
             if em_print(st, lw, m, lw.text, lw.text_len) != 0:
@@ -494,10 +494,10 @@ cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
     if jump:
         if lw.label != NULL:
             r = fl_call(st, lw.label, lw.label_len, 0, False, jump != 27,
-                        <int64_t>val(lw, b'H') if (jump == 26 and has(lw, b'H')) else 1)
+                        to_int(val(lw, b'H')) if (jump == 26 and has(lw, b'H')) else 1)
         elif has(lw, b'L'):
             r = fl_call(st, NULL, 0, val(lw, b'L'), True, jump != 27,
-                        <int64_t>val(lw, b'H') if (jump == 26 and has(lw, b'H')) else 1)
+                        to_int(val(lw, b'H')) if (jump == 26 and has(lw, b'H')) else 1)
         else:
             return cerr_text(st, ERR_MISSING_VALUE, "L")
         return r

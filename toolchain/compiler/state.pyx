@@ -130,6 +130,17 @@ ctypedef struct CState:
     LineWords lw                            # words of the current line
 
 
+cdef inline int to_int(double v) noexcept nogil:
+    """A word's value as int, saturated (no undefined cast of huge values or NaN)."""
+    if v != v:
+        return 0
+    if v >= 2147483647.0:
+        return 2147483647
+    if v <= -2147483648.0:
+        return -2147483647 - 1
+    return <int>v
+
+
 cdef inline int axis_of_letter(char c) noexcept nogil:
     """Axis index (X Y Z C B U V W A O) of an upper-case letter, -1 if not an axis."""
     if c == b'X': return 0
