@@ -148,6 +148,7 @@ cdef uint32_t axes_mask() noexcept nogil:
 cdef void cp_reframe(CState *st) noexcept nogil:
     """After a change of zero offset, mirroring or rotation the machine stays where
     it is: its program coordinates are recomputed."""
+    update_identity(st)
     to_program(st, st.mpos, st.ppos)
 
 
