@@ -320,7 +320,7 @@ cdef bint _is_m(const GCODE_PARAMETERS *pr, int m, int32_t number) noexcept nogi
 cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
     """Executes the words of one line: G settings, modal values, continuous M,
     motion or dwell, then the other M functions and the flow words."""
-    cdef int i, g, m, r, motion = -1, jump = 0
+    cdef int i, k, g, m, r, motion = -1, jump = 0
     cdef bint dwell = False, g9x = False, end = False, ret = False, g900 = False, g168 = False
     cdef uint32_t consumed = 0, saved
     cdef uint32_t axes = axes_mask()
@@ -450,7 +450,13 @@ cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
         if m >= 1001:
             continue
         if m == -5:
-            st.limits_off = _axis_flags(lw) ^ 0x3FF
+            # per written axis: 0 switches its limits off, anything else on again
+            for k in range(10):
+                if has(lw, letter_of_axis(k)):
+                    if val(lw, letter_of_axis(k)) == 0.0:
+                        st.limits_off |= 1u << k
+                    else:
+                        st.limits_off &= ~(1u << k)
         elif m == -6:
             if has(lw, b'A'):
                 addr = ex_plc_addr(st, val(lw, b'A'), 4)
@@ -460,6 +466,10 @@ cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
                 memcpy(st.inp.plc + addr, &iv, 4)
             if has(lw, b'S'):
                 st.gindex = to_int(val(lw, b'S'))
+                if st.gindex > 0x40000000:          # leave room: the index is an int32
+                    st.gindex = 0x40000000
+                elif st.gindex < -0x40000000:
+                    st.gindex = -0x40000000
                 st.gindex += st.gindex & 1
         elif _is_m(pr, m, pr.M29_print):
             if em_print(st, lw, m, lw.text, lw.text_len) != 0:
@@ -716,9 +726,7 @@ cdef int compile_program(const CompileInput *inp, Program *prog, ErrorInfo *err)
     prog.main_file_idx = inp.file_idx
     prog.n_lines = count_lines(units[1].text, units[1].len)
     prog.compensated = False
-    for i in range(3):
-        if units[i].len > 0:
-            lines += count_lines(units[i].text, units[i].len)
+    lines = prog.n_lines + count_lines(units[0].text, units[0].len) + count_lines(units[2].text, units[2].len)
     cp_init(st, inp, prog, err)
     reserve_parts(prog, prog.n_lines)
     st.unit = &units[1]
