@@ -397,6 +397,7 @@ cdef void *_compile_body(void *arg) noexcept nogil:
     cdef ErrorInfo *err = <ErrorInfo *>calloc(1, sizeof(ErrorInfo))
     cdef int result
     cdef int32_t read_error = 0
+    cdef GCODE_INFO extent
     cdef char text[400]
     program_init(&prog)
     if core.source == NULL and inp != NULL and err != NULL:
@@ -435,13 +436,15 @@ cdef void *_compile_body(void *arg) noexcept nogil:
             result = compensate_program(&prog, &inp.params, err, _compile_output, core)
         if result == COMPILE_CANCELLED:
             set_error(err, ERR_CANCELLED, core.source_idx, 0, NULL, 0)
+    if result == COMPILE_OK:
+        program_extent(&prog, &extent)      # before taking the lock: GetPos never waits for it
     pthread_mutex_lock(&core.lock)
     program_free(&core.program)
     memset(&core.size_info, 0, sizeof(GCODE_INFO))
     if result == COMPILE_OK:
         core.program = prog
         core.has_program = True
-        program_extent(&core.program, &core.size_info)
+        core.size_info = extent
         memset(&core.error, 0, sizeof(ErrorInfo))
     else:
         program_free(&prog)
@@ -567,6 +570,10 @@ cdef void core_destroy(Core *core) noexcept nogil:
     free(core.source)
     core.source = NULL
     memset(&core.size_info, 0, sizeof(GCODE_INFO))
+    memset(&core.pos, 0, sizeof(SIMPLE_GM_PARAMS))
+    core.pos.m_fileIdx = -1
+    memset(&core.enh, 0, sizeof(GM_PARAMS_ENHANCED))
+    core.enh.m_relFeed = core.rel_feed
     pthread_mutex_unlock(&core.lock)
     core_set_status(core, CNC_STATUS_NOTHING_LOADED)
 
