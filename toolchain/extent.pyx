@@ -72,10 +72,13 @@ cdef void _extent(const Program *prog, GCODE_SIZE *size, bint compensated) noexc
 
 
 cdef void program_extent(const Program *prog, GCODE_INFO *info) noexcept nogil:
-    """[0] programmed, [1] compensated; the program's coordinates are already rotated
-    (G168), so [2] and [3] repeat [0] and [1]."""
+    """[0] programmed, [1] compensated (the same without compensation); the program's
+    coordinates are already rotated (G168), so [2] and [3] repeat [0] and [1]."""
     _extent(prog, &info.m_size[0], False)
-    _extent(prog, &info.m_size[1], True)
+    if prog.compensated:
+        _extent(prog, &info.m_size[1], True)
+    else:
+        info.m_size[1] = info.m_size[0]
     info.m_size[2] = info.m_size[0]
     info.m_size[3] = info.m_size[1]
 
