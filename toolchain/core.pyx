@@ -104,6 +104,7 @@ ctypedef struct Core:
     uint32_t breakpoint_line
     int32_t breakpoint_file
     # GetPos snapshot (written by the worker under lock)
+    int32_t last_motion         # 0 none, 1 rapid, 2 cut: for the transition counters
     SIMPLE_GM_PARAMS pos
     GM_PARAMS_ENHANCED enh
 
@@ -395,9 +396,15 @@ cdef void *_compile_body(void *arg) noexcept nogil:
     cdef Program prog
     cdef ErrorInfo *err = <ErrorInfo *>calloc(1, sizeof(ErrorInfo))
     cdef int result
+    cdef int32_t read_error = 0
     cdef char text[400]
     program_init(&prog)
-    if inp == NULL or err == NULL:
+    if core.source == NULL and inp != NULL and err != NULL:
+        core.source = read_whole_file(core.source_name, &core.source_len, &read_error)
+    if read_error != 0:
+        result = COMPILE_ERROR
+        set_error_text(err, read_error, core.source_idx, 0, core.source_name)
+    elif inp == NULL or err == NULL:
         result = COMPILE_ERROR
         if err != NULL:
             set_error(err, ERR_OUT_OF_MEMORY, core.source_idx, 0, NULL, 0)
@@ -460,7 +467,8 @@ cdef void *_compile_body(void *arg) noexcept nogil:
 
 
 cdef int32_t core_start_compile(Core *core, const char *name, char *source, size_t length) noexcept nogil:
-    """Takes ownership of `source` and compiles it in the worker; -1 when busy."""
+    """Takes ownership of `source` and compiles it in the worker; -1 when busy.
+    source NULL: the worker reads the file `name`."""
     cdef int32_t idx
     if not core_claim(core, CNC_STATUS_COMPILING):
         free(source)
@@ -488,27 +496,41 @@ cdef int32_t core_start_compile(Core *core, const char *name, char *source, size
     return TOOL_CHAIN_SUCCESS
 
 
-cdef char *read_whole_file(const char *path, size_t *length) noexcept nogil:
-    """The file's bytes, NUL-terminated (malloc'ed); NULL when unreadable."""
+cdef enum:
+    MAX_SOURCE_BYTES = 1 << 30      # 1 GiB: larger G-code files are refused
+
+
+cdef char *read_whole_file(const char *path, size_t *length, int32_t *error) noexcept nogil:
+    """The file's bytes, NUL-terminated (malloc'ed); NULL with *error set
+    (ERR_FILE_OPEN, ERR_FILE_READ, ERR_FILE_TOO_LARGE, ERR_OUT_OF_MEMORY)."""
     cdef FILE *f = fopen(path, "rb")
     cdef long size
     cdef char *buf
     if f == NULL:
+        error[0] = ERR_FILE_OPEN
         return NULL
     if fseek(f, 0, SEEK_END) != 0:
         fclose(f)
+        error[0] = ERR_FILE_READ
         return NULL
     size = ftell(f)
     if size < 0 or fseek(f, 0, SEEK_SET) != 0:
         fclose(f)
+        error[0] = ERR_FILE_READ
+        return NULL
+    if size > MAX_SOURCE_BYTES:
+        fclose(f)
+        error[0] = ERR_FILE_TOO_LARGE
         return NULL
     buf = <char *>malloc(<size_t>size + 1)
     if buf == NULL:
         fclose(f)
+        error[0] = ERR_OUT_OF_MEMORY
         return NULL
     if fread(buf, 1, <size_t>size, f) != <size_t>size:
         free(buf)
         fclose(f)
+        error[0] = ERR_FILE_READ
         return NULL
     fclose(f)
     buf[size] = 0
@@ -518,12 +540,26 @@ cdef char *read_whole_file(const char *path, size_t *length) noexcept nogil:
 
 # ------------------------------------------------------------------ reset / destroy
 
+cdef bint core_on_worker(Core *core) noexcept nogil:
+    """True inside the worker thread (a callback calling back into the library)."""
+    cdef bint inside
+    pthread_mutex_lock(&core.lock)
+    inside = core.worker_started and pthread_equal(core.worker, pthread_self())
+    pthread_mutex_unlock(&core.lock)
+    return inside
+
+
 cdef void core_end_activity(Core *core) noexcept nogil:
     """Interrupts a compilation or a run and waits until the worker has ended."""
     core_join_worker(core)
 
 
 cdef void core_destroy(Core *core) noexcept nogil:
+    if core_on_worker(core):
+        # called from a callback: the worker still uses the program; ask it to end
+        # and leave the memory to the next DestroyCNC from a host thread
+        TC_ATOMIC_STORE(&core.cancel, 1)
+        return
     core_end_activity(core)
     pthread_mutex_lock(&core.lock)
     program_free(&core.program)

@@ -13,6 +13,7 @@ cdef enum ErrorNumber:
     ERR_BAD_STATUS = 9              # %s not allowed in status %d
     ERR_NOT_IMPLEMENTED = 10        # %s is not implemented yet
     ERR_INI_FIRST = 11              # Callback %d needs LoadFromIni first
+    ERR_FILE_TOO_LARGE = 12         # File '%s' is larger than 1 GiB
     # lexical (100..199)
     ERR_UNKNOWN_WORD = 100          # Unknown word '%s'
     ERR_BAD_NUMBER = 101            # Bad number '%s'

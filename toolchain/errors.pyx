@@ -17,6 +17,7 @@ cdef const char *error_format(int32_t number) noexcept nogil:
     if number == ERR_BAD_STATUS: return "%s not allowed in status %d"
     if number == ERR_NOT_IMPLEMENTED: return "%s is not implemented yet"
     if number == ERR_INI_FIRST: return "Callback %d needs LoadFromIni first"
+    if number == ERR_FILE_TOO_LARGE: return "File '%s' is larger than 1 GiB"
     if number == ERR_UNKNOWN_WORD: return "Unknown word '%s'"
     if number == ERR_BAD_NUMBER: return "Bad number '%s'"
     if number == ERR_MISSING_VALUE: return "Address %s without a value"

@@ -196,8 +196,7 @@ cdef public int32_t ToolChainCore_GCodePrefixPostfix(uint32_t intIdx, TGM_LPCSTR
 
 cdef public int32_t ToolChainCore_CompileFromFile(uint32_t intIdx, TGM_LPCTSTR fileName) noexcept nogil:
     cdef Core *core = core_get(intIdx)
-    cdef char *source
-    cdef size_t length = 0
+    cdef FILE *probe
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
     if fileName == NULL:
@@ -209,11 +208,12 @@ cdef public int32_t ToolChainCore_CompileFromFile(uint32_t intIdx, TGM_LPCTSTR f
     if status_is_running(core_status(core)):
         core_fail(core, ERR_BUSY, "compilation or run")
         return TOOL_CHAIN_ERROR
-    source = read_whole_file(fileName, &length)
-    if source == NULL:
+    probe = fopen(fileName, "rb")          # unreadable: refused now; read in the worker
+    if probe == NULL:
         core_fail(core, ERR_FILE_OPEN, fileName)
         return TOOL_CHAIN_ERROR
-    return core_start_compile(core, fileName, source, length)
+    fclose(probe)
+    return core_start_compile(core, fileName, NULL, 0)
 
 
 cdef public int32_t ToolChainCore_CompileFromMemory(uint32_t intIdx, TGM_LPCTSTR fileName, TGM_LPCSTR code) noexcept nogil:
@@ -440,7 +440,7 @@ cdef public int32_t ToolChainCore_ResetStatusCNC(uint32_t intIdx, uint32_t mode)
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
     status = core_status(core)
-    if status >= 0 or mode > 1:
+    if status >= 0 or mode > 1 or core_on_worker(core):
         core_fail(core, ERR_BAD_STATUS, "ResetStatusCNC")
         return TOOL_CHAIN_ERROR
     core_end_activity(core)

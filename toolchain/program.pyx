@@ -2,7 +2,7 @@
 # texts, and the one place a Part becomes a SIMPLE_GM_PARAMS.
 from libc.stdlib cimport malloc, realloc, free
 from libc.string cimport memset, memcpy, memcmp
-from libc.math cimport sqrt, fabs
+from libc.math cimport sqrt, fabs, hypot
 from program cimport *
 from includes.tgm_cnc cimport SIMPLE_GM_PARAMS, P10DOUBLE, P26FLOAT
 
@@ -172,6 +172,8 @@ cdef void part_to_gm(const Program *prog, size_t i, SIMPLE_GM_PARAMS *gm) noexce
     cdef int letter
     cdef size_t k
     cdef double e[10]
+    cdef const double *start
+    cdef int first, second, normal
     _p10(&gm.m_s, part_start(prog, i))
     _p10(&gm.m_e, p.e)
     part_calc_start(prog, i, <double *>&gm.m_calcS)
@@ -196,7 +198,9 @@ cdef void part_to_gm(const Program *prog, size_t i, SIMPLE_GM_PARAMS *gm) noexce
         gm.m_pars.F = <float>p.feed
         gm.m_pars.G = <float>p.func
         gm.m_pars.N = <float>part_length(prog, i)
-        if p.func == 2 or p.func == 3:
+        if (p.func == 2 or p.func == 3) and plane_axes(p.plane, &first, &second, &normal):
+            start = part_start(prog, i)
+            gm.m_pars.R = <float>hypot(start[first] - p.cc[first], start[second] - p.cc[second])
             gm.m_cc.x = p.cc[0]
             gm.m_cc.y = p.cc[1]
             gm.m_cc.z = p.cc[2]

@@ -63,6 +63,11 @@ cdef void _update_position(Core *core, const Program *prog, size_t i, const SIMP
     memcpy(core.position, &gm.m_calcE, sizeof(core.position))
     if p.kind == PART_MOTION:
         rapid = p.func == 0
+        if core.last_motion == 2 and rapid:
+            enh.m_nWorkToG00Changes += 1
+        elif core.last_motion == 1 and not rapid:
+            enh.m_nG00ToWorkChanges += 1
+        core.last_motion = 1 if rapid else 2
         if rapid:
             enh.m_actG00PartsLen += length
             enh.m_nG00Counter += 1
@@ -140,6 +145,7 @@ cdef void *_run_body(void *arg) noexcept nogil:
     memcpy(start, prog.start, sizeof(start))
     memset(&core.enh, 0, sizeof(GM_PARAMS_ENHANCED))
     core.enh.m_relFeed = core.rel_feed
+    core.last_motion = 0
     pthread_mutex_unlock(&core.lock)
     memset(&first_error, 0, sizeof(first_error))
     if init_cb.fn != NULL:

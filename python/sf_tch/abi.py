@@ -1,0 +1,322 @@
+"""ctypes mirror of ``include/tgm_cnc.h``: every structure by its C name, with the
+same fields in the same order, plus the constants an HMI needs.
+
+``abi_check`` and the tests compare every size and offset here with the C header
+and with the library's ``ToolChainCore_GetStructuresSize``.
+"""
+import ctypes
+from ctypes import c_char_p, c_double, c_float, c_int32, c_int64, c_ssize_t, c_uint32, c_void_p
+
+# return codes
+TOOL_CHAIN_BAD_INTR_INDEX = -2
+TOOL_CHAIN_ERROR = -1
+TOOL_CHAIN_SUCCESS = 0
+TOOL_CHAIN_XEXEC = 1
+TOOL_CHAIN_XBREAK = 2
+TOOL_CHAIN_MAX_CORES = 3
+TOOL_CHAIN_MAX_FILE_NAME = 252
+INVALID_VALUE = 1e38
+PLC_MEMORY_BYTES = 524288
+
+AXES = ("x", "y", "z", "c", "b", "u", "v", "w", "a", "o")
+LETTERS = tuple(chr(ord("A") + i) for i in range(26))
+
+
+class P10DOUBLE(ctypes.Structure):
+    _fields_ = [(name, c_double) for name in AXES]
+
+
+class P10BOOL(ctypes.Structure):
+    _fields_ = [(name, c_int32) for name in AXES]
+
+
+class P26FLOAT(ctypes.Structure):
+    _fields_ = [(name, c_float) for name in LETTERS]
+
+
+class DLL_INIT_STRUCT(ctypes.Structure):
+    _fields_ = [
+        ("CNC_Dll_Dir", c_char_p),
+        ("Macros_Dir", c_char_p),
+        ("Comm_Int2_Dir", c_char_p),
+        ("Local_Core_Mode", c_int32),
+    ]
+
+
+class SIMPLE_GM_PARAMS(ctypes.Structure):
+    _fields_ = [
+        ("m_s", P10DOUBLE),
+        ("m_e", P10DOUBLE),
+        ("m_calcS", P10DOUBLE),
+        ("m_calcE", P10DOUBLE),
+        ("m_zero", P10DOUBLE),
+        ("m_cc", P10DOUBLE),
+        ("m_pars", P26FLOAT),
+        ("m_func", c_int32),
+        ("m_planeTool", c_int32),
+        ("m_reserved", c_uint32),
+        ("m_editorLine", c_uint32),
+        ("m_fileIdx", c_int32),
+        ("m_gCodeIndex", c_int32),
+        ("m_bFeedIsMin", c_int32),
+        ("m_fp", c_float),
+    ]
+
+
+class GM_PARAMS_ENHANCED(ctypes.Structure):
+    _fields_ = [
+        ("m_setFeed", c_double),
+        ("m_calcFeed", c_double),
+        ("m_actFeed", c_double),
+        ("m_relFeed", c_double),
+        ("m_actPartLen", c_double),
+        ("m_actPartRemain", c_double),
+        ("m_actWorkPartsLen", c_double),
+        ("m_actG00PartsLen", c_double),
+        ("m_actPartsLen", c_double),
+        ("m_nWorkCounter", c_int32),
+        ("m_nG00Counter", c_int32),
+        ("m_nG00ToWorkChanges", c_int32),
+        ("m_nWorkToG00Changes", c_int32),
+        ("m_nMCounter", c_int32),
+        ("m_MasterEditorLine", c_uint32),
+        ("m_MasterFileIdx", c_uint32),
+        ("m_statusCNC", c_int32),
+        ("m_cncRunTime", c_double),
+    ]
+
+
+class CALLBACK_INFO(ctypes.Structure):
+    _fields_ = [
+        ("stringId", c_int32),
+        ("nLines", c_int32),
+        ("actLine", c_int32),
+        ("fileIdx", c_int32),
+        ("m_fullError", c_char_p),
+        ("m_errorArguments", c_char_p),
+    ]
+
+
+class GCODE_SIZE(ctypes.Structure):
+    _fields_ = [
+        ("m_startPos", P10DOUBLE),
+        ("m_endPos", P10DOUBLE),
+        ("m_minimalPos", P10DOUBLE),
+        ("m_maximalPos", P10DOUBLE),
+    ]
+
+
+class GCODE_INFO(ctypes.Structure):
+    _fields_ = [("m_size", GCODE_SIZE * 4)]
+
+
+class MACHINE_PARAMETERS(ctypes.Structure):
+    _fields_ = [
+        ("minCoords", P10DOUBLE),
+        ("maxCoords", P10DOUBLE),
+        ("refCoords", P10DOUBLE),
+        ("enableMask", P10BOOL),
+        ("backlash", P10DOUBLE),
+        ("backlashInc", P10DOUBLE),
+        ("backlashValuesSource", c_int32),
+        ("enhancedInterpolatorParameters", c_int32),
+    ]
+
+
+class MACHINE_STATUS(ctypes.Structure):
+    _fields_ = [("m_axesStatus", c_uint32), ("m_refDone", c_uint32), ("m_endSwitches", c_uint32)] + [
+        (f"m_reserved{i}", c_uint32) for i in range(1, 11)
+    ]
+
+
+class GCODE_FEED(ctypes.Structure):
+    _fields_ = [
+        ("feed", c_double),
+        ("acc", c_double),
+        ("dec", c_double),
+        ("rampType", c_int32),
+        ("padding1", c_int32),
+    ]
+
+
+class GCODE_CORRECTION(ctypes.Structure):
+    _fields_ = [("size", c_double), ("gCode", c_int32), ("padding1", c_int32)]
+
+
+class ARC_FEED_TABLE(ctypes.Structure):
+    _fields_ = [("m_r", c_double), ("m_relFeed", c_double)]
+
+
+class INTERNAL_MFUNC_INSERT_TABLE(ctypes.Structure):
+    _fields_ = [("mFunc", c_int32), ("padding1", c_int32), ("relFeed", c_double), ("distance", c_double)]
+
+
+class AXIS_LIMITS(ctypes.Structure):
+    _fields_ = [("maxFeed", c_double), ("maxAcc", c_double), ("maxDec", c_double)]
+
+
+M_FUNCTION_FIELDS = (
+    "M02_programEnd1", "M30_programEnd2", "M03_startSpindleCW", "M04_startSpindleCCW",
+    "M05_stopSpindle", "M06_changeTool", "M07_coolOn", "M08_oilOn", "M09_coolOilOff",
+    "M17_return", "M29_print", "M80_mirrorOff", "M81_mirrorX", "M82_mirrorY", "M83_mirrorZ",
+    "M84_mirrorXY", "M85_mirrorXZ", "M86_mirrorYZ", "M87_mirrorXYZ", "M99_defFeed",
+)
+
+
+class GCODE_PARAMETERS(ctypes.Structure):
+    _fields_ = [
+        ("absMode", c_int32),
+        ("swapG2G3", c_int32),
+        ("correctionStrategy", c_uint32),
+        ("forceMode", c_int32),
+        ("motion", GCODE_FEED * 8),
+        ("correction", GCODE_CORRECTION * 8),
+        ("maxConnectionDistance", c_double),
+        ("startAngle", c_double),
+        ("endAngle", c_double),
+        ("minAngleFeed", c_double),
+        ("disableG0FeedOverride", c_int32),
+        ("interpolatorConfig0", c_int32),
+        ("overrideInc", c_double),
+        ("arcFeedTable", ARC_FEED_TABLE * 5),
+        ("centripetalAcc", c_double),
+        ("mFuncInsertTable", INTERNAL_MFUNC_INSERT_TABLE * 3),
+        ("MfuncInsertType", c_int32),
+        ("paddingTo8Bytes_2", c_int32),
+        ("reserved", c_double),
+    ] + [(name, c_int32) for name in M_FUNCTION_FIELDS] + [
+        ("insertArcMode", c_int32),
+        ("paddingTo8Bytes_3", c_int32),
+        ("insertArcToleranceRMax", c_double),
+        ("insertArcToleranceRMin", c_double),
+        ("insertArcMaxAngle", c_double),
+        ("insertArcMinAngle", c_double),
+        ("insertArcPlane", c_int32),
+        ("rezerva1", c_int32),
+        ("calcTime", c_int32),
+        ("rezerva2", c_int32),
+        ("dynamicG41Correction_mm", c_double),
+        ("dynamicG42Correction_mm", c_double),
+        ("axisLimits", AXIS_LIMITS * 10),
+        ("dynamicG41Correction_percent", c_double),
+        ("dynamicG42Correction_percent", c_double),
+        ("tolerance", c_double * 10),
+    ]
+
+
+# Every structure of the header, by name (abi_check walks this).
+STRUCTURES = {
+    cls.__name__: cls
+    for cls in (
+        P10DOUBLE, P10BOOL, P26FLOAT, DLL_INIT_STRUCT, SIMPLE_GM_PARAMS, GM_PARAMS_ENHANCED,
+        CALLBACK_INFO, GCODE_SIZE, GCODE_INFO, MACHINE_PARAMETERS, MACHINE_STATUS, GCODE_FEED,
+        GCODE_CORRECTION, ARC_FEED_TABLE, INTERNAL_MFUNC_INSERT_TABLE, AXIS_LIMITS, GCODE_PARAMETERS,
+    )
+}
+
+# Order of ToolChainCore_GetStructuresSize entries [1..8].
+STRUCTURES_SIZE_ORDER = (
+    "GCODE_PARAMETERS", "SIMPLE_GM_PARAMS", "GM_PARAMS_ENHANCED", "CALLBACK_INFO", "GCODE_INFO",
+    "MACHINE_STATUS", "MACHINE_PARAMETERS", "DLL_INIT_STRUCT",
+)
+
+# cnc_status
+STATUS_NOTHING_LOADED = 0
+STATUS_COMPILING = 1
+STATUS_COMPILED = -1
+STATUS_SIMULATING = 10
+STATUS_SIMULATION_DONE = -10
+STATUS_SIMULATION_STOPPED = -11
+STATUS_TESTING = 20
+STATUS_TEST_DONE = -20
+STATUS_TEST_STOPPED = -21
+STATUS_AT_START = -30
+STATUS_INVALID = -1234
+
+# run regimes of StartCNCEx
+RUN_SIMULATION = 10
+RUN_TEST = 20
+
+# callback numbers and prototypes (userData first)
+CB_ADD_OUTPUT_LOG = 1
+CB_SET_STATUS_BAR_TEXT = 2
+CB_IS_DEBUG_MODE = 3
+CB_IS_VERBOSE_MODE = 4
+CB_GET_LIB_PATH = 5
+CB_GET_TOOL_PATH = 6
+CB_GET_SYSTEM_PATH = 7
+CB_GET_FILE_TIME_STAMP = 10
+CB_DO_YIELD = 11
+CB_READ_INI_STRING = 12
+CB_READ_INI_DOUBLE = 13
+CB_READ_INI_INT = 14
+CB_IS_BREAKPOINT = 17
+CB_DISP_AND_LOCATE_ERROR = 18
+CB_ADD_OUTPUT_LOG_WITH_MSG_BOX = 31
+CB_SET_STATUS_BAR_PROGRESS = 32
+CB_DRIVER_INITIALIZE = 1001
+CB_DRIVER_G_FUNC = 1002
+CB_DRIVER_M_FUNC = 1003
+CB_CONNECT_POINT_CALC_START = 1004
+CB_CONNECT_POINT_CALC = 1005
+CB_CONNECT_POINT_CALC_END = 1006
+CB_DRIVER_END = 1007
+CB_MATH_WARNING = 2001
+CALLBACK_NUMBERS = (1, 2, 3, 4, 5, 6, 7, 10, 11, 12, 13, 14, 17, 18, 31, 32,
+                    1001, 1002, 1003, 1004, 1005, 1006, 1007, 2001)
+
+AddOutputLog = ctypes.CFUNCTYPE(c_int32, c_ssize_t, c_uint32, c_char_p, ctypes.POINTER(CALLBACK_INFO))
+SetStatusBarText = ctypes.CFUNCTYPE(c_int32, c_ssize_t, c_uint32, c_char_p, ctypes.POINTER(CALLBACK_INFO))
+SetStatusBarProgress = ctypes.CFUNCTYPE(c_int32, c_ssize_t, c_uint32)
+DispAndLocateError = ctypes.CFUNCTYPE(c_int32, c_ssize_t, c_uint32, c_int32, c_char_p, ctypes.POINTER(CALLBACK_INFO))
+DriverInitialize = ctypes.CFUNCTYPE(c_int32, c_ssize_t, ctypes.POINTER(c_double), c_uint32, c_int32)
+DriverGFunc = ctypes.CFUNCTYPE(c_int32, c_ssize_t, ctypes.POINTER(SIMPLE_GM_PARAMS))
+DriverMFunc = ctypes.CFUNCTYPE(c_int32, c_ssize_t, ctypes.POINTER(SIMPLE_GM_PARAMS))
+DriverEnd = ctypes.CFUNCTYPE(c_int32, c_ssize_t)
+MathWarning = ctypes.CFUNCTYPE(c_int32, c_ssize_t, ctypes.POINTER(CALLBACK_INFO))
+
+_P = ctypes.POINTER
+# Every exported function: (name, restype, argtypes). The loader applies them.
+FUNCTIONS = (
+    ("ToolChainCore_Init", c_int32, (_P(DLL_INIT_STRUCT),)),
+    ("ToolChainCore_LoadFromIni", c_int32, (c_uint32, c_char_p, _P(c_uint32))),
+    ("ToolChainCore_DestroyCNC", c_int32, (c_uint32,)),
+    ("ToolChainCore_GetVersionString", c_char_p, (c_uint32,)),
+    ("ToolChainCore_GetStructuresSize", c_int32, (c_uint32, c_uint32, _P(c_uint32))),
+    ("ToolChainCore_SetGCodeParameters", c_int32, (c_uint32, _P(GCODE_PARAMETERS))),
+    ("ToolChainCore_GetGCodeParameters", c_int32, (c_uint32, _P(GCODE_PARAMETERS))),
+    ("ToolChainCore_GetMachineParameters", c_int32, (c_uint32, _P(MACHINE_PARAMETERS))),
+    ("ToolChainCore_SetMachineParameters", c_int32, (c_uint32, _P(MACHINE_PARAMETERS))),
+    ("ToolChainCore_SetUserParams", c_int32, (c_uint32, _P(c_double), c_uint32)),
+    ("ToolChainCore_GCodePrefixPostfix", c_int32, (c_uint32, c_char_p, c_char_p)),
+    ("ToolChainCore_CompileFromFile", c_int32, (c_uint32, c_char_p)),
+    ("ToolChainCore_CompileFromMemory", c_int32, (c_uint32, c_char_p, c_char_p)),
+    ("ToolChainCore_IsBusy", c_int32, (c_uint32,)),
+    ("ToolChainCore_GetLastError", c_int32, (c_uint32, _P(CALLBACK_INFO))),
+    ("ToolChainCore_FileToIdx", c_int32, (c_uint32, c_char_p)),
+    ("ToolChainCore_IdxToFile", c_char_p, (c_uint32, c_int32)),
+    ("ToolChainCore_GetGCodeSizeInfo", c_int32, (c_uint32, _P(GCODE_INFO))),
+    ("ToolChainCore_GetGCodeRunTime", c_double, (c_uint32, c_int32)),
+    ("ToolChainCore_SetGCodeRunTime", c_int32, (c_uint32, c_int32, c_double)),
+    ("ToolChain_GetLastError", c_int32, (_P(CALLBACK_INFO),)),
+    ("ToolChain_IdxToFile", c_char_p, (c_int32,)),
+    ("ToolChainCore_ResetCNC", c_int32, (c_uint32, c_int32, c_uint32, _P(c_double))),
+    ("ToolChainCore_StartCNCEx", c_int32, (c_uint32, c_int32, c_char_p)),
+    ("ToolChainCore_StopCNCEx", c_int32, (c_uint32, c_char_p)),
+    ("ToolChainCore_ConnectCNCEx_Plane", c_int32,
+     (c_uint32, c_uint32, c_uint32, _P(c_double), c_char_p, c_uint32, c_uint32, c_int32)),
+    ("ToolChainCore_GoToPosition", c_int32, (c_uint32, c_uint32, _P(c_double))),
+    ("ToolChainCore_GoToPositionEx", c_int32, (c_uint32, _P(SIMPLE_GM_PARAMS))),
+    ("ToolChainCore_MFunc", c_int32, (c_uint32, _P(SIMPLE_GM_PARAMS), c_int32)),
+    ("ToolChainCore_SetRelFeed", c_int32, (c_uint32, c_double)),
+    ("ToolChainCore_SetBreakpoint", c_int32, (c_uint32, c_uint32, c_int32)),
+    ("ToolChainCore_ResetStatusCNC", c_int32, (c_uint32, c_uint32)),
+    ("ToolChainCore_StatusCNC", c_int32, (c_uint32,)),
+    ("ToolChainCore_GetPos", c_int32, (c_uint32, c_int32, _P(SIMPLE_GM_PARAMS), _P(GM_PARAMS_ENHANCED))),
+    ("ToolChainCore_LoadCNCCalcPlugIn", c_int32, (c_char_p, c_uint32, c_int64)),
+    ("ToolChainCore_SetCallBack", c_int32, (c_uint32, c_uint32, c_ssize_t, c_void_p)),
+    ("ToolChainCore_SetLogValue", c_int32, (c_uint32,)),
+    ("ToolChainCore_GetLogValue", c_uint32, ()),
+    ("ToolChain_LogANSI", None, (c_char_p,)),
+    ("ToolChain_FlushLogFile", None, ()),
+)

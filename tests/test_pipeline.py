@@ -1,0 +1,229 @@
+"""The core's state machine end to end, as an HMI drives it through ctypes:
+compilation in the background thread, errors, simulation with the driver
+callbacks, stop, reset, run time and size info."""
+import ctypes
+import math
+import threading
+import time
+
+import pytest
+
+from sf_tch import abi
+from sf_tch.core import CncError, Core
+
+CORE = 1
+
+
+@pytest.fixture
+def core():
+    with Core(CORE) as c:
+        saved = c.params
+        c.update_params(absMode=1, calcTime=1)
+        yield c
+        c.lib.ToolChainCore_DestroyCNC(CORE)
+        c.params = saved
+
+
+def big_program(lines: int) -> str:
+    body = []
+    for i in range(lines // 2):
+        body.append(f"G1 X{i % 500}.5 Y{(i * 7) % 300}.25 F2000")
+        body.append(f"G2 X{i % 500}.5 Y{(i * 7) % 300 + 10}.25 I0 J5")
+    return "\n".join(body) + "\n"
+
+
+def wait_status(lib, core, predicate, timeout=60.0):
+    deadline = time.monotonic() + timeout
+    while True:
+        status = lib.ToolChainCore_StatusCNC(core)
+        if predicate(status):
+            return status
+        assert time.monotonic() < deadline, f"status stuck at {status}"
+        time.sleep(0.001)
+
+
+def test_compile_returns_at_once_with_running_status(core):
+    lib = core.lib
+    code = big_program(200_000).encode()
+    assert lib.ToolChainCore_CompileFromMemory(CORE, b"big.nc", code) == 0
+    first = lib.ToolChainCore_StatusCNC(CORE)
+    assert first in (1, -1)                     # never the status from before
+    # a second compilation while the first runs is refused
+    if first == 1:
+        assert lib.ToolChainCore_CompileFromMemory(CORE, b"other.nc", b"G1 X1\n") in (-1, 0)
+    assert wait_status(lib, CORE, lambda s: s != 1) == -1
+    info = abi.CALLBACK_INFO()
+    assert lib.ToolChainCore_GetLastError(CORE, ctypes.byref(info)) == 0
+
+
+def test_busy_core_refuses_a_second_compilation(core):
+    lib = core.lib
+    assert lib.ToolChainCore_CompileFromMemory(CORE, b"big.nc", big_program(600_000).encode()) == 0
+    refused = lib.ToolChainCore_CompileFromMemory(CORE, b"x.nc", b"G1 X1\n")
+    if lib.ToolChainCore_StatusCNC(CORE) == 1 or refused == -1:
+        assert refused == -1
+        assert lib.ToolChainCore_IsBusy(CORE) in (0, 1)
+    wait_status(lib, CORE, lambda s: s != 1)
+
+
+def test_reset_interrupts_a_compilation_and_the_core_stays_usable(core):
+    lib = core.lib
+    assert lib.ToolChainCore_CompileFromMemory(CORE, b"huge.nc", big_program(2_000_000).encode()) == 0
+    started = time.monotonic()
+    assert lib.ToolChainCore_ResetCNC(CORE, 0, 0, None) == 0
+    assert lib.ToolChainCore_StatusCNC(CORE) != 1
+    assert time.monotonic() - started < 30
+    core.compile_text("G1 X10 Y0 F1000\n", "after.nc")
+    assert core.status == -1
+
+
+def test_destroy_while_compiling_is_safe_twice(core):
+    lib = core.lib
+    assert lib.ToolChainCore_CompileFromMemory(CORE, b"huge.nc", big_program(1_000_000).encode()) == 0
+    assert lib.ToolChainCore_DestroyCNC(CORE) == 0
+    assert lib.ToolChainCore_DestroyCNC(CORE) == 0
+    assert lib.ToolChainCore_StatusCNC(CORE) == 0
+
+
+def test_compile_error_reaches_every_channel_with_file_and_line(core):
+    located, logged = [], []
+    core.set_callback(abi.CB_DISP_AND_LOCATE_ERROR,
+                      abi.DispAndLocateError(lambda u, line, f, text, info: located.append((line, f, text)) or 0))
+    core.set_callback(abi.CB_ADD_OUTPUT_LOG,
+                      abi.AddOutputLog(lambda u, tab, text, info: logged.append((tab, text)) or 0))
+    with pytest.raises(CncError) as caught:
+        core.compile_text("G1 X10 F100\nG1 Y10\nG1 X0 QQQ\nG1 Y0\n", "bad.nc")
+    error = caught.value
+    assert error.line == 3
+    assert error.file == "bad.nc"
+    assert error.number != 0 and error.text
+    index = core.file_index("bad.nc")
+    assert located and located[0][0] == 3 and located[0][1] == index
+    assert any(tab == 0 for tab, _ in logged)
+    # still usable
+    core.compile_text("G1 X10 F100\n", "good.nc")
+    assert core.last_error() is None
+
+
+def test_simulation_calls_the_driver_in_program_order(core):
+    events = []
+    core.set_callback(abi.CB_DRIVER_INITIALIZE,
+                      abi.DriverInitialize(lambda u, params, n, mode: events.append(("init", mode)) or 0))
+    core.set_callback(abi.CB_DRIVER_END, abi.DriverEnd(lambda u: events.append(("end",)) or 0))
+    core.compile_text("G0 X10 Y10\nM51\nG1 X20 F1000\nG2 X30 Y10 I5 J0\nM50\nG0 X0 Y0\nM30\n", "order.nc")
+    g_parts, m_parts = [], []
+    core.set_callback(abi.CB_DRIVER_G_FUNC, abi.DriverGFunc(
+        lambda u, p: events.append(("G", p.contents.m_func, p.contents.m_editorLine)) or 0))
+    core.set_callback(abi.CB_DRIVER_M_FUNC, abi.DriverMFunc(
+        lambda u, p: events.append(("M", p.contents.m_func, p.contents.m_editorLine)) or 0))
+    core.lib.ToolChainCore_ResetCNC(CORE, 1, 0, None)
+    assert core.status == -30
+    assert core.lib.ToolChainCore_StartCNCEx(CORE, 10, None) == 0
+    assert core.wait() == -10
+    assert events[0] == ("init", 10)
+    assert events[-1] == ("end",)
+    assert events[1:-1] == [("G", 0, 1), ("M", 51, 2), ("G", 1, 3), ("G", 2, 4), ("M", 50, 5),
+                            ("G", 0, 6), ("M", 30, 7)]
+
+
+def test_parts_carry_positions_centres_and_indexes(core):
+    core.compile_text("G0 X10 Y0\nG1 X20 Y0 F1500\nG3 X30 Y10 I0 J10\n", "parts.nc")
+    run = core.simulate()
+    parts = run.parts
+    assert list(parts["m_func"]) == [0, 1, 3]
+    indexes = list(parts["m_gCodeIndex"])
+    assert indexes == sorted(indexes) and len(set(indexes)) == 3
+    arc = parts[2]
+    assert arc["m_s"]["x"] == pytest.approx(20) and arc["m_e"]["y"] == pytest.approx(10)
+    assert (arc["m_cc"]["x"], arc["m_cc"]["y"], arc["m_cc"]["c"]) == pytest.approx((20, 10, 10))
+    assert arc["m_pars"]["N"] == pytest.approx(math.pi * 10 / 2, rel=1e-6)
+    assert arc["m_pars"]["F"] == pytest.approx(1500)
+    assert arc["m_planeTool"] & 0xFFFF == 17
+    assert parts[1]["m_bFeedIsMin"] & 0xFFFF == 1
+    assert (parts[1]["m_calcE"]["x"], parts[1]["m_calcE"]["y"]) == pytest.approx((20, 0))
+
+
+def test_stop_during_simulation_gives_minus_11(core):
+    core.compile_text("".join(f"G1 X{i} Y{i % 7} F1000\n" for i in range(2000)), "slow.nc")
+    gate = threading.Event()
+
+    def slow_driver(user, part):
+        gate.set()
+        time.sleep(0.002)
+        return 0
+
+    core.set_callback(abi.CB_DRIVER_G_FUNC, abi.DriverGFunc(slow_driver))
+    core.lib.ToolChainCore_ResetCNC(CORE, 1, 0, None)
+    assert core.lib.ToolChainCore_StartCNCEx(CORE, 10, None) == 0
+    assert core.status in (10, -10)
+    assert gate.wait(10)
+    assert core.lib.ToolChainCore_StopCNCEx(CORE, None) == 0
+    assert core.wait() == -11
+    assert core.lib.ToolChainCore_StopCNCEx(CORE, None) == -1      # nothing runs now
+
+
+def test_getpos_answers_while_compiling(core):
+    lib = core.lib
+    assert lib.ToolChainCore_CompileFromMemory(CORE, b"big.nc", big_program(400_000).encode()) == 0
+    pos, enh = abi.SIMPLE_GM_PARAMS(), abi.GM_PARAMS_ENHANCED()
+    answers = 0
+    while lib.ToolChainCore_StatusCNC(CORE) == 1:
+        assert lib.ToolChainCore_GetPos(CORE, 0, ctypes.byref(pos), ctypes.byref(enh)) == 0
+        assert enh.m_statusCNC in (1, -1)
+        answers += 1
+    assert answers >= 0
+    assert lib.ToolChainCore_GetPos(CORE, 0, None, None) == -1
+
+
+def test_progress_reaches_100(core):
+    seen = []
+    core.set_callback(abi.CB_SET_STATUS_BAR_PROGRESS,
+                      abi.SetStatusBarProgress(lambda u, percent: seen.append(percent) or 0))
+    core.compile_text(big_program(20_000), "progress.nc")
+    assert seen and seen[-1] == 100
+    assert seen == sorted(seen)
+
+
+def test_run_time_is_the_trapezoid_of_each_part(core):
+    p = core.params
+    p.motion[1].acc = p.motion[1].dec = 500.0
+    core.params = p
+    core.compile_text("G1 X100 F6000\n", "time.nc")
+    core.simulate()
+    # 100 mm at 100 mm/s with 500 mm/s^2: 1 s cruising + 0.1 s up + 0.1 s down
+    assert core.run_time(core.file_index("time.nc")) == pytest.approx(1.2, rel=1e-9)
+    assert core.run_time() == pytest.approx(1.2, rel=1e-9)
+
+
+def test_size_info_counts_true_arc_extremes(core):
+    core.compile_text("G0 X10 Y0\nG3 X-10 Y0 I-10 J0\n", "arc.nc")
+    size = core.size_info().m_size[0]
+    assert size.m_maximalPos.y == pytest.approx(10)
+    assert size.m_minimalPos.x == pytest.approx(-10)
+    assert size.m_minimalPos.y == pytest.approx(0)
+    assert (size.m_endPos.x, size.m_endPos.y) == pytest.approx((-10, 0))
+
+
+def test_test_regime_reports_machine_limit_violations(core):
+    machine = abi.MACHINE_PARAMETERS()
+    machine.minCoords.x, machine.maxCoords.x = 0.0, 50.0
+    machine.enableMask.x = 1
+    assert core.lib.ToolChainCore_SetMachineParameters(CORE, ctypes.byref(machine)) == 0
+    try:
+        core.compile_text("G1 X10 F1000\nG1 X100\nG1 X0\n", "limits.nc")
+        with pytest.raises(CncError) as caught:
+            core.simulate(regime=20)
+        assert caught.value.line == 2
+        assert "X" in caught.value.text and "100" in caught.value.text
+        assert core.status == -20
+    finally:
+        assert core.lib.ToolChainCore_SetMachineParameters(CORE, ctypes.byref(abi.MACHINE_PARAMETERS())) == 0
+
+
+def test_reset_moves_a_relative_program_with_its_start(core):
+    core.update_params(absMode=0)
+    core.compile_text("G1 X10 Y0 F1000\nG1 X0 Y10\n", "rel.nc")
+    core.reset([5.0, 5.0])
+    run = core.simulate()
+    ends = [(p["m_e"]["x"], p["m_e"]["y"]) for p in run.parts]
+    assert ends == [pytest.approx((15, 5)), pytest.approx((15, 15))]
