@@ -18,10 +18,21 @@ from comp_helpers import (contour_parts, polygon_elements, programmed_polyline, 
 TOL = 1e-3
 
 
+_MODULE = []
+
+
+def _harness_module():
+    if not _MODULE:
+        import tempfile
+        from pathlib import Path
+        from comp_harness import build
+        _MODULE.append(build(Path(tempfile.mkdtemp(prefix="comp_harness"))))
+    return _MODULE[0]
+
+
 @pytest.fixture(scope="session")
-def harness(tmp_path_factory):
-    from comp_harness import build
-    return build(tmp_path_factory.mktemp("comp_harness"))
+def harness():
+    return _harness_module()
 
 
 def comp(harness, parts, r=2.0, strategy=0, start=(0, 0, 0), tolerances=(), corrections=None):
@@ -51,7 +62,7 @@ def check_oracle(harness, m0, els, r, g, strategy=0):
     approach = (m0[0] + 0.3, m0[1] - 60.0)
     parts = contour_parts(els, g, m0, approach)
     out, err, _ = comp(harness, parts, r=r, strategy=strategy, start=(approach[0], approach[1], 0))
-    assert err is None, err
+    assert err is None, f"error {err['number']}: {err['text']} (line {err['line']})"
     prog = programmed_polyline(m0, els)
     ccw = signed_area(prog) > 0
     inside = ccw == (g == 41)

@@ -16,7 +16,7 @@ cdef void _collect(void *ctx, int tab, const char *text) noexcept nogil:
         strncat(buf, b"\n", 65535)
 
 
-def compensate(list parts, start, int strategy=0, corrections=(), tolerances=()):
+def compensate(list parts, start, long long strategy=0, corrections=(), tolerances=()):
     """parts: dicts with kind (1 motion, 2 M), func, e (3..10 values), cc, radius,
     comp (40/41/42), slot, plane, line. Returns (parts, error, warnings)."""
     cdef Program prog

@@ -1,5 +1,6 @@
 # The corner between two consecutive offset elements a -> b: where the tool path
 # leaves a and enters b, and what (if anything) is inserted between them.
+#   0. parts removed in between (crossing, negative arcs): only the intersection joins;
 #   1. tangent join (turn below tolerance[2]): the perpendicular points coincide;
 #   2. inner corner: the intersection of the two offsets (they overlap there);
 #   3. outer corner: an arc about the programmed corner (radius = tool radius), or with
@@ -41,6 +42,16 @@ cdef int corner_resolve(CompEl *a, CompEl *b, const CompCfg *cfg) noexcept nogil
         if hypot(a.oe[0] - b.os[0], a.oe[1] - b.os[1]) > cfg.slack:
             a.ins = INS_G1
             a.ins_end[0] = b.os[0]; a.ins_end[1] = b.os[1]
+        return CORNER_OK
+    if hypot(a.e[0] - b.s[0], a.e[1] - b.s[1]) > 1e-9:
+        # parts between them were removed: no common corner to go round, only the
+        # intersection of the two offsets joins them
+        ref[0] = 0.5 * (a.oe[0] + b.os[0])
+        ref[1] = 0.5 * (a.oe[1] + b.os[1])
+        if not el_intersect(a, b, ref, cfg.slack, x):
+            return CORNER_NOT_FOUND
+        a.pe[0] = x[0]; a.pe[1] = x[1]
+        b.ps[0] = x[0]; b.ps[1] = x[1]
         return CORNER_OK
     if fabs(theta) < cfg.tol_angle:
         a.pe[0] = a.oe[0]; a.pe[1] = a.oe[1]
