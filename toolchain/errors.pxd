@@ -21,6 +21,8 @@ cdef enum ErrorNumber:
     ERR_UNBALANCED_BRACKETS = 103   # Unbalanced brackets
     ERR_UNTERMINATED_COMMENT = 104  # Comment '(' not closed on this line
     ERR_LINE_TOO_LONG = 105         # Line longer than %d characters
+    ERR_BAD_VALUE = 106             # Bad value %g of address %s
+    ERR_TOO_MANY_WORDS = 107        # More than %d %s words on one line
     # expressions and parameters (200..299)
     ERR_DIVISION_BY_ZERO = 200      # Division by zero
     ERR_BAD_PARAMETER = 201         # Parameter P%g does not exist (P00..P99)
@@ -28,6 +30,7 @@ cdef enum ErrorNumber:
     ERR_UNKNOWN_FUNCTION = 203      # Unknown function '%s'
     ERR_MATH_DOMAIN = 204           # Argument out of domain in %s(%g)
     ERR_BAD_PLC_ADDRESS = 205       # PLC address %g out of range (1..%d)
+    ERR_PARAM_STACK = 206           # G900 parameter stack %s
     # program flow (300..399)
     ERR_UNDEFINED_LABEL = 300       # Undefined label '%s'
     ERR_DUPLICATE_LABEL = 301       # Label '%s' defined twice (first on line %d)
@@ -46,6 +49,7 @@ cdef enum ErrorNumber:
     ERR_BAD_PLANE = 403             # Bad plane G%d
     ERR_BAD_G = 404                 # Unknown G function G%g
     ERR_BAD_M = 405                 # Bad M function M%g
+    ERR_ARC_RADII = 407             # Wrongly entered centre ... radius at start <> radius at end
     ERR_MACHINE_LIMIT = 406         # Axis %s position %g outside the machine limits <%g, %g>
     # tool radius compensation (500..599)
     ERR_COMP_NOT_FOUND = 500        # Intersection of equidistants not found

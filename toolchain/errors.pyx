@@ -24,6 +24,9 @@ cdef const char *error_format(int32_t number) noexcept nogil:
     if number == ERR_UNBALANCED_BRACKETS: return "Unbalanced brackets"
     if number == ERR_UNTERMINATED_COMMENT: return "Comment '(' not closed on this line"
     if number == ERR_LINE_TOO_LONG: return "Line longer than %d characters"
+    if number == ERR_BAD_VALUE: return "Bad value %g of address %s"
+    if number == ERR_TOO_MANY_WORDS: return "More than %d %s words on one line"
+    if number == ERR_PARAM_STACK: return "G900 parameter stack %s"
     if number == ERR_DIVISION_BY_ZERO: return "Division by zero"
     if number == ERR_BAD_PARAMETER: return "Parameter P%g does not exist (P00..P99)"
     if number == ERR_BAD_EXPRESSION: return "Syntax error in expression '%s'"
@@ -43,6 +46,9 @@ cdef const char *error_format(int32_t number) noexcept nogil:
     if number == ERR_ARC_CENTRE:
         return ("Wrongly entered centre of circular interpolation %s\n"
                 "Start %s = %g %s = %g | End %s = %g %s = %g\nDelta (%.7f) > 2*R (%.7f)")
+    if number == ERR_ARC_RADII:
+        return ("Wrongly entered centre of circular interpolation %s\n"
+                "Start %s = %g %s = %g | End %s = %g %s = %g\nRadius at start (%.7f) <> radius at end (%.7f)")
     if number == ERR_ARC_RADIUS: return "Arc radius %g too small for chord %g"
     if number == ERR_ARC_NO_CENTRE: return "Arc without centre (I J K or R)"
     if number == ERR_BAD_PLANE: return "Bad plane G%d"

@@ -489,8 +489,7 @@ cdef public int32_t ToolChainCore_LoadCNCCalcPlugIn(TGM_LPCTSTR fileName, uint32
             return TOOL_CHAIN_ERROR
     if fileName[0] == 0:
         return 1                          # unloading: nothing is loaded
-    log_line(LOG_TOOLCHAIN, "LoadCNCCalcPlugIn: plug-ins are not implemented yet")
-    return TOOL_CHAIN_ERROR
+    return not_implemented(0, "LoadCNCCalcPlugIn")     # no core argument: reported on core 0
 
 
 # ------------------------------------------------------------------ callbacks

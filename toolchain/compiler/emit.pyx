@@ -1,0 +1,271 @@
+# Parts: turns the executed words of a line into compact Part records (motion,
+# dwell, M function, print). Geometry is computed in program coordinates and then
+# transformed to machine coordinates (zero offset, G92, mirroring, rotation).
+from libc.math cimport hypot, fabs, sqrt
+
+
+cdef Part *em_part(CState *st, int kind, int func) noexcept nogil:
+    """A new part with the modal fields filled in; NULL on error (recorded)."""
+    cdef Part *p
+    cdef Program *prog = st.prog
+    if prog.n_parts >= MAX_PARTS:
+        cerr_num(st, ERR_PART_LIMIT, MAX_PARTS)
+        return NULL
+    p = program_add_part(prog)
+    if p == NULL:
+        cerr(st, ERR_OUT_OF_MEMORY)
+        return NULL
+    p.kind = kind
+    p.func = func
+    memcpy(p.e, st.mpos, sizeof(p.e))
+    p.ce[0] = st.mpos[0]; p.ce[1] = st.mpos[1]; p.ce[2] = st.mpos[2]
+    p.fp = <float>st.fp
+    p.spindle = st.spindle
+    p.tool = <uint16_t>st.tool
+    p.zero_idx = <uint16_t>st.zero_idx
+    p.line = st.line
+    p.file_idx = <int16_t>st.unit.file_idx
+    p.gcode_index = st.gindex
+    st.gindex += 2
+    p.plane = <int16_t>st.plane
+    p.comp = <uint8_t>st.comp
+    p.comp_slot = <uint8_t>st.comp_slot
+    if st.per_min:
+        p.flags = FLAG_FEED_PER_MIN
+    return p
+
+
+cdef int em_pars(CState *st, const LineWords *lw, int g, int m) noexcept nogil:
+    """Addresses of the line for the last part; g / m (if >= -1000) fill the G / M cell."""
+    cdef float vals[26]
+    cdef uint32_t mask = lw.mask
+    cdef int letter
+    cdef Part *p = &st.prog.parts[st.prog.n_parts - 1]
+    for letter in range(26):
+        if mask & (1u << letter):
+            vals[letter] = <float>lw.v[letter]
+    if g > -1000:
+        mask |= 1u << 6
+        vals[6] = <float>g
+    if m > -1000:
+        mask |= 1u << 12
+        vals[12] = <float>m
+    if mask == 0:
+        return 0
+    if not program_set_pars(st.prog, p, vals, mask):
+        return cerr(st, ERR_OUT_OF_MEMORY)
+    return 0
+
+
+cdef void em_feed(CState *st, Part *p, int func) noexcept nogil:
+    """Feed of a motion part after forceMode, FF and the M99 default feed."""
+    cdef int fm = st.params.forceMode
+    if func == 0:
+        p.feed = st.ff if (fm == 0 and st.ff_set) else st.params.motion[0].feed
+        p.flags |= FLAG_FEED_PER_MIN
+    elif fm == 1 or fm == 2:
+        p.feed = st.params.motion[1].feed
+        p.flags |= FLAG_FEED_PER_MIN
+    else:
+        p.feed = st.feed
+        if p.feed == 0.0:
+            p.feed = st.def_feed if st.def_feed > 0.0 else st.params.motion[1].feed
+    if fm == 1:
+        p.fp = 1.0
+
+
+cdef void em_comp_mark(CState *st, Part *p) noexcept nogil:
+    """Marks the first and remembers the last motion part of a compensated run."""
+    if st.comp == 40:
+        return
+    if st.comp_pending_start:
+        p.flags |= FLAG_COMP_START
+        st.comp_pending_start = False
+    st.comp_last = <int64_t>(p - st.prog.parts)
+    st.prog.compensated = True
+
+
+cdef void em_comp_close(CState *st) noexcept nogil:
+    if st.comp_last >= 0:
+        st.prog.parts[st.comp_last].flags |= FLAG_COMP_END
+    st.comp_last = -1
+
+
+cdef inline bint has(const LineWords *lw, char letter) noexcept nogil:
+    return (lw.mask >> (<int>letter - 65)) & 1
+
+
+cdef inline double val(const LineWords *lw, char letter) noexcept nogil:
+    return lw.v[<int>letter - 65]
+
+
+cdef int em_arc_error(CState *st, int fa, int sa, const double *s, const double *e, double rs,
+                      double re) noexcept nogil:
+    cdef ErrArg a[11]
+    cdef double chord = hypot(e[fa] - s[fa], e[sa] - s[sa])
+    cdef int i
+    for i in range(11):
+        a[i].text = NULL
+        a[i].num = 0
+    a[0].text = plane_name(st.plane)
+    a[1].text = cp_axis_name(fa); a[2].num = s[fa]
+    a[3].text = cp_axis_name(sa); a[4].num = s[sa]
+    a[5].text = cp_axis_name(fa); a[6].num = e[fa]
+    a[7].text = cp_axis_name(sa); a[8].num = e[sa]
+    if chord > 2.0 * rs:
+        a[9].num = chord; a[10].num = 2.0 * rs
+        set_error(st.err, ERR_ARC_CENTRE, st.unit.file_idx, st.line, a, 11)
+    else:
+        a[9].num = rs; a[10].num = re
+        set_error(st.err, ERR_ARC_RADII, st.unit.file_idx, st.line, a, 11)
+    return R_ERR
+
+
+cdef int em_arc(CState *st, const LineWords *lw, Part *p, int *func, const double *s,
+                const double *e) noexcept nogil:
+    """Centre, radius and direction of G2/G3 from s to e (program coordinates)."""
+    cdef int fa, sa, na, a, dir = func[0]
+    cdef double sx, sy, ex, ey, cx, cy, r, d, h, sgn, rs, re, tol
+    cdef char li, lj
+    cdef double c[10]
+    cdef double cm[10]
+    cdef ErrArg args[2]
+    if not plane_axes(st.plane, &fa, &sa, &na):
+        return cerr_num(st, ERR_BAD_PLANE, st.plane)
+    if st.params.swapG2G3:
+        dir = 5 - dir
+    sx = s[fa]; sy = s[sa]; ex = e[fa]; ey = e[sa]
+    li = <char>(73 + fa)     # I J K belong to X Y Z
+    lj = <char>(73 + sa)
+    tol = st.params.tolerance[0]
+    if not (tol > 0.0):
+        tol = 0.005
+    if has(lw, b'R'):
+        r = val(lw, b'R')
+        d = hypot(ex - sx, ey - sy)
+        if d == 0.0 or r == 0.0:
+            return cerr(st, ERR_ARC_NO_CENTRE)
+        if d > 2.0 * fabs(r) + tol:
+            args[0].num = r; args[0].text = NULL
+            args[1].num = d; args[1].text = NULL
+            set_error(st.err, ERR_ARC_RADIUS, st.unit.file_idx, st.line, args, 2)
+            return R_ERR
+        h = r * r - d * d * 0.25
+        h = sqrt(h) if h > 0.0 else 0.0
+        sgn = 1.0 if dir == 3 else -1.0
+        if r < 0.0:         # negative R: the arc over 180 degrees
+            sgn = -sgn
+        cx = (sx + ex) * 0.5 - sgn * h * (ey - sy) / d
+        cy = (sy + ey) * 0.5 + sgn * h * (ex - sx) / d
+    elif has(lw, li) or has(lw, lj):
+        if has(lw, b'Q') and val(lw, b'Q') == 70.0:
+            cx = val(lw, li) if has(lw, li) else sx
+            cy = val(lw, lj) if has(lw, lj) else sy
+            st.relative_only = False
+        else:
+            cx = sx + (val(lw, li) if has(lw, li) else 0.0)
+            cy = sy + (val(lw, lj) if has(lw, lj) else 0.0)
+    else:
+        return cerr(st, ERR_ARC_NO_CENTRE)
+    rs = hypot(sx - cx, sy - cy)
+    re = hypot(ex - cx, ey - cy)
+    if rs == 0.0:
+        return cerr(st, ERR_ARC_NO_CENTRE)
+    if fabs(rs - re) > tol:
+        return em_arc_error(st, fa, sa, s, e, rs, re)
+    for a in range(10):
+        c[a] = s[a]
+        if a != fa and a != sa and e[a] != s[a]:
+            p.flags |= FLAG_HELIX
+    c[fa] = cx
+    c[sa] = cy
+    to_machine(st, c, cm)
+    p.cc[0] = cm[0]; p.cc[1] = cm[1]; p.cc[2] = cm[2]
+    p.radius = rs
+    # mirroring one axis of the plane reverses the direction on the machine
+    if fa < 3 and sa < 3 and (((st.mirror >> fa) ^ (st.mirror >> sa)) & 1):
+        dir = 5 - dir
+    func[0] = dir
+    return 0
+
+
+cdef int em_motion(CState *st, const LineWords *lw, int func) noexcept nogil:
+    """G0 G1 G2 G3 G33 to the axis words of the line (modal, absolute or relative)."""
+    cdef double newp[10]
+    cdef double e[10]
+    cdef int a, bit, f = func
+    cdef bint any_axis = False
+    cdef Part *p
+    for a in range(10):
+        newp[a] = st.ppos[a]
+        bit = <int>letter_of_axis(a) - 65
+        if (lw.mask >> bit) & 1:
+            any_axis = True
+            if st.absolute:
+                newp[a] = lw.v[bit]
+            else:
+                newp[a] += lw.v[bit]
+    if not any_axis:
+        if func != 2 and func != 3:
+            return R_NEXT
+        if not (has(lw, b'I') or has(lw, b'J') or has(lw, b'K')):
+            return R_NEXT       # bare G2/G3: only the modal change
+    if st.absolute:
+        st.relative_only = False
+    to_machine(st, newp, e)
+    p = em_part(st, PART_MOTION, func)
+    if p == NULL:
+        return R_ERR
+    memcpy(p.e, e, sizeof(e))
+    p.ce[0] = e[0]; p.ce[1] = e[1]; p.ce[2] = e[2]
+    em_feed(st, p, func)
+    if func == 2 or func == 3:
+        if em_arc(st, lw, p, &f, st.ppos, newp) != 0:
+            return R_ERR
+        p.func = f
+    elif func == 33:
+        if has(lw, b'K'):
+            p.value = val(lw, b'K')
+        elif has(lw, b'F'):
+            p.value = val(lw, b'F')
+    em_comp_mark(st, p)
+    memcpy(st.ppos, newp, sizeof(newp))
+    memcpy(st.mpos, e, sizeof(e))
+    return em_pars(st, lw, p.func, -10000)
+
+
+cdef int em_dwell(CState *st, const LineWords *lw) noexcept nogil:
+    """G4: W milliseconds, or H / X / T seconds."""
+    cdef Part *p = em_part(st, PART_DWELL, 4)
+    if p == NULL:
+        return R_ERR
+    if has(lw, b'W'):
+        p.value = val(lw, b'W') / 1000.0
+    elif has(lw, b'H'):
+        p.value = val(lw, b'H')
+    elif has(lw, b'X'):
+        p.value = val(lw, b'X')
+    elif has(lw, b'T'):
+        p.value = val(lw, b'T')
+    return em_pars(st, lw, 4, -10000)
+
+
+cdef int em_mfunc(CState *st, const LineWords *lw, int m, bint continuous) noexcept nogil:
+    cdef Part *p = em_part(st, PART_MFUNC, m)
+    if p == NULL:
+        return R_ERR
+    if continuous:
+        p.flags |= FLAG_CONTINUOUS_M
+    return em_pars(st, lw, -10000, m)
+
+
+cdef int em_print(CState *st, const LineWords *lw, int m, const char *text, int n) noexcept nogil:
+    cdef int64_t off = program_add_text(st.prog, text, <size_t>n)
+    cdef Part *p
+    if off < 0:
+        return cerr(st, ERR_OUT_OF_MEMORY)
+    p = em_part(st, PART_PRINT, m)
+    if p == NULL:
+        return R_ERR
+    p.aux = <uint32_t>off
+    return em_pars(st, lw, -10000, m)

@@ -1,0 +1,280 @@
+# Compiler state: everything modal while a program is compiled (positions, zero
+# offsets, mirroring, rotation, feeds, compensation, flow frames), the words of one
+# line, error helpers, and the program -> machine coordinate transform.
+from libc.math cimport sin, cos, sqrt, fabs, M_PI
+
+
+cdef enum:
+    CALL_DEPTH = 64             # nested CALL / G25 / G26 (documented in docs/errors.md)
+    FRAME_DEPTH = 256           # calls + open FOR / WHILE / IF blocks
+    PARAM_STACK_DEPTH = 16      # G900 S1 pushes
+    MAX_LINE_CHARS = 65536      # longer lines are refused (ERR_LINE_TOO_LONG)
+    MAX_PARTS = 20000000        # ERR_PART_LIMIT
+    MAX_WORD_LIST = 16          # G or M words on one line
+    DEFAULT_MAX_BLOCKS = 10000000
+
+# what exec_line asks the run loop to do next
+cdef enum:
+    R_NEXT = 0
+    R_JUMP = 1
+    R_END = 2
+    R_ERR = -1
+
+# flow frames
+cdef enum:
+    FR_CALL = 1
+    FR_FOR = 2
+    FR_WHILE = 3
+    FR_IF = 4
+
+
+ctypedef struct Label:
+    const char *name        # NULL for an N number
+    int32_t len
+    int64_t nval            # N number
+    size_t pos              # start of the line holding the label
+    uint32_t line
+    bint used
+
+
+ctypedef struct Unit:
+    const char *text
+    size_t len
+    int32_t file_idx
+    Label *labels           # open-addressing hash table, built on the first jump
+    size_t cap_labels, n_labels
+    bint labels_built
+
+
+ctypedef struct Frame:
+    int kind
+    size_t pos              # FOR: body start; WHILE: its own line; CALL: return line
+    uint32_t line
+    int param               # FOR: loop parameter
+    double end, step        # FOR
+    int64_t repeat          # CALL (G26 H): calls still to do
+    size_t target_pos       # CALL: subroutine start, for repeats
+    uint32_t target_line
+
+
+ctypedef struct LineWords:
+    double v[26]            # values of the address letters (after evaluation)
+    uint32_t mask           # letters present
+    int ng, nm
+    double g[MAX_WORD_LIST]
+    double m[MAX_WORD_LIST]
+    bint has_ff, has_fp
+    double ff, fp
+    bint adjacent_fp        # unused
+    const char *label       # G25/G26/G27 L target given as a name
+    int label_len
+    const char *text        # M29 / PRINT text
+    int text_len
+    bint has_text
+
+
+ctypedef struct CState:
+    const CompileInput *inp
+    Program *prog
+    ErrorInfo *err
+    GCODE_PARAMETERS params                 # working copy (G900 changes it)
+    GCODE_PARAMETERS pstack[PARAM_STACK_DEPTH]
+    int n_pstack
+    double P[100]
+    # positions: machine = rotate(mirror(ppos)) + zero + shift
+    double ppos[10]
+    double mpos[10]
+    double zero[10]
+    double shift[10]
+    int zero_idx
+    int mirror                              # bit 0 X, 1 Y, 2 Z
+    bint rot_on
+    double rot_c[3]
+    double rot_m[9]
+    bint absolute
+    int plane
+    int motion                              # modal 0 1 2 3 33
+    bint per_min
+    bint lathe_radius                       # G24
+    bint css                                # G96
+    double feed, def_feed, ff, fp
+    bint ff_set
+    float spindle
+    int tool
+    int comp, comp_slot
+    int64_t comp_last                       # index of the last compensated motion part, -1
+    bint comp_pending_start
+    bint g167_on
+    double g167[4]                          # E A U Q
+    bint g172_on
+    double g172[3]                          # R C D
+    uint32_t limits_off                     # M-5: axes whose limits are disabled
+    uint32_t g900_ignore_angle, g900_ignore_feed
+    int32_t g900_stop_mode, g900_arc_table
+    int32_t gindex
+    bint relative_only
+    bint program_end
+    int64_t blocks, block_limit
+    Frame frames[FRAME_DEPTH]
+    int n_frames, n_calls
+    Unit *unit
+    uint32_t line
+    size_t cur_pos                          # start of the line being executed
+    size_t skip_pos                         # fl_skip: the END/ELSE line found
+    uint32_t skip_line
+    size_t next_pos
+    uint32_t next_line
+    size_t jpos
+    uint32_t jline
+    int last_percent
+    char word[64]                           # text of an offending word for messages
+    LineWords lw                            # words of the current line
+
+
+cdef inline int axis_of_letter(char c) noexcept nogil:
+    """Axis index (X Y Z C B U V W A O) of an upper-case letter, -1 if not an axis."""
+    if c == b'X': return 0
+    if c == b'Y': return 1
+    if c == b'Z': return 2
+    if c == b'C': return 3
+    if c == b'B': return 4
+    if c == b'U': return 5
+    if c == b'V': return 6
+    if c == b'W': return 7
+    if c == b'A': return 8
+    if c == b'O': return 9
+    return -1
+
+
+cdef inline char letter_of_axis(int a) noexcept nogil:
+    cdef const char *names = "XYZCBUVWAO"
+    return names[a]
+
+
+cdef const char *cp_axis_name(int a) noexcept nogil:
+    if a == 0: return "X"
+    if a == 1: return "Y"
+    if a == 2: return "Z"
+    if a == 3: return "C"
+    if a == 4: return "B"
+    if a == 5: return "U"
+    if a == 6: return "V"
+    if a == 7: return "W"
+    if a == 8: return "A"
+    return "O"
+
+
+cdef const char *plane_name(int plane) noexcept nogil:
+    if plane == 17: return "XY"
+    if plane == 18: return "XZ"
+    if plane == 19: return "YZ"
+    return "ZX"
+
+
+# --------------------------------------------------------------- errors
+
+cdef int cerr(CState *st, int32_t number) noexcept nogil:
+    set_error(st.err, number, st.unit.file_idx, st.line, NULL, 0)
+    return R_ERR
+
+
+cdef int cerr_text(CState *st, int32_t number, const char *text) noexcept nogil:
+    set_error_text(st.err, number, st.unit.file_idx, st.line, text)
+    return R_ERR
+
+
+cdef int cerr_num(CState *st, int32_t number, double value) noexcept nogil:
+    set_error_num(st.err, number, st.unit.file_idx, st.line, value)
+    return R_ERR
+
+
+cdef const char *cword(CState *st, const char *p, const char *eol, int n) noexcept nogil:
+    """Copies up to n (max 40) printable characters at p for an error message."""
+    cdef int i = 0
+    cdef unsigned char c
+    if n > 40:
+        n = 40
+    while i < n and p + i < eol:
+        c = <unsigned char>p[i]
+        if c < 32 or c >= 127:
+            st.word[i] = b'?'
+        else:
+            st.word[i] = p[i]
+        i += 1
+    st.word[i] = 0
+    return st.word
+
+
+# ----------------------------------------------------- coordinate transform
+
+cdef void to_machine(const CState *st, const double *pp, double *out) noexcept nogil:
+    """Program coordinates -> machine: mirror (M81..M87), rotation (G168), then the
+    zero offset and the G92 shift."""
+    cdef int a
+    cdef double q[3]
+    for a in range(10):
+        out[a] = pp[a]
+    if st.mirror & 1: out[0] = -out[0]
+    if st.mirror & 2: out[1] = -out[1]
+    if st.mirror & 4: out[2] = -out[2]
+    if st.rot_on:
+        for a in range(3):
+            q[a] = out[a] - st.rot_c[a]
+        for a in range(3):
+            out[a] = st.rot_c[a] + st.rot_m[3 * a] * q[0] + st.rot_m[3 * a + 1] * q[1] + st.rot_m[3 * a + 2] * q[2]
+    for a in range(10):
+        out[a] += st.zero[a] + st.shift[a]
+
+
+cdef void to_program(const CState *st, const double *mp, double *out) noexcept nogil:
+    """Inverse of to_machine."""
+    cdef int a
+    cdef double q[3]
+    for a in range(10):
+        out[a] = mp[a] - st.zero[a] - st.shift[a]
+    if st.rot_on:
+        for a in range(3):
+            q[a] = out[a] - st.rot_c[a]
+        for a in range(3):   # transpose = inverse of a rotation
+            out[a] = st.rot_c[a] + st.rot_m[a] * q[0] + st.rot_m[3 + a] * q[1] + st.rot_m[6 + a] * q[2]
+    if st.mirror & 1: out[0] = -out[0]
+    if st.mirror & 2: out[1] = -out[1]
+    if st.mirror & 4: out[2] = -out[2]
+
+
+cdef bint update_zero(CState *st) noexcept nogil:
+    """Registers the active offset (zero + shift) with the program; False = no memory."""
+    cdef double total[10]
+    cdef int a, idx
+    for a in range(10):
+        total[a] = st.zero[a] + st.shift[a]
+    idx = program_add_zero(st.prog, total)
+    if idx < 0:
+        return False
+    st.zero_idx = idx
+    return True
+
+
+cdef void set_rotation(CState *st, double cx, double cy, double cz, double ax, double ay,
+                       double az, double deg) noexcept nogil:
+    """Rotation by deg about the axis (ax, ay, az) through the centre (Rodrigues)."""
+    cdef double n = sqrt(ax * ax + ay * ay + az * az)
+    cdef double c, s, t
+    if n == 0.0:
+        ax = 0.0; ay = 0.0; az = 1.0
+        n = 1.0
+    ax /= n; ay /= n; az /= n
+    c = cos(deg * M_PI / 180.0)
+    s = sin(deg * M_PI / 180.0)
+    t = 1.0 - c
+    st.rot_m[0] = t * ax * ax + c
+    st.rot_m[1] = t * ax * ay - s * az
+    st.rot_m[2] = t * ax * az + s * ay
+    st.rot_m[3] = t * ax * ay + s * az
+    st.rot_m[4] = t * ay * ay + c
+    st.rot_m[5] = t * ay * az - s * ax
+    st.rot_m[6] = t * ax * az - s * ay
+    st.rot_m[7] = t * ay * az + s * ax
+    st.rot_m[8] = t * az * az + c
+    st.rot_c[0] = cx; st.rot_c[1] = cy; st.rot_c[2] = cz
+    st.rot_on = True
