@@ -147,16 +147,30 @@ def test_rapid_suspends_and_restores_compensation(harness):
     assert close(out[4]["ce"][:2], (30, 11))
 
 
-def test_switching_on_or_off_on_an_arc_is_an_error(harness):
-    parts = [dict(func=1, e=(0, -10), comp=40), A(3, 10, 0, 10, -10, line=7), L(10, 10), L(0, 10, comp=40)]
-    out, err, _ = comp_run(parts, start=(0, -10, 0))
-    assert err["number"] == ERR_COMP_ON_ARC and err["line"] == 7
+def test_switching_off_on_an_arc_is_an_error(harness):
     parts = [dict(func=1, e=(0, -10), comp=40), L(0, 0), L(10, 0), A(3, 20, 10, 20, 0, comp=40, line=9)]
     out, err, _ = comp_run(parts, start=(0, -10, 0))
     assert err["number"] == ERR_COMP_ON_ARC and err["line"] == 9
+
+
+@pytest.mark.parametrize("strategy", [0, 1])
+def test_switching_on_before_an_arc_inserts_a_line_to_its_perpendicular(harness, strategy):
+    # G42 alone, then an arc (seed 003): G1 to the arc's perpendicular, the arc compensated
+    parts = [dict(func=0, e=(0, -10), comp=40), dict(kind=2, func=51, comp=41, line=3),
+             A(3, 10, 0, 10, -10, line=4), L(10, 10), L(0, 10, comp=40)]
+    out, err, warn = comp_run(parts, r=1.0, start=(0, -10, 0), strategy=strategy)
+    assert err is None and "arc" in warn
+    assert out[2]["inserted"] and out[2]["func"] == 1 and out[2]["line"] == 4 and out[2]["comp"] == 41
+    assert close(out[2]["ce"][:2], (1, -10)) and close(out[1]["ce"][:2], (0, -10))
+    assert out[3]["radius"] == pytest.approx(9.0)
+
+
+def test_strategy_1_leaves_an_arc_by_an_inserted_line(harness):
     parts = [dict(func=1, e=(0, -10), comp=40), L(0, 0), L(10, 0), A(3, 20, 10, 20, 0, line=5), L(30, 10, comp=40)]
-    out, err, _ = comp_run(parts, start=(0, -10, 0), strategy=1)
-    assert err["number"] == ERR_COMP_ON_ARC and err["line"] == 5
+    out, err, warn = comp_run(parts, r=1.0, start=(0, -10, 0), strategy=1)
+    assert err is None
+    k = next(i for i, p in enumerate(out) if p["inserted"] and p["func"] == 1)
+    assert out[k]["line"] == 5 and close(out[k]["ce"][:2], (20, 10)) and close(out[k - 1]["ce"][:2], (20, 9))
 
 
 def test_plane_change_while_compensated(harness):

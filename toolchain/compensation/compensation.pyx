@@ -27,6 +27,7 @@ cdef enum:
 
 ctypedef struct InsRec:
     size_t after            # inserted right after this part
+    size_t src              # part whose attributes (line, feed, comp) it takes
     int func                # 1, 2, 3
     double end[2]           # plane coordinates of its end
     double cc[2]            # arc centre (programmed corner)
@@ -91,10 +92,24 @@ cdef bint _ins_add(CompState *S, const CompEl *el) noexcept nogil:
     rec = &S.ins[S.n_ins]
     S.n_ins += 1
     rec.after = el.part
+    rec.src = el.part
     rec.func = el.ins
     rec.end[0] = el.ins_end[0]; rec.end[1] = el.ins_end[1]
     rec.cc[0] = el.e[0]; rec.cc[1] = el.e[1]
     rec.radius = fabs(el.d) if el.ins != INS_G1 else 0.0
+    return True
+
+
+cdef bint _ins_line(CompState *S, size_t after, size_t src, const double *end) noexcept nogil:
+    """Queues a G1 after part `after` (switching on or off next to an arc)."""
+    cdef CompEl tmp
+    memset(&tmp, 0, sizeof(tmp))
+    tmp.part = after
+    tmp.ins = INS_G1
+    tmp.ins_end[0] = end[0]; tmp.ins_end[1] = end[1]
+    if not _ins_add(S, &tmp):
+        return False
+    S.ins[S.n_ins - 1].src = src
     return True
 
 
@@ -266,7 +281,7 @@ cdef int _run(CompState *S, size_t i, size_t j) noexcept nogil:
     cdef CompEl el
     cdef int plane = prog.parts[i].plane
     cdef size_t k, idle = 0
-    cdef bint first_motion = True, is_arc, g0_never
+    cdef bint first_motion = True, is_arc, g0_never, entry_arc = False
     cdef const double *s
     cdef double ps[2]
     cdef double pe[2]
@@ -290,12 +305,17 @@ cdef int _run(CompState *S, size_t i, size_t j) noexcept nogil:
                 return _comp_fail(S, ERR_COMP_LOOKAHEAD, k, LOOKAHEAD_PARTS, 0)
             continue
         idle = 0
-        if first_motion:
+        if first_motion and is_arc:
+            # G41/G42 without a move of its own before an arc: an inserted line goes
+            # to the arc's perpendicular and the arc is compensated whole
+            first_motion = False
+            if k == 0:
+                return _comp_fail(S, ERR_COMP_ON_ARC, k, 0, 0)
+            entry_arc = True
+        elif first_motion:
             # the G41/G42 block: a line to the perpendicular of the next part (strategy 0)
             # or an uncompensated move (strategy 1, G0 never compensated)
             first_motion = False
-            if is_arc:
-                return _comp_fail(S, ERR_COMP_ON_ARC, k, 0, 0)
             S.role[k] = ROLE_SET
             if S.cfg.mode == 1 or (p.func == 0 and g0_never):
                 S.next_fixed = True
@@ -329,18 +349,31 @@ cdef int _run(CompState *S, size_t i, size_t j) noexcept nogil:
                 # an offset of no radius is a point the neighbours' offsets pass through
                 _discard(S, k)
                 continue
-            if S.n_st == 0 and S.next_fixed:
-                return _comp_fail(S, ERR_COMP_ON_ARC, k, 0, 0)
+            if entry_arc or (S.n_st == 0 and S.next_fixed):
+                # the chain starts on an arc: switch on by a line to its perpendicular
+                entry_arc = False
+                S.next_fixed = False
+                S.entry_part = -1
+                if not _flush(S, 0) or not _ins_line(S, k - 1, k, el.os):
+                    return _comp_fail(S, ERR_OUT_OF_MEMORY, k, 0, 0)
+                _comp_warn(S, k, "compensation switched on before an arc: line to its perpendicular inserted")
         else:
             el_init(&el, k, EL_LINE, 0, _comp_distance(S, p), ps, pe, pc, 0.0)
         res = _chain_add(S, &el)
         if res != COMPILE_OK:
             return res
     # the exit: strategy 1 ends the last part before G40 uncompensated (a line)
-    if S.cfg.mode == 1 and j < prog.n_parts and S.n_st > 0:
-        if S.st[S.n_st - 1].kind != EL_LINE:
-            return _comp_fail(S, ERR_COMP_ON_ARC, S.st[S.n_st - 1].part, 0, 0)
+    if S.cfg.mode == 1 and j < prog.n_parts and S.n_st > 0 and S.st[S.n_st - 1].kind == EL_LINE:
         res = _chain_end(S, True)
+    elif S.cfg.mode == 1 and j < prog.n_parts and S.n_st > 0:
+        # the last move before G40 is an arc: it stays compensated, a line leaves it
+        k = S.st[S.n_st - 1].part
+        pe[0] = S.st[S.n_st - 1].e[0]; pe[1] = S.st[S.n_st - 1].e[1]
+        res = _chain_end(S, False)
+        if res == COMPILE_OK:
+            if not _ins_line(S, k, k, pe):
+                return _comp_fail(S, ERR_OUT_OF_MEMORY, k, 0, 0)
+            _comp_warn(S, k, "compensation switched off after an arc: line to the programmed end inserted")
     else:
         res = _chain_end(S, False)
     if res != COMPILE_OK:
@@ -397,6 +430,7 @@ cdef int _merge(CompState *S) noexcept nogil:
     cdef Part *out = prog.parts
     cdef Part *p
     cdef Part *q
+    cdef const Part *src
     cdef const InsRec *rec
     cdef size_t k, w = 0, r = 0
     cdef double cur[3]
@@ -427,20 +461,22 @@ cdef int _merge(CompState *S) noexcept nogil:
             q.ce[first] = rec.end[0]; q.ce[second] = rec.end[1]
             q.cc[first] = rec.cc[0]; q.cc[second] = rec.cc[1]
             q.radius = rec.radius
-            q.feed = p.feed
-            q.fp = p.fp
-            q.spindle = p.spindle
-            q.func = rec.func
             q.gcode_index = p.gcode_index + 1
-            q.line = p.line
-            q.zero_idx = p.zero_idx
-            q.tool = p.tool
-            q.file_idx = p.file_idx
-            q.plane = p.plane
+            # line, feed and compensation of the part the insertion belongs to
+            src = &prog.parts[rec.src]      # the old array lives until the end
+            q.feed = src.feed
+            q.fp = src.fp
+            q.spindle = src.spindle
+            q.func = rec.func
+            q.line = src.line
+            q.zero_idx = src.zero_idx
+            q.tool = src.tool
+            q.file_idx = src.file_idx
+            q.plane = src.plane
             q.kind = PART_MOTION
-            q.flags = FLAG_INSERTED | (p.flags & FLAG_FEED_PER_MIN)
-            q.comp = p.comp
-            q.comp_slot = p.comp_slot
+            q.flags = FLAG_INSERTED | (src.flags & FLAG_FEED_PER_MIN)
+            q.comp = src.comp
+            q.comp_slot = src.comp_slot
             cur[0] = q.ce[0]; cur[1] = q.ce[1]; cur[2] = q.ce[2]
             w += 1
             r += 1
