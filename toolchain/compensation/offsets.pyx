@@ -96,8 +96,12 @@ cdef bint el_init(CompEl *el, size_t part, int kind, int direction, double d,
         el.u[0] = 0.0; el.u[1] = 0.0
         # the left side of a CCW arc is its centre: the radius shrinks by d
         el.ro = el.R - d * direction
+        # each end projected on the offset circle (a programmed end a little off the
+        # circle, within the arc-centre tolerance, still gives a point on the path)
         f = el.ro / el.R if el.R > 0 else 0.0
         el.os[0] = c[0] + (s[0] - c[0]) * f; el.os[1] = c[1] + (s[1] - c[1]) * f
+        L = hypot(e[0] - c[0], e[1] - c[1])
+        f = el.ro / L if L > 0 else 0.0
         el.oe[0] = c[0] + (e[0] - c[0]) * f; el.oe[1] = c[1] + (e[1] - c[1]) * f
     el.ps[0] = el.os[0]; el.ps[1] = el.os[1]
     el.pe[0] = el.oe[0]; el.pe[1] = el.oe[1]
