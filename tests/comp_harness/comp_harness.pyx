@@ -7,6 +7,14 @@
 include "libSF_TCh.pyx"
 
 from libc.string cimport strncat
+from posix.time cimport clock_gettime, timespec, CLOCK_MONOTONIC
+
+cdef double _seconds = 0.0
+
+
+def last_seconds():
+    """Wall time of the last compensate_program call."""
+    return _seconds
 
 
 cdef void _collect(void *ctx, int tab, const char *text) noexcept nogil:
@@ -25,6 +33,7 @@ def compensate(list parts, start, long long strategy=0, corrections=(), toleranc
     cdef Part *p
     cdef int k, rc
     cdef char *warn = <char *>calloc(65536, 1)
+    cdef timespec t0, t1
     program_init(&prog)
     memset(&params, 0, sizeof(params))
     memset(&err, 0, sizeof(err))
@@ -61,7 +70,11 @@ def compensate(list parts, start, long long strategy=0, corrections=(), toleranc
         p.feed = 1000
         if p.comp != 40:
             prog.compensated = True
+    global _seconds
+    clock_gettime(CLOCK_MONOTONIC, &t0)
     rc = compensate_program(&prog, &params, &err, _collect, warn)
+    clock_gettime(CLOCK_MONOTONIC, &t1)
+    _seconds = (t1.tv_sec - t0.tv_sec) + 1e-9 * (t1.tv_nsec - t0.tv_nsec)
     out = []
     if rc == COMPILE_OK:
         for k in range(<int>prog.n_parts):

@@ -16,7 +16,7 @@
 from libc.stdlib cimport malloc, realloc, free, calloc
 from libc.string cimport memcpy, memset
 from libc.stdio cimport snprintf
-from libc.math cimport fabs, hypot, M_PI
+from libc.math cimport fabs, hypot, sin, M_PI
 
 cdef enum:
     ROLE_NONE = 0           # not compensated: ce = e
@@ -422,69 +422,86 @@ cdef void _compatibility(Program *prog) noexcept nogil:
         k += 1
 
 
+cdef void _inserted_part(Part *q, const Part *p, const Part *src, const InsRec *rec) noexcept nogil:
+    """An inserted part after p (its programmed end is p's end), with the line, feed
+    and compensation of src."""
+    cdef int first, second, normal, a
+    memset(q, 0, sizeof(Part))
+    plane_axes(p.plane, &first, &second, &normal)
+    memcpy(q.e, p.e, sizeof(q.e))
+    for a in range(3):
+        q.ce[a] = p.ce[a]
+        q.cc[a] = p.e[a]
+    q.ce[first] = rec.end[0]; q.ce[second] = rec.end[1]
+    q.cc[first] = rec.cc[0]; q.cc[second] = rec.cc[1]
+    q.radius = rec.radius
+    q.gcode_index = p.gcode_index + 1
+    q.feed = src.feed
+    q.fp = src.fp
+    q.spindle = src.spindle
+    q.func = rec.func
+    q.line = src.line
+    q.zero_idx = src.zero_idx
+    q.tool = src.tool
+    q.file_idx = src.file_idx
+    q.plane = src.plane
+    q.kind = PART_MOTION
+    q.flags = FLAG_INSERTED | (src.flags & FLAG_FEED_PER_MIN)
+    q.comp = src.comp
+    q.comp_slot = src.comp_slot
+
+
 cdef int _merge(CompState *S) noexcept nogil:
-    """Step 5: the final part array with the insertions; parts without motion in the
-    plane take the compensated position of the point they sit at."""
+    """Step 5. Forward: parts without motion in the plane take the compensated position
+    of the point they sit at (after any insertion before them). Backward, in place in
+    the grown array: every part moves up by the insertions before it."""
     cdef Program *prog = S.prog
     cdef size_t n = prog.n_parts, total = prog.n_parts + S.n_ins
-    cdef Part *out = prog.parts
     cdef Part *p
-    cdef Part *q
-    cdef const Part *src
+    cdef Part *parts
+    cdef Part q
     cdef const InsRec *rec
-    cdef size_t k, w = 0, r = 0
+    cdef size_t k, w, r, last_w
     cdef double cur[3]
-    cdef int first, second, normal, a
-    if S.n_ins > 0:
-        out = <Part *>malloc(total * sizeof(Part))
-        if out == NULL:
-            return _comp_fail(S, ERR_OUT_OF_MEMORY, 0, 0, 0)
+    cdef int first, second, normal
     cur[0] = prog.start[0]; cur[1] = prog.start[1]; cur[2] = prog.start[2]
+    r = 0
     for k in range(n):
-        p = &out[w]
-        if out != prog.parts:
-            p[0] = prog.parts[k]
+        p = &prog.parts[k]
         if S.role[k] == ROLE_FOLLOW and plane_axes(p.plane, &first, &second, &normal):
             p.ce[first] = cur[first]
             p.ce[second] = cur[second]
         cur[0] = p.ce[0]; cur[1] = p.ce[1]; cur[2] = p.ce[2]
-        w += 1
         while r < S.n_ins and S.ins[r].after == k:
-            rec = &S.ins[r]
-            q = &out[w]
-            memset(q, 0, sizeof(Part))
-            plane_axes(p.plane, &first, &second, &normal)
-            memcpy(q.e, p.e, sizeof(q.e))
-            for a in range(3):
-                q.ce[a] = p.ce[a]
-                q.cc[a] = p.e[a]
-            q.ce[first] = rec.end[0]; q.ce[second] = rec.end[1]
-            q.cc[first] = rec.cc[0]; q.cc[second] = rec.cc[1]
-            q.radius = rec.radius
-            q.gcode_index = p.gcode_index + 1
-            # line, feed and compensation of the part the insertion belongs to
-            src = &prog.parts[rec.src]      # the old array lives until the end
-            q.feed = src.feed
-            q.fp = src.fp
-            q.spindle = src.spindle
-            q.func = rec.func
-            q.line = src.line
-            q.zero_idx = src.zero_idx
-            q.tool = src.tool
-            q.file_idx = src.file_idx
-            q.plane = src.plane
-            q.kind = PART_MOTION
-            q.flags = FLAG_INSERTED | (src.flags & FLAG_FEED_PER_MIN)
-            q.comp = src.comp
-            q.comp_slot = src.comp_slot
-            cur[0] = q.ce[0]; cur[1] = q.ce[1]; cur[2] = q.ce[2]
-            w += 1
+            if plane_axes(p.plane, &first, &second, &normal):
+                cur[first] = S.ins[r].end[0]
+                cur[second] = S.ins[r].end[1]
             r += 1
-    if out != prog.parts:
-        free(prog.parts)
-        prog.parts = out
-        prog.n_parts = total
-        prog.cap_parts = total
+    if S.n_ins == 0:
+        return COMPILE_OK
+    parts = <Part *>realloc(prog.parts, total * sizeof(Part))
+    if parts == NULL:
+        return _comp_fail(S, ERR_OUT_OF_MEMORY, 0, 0, 0)
+    prog.parts = parts
+    prog.cap_parts = total
+    w = total
+    r = S.n_ins
+    last_w = total
+    k = n
+    while k > 0:
+        k -= 1
+        # parts[k] has not moved yet; parts[k + 1] now lives at last_w
+        while r > 0 and S.ins[r - 1].after == k:
+            rec = &S.ins[r - 1]
+            _inserted_part(&q, &parts[k], &parts[last_w] if rec.src == k + 1 else &parts[k], rec)
+            w -= 1
+            parts[w] = q
+            r -= 1
+        w -= 1
+        if w != k:
+            parts[w] = parts[k]
+        last_w = w
+    prog.n_parts = total
     return COMPILE_OK
 
 
@@ -493,6 +510,7 @@ cdef void _comp_config(CompCfg *cfg, const GCODE_PARAMETERS *params) noexcept no
     cfg.strategy = params.correctionStrategy
     cfg.mode = 1 if (params.correctionStrategy & CORR_START_MODE_MASK) == 1 else 0
     cfg.tol_angle = (params.tolerance[2] if params.tolerance[2] > 0 else 0.03) * M_PI / 180.0
+    cfg.sin_tol = sin(cfg.tol_angle)
     cfg.slack = params.tolerance[1] if params.tolerance[1] > 0 else 0.001
     if params.correctionStrategy & CORR_CORNER_FACTOR_2:
         cfg.factor = 2.0

@@ -13,6 +13,7 @@ ctypedef struct CompCfg:
     uint32_t strategy
     int mode                # low byte of the strategy: 0 or 1
     double tol_angle        # radians: below it two parts join tangentially
+    double sin_tol          # its sine (the test on the tangents' cross product)
     double slack            # length accuracy (crossing, near-tangent intersections)
     double factor           # CORR_CORNER_INTERSECTION: limit distance in radii
     size_t depth            # how many parts back a crossing may be removed
@@ -28,13 +29,13 @@ cdef int corner_resolve(CompEl *a, CompEl *b, const CompCfg *cfg) noexcept nogil
     cdef double tb[2]
     cdef double ref[2]
     cdef double x[2]
-    cdef double cr, theta
+    cdef double cr, dt
     cdef bint outer
     a.ins = INS_NONE
     el_tangent(a, True, ta)
     el_tangent(b, False, tb)
     cr = ta[0] * tb[1] - ta[1] * tb[0]
-    theta = atan2(cr, ta[0] * tb[0] + ta[1] * tb[1])
+    dt = ta[0] * tb[0] + ta[1] * tb[1]
     if a.d != b.d:
         # side or radius changed without G40: join the two perpendicular points by a line
         a.pe[0] = a.oe[0]; a.pe[1] = a.oe[1]
@@ -53,13 +54,13 @@ cdef int corner_resolve(CompEl *a, CompEl *b, const CompCfg *cfg) noexcept nogil
         a.pe[0] = x[0]; a.pe[1] = x[1]
         b.ps[0] = x[0]; b.ps[1] = x[1]
         return CORNER_OK
-    if fabs(theta) < cfg.tol_angle:
+    if dt > 0 and fabs(cr) < cfg.sin_tol:
         a.pe[0] = a.oe[0]; a.pe[1] = a.oe[1]
         b.ps[0] = a.oe[0]; b.ps[1] = a.oe[1]
         return CORNER_OK
     # the tool is outside the turn when it turns away from the compensated side;
     # a reversal (180 deg) always goes round the corner
-    outer = a.d * cr < 0 or M_PI - fabs(theta) < cfg.tol_angle
+    outer = a.d * cr < 0 or (dt < 0 and fabs(cr) < cfg.sin_tol)
     ref[0] = 0.5 * (a.oe[0] + b.os[0])
     ref[1] = 0.5 * (a.oe[1] + b.os[1])
     if not outer:

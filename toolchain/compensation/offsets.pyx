@@ -189,14 +189,19 @@ cdef bint el_intersect(const CompEl *a, const CompEl *b, const double *ref, doub
     return _circle_circle(a.c, a.ro, b.c, b.ro, slack, ref, out)
 
 
+cdef inline double _turn(double ax, double ay, double bx, double by) noexcept nogil:
+    # signed angle from vector a to vector b, in (-pi, pi]
+    return atan2(ax * by - ay * bx, ax * bx + ay * by)
+
+
 cdef double el_path_sweep(const CompEl *el) noexcept nogil:
     """Arcs: sweep (radians, >= 0 normally) of the tool path from ps to pe in the arc's
     direction, measured against the programmed sweep so that trimming past the other
     end gives a negative value."""
-    cdef double a_s = el.dir * _wrap_pi(atan2(el.ps[1] - el.c[1], el.ps[0] - el.c[0])
-                                        - atan2(el.s[1] - el.c[1], el.s[0] - el.c[0]))
-    cdef double a_e = el.dir * _wrap_pi(atan2(el.pe[1] - el.c[1], el.pe[0] - el.c[0])
-                                        - atan2(el.e[1] - el.c[1], el.e[0] - el.c[0]))
+    cdef double a_s = el.dir * _turn(el.s[0] - el.c[0], el.s[1] - el.c[1],
+                                     el.ps[0] - el.c[0], el.ps[1] - el.c[1])
+    cdef double a_e = el.dir * _turn(el.e[0] - el.c[0], el.e[1] - el.c[1],
+                                     el.pe[0] - el.c[0], el.pe[1] - el.c[1])
     return el.sweep - a_s + a_e
 
 
