@@ -49,6 +49,7 @@ ctypedef struct CompState:
     int64_t entry_part      # ramp whose end is the start of the chain's first element
     bint next_fixed         # the next chain starts at an uncompensated point
     int n_warnings
+    bint has_followers      # some compensated part has no motion in the plane
 
 
 cdef void _comp_warn(CompState *S, size_t part, const char *what) noexcept nogil:
@@ -116,6 +117,7 @@ cdef bint _ins_line(CompState *S, size_t after, size_t src, const double *end) n
 cdef void _discard(CompState *S, size_t part) noexcept nogil:
     """A part removed from the path: it stays in the program with no motion in the plane."""
     S.role[part] = ROLE_FOLLOW
+    S.has_followers = True
     S.prog.parts[part].radius = 0.0
 
 
@@ -165,7 +167,8 @@ cdef bint _push(CompState *S, const CompEl *el) noexcept nogil:
         S.cap_st = cap
     S.st[S.n_st] = el[0]
     S.n_st += 1
-    if S.cfg.depth < (<size_t>-1) / 4 and S.n_st > 2 * S.cfg.depth + 2:
+    # flushing in batches of 3 x depth keeps the copying of the kept tail small
+    if S.cfg.depth < (<size_t>-1) / 8 and S.n_st > 4 * S.cfg.depth + 2:
         return _flush(S, S.cfg.depth + 1)
     return True
 
@@ -300,6 +303,7 @@ cdef int _run(CompState *S, size_t i, size_t j) noexcept nogil:
             return _comp_fail(S, ERR_COMP_PLANE_CHANGE, k, 0, 0)
         S.role[k] = ROLE_FOLLOW
         if not _in_plane_motion(S, k, &is_arc):
+            S.has_followers = True
             idle += 1
             if idle > LOOKAHEAD_PARTS and S.n_st > 0:
                 return _comp_fail(S, ERR_COMP_LOOKAHEAD, k, LOOKAHEAD_PARTS, 0)
@@ -339,7 +343,12 @@ cdef int _run(CompState *S, size_t i, size_t j) noexcept nogil:
         pe[0] = p.e[S.first]; pe[1] = p.e[S.second]
         if is_arc:
             pc[0] = p.cc[S.first]; pc[1] = p.cc[S.second]
-            sweep = arc_sweep(ps[0], ps[1], pe[0], pe[1], pc[0], pc[1], p.func == 3)
+            # sweep in the arc's direction, a full circle when start = end (as arc_sweep)
+            sweep = _turn(ps[0] - pc[0], ps[1] - pc[1], pe[0] - pc[0], pe[1] - pc[1])
+            if p.func == 3 and sweep <= 1e-12:
+                sweep += 2.0 * M_PI
+            elif p.func == 2 and sweep >= -1e-12:
+                sweep -= 2.0 * M_PI
             el_init(&el, k, EL_ARC, 1 if p.func == 3 else -1, _comp_distance(S, p), ps, pe, pc, sweep)
             if el.ro <= 1e-9 * el.R:
                 if el.ro < -1e-9 * el.R:
@@ -464,6 +473,8 @@ cdef int _merge(CompState *S) noexcept nogil:
     cdef size_t k, w, r, last_w
     cdef double cur[3]
     cdef int first, second, normal
+    if S.n_ins == 0 and not S.has_followers:
+        return COMPILE_OK
     cur[0] = prog.start[0]; cur[1] = prog.start[1]; cur[2] = prog.start[2]
     r = 0
     for k in range(n):
