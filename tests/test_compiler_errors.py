@@ -95,12 +95,6 @@ def test_block_limit_on_endless_loops(host):
     assert time.monotonic() - t < 30
 
 
-def test_part_limit_message_exists(host):
-    # 20 million parts would need gigabytes; the message is checked through the catalogue
-    e = err(host, "FOR P1 = 1 TO 30000000\nM10\nEND\n")
-    assert e[0] in (306, 309, 4)
-
-
 def test_line_too_long_and_garbage(host):
     e = err(host, "G1 X1\n" + "G1 X1 " * 20000 + "\n")
     assert e[0] == 105 and e[1] == 2

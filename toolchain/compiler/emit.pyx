@@ -30,30 +30,55 @@ cdef Part *em_part(CState *st, int kind, int func) noexcept nogil:
     p.plane = <int16_t>st.plane
     p.comp = <uint8_t>st.comp
     p.comp_slot = <uint8_t>st.comp_slot
+    if st.comp != 40:
+        prog.compensated = True
     if st.per_min:
         p.flags = FLAG_FEED_PER_MIN
     return p
 
 
+cdef extern from *:
+    """
+    #define SF_CTZ(x) __builtin_ctz(x)
+    #define SF_POPCOUNT(x) __builtin_popcount(x)
+    """
+    int SF_CTZ(uint32_t x) nogil
+    int SF_POPCOUNT(uint32_t x) nogil
+
+
 cdef int em_pars(CState *st, const LineWords *lw, int g, int m) noexcept nogil:
-    """Addresses of the line for the last part; g / m (if >= -1000) fill the G / M cell."""
-    cdef float vals[26]
+    """Addresses of the line for the last part, packed in letter order into
+    Program.pars (the layout program_set_pars documents); g / m (if > -1000) fill
+    the G / M cell. Walks only the set bits: this runs once per part."""
     cdef uint32_t mask = lw.mask
+    cdef uint32_t bits
     cdef int letter
-    cdef Part *p = &st.prog.parts[st.prog.n_parts - 1]
-    for letter in range(26):
-        if mask & (1u << letter):
-            vals[letter] = <float>lw.v[letter]
+    cdef Program *prog = st.prog
+    cdef Part *p = &prog.parts[prog.n_parts - 1]
+    cdef float *out
     if g > -1000:
         mask |= 1u << 6
-        vals[6] = <float>g
     if m > -1000:
         mask |= 1u << 12
-        vals[12] = <float>m
     if mask == 0:
         return 0
-    if not program_set_pars(st.prog, p, vals, mask):
+    if not _grow(<void **>&prog.pars, &prog.cap_pars, prog.n_pars + <size_t>SF_POPCOUNT(mask), sizeof(float)):
         return cerr(st, ERR_OUT_OF_MEMORY)
+    p.pars_off = <uint32_t>prog.n_pars
+    p.pars_mask = mask
+    out = prog.pars + prog.n_pars
+    bits = mask
+    while bits:
+        letter = SF_CTZ(bits)
+        bits &= bits - 1
+        if letter == 6 and g > -1000:
+            out[0] = <float>g
+        elif letter == 12 and m > -1000:
+            out[0] = <float>m
+        else:
+            out[0] = <float>lw.v[letter]
+        out += 1
+    prog.n_pars = <size_t>(out - prog.pars)
     return 0
 
 

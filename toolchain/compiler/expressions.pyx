@@ -293,9 +293,15 @@ cdef int ex_value(CState *st, const char **pp, const char *eol, double *out) noe
     cdef const char *p = pp[0]
     cdef const char *q
     cdef int r
+    cdef bint neg = False
+    if p + 1 < eol and p[0] == b'-' and lx_is_digit(p[1]):
+        neg = True
+        p += 1
     if p < eol and lx_is_digit(p[0]):
         q = p
         r = lx_number(&q, eol, out)
+        if neg:
+            out[0] = -out[0]
         if r == 0:
             # done unless an operator follows (X10+P1)
             p = lx_skip_ws(q, eol)

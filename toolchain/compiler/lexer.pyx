@@ -109,24 +109,28 @@ cdef int lx_number(const char **pp, const char *eol, double *out) noexcept nogil
     cdef const char *start = p
     cdef unsigned long long mant = 0
     cdef int frac = 0, ndig = 0
-    cdef bint exact = True
+    cdef bint exact
     cdef char buf[NUMBER_MAX_CHARS + 1]
     cdef int n
-    while p < eol and lx_is_digit(p[0]):
-        if mant < 100000000000000000ULL:
-            mant = mant * 10 + <unsigned long long>(<int>p[0] - 48)
-        else:
-            exact = False
+    cdef unsigned int d
+    # up to 19 digits fit a uint64 exactly; more digits go to strtod
+    while p < eol:
+        d = <unsigned int>(<unsigned char>p[0]) - 48u
+        if d > 9u:
+            break
+        if ndig < 19:
+            mant = mant * 10u + d
         ndig += 1
         p += 1
     if p < eol and p[0] == b'.':
         p += 1
-        while p < eol and lx_is_digit(p[0]):
-            if mant < 100000000000000000ULL:
-                mant = mant * 10 + <unsigned long long>(<int>p[0] - 48)
+        while p < eol:
+            d = <unsigned int>(<unsigned char>p[0]) - 48u
+            if d > 9u:
+                break
+            if ndig < 19:
+                mant = mant * 10u + d
                 frac += 1
-            elif exact:
-                exact = False
             ndig += 1
             p += 1
     if ndig == 0:
@@ -134,6 +138,7 @@ cdef int lx_number(const char **pp, const char *eol, double *out) noexcept nogil
     if p < eol and (p[0] == b'.' or lx_is_digit(p[0])):
         pp[0] = p
         return -2
+    exact = ndig <= 19
     pp[0] = p
     if exact and mant <= 9007199254740992ULL and frac <= 22:
         out[0] = <double>mant / sf_pow10_exact[frac]

@@ -1,0 +1,162 @@
+"""Compiler throughput, memory and host responsiveness on a large cutting program.
+
+    python benchmarks/compile_benchmark.py [--lines 1000000] [--keep FILE]
+
+1. Writes a cutting program of --lines lines (lines, arcs, rapids, waiting and
+   continuous M functions, comments, N numbers) to a temporary file.
+2. In a fresh Python process: CompileFromFile on core 0 until StatusCNC reads -1,
+   while the host thread polls StatusCNC + GetPos every millisecond; reports the
+   wall time, the worst poll latency and the peak RSS (getrusage) of that process.
+3. The floor: a tiny C program (compiled now with cc -O2) that reads the same file
+   and converts every number with strtod. Prints compile time / floor.
+Targets: ratio <= 1.5, peak RSS < 300 MB.
+"""
+import argparse
+import json
+import os
+import random
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+FLOOR_C = r"""
+#include <stdio.h>
+#include <stdlib.h>
+#include <time.h>
+int main(int argc, char **argv) {
+    struct timespec t0, t1;
+    clock_gettime(CLOCK_MONOTONIC, &t0);
+    FILE *f = fopen(argv[1], "rb");
+    if (!f) return 1;
+    fseek(f, 0, SEEK_END); long n = ftell(f); fseek(f, 0, SEEK_SET);
+    char *buf = malloc(n + 1);
+    if (fread(buf, 1, n, f) != (size_t)n) return 2;
+    buf[n] = 0; fclose(f);
+    double sum = 0; long count = 0;
+    char *p = buf, *end;
+    while (*p) {
+        if ((*p >= '0' && *p <= '9') || *p == '.' || *p == '-') {
+            double v = strtod(p, &end);
+            if (end == p) { p++; continue; }
+            sum += v; count++; p = end;
+        } else p++;
+    }
+    clock_gettime(CLOCK_MONOTONIC, &t1);
+    printf("%.6f %ld %g\n", (t1.tv_sec - t0.tv_sec) + (t1.tv_nsec - t0.tv_nsec) * 1e-9, count, sum);
+    free(buf);
+    return 0;
+}
+"""
+
+CHILD = r"""
+import ctypes, json, resource, sys, time, threading
+from sf_tch import abi, library
+lib = library.load()
+path = sys.argv[1].encode()
+p = abi.GCODE_PARAMETERS()
+lib.ToolChainCore_GetGCodeParameters(0, ctypes.byref(p))
+p.absMode = 0
+lib.ToolChainCore_SetGCodeParameters(0, ctypes.byref(p))
+pos, enh = abi.SIMPLE_GM_PARAMS(), abi.GM_PARAMS_ENHANCED()
+rss0 = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+t0 = time.perf_counter()
+assert lib.ToolChainCore_CompileFromFile(0, path) == 0
+worst = 0.0
+polls = 0
+while True:
+    a = time.perf_counter()
+    st = lib.ToolChainCore_StatusCNC(0)
+    lib.ToolChainCore_GetPos(0, 0, ctypes.byref(pos), ctypes.byref(enh))
+    b = time.perf_counter()
+    worst = max(worst, b - a)
+    polls += 1
+    if st == -1:
+        break
+    time.sleep(0.001)
+t1 = time.perf_counter()
+info = abi.CALLBACK_INFO()
+err = lib.ToolChainCore_GetLastError(0, ctypes.byref(info))
+rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+print(json.dumps({"seconds": t1 - t0, "worst_poll_ms": worst * 1e3, "polls": polls,
+                  "peak_rss_mb": rss / 1024, "rss_before_mb": rss0 / 1024,
+                  "error": (info.m_fullError or b"").decode() if err == 1 else None}))
+lib.ToolChainCore_DestroyCNC(0)
+"""
+
+
+def write_program(path: Path, lines: int, seed: int = 1) -> None:
+    rnd = random.Random(seed)
+    out = []
+    n = 0
+    while n < lines:
+        a = round(rnd.uniform(1, 50), 3)
+        b = round(rnd.uniform(-20, 20), 4)
+        r = round(rnd.uniform(1, 10), 3)
+        block = [
+            f"N{n * 10} G1 X{a} Y{b} F{rnd.randint(500, 3000)}",
+            f"G3 X{r} Y{r} I0 J{r}",
+            f"G1 X{-a / 2:.4f} Y{b / 3:.4f} M1001",
+            "; contour step",
+            f"G2 X{r} Y{-r} I{r} J0",
+            f"G1 X{round(rnd.uniform(-5, 5), 3)} Y{round(rnd.uniform(-5, 5), 3)}",
+            f"G0 X{-a:.3f} Y{-b:.4f} (rapid back)",
+            "M51",
+            f"G1 Z-{r}",
+            f"G1 Z{r}",
+        ]
+        for line in block:
+            if n >= lines:
+                break
+            out.append(line)
+            n += 1
+    path.write_text("\n".join(out) + "\n")
+
+
+def floor_time(path: Path, workdir: Path) -> float:
+    cc = shutil.which("cc") or shutil.which("gcc")
+    src = workdir / "floor.c"
+    exe = workdir / "floor"
+    src.write_text(FLOOR_C)
+    subprocess.run([cc, "-O2", str(src), "-o", str(exe)], check=True)
+    best = None
+    for _ in range(3):
+        t = float(subprocess.run([str(exe), str(path)], check=True, capture_output=True, text=True).stdout.split()[0])
+        best = t if best is None else min(best, t)
+    return best
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--lines", type=int, default=1_000_000)
+    ap.add_argument("--runs", type=int, default=3)
+    ap.add_argument("--keep", help="also copy the generated program here")
+    args = ap.parse_args()
+    with tempfile.TemporaryDirectory() as tmp:
+        tmp = Path(tmp)
+        prog = tmp / "cutting.nc"
+        write_program(prog, args.lines)
+        if args.keep:
+            shutil.copy(prog, args.keep)
+        size_mb = prog.stat().st_size / 1e6
+        floor = floor_time(prog, tmp)
+        runs = []
+        for _ in range(args.runs):
+            res = subprocess.run([sys.executable, "-c", CHILD, str(prog)], check=True, capture_output=True,
+                                 text=True)
+            runs.append(json.loads(res.stdout.strip().splitlines()[-1]))
+        best = min(runs, key=lambda r: r["seconds"])
+        print(f"program: {args.lines} lines, {size_mb:.1f} MB")
+        print(f"floor (read + strtod every number, C -O2): {floor * 1e3:.1f} ms")
+        for r in runs:
+            print(f"compile to status -1: {r['seconds'] * 1e3:.1f} ms, peak RSS {r['peak_rss_mb']:.1f} MB "
+                  f"(before {r['rss_before_mb']:.1f} MB), worst StatusCNC+GetPos poll {r['worst_poll_ms']:.3f} ms "
+                  f"over {r['polls']} polls, error: {r['error']}")
+        print(f"ratio compile/floor (best run): {best['seconds'] / floor:.2f} (target <= 1.5)")
+        print(f"peak RSS (best run): {best['peak_rss_mb']:.1f} MB (target < 300)")
+
+
+if __name__ == "__main__":
+    main()

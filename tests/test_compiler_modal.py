@@ -1,0 +1,89 @@
+"""Modal state of the compiler: compensation records, G900 parameter changes,
+G167/G172 storage, lathe words, progress reporting and CompileFromFile (core 1)."""
+import ctypes
+import time
+
+import pytest
+
+from compiler_host import Host, close, last_error, _wait
+from sf_tch import abi
+
+
+@pytest.fixture(scope="module")
+def host(tmp_path_factory):
+    h = Host(1, tmp_path_factory.mktemp("core1m"))
+    yield h
+    h.close()
+
+
+def ok(host, code, **kw):
+    r = host.compile(code, **kw)
+    assert r.error is None, r.error
+    return r
+
+
+def reaches_compensation(err):
+    # prog.compensated hands the program to the compensation stage; until that stage
+    # lands it answers "not implemented" (10), afterwards it compiles
+    return err is None or (err[0] == 10 and "compensation" in err[3])
+
+
+def test_compensation_marks_the_program(host):
+    assert reaches_compensation(host.compile("G41\nG1 X10\nG1 Y10\nG40\nG1 X0\n", run=False).error)
+    assert reaches_compensation(host.compile("G44\nM10\nG40\n", run=False).error)
+    # no G41..G48: the compensation stage is not involved at all
+    assert host.compile("G40\nG1 X10\n", run=False).error is None
+
+
+def test_g900_changes_feeds_and_pops(host):
+    p = host.params()
+    p.motion[0].feed = 9000
+    p.motion[1].feed = 400
+    code = ("G900 S1\nG900 S20 F1234 C100 D200\nG900 S30 F55\nG0 X1\nG1 X2 F0\n"
+            "G900 S2\nG0 X3\nG1 X4 F0\nG900 S7 A0 F100 C1 D2\nG900 S9 A10 B20 F5\nG900 S60 D9\n")
+    r = ok(host, code, params=p, start=[0] * 10)
+    assert [q.feed for q in r.g] == [1234, 55, 9000, 400]
+
+
+def test_stored_functions_do_not_move(host):
+    code = ("G167 E0.1 A0.01 U45\nG167\nG172 R1 C2 D3\nG173\nG24\nG21\nG96 S200\nG97\nM-5 X0 Y1\n"
+            "G1 X1 Y1\nG98 X0 Y0\nG1 X1\n")
+    r = ok(host, code, start=[0] * 10)
+    assert [p.e[:2] for p in r.g] == [(1, 1), (2, 1)]
+
+
+def test_g168_keeps_a_modal_arc_from_moving(host):
+    r = ok(host, "G2 X10 Y0 I5 J0\nG168 X0 Y0 I0 J0 K1 R90\nG1 X10 Y0\n", start=[0] * 10)
+    assert [p.func for p in r.g] == [2, 1]
+    assert close(r.g[1].e[:2], (0, 10), 1e-9)
+
+
+def test_progress_and_compile_from_file(host, tmp_path):
+    lib = host.lib
+    seen = []
+
+    @abi.AddOutputLog
+    def on_log(user, tab, text, info):
+        return 0
+
+    path = tmp_path / "big.nc"
+    path.write_text("".join(f"G1 X{i % 100} Y{i % 7}.5\n" for i in range(300000)))
+    p = host.params()
+    assert lib.ToolChainCore_SetGCodeParameters(1, ctypes.byref(p)) == 0
+    assert lib.ToolChainCore_CompileFromFile(1, str(path).encode()) == 0
+    while True:
+        status = lib.ToolChainCore_StatusCNC(1)
+        if status != 1:
+            break
+        time.sleep(0.001)
+    assert status == -1
+    assert last_error(lib, 1) is None
+    info = abi.GCODE_INFO()
+    assert lib.ToolChainCore_GetGCodeSizeInfo(1, ctypes.byref(info)) == 0
+    assert info.m_size[0].m_maximalPos.x == 99
+
+
+def test_lines_count_and_crlf(host):
+    r = ok(host, "G1 X1\r\nG1 X2\r\n\r\nG1 X3", start=[0] * 10)
+    assert [p.line for p in r.g] == [1, 2, 4]
+    assert [p.e[0] for p in r.g] == [1, 2, 3]
