@@ -131,6 +131,12 @@ class Host:
         res = Result(err)
         if err is not None or not run:
             return res
+        return self.run(res)
+
+    def run(self, res=None, keep_position=True):
+        """Simulates the compiled program; every part handed to the driver callbacks."""
+        lib, core = self.lib, self.core
+        res = res or Result(None)
         parts, printed = res.parts, res.printed
 
         def on_g(user, gm):
@@ -151,7 +157,8 @@ class Host:
         assert lib.ToolChainCore_SetCallBack(core, abi.CB_DRIVER_G_FUNC, 0, ctypes.cast(cbs[0], ctypes.c_void_p)) == 0
         assert lib.ToolChainCore_SetCallBack(core, abi.CB_DRIVER_M_FUNC, 0, ctypes.cast(cbs[1], ctypes.c_void_p)) == 0
         assert lib.ToolChainCore_SetCallBack(core, abi.CB_ADD_OUTPUT_LOG, 0, ctypes.cast(cbs[2], ctypes.c_void_p)) == 0
-        assert lib.ToolChainCore_ResetCNC(core, 1, 0, None) == 0
+        if keep_position:
+            assert lib.ToolChainCore_ResetCNC(core, 1, 0, None) == 0
         assert lib.ToolChainCore_StartCNCEx(core, abi.RUN_SIMULATION, None) == 0
         status = _wait(lib, core, (-10, -11, -1, 0, -33, -32))
         for n in (abi.CB_DRIVER_G_FUNC, abi.CB_DRIVER_M_FUNC, abi.CB_ADD_OUTPUT_LOG):

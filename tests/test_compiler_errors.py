@@ -66,6 +66,11 @@ def err(host, code, **kw):
     ("G900 S99\n", 106, 1, None),
     ("G900 S7 A12 F100\n", 106, 1, None),
     ("G1 " + "G1 " * 20 + "X1\n", 107, 1, None),
+    ("M99999999999999999999\n", 405, 1, None),
+    ("G(10^300)\n", 404, 1, None),
+    ("G25 L(10^300)\n", 300, 1, None),
+    ("G26 L(-10^300) H(10^300)\n", 300, 1, None),
+    ("G900 S(10^300)\n", 106, 1, None),
 ])
 def test_error(host, code, number, line, text):
     e = err(host, code, start=[0] * 10)
@@ -73,6 +78,11 @@ def test_error(host, code, number, line, text):
     assert e[1] == line, e
     if text is not None:
         assert e[3] == text, e
+
+
+def test_huge_values_saturate(host):
+    r = host.compile("T(10^300) M6\nM-6 S(10^300)\nG168 Q(10^300) R1\n", run=False)
+    assert r.error[0] == 403
 
 
 def test_error_file_index_and_prefix(host):

@@ -87,3 +87,23 @@ def test_lines_count_and_crlf(host):
     r = ok(host, "G1 X1\r\nG1 X2\r\n\r\nG1 X3", start=[0] * 10)
     assert [p.line for p in r.g] == [1, 2, 4]
     assert [p.e[0] for p in r.g] == [1, 2, 3]
+
+
+def test_relative_program_moves_with_reset(host):
+    lib = host.lib
+    coords = (ctypes.c_double * 10)(*([100.0] * 10))
+    # G91 throughout: ResetCNC to a new start moves the whole program
+    assert host.compile("G91 G1 X1 Y1\nG2 X2 Y0 I1 J0\n", start=[0] * 10, run=False).error is None
+    assert lib.ToolChainCore_ResetCNC(1, 0, 10, coords) == 0
+    r = host.run(keep_position=False)
+    assert close(r.g[0].e[:2], (101, 101)) and close(r.g[1].cc[:2], (102, 101))
+    # absolute positions stay where they are
+    assert host.compile("G1 X1 Y1\n", start=[0] * 10, run=False).error is None
+    assert lib.ToolChainCore_ResetCNC(1, 0, 10, coords) == 0
+    r = host.run(keep_position=False)
+    assert close(r.g[0].e[:2], (1, 1)) and close(r.g[0].s[:2], (100, 100))
+
+
+def test_m_minus_5_changes_only_written_axes(host):
+    # state only: no parts, no error
+    assert ok(host, "M-5 X0\nM-5 Y0\nM-5 X1\n", start=[0] * 10).parts == []

@@ -148,6 +148,7 @@ cdef uint32_t axes_mask() noexcept nogil:
 cdef void cp_reframe(CState *st) noexcept nogil:
     """After a change of zero offset, mirroring or rotation the machine stays where
     it is: its program coordinates are recomputed."""
+    update_identity(st)
     to_program(st, st.mpos, st.ppos)
 
 
@@ -196,7 +197,7 @@ cdef int cp_g168(CState *st, const LineWords *lw) noexcept nogil:
         az = val(lw, b'K') if has(lw, b'K') else 0.0
     else:
         if has(lw, b'Q'):
-            plane = <int>val(lw, b'Q')
+            plane = to_int(val(lw, b'Q'))
         if plane == 17:
             ax = 0.0; ay = 0.0; az = 1.0
         elif plane == 18:
@@ -218,7 +219,7 @@ cdef void _feed_set(CState *st, const LineWords *lw, int k) noexcept nogil:
     if has(lw, b'F'): st.params.motion[k].feed = val(lw, b'F')
     if has(lw, b'C'): st.params.motion[k].acc = val(lw, b'C')
     if has(lw, b'D'): st.params.motion[k].dec = val(lw, b'D')
-    if has(lw, b'R'): st.params.motion[k].rampType = <int32_t>val(lw, b'R')
+    if has(lw, b'R'): st.params.motion[k].rampType = to_int(val(lw, b'R'))
 
 
 cdef uint32_t _axis_flags(const LineWords *lw) noexcept nogil:
@@ -238,7 +239,7 @@ cdef int cp_g900(CState *st, const LineWords *lw) noexcept nogil:
     if not has(lw, b'S'):
         return cerr_text(st, ERR_MISSING_VALUE, "S")
     sv = val(lw, b'S')
-    s = <int>sv
+    s = to_int(sv)
     if s == 1:
         if st.n_pstack >= PARAM_STACK_DEPTH:
             return cerr_text(st, ERR_PARAM_STACK, "overflow")
@@ -250,7 +251,7 @@ cdef int cp_g900(CState *st, const LineWords *lw) noexcept nogil:
         st.n_pstack -= 1
         st.params = st.pstack[st.n_pstack]
     elif s == 7:
-        a = <int>val(lw, b'A') if has(lw, b'A') else -1
+        a = to_int(val(lw, b'A')) if has(lw, b'A') else -1
         if a < 0 or a > 9:
             return _bad_value(st, val(lw, b'A') if has(lw, b'A') else -1.0, "A")
         if has(lw, b'F'): st.params.axisLimits[a].maxFeed = val(lw, b'F')
@@ -265,9 +266,9 @@ cdef int cp_g900(CState *st, const LineWords *lw) noexcept nogil:
     elif s == 11:
         st.g900_ignore_feed = _axis_flags(lw)
     elif s == 12:
-        st.g900_stop_mode = <int32_t>val(lw, b'A') if has(lw, b'A') else 0
+        st.g900_stop_mode = to_int(val(lw, b'A')) if has(lw, b'A') else 0
     elif s == 13:
-        st.g900_arc_table = <int32_t>val(lw, b'A') if has(lw, b'A') else 0
+        st.g900_arc_table = to_int(val(lw, b'A')) if has(lw, b'A') else 0
     elif s == 20: _feed_set(st, lw, 0)
     elif s == 30: _feed_set(st, lw, 1)
     elif s == 31: _feed_set(st, lw, 4)
@@ -319,7 +320,7 @@ cdef bint _is_m(const GCODE_PARAMETERS *pr, int m, int32_t number) noexcept nogi
 cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
     """Executes the words of one line: G settings, modal values, continuous M,
     motion or dwell, then the other M functions and the flow words."""
-    cdef int i, g, m, r, motion = -1, jump = 0
+    cdef int i, k, g, m, r, motion = -1, jump = 0
     cdef bint dwell = False, g9x = False, end = False, ret = False, g900 = False, g168 = False
     cdef uint32_t consumed = 0, saved
     cdef uint32_t axes = axes_mask()
@@ -329,7 +330,7 @@ cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
     cdef int addr
     # consumed letters of M functions with addresses of their own
     for i in range(lw.nm):
-        m = <int>lw.m[i]
+        m = to_int(lw.m[i])
         if m == -5 or _is_m(pr, m, pr.M06_changeTool):
             consumed |= axes
         elif m == -6:
@@ -339,7 +340,7 @@ cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
     # G functions, in the order written
     for i in range(lw.ng):
         gv = lw.g[i]
-        g = <int>gv
+        g = to_int(gv)
         if gv != <double>g:
             return cerr_num(st, ERR_BAD_G, gv)
         if g == 0 or g == 1 or g == 2 or g == 3 or g == 33:
@@ -413,7 +414,7 @@ cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
     if not (consumed & bit_of(b'S')) and has(lw, b'S'):
         st.spindle = <float>val(lw, b'S')
     if not (consumed & bit_of(b'T')) and has(lw, b'T'):
-        st.tool = <int>val(lw, b'T')
+        st.tool = to_int(val(lw, b'T'))
     if lw.has_fp and pr.forceMode != 1:
         st.fp = lw.fp
     if lw.has_ff:
@@ -421,7 +422,7 @@ cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
         st.ff_set = True
     # continuous M functions go before the motion of their line
     for i in range(lw.nm):
-        m = <int>lw.m[i]
+        m = to_int(lw.m[i])
         if lw.m[i] != <double>m or m == 1000 or m < -6 or m > 1000000000 or (m < 0 and m != -5 and m != -6):
             return cerr_num(st, ERR_BAD_M, lw.m[i])
         if m >= 1001:
@@ -445,11 +446,17 @@ cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
             return R_ERR
     # the other M functions, in the order written
     for i in range(lw.nm):
-        m = <int>lw.m[i]
+        m = to_int(lw.m[i])
         if m >= 1001:
             continue
         if m == -5:
-            st.limits_off = _axis_flags(lw) ^ 0x3FF
+            # per written axis: 0 switches its limits off, anything else on again
+            for k in range(10):
+                if has(lw, letter_of_axis(k)):
+                    if val(lw, letter_of_axis(k)) == 0.0:
+                        st.limits_off |= 1u << k
+                    else:
+                        st.limits_off &= ~(1u << k)
         elif m == -6:
             if has(lw, b'A'):
                 addr = ex_plc_addr(st, val(lw, b'A'), 4)
@@ -458,7 +465,11 @@ cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
                 iv = st.gindex
                 memcpy(st.inp.plc + addr, &iv, 4)
             if has(lw, b'S'):
-                st.gindex = <int32_t>val(lw, b'S')
+                st.gindex = to_int(val(lw, b'S'))
+                if st.gindex > 0x40000000:          # leave room: the index is an int32
+                    st.gindex = 0x40000000
+                elif st.gindex < -0x40000000:
+                    st.gindex = -0x40000000
                 st.gindex += st.gindex & 1
         elif _is_m(pr, m, pr.M29_print):
             if em_print(st, lw, m, lw.text, lw.text_len) != 0:
@@ -494,10 +505,10 @@ cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
     if jump:
         if lw.label != NULL:
             r = fl_call(st, lw.label, lw.label_len, 0, False, jump != 27,
-                        <int64_t>val(lw, b'H') if (jump == 26 and has(lw, b'H')) else 1)
+                        to_int(val(lw, b'H')) if (jump == 26 and has(lw, b'H')) else 1)
         elif has(lw, b'L'):
             r = fl_call(st, NULL, 0, val(lw, b'L'), True, jump != 27,
-                        <int64_t>val(lw, b'H') if (jump == 26 and has(lw, b'H')) else 1)
+                        to_int(val(lw, b'H')) if (jump == 26 and has(lw, b'H')) else 1)
         else:
             return cerr_text(st, ERR_MISSING_VALUE, "L")
         return r
@@ -715,9 +726,7 @@ cdef int compile_program(const CompileInput *inp, Program *prog, ErrorInfo *err)
     prog.main_file_idx = inp.file_idx
     prog.n_lines = count_lines(units[1].text, units[1].len)
     prog.compensated = False
-    for i in range(3):
-        if units[i].len > 0:
-            lines += count_lines(units[i].text, units[i].len)
+    lines = prog.n_lines + count_lines(units[0].text, units[0].len) + count_lines(units[2].text, units[2].len)
     cp_init(st, inp, prog, err)
     reserve_parts(prog, prog.n_lines)
     st.unit = &units[1]

@@ -214,6 +214,11 @@ cdef int em_arc(CState *st, const LineWords *lw, Part *p, int *func, const doubl
     return 0
 
 
+cdef enum:
+    # X Y Z C B U V W A O as letter bits
+    AXIS_LETTERS = (1 << 23) | (1 << 24) | (1 << 25) | (1 << 2) | (1 << 1) | (1 << 20) | (1 << 21) | (1 << 22) | (1 << 0) | (1 << 14)
+
+
 cdef int em_motion(CState *st, const LineWords *lw, int func) noexcept nogil:
     """G0 G1 G2 G3 G33 to the axis words of the line (modal, absolute or relative)."""
     cdef double newp[10]
@@ -221,15 +226,17 @@ cdef int em_motion(CState *st, const LineWords *lw, int func) noexcept nogil:
     cdef int a, bit, f = func
     cdef bint any_axis = False
     cdef Part *p
-    for a in range(10):
-        newp[a] = st.ppos[a]
-        bit = <int>letter_of_axis(a) - 65
-        if (lw.mask >> bit) & 1:
-            any_axis = True
-            if st.absolute:
-                newp[a] = lw.v[bit]
-            else:
-                newp[a] += lw.v[bit]
+    cdef uint32_t words = lw.mask & AXIS_LETTERS
+    memcpy(newp, st.ppos, sizeof(newp))
+    any_axis = words != 0
+    while words:                # only the axis letters written on the line
+        bit = SF_CTZ(words)
+        words &= words - 1
+        a = axis_of_letter(<char>(65 + bit))
+        if st.absolute:
+            newp[a] = lw.v[bit]
+        else:
+            newp[a] += lw.v[bit]
     if not any_axis:
         if func != 2 and func != 3:
             return R_NEXT

@@ -1,6 +1,7 @@
 # Program flow: FOR / WHILE / IF blocks, BREAK / CONTINUE, subroutine calls and
 # jumps. Blocks are executed in place: a frame remembers where to come back to, and
 # a skipped block is found by scanning forward and counting block openers and ENDs.
+from libc.math cimport fabs
 
 
 cdef int fl_line_kind(const char *p, const char *eol) noexcept nogil:
@@ -279,7 +280,7 @@ cdef int fl_target(CState *st, const char *name, int n, double num, bint has_num
         if lb_build(st, st.unit) != 0:
             return R_ERR
     if has_num:
-        if num == <double>(<int64_t>num):
+        if fabs(num) < 1e15 and num == <double>(<int64_t>num):
             e = lb_find(st.unit, NULL, 0, <int64_t>num)
         if e == NULL:
             k = snprintf(buf, sizeof(buf), "%.0f", num)

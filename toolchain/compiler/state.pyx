@@ -2,6 +2,7 @@
 # offsets, mirroring, rotation, feeds, compensation, flow frames), the words of one
 # line, error helpers, and the program -> machine coordinate transform.
 from libc.math cimport sin, cos, sqrt, fabs, M_PI
+from libc.string cimport memcpy
 
 
 cdef enum:
@@ -65,7 +66,6 @@ ctypedef struct LineWords:
     double m[MAX_WORD_LIST]
     bint has_ff, has_fp
     double ff, fp
-    bint adjacent_fp        # unused
     const char *label       # G25/G26/G27 L target given as a name
     int label_len
     const char *text        # M29 / PRINT text
@@ -89,6 +89,7 @@ ctypedef struct CState:
     int zero_idx
     int mirror                              # bit 0 X, 1 Y, 2 Z
     bint rot_on
+    bint identity                           # no offset, mirror or rotation: machine = program
     double rot_c[3]
     double rot_m[9]
     bint absolute
@@ -129,6 +130,17 @@ ctypedef struct CState:
     int last_percent
     char word[64]                           # text of an offending word for messages
     LineWords lw                            # words of the current line
+
+
+cdef inline int to_int(double v) noexcept nogil:
+    """A word's value as int, saturated (no undefined cast of huge values or NaN)."""
+    if v != v:
+        return 0
+    if v >= 2147483647.0:
+        return 2147483647
+    if v <= -2147483648.0:
+        return -2147483647 - 1
+    return <int>v
 
 
 cdef inline int axis_of_letter(char c) noexcept nogil:
@@ -212,6 +224,9 @@ cdef void to_machine(const CState *st, const double *pp, double *out) noexcept n
     zero offset and the G92 shift."""
     cdef int a
     cdef double q[3]
+    if st.identity:
+        memcpy(out, pp, 10 * sizeof(double))
+        return
     for a in range(10):
         out[a] = pp[a]
     if st.mirror & 1: out[0] = -out[0]
@@ -242,10 +257,20 @@ cdef void to_program(const CState *st, const double *mp, double *out) noexcept n
     if st.mirror & 4: out[2] = -out[2]
 
 
+cdef void update_identity(CState *st) noexcept nogil:
+    """to_machine is a plain copy while no offset, mirroring or rotation is active."""
+    cdef int a
+    st.identity = st.mirror == 0 and not st.rot_on
+    for a in range(10):
+        if st.zero[a] != 0.0 or st.shift[a] != 0.0:
+            st.identity = False
+
+
 cdef bint update_zero(CState *st) noexcept nogil:
     """Registers the active offset (zero + shift) with the program; False = no memory."""
     cdef double total[10]
     cdef int a, idx
+    update_identity(st)
     for a in range(10):
         total[a] = st.zero[a] + st.shift[a]
     idx = program_add_zero(st.prog, total)
