@@ -56,3 +56,5 @@ cdef enum ErrorNumber:
     ERR_COMP_ON_ARC = 501           # Compensation switched on or off on an arc
     ERR_COMP_PLANE_CHANGE = 502     # Plane changed while tool radius compensation is active
     ERR_COMP_NEGATIVE_ARC = 503     # Arc radius %g smaller than the tool radius %g
+    ERR_COMP_CROSSING = 504         # Equidistants cross: the tool (radius %g) does not fit the contour
+    ERR_COMP_LOOKAHEAD = 505        # More than %d blocks without motion in the compensation plane

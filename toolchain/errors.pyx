@@ -59,6 +59,8 @@ cdef const char *error_format(int32_t number) noexcept nogil:
     if number == ERR_COMP_ON_ARC: return "Compensation switched on or off on an arc"
     if number == ERR_COMP_PLANE_CHANGE: return "Plane changed while tool radius compensation is active"
     if number == ERR_COMP_NEGATIVE_ARC: return "Arc radius %g smaller than the tool radius %g"
+    if number == ERR_COMP_CROSSING: return "Equidistants cross: the tool (radius %g) does not fit the contour"
+    if number == ERR_COMP_LOOKAHEAD: return "More than %d blocks without motion in the compensation plane"
     return NULL
 
 

@@ -1,0 +1,93 @@
+# cython: language_level=3, boundscheck=False, wraparound=False, cdivision=True
+# cython: initializedcheck=False, nonecheck=False, overflowcheck=False
+#
+# Test-only Python module: the library's stages (toolchain/libSF_TCh.pyx) plus one
+# entry point that runs compensate_program on parts given from Python, so the
+# compensation geometry can be checked without going through the G-code compiler.
+include "libSF_TCh.pyx"
+
+from libc.string cimport strncat
+from posix.time cimport clock_gettime, timespec, CLOCK_MONOTONIC
+
+cdef double _seconds = 0.0
+
+
+def last_seconds():
+    """Wall time of the last compensate_program call."""
+    return _seconds
+
+
+cdef void _collect(void *ctx, int tab, const char *text) noexcept nogil:
+    cdef char *buf = <char *>ctx
+    if strlen(buf) + strlen(text) + 2 < 65536:
+        strncat(buf, text, 65535)
+        strncat(buf, b"\n", 65535)
+
+
+def compensate(list parts, start, long long strategy=0, corrections=(), tolerances=()):
+    """parts: dicts with kind (1 motion, 2 M), func, e (3..10 values), cc, radius,
+    comp (40/41/42), slot, plane, line. Returns (parts, error, warnings)."""
+    cdef Program prog
+    cdef GCODE_PARAMETERS params
+    cdef ErrorInfo err
+    cdef Part *p
+    cdef int k, rc
+    cdef char *warn = <char *>calloc(65536, 1)
+    cdef timespec t0, t1
+    program_init(&prog)
+    memset(&params, 0, sizeof(params))
+    memset(&err, 0, sizeof(err))
+    params.correctionStrategy = <uint32_t>strategy
+    for k, r in enumerate(corrections):
+        params.correction[k].size = r
+    for k, t in enumerate(tolerances):
+        params.tolerance[k] = t
+    for k, v in enumerate(start):
+        prog.start[k] = v
+    for idx, d in enumerate(parts):
+        p = program_add_part(&prog)
+        p.kind = d.get("kind", 1)
+        p.func = d.get("func", 1)
+        e = list(d.get("e", ())) if d.get("e") is not None else None
+        if e is None:
+            for k in range(10):
+                p.e[k] = prog.parts[idx - 1].e[k] if idx > 0 else prog.start[k]
+        else:
+            for k in range(10):
+                p.e[k] = e[k] if k < len(e) else (prog.parts[idx - 1].e[k] if idx > 0 else prog.start[k])
+        for k in range(3):
+            p.ce[k] = p.e[k]
+        cc = d.get("cc", (0, 0, 0))
+        for k in range(3):
+            p.cc[k] = cc[k] if k < len(cc) else 0.0
+        p.radius = d.get("radius", 0.0)
+        p.comp = d.get("comp", 40)
+        p.comp_slot = d.get("slot", 0 if p.comp == 41 else (1 if p.comp == 42 else 0))
+        p.plane = d.get("plane", 17)
+        p.line = d.get("line", idx + 1)
+        p.gcode_index = 2 * idx
+        p.file_idx = 0
+        p.feed = 1000
+        if p.comp != 40:
+            prog.compensated = True
+    global _seconds
+    clock_gettime(CLOCK_MONOTONIC, &t0)
+    rc = compensate_program(&prog, &params, &err, _collect, warn)
+    clock_gettime(CLOCK_MONOTONIC, &t1)
+    _seconds = (t1.tv_sec - t0.tv_sec) + 1e-9 * (t1.tv_nsec - t0.tv_nsec)
+    out = []
+    if rc == COMPILE_OK:
+        for k in range(<int>prog.n_parts):
+            p = &prog.parts[k]
+            out.append(dict(kind=p.kind, func=p.func, line=p.line, gcode_index=p.gcode_index,
+                            flags=p.flags, comp=p.comp, plane=p.plane,
+                            e=[p.e[i] for i in range(10)], ce=[p.ce[i] for i in range(3)],
+                            cc=[p.cc[i] for i in range(3)], radius=p.radius,
+                            inserted=bool(p.flags & FLAG_INSERTED)))
+    error = None
+    if rc != COMPILE_OK:
+        error = dict(number=err.number, line=err.line, text=err.text.decode("latin-1"))
+    warnings = warn[:strlen(warn)].decode("latin-1")
+    free(warn)
+    program_free(&prog)
+    return out, error, warnings

@@ -1,0 +1,584 @@
+# Tool radius compensation G41-G48 / G40: the tool centre path of every compensated
+# part (Part.ce, Part.radius) and the parts inserted at outer corners.
+#
+# One pass over the program, O(n):
+#   1. split the program into runs of parts with comp 41/42 (strategy 0x80000000 first
+#      merges G40..G41 pairs without a move between and drops a leading G41);
+#   2. inside a run, the motion parts in the plane become offset elements; they form
+#      chains between the entry ramp (G41 block or G0) and the exit (G40 block or G0);
+#   3. each new element resolves its corner with the top of a stack of open elements;
+#      an element the corners trimmed past itself (crossing offsets) is popped and the
+#      corner recomputed with the one before, at most `depth` times (strategy 0x700);
+#   4. elements deeper than the search depth are final: their ends are written to the
+#      parts and their corner insertions queued;
+#   5. one merge pass rebuilds the part array with the insertions and gives the parts
+#      without motion in the plane the compensated position they sit at.
+from libc.stdlib cimport malloc, realloc, free, calloc
+from libc.string cimport memcpy, memset
+from libc.stdio cimport snprintf
+from libc.math cimport fabs, hypot, sin, M_PI
+
+cdef enum:
+    ROLE_NONE = 0           # not compensated: ce = e
+    ROLE_SET = 1            # ce computed here
+    ROLE_FOLLOW = 2         # no motion in the plane: ce = position of the previous part
+    LOOKAHEAD_PARTS = 200   # blocks without motion in the plane a corner may span
+    MAX_WARNINGS = 50
+
+ctypedef struct InsRec:
+    size_t after            # inserted right after this part
+    size_t src              # part whose attributes (line, feed, comp) it takes
+    int func                # 1, 2, 3
+    double end[2]           # plane coordinates of its end
+    double cc[2]            # arc centre (programmed corner)
+    double radius
+
+ctypedef struct CompState:
+    Program *prog
+    const GCODE_PARAMETERS *params
+    ErrorInfo *err
+    output_fn output
+    void *ctx
+    CompCfg cfg
+    int first, second, normal
+    uint8_t *role
+    CompEl *st              # stack of open elements of the current chain
+    size_t n_st, cap_st
+    InsRec *ins
+    size_t n_ins, cap_ins
+    int64_t entry_part      # ramp whose end is the start of the chain's first element
+    bint next_fixed         # the next chain starts at an uncompensated point
+    int n_warnings
+    bint has_followers      # some compensated part has no motion in the plane
+
+
+cdef void _comp_warn(CompState *S, size_t part, const char *what) noexcept nogil:
+    cdef char text[300]
+    S.n_warnings += 1
+    if S.output == NULL or S.n_warnings > MAX_WARNINGS:
+        return
+    if S.n_warnings == MAX_WARNINGS:
+        snprintf(text, sizeof(text), "Warning: tool radius compensation: further warnings suppressed")
+    else:
+        snprintf(text, sizeof(text), "Warning: tool radius compensation, line %u: %s",
+                 S.prog.parts[part].line, what)
+    S.output(S.ctx, 0, text)
+
+
+cdef int _comp_fail(CompState *S, int32_t number, size_t part, double a0, double a1) noexcept nogil:
+    cdef ErrArg args[2]
+    cdef const Part *p = &S.prog.parts[part]
+    args[0].num = a0; args[0].text = NULL
+    args[1].num = a1; args[1].text = NULL
+    set_error(S.err, number, p.file_idx, <int32_t>p.line, args, 2)
+    return COMPILE_ERROR
+
+
+cdef double _comp_distance(const CompState *S, const Part *p) noexcept nogil:
+    """Signed offset distance of a part: left (41) positive, |correction| of its slot."""
+    cdef double r = fabs(S.params.correction[p.comp_slot & 7].size)
+    return r if p.comp == 41 else -r
+
+
+cdef bint _ins_add(CompState *S, const CompEl *el) noexcept nogil:
+    cdef InsRec *rec
+    cdef size_t cap
+    if S.n_ins == S.cap_ins:
+        cap = S.cap_ins * 2 if S.cap_ins else 256
+        rec = <InsRec *>realloc(S.ins, cap * sizeof(InsRec))
+        if rec == NULL:
+            return False
+        S.ins = rec
+        S.cap_ins = cap
+    rec = &S.ins[S.n_ins]
+    S.n_ins += 1
+    rec.after = el.part
+    rec.src = el.part
+    rec.func = el.ins
+    rec.end[0] = el.ins_end[0]; rec.end[1] = el.ins_end[1]
+    rec.cc[0] = el.e[0]; rec.cc[1] = el.e[1]
+    rec.radius = fabs(el.d) if el.ins != INS_G1 else 0.0
+    return True
+
+
+cdef bint _ins_line(CompState *S, size_t after, size_t src, const double *end) noexcept nogil:
+    """Queues a G1 after part `after` (switching on or off next to an arc)."""
+    cdef CompEl tmp
+    memset(&tmp, 0, sizeof(tmp))
+    tmp.part = after
+    tmp.ins = INS_G1
+    tmp.ins_end[0] = end[0]; tmp.ins_end[1] = end[1]
+    if not _ins_add(S, &tmp):
+        return False
+    S.ins[S.n_ins - 1].src = src
+    return True
+
+
+cdef void _discard(CompState *S, size_t part) noexcept nogil:
+    """A part removed from the path: it stays in the program with no motion in the plane."""
+    S.role[part] = ROLE_FOLLOW
+    S.has_followers = True
+    S.prog.parts[part].radius = 0.0
+
+
+cdef bint _write_el(CompState *S, const CompEl *el) noexcept nogil:
+    """The element is final: its end goes to the part, its insertion to the queue."""
+    cdef Part *p = &S.prog.parts[el.part]
+    cdef Part *entry
+    p.ce[S.first] = el.pe[0]
+    p.ce[S.second] = el.pe[1]
+    if el.kind == EL_ARC:
+        # a trimmed arc of no length would read as a full circle: it becomes a point
+        p.radius = el.ro if el_path_sweep(el) > 1e-9 else 0.0
+    S.role[el.part] = ROLE_SET
+    if el.first and S.entry_part >= 0:
+        entry = &S.prog.parts[S.entry_part]
+        entry.ce[S.first] = el.ps[0]
+        entry.ce[S.second] = el.ps[1]
+        S.entry_part = -1
+    if el.ins != INS_NONE:
+        return _ins_add(S, el)
+    return True
+
+
+cdef bint _flush(CompState *S, size_t keep) noexcept nogil:
+    """Writes all open elements but the last `keep`; they can no longer change."""
+    cdef size_t n, k
+    if S.n_st <= keep:
+        return True
+    n = S.n_st - keep
+    for k in range(n):
+        if not _write_el(S, &S.st[k]):
+            return False
+    memcpy(S.st, &S.st[n], keep * sizeof(CompEl))
+    S.n_st = keep
+    return True
+
+
+cdef bint _push(CompState *S, const CompEl *el) noexcept nogil:
+    cdef CompEl *st
+    cdef size_t cap
+    if S.n_st == S.cap_st:
+        cap = S.cap_st * 2 if S.cap_st else 64
+        st = <CompEl *>realloc(S.st, cap * sizeof(CompEl))
+        if st == NULL:
+            return False
+        S.st = st
+        S.cap_st = cap
+    S.st[S.n_st] = el[0]
+    S.n_st += 1
+    # flushing in batches of 3 x depth keeps the copying of the kept tail small
+    if S.cfg.depth < (<size_t>-1) / 8 and S.n_st > 4 * S.cfg.depth + 2:
+        return _flush(S, S.cfg.depth + 1)
+    return True
+
+
+cdef inline bint _can_pop(const CompState *S, const CompEl *a) noexcept nogil:
+    # the first element of a chain is removable only with 0x10000 and a perpendicular entry
+    if a.first:
+        return (S.cfg.strategy & CORR_ALLOW_FIRST_LAST_CROSS) != 0 and not a.fixed_start
+    return True
+
+
+cdef void _start_chain(CompState *S, CompEl *b) noexcept nogil:
+    b.first = True
+    b.fixed_start = S.next_fixed
+    if b.fixed_start:
+        b.ps[0] = b.s[0]; b.ps[1] = b.s[1]
+    else:
+        b.ps[0] = b.os[0]; b.ps[1] = b.os[1]
+    S.next_fixed = False
+
+
+cdef int _chain_add(CompState *S, CompEl *b) noexcept nogil:
+    """Joins element b to the open chain (steps 3 and 4)."""
+    cdef CompEl *a
+    cdef size_t pops = 0
+    cdef int res
+    if S.n_st == 0:
+        _start_chain(S, b)
+        return COMPILE_OK if _push(S, b) else _comp_fail(S, ERR_OUT_OF_MEMORY, b.part, 0, 0)
+    while True:
+        a = &S.st[S.n_st - 1]
+        res = corner_resolve(a, b, &S.cfg)
+        if res == CORNER_NOT_FOUND:
+            if (S.cfg.strategy & CORR_ALLOW_REVERSE_SEARCH) and _can_pop(S, a) and pops < S.cfg.depth \
+                    and S.n_st > 1:
+                # search back: the offsets may meet an earlier element's
+                _comp_warn(S, a.part, "part removed: no intersection with the next part")
+                _discard(S, a.part)
+                S.n_st -= 1
+                pops += 1
+                continue
+            if S.cfg.strategy & CORR_JOIN_BY_G1:
+                a.pe[0] = a.oe[0]; a.pe[1] = a.oe[1]
+                a.ins = INS_G1
+                a.ins_end[0] = b.os[0]; a.ins_end[1] = b.os[1]
+                b.ps[0] = b.os[0]; b.ps[1] = b.os[1]
+                _comp_warn(S, a.part, "intersection of equidistants not found, joined by G1")
+            elif S.cfg.strategy & CORR_JOIN_BY_MOVING_START:
+                a.pe[0] = a.oe[0]; a.pe[1] = a.oe[1]
+                b.ps[0] = a.oe[0]; b.ps[1] = a.oe[1]
+                _comp_warn(S, a.part, "intersection of equidistants not found, start point moved")
+            else:
+                return _comp_fail(S, ERR_COMP_NOT_FOUND, a.part, 0, 0)
+        if el_path_length(a) < -S.cfg.slack:
+            # the corners trimmed a past itself: the offsets cross here
+            if not (S.cfg.strategy & CORR_REMOVE_CROSSING) or not _can_pop(S, a) or pops >= S.cfg.depth:
+                return _comp_fail(S, ERR_COMP_CROSSING, a.part, fabs(a.d), 0)
+            _comp_warn(S, a.part, "crossing part removed from the path")
+            _discard(S, a.part)
+            S.n_st -= 1
+            pops += 1
+            if S.n_st == 0:
+                _start_chain(S, b)
+                break
+            continue
+        break
+    return COMPILE_OK if _push(S, b) else _comp_fail(S, ERR_OUT_OF_MEMORY, b.part, 0, 0)
+
+
+cdef int _chain_end(CompState *S, bint fixed_end) noexcept nogil:
+    """Closes the chain: the last element ends on its perpendicular, or (strategy 1,
+    before G40) at its programmed end."""
+    cdef CompEl *a
+    while S.n_st > 0:
+        a = &S.st[S.n_st - 1]
+        a.ins = INS_NONE
+        if fixed_end:
+            a.pe[0] = a.e[0]; a.pe[1] = a.e[1]
+            break
+        a.pe[0] = a.oe[0]; a.pe[1] = a.oe[1]
+        if el_path_length(a) >= -S.cfg.slack:
+            break
+        if not (S.cfg.strategy & CORR_REMOVE_CROSSING) or not (S.cfg.strategy & CORR_ALLOW_FIRST_LAST_CROSS) \
+                or S.n_st == 1:
+            return _comp_fail(S, ERR_COMP_CROSSING, a.part, fabs(a.d), 0)
+        _comp_warn(S, a.part, "crossing last part removed from the path")
+        _discard(S, a.part)
+        S.n_st -= 1
+    if not _flush(S, 0):
+        return _comp_fail(S, ERR_OUT_OF_MEMORY, S.prog.main_file_idx, 0, 0)
+    S.entry_part = -1
+    return COMPILE_OK
+
+
+cdef bint _in_plane_motion(const CompState *S, size_t k, bint *is_arc) noexcept nogil:
+    """Whether part k moves in the compensation plane (arcs always do)."""
+    cdef const Part *p = &S.prog.parts[k]
+    cdef const double *s
+    is_arc[0] = False
+    if p.kind != PART_MOTION:
+        return False
+    if (p.func == 2 or p.func == 3) and p.radius > 0:
+        is_arc[0] = True
+        return True
+    s = part_start(S.prog, k)
+    return hypot(p.e[S.first] - s[S.first], p.e[S.second] - s[S.second]) > 1e-9
+
+
+cdef int _run(CompState *S, size_t i, size_t j) noexcept nogil:
+    """Compensates the run of parts i..j-1 (all with comp 41/42)."""
+    cdef Program *prog = S.prog
+    cdef Part *p
+    cdef CompEl el
+    cdef int plane = prog.parts[i].plane
+    cdef size_t k, idle = 0
+    cdef bint first_motion = True, is_arc, g0_never, entry_arc = False
+    cdef const double *s
+    cdef double ps[2]
+    cdef double pe[2]
+    cdef double pc[2]
+    cdef double sweep
+    cdef int res
+    g0_never = (S.cfg.strategy & CORR_G0_NEVER_COMPENSATED) != 0
+    if not plane_axes(plane, &S.first, &S.second, &S.normal):
+        return _comp_fail(S, ERR_COMP_PLANE_CHANGE, i, 0, 0)
+    S.entry_part = -1
+    S.next_fixed = False
+    S.n_st = 0
+    for k in range(i, j):
+        p = &prog.parts[k]
+        if p.plane != plane:
+            return _comp_fail(S, ERR_COMP_PLANE_CHANGE, k, 0, 0)
+        S.role[k] = ROLE_FOLLOW
+        if not _in_plane_motion(S, k, &is_arc):
+            S.has_followers = True
+            idle += 1
+            if idle > LOOKAHEAD_PARTS and S.n_st > 0:
+                return _comp_fail(S, ERR_COMP_LOOKAHEAD, k, LOOKAHEAD_PARTS, 0)
+            continue
+        idle = 0
+        if first_motion and is_arc:
+            # G41/G42 without a move of its own before an arc: an inserted line goes
+            # to the arc's perpendicular and the arc is compensated whole
+            first_motion = False
+            if k == 0:
+                return _comp_fail(S, ERR_COMP_ON_ARC, k, 0, 0)
+            entry_arc = True
+        elif first_motion:
+            # the G41/G42 block: a line to the perpendicular of the next part (strategy 0)
+            # or an uncompensated move (strategy 1, G0 never compensated)
+            first_motion = False
+            S.role[k] = ROLE_SET
+            if S.cfg.mode == 1 or (p.func == 0 and g0_never):
+                S.next_fixed = True
+            else:
+                S.entry_part = k
+            continue
+        if p.func == 0:
+            # a rapid leaves the contour on the perpendicular and re-enters it like G41
+            res = _chain_end(S, False)
+            if res != COMPILE_OK:
+                return res
+            S.role[k] = ROLE_SET
+            if g0_never:
+                S.next_fixed = True
+            else:
+                S.next_fixed = False
+                S.entry_part = k
+            continue
+        s = part_start(prog, k)
+        ps[0] = s[S.first]; ps[1] = s[S.second]
+        pe[0] = p.e[S.first]; pe[1] = p.e[S.second]
+        if is_arc:
+            pc[0] = p.cc[S.first]; pc[1] = p.cc[S.second]
+            # sweep in the arc's direction, a full circle when start = end (as arc_sweep)
+            sweep = _turn(ps[0] - pc[0], ps[1] - pc[1], pe[0] - pc[0], pe[1] - pc[1])
+            if p.func == 3 and sweep <= 1e-12:
+                sweep += 2.0 * M_PI
+            elif p.func == 2 and sweep >= -1e-12:
+                sweep -= 2.0 * M_PI
+            el_init(&el, k, EL_ARC, 1 if p.func == 3 else -1, _comp_distance(S, p), ps, pe, pc, sweep)
+            if el.ro <= 1e-9 * el.R:
+                if el.ro < -1e-9 * el.R:
+                    if not (S.cfg.strategy & CORR_DROP_NEGATIVE_ARCS):
+                        return _comp_fail(S, ERR_COMP_NEGATIVE_ARC, k, el.R, fabs(el.d))
+                    _comp_warn(S, k, "arc with negative equidistant removed")
+                # an offset of no radius is a point the neighbours' offsets pass through
+                _discard(S, k)
+                continue
+            if entry_arc or (S.n_st == 0 and S.next_fixed):
+                # the chain starts on an arc: switch on by a line to its perpendicular
+                entry_arc = False
+                S.next_fixed = False
+                S.entry_part = -1
+                if not _flush(S, 0) or not _ins_line(S, k - 1, k, el.os):
+                    return _comp_fail(S, ERR_OUT_OF_MEMORY, k, 0, 0)
+                _comp_warn(S, k, "compensation switched on before an arc: line to its perpendicular inserted")
+        else:
+            el_init(&el, k, EL_LINE, 0, _comp_distance(S, p), ps, pe, pc, 0.0)
+        res = _chain_add(S, &el)
+        if res != COMPILE_OK:
+            return res
+    # the exit: strategy 1 ends the last part before G40 uncompensated (a line)
+    if S.cfg.mode == 1 and j < prog.n_parts and S.n_st > 0 and S.st[S.n_st - 1].kind == EL_LINE:
+        res = _chain_end(S, True)
+    elif S.cfg.mode == 1 and j < prog.n_parts and S.n_st > 0:
+        # the last move before G40 is an arc: it stays compensated, a line leaves it
+        k = S.st[S.n_st - 1].part
+        pe[0] = S.st[S.n_st - 1].e[0]; pe[1] = S.st[S.n_st - 1].e[1]
+        res = _chain_end(S, False)
+        if res == COMPILE_OK:
+            if not _ins_line(S, k, k, pe):
+                return _comp_fail(S, ERR_OUT_OF_MEMORY, k, 0, 0)
+            _comp_warn(S, k, "compensation switched off after an arc: line to the programmed end inserted")
+    else:
+        res = _chain_end(S, False)
+    if res != COMPILE_OK:
+        return res
+    # G40 only on a linear move: the first move in the plane after the run
+    for k in range(j, prog.n_parts):
+        if k - j > LOOKAHEAD_PARTS or prog.parts[k].comp != 40:
+            break
+        if _in_plane_motion(S, k, &is_arc):
+            if is_arc:
+                return _comp_fail(S, ERR_COMP_ON_ARC, k, 0, 0)
+            break
+    return COMPILE_OK
+
+
+cdef void _compatibility(Program *prog) noexcept nogil:
+    """Strategy 0x80000000: ignore a G41/G42 before any move, and G40 .. G41/G42 pairs
+    with no move between them."""
+    cdef size_t k, m, b, n = prog.n_parts
+    cdef bint moved = False
+    cdef Part *p
+    k = 0
+    while k < n:
+        p = &prog.parts[k]
+        if p.comp != 40 and not moved:
+            while k < n and prog.parts[k].comp != 40:
+                prog.parts[k].comp = 40
+                prog.parts[k].flags &= ~(FLAG_COMP_START | FLAG_COMP_END)
+                if prog.parts[k].kind == PART_MOTION:
+                    moved = True
+                k += 1
+            continue
+        if p.kind == PART_MOTION:
+            moved = True
+        if p.comp != 40 and k + 1 < n and prog.parts[k + 1].comp == 40:
+            # after the run: a bridge of parts without motion up to the next G41/G42?
+            m = k + 1
+            while m < n and prog.parts[m].comp == 40 and prog.parts[m].kind != PART_MOTION:
+                m += 1
+            if m < n and prog.parts[m].comp != 40:
+                prog.parts[k].flags &= ~FLAG_COMP_END
+                prog.parts[m].flags &= ~FLAG_COMP_START
+                for b in range(k + 1, m):
+                    prog.parts[b].comp = p.comp
+                    prog.parts[b].comp_slot = p.comp_slot
+        k += 1
+
+
+cdef void _inserted_part(Part *q, const Part *p, const Part *src, const InsRec *rec) noexcept nogil:
+    """An inserted part after p (its programmed end is p's end), with the line, feed
+    and compensation of src."""
+    cdef int first, second, normal, a
+    memset(q, 0, sizeof(Part))
+    plane_axes(p.plane, &first, &second, &normal)
+    memcpy(q.e, p.e, sizeof(q.e))
+    for a in range(3):
+        q.ce[a] = p.ce[a]
+        q.cc[a] = p.e[a]
+    q.ce[first] = rec.end[0]; q.ce[second] = rec.end[1]
+    q.cc[first] = rec.cc[0]; q.cc[second] = rec.cc[1]
+    q.radius = rec.radius
+    q.gcode_index = p.gcode_index + 1
+    q.feed = src.feed
+    q.fp = src.fp
+    q.spindle = src.spindle
+    q.func = rec.func
+    q.line = src.line
+    q.zero_idx = src.zero_idx
+    q.tool = src.tool
+    q.file_idx = src.file_idx
+    q.plane = src.plane
+    q.kind = PART_MOTION
+    q.flags = FLAG_INSERTED | (src.flags & FLAG_FEED_PER_MIN)
+    q.comp = src.comp
+    q.comp_slot = src.comp_slot
+
+
+cdef int _merge(CompState *S) noexcept nogil:
+    """Step 5. Forward: parts without motion in the plane take the compensated position
+    of the point they sit at (after any insertion before them). Backward, in place in
+    the grown array: every part moves up by the insertions before it."""
+    cdef Program *prog = S.prog
+    cdef size_t n = prog.n_parts, total = prog.n_parts + S.n_ins
+    cdef Part *p
+    cdef Part *parts
+    cdef Part q
+    cdef const InsRec *rec
+    cdef size_t k, w, r, last_w
+    cdef double cur[3]
+    cdef int first, second, normal
+    if S.n_ins == 0 and not S.has_followers:
+        return COMPILE_OK
+    cur[0] = prog.start[0]; cur[1] = prog.start[1]; cur[2] = prog.start[2]
+    r = 0
+    for k in range(n):
+        p = &prog.parts[k]
+        if S.role[k] == ROLE_FOLLOW and plane_axes(p.plane, &first, &second, &normal):
+            p.ce[first] = cur[first]
+            p.ce[second] = cur[second]
+        cur[0] = p.ce[0]; cur[1] = p.ce[1]; cur[2] = p.ce[2]
+        while r < S.n_ins and S.ins[r].after == k:
+            if plane_axes(p.plane, &first, &second, &normal):
+                cur[first] = S.ins[r].end[0]
+                cur[second] = S.ins[r].end[1]
+            r += 1
+    if S.n_ins == 0:
+        return COMPILE_OK
+    parts = <Part *>realloc(prog.parts, total * sizeof(Part))
+    if parts == NULL:
+        return _comp_fail(S, ERR_OUT_OF_MEMORY, 0, 0, 0)
+    prog.parts = parts
+    prog.cap_parts = total
+    w = total
+    r = S.n_ins
+    last_w = total
+    k = n
+    while k > 0:
+        k -= 1
+        # parts[k] has not moved yet; parts[k + 1] now lives at last_w
+        while r > 0 and S.ins[r - 1].after == k:
+            rec = &S.ins[r - 1]
+            _inserted_part(&q, &parts[k], &parts[last_w] if rec.src == k + 1 else &parts[k], rec)
+            w -= 1
+            parts[w] = q
+            r -= 1
+        w -= 1
+        if w != k:
+            parts[w] = parts[k]
+        last_w = w
+    prog.n_parts = total
+    return COMPILE_OK
+
+
+cdef void _comp_config(CompCfg *cfg, const GCODE_PARAMETERS *params) noexcept nogil:
+    cdef uint32_t depth_bits
+    cfg.strategy = params.correctionStrategy
+    cfg.mode = 1 if (params.correctionStrategy & CORR_START_MODE_MASK) == 1 else 0
+    cfg.tol_angle = (params.tolerance[2] if params.tolerance[2] > 0 else 0.03) * M_PI / 180.0
+    cfg.sin_tol = sin(cfg.tol_angle)
+    cfg.slack = params.tolerance[1] if params.tolerance[1] > 0 else 0.001
+    if params.correctionStrategy & CORR_CORNER_FACTOR_2:
+        cfg.factor = 2.0
+    else:
+        cfg.factor = params.tolerance[5] if params.tolerance[5] > 0 else 3.0
+    depth_bits = (params.correctionStrategy & CORR_SEARCH_DEPTH_MASK) >> 8
+    if depth_bits == 1:
+        cfg.depth = 10
+    elif depth_bits == 2:
+        cfg.depth = 50
+    elif depth_bits == 3:
+        cfg.depth = 100
+    elif depth_bits == 4:
+        cfg.depth = 500
+    elif depth_bits == 5:
+        cfg.depth = 1000
+    elif depth_bits == 7:
+        cfg.depth = (<size_t>-1) / 2     # the whole buffer
+    else:
+        cfg.depth = 2000
+
+
+cdef int compensate_program(Program *prog, const GCODE_PARAMETERS *params, ErrorInfo *err,
+                            output_fn output, void *ctx) noexcept nogil:
+    """Computes the compensated path (Part.ce, Part.radius, inserted parts) of every
+    part with comp 41/42; COMPILE_OK or COMPILE_ERROR with err filled."""
+    cdef CompState S
+    cdef size_t i, j
+    cdef int res = COMPILE_OK
+    memset(&S, 0, sizeof(S))
+    S.prog = prog
+    S.params = params
+    S.err = err
+    S.output = output
+    S.ctx = ctx
+    _comp_config(&S.cfg, params)
+    if prog.n_parts == 0:
+        return COMPILE_OK
+    if S.cfg.strategy & CORR_OLD_COMPATIBILITY:
+        _compatibility(prog)
+    S.role = <uint8_t *>calloc(prog.n_parts, 1)
+    if S.role == NULL:
+        set_error(err, ERR_OUT_OF_MEMORY, prog.main_file_idx, 0, NULL, 0)
+        return COMPILE_ERROR
+    i = 0
+    while i < prog.n_parts and res == COMPILE_OK:
+        if prog.parts[i].comp == 40:
+            i += 1
+            continue
+        j = i + 1
+        while j < prog.n_parts and prog.parts[j].comp != 40:
+            j += 1
+        res = _run(&S, i, j)
+        i = j
+    if res == COMPILE_OK:
+        res = _merge(&S)
+    free(S.role)
+    free(S.st)
+    free(S.ins)
+    return res
