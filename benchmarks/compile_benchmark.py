@@ -9,7 +9,9 @@
    wall time, the worst poll latency and the peak RSS (getrusage) of that process.
 3. The floor: a tiny C program (compiled now with cc -O2) that reads the same file
    and converts every number with strtod. Prints compile time / floor.
-Targets: ratio <= 1.5, peak RSS < 300 MB.
+4. Tool radius compensation: a compensatable contour of --lines lines compiled with
+   G40 and with G41 (r = 0.3) in the same run; prints the extra time.
+Targets: ratio <= 1.5, peak RSS < 300 MB, compensation <= +20 %.
 """
 import argparse
 import json
@@ -59,6 +61,7 @@ path = sys.argv[1].encode()
 p = abi.GCODE_PARAMETERS()
 lib.ToolChainCore_GetGCodeParameters(0, ctypes.byref(p))
 p.absMode = 0
+p.correction[0].size = float(sys.argv[2]) if len(sys.argv) > 2 else 0.0
 lib.ToolChainCore_SetGCodeParameters(0, ctypes.byref(p))
 pos, enh = abi.SIMPLE_GM_PARAMS(), abi.GM_PARAMS_ENHANCED()
 rss0 = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
@@ -115,6 +118,27 @@ def write_program(path: Path, lines: int, seed: int = 1) -> None:
     path.write_text("\n".join(out) + "\n")
 
 
+def write_contour(path: Path, lines: int, compensated: bool) -> None:
+    """A long compensatable contour (relative): straight steps, semicircular bumps and
+    45-degree corners, under G41 (or G40 for the reference)."""
+    block = ["G1 X2 Y0 F2000", "G3 X2 Y0 I1 J0", "G1 X1 Y1", "G1 X1 Y-1", "G2 X2 Y0 I1 J0",
+             "G1 X1.5 Y0.5", "G1 X1.5 Y-0.5", "G1 X2 Y0"]
+    out = ["G41" if compensated else "G40", "G1 X1 Y0 F2000"]
+    while len(out) < lines - 2:
+        out.extend(block)
+    out.extend(["G40", "G1 X1 Y0"])
+    path.write_text("\n".join(out[:lines]) + "\n")
+
+
+def compile_runs(prog: Path, runs: int, radius: float = 0.0) -> list:
+    results = []
+    for _ in range(runs):
+        res = subprocess.run([sys.executable, "-c", CHILD, str(prog), str(radius)], check=True,
+                             capture_output=True, text=True)
+        results.append(json.loads(res.stdout.strip().splitlines()[-1]))
+    return results
+
+
 def floor_time(path: Path, workdir: Path) -> float:
     cc = shutil.which("cc") or shutil.which("gcc")
     src = workdir / "floor.c"
@@ -142,11 +166,7 @@ def main():
             shutil.copy(prog, args.keep)
         size_mb = prog.stat().st_size / 1e6
         floor = floor_time(prog, tmp)
-        runs = []
-        for _ in range(args.runs):
-            res = subprocess.run([sys.executable, "-c", CHILD, str(prog)], check=True, capture_output=True,
-                                 text=True)
-            runs.append(json.loads(res.stdout.strip().splitlines()[-1]))
+        runs = compile_runs(prog, args.runs)
         best = min(runs, key=lambda r: r["seconds"])
         print(f"program: {args.lines} lines, {size_mb:.1f} MB")
         print(f"floor (read + strtod every number, C -O2): {floor * 1e3:.1f} ms")
@@ -156,6 +176,16 @@ def main():
                   f"over {r['polls']} polls, error: {r['error']}")
         print(f"ratio compile/floor (best run): {best['seconds'] / floor:.2f} (target <= 1.5)")
         print(f"peak RSS (best run): {best['peak_rss_mb']:.1f} MB (target < 300)")
+        # tool radius compensation: the same contour with G40 and with G41 (r = 0.3)
+        times = {}
+        for compensated in (False, True):
+            contour = tmp / f"contour{int(compensated)}.nc"
+            write_contour(contour, args.lines, compensated)
+            results = compile_runs(contour, args.runs, 0.3)
+            assert all(r["error"] is None for r in results), results
+            times[compensated] = min(r["seconds"] for r in results)
+        print(f"contour of {args.lines} lines: G40 {times[False] * 1e3:.1f} ms, G41 r=0.3 {times[True] * 1e3:.1f} ms, "
+              f"compensation cost {100 * (times[True] / times[False] - 1):.0f} % (target <= 20 %)")
 
 
 if __name__ == "__main__":
