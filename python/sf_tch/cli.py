@@ -29,11 +29,10 @@ def demo(args) -> int:
     path = args.program or sample_program()
     with Core(args.core) as core:
         core.update_params(calcTime=1, absMode=0 if args.relative else 1)
-        if args.radius is not None:
-            p = core.params
-            for k in range(8):
-                p.correction[k].size = args.radius
-            core.params = p
+        p = core.params
+        for k in range(8):
+            p.correction[k].size = args.radius
+        core.params = p
         try:
             core.compile_file(path)
             run = core.simulate()
@@ -66,7 +65,7 @@ def main(argv=None) -> int:
     d.add_argument("program", nargs="?", help="G-code file")
     d.add_argument("--core", type=int, default=0)
     d.add_argument("--relative", action="store_true", help="absMode 0 (relative coordinates)")
-    d.add_argument("--radius", type=float, help="tool radius for G41..G48")
+    d.add_argument("--radius", type=float, default=1.0, help="tool radius for G41..G48 (default 1 mm)")
     d.set_defaults(run=demo)
     args = parser.parse_args(argv)
     return args.run(args)
