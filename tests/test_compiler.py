@@ -53,8 +53,7 @@ def test_seed_example_is_the_documented_program():
 
 def test_seed_relative_compiles(host):
     r = host.compile(SEED_PROGRAM, absMode=0, run=False)
-    # the compiler accepts it; only the separate compensation stage may still refuse G42
-    assert r.error is None or (r.error[0] == 10 and "compensation" in r.error[3]), r.error
+    assert r.error is None, r.error
 
 
 def test_seed_relative_geometry_without_compensation(host):

@@ -22,17 +22,13 @@ def ok(host, code, **kw):
     return r
 
 
-def reaches_compensation(err):
-    # prog.compensated hands the program to the compensation stage; until that stage
-    # lands it answers "not implemented" (10), afterwards it compiles
-    return err is None or (err[0] == 10 and "compensation" in err[3])
-
-
-def test_compensation_marks_the_program(host):
-    assert reaches_compensation(host.compile("G41\nG1 X10\nG1 Y10\nG40\nG1 X0\n", run=False).error)
-    assert reaches_compensation(host.compile("G44\nM10\nG40\n", run=False).error)
-    # no G41..G48: the compensation stage is not involved at all
-    assert host.compile("G40\nG1 X10\n", run=False).error is None
+def test_compensation_marks_the_parts(host):
+    r = ok(host, "G1 X0 Y-5 F100\nG41\nG1 X0 Y0\nG1 X10\nG1 Y10\nG40\nG1 X0 Y15\n")
+    assert [q.comp for q in r.g] == [40, 41, 41, 41, 40]
+    r = ok(host, "G1 X0 Y-5 F100\nG44\nG1 X0 Y0\nM10\nG1 X10\nG40\nG1 X10 Y-5\n")
+    assert [q.comp for q in r.g] == [40, 42, 42, 40]
+    # no G41..G48: nothing is compensated
+    assert [q.comp for q in ok(host, "G40\nG1 X10 F100\n").g] == [40]
 
 
 def test_g900_changes_feeds_and_pops(host):
