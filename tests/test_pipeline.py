@@ -19,6 +19,7 @@ def core():
     with Core(CORE) as c:
         saved = c.params
         c.update_params(absMode=1, calcTime=1)
+        c.reset([0.0] * 10)                 # the machine position outlives DestroyCNC
         yield c
         c.lib.ToolChainCore_DestroyCNC(CORE)
         c.params = saved
@@ -227,3 +228,16 @@ def test_reset_moves_a_relative_program_with_its_start(core):
     run = core.simulate()
     ends = [(p["m_e"]["x"], p["m_e"]["y"]) for p in run.parts]
     assert ends == [pytest.approx((15, 5)), pytest.approx((15, 15))]
+
+
+def test_size_info_original_and_rotated(core):
+    # G168: the program turned by 90 degrees about (0, 0); [0]/[1] are the program as
+    # written, [2]/[3] as the machine runs it
+    core.compile_text("G0 X0 Y0\nG168 X0 Y0 R90\nG1 X10 Y0 F1000\nG1 X10 Y5\nG169\nG1 X20 Y0\n", "rot.nc")
+    size = core.size_info().m_size
+    original, rotated = size[0], size[2]
+    assert (original.m_minimalPos.x, original.m_maximalPos.x) == pytest.approx((0, 20))
+    assert (original.m_minimalPos.y, original.m_maximalPos.y) == pytest.approx((0, 5))
+    assert (rotated.m_minimalPos.x, rotated.m_maximalPos.x) == pytest.approx((-5, 20))
+    assert (rotated.m_minimalPos.y, rotated.m_maximalPos.y) == pytest.approx((0, 10))
+    assert (size[3].m_maximalPos.y, size[1].m_maximalPos.y) == pytest.approx((10, 5))

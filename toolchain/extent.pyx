@@ -39,11 +39,28 @@ cdef void _widen_arc(GCODE_SIZE *size, const double *s, const double *e, const d
         _widen(size, point)
 
 
-cdef void _extent(const Program *prog, GCODE_SIZE *size, bint compensated) noexcept nogil:
+cdef inline void _unrotate(const Program *prog, uint16_t rot_idx, double *point) noexcept nogil:
+    """The point as written in the program: the inverse (transpose) of its G168 rotation."""
+    cdef const double *r
+    cdef double q[3]
+    cdef int a
+    if rot_idx == 0:
+        return
+    r = prog.rotations + 12 * rot_idx
+    for a in range(3):
+        q[a] = point[a] - r[a]
+    for a in range(3):
+        point[a] = r[a] + r[3 + a] * q[0] + r[6 + a] * q[1] + r[9 + a] * q[2]
+
+
+cdef void _extent(const Program *prog, GCODE_SIZE *size, bint compensated, bint rotated) noexcept nogil:
+    """Extent of the programmed (or compensated) path, as the machine runs it
+    (rotated) or as the program is written (G168 undone)."""
     cdef size_t i
     cdef const Part *p
     cdef double s[10]
     cdef double e[10]
+    cdef double cc[3]
     cdef double programmed_radius
     cdef int first, second, normal
     memcpy(&size.m_startPos, prog.start, sizeof(P10DOUBLE))
@@ -61,26 +78,39 @@ cdef void _extent(const Program *prog, GCODE_SIZE *size, bint compensated) noexc
         else:
             memcpy(s, part_start(prog, i), sizeof(s))
             memcpy(e, p.e, sizeof(e))
+        memcpy(cc, p.cc, sizeof(cc))
+        if not rotated:
+            if i > 0:
+                _unrotate(prog, prog.parts[i - 1].rot_idx, s)
+            _unrotate(prog, p.rot_idx, e)
+            _unrotate(prog, p.rot_idx, cc)
         _widen(size, e)
         memcpy(&size.m_endPos, e, sizeof(P10DOUBLE))
         if p.func == 2 or p.func == 3:
             if compensated:
-                _widen_arc(size, s, e, p.cc, p.radius, p.plane, p.func == 3)
+                _widen_arc(size, s, e, cc, p.radius, p.plane, p.func == 3)
             elif plane_axes(p.plane, &first, &second, &normal):
-                programmed_radius = hypot(s[first] - p.cc[first], s[second] - p.cc[second])
-                _widen_arc(size, s, e, p.cc, programmed_radius, p.plane, p.func == 3)
+                programmed_radius = hypot(s[first] - cc[first], s[second] - cc[second])
+                _widen_arc(size, s, e, cc, programmed_radius, p.plane, p.func == 3)
 
 
 cdef void program_extent(const Program *prog, GCODE_INFO *info) noexcept nogil:
-    """[0] programmed, [1] compensated (the same without compensation); the program's
-    coordinates are already rotated (G168), so [2] and [3] repeat [0] and [1]."""
-    _extent(prog, &info.m_size[0], False)
+    """[0] programmed, [1] compensated (the same without compensation), both as the
+    program is written; [2] and [3] the same as the machine runs them (G168 applied)."""
+    _extent(prog, &info.m_size[2], False, True)
     if prog.compensated:
-        _extent(prog, &info.m_size[1], True)
+        _extent(prog, &info.m_size[3], True, True)
     else:
-        info.m_size[1] = info.m_size[0]
-    info.m_size[2] = info.m_size[0]
-    info.m_size[3] = info.m_size[1]
+        info.m_size[3] = info.m_size[2]
+    if prog.n_rotations > 1:
+        _extent(prog, &info.m_size[0], False, False)
+        if prog.compensated:
+            _extent(prog, &info.m_size[1], True, False)
+        else:
+            info.m_size[1] = info.m_size[0]
+    else:
+        info.m_size[0] = info.m_size[2]
+        info.m_size[1] = info.m_size[3]
 
 
 cdef void program_move_start(Program *prog, const double *position) noexcept nogil:
@@ -101,4 +131,7 @@ cdef void program_move_start(Program *prog, const double *position) noexcept nog
             for k in range(3):
                 p.ce[k] += delta[k]
                 p.cc[k] += delta[k]
+        for i in range(1, prog.n_rotations):
+            for k in range(3):
+                prog.rotations[12 * i + k] += delta[k]
     memcpy(prog.start, position, sizeof(prog.start))

@@ -42,6 +42,7 @@ ctypedef struct Part:
     uint32_t pars_mask      # bit (letter - 'A') set for every address written on the line
     uint32_t aux            # PART_PRINT: offset of its text in Program.texts
     uint16_t zero_idx       # index into Program.zeros (active zero offset)
+    uint16_t rot_idx        # index into Program.rotations (G168), 0 = not rotated
     uint16_t tool           # T
     int16_t file_idx        # file index (FileToIdx), -1 unknown
     int16_t plane           # 17 18 19 -18
@@ -57,6 +58,8 @@ ctypedef struct Program:
     size_t n_pars, cap_pars
     P10DOUBLE *zeros        # zero offsets referenced by Part.zero_idx (zeros[0] = none)
     size_t n_zeros, cap_zeros
+    double *rotations       # G168 rotations, 12 doubles each (centre x y z, 3x3 matrix by rows); entry 0 unused
+    size_t n_rotations, cap_rotations
     char *texts             # NUL-terminated PRINT texts
     size_t n_texts, cap_texts
     double start[10]        # machine position before the first part

@@ -16,6 +16,7 @@ cdef void program_free(Program *prog) noexcept nogil:
     free(prog.parts)
     free(prog.pars)
     free(prog.zeros)
+    free(prog.rotations)
     free(prog.texts)
     program_init(prog)
 
@@ -106,6 +107,26 @@ cdef int program_add_zero(Program *prog, const double *offset) noexcept nogil:
     memcpy(&prog.zeros[prog.n_zeros], offset, sizeof(P10DOUBLE))
     prog.n_zeros += 1
     return <int>prog.n_zeros - 1
+
+
+cdef int program_add_rotation(Program *prog, const double *centre, const double *matrix) noexcept nogil:
+    """Index (>= 1) of a G168 rotation (reusing the last one when equal); -1 out of memory."""
+    cdef double *r
+    if prog.n_rotations == 0:
+        prog.n_rotations = 1                # entry 0: not rotated
+    if prog.n_rotations > 1:
+        r = prog.rotations + 12 * (prog.n_rotations - 1)
+        if memcmp(r, centre, 3 * sizeof(double)) == 0 and memcmp(r + 3, matrix, 9 * sizeof(double)) == 0:
+            return <int>prog.n_rotations - 1
+    if prog.n_rotations >= 65535:
+        return -1
+    if not _grow(<void **>&prog.rotations, &prog.cap_rotations, 12 * (prog.n_rotations + 1), sizeof(double)):
+        return -1
+    r = prog.rotations + 12 * prog.n_rotations
+    memcpy(r, centre, 3 * sizeof(double))
+    memcpy(r + 3, matrix, 9 * sizeof(double))
+    prog.n_rotations += 1
+    return <int>prog.n_rotations - 1
 
 
 cdef int64_t program_add_text(Program *prog, const char *text, size_t n) noexcept nogil:

@@ -208,9 +208,10 @@ cdef int cp_g168(CState *st, const LineWords *lw) noexcept nogil:
             ax = 0.0; ay = 1.0; az = 0.0
         else:
             return cerr_num(st, ERR_BAD_PLANE, plane)
-    set_rotation(st, val(lw, b'X') if has(lw, b'X') else 0.0, val(lw, b'Y') if has(lw, b'Y') else 0.0,
-                 val(lw, b'Z') if has(lw, b'Z') else 0.0, ax, ay, az,
-                 val(lw, b'R') if has(lw, b'R') else 0.0)
+    if not set_rotation(st, val(lw, b'X') if has(lw, b'X') else 0.0, val(lw, b'Y') if has(lw, b'Y') else 0.0,
+                        val(lw, b'Z') if has(lw, b'Z') else 0.0, ax, ay, az,
+                        val(lw, b'R') if has(lw, b'R') else 0.0):
+        return cerr(st, ERR_OUT_OF_MEMORY)
     cp_reframe(st)
     return 0
 
@@ -392,6 +393,7 @@ cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
                 return R_ERR
         elif g == 169:
             st.rot_on = False
+            st.rot_idx = 0
             cp_reframe(st)
         elif g == 172:
             consumed |= bit_of(b'R') | bit_of(b'C') | bit_of(b'D')

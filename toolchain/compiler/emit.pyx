@@ -23,6 +23,7 @@ cdef Part *em_part(CState *st, int kind, int func) noexcept nogil:
     p.spindle = st.spindle
     p.tool = <uint16_t>st.tool
     p.zero_idx = <uint16_t>st.zero_idx
+    p.rot_idx = <uint16_t>st.rot_idx
     p.line = st.line
     p.file_idx = <int16_t>st.unit.file_idx
     p.gcode_index = st.gindex

@@ -89,6 +89,7 @@ ctypedef struct CState:
     int zero_idx
     int mirror                              # bit 0 X, 1 Y, 2 Z
     bint rot_on
+    int rot_idx                             # Program.rotations entry of the active rotation, 0 = none
     bint identity                           # no offset, mirror or rotation: machine = program
     double rot_c[3]
     double rot_m[9]
@@ -280,9 +281,10 @@ cdef bint update_zero(CState *st) noexcept nogil:
     return True
 
 
-cdef void set_rotation(CState *st, double cx, double cy, double cz, double ax, double ay,
+cdef bint set_rotation(CState *st, double cx, double cy, double cz, double ax, double ay,
                        double az, double deg) noexcept nogil:
-    """Rotation by deg about the axis (ax, ay, az) through the centre (Rodrigues)."""
+    """Rotation by deg about the axis (ax, ay, az) through the centre (Rodrigues),
+    registered with the program for the unrotated size info; False = no memory."""
     cdef double n = sqrt(ax * ax + ay * ay + az * az)
     cdef double c, s, t
     if n == 0.0:
@@ -303,3 +305,8 @@ cdef void set_rotation(CState *st, double cx, double cy, double cz, double ax, d
     st.rot_m[8] = t * az * az + c
     st.rot_c[0] = cx; st.rot_c[1] = cy; st.rot_c[2] = cz
     st.rot_on = True
+    st.rot_idx = program_add_rotation(st.prog, st.rot_c, st.rot_m)
+    if st.rot_idx < 0:
+        st.rot_idx = 0
+        return False
+    return True
