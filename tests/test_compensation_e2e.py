@@ -8,6 +8,7 @@ import time
 import numpy as np
 import pytest
 
+from compiler_host import SEED_PROGRAM
 from sf_tch import abi
 from sf_tch.library import load
 
@@ -133,29 +134,11 @@ def test_error_on_the_right_line(hmi):
     assert err is not None and err[0] == 501 and err[1] == 4
 
 
-SEED_003 = """G00 X60.6051 Y40.7723
-G42
-M51
-G02 X0 Y-2.5202 I3.0336 J-1.2601
-G02 X0.922 Y-1.5646 I6.0604 J2.5173
-G02 X1.079 Y-1.0269 I4.2143 J3.3479
-G02 X2.2624 Y-1.3678 I9.8772 J13.7817
-G02 X1.9856 Y-0.8109 I6.1778 J12.2908
-G02 X3.015 Y-0.7892 I8.8515 J27.6632
-G02 X6.2889 Y0 I3.1444 J33.011
-M50
-G40
-G00 X-28.9085 Y30.4365
-G42
-M51
-G40
-M2
-"""
 
 
 def test_seed_003_example_with_g42(hmi):
     _compiles(hmi)
-    err = hmi.compile(SEED_003, r=0.5, abs_mode=0)
+    err = hmi.compile(SEED_PROGRAM, r=0.5, abs_mode=0)
     assert err is None, err
     parts = hmi.run()
     assert [p["comp"] for p in parts if p["func"] == 2] == [42] * 7

@@ -4,6 +4,20 @@
 from libc.math cimport atan2, sqrt, fabs, M_PI, cos, sin, hypot
 
 
+cdef const char *axis_name(int k) noexcept nogil:
+    """Letter of axis index k (x y z c b u v w a o order)."""
+    if k == 0: return "X"
+    if k == 1: return "Y"
+    if k == 2: return "Z"
+    if k == 3: return "C"
+    if k == 4: return "B"
+    if k == 5: return "U"
+    if k == 6: return "V"
+    if k == 7: return "W"
+    if k == 8: return "A"
+    return "O"
+
+
 cdef bint plane_axes(int plane, int *first, int *second, int *normal) noexcept nogil:
     """Axis indexes of a plane; False for a plane that is not 17/18/19/-18."""
     if plane == 17:

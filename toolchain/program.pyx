@@ -38,6 +38,14 @@ cdef bint _grow(void **buf, size_t *cap, size_t need, size_t item) noexcept nogi
     return True
 
 
+cdef inline void _part_defaults(Part *p) noexcept nogil:
+    memset(p, 0, sizeof(Part))
+    p.file_idx = -1
+    p.fp = 1.0
+    p.plane = 17
+    p.comp = 40
+
+
 cdef Part *program_add_part(Program *prog) noexcept nogil:
     """Appends a zeroed part (zero_idx 0, file -1); NULL when out of memory."""
     cdef Part *p
@@ -45,11 +53,7 @@ cdef Part *program_add_part(Program *prog) noexcept nogil:
         return NULL
     p = &prog.parts[prog.n_parts]
     prog.n_parts += 1
-    memset(p, 0, sizeof(Part))
-    p.file_idx = -1
-    p.fp = 1.0
-    p.plane = 17
-    p.comp = 40
+    _part_defaults(p)
     return p
 
 
@@ -63,11 +67,7 @@ cdef Part *program_insert_part(Program *prog, size_t at) noexcept nogil:
     if at < prog.n_parts - 1:
         memcpy(&prog.parts[at + 1], &prog.parts[at], (prog.n_parts - 1 - at) * sizeof(Part))
     p = &prog.parts[at]
-    memset(p, 0, sizeof(Part))
-    p.file_idx = -1
-    p.fp = 1.0
-    p.plane = 17
-    p.comp = 40
+    _part_defaults(p)
     return p
 
 

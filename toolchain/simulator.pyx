@@ -5,19 +5,6 @@ from libc.string cimport memset, memcpy
 from libc.stdlib cimport strtol
 from libc.stdio cimport snprintf
 
-cdef const char *axis_name(int k) noexcept nogil:
-    if k == 0: return "X"
-    if k == 1: return "Y"
-    if k == 2: return "Z"
-    if k == 3: return "C"
-    if k == 4: return "B"
-    if k == 5: return "U"
-    if k == 6: return "V"
-    if k == 7: return "W"
-    if k == 8: return "A"
-    return "O"
-
-
 cdef bint check_limits(Core *core, const MACHINE_PARAMETERS *machine, const SIMPLE_GM_PARAMS *gm,
                        const Part *p, ErrorInfo *first_error) noexcept nogil:
     """Regime 20: the compensated end point of a part against the soft limits

@@ -134,10 +134,10 @@ cdef int em_arc_error(CState *st, int fa, int sa, const double *s, const double 
         a[i].text = NULL
         a[i].num = 0
     a[0].text = plane_name(st.plane)
-    a[1].text = cp_axis_name(fa); a[2].num = s[fa]
-    a[3].text = cp_axis_name(sa); a[4].num = s[sa]
-    a[5].text = cp_axis_name(fa); a[6].num = e[fa]
-    a[7].text = cp_axis_name(sa); a[8].num = e[sa]
+    a[1].text = axis_name(fa); a[2].num = s[fa]
+    a[3].text = axis_name(sa); a[4].num = s[sa]
+    a[5].text = axis_name(fa); a[6].num = e[fa]
+    a[7].text = axis_name(sa); a[8].num = e[sa]
     if chord > 2.0 * rs:
         a[9].num = chord; a[10].num = 2.0 * rs
         set_error(st.err, ERR_ARC_CENTRE, st.unit.file_idx, st.line, a, 11)

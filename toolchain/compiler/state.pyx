@@ -164,19 +164,6 @@ cdef inline char letter_of_axis(int a) noexcept nogil:
     return names[a]
 
 
-cdef const char *cp_axis_name(int a) noexcept nogil:
-    if a == 0: return "X"
-    if a == 1: return "Y"
-    if a == 2: return "Z"
-    if a == 3: return "C"
-    if a == 4: return "B"
-    if a == 5: return "U"
-    if a == 6: return "V"
-    if a == 7: return "W"
-    if a == 8: return "A"
-    return "O"
-
-
 cdef const char *plane_name(int plane) noexcept nogil:
     if plane == 17: return "XY"
     if plane == 18: return "XZ"
