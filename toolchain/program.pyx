@@ -17,6 +17,7 @@ cdef void program_free(Program *prog) noexcept nogil:
     free(prog.pars)
     free(prog.zeros)
     free(prog.texts)
+    free(prog.arc_regions)
     program_init(prog)
 
 
