@@ -390,6 +390,15 @@ cdef void _compile_output(void *ctx, int tab, const char *text) noexcept nogil:
     core_output(<Core *>ctx, <uint32_t>tab, text)
 
 
+cdef void _compile_warn(void *ctx, const ErrorInfo *warning) noexcept nogil:
+    """A numbered warning of a stage (e.g. the compensation) to MathWarning (2001)."""
+    cdef Callback cb = core_callback(<Core *>ctx, CB_MATH_WARNING)
+    cdef CALLBACK_INFO info
+    if cb.fn != NULL:
+        fill_callback_info(<Core *>ctx, warning, &info)
+        (<TC_MathWarning>cb.fn)(cb.user, &info)
+
+
 cdef void *_compile_body(void *arg) noexcept nogil:
     cdef Core *core = <Core *>arg
     cdef CompileInput *inp = <CompileInput *>calloc(1, sizeof(CompileInput))
@@ -433,7 +442,9 @@ cdef void *_compile_body(void *arg) noexcept nogil:
         core_progress(core, 0)
         result = compile_program(inp, &prog, err)
         if result == COMPILE_OK and prog.compensated:
-            result = compensate_program(&prog, &inp.params, err, _compile_output, core)
+            result = compensate_program_ex(&prog, &inp.params, err, _compile_output, _compile_warn, core)
+        if result == COMPILE_OK:
+            result = insert_arcs(&prog, &inp.params, err)
         if result == COMPILE_CANCELLED:
             set_error(err, ERR_CANCELLED, core.source_idx, 0, NULL, 0)
     if result == COMPILE_OK:

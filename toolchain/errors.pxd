@@ -58,3 +58,5 @@ cdef enum ErrorNumber:
     ERR_COMP_NEGATIVE_ARC = 503     # Arc radius %g smaller than the tool radius %g
     ERR_COMP_CROSSING = 504         # Equidistants cross: the tool (radius %g) does not fit the contour
     ERR_COMP_LOOKAHEAD = 505        # More than %d blocks without motion in the compensation plane
+    # warnings (600..699): MathWarning callback, not errors
+    WARN_COMP = 600                 # Tool radius compensation: %s

@@ -61,6 +61,7 @@ cdef const char *error_format(int32_t number) noexcept nogil:
     if number == ERR_COMP_NEGATIVE_ARC: return "Arc radius %g smaller than the tool radius %g"
     if number == ERR_COMP_CROSSING: return "Equidistants cross: the tool (radius %g) does not fit the contour"
     if number == ERR_COMP_LOOKAHEAD: return "More than %d blocks without motion in the compensation plane"
+    if number == WARN_COMP: return "Tool radius compensation: %s"
     return NULL
 
 

@@ -51,6 +51,15 @@ ctypedef struct Part:
     uint8_t comp            # 40 41 42 (side after the sign of the radius), see m_bFeedIsMin
     uint8_t comp_slot       # 0..7: index of correction[] used (G41 -> 0, G42 -> 1, G43 -> 2, ...)
 
+# G167 automatic arcs from the program: the settings in force from part `first` on
+# (index among the programmed parts, i.e. not counting inserted ones).
+ctypedef struct ArcRegion:
+    size_t first
+    bint on                 # False: bare G167 (off)
+    int32_t plane           # Q: 17 18 19, 0 = the part's plane
+    double tol_max, tol_min # E, A: distance corner <-> arc midpoint
+    double max_angle        # U (degrees)
+
 ctypedef struct Program:
     Part *parts
     size_t n_parts, cap_parts
@@ -67,6 +76,8 @@ ctypedef struct Program:
     uint32_t n_lines        # lines of the main file
     bint compensated        # some part has comp != 40
     bint relative_only      # every position is relative to the start (G91 throughout): ResetCNC moves it
+    ArcRegion *arc_regions  # G167 changes, in part order (compensation/insert_arcs.pyx)
+    size_t n_arc_regions, cap_arc_regions
 
 # One error: number of the catalogue (errors.pyx), location and the formatted texts.
 cdef enum:
@@ -87,6 +98,8 @@ ctypedef struct ErrArg:
     const char *text
 
 # Hooks a stage may call while it works (all optional: NULL function = none).
+# warn_fn: a numbered warning of the catalogue (errors.pxd WARN_*) with its location.
+ctypedef void (*warn_fn)(void *ctx, const ErrorInfo *warning) noexcept nogil
 ctypedef void (*progress_fn)(void *ctx, int percent) noexcept nogil
 ctypedef void (*output_fn)(void *ctx, int tab, const char *text) noexcept nogil
 

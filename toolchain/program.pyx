@@ -18,6 +18,7 @@ cdef void program_free(Program *prog) noexcept nogil:
     free(prog.zeros)
     free(prog.rotations)
     free(prog.texts)
+    free(prog.arc_regions)
     program_init(prog)
 
 

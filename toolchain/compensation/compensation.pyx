@@ -38,6 +38,7 @@ ctypedef struct CompState:
     const GCODE_PARAMETERS *params
     ErrorInfo *err
     output_fn output
+    warn_fn warn
     void *ctx
     CompCfg cfg
     int first, second, normal
@@ -54,15 +55,23 @@ ctypedef struct CompState:
 
 cdef void _comp_warn(CompState *S, size_t part, const char *what) noexcept nogil:
     cdef char text[300]
+    cdef ErrorInfo info
+    cdef ErrArg arg
     S.n_warnings += 1
-    if S.output == NULL or S.n_warnings > MAX_WARNINGS:
+    if S.n_warnings > MAX_WARNINGS:
         return
     if S.n_warnings == MAX_WARNINGS:
         snprintf(text, sizeof(text), "Warning: tool radius compensation: further warnings suppressed")
     else:
         snprintf(text, sizeof(text), "Warning: tool radius compensation, line %u: %s",
                  S.prog.parts[part].line, what)
-    S.output(S.ctx, 0, text)
+        if S.warn != NULL:
+            arg.num = 0; arg.text = what
+            set_error(&info, WARN_COMP, S.prog.parts[part].file_idx, <int32_t>S.prog.parts[part].line, &arg, 1)
+            info.n_lines = <int32_t>S.prog.n_lines
+            S.warn(S.ctx, &info)
+    if S.output != NULL:
+        S.output(S.ctx, 0, text)
 
 
 cdef int _comp_fail(CompState *S, int32_t number, size_t part, double a0, double a1) noexcept nogil:
@@ -546,8 +555,14 @@ cdef void _comp_config(CompCfg *cfg, const GCODE_PARAMETERS *params) noexcept no
 
 cdef int compensate_program(Program *prog, const GCODE_PARAMETERS *params, ErrorInfo *err,
                             output_fn output, void *ctx) noexcept nogil:
+    return compensate_program_ex(prog, params, err, output, NULL, ctx)
+
+
+cdef int compensate_program_ex(Program *prog, const GCODE_PARAMETERS *params, ErrorInfo *err,
+                               output_fn output, warn_fn warn, void *ctx) noexcept nogil:
     """Computes the compensated path (Part.ce, Part.radius, inserted parts) of every
-    part with comp 41/42; COMPILE_OK or COMPILE_ERROR with err filled."""
+    part with comp 41/42; COMPILE_OK or COMPILE_ERROR with err filled. Warnings go
+    to `output` (text) and `warn` (numbered, WARN_COMP)."""
     cdef CompState S
     cdef size_t i, j
     cdef int res = COMPILE_OK
@@ -556,6 +571,7 @@ cdef int compensate_program(Program *prog, const GCODE_PARAMETERS *params, Error
     S.params = params
     S.err = err
     S.output = output
+    S.warn = warn
     S.ctx = ctx
     _comp_config(&S.cfg, params)
     if prog.n_parts == 0:

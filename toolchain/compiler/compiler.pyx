@@ -318,6 +318,25 @@ cdef bint _is_m(const GCODE_PARAMETERS *pr, int m, int32_t number) noexcept nogi
     return number != 0 and m == number
 
 
+cdef int cp_g167(CState *st, const LineWords *lw) noexcept nogil:
+    """G167 [E] [A] [U] [Q]: automatic arcs on with these values (E/A default to the
+    host's tolerances, U to 90 degrees, Q to insertArcPlane); bare G167: off. Recorded
+    in Program.arc_regions from the next part on (compensation/insert_arcs.pyx)."""
+    cdef int ga, gb, gc
+    cdef uint32_t letters = bit_of(b'E') | bit_of(b'A') | bit_of(b'U') | bit_of(b'Q')
+    st.g167_on = (lw.mask & letters) != 0
+    st.g167[0] = val(lw, b'E') if has(lw, b'E') else st.params.insertArcToleranceRMax
+    st.g167[1] = val(lw, b'A') if has(lw, b'A') else st.params.insertArcToleranceRMin
+    st.g167[2] = val(lw, b'U') if has(lw, b'U') else 90.0
+    st.g167[3] = val(lw, b'Q') if has(lw, b'Q') else <double>st.params.insertArcPlane
+    if has(lw, b'Q') and not (to_int(st.g167[3]) == 0 or plane_axes(to_int(st.g167[3]), &ga, &gb, &gc)):
+        return cerr_num(st, ERR_BAD_PLANE, st.g167[3])
+    if not program_add_arc_region(st.prog, st.prog.n_parts, st.g167_on, to_int(st.g167[3]),
+                                  st.g167[0], st.g167[1], st.g167[2]):
+        return cerr(st, ERR_OUT_OF_MEMORY)
+    return 0
+
+
 cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
     """Executes the words of one line: G settings, modal values, continuous M,
     motion or dwell, then the other M functions and the flow words."""
@@ -380,11 +399,8 @@ cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
             st.css = g == 96
         elif g == 167:
             consumed |= bit_of(b'E') | bit_of(b'A') | bit_of(b'U') | bit_of(b'Q')
-            st.g167_on = (lw.mask & consumed) != 0
-            st.g167[0] = val(lw, b'E') if has(lw, b'E') else 0.0
-            st.g167[1] = val(lw, b'A') if has(lw, b'A') else 0.0
-            st.g167[2] = val(lw, b'U') if has(lw, b'U') else 90.0
-            st.g167[3] = val(lw, b'Q') if has(lw, b'Q') else 0.0
+            if cp_g167(st, lw) != 0:
+                return R_ERR
         elif g == 168:
             consumed |= (bit_of(b'X') | bit_of(b'Y') | bit_of(b'Z') | bit_of(b'I') | bit_of(b'J')
                          | bit_of(b'K') | bit_of(b'R') | bit_of(b'Q'))
