@@ -100,6 +100,9 @@ def test_compile_error_reaches_every_channel_with_file_and_line(core):
     assert error.number != 0 and error.text
     index = core.file_index("bad.nc")
     assert located and located[0][0] == 3 and located[0][1] == index
+    info = abi.CALLBACK_INFO()
+    assert core.lib.ToolChainCore_GetLastError(CORE, ctypes.byref(info)) == 1
+    assert (info.nLines, info.actLine, info.fileIdx) == (4, 3, index)
     assert any(tab == 0 for tab, _ in logged)
     # still usable
     core.compile_text("G1 X10 F100\n", "good.nc")

@@ -442,7 +442,7 @@ cdef void *_compile_body(void *arg) noexcept nogil:
         core_progress(core, 0)
         result = compile_program(inp, &prog, err)
         if result == COMPILE_OK and prog.compensated:
-            result = compensate_program_ex(&prog, &inp.params, err, _compile_output, _compile_warn, core)
+            result = compensate_program(&prog, &inp.params, err, _compile_output, _compile_warn, core)
         if result == COMPILE_OK:
             result = insert_arcs(&prog, &inp.params, err)
         if result == COMPILE_CANCELLED:
@@ -458,6 +458,7 @@ cdef void *_compile_body(void *arg) noexcept nogil:
         core.size_info = extent
         memset(&core.error, 0, sizeof(ErrorInfo))
     else:
+        err.n_lines = <int32_t>prog.n_lines     # lines of the main file, counted before compiling
         program_free(&prog)
         program_init(&core.program)
         core.has_program = False

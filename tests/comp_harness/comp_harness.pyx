@@ -72,7 +72,7 @@ def compensate(list parts, start, long long strategy=0, corrections=(), toleranc
             prog.compensated = True
     global _seconds
     clock_gettime(CLOCK_MONOTONIC, &t0)
-    rc = compensate_program(&prog, &params, &err, _collect, warn)
+    rc = compensate_program(&prog, &params, &err, _collect, NULL, warn)
     clock_gettime(CLOCK_MONOTONIC, &t1)
     _seconds = (t1.tv_sec - t0.tv_sec) + 1e-9 * (t1.tv_nsec - t0.tv_nsec)
     out = []

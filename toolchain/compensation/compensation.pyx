@@ -554,12 +554,7 @@ cdef void _comp_config(CompCfg *cfg, const GCODE_PARAMETERS *params) noexcept no
 
 
 cdef int compensate_program(Program *prog, const GCODE_PARAMETERS *params, ErrorInfo *err,
-                            output_fn output, void *ctx) noexcept nogil:
-    return compensate_program_ex(prog, params, err, output, NULL, ctx)
-
-
-cdef int compensate_program_ex(Program *prog, const GCODE_PARAMETERS *params, ErrorInfo *err,
-                               output_fn output, warn_fn warn, void *ctx) noexcept nogil:
+                            output_fn output, warn_fn warn, void *ctx) noexcept nogil:
     """Computes the compensated path (Part.ce, Part.radius, inserted parts) of every
     part with comp 41/42; COMPILE_OK or COMPILE_ERROR with err filled. Warnings go
     to `output` (text) and `warn` (numbered, WARN_COMP)."""
