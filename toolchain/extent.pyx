@@ -1,6 +1,5 @@
 # The extent of a compiled program (GetGCodeSizeInfo): start, end, minimum and
 # maximum over every motion part, arcs with their true extreme points.
-from libc.math cimport M_PI, floor, ceil, cos, sin
 from libc.string cimport memcpy
 
 
@@ -15,69 +14,92 @@ cdef inline void _widen(GCODE_SIZE *size, const double *point) noexcept nogil:
             hi[k] = point[k]
 
 
+cdef inline int _quadrant(double x, double y) noexcept nogil:
+    # quadrant q of a direction whose angle lies in [q * 90, (q + 1) * 90) degrees
+    if y >= 0:
+        return 0 if x > 0 else (1 if y > 0 else 2)
+    return 2 if x < 0 else 3
+
+
 cdef void _widen_arc(GCODE_SIZE *size, const double *s, const double *e, const double *cc,
-                     double radius, int plane, bint ccw) noexcept nogil:
-    """Adds the quadrant points (0, 90, 180, 270 degrees) the arc passes through."""
-    cdef int first, second, normal, q, q0, q1
-    cdef double a0, sweep, angle
+                     double radius, int first, int second, bint ccw) noexcept nogil:
+    """Adds the axis points (0, 90, 180, 270 degrees) the arc passes through, its
+    ends included. They follow from the quadrants of its ends (no angles); start =
+    end, within the angular tolerance of arc_sweep, is a full circle."""
+    cdef double sx, sy, ex, ey, cross
+    cdef int q, qs, qe, n, k, k0
     cdef double point[10]
-    if radius <= 0 or not plane_axes(plane, &first, &second, &normal):
+    if radius <= 0:
         return
-    sweep = arc_sweep(s[first], s[second], e[first], e[second], cc[first], cc[second], ccw)
-    a0 = atan2(s[second] - cc[second], s[first] - cc[first])
+    sx = s[first] - cc[first]; sy = s[second] - cc[second]
+    ex = e[first] - cc[first]; ey = e[second] - cc[second]
+    if not ccw:
+        # a clockwise arc covers the same points as the counter-clockwise one from e to s
+        sx, sy, ex, ey = ex, ey, sx, sy
+    qs = _quadrant(sx, sy)
+    qe = _quadrant(ex, ey)
+    n = (qe - qs) & 3
+    if n == 0:
+        cross = sx * ey - sy * ex
+        if cross <= 1e-12 * sqrt((sx * sx + sy * sy) * (ex * ex + ey * ey)):
+            n = 4       # the end is not ahead of the start: all the way round
+    # a start exactly on an axis counts too (the ends already widen the extent, but
+    # the axis point, centre + radius, may differ from them in the last bits)
+    k0 = 0 if n < 4 and (sy == 0 if qs % 2 == 0 else sx == 0) else 1
     memcpy(point, e, sizeof(point))
-    if sweep > 0:
-        q0 = <int>ceil(a0 / (M_PI / 2))
-        q1 = <int>floor((a0 + sweep) / (M_PI / 2))
-    else:
-        q0 = <int>ceil((a0 + sweep) / (M_PI / 2))
-        q1 = <int>floor(a0 / (M_PI / 2))
-    for q in range(q0, q1 + 1):
-        angle = q * (M_PI / 2)
-        point[first] = cc[first] + radius * cos(angle)
-        point[second] = cc[second] + radius * sin(angle)
+    for k in range(k0, n + 1):
+        q = (qs + k) & 3
+        point[first] = cc[first] + (radius if q == 0 else (-radius if q == 2 else 0.0))
+        point[second] = cc[second] + (radius if q == 1 else (-radius if q == 3 else 0.0))
         _widen(size, point)
 
 
-cdef void _extent(const Program *prog, GCODE_SIZE *size, bint compensated) noexcept nogil:
+cdef inline void _start_size(GCODE_SIZE *size, const double *start) noexcept nogil:
+    memcpy(&size.m_startPos, start, sizeof(P10DOUBLE))
+    memcpy(&size.m_minimalPos, start, sizeof(P10DOUBLE))
+    memcpy(&size.m_maximalPos, start, sizeof(P10DOUBLE))
+    memcpy(&size.m_endPos, start, sizeof(P10DOUBLE))
+
+
+cdef void program_extent(const Program *prog, GCODE_INFO *info) noexcept nogil:
+    """[0] programmed, [1] compensated (the same without compensation), both in one
+    pass; the program's coordinates are already rotated (G168), so [2] and [3]
+    repeat [0] and [1]."""
+    cdef GCODE_SIZE *programmed = &info.m_size[0]
+    cdef GCODE_SIZE *tool = &info.m_size[1]
     cdef size_t i
     cdef const Part *p
-    cdef double s[10]
-    cdef double e[10]
-    cdef double programmed_radius
+    cdef const double *s
+    cdef double cs[3]
+    cdef double ce[10]
     cdef int first, second, normal
-    memcpy(&size.m_startPos, prog.start, sizeof(P10DOUBLE))
-    memcpy(&size.m_minimalPos, prog.start, sizeof(P10DOUBLE))
-    memcpy(&size.m_maximalPos, prog.start, sizeof(P10DOUBLE))
-    memcpy(&size.m_endPos, prog.start, sizeof(P10DOUBLE))
+    cdef bint arc
+    _start_size(programmed, prog.start)
+    _start_size(tool, prog.start)
     for i in range(prog.n_parts):
         p = &prog.parts[i]
         if p.kind != PART_MOTION:
             continue
-        if compensated:
-            part_calc_start(prog, i, s)
-            memcpy(e, p.e, sizeof(e))
-            e[0] = p.ce[0]; e[1] = p.ce[1]; e[2] = p.ce[2]
-        else:
-            memcpy(s, part_start(prog, i), sizeof(s))
-            memcpy(e, p.e, sizeof(e))
-        _widen(size, e)
-        memcpy(&size.m_endPos, e, sizeof(P10DOUBLE))
-        if p.func == 2 or p.func == 3:
-            if compensated:
-                _widen_arc(size, s, e, p.cc, p.radius, p.plane, p.func == 3)
-            elif plane_axes(p.plane, &first, &second, &normal):
-                programmed_radius = hypot(s[first] - p.cc[first], s[second] - p.cc[second])
-                _widen_arc(size, s, e, p.cc, programmed_radius, p.plane, p.func == 3)
-
-
-cdef void program_extent(const Program *prog, GCODE_INFO *info) noexcept nogil:
-    """[0] programmed, [1] compensated (the same without compensation); the program's
-    coordinates are already rotated (G168), so [2] and [3] repeat [0] and [1]."""
-    _extent(prog, &info.m_size[0], False)
-    if prog.compensated:
-        _extent(prog, &info.m_size[1], True)
-    else:
+        s = part_start(prog, i)
+        _widen(programmed, p.e)
+        memcpy(&programmed.m_endPos, p.e, sizeof(P10DOUBLE))
+        arc = (p.func == 2 or p.func == 3) and plane_axes(p.plane, &first, &second, &normal)
+        if arc:
+            _widen_arc(programmed, s, p.e, p.cc, hypot(s[first] - p.cc[first], s[second] - p.cc[second]),
+                       first, second, p.func == 3)
+        if not prog.compensated:
+            continue
+        # the tool path: compensated x y z (the other axes as programmed)
+        memcpy(ce, p.e, sizeof(ce))
+        ce[0] = p.ce[0]; ce[1] = p.ce[1]; ce[2] = p.ce[2]
+        _widen(tool, ce)
+        memcpy(&tool.m_endPos, ce, sizeof(P10DOUBLE))
+        if arc:
+            # only the plane axes of the start matter: the previous part's compensated end
+            if i > 0:
+                s = prog.parts[i - 1].ce
+            _widen_arc(tool, s, ce, p.cc, p.radius, first, second, p.func == 3)
+    if not prog.compensated:
         info.m_size[1] = info.m_size[0]
     info.m_size[2] = info.m_size[0]
     info.m_size[3] = info.m_size[1]
