@@ -1,7 +1,7 @@
 # The extent of a compiled program (GetGCodeSizeInfo): start, end, minimum and
 # maximum over every motion part, arcs with their true extreme points.
-from libc.math cimport M_PI, floor, ceil, cos, sin
 from libc.string cimport memcpy
+from libc.math cimport sqrt, hypot
 
 
 cdef inline void _widen(GCODE_SIZE *size, const double *point) noexcept nogil:
@@ -15,28 +15,51 @@ cdef inline void _widen(GCODE_SIZE *size, const double *point) noexcept nogil:
             hi[k] = point[k]
 
 
+cdef inline int _quadrant(double x, double y) noexcept nogil:
+    # quadrant q of a direction whose angle lies in [q * 90, (q + 1) * 90) degrees
+    if y >= 0:
+        return 0 if x > 0 else (1 if y > 0 else 2)
+    return 2 if x < 0 else 3
+
+
 cdef void _widen_arc(GCODE_SIZE *size, const double *s, const double *e, const double *cc,
-                     double radius, int plane, bint ccw) noexcept nogil:
-    """Adds the quadrant points (0, 90, 180, 270 degrees) the arc passes through."""
-    cdef int first, second, normal, q, q0, q1
-    cdef double a0, sweep, angle
+                     double radius, int first, int second, bint ccw) noexcept nogil:
+    """Adds the axis points (0, 90, 180, 270 degrees) the arc passes through, its
+    ends included. They follow from the quadrants of its ends (no angles); start =
+    end, within the angular tolerance of arc_sweep, is a full circle."""
+    cdef double sx, sy, ex, ey, cross
+    cdef int q, qs, qe, n, k, k0
     cdef double point[10]
-    if radius <= 0 or not plane_axes(plane, &first, &second, &normal):
+    if radius <= 0:
         return
-    sweep = arc_sweep(s[first], s[second], e[first], e[second], cc[first], cc[second], ccw)
-    a0 = atan2(s[second] - cc[second], s[first] - cc[first])
+    sx = s[first] - cc[first]; sy = s[second] - cc[second]
+    ex = e[first] - cc[first]; ey = e[second] - cc[second]
+    if not ccw:
+        # a clockwise arc covers the same points as the counter-clockwise one from e to s
+        sx, sy, ex, ey = ex, ey, sx, sy
+    qs = _quadrant(sx, sy)
+    qe = _quadrant(ex, ey)
+    n = (qe - qs) & 3
+    if n == 0:
+        cross = sx * ey - sy * ex
+        if cross <= 1e-12 * sqrt((sx * sx + sy * sy) * (ex * ex + ey * ey)):
+            n = 4       # the end is not ahead of the start: all the way round
+    # a start exactly on an axis counts too (the ends already widen the extent, but
+    # the axis point, centre + radius, may differ from them in the last bits)
+    k0 = 0 if n < 4 and (sy == 0 if qs % 2 == 0 else sx == 0) else 1
     memcpy(point, e, sizeof(point))
-    if sweep > 0:
-        q0 = <int>ceil(a0 / (M_PI / 2))
-        q1 = <int>floor((a0 + sweep) / (M_PI / 2))
-    else:
-        q0 = <int>ceil((a0 + sweep) / (M_PI / 2))
-        q1 = <int>floor(a0 / (M_PI / 2))
-    for q in range(q0, q1 + 1):
-        angle = q * (M_PI / 2)
-        point[first] = cc[first] + radius * cos(angle)
-        point[second] = cc[second] + radius * sin(angle)
+    for k in range(k0, n + 1):
+        q = (qs + k) & 3
+        point[first] = cc[first] + (radius if q == 0 else (-radius if q == 2 else 0.0))
+        point[second] = cc[second] + (radius if q == 1 else (-radius if q == 3 else 0.0))
         _widen(size, point)
+
+
+cdef inline void _start_size(GCODE_SIZE *size, const double *start) noexcept nogil:
+    memcpy(&size.m_startPos, start, sizeof(P10DOUBLE))
+    memcpy(&size.m_minimalPos, start, sizeof(P10DOUBLE))
+    memcpy(&size.m_maximalPos, start, sizeof(P10DOUBLE))
+    memcpy(&size.m_endPos, start, sizeof(P10DOUBLE))
 
 
 cdef inline void _unrotate(const Program *prog, uint16_t rot_idx, double *point) noexcept nogil:
@@ -53,61 +76,67 @@ cdef inline void _unrotate(const Program *prog, uint16_t rot_idx, double *point)
         point[a] = r[a] + r[3 + a] * q[0] + r[6 + a] * q[1] + r[9 + a] * q[2]
 
 
-cdef void _extent(const Program *prog, GCODE_SIZE *size, bint compensated, bint rotated) noexcept nogil:
-    """Extent of the programmed (or compensated) path, as the machine runs it
-    (rotated) or as the program is written (G168 undone)."""
+cdef void _extent_pair(const Program *prog, GCODE_SIZE *programmed, GCODE_SIZE *tool,
+                       bint rotated) noexcept nogil:
+    """The programmed and the compensated extent in one pass, as the machine runs
+    them (rotated) or as the program is written (G168 undone)."""
     cdef size_t i
     cdef const Part *p
     cdef double s[10]
     cdef double e[10]
     cdef double cc[3]
-    cdef double programmed_radius
+    cdef double cs[10]
+    cdef double ce[10]
     cdef int first, second, normal
-    memcpy(&size.m_startPos, prog.start, sizeof(P10DOUBLE))
-    memcpy(&size.m_minimalPos, prog.start, sizeof(P10DOUBLE))
-    memcpy(&size.m_maximalPos, prog.start, sizeof(P10DOUBLE))
-    memcpy(&size.m_endPos, prog.start, sizeof(P10DOUBLE))
+    cdef bint arc
+    cdef uint16_t prev_rot = 0
+    _start_size(programmed, prog.start)
+    _start_size(tool, prog.start)
     for i in range(prog.n_parts):
         p = &prog.parts[i]
         if p.kind != PART_MOTION:
             continue
-        if compensated:
-            part_calc_start(prog, i, s)
-            memcpy(e, p.e, sizeof(e))
-            e[0] = p.ce[0]; e[1] = p.ce[1]; e[2] = p.ce[2]
-        else:
-            memcpy(s, part_start(prog, i), sizeof(s))
-            memcpy(e, p.e, sizeof(e))
+        memcpy(s, part_start(prog, i), sizeof(s))
+        memcpy(e, p.e, sizeof(e))
         memcpy(cc, p.cc, sizeof(cc))
         if not rotated:
-            if i > 0:
-                _unrotate(prog, prog.parts[i - 1].rot_idx, s)
+            prev_rot = prog.parts[i - 1].rot_idx if i > 0 else 0
+            _unrotate(prog, prev_rot, s)
             _unrotate(prog, p.rot_idx, e)
             _unrotate(prog, p.rot_idx, cc)
-        _widen(size, e)
-        memcpy(&size.m_endPos, e, sizeof(P10DOUBLE))
-        if p.func == 2 or p.func == 3:
-            if compensated:
-                _widen_arc(size, s, e, cc, p.radius, p.plane, p.func == 3)
-            elif plane_axes(p.plane, &first, &second, &normal):
-                programmed_radius = hypot(s[first] - cc[first], s[second] - cc[second])
-                _widen_arc(size, s, e, cc, programmed_radius, p.plane, p.func == 3)
+        _widen(programmed, e)
+        memcpy(&programmed.m_endPos, e, sizeof(P10DOUBLE))
+        arc = (p.func == 2 or p.func == 3) and plane_axes(p.plane, &first, &second, &normal)
+        if arc:
+            _widen_arc(programmed, s, e, cc, hypot(s[first] - cc[first], s[second] - cc[second]),
+                       first, second, p.func == 3)
+        if not prog.compensated:
+            continue
+        # the tool path: compensated x y z (the other axes as programmed)
+        ce[0] = p.ce[0]; ce[1] = p.ce[1]; ce[2] = p.ce[2]
+        memcpy(ce + 3, p.e + 3, 7 * sizeof(double))
+        if not rotated:
+            _unrotate(prog, p.rot_idx, ce)
+        _widen(tool, ce)
+        memcpy(&tool.m_endPos, ce, sizeof(P10DOUBLE))
+        if arc:
+            # only the plane axes of the start matter: the previous part's compensated end
+            memcpy(cs, s, sizeof(cs))
+            if i > 0:
+                cs[0] = prog.parts[i - 1].ce[0]; cs[1] = prog.parts[i - 1].ce[1]; cs[2] = prog.parts[i - 1].ce[2]
+                if not rotated:
+                    _unrotate(prog, prev_rot, cs)
+            _widen_arc(tool, cs, ce, cc, p.radius, first, second, p.func == 3)
+    if not prog.compensated:
+        tool[0] = programmed[0]
 
 
 cdef void program_extent(const Program *prog, GCODE_INFO *info) noexcept nogil:
-    """[0] programmed, [1] compensated (the same without compensation), both as the
-    program is written; [2] and [3] the same as the machine runs them (G168 applied)."""
-    _extent(prog, &info.m_size[2], False, True)
-    if prog.compensated:
-        _extent(prog, &info.m_size[3], True, True)
-    else:
-        info.m_size[3] = info.m_size[2]
+    """[0] programmed and [1] compensated as the program is written (G168 undone);
+    [2] and [3] the same as the machine runs them. Without rotations [0] = [2]."""
+    _extent_pair(prog, &info.m_size[2], &info.m_size[3], True)
     if prog.n_rotations > 1:
-        _extent(prog, &info.m_size[0], False, False)
-        if prog.compensated:
-            _extent(prog, &info.m_size[1], True, False)
-        else:
-            info.m_size[1] = info.m_size[0]
+        _extent_pair(prog, &info.m_size[0], &info.m_size[1], False)
     else:
         info.m_size[0] = info.m_size[2]
         info.m_size[1] = info.m_size[3]

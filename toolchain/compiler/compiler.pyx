@@ -714,10 +714,12 @@ cdef void reserve_parts(Program *prog, uint32_t lines) noexcept nogil:
 
 
 cdef void _advise_huge(void *buf, size_t size) noexcept nogil:
-    cdef size_t start = (<size_t>buf + 0x1FFFFF) & ~(<size_t>0x1FFFFF)
-    cdef size_t end = (<size_t>buf + size) & ~(<size_t>0x1FFFFF)
-    if end > start:
-        madvise(<void *>start, end - start, MADV_HUGEPAGE)
+    # Every page the buffer touches, not only its 2 MiB-aligned middle: advising part
+    # of the mapping splits it, and realloc's mremap refuses a range over several
+    # mappings (it then copies the whole array, e.g. when compensation inserts parts).
+    cdef size_t start = <size_t>buf & ~(<size_t>0xFFF)
+    cdef size_t end = (<size_t>buf + size + 0xFFF) & ~(<size_t>0xFFF)
+    madvise(<void *>start, end - start, MADV_HUGEPAGE)
 
 
 cdef int compile_program(const CompileInput *inp, Program *prog, ErrorInfo *err) noexcept nogil:
