@@ -56,12 +56,6 @@ ctypedef struct Callback:
     void *fn
     intptr_t user
 
-# what the worker thread does
-cdef enum Job:
-    JOB_NONE = 0
-    JOB_COMPILE = 1
-    JOB_RUN = 2
-
 ctypedef struct Core:
     int32_t index
     int32_t status              # cnc_status, atomic
@@ -71,7 +65,6 @@ ctypedef struct Core:
     # worker thread
     pthread_t worker
     bint worker_started         # a thread was created and not yet joined
-    int32_t job                 # Job of the current/last worker
     int32_t run_regime
     char *add_code              # StartCNCEx addCode of the current run
     # configuration
@@ -110,9 +103,8 @@ ctypedef struct Core:
 
 cdef Core g_cores[3]
 cdef pthread_once_t g_once
-cdef int32_t g_core_mode = 0      # Local_Core_Mode of ToolChainCore_Init (set at init)
-cdef bint g_initialised
-cdef char g_macros_dir[1024]
+cdef int32_t g_core_mode           # Local_Core_Mode of ToolChainCore_Init (2 offline until Init)
+cdef char g_macros_dir[1024]       # Macros_Dir of ToolChainCore_Init (external G functions: not used yet)
 
 
 cdef void default_gcode_parameters(GCODE_PARAMETERS *p) noexcept nogil:
@@ -181,7 +173,6 @@ cdef void _init_cores() noexcept nogil:
         core.breakpoint_file = -1
         core.pos.m_fileIdx = -1
     g_core_mode = 2
-    g_initialised = True
 
 
 cdef Core *core_get(uint32_t index) noexcept nogil:
@@ -323,9 +314,10 @@ cdef const char *core_idx_to_file(Core *core, int32_t idx) noexcept nogil:
 
 # ------------------------------------------------------------------ worker thread
 
-cdef void core_join_worker(Core *core) noexcept nogil:
-    """Asks the worker to end and waits for it (never from the worker itself, which
-    only gets the request: it is calling back into the host)."""
+cdef void core_end_activity(Core *core) noexcept nogil:
+    """Interrupts a compilation or a run: asks the worker to end and waits for it
+    (never from the worker itself, which only gets the request: it is calling back
+    into the host)."""
     cdef pthread_t worker
     pthread_mutex_lock(&core.lock)
     if not core.worker_started:
@@ -356,7 +348,7 @@ cdef bint core_claim(Core *core, int32_t running_status) noexcept nogil:
             return True
 
 
-cdef bint core_launch(Core *core, int32_t job, void *(*body)(void *) noexcept nogil) noexcept nogil:
+cdef bint core_launch(Core *core, void *(*body)(void *) noexcept nogil) noexcept nogil:
     """Starts the worker for a claimed core; False (and the status restored by the
     caller) when no thread can be created."""
     cdef pthread_t old
@@ -370,7 +362,6 @@ cdef bint core_launch(Core *core, int32_t job, void *(*body)(void *) noexcept no
         pthread_join(old, NULL)         # finished already: the status was not running
     TC_ATOMIC_STORE(&core.cancel, 0)
     TC_ATOMIC_STORE(&core.stop, 0)
-    core.job = job
     pthread_mutex_lock(&core.lock)
     if pthread_create(&core.worker, NULL, body, core) != 0:
         pthread_mutex_unlock(&core.lock)
@@ -500,7 +491,7 @@ cdef int32_t core_start_compile(Core *core, const char *name, char *source, size
     memset(&core.error, 0, sizeof(ErrorInfo))
     core.has_program = False
     pthread_mutex_unlock(&core.lock)
-    if not core_launch(core, JOB_COMPILE, _compile_body):
+    if not core_launch(core, _compile_body):
         pthread_mutex_lock(&core.lock)
         free(core.source)
         core.source = NULL
@@ -562,11 +553,6 @@ cdef bint core_on_worker(Core *core) noexcept nogil:
     inside = core.worker_started and pthread_equal(core.worker, pthread_self())
     pthread_mutex_unlock(&core.lock)
     return inside
-
-
-cdef void core_end_activity(Core *core) noexcept nogil:
-    """Interrupts a compilation or a run and waits until the worker has ended."""
-    core_join_worker(core)
 
 
 cdef void core_destroy(Core *core) noexcept nogil:

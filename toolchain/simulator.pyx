@@ -206,7 +206,7 @@ cdef int32_t core_start_run(Core *core, int32_t regime, const char *add_code) no
     memset(&core.error, 0, sizeof(ErrorInfo))
     core.run_regime = regime
     pthread_mutex_unlock(&core.lock)
-    if not core_launch(core, JOB_RUN, _run_body):
+    if not core_launch(core, _run_body):
         core_set_status(core, status)
         core_fail(core, ERR_OUT_OF_MEMORY, NULL)
         return TOOL_CHAIN_ERROR
