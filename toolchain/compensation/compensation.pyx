@@ -14,7 +14,7 @@
 #   5. one merge pass rebuilds the part array with the insertions and gives the parts
 #      without motion in the plane the compensated position they sit at.
 from libc.stdlib cimport malloc, realloc, free, calloc
-from libc.string cimport memcpy, memset
+from libc.string cimport memcpy, memset, memchr
 from libc.stdio cimport snprintf
 from libc.math cimport fabs, hypot, sin, M_PI
 
@@ -25,13 +25,16 @@ cdef enum:
     LOOKAHEAD_PARTS = 200   # blocks without motion in the plane a corner may span
     MAX_WARNINGS = 50
 
+# 32 bytes: on a contour with many outer corners the queue holds about one record
+# per two parts, so what the merge can read from the parts themselves is not stored:
+# the arc centre is the programmed end of part `after` (the corner) and the radius
+# that part's tool radius.
 ctypedef struct InsRec:
     size_t after            # inserted right after this part
-    size_t src              # part whose attributes (line, feed, comp) it takes
-    int func                # 1, 2, 3
     double end[2]           # plane coordinates of its end
-    double cc[2]            # arc centre (programmed corner)
-    double radius
+    int32_t func            # 1, 2, 3
+    uint8_t src_next        # takes its attributes (line, feed, comp) from part after + 1, else after
+    uint8_t no_centre       # centre 0, 0 in the plane (lines switching on or off)
 
 ctypedef struct CompState:
     Program *prog
@@ -99,19 +102,21 @@ cdef bint _ins_add(CompState *S, const CompEl *el) noexcept nogil:
             return False
         S.ins = rec
         S.cap_ins = cap
+        if cap * sizeof(InsRec) >= 4194304:
+            _advise_huge(rec, cap * sizeof(InsRec))
     rec = &S.ins[S.n_ins]
     S.n_ins += 1
     rec.after = el.part
-    rec.src = el.part
     rec.func = el.ins
     rec.end[0] = el.ins_end[0]; rec.end[1] = el.ins_end[1]
-    rec.cc[0] = el.e[0]; rec.cc[1] = el.e[1]
-    rec.radius = fabs(el.d) if el.ins != INS_G1 else 0.0
+    rec.src_next = False
+    rec.no_centre = False
     return True
 
 
 cdef bint _ins_line(CompState *S, size_t after, size_t src, const double *end) noexcept nogil:
-    """Queues a G1 after part `after` (switching on or off next to an arc)."""
+    """Queues a G1 after part `after` (switching on or off next to an arc); src is
+    `after` or `after` + 1."""
     cdef CompEl tmp
     memset(&tmp, 0, sizeof(tmp))
     tmp.part = after
@@ -119,7 +124,8 @@ cdef bint _ins_line(CompState *S, size_t after, size_t src, const double *end) n
     tmp.ins_end[0] = end[0]; tmp.ins_end[1] = end[1]
     if not _ins_add(S, &tmp):
         return False
-    S.ins[S.n_ins - 1].src = src
+    S.ins[S.n_ins - 1].src_next = src == after + 1
+    S.ins[S.n_ins - 1].no_centre = True
     return True
 
 
@@ -440,9 +446,10 @@ cdef void _compatibility(Program *prog) noexcept nogil:
         k += 1
 
 
-cdef void _inserted_part(Part *q, const Part *p, const Part *src, const InsRec *rec) noexcept nogil:
+cdef void _inserted_part(Part *q, const Part *p, const Part *src, const InsRec *rec,
+                         const GCODE_PARAMETERS *params) noexcept nogil:
     """An inserted part after p (its programmed end is p's end), with the line, feed
-    and compensation of src."""
+    and compensation of src; an arc goes round p's end with p's tool radius."""
     cdef int first, second, normal, a
     memset(q, 0, sizeof(Part))
     plane_axes(p.plane, &first, &second, &normal)
@@ -451,8 +458,10 @@ cdef void _inserted_part(Part *q, const Part *p, const Part *src, const InsRec *
         q.ce[a] = p.ce[a]
         q.cc[a] = p.e[a]
     q.ce[first] = rec.end[0]; q.ce[second] = rec.end[1]
-    q.cc[first] = rec.cc[0]; q.cc[second] = rec.cc[1]
-    q.radius = rec.radius
+    if rec.no_centre:
+        q.cc[first] = 0.0; q.cc[second] = 0.0
+    if rec.func != INS_G1:
+        q.radius = fabs(params.correction[p.comp_slot & 7].size)
     q.gcode_index = p.gcode_index + 1
     q.feed = src.feed
     q.fp = src.fp
@@ -469,6 +478,15 @@ cdef void _inserted_part(Part *q, const Part *p, const Part *src, const InsRec *
     q.comp_slot = src.comp_slot
 
 
+cdef inline size_t _next_follow(const CompState *S, size_t k, size_t n) noexcept nogil:
+    """The first part from k on with ROLE_FOLLOW, n when none."""
+    cdef const uint8_t *hit
+    if k >= n:
+        return n
+    hit = <const uint8_t *>memchr(&S.role[k], ROLE_FOLLOW, n - k)
+    return <size_t>(hit - S.role) if hit != NULL else n
+
+
 cdef int _merge(CompState *S) noexcept nogil:
     """Step 5. Forward: parts without motion in the plane take the compensated position
     of the point they sit at (after any insertion before them). Backward, in place in
@@ -476,27 +494,37 @@ cdef int _merge(CompState *S) noexcept nogil:
     cdef Program *prog = S.prog
     cdef size_t n = prog.n_parts, total = prog.n_parts + S.n_ins
     cdef Part *p
+    cdef Part *prev
     cdef Part *parts
-    cdef Part q
     cdef const InsRec *rec
     cdef size_t k, w, r, last_w
     cdef double cur[3]
     cdef int first, second, normal
     if S.n_ins == 0 and not S.has_followers:
         return COMPILE_OK
-    cur[0] = prog.start[0]; cur[1] = prog.start[1]; cur[2] = prog.start[2]
+    # only the parts left without motion in the plane (ROLE_FOLLOW) change here: each
+    # takes the position after its predecessor (already final) and the insertions
+    # after that, so the pass jumps from one to the next
     r = 0
-    for k in range(n):
+    k = _next_follow(S, 0, n)
+    while k < n:
         p = &prog.parts[k]
-        if S.role[k] == ROLE_FOLLOW and plane_axes(p.plane, &first, &second, &normal):
+        if k == 0:
+            cur[0] = prog.start[0]; cur[1] = prog.start[1]; cur[2] = prog.start[2]
+        else:
+            prev = &prog.parts[k - 1]
+            cur[0] = prev.ce[0]; cur[1] = prev.ce[1]; cur[2] = prev.ce[2]
+            while r < S.n_ins and S.ins[r].after < k - 1:
+                r += 1
+            while r < S.n_ins and S.ins[r].after == k - 1:
+                if plane_axes(prev.plane, &first, &second, &normal):
+                    cur[first] = S.ins[r].end[0]
+                    cur[second] = S.ins[r].end[1]
+                r += 1
+        if plane_axes(p.plane, &first, &second, &normal):
             p.ce[first] = cur[first]
             p.ce[second] = cur[second]
-        cur[0] = p.ce[0]; cur[1] = p.ce[1]; cur[2] = p.ce[2]
-        while r < S.n_ins and S.ins[r].after == k:
-            if plane_axes(p.plane, &first, &second, &normal):
-                cur[first] = S.ins[r].end[0]
-                cur[second] = S.ins[r].end[1]
-            r += 1
+        k = _next_follow(S, k + 1, n)
     if S.n_ins == 0:
         return COMPILE_OK
     parts = <Part *>realloc(prog.parts, total * sizeof(Part))
@@ -513,9 +541,9 @@ cdef int _merge(CompState *S) noexcept nogil:
         # parts[k] has not moved yet; parts[k + 1] now lives at last_w
         while r > 0 and S.ins[r - 1].after == k:
             rec = &S.ins[r - 1]
-            _inserted_part(&q, &parts[k], &parts[last_w] if rec.src == k + 1 else &parts[k], rec)
+            # parts[w - 1] lies above both k and last_w: written in place
             w -= 1
-            parts[w] = q
+            _inserted_part(&parts[w], &parts[k], &parts[last_w] if rec.src_next else &parts[k], rec, S.params)
             r -= 1
         w -= 1
         if w != k:

@@ -194,14 +194,25 @@ cdef inline double _turn(double ax, double ay, double bx, double by) noexcept no
     return atan2(ax * by - ay * bx, ax * bx + ay * by)
 
 
+cdef inline double _turn_small(double ax, double ay, double bx, double by) noexcept nogil:
+    # _turn for the usual case of b on (or next to) the ray of a: an end not trimmed
+    # lies on its perpendicular, the angle is rounding noise and atan(t) = t - t^3/3
+    # is t to far below 1e-24 for |t| <= 1e-8
+    cdef double y = ax * by - ay * bx
+    cdef double x = ax * bx + ay * by
+    if x > 0 and fabs(y) <= 1e-8 * x:
+        return y / x
+    return atan2(y, x)
+
+
 cdef double el_path_sweep(const CompEl *el) noexcept nogil:
     """Arcs: sweep (radians, >= 0 normally) of the tool path from ps to pe in the arc's
     direction, measured against the programmed sweep so that trimming past the other
     end gives a negative value."""
-    cdef double a_s = el.dir * _turn(el.s[0] - el.c[0], el.s[1] - el.c[1],
-                                     el.ps[0] - el.c[0], el.ps[1] - el.c[1])
-    cdef double a_e = el.dir * _turn(el.e[0] - el.c[0], el.e[1] - el.c[1],
-                                     el.pe[0] - el.c[0], el.pe[1] - el.c[1])
+    cdef double a_s = el.dir * _turn_small(el.s[0] - el.c[0], el.s[1] - el.c[1],
+                                           el.ps[0] - el.c[0], el.ps[1] - el.c[1])
+    cdef double a_e = el.dir * _turn_small(el.e[0] - el.c[0], el.e[1] - el.c[1],
+                                           el.pe[0] - el.c[0], el.pe[1] - el.c[1])
     return el.sweep - a_s + a_e
 
 
