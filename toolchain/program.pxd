@@ -60,6 +60,13 @@ ctypedef struct ArcRegion:
     double tol_max, tol_min # E, A: distance corner <-> arc midpoint
     double max_angle        # U (degrees)
 
+ctypedef struct StrategyRegion:   # G172 / G173: the compensation strategy from the program
+    size_t first            # first part it applies to
+    bint on                 # False: G173 (the host's strategy again)
+    double corner_distance  # R: outer corners take the offsets' intersection when it lies this close (mm)
+    double depth            # C: search depth in parts (0 = the host's)
+    bint drop_arcs          # D1: drop arcs whose offset radius becomes negative (D0 keeps the host's bit)
+
 ctypedef struct Program:
     Part *parts
     size_t n_parts, cap_parts
@@ -69,6 +76,8 @@ ctypedef struct Program:
     size_t n_zeros, cap_zeros
     double *rotations       # G168 rotations, 12 doubles each (centre x y z, 3x3 matrix by rows); entry 0 unused
     size_t n_rotations, cap_rotations
+    StrategyRegion *strategy_regions        # in part order
+    size_t n_strategy_regions, cap_strategy_regions
     char *texts             # NUL-terminated PRINT texts
     size_t n_texts, cap_texts
     double start[10]        # machine position before the first part

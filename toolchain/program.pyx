@@ -19,6 +19,7 @@ cdef void program_free(Program *prog) noexcept nogil:
     free(prog.rotations)
     free(prog.texts)
     free(prog.arc_regions)
+    free(prog.strategy_regions)
     program_init(prog)
 
 

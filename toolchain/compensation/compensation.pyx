@@ -553,41 +553,14 @@ cdef int _merge(CompState *S) noexcept nogil:
     return COMPILE_OK
 
 
-cdef void _comp_config(CompCfg *cfg, const GCODE_PARAMETERS *params) noexcept nogil:
-    cdef uint32_t depth_bits
-    cfg.strategy = params.correctionStrategy
-    cfg.mode = 1 if (params.correctionStrategy & CORR_START_MODE_MASK) == 1 else 0
-    cfg.tol_angle = (params.tolerance[2] if params.tolerance[2] > 0 else 0.03) * M_PI / 180.0
-    cfg.sin_tol = sin(cfg.tol_angle)
-    cfg.slack = params.tolerance[1] if params.tolerance[1] > 0 else 0.001
-    if params.correctionStrategy & CORR_CORNER_FACTOR_2:
-        cfg.factor = 2.0
-    else:
-        cfg.factor = params.tolerance[5] if params.tolerance[5] > 0 else 3.0
-    depth_bits = (params.correctionStrategy & CORR_SEARCH_DEPTH_MASK) >> 8
-    if depth_bits == 1:
-        cfg.depth = 10
-    elif depth_bits == 2:
-        cfg.depth = 50
-    elif depth_bits == 3:
-        cfg.depth = 100
-    elif depth_bits == 4:
-        cfg.depth = 500
-    elif depth_bits == 5:
-        cfg.depth = 1000
-    elif depth_bits == 7:
-        cfg.depth = (<size_t>-1) / 2     # the whole buffer
-    else:
-        cfg.depth = 2000
-
-
 cdef int compensate_program(Program *prog, const GCODE_PARAMETERS *params, ErrorInfo *err,
                             output_fn output, warn_fn warn, void *ctx) noexcept nogil:
     """Computes the compensated path (Part.ce, Part.radius, inserted parts) of every
     part with comp 41/42; COMPILE_OK or COMPILE_ERROR with err filled. Warnings go
     to `output` (text) and `warn` (numbered, WARN_COMP)."""
     cdef CompState S
-    cdef size_t i, j
+    cdef CompCfg host
+    cdef size_t i, j, region = 0
     cdef int res = COMPILE_OK
     memset(&S, 0, sizeof(S))
     S.prog = prog
@@ -596,7 +569,8 @@ cdef int compensate_program(Program *prog, const GCODE_PARAMETERS *params, Error
     S.output = output
     S.warn = warn
     S.ctx = ctx
-    _comp_config(&S.cfg, params)
+    comp_config(&host, params)
+    S.cfg = host
     if prog.n_parts == 0:
         return COMPILE_OK
     if S.cfg.strategy & CORR_OLD_COMPATIBILITY:
@@ -613,6 +587,7 @@ cdef int compensate_program(Program *prog, const GCODE_PARAMETERS *params, Error
         j = i + 1
         while j < prog.n_parts and prog.parts[j].comp != 40:
             j += 1
+        run_config(prog, &host, i, &region, &S.cfg)
         res = _run(&S, i, j)
         i = j
     if res == COMPILE_OK:

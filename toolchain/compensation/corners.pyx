@@ -16,6 +16,7 @@ ctypedef struct CompCfg:
     double sin_tol          # its sine (the test on the tangents' cross product)
     double slack            # length accuracy (crossing, near-tangent intersections)
     double factor           # CORR_CORNER_INTERSECTION: limit distance in radii
+    double corner_distance  # ... or in mm (G172 R), when > 0
     size_t depth            # how many parts back a crossing may be removed
 
 cdef enum CornerResult:
@@ -49,11 +50,17 @@ cdef int corner_resolve(CompEl *a, CompEl *b, const CompCfg *cfg) noexcept nogil
         # intersection of the two offsets joins them
         ref[0] = 0.5 * (a.oe[0] + b.os[0])
         ref[1] = 0.5 * (a.oe[1] + b.os[1])
-        if not el_intersect(a, b, ref, cfg.slack, x):
-            return CORNER_NOT_FOUND
-        a.pe[0] = x[0]; a.pe[1] = x[1]
-        b.ps[0] = x[0]; b.ps[1] = x[1]
-        return CORNER_OK
+        if el_intersect(a, b, ref, cfg.slack, x):
+            a.pe[0] = x[0]; a.pe[1] = x[1]
+            b.ps[0] = x[0]; b.ps[1] = x[1]
+            return CORNER_OK
+        if b.kind == EL_LINE and dt > 0 and fabs(cr) < cfg.sin_tol \
+                and fabs((a.oe[0] - b.os[0]) * tb[1] - (a.oe[1] - b.os[1]) * tb[0]) <= cfg.slack:
+            # the removed parts leave a gap on one straight line: b starts where a ends
+            a.pe[0] = a.oe[0]; a.pe[1] = a.oe[1]
+            b.ps[0] = a.oe[0]; b.ps[1] = a.oe[1]
+            return CORNER_OK
+        return CORNER_NOT_FOUND
     if dt > 0 and fabs(cr) < cfg.sin_tol:
         a.pe[0] = a.oe[0]; a.pe[1] = a.oe[1]
         b.ps[0] = a.oe[0]; b.ps[1] = a.oe[1]
@@ -70,7 +77,8 @@ cdef int corner_resolve(CompEl *a, CompEl *b, const CompCfg *cfg) noexcept nogil
         b.ps[0] = x[0]; b.ps[1] = x[1]
         return CORNER_OK
     if (cfg.strategy & CORR_CORNER_INTERSECTION) and el_intersect(a, b, ref, cfg.slack, x) \
-            and hypot(x[0] - a.e[0], x[1] - a.e[1]) < cfg.factor * fabs(a.d):
+            and hypot(x[0] - a.e[0], x[1] - a.e[1]) < (cfg.corner_distance if cfg.corner_distance > 0
+                                                       else cfg.factor * fabs(a.d)):
         a.pe[0] = x[0]; a.pe[1] = x[1]
         b.ps[0] = x[0]; b.ps[1] = x[1]
         return CORNER_OK

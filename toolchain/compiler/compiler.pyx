@@ -411,14 +411,13 @@ cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
             st.rot_on = False
             st.rot_idx = 0
             cp_reframe(st)
-        elif g == 172:
+        elif g == 172 or g == 173:
             consumed |= bit_of(b'R') | bit_of(b'C') | bit_of(b'D')
-            st.g172_on = True
-            st.g172[0] = val(lw, b'R') if has(lw, b'R') else 0.0
-            st.g172[1] = val(lw, b'C') if has(lw, b'C') else 0.0
-            st.g172[2] = val(lw, b'D') if has(lw, b'D') else 0.0
-        elif g == 173:
-            st.g172_on = False
+            if not program_add_strategy_region(st.prog, st.prog.n_parts, g == 172,
+                                               val(lw, b'R') if has(lw, b'R') else 0.0,
+                                               val(lw, b'C') if has(lw, b'C') else 0.0,
+                                               has(lw, b'D') and val(lw, b'D') != 0.0):
+                return cerr(st, ERR_OUT_OF_MEMORY)
         elif g == 900:
             g900 = True
             consumed = ~(<uint32_t>0)

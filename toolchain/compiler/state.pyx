@@ -108,8 +108,6 @@ ctypedef struct CState:
     bint comp_pending_start
     bint g167_on
     double g167[4]                          # E A U Q
-    bint g172_on
-    double g172[3]                          # R C D
     uint32_t limits_off                     # M-5: axes whose limits are disabled
     uint32_t g900_ignore_angle, g900_ignore_feed
     int32_t g900_stop_mode, g900_arc_table
