@@ -51,6 +51,7 @@ ctypedef struct CompState:
     bint next_fixed         # the next chain starts at an uncompensated point
     int n_warnings
     bint has_followers      # some compensated part has no motion in the plane
+    XState xs               # crossings of parts that are not neighbours (crossings.pyx)
 
 
 cdef void _comp_warn(CompState *S, size_t part, const char *what) noexcept nogil:
@@ -134,6 +135,9 @@ cdef bint _write_el(CompState *S, const CompEl *el) noexcept nogil:
     """The element is final: its end goes to the part, its insertion to the queue."""
     cdef Part *p = &S.prog.parts[el.part]
     cdef Part *entry
+    cdef int xres = cross_write(S, <CompEl *>el)     # loops: may move el's start or remove el
+    if xres != X_WRITE:
+        return xres == X_DONE
     p.ce[S.first] = el.pe[0]
     p.ce[S.second] = el.pe[1]
     if el.kind == EL_ARC:
@@ -219,7 +223,7 @@ cdef int _chain_add(CompState *S, CompEl *b) noexcept nogil:
                 S.n_st -= 1
                 pops += 1
                 continue
-            if S.cfg.strategy & CORR_JOIN_BY_G1:
+            if (S.cfg.strategy & CORR_JOIN_BY_G1) or cross_join(S, a, b):
                 a.pe[0] = a.oe[0]; a.pe[1] = a.oe[1]
                 a.ins = INS_G1
                 a.ins_end[0] = b.os[0]; a.ins_end[1] = b.os[1]
@@ -266,8 +270,11 @@ cdef int _chain_end(CompState *S, bint fixed_end) noexcept nogil:
         _comp_warn(S, a.part, "crossing last part removed from the path")
         _discard(S, a.part)
         S.n_st -= 1
+    S.xs.last_part = S.st[S.n_st - 1].part if S.n_st > 0 else <size_t>-1
     if not _flush(S, 0):
         return _comp_fail(S, ERR_OUT_OF_MEMORY, S.prog.main_file_idx, 0, 0)
+    if not cross_chain_end(S):
+        return _comp_fail(S, S.xs.err_number, S.xs.err_part, 0, 0)
     S.entry_part = -1
     return COMPILE_OK
 
@@ -568,6 +575,7 @@ cdef int compensate_program(Program *prog, const GCODE_PARAMETERS *params, Error
     S.output = output
     S.warn = warn
     S.ctx = ctx
+    S.xs.last_part = <size_t>-1
     _comp_config(&S.cfg, params)
     if prog.n_parts == 0:
         return COMPILE_OK
@@ -587,8 +595,11 @@ cdef int compensate_program(Program *prog, const GCODE_PARAMETERS *params, Error
             j += 1
         res = _run(&S, i, j)
         i = j
+    if res != COMPILE_OK and S.xs.err_number != 0:
+        _comp_fail(&S, S.xs.err_number, S.xs.err_part, S.xs.err_arg, 0)
     if res == COMPILE_OK:
         res = _merge(&S)
+    cross_free(&S.xs)
     free(S.role)
     free(S.st)
     free(S.ins)
