@@ -5,7 +5,7 @@
 # tool path piece (ps -> pe) and then its inserted corner piece (pe -> ins_end) are
 # intersected with the final pieces of the same chain whose part lies at most `depth`
 # parts back (strategy 0x700). The pieces are kept in an array with bounding boxes per
-# group of 16 and of 256 pieces, so the backward scan skips whole groups far away:
+# group of 4, 16, 64 ... 4096 pieces, so the backward scan skips whole groups far away:
 # O(n * k) with a small k on ordinary contours.
 #
 # A crossing at X of a later piece P (part B) with an earlier piece Q (part A) means a
@@ -19,11 +19,11 @@
 # the first one (a start at an inner corner: the entry and exit rules).
 from libc.stdlib cimport realloc, free
 from libc.string cimport memmove, memcpy, memset
-from libc.math cimport fabs, hypot, sqrt, M_PI
+from libc.math cimport fabs, hypot, sqrt, atan2, M_PI
 
 cdef enum:
-    XG1 = 16                # pieces per small group
-    XG2 = 256               # pieces per large group
+    XLEV = 6                # levels of groups: 4 << 2L pieces (4 .. 4096)
+    XTOP = 4096             # pieces of a top-level group
     X_WRITE = 1             # cross_write: let _write_el write the element
     X_DONE = 2              # ... the element is already written (removed)
     X_FAIL = 0
@@ -51,8 +51,7 @@ ctypedef struct XPiece:
 ctypedef struct XState:
     XPiece *pc
     size_t n, cap, base     # pieces [base, n) are searched
-    double *g1              # boxes of the groups of XG1 / XG2 pieces
-    double *g2
+    double *g[6]            # boxes of the groups of each level (XLEV)
     size_t last_part        # part of the chain's last element (set when the chain ends)
     double start[2]         # programmed start of the chain's first element
     size_t *prov            # parts whose corner cross_join joined by a G1 (FIFO)
@@ -97,10 +96,14 @@ cdef void _x_geometry(XPiece *q) noexcept nogil:
     q.box[2] = q.e[0] if q.s[0] < q.e[0] else q.s[0]
     q.box[1] = q.s[1] if q.s[1] < q.e[1] else q.e[1]
     q.box[3] = q.e[1] if q.s[1] < q.e[1] else q.s[1]
-    # the axis points the arc passes
+    # the axis points the arc passes (angles from s: one atan2 for the four)
+    a0 = atan2(q.s[1] - q.c[1], q.s[0] - q.c[0])
     for i in range(4):
-        ang = _x_angle(q, q.c[0] + q.r * (1.0 if i == 0 else (-1.0 if i == 2 else 0.0)),
-                       q.c[1] + q.r * (1.0 if i == 1 else (-1.0 if i == 3 else 0.0)))
+        ang = q.dir * (i * 0.5 * M_PI - a0)
+        while ang < 0:
+            ang += 2.0 * M_PI
+        while ang >= 2.0 * M_PI:
+            ang -= 2.0 * M_PI
         if ang <= q.sweep:
             if i == 0: q.box[2] = q.c[0] + q.r
             elif i == 1: q.box[3] = q.c[1] + q.r
@@ -207,14 +210,24 @@ cdef int64_t _x_find(const XState *X, const XPiece *p, double slack, bint last, 
     cdef int m, k
     if X.n < 2:
         return -1
+    cdef size_t size
+    cdef int lev
+    cdef bint skipped
     j = X.n - 1                         # candidates: indexes < j
     while j > X.base:
-        # a whole group of pieces below j that lies within the window: its box first
-        if j % XG2 == 0 and j - XG2 >= X.base and not _box_hit(&X.g2[4 * (j / XG2 - 1)], p.box, slack):
-            j -= XG2
-            continue
-        if j % XG1 == 0 and j - XG1 >= X.base and not _box_hit(&X.g1[4 * (j / XG1 - 1)], p.box, slack):
-            j -= XG1
+        # the largest group ending at j whose box misses p's is skipped whole (a group
+        # reaching below the window is still all in memory: see _x_add)
+        skipped = False
+        lev = XLEV - 1
+        while lev >= 0:
+            size = (<size_t>4) << (2 * lev)
+            if (j & (size - 1)) == 0:
+                if not _box_hit(&X.g[lev][4 * (j / size - 1)], p.box, slack):
+                    j = j - size if j - size > X.base else X.base
+                    skipped = True
+                    break
+            lev -= 1
+        if skipped:
             continue
         j -= 1
         q = &X.pc[j]
@@ -242,21 +255,23 @@ cdef int64_t _x_find(const XState *X, const XPiece *p, double slack, bint last, 
 
 cdef void _x_regroup(XState *X, size_t upto) noexcept nogil:
     """Recomputes the group boxes of the groups holding piece `upto` (the last one)."""
-    cdef size_t k, g
-    g = (upto / XG1) * XG1
-    memcpy(&X.g1[4 * (upto / XG1)], X.pc[g].box, 4 * sizeof(double))
-    for k in range(g + 1, upto + 1):
-        _box_union(&X.g1[4 * (upto / XG1)], X.pc[k].box)
-    g = (upto / XG2) * XG2
-    memcpy(&X.g2[4 * (upto / XG2)], X.pc[g].box, 4 * sizeof(double))
-    for k in range(g + 1, upto + 1):
-        _box_union(&X.g2[4 * (upto / XG2)], X.pc[k].box)
+    cdef size_t k, g, size
+    cdef int lev
+    cdef double *b
+    for lev in range(XLEV):
+        size = (<size_t>4) << (2 * lev)
+        g = (upto / size) * size
+        b = &X.g[lev][4 * (upto / size)]
+        memcpy(b, X.pc[g].box, 4 * sizeof(double))
+        for k in range(g + 1, upto + 1):
+            _box_union(b, X.pc[k].box)
 
 
 cdef bint _x_add(XState *X, const XPiece *q, size_t depth) noexcept nogil:
-    cdef size_t cap, shift, j
+    cdef size_t cap, shift, j, size
     cdef XPiece *pc
     cdef double *g
+    cdef int lev
     # the search window: parts at most `depth` back
     while X.base < X.n and q.part - X.pc[X.base].part > depth:
         if X.pc[X.base].prov:
@@ -265,11 +280,12 @@ cdef bint _x_add(XState *X, const XPiece *q, size_t depth) noexcept nogil:
             X.err_part = X.pc[X.base].part
             return False
         X.base += 1
-    if X.base >= 4 * XG2 and X.base > X.n / 2:
-        shift = (X.base / XG2) * XG2
+    if X.base >= 2 * XTOP and X.base > X.n / 2:
+        shift = (X.base / XTOP) * XTOP
         memmove(X.pc, &X.pc[shift], (X.n - shift) * sizeof(XPiece))
-        memmove(X.g1, &X.g1[4 * (shift / XG1)], 4 * ((X.n - shift) / XG1 + 1) * sizeof(double))
-        memmove(X.g2, &X.g2[4 * (shift / XG2)], 4 * ((X.n - shift) / XG2 + 1) * sizeof(double))
+        for lev in range(XLEV):
+            size = (<size_t>4) << (2 * lev)
+            memmove(X.g[lev], &X.g[lev][4 * (shift / size)], 4 * ((X.n - shift) / size + 1) * sizeof(double))
         X.n -= shift
         X.base -= shift
     if X.n == X.cap:
@@ -278,34 +294,31 @@ cdef bint _x_add(XState *X, const XPiece *q, size_t depth) noexcept nogil:
         if pc == NULL:
             return False
         X.pc = pc
-        g = <double *>realloc(X.g1, 4 * (cap / XG1 + 1) * sizeof(double))
-        if g == NULL:
-            return False
-        X.g1 = g
-        g = <double *>realloc(X.g2, 4 * (cap / XG2 + 1) * sizeof(double))
-        if g == NULL:
-            return False
-        X.g2 = g
+        for lev in range(XLEV):
+            size = (<size_t>4) << (2 * lev)
+            g = <double *>realloc(X.g[lev], 4 * (cap / size + 1) * sizeof(double))
+            if g == NULL:
+                return False
+            X.g[lev] = g
         X.cap = cap
     j = X.n
     X.pc[j] = q[0]
     X.n += 1
-    if j % XG1 == 0:
-        memcpy(&X.g1[4 * (j / XG1)], q.box, 4 * sizeof(double))
-    else:
-        _box_union(&X.g1[4 * (j / XG1)], q.box)
-    if j % XG2 == 0:
-        memcpy(&X.g2[4 * (j / XG2)], q.box, 4 * sizeof(double))
-    else:
-        _box_union(&X.g2[4 * (j / XG2)], q.box)
+    for lev in range(XLEV):
+        size = (<size_t>4) << (2 * lev)
+        if (j & (size - 1)) == 0:
+            memcpy(&X.g[lev][4 * (j / size)], q.box, 4 * sizeof(double))
+        else:
+            _box_union(&X.g[lev][4 * (j / size)], q.box)
     return True
 
 
 cdef void cross_free(XState *X) noexcept nogil:
     free(X.prov)
+    cdef int lev
     free(X.pc)
-    free(X.g1)
-    free(X.g2)
+    for lev in range(XLEV):
+        free(X.g[lev])
 
 
 cdef bint _x_cut(CompState *S, size_t qi, const double *at, size_t b_part, bint b_removed) noexcept nogil:
