@@ -21,6 +21,9 @@ from libc.stdlib cimport realloc, free
 from libc.string cimport memmove, memcpy, memset
 from libc.math cimport fabs, hypot, sqrt, atan2, M_PI
 
+cdef extern from *:
+    int __builtin_ctzll(unsigned long long) nogil
+
 cdef enum:
     XLEV = 6                # levels of groups: 4 << 2L pieces (4 .. 4096)
     XTOP = 4096             # pieces of a top-level group
@@ -115,7 +118,7 @@ cdef bint _x_on(const XPiece *q, double x, double y, double slack, double *pos) 
     """Whether a point of q's line / circle lies on the piece; pos = distance along it."""
     cdef double L, t, a
     if q.kind == EL_LINE:
-        L = hypot(q.e[0] - q.s[0], q.e[1] - q.s[1])
+        L = sqrt((q.e[0] - q.s[0]) * (q.e[0] - q.s[0]) + (q.e[1] - q.s[1]) * (q.e[1] - q.s[1]))
         if L <= 0:
             return False
         t = ((x - q.s[0]) * (q.e[0] - q.s[0]) + (y - q.s[1]) * (q.e[1] - q.s[1])) / L
@@ -137,15 +140,21 @@ cdef int _x_meet(const XPiece *p, const XPiece *q, double slack, double *pts) no
         dx = p.e[0] - p.s[0]; dy = p.e[1] - p.s[1]
         ex = q.e[0] - q.s[0]; ey = q.e[1] - q.s[1]
         den = dx * ey - dy * ex
-        if fabs(den) <= 1e-12 * (hypot(dx, dy) * hypot(ex, ey) + 1e-300):
+        if den * den <= 1e-24 * (dx * dx + dy * dy) * (ex * ex + ey * ey) + 1e-300:
             return 0
+        # both ends of one on the same side of the other: no crossing
+        t = (q.s[0] - p.s[0]) * dy - (q.s[1] - p.s[1]) * dx
+        L = (q.e[0] - p.s[0]) * dy - (q.e[1] - p.s[1]) * dx
+        if (t > 0 and L > 0) or (t < 0 and L < 0):
+            if t * t > slack * slack * (dx * dx + dy * dy) and L * L > slack * slack * (dx * dx + dy * dy):
+                return 0
         t = ((q.s[0] - p.s[0]) * ey - (q.s[1] - p.s[1]) * ex) / den
         pts[0] = p.s[0] + t * dx; pts[1] = p.s[1] + t * dy
         return 1
     if p.kind == EL_LINE or q.kind == EL_LINE:
         ln = p if p.kind == EL_LINE else q
         ci = q if p.kind == EL_LINE else p
-        L = hypot(ln.e[0] - ln.s[0], ln.e[1] - ln.s[1])
+        L = sqrt((ln.e[0] - ln.s[0]) * (ln.e[0] - ln.s[0]) + (ln.e[1] - ln.s[1]) * (ln.e[1] - ln.s[1]))
         if L <= 0:
             return 0
         dx = (ln.e[0] - ln.s[0]) / L; dy = (ln.e[1] - ln.s[1]) / L
@@ -174,7 +183,7 @@ cdef int _x_meet(const XPiece *p, const XPiece *q, double slack, double *pts) no
 
 
 cdef inline bint _x_near(const double *a, double x, double y, double slack) noexcept nogil:
-    return hypot(a[0] - x, a[1] - y) < slack
+    return (a[0] - x) * (a[0] - x) + (a[1] - y) * (a[1] - y) < slack * slack
 
 
 cdef bint _x_prog_cross(const XPiece *p, const XPiece *q, double slack) noexcept nogil:
@@ -218,14 +227,15 @@ cdef int64_t _x_find(const XState *X, const XPiece *p, double slack, bint last, 
         # the largest group ending at j whose box misses p's is skipped whole (a group
         # reaching below the window is still all in memory: see _x_add)
         skipped = False
-        lev = XLEV - 1
+        lev = (__builtin_ctzll(j) - 2) >> 1     # the largest level aligned at j (j > 0)
+        if lev >= XLEV:
+            lev = XLEV - 1
         while lev >= 0:
-            size = (<size_t>4) << (2 * lev)
-            if (j & (size - 1)) == 0:
-                if not _box_hit(&X.g[lev][4 * (j / size - 1)], p.box, slack):
-                    j = j - size if j - size > X.base else X.base
-                    skipped = True
-                    break
+            if not _box_hit(&X.g[lev][4 * ((j >> (2 * lev + 2)) - 1)], p.box, slack):
+                size = (<size_t>4) << (2 * lev)
+                j = j - size if j - size > X.base else X.base
+                skipped = True
+                break
             lev -= 1
         if skipped:
             continue
@@ -305,11 +315,11 @@ cdef bint _x_add(XState *X, const XPiece *q, size_t depth) noexcept nogil:
     X.pc[j] = q[0]
     X.n += 1
     for lev in range(XLEV):
-        size = (<size_t>4) << (2 * lev)
-        if (j & (size - 1)) == 0:
-            memcpy(&X.g[lev][4 * (j / size)], q.box, 4 * sizeof(double))
+        g = &X.g[lev][4 * (j >> (2 * lev + 2))]
+        if (j & (((<size_t>4) << (2 * lev)) - 1)) == 0:
+            g[0] = q.box[0]; g[1] = q.box[1]; g[2] = q.box[2]; g[3] = q.box[3]
         else:
-            _box_union(&X.g[lev][4 * (j / size)], q.box)
+            _box_union(g, q.box)
     return True
 
 
