@@ -180,3 +180,14 @@ def test_a_contour_crossing_itself_is_no_loop(harness):
         assert err is None and "loop" not in warn
         ce = [tuple(round(v, 9) for v in p["ce"][:2]) for p in out]
         assert ce == [(0, -10), (0, 1), (19, 1), (19, 4), (11, 4), (11, -10), (10, -20)]
+
+
+@pytest.mark.xfail(strict=True, reason="a chain starting inside the neck keeps the neck (docs/compensation.md)")
+def test_dumbbell_entered_in_the_neck(harness):
+    pts = DUMBBELL[2:] + DUMBBELL[:2]       # the first edge is the bar's bottom
+    m0, els = polygon_elements(pts)
+    out, err, _ = run(harness, m0, els, 3.0, 41, REMOVE)
+    if err is None:
+        path = tool_path(out, 2, len(out) - 2)
+        d = shapely.distance(shapely.points(path), LineString(programmed_polyline(m0, els)))
+        assert float(np.min(d)) > 3.0 - TOL
