@@ -111,8 +111,9 @@ def test_inner_line_arc_corner(harness):
 
 def test_arc_arc_outer_corner_inserts_an_arc(harness):
     # two CW arcs meeting at (0,0) with a right turn; G41 puts the tool outside
-    parts = [dict(func=1, e=(-10, -10), comp=40), L(-10, 0), A(2, 0, 0, -5, -3), A(2, 5, -3, 5, 3),
-             L(15, -3), L(15, -20, comp=40)]
+    ex, ey = -3 + math.sqrt(34) * math.cos(math.radians(-120)), 5 + math.sqrt(34) * math.sin(math.radians(-120))
+    parts = [dict(func=1, e=(-10, -10), comp=40), L(-10, 0), A(2, 0, 0, -5, -3), A(2, ex, ey, -3, 5),
+             L(ex, -10), L(ex, -20, comp=40)]
     out, err, _ = comp_run(parts, r=1.0, start=(-10, -20, 0))
     assert err is None
     k = next(i for i, p in enumerate(out) if p["inserted"])
@@ -242,8 +243,9 @@ def test_crossing_error_names_the_line(harness):
 
 def test_intersection_not_found_error_and_joins(harness):
     # an inner corner whose offset circle (radius 1.04) misses the offset line y = 2
+    # (the arc is left tangentially: a corner arc there would cross the first part's offset)
     parts = [dict(func=1, e=(-20, 0), comp=40), L(-10, 0), L(0, 0, line=3), A(3, -3, 0.5 + math.hypot(3, 0.5), -3, 0.5),
-             L(-10, 20), L(-20, 20, comp=40)]
+             L(-20, 0.5 + math.hypot(3, 0.5)), L(-20, 20, comp=40)]
     out, err, _ = comp_run(parts, r=2.0, start=(-20, -5, 0))
     assert err["number"] == ERR_COMP_NOT_FOUND and err["line"] == 3
     out, err, warn = comp_run(parts, r=2.0, start=(-20, -5, 0), strategy=0x20000)

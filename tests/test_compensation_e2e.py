@@ -151,3 +151,39 @@ def test_seed_003_example_with_g42(hmi):
             assert math.hypot(p["e"][0] - p["cc"][0], p["e"][1] - p["cc"][1]) == pytest.approx(p["cc"][3])
     for a, b in zip(parts, parts[1:]):
         assert np.allclose(a["e"], b["s"])
+
+
+DUMBBELL = """G0 X-12.5 Y-60
+G41 G1 X-12.5 Y-10 F1000
+X-5
+Y-2
+X5
+Y-10
+X20
+Y10
+X5
+Y2
+X-5
+Y10
+X-20
+Y-10
+X-12.5
+G40 G1 X-12.5 Y-60
+M30
+"""
+
+
+def test_loop_at_a_narrow_neck_through_the_driver(hmi):
+    # the bar between the two squares is 4 high: a tool of radius 3 does not pass it
+    _compiles(hmi)
+    err = hmi.compile(DUMBBELL, r=3.0)
+    assert err is not None and err[0] == 504 and err[1] == 10
+    assert hmi.compile(DUMBBELL, r=3.0, strategy=0x80000) is None
+    parts = hmi.run()
+    # only the left square is machined; the parts of the loop are zero-length moves
+    assert max(p["e"][0] for p in parts) < 0
+    for a, b in zip(parts, parts[1:]):
+        assert np.allclose(a["e"], b["s"])
+    ends = [tuple(round(v, 6) for v in p["e"][:2]) for p in parts]
+    assert (round(-5 - math.sqrt(5), 6), 0) in ends            # the corner arcs' crossing
+    assert hmi.compile(DUMBBELL, r=1.9) is None                 # a tool that fits

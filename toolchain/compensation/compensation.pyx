@@ -32,6 +32,7 @@ cdef enum:
 ctypedef struct InsRec:
     size_t after            # inserted right after this part
     double end[2]           # plane coordinates of its end
+    double cc[2]            # arcs: plane coordinates of the centre (the programmed corner)
     int32_t func            # 1, 2, 3
     uint8_t src_next        # takes its attributes (line, feed, comp) from part after + 1, else after
     uint8_t no_centre       # centre 0, 0 in the plane (lines switching on or off)
@@ -54,6 +55,7 @@ ctypedef struct CompState:
     bint next_fixed         # the next chain starts at an uncompensated point
     int n_warnings
     bint has_followers      # some compensated part has no motion in the plane
+    XState xs               # crossings of parts that are not neighbours (crossings.pyx)
 
 
 cdef void _comp_warn(CompState *S, size_t part, const char *what) noexcept nogil:
@@ -109,6 +111,7 @@ cdef bint _ins_add(CompState *S, const CompEl *el) noexcept nogil:
     rec.after = el.part
     rec.func = el.ins
     rec.end[0] = el.ins_end[0]; rec.end[1] = el.ins_end[1]
+    rec.cc[0] = el.e[0]; rec.cc[1] = el.e[1]
     rec.src_next = False
     rec.no_centre = False
     return True
@@ -140,6 +143,9 @@ cdef bint _write_el(CompState *S, const CompEl *el) noexcept nogil:
     """The element is final: its end goes to the part, its insertion to the queue."""
     cdef Part *p = &S.prog.parts[el.part]
     cdef Part *entry
+    cdef int xres = cross_write(S, <CompEl *>el)     # loops: may move el's start or remove el
+    if xres != X_WRITE:
+        return xres == X_DONE
     p.ce[S.first] = el.pe[0]
     p.ce[S.second] = el.pe[1]
     if el.kind == EL_ARC:
@@ -225,7 +231,7 @@ cdef int _chain_add(CompState *S, CompEl *b) noexcept nogil:
                 S.n_st -= 1
                 pops += 1
                 continue
-            if S.cfg.strategy & CORR_JOIN_BY_G1:
+            if (S.cfg.strategy & CORR_JOIN_BY_G1) or cross_join(S, a, b):
                 a.pe[0] = a.oe[0]; a.pe[1] = a.oe[1]
                 a.ins = INS_G1
                 a.ins_end[0] = b.os[0]; a.ins_end[1] = b.os[1]
@@ -272,8 +278,11 @@ cdef int _chain_end(CompState *S, bint fixed_end) noexcept nogil:
         _comp_warn(S, a.part, "crossing last part removed from the path")
         _discard(S, a.part)
         S.n_st -= 1
+    S.xs.last_part = S.st[S.n_st - 1].part if S.n_st > 0 else <size_t>-1
     if not _flush(S, 0):
         return _comp_fail(S, ERR_OUT_OF_MEMORY, S.prog.main_file_idx, 0, 0)
+    if not cross_chain_end(S):
+        return _comp_fail(S, S.xs.err_number, S.xs.err_part, 0, 0)
     S.entry_part = -1
     return COMPILE_OK
 
@@ -449,7 +458,7 @@ cdef void _compatibility(Program *prog) noexcept nogil:
 cdef void _inserted_part(Part *q, const Part *p, const Part *src, const InsRec *rec,
                          const GCODE_PARAMETERS *params) noexcept nogil:
     """An inserted part after p (its programmed end is p's end), with the line, feed
-    and compensation of src; an arc goes round p's end with p's tool radius."""
+    and compensation of src; an arc goes round its corner (rec.cc) with p's tool radius."""
     cdef int first, second, normal, a
     memset(q, 0, sizeof(Part))
     plane_axes(p.plane, &first, &second, &normal)
@@ -460,6 +469,10 @@ cdef void _inserted_part(Part *q, const Part *p, const Part *src, const InsRec *
     q.ce[first] = rec.end[0]; q.ce[second] = rec.end[1]
     if rec.no_centre:
         q.cc[first] = 0.0; q.cc[second] = 0.0
+    else:
+        # the corner it goes round: normally p's end, but a loop cut may have moved
+        # the remainder of a corner arc behind an earlier part
+        q.cc[first] = rec.cc[0]; q.cc[second] = rec.cc[1]
     if rec.func != INS_G1:
         q.radius = fabs(params.correction[p.comp_slot & 7].size)
     q.gcode_index = p.gcode_index + 1
@@ -569,6 +582,7 @@ cdef int compensate_program(Program *prog, const GCODE_PARAMETERS *params, Error
     S.output = output
     S.warn = warn
     S.ctx = ctx
+    S.xs.last_part = <size_t>-1
     comp_config(&host, params)
     S.cfg = host
     if prog.n_parts == 0:
@@ -590,8 +604,11 @@ cdef int compensate_program(Program *prog, const GCODE_PARAMETERS *params, Error
         run_config(prog, &host, i, &region, &S.cfg)
         res = _run(&S, i, j)
         i = j
+    if res != COMPILE_OK and S.xs.err_number != 0:
+        _comp_fail(&S, S.xs.err_number, S.xs.err_part, S.xs.err_arg, 0)
     if res == COMPILE_OK:
         res = _merge(&S)
+    cross_free(&S.xs)
     free(S.role)
     free(S.st)
     free(S.ins)

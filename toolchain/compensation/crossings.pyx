@@ -1,0 +1,528 @@
+# Crossings of the tool path with itself between parts that are not neighbours (a
+# narrow neck of the contour, the arms of a U closer than the tool diameter): loops.
+#
+# Every element is checked when it becomes final (compensation.pyx `_write_el`): its
+# tool path piece (ps -> pe) and then its inserted corner piece (pe -> ins_end) are
+# intersected with the final pieces of the same chain whose part lies at most `depth`
+# parts back (strategy 0x700). The pieces are kept in an array with bounding boxes per
+# group of 4, 16, 64 ... 4096 pieces, so the backward scan skips whole groups far away:
+# O(n * k) with a small k on ordinary contours.
+#
+# A crossing at X of a later piece P (part B) with an earlier piece Q (part A) means a
+# loop: with 0x80000 the path is cut there (Q ends at X, P starts at X, the parts
+# between are removed and turned into zero-length moves, their insertions dropped) and
+# a warning given; without it error 504 on B's line. When P is B's inserted corner arc,
+# B's own piece is removed too and the rest of its corner arc becomes an insertion
+# after A. A cut that leaves nothing of the chain's first part needs 0x10000 (else 504).
+# Not loops: a crossing where the programmed elements cross too (the contour itself
+# crosses, the tool has to), and the crossing of the last part of a closed contour with
+# the first one (a start at an inner corner: the entry and exit rules).
+from libc.stdlib cimport realloc, free
+from libc.string cimport memmove, memcpy, memset
+from libc.math cimport fabs, hypot, sqrt, atan2, M_PI
+
+cdef extern from *:
+    int __builtin_ctzll(unsigned long long) nogil
+
+cdef enum:
+    XLEV = 6                # levels of groups: 4 << 2L pieces (4 .. 4096)
+    XTOP = 4096             # pieces of a top-level group
+    X_WRITE = 1             # cross_write: let _write_el write the element
+    X_DONE = 2              # ... the element is already written (removed)
+    X_FAIL = 0
+
+ctypedef struct XPiece:
+    size_t part             # part whose path this is (window of the search depth)
+    size_t after            # inserted pieces: the part the InsRec follows
+    size_t rec              # inserted pieces: index of the InsRec in CompState.ins
+    int kind                # EL_LINE / EL_ARC
+    int dir                 # arcs: +1 CCW, -1 CW
+    bint ins                # an inserted corner piece
+    bint first              # the body of the chain's first element
+    bint prov               # a G1 join that has to end up inside a removed loop
+    double s[2]
+    double e[2]
+    double c[2]
+    double r                # arc radius
+    double sweep            # arc sweep in dir, (0, 2pi]
+    double box[4]           # xmin ymin xmax ymax
+    bint gprog              # bodies: the programmed element follows
+    double gs[2]            # its programmed start, end, radius and |sweep|
+    double ge[2]
+    double gR, gsweep
+
+ctypedef struct XState:
+    XPiece *pc
+    size_t n, cap, base     # pieces [base, n) are searched
+    double *g[6]            # boxes of the groups of each level (XLEV)
+    size_t last_part        # part of the chain's last element (set when the chain ends)
+    double start[2]         # programmed start of the chain's first element
+    size_t *prov            # parts whose corner cross_join joined by a G1 (FIFO)
+    size_t n_prov, head_prov, cap_prov
+    int32_t err_number      # error found while writing (reported by compensate_program)
+    size_t err_part
+    double err_arg
+
+
+cdef inline bint _box_hit(const double *a, const double *b, double t) noexcept nogil:
+    return a[0] <= b[2] + t and b[0] <= a[2] + t and a[1] <= b[3] + t and b[1] <= a[3] + t
+
+
+cdef inline void _box_union(double *a, const double *b) noexcept nogil:
+    if b[0] < a[0]: a[0] = b[0]
+    if b[1] < a[1]: a[1] = b[1]
+    if b[2] > a[2]: a[2] = b[2]
+    if b[3] > a[3]: a[3] = b[3]
+
+
+cdef inline double _x_angle(const XPiece *q, double x, double y) noexcept nogil:
+    """Angle of point (x, y) from q's start in q's direction, in [0, 2pi)."""
+    cdef double a = q.dir * _turn(q.s[0] - q.c[0], q.s[1] - q.c[1], x - q.c[0], y - q.c[1])
+    if a < 0:
+        a += 2.0 * M_PI
+    return a
+
+
+cdef void _x_geometry(XPiece *q) noexcept nogil:
+    """Sweep and bounding box from s, e (and c, r, dir for arcs)."""
+    cdef double a0, a1, ang, k
+    cdef int i
+    if q.kind == EL_LINE:
+        q.box[0] = q.s[0] if q.s[0] < q.e[0] else q.e[0]
+        q.box[2] = q.e[0] if q.s[0] < q.e[0] else q.s[0]
+        q.box[1] = q.s[1] if q.s[1] < q.e[1] else q.e[1]
+        q.box[3] = q.e[1] if q.s[1] < q.e[1] else q.s[1]
+        return
+    if q.sweep <= 0:
+        q.sweep = _x_angle(q, q.e[0], q.e[1])
+    q.box[0] = q.s[0] if q.s[0] < q.e[0] else q.e[0]
+    q.box[2] = q.e[0] if q.s[0] < q.e[0] else q.s[0]
+    q.box[1] = q.s[1] if q.s[1] < q.e[1] else q.e[1]
+    q.box[3] = q.e[1] if q.s[1] < q.e[1] else q.s[1]
+    # the axis points the arc passes (angles from s: one atan2 for the four)
+    a0 = atan2(q.s[1] - q.c[1], q.s[0] - q.c[0])
+    for i in range(4):
+        ang = q.dir * (i * 0.5 * M_PI - a0)
+        while ang < 0:
+            ang += 2.0 * M_PI
+        while ang >= 2.0 * M_PI:
+            ang -= 2.0 * M_PI
+        if ang <= q.sweep:
+            if i == 0: q.box[2] = q.c[0] + q.r
+            elif i == 1: q.box[3] = q.c[1] + q.r
+            elif i == 2: q.box[0] = q.c[0] - q.r
+            else: q.box[1] = q.c[1] - q.r
+
+
+cdef bint _x_on(const XPiece *q, double x, double y, double slack, double *pos) noexcept nogil:
+    """Whether a point of q's line / circle lies on the piece; pos = distance along it."""
+    cdef double L, t, a
+    if q.kind == EL_LINE:
+        L = sqrt((q.e[0] - q.s[0]) * (q.e[0] - q.s[0]) + (q.e[1] - q.s[1]) * (q.e[1] - q.s[1]))
+        if L <= 0:
+            return False
+        t = ((x - q.s[0]) * (q.e[0] - q.s[0]) + (y - q.s[1]) * (q.e[1] - q.s[1])) / L
+        pos[0] = t
+        return t >= -slack and t <= L + slack
+    a = _x_angle(q, x, y)
+    if a > q.sweep + slack / q.r and a > 2.0 * M_PI - slack / q.r:
+        a -= 2.0 * M_PI
+    pos[0] = a * q.r
+    return pos[0] >= -slack and pos[0] <= q.sweep * q.r + slack
+
+
+cdef int _x_meet(const XPiece *p, const XPiece *q, double slack, double *pts) noexcept nogil:
+    """Points where the line / circle of p meets that of q (0, 1 or 2, in pts)."""
+    cdef double dx, dy, ex, ey, den, t, L, wx, wy, b, disc, sq, dist, a, h2, h, mx, my
+    cdef const XPiece *ln
+    cdef const XPiece *ci
+    if p.kind == EL_LINE and q.kind == EL_LINE:
+        dx = p.e[0] - p.s[0]; dy = p.e[1] - p.s[1]
+        ex = q.e[0] - q.s[0]; ey = q.e[1] - q.s[1]
+        den = dx * ey - dy * ex
+        if den * den <= 1e-24 * (dx * dx + dy * dy) * (ex * ex + ey * ey) + 1e-300:
+            return 0
+        # both ends of one on the same side of the other: no crossing
+        t = (q.s[0] - p.s[0]) * dy - (q.s[1] - p.s[1]) * dx
+        L = (q.e[0] - p.s[0]) * dy - (q.e[1] - p.s[1]) * dx
+        if (t > 0 and L > 0) or (t < 0 and L < 0):
+            if t * t > slack * slack * (dx * dx + dy * dy) and L * L > slack * slack * (dx * dx + dy * dy):
+                return 0
+        t = ((q.s[0] - p.s[0]) * ey - (q.s[1] - p.s[1]) * ex) / den
+        pts[0] = p.s[0] + t * dx; pts[1] = p.s[1] + t * dy
+        return 1
+    if p.kind == EL_LINE or q.kind == EL_LINE:
+        ln = p if p.kind == EL_LINE else q
+        ci = q if p.kind == EL_LINE else p
+        L = sqrt((ln.e[0] - ln.s[0]) * (ln.e[0] - ln.s[0]) + (ln.e[1] - ln.s[1]) * (ln.e[1] - ln.s[1]))
+        if L <= 0:
+            return 0
+        dx = (ln.e[0] - ln.s[0]) / L; dy = (ln.e[1] - ln.s[1]) / L
+        wx = ln.s[0] - ci.c[0]; wy = ln.s[1] - ci.c[1]
+        b = wx * dx + wy * dy
+        disc = b * b - (wx * wx + wy * wy - ci.r * ci.r)
+        if disc < 0:
+            return 0
+        sq = sqrt(disc)
+        pts[0] = ln.s[0] + (-b + sq) * dx; pts[1] = ln.s[1] + (-b + sq) * dy
+        pts[2] = ln.s[0] + (-b - sq) * dx; pts[3] = ln.s[1] + (-b - sq) * dy
+        return 2
+    dx = q.c[0] - p.c[0]; dy = q.c[1] - p.c[1]
+    dist = hypot(dx, dy)
+    if dist < 1e-12:
+        return 0
+    a = (p.r * p.r - q.r * q.r + dist * dist) / (2.0 * dist)
+    h2 = p.r * p.r - a * a
+    if h2 < 0:
+        return 0
+    h = sqrt(h2)
+    mx = p.c[0] + a * dx / dist; my = p.c[1] + a * dy / dist
+    pts[0] = mx - h * dy / dist; pts[1] = my + h * dx / dist
+    pts[2] = mx + h * dy / dist; pts[3] = my - h * dx / dist
+    return 2
+
+
+cdef inline bint _x_near(const double *a, double x, double y, double slack) noexcept nogil:
+    return (a[0] - x) * (a[0] - x) + (a[1] - y) * (a[1] - y) < slack * slack
+
+
+cdef bint _x_prog_cross(const XPiece *p, const XPiece *q, double slack) noexcept nogil:
+    """Whether the programmed elements of two bodies cross (the contour itself crosses
+    there: the tool path has to as well, no loop)."""
+    cdef XPiece a, b
+    cdef double pts[4]
+    cdef double pos
+    cdef int m, k
+    if not p.gprog or not q.gprog:
+        return False
+    a = p[0]; b = q[0]
+    a.s[0] = p.gs[0]; a.s[1] = p.gs[1]; a.e[0] = p.ge[0]; a.e[1] = p.ge[1]; a.r = p.gR; a.sweep = p.gsweep
+    b.s[0] = q.gs[0]; b.s[1] = q.gs[1]; b.e[0] = q.ge[0]; b.e[1] = q.ge[1]; b.r = q.gR; b.sweep = q.gsweep
+    m = _x_meet(&a, &b, slack, pts)
+    for k in range(m):
+        if _x_on(&a, pts[2 * k], pts[2 * k + 1], slack, &pos) and _x_on(&b, pts[2 * k], pts[2 * k + 1], slack, &pos):
+            if (_x_near(a.s, pts[2 * k], pts[2 * k + 1], slack) or _x_near(a.e, pts[2 * k], pts[2 * k + 1], slack)) \
+                    and (_x_near(b.s, pts[2 * k], pts[2 * k + 1], slack) or _x_near(b.e, pts[2 * k], pts[2 * k + 1], slack)):
+                continue
+            return True
+    return False
+
+
+cdef int64_t _x_find(const XState *X, const XPiece *p, double slack, bint last, double *at) noexcept nogil:
+    """The earlier piece p crosses first (nearest to p's start along p), -1 if none.
+    The last piece (p's predecessor) is not searched."""
+    cdef int64_t best = -1
+    cdef double best_pos = 1e300, pos, qpos
+    cdef double pts[4]
+    cdef const XPiece *q
+    cdef size_t j
+    cdef int m, k
+    if X.n < 2:
+        return -1
+    cdef size_t size
+    cdef int lev
+    cdef bint skipped
+    j = X.n - 1                         # candidates: indexes < j
+    while j > X.base:
+        # the largest group ending at j whose box misses p's is skipped whole (a group
+        # reaching below the window is still all in memory: see _x_add)
+        skipped = False
+        lev = (__builtin_ctzll(j) - 2) >> 1     # the largest level aligned at j (j > 0)
+        if lev >= XLEV:
+            lev = XLEV - 1
+        while lev >= 0:
+            if not _box_hit(&X.g[lev][4 * ((j >> (2 * lev + 2)) - 1)], p.box, slack):
+                size = (<size_t>4) << (2 * lev)
+                j = j - size if j - size > X.base else X.base
+                skipped = True
+                break
+            lev -= 1
+        if skipped:
+            continue
+        j -= 1
+        q = &X.pc[j]
+        if not _box_hit(q.box, p.box, slack):
+            continue
+        if last and q.first:
+            continue                    # start/end overlap of a chain: the entry rules
+        m = _x_meet(p, q, slack, pts)
+        for k in range(m):
+            if not _x_on(p, pts[2 * k], pts[2 * k + 1], slack, &pos) or pos >= best_pos:
+                continue
+            if not _x_on(q, pts[2 * k], pts[2 * k + 1], slack, &qpos):
+                continue
+            # touching at the ends of both (the path passing a shared point) is no loop
+            if (_x_near(p.s, pts[2 * k], pts[2 * k + 1], slack) or _x_near(p.e, pts[2 * k], pts[2 * k + 1], slack)) \
+                    and (_x_near(q.s, pts[2 * k], pts[2 * k + 1], slack) or _x_near(q.e, pts[2 * k], pts[2 * k + 1], slack)):
+                continue
+            if _x_prog_cross(p, q, slack):
+                continue
+            best = <int64_t>j
+            best_pos = pos
+            at[0] = pts[2 * k]; at[1] = pts[2 * k + 1]
+    return best
+
+
+cdef void _x_regroup(XState *X, size_t upto) noexcept nogil:
+    """Recomputes the group boxes of the groups holding piece `upto` (the last one)."""
+    cdef size_t k, g, size
+    cdef int lev
+    cdef double *b
+    for lev in range(XLEV):
+        size = (<size_t>4) << (2 * lev)
+        g = (upto / size) * size
+        b = &X.g[lev][4 * (upto / size)]
+        memcpy(b, X.pc[g].box, 4 * sizeof(double))
+        for k in range(g + 1, upto + 1):
+            _box_union(b, X.pc[k].box)
+
+
+cdef bint _x_add(XState *X, const XPiece *q, size_t depth) noexcept nogil:
+    cdef size_t cap, shift, j, size
+    cdef XPiece *pc
+    cdef double *g
+    cdef int lev
+    # the search window: parts at most `depth` back
+    while X.base < X.n and q.part - X.pc[X.base].part > depth:
+        if X.pc[X.base].prov:
+            # the loop around a provisional join is farther back than the search depth
+            X.err_number = ERR_COMP_NOT_FOUND
+            X.err_part = X.pc[X.base].part
+            return False
+        X.base += 1
+    if X.base >= 2 * XTOP and X.base > X.n / 2:
+        shift = (X.base / XTOP) * XTOP
+        memmove(X.pc, &X.pc[shift], (X.n - shift) * sizeof(XPiece))
+        for lev in range(XLEV):
+            size = (<size_t>4) << (2 * lev)
+            memmove(X.g[lev], &X.g[lev][4 * (shift / size)], 4 * ((X.n - shift) / size + 1) * sizeof(double))
+        X.n -= shift
+        X.base -= shift
+    if X.n == X.cap:
+        cap = X.cap * 2 if X.cap else 1024
+        pc = <XPiece *>realloc(X.pc, cap * sizeof(XPiece))
+        if pc == NULL:
+            return False
+        X.pc = pc
+        for lev in range(XLEV):
+            size = (<size_t>4) << (2 * lev)
+            g = <double *>realloc(X.g[lev], 4 * (cap / size + 1) * sizeof(double))
+            if g == NULL:
+                return False
+            X.g[lev] = g
+        X.cap = cap
+    j = X.n
+    X.pc[j] = q[0]
+    X.n += 1
+    for lev in range(XLEV):
+        g = &X.g[lev][4 * (j >> (2 * lev + 2))]
+        if (j & (((<size_t>4) << (2 * lev)) - 1)) == 0:
+            g[0] = q.box[0]; g[1] = q.box[1]; g[2] = q.box[2]; g[3] = q.box[3]
+        else:
+            _box_union(g, q.box)
+    return True
+
+
+cdef void cross_free(XState *X) noexcept nogil:
+    free(X.prov)
+    cdef int lev
+    free(X.pc)
+    for lev in range(XLEV):
+        free(X.g[lev])
+
+
+cdef bint _x_cut(CompState *S, size_t qi, const double *at, size_t b_part, bint b_removed) noexcept nogil:
+    """The path leaves piece qi at `at`: the pieces and parts after it up to part
+    b_part (exclusive; inclusive when b_removed) are removed."""
+    cdef XState *X = &S.xs
+    cdef XPiece *q = &X.pc[qi]
+    cdef Part *p
+    cdef size_t k, stop
+    cdef double slack = S.cfg.slack
+    if q.ins:
+        if _x_near(q.s, at[0], at[1], slack):
+            S.n_ins = q.rec             # nothing left of the inserted piece
+        else:
+            S.ins[q.rec].end[0] = at[0]; S.ins[q.rec].end[1] = at[1]
+            S.n_ins = q.rec + 1
+    else:
+        p = &S.prog.parts[q.part]
+        p.ce[S.first] = at[0]; p.ce[S.second] = at[1]
+        if q.kind == EL_ARC and _x_near(q.s, at[0], at[1], slack):
+            p.radius = 0.0              # an arc of no length would read as a full circle
+        while S.n_ins > 0 and S.ins[S.n_ins - 1].after >= q.part:
+            S.n_ins -= 1
+    stop = b_part + 1 if b_removed else b_part
+    for k in range(q.part + 1, stop):
+        if S.role[k] == ROLE_SET:
+            _discard(S, k)
+    if b_removed:
+        _discard(S, b_part)
+    q.e[0] = at[0]; q.e[1] = at[1]
+    q.sweep = 0.0
+    _x_geometry(q)
+    X.n = qi + 1
+    _x_regroup(X, qi)
+    return True
+
+
+cdef int _x_crossing(CompState *S, XPiece *pp, size_t b_part, bint closing, double *at,
+                     int64_t *qi) noexcept nogil:
+    """Searches a crossing of piece pp; X_WRITE when none, X_DONE when one is to be
+    cut at `at`, X_FAIL on error. closing: pp closes the contour where the chain began."""
+    cdef XState *X = &S.xs
+    qi[0] = _x_find(X, pp, S.cfg.slack, closing, at)
+    if qi[0] < 0:
+        return X_WRITE
+    if not (S.cfg.strategy & CORR_REMOVE_CROSSING) or \
+            (X.pc[qi[0]].first and _x_near(X.pc[qi[0]].s, at[0], at[1], S.cfg.slack)
+             and not (S.cfg.strategy & CORR_ALLOW_FIRST_LAST_CROSS)):
+        X.err_number = ERR_COMP_CROSSING
+        X.err_part = b_part
+        X.err_arg = fabs(_comp_distance(S, &S.prog.parts[b_part]))
+        return X_FAIL
+    return X_DONE
+
+
+cdef int cross_write(CompState *S, CompEl *el) noexcept nogil:
+    """Hook of _write_el: checks the final element el (and its corner insertion)
+    against the earlier path; may move el.ps to a crossing or remove el."""
+    cdef XState *X = &S.xs
+    cdef XPiece pb, pi
+    cdef double at[2]
+    cdef int64_t qi
+    cdef int res
+    cdef InsRec *rec
+    cdef bint closing
+    if el.first:
+        X.n = 0
+        X.base = 0
+        X.start[0] = el.s[0]; X.start[1] = el.s[1]
+    # the last part of a closed contour crosses the first one where they meet (an inner
+    # corner): the start and end rules of the chain, no loop
+    closing = el.part == X.last_part and hypot(el.e[0] - X.start[0], el.e[1] - X.start[1]) < 1e-9
+    # the element's own piece
+    memset(&pb, 0, sizeof(pb))
+    pb.part = el.part
+    pb.kind = el.kind
+    pb.dir = el.dir
+    pb.first = el.first
+    pb.s[0] = el.ps[0]; pb.s[1] = el.ps[1]
+    pb.e[0] = el.pe[0]; pb.e[1] = el.pe[1]
+    pb.c[0] = el.c[0]; pb.c[1] = el.c[1]
+    pb.r = el.ro
+    pb.gprog = True
+    pb.gs[0] = el.s[0]; pb.gs[1] = el.s[1]
+    pb.ge[0] = el.e[0]; pb.ge[1] = el.e[1]
+    pb.gR = el.R
+    pb.gsweep = el.sweep
+    if el.kind == EL_ARC:
+        pb.sweep = el_path_sweep(el)
+        if pb.sweep > 2.0 * M_PI:
+            pb.sweep = 2.0 * M_PI
+        if pb.sweep < 1e-9 or pb.r <= 0:
+            pb.kind = EL_LINE
+            pb.gprog = False
+    _x_geometry(&pb)
+    while True:
+        res = _x_crossing(S, &pb, el.part, closing, at, &qi)
+        if res != X_DONE:
+            break
+        _comp_warn(S, el.part, "loop removed from the path (offsets of distant parts cross)")
+        _x_cut(S, <size_t>qi, at, el.part, False)
+        el.ps[0] = at[0]; el.ps[1] = at[1]
+        pb.s[0] = at[0]; pb.s[1] = at[1]
+        if pb.kind == EL_ARC:
+            pb.sweep = 0.0
+        _x_geometry(&pb)
+    if res == X_FAIL:
+        return X_FAIL
+    if not _x_add(X, &pb, S.cfg.depth):
+        return X_FAIL
+    if el.ins == INS_NONE:
+        return X_WRITE
+    # its corner insertion (the InsRec _write_el adds next)
+    memset(&pi, 0, sizeof(pi))
+    pi.part = el.part
+    pi.after = el.part
+    pi.rec = S.n_ins
+    pi.ins = True
+    pi.kind = EL_LINE if el.ins == INS_G1 else EL_ARC
+    pi.dir = 1 if el.ins == INS_G3 else -1
+    pi.s[0] = el.pe[0]; pi.s[1] = el.pe[1]
+    pi.e[0] = el.ins_end[0]; pi.e[1] = el.ins_end[1]
+    pi.c[0] = el.e[0]; pi.c[1] = el.e[1]
+    pi.r = fabs(el.d)
+    while X.head_prov < X.n_prov and X.prov[X.head_prov] < el.part:
+        X.head_prov += 1
+    if X.head_prov < X.n_prov and X.prov[X.head_prov] == el.part:
+        X.head_prov += 1
+        pi.prov = el.ins == INS_G1
+    if hypot(pi.e[0] - pi.s[0], pi.e[1] - pi.s[1]) < 1e-12:
+        return X_WRITE
+    _x_geometry(&pi)
+    res = _x_crossing(S, &pi, el.part, False, at, &qi)
+    if res == X_FAIL:
+        return X_FAIL
+    if res == X_WRITE:
+        return X_WRITE if _x_add(X, &pi, S.cfg.depth) else X_FAIL
+    # the corner piece crosses: el's own piece is part of the loop; the rest of the
+    # corner becomes an insertion after the earlier part
+    _comp_warn(S, el.part, "loop removed from the path (offsets of distant parts cross)")
+    X.n -= 1                            # el's own piece
+    _x_cut(S, <size_t>qi, at, el.part, True)
+    if hypot(at[0] - pi.e[0], at[1] - pi.e[1]) >= S.cfg.slack:
+        if not _ins_add(S, el):
+            return X_FAIL
+        rec = &S.ins[S.n_ins - 1]
+        rec.after = X.pc[qi].part if not X.pc[qi].ins else X.pc[qi].after
+        pi.rec = S.n_ins - 1
+        pi.after = rec.after
+        pi.s[0] = at[0]; pi.s[1] = at[1]
+        pi.sweep = 0.0
+        _x_geometry(&pi)
+        if not _x_add(X, &pi, S.cfg.depth):
+            return X_FAIL
+    return X_DONE
+
+
+cdef bint cross_join(CompState *S, const CompEl *a, const CompEl *b) noexcept nogil:
+    """Hook of _chain_add: no corner between a and b after parts between them were
+    removed as crossing (0x80000; typically the parallel walls of a notch narrower than
+    the tool). a is joined to b by a G1 that lies in a loop of the path: the crossing
+    search must remove it, else error 500 on a's line (at the chain's end or once it
+    is farther back than the search depth)."""
+    cdef XState *X = &S.xs
+    cdef size_t *prov
+    cdef size_t cap
+    if not (S.cfg.strategy & CORR_REMOVE_CROSSING) or hypot(a.e[0] - b.s[0], a.e[1] - b.s[1]) <= 1e-9:
+        return False
+    if X.head_prov == X.n_prov:
+        X.head_prov = 0
+        X.n_prov = 0
+    if X.n_prov == X.cap_prov:
+        cap = X.cap_prov * 2 if X.cap_prov else 16
+        prov = <size_t *>realloc(X.prov, cap * sizeof(size_t))
+        if prov == NULL:
+            return False
+        X.prov = prov
+        X.cap_prov = cap
+    X.prov[X.n_prov] = a.part
+    X.n_prov += 1
+    return True
+
+
+cdef bint cross_chain_end(CompState *S) noexcept nogil:
+    """Hook of _chain_end (after the last write): False (err filled in S.xs) when a
+    provisional G1 join is still on the path."""
+    cdef XState *X = &S.xs
+    cdef size_t k
+    X.last_part = <size_t>-1
+    for k in range(X.base, X.n):
+        if X.pc[k].prov:
+            X.err_number = ERR_COMP_NOT_FOUND
+            X.err_part = X.pc[k].part
+            return False
+    X.n = 0
+    X.base = 0
+    return True
