@@ -193,3 +193,10 @@ M51
 G40
 M2
 """
+
+
+def ok(host, code, **kw):
+    """Compiles (and simulates) code and fails the test on an error."""
+    r = host.compile(code, **kw)
+    assert r.error is None, r.error
+    return r

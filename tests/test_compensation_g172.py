@@ -1,17 +1,10 @@
 """G172 R C D / G173: the compensation strategy changed from the program."""
 import pytest
 
-from test_compensation_e2e import Hmi
+from test_compensation_e2e import hmi  # noqa: F401  (the fixture)
 
 SQUARE = ("G0 X0 Y-10\nG42 G1 X0 Y0 F1000\nG1 X20 Y0\nG1 X20 Y20\nG1 X0 Y20\nG1 X0 Y0\n"
           "G40 G1 X0 Y-10\n")
-
-
-@pytest.fixture
-def hmi(tmp_path):
-    h = Hmi(tmp_path)
-    yield h
-    h.close()
 
 
 def corner_arcs(parts):

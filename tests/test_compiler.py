@@ -3,11 +3,10 @@ parameters, expressions and program flow (core 1)."""
 import ctypes
 import math
 import random
-from pathlib import Path
 
 import pytest
 
-from compiler_host import SEED_FILE, SEED_PROGRAM, Host, close
+from compiler_host import SEED_FILE, SEED_PROGRAM, Host, close, ok
 from sf_tch import library
 
 @pytest.fixture(scope="module")
@@ -15,12 +14,6 @@ def host(tmp_path_factory):
     h = Host(1, tmp_path_factory.mktemp("core1"))
     yield h
     h.close()
-
-
-def ok(host, code, **kw):
-    r = host.compile(code, **kw)
-    assert r.error is None, r.error
-    return r
 
 
 # ------------------------------------------------------------ the seed program

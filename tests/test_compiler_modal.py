@@ -5,7 +5,7 @@ import time
 
 import pytest
 
-from compiler_host import Host, close, last_error, _wait
+from compiler_host import Host, _wait, close, last_error, ok
 from sf_tch import abi
 
 
@@ -14,12 +14,6 @@ def host(tmp_path_factory):
     h = Host(1, tmp_path_factory.mktemp("core1m"))
     yield h
     h.close()
-
-
-def ok(host, code, **kw):
-    r = host.compile(code, **kw)
-    assert r.error is None, r.error
-    return r
 
 
 def test_compensation_marks_the_parts(host):

@@ -31,16 +31,10 @@ cdef bint program_add_arc_region(Program *prog, size_t first, bint on, int32_t p
                                  double tol_max, double tol_min, double max_angle) noexcept nogil:
     """Records a G167 (compiler): settings in force from programmed part `first` on."""
     cdef ArcRegion *r
-    cdef size_t cap
     if prog.n_arc_regions > 0 and prog.arc_regions[prog.n_arc_regions - 1].first == first:
         prog.n_arc_regions -= 1          # several G167 before the same part: the last one counts
-    if prog.n_arc_regions == prog.cap_arc_regions:
-        cap = prog.cap_arc_regions * 2 if prog.cap_arc_regions else 16
-        r = <ArcRegion *>realloc(prog.arc_regions, cap * sizeof(ArcRegion))
-        if r == NULL:
-            return False
-        prog.arc_regions = r
-        prog.cap_arc_regions = cap
+    if not _grow(<void **>&prog.arc_regions, &prog.cap_arc_regions, prog.n_arc_regions + 1, sizeof(ArcRegion)):
+        return False
     r = &prog.arc_regions[prog.n_arc_regions]
     prog.n_arc_regions += 1
     r.first = first

@@ -1,6 +1,5 @@
 # The compensation strategy of a run: the host's correctionStrategy and tolerances
 # (GCODE_PARAMETERS), changed from the program by G172 R C D and reset by G173.
-from libc.stdlib cimport realloc
 from libc.math cimport sin, M_PI
 
 
@@ -9,16 +8,11 @@ cdef bint program_add_strategy_region(Program *prog, size_t first, bint on, doub
     """Records a G172 (on) / G173 (off) that applies from part `first` on; False =
     no memory. Several before the same part: the last one counts."""
     cdef StrategyRegion *r
-    cdef size_t cap
     if prog.n_strategy_regions > 0 and prog.strategy_regions[prog.n_strategy_regions - 1].first == first:
         prog.n_strategy_regions -= 1
-    if prog.n_strategy_regions == prog.cap_strategy_regions:
-        cap = prog.cap_strategy_regions * 2 if prog.cap_strategy_regions else 16
-        r = <StrategyRegion *>realloc(prog.strategy_regions, cap * sizeof(StrategyRegion))
-        if r == NULL:
-            return False
-        prog.strategy_regions = r
-        prog.cap_strategy_regions = cap
+    if not _grow(<void **>&prog.strategy_regions, &prog.cap_strategy_regions, prog.n_strategy_regions + 1,
+                 sizeof(StrategyRegion)):
+        return False
     r = &prog.strategy_regions[prog.n_strategy_regions]
     prog.n_strategy_regions += 1
     r.first = first
