@@ -32,24 +32,24 @@ cdef enum:
     X_FAIL = 0
 
 ctypedef struct XPiece:
-    size_t part             # part whose path this is (window of the search depth)
-    size_t after            # inserted pieces: the part the InsRec follows
-    size_t rec              # inserted pieces: index of the InsRec in CompState.ins
-    int kind                # EL_LINE / EL_ARC
-    int dir                 # arcs: +1 CCW, -1 CW
-    bint ins                # an inserted corner piece
-    bint first              # the body of the chain's first element
-    bint prov               # a G1 join that has to end up inside a removed loop
     double s[2]
     double e[2]
     double c[2]
     double r                # arc radius
-    double sweep            # arc sweep in dir, (0, 2pi]
+    double sweep            # arc sweep in dir, (0, 2pi]; < 0: not computed yet (_x_sweep)
     double box[4]           # xmin ymin xmax ymax
-    bint gprog              # bodies: the programmed element follows
-    double gs[2]            # its programmed start, end, radius and |sweep|
+    double gs[2]            # bodies: the programmed start, end, radius and |sweep|
     double ge[2]
     double gR, gsweep
+    size_t part             # part whose path this is (window of the search depth)
+    size_t after            # inserted pieces: the part the InsRec follows
+    size_t rec              # inserted pieces: index of the InsRec in CompState.ins
+    signed char kind        # EL_LINE / EL_ARC
+    signed char dir         # arcs: +1 CCW, -1 CW
+    unsigned char ins       # an inserted corner piece
+    unsigned char first     # the body of the chain's first element
+    unsigned char prov      # a G1 join that has to end up inside a removed loop
+    unsigned char gprog     # bodies: the programmed element (gs .. gsweep) follows
 
 ctypedef struct XState:
     XPiece *pc
@@ -83,34 +83,61 @@ cdef inline double _x_angle(const XPiece *q, double x, double y) noexcept nogil:
     return a
 
 
-cdef void _x_geometry(XPiece *q) noexcept nogil:
-    """Sweep and bounding box from s, e (and c, r, dir for arcs)."""
-    cdef double a0, a1, ang, k
-    cdef int i
-    if q.kind == EL_LINE:
-        q.box[0] = q.s[0] if q.s[0] < q.e[0] else q.e[0]
-        q.box[2] = q.e[0] if q.s[0] < q.e[0] else q.s[0]
-        q.box[1] = q.s[1] if q.s[1] < q.e[1] else q.e[1]
-        q.box[3] = q.e[1] if q.s[1] < q.e[1] else q.s[1]
-        return
-    if q.sweep <= 0:
+cdef inline void _x_sweep(XPiece *q) noexcept nogil:
+    """Computes an arc's sweep left for later (< 0) by _x_geometry."""
+    if q.kind == EL_ARC and q.sweep < 0:
         q.sweep = _x_angle(q, q.e[0], q.e[1])
+
+
+cdef inline double _x_pseudo(double x, double y) noexcept nogil:
+    """A monotone stand-in for the angle of (x, y) in [0, 4): k at the k-th axis
+    direction (+x, +y, -x, -y), no trigonometry."""
+    if y >= 0:
+        if x >= 0:
+            return y / (x + y) if x + y > 0 else 0.0
+        return 1.0 - x / (y - x)
+    if x < 0:
+        return 2.0 - y / (-x - y)
+    return 3.0 + x / (x - y)
+
+
+cdef void _x_geometry(XPiece *q) noexcept nogil:
+    """Bounding box from s, e (and c, r, dir for arcs); an arc's sweep <= 0 is computed
+    (== 0) or left for _x_sweep (< 0: only for arcs of at most a half turn)."""
+    cdef double ps, d, t, sy, ey
+    cdef int i
     q.box[0] = q.s[0] if q.s[0] < q.e[0] else q.e[0]
     q.box[2] = q.e[0] if q.s[0] < q.e[0] else q.s[0]
     q.box[1] = q.s[1] if q.s[1] < q.e[1] else q.e[1]
     q.box[3] = q.e[1] if q.s[1] < q.e[1] else q.s[1]
-    # the axis points the arc passes (angles from s: one atan2 for the four)
-    a0 = atan2(q.s[1] - q.c[1], q.s[0] - q.c[0])
+    if q.kind == EL_LINE:
+        return
+    if q.sweep == 0:
+        q.sweep = _x_angle(q, q.e[0], q.e[1])
+    # the axis points the arc passes: pseudo-angles in the arc's direction (CW arcs
+    # mirrored in x), the span from s to e disambiguated by the sweep
+    sy = q.dir * (q.s[1] - q.c[1])
+    ey = q.dir * (q.e[1] - q.c[1])
+    ps = _x_pseudo(q.s[0] - q.c[0], sy)
+    d = _x_pseudo(q.e[0] - q.c[0], ey) - ps
+    if d < 0:
+        d += 4.0
+    if q.sweep < 0 and d < 1e-6:
+        q.sweep = _x_angle(q, q.e[0], q.e[1])     # ends (nearly) together: which way?
+    if q.sweep > 0:
+        if q.sweep > M_PI and d < 2.0:
+            d += 4.0
+        elif q.sweep <= M_PI and d > 2.0:
+            d -= 4.0
     for i in range(4):
-        ang = q.dir * (i * 0.5 * M_PI - a0)
-        while ang < 0:
-            ang += 2.0 * M_PI
-        while ang >= 2.0 * M_PI:
-            ang -= 2.0 * M_PI
-        if ang <= q.sweep:
+        t = i - ps
+        if t < 0:
+            t += 4.0
+        # generous at both ends: a larger box only costs a closer look
+        if t <= d + 1e-9 or t >= 4.0 - 1e-9:
             if i == 0: q.box[2] = q.c[0] + q.r
-            elif i == 1: q.box[3] = q.c[1] + q.r
             elif i == 2: q.box[0] = q.c[0] - q.r
+            elif (i == 1) == (q.dir > 0): q.box[3] = q.c[1] + q.r
             else: q.box[1] = q.c[1] - q.r
 
 
@@ -208,13 +235,13 @@ cdef bint _x_prog_cross(const XPiece *p, const XPiece *q, double slack) noexcept
     return False
 
 
-cdef int64_t _x_find(const XState *X, const XPiece *p, double slack, bint last, double *at) noexcept nogil:
+cdef int64_t _x_find(const XState *X, XPiece *p, double slack, bint last, double *at) noexcept nogil:
     """The earlier piece p crosses first (nearest to p's start along p), -1 if none.
     The last piece (p's predecessor) is not searched."""
     cdef int64_t best = -1
     cdef double best_pos = 1e300, pos, qpos
     cdef double pts[4]
-    cdef const XPiece *q
+    cdef XPiece *q
     cdef size_t j
     cdef int m, k
     if X.n < 2:
@@ -245,6 +272,8 @@ cdef int64_t _x_find(const XState *X, const XPiece *p, double slack, bint last, 
             continue
         if last and q.first:
             continue                    # start/end overlap of a chain: the entry rules
+        _x_sweep(p)
+        _x_sweep(<XPiece *>q)
         m = _x_meet(p, q, slack, pts)
         for k in range(m):
             if not _x_on(p, pts[2 * k], pts[2 * k + 1], slack, &pos) or pos >= best_pos:
@@ -263,18 +292,33 @@ cdef int64_t _x_find(const XState *X, const XPiece *p, double slack, bint last, 
     return best
 
 
+cdef inline void _x_fold(XState *X, int lev, size_t c) noexcept nogil:
+    """Group c of level lev is complete: its box goes into its group of level lev + 1."""
+    cdef const double *b = &X.g[lev][4 * c]
+    cdef double *g = &X.g[lev + 1][4 * (c >> 2)]
+    if (c & 3) == 0:
+        g[0] = b[0]; g[1] = b[1]; g[2] = b[2]; g[3] = b[3]
+    else:
+        _box_union(g, b)
+
+
 cdef void _x_regroup(XState *X, size_t upto) noexcept nogil:
     """Recomputes the group boxes of the groups holding piece `upto` (the last one)."""
-    cdef size_t k, g, size
+    cdef size_t k, g, size, c0, n
     cdef int lev
     cdef double *b
-    for lev in range(XLEV):
+    g = (upto >> 2) << 2
+    b = &X.g[0][4 * (upto >> 2)]
+    memcpy(b, X.pc[g].box, 4 * sizeof(double))
+    for k in range(g + 1, upto + 1):
+        _box_union(b, X.pc[k].box)
+    for lev in range(1, XLEV):
+        # the complete subgroups (level lev - 1) of the group holding upto
         size = (<size_t>4) << (2 * lev)
-        g = (upto / size) * size
-        b = &X.g[lev][4 * (upto / size)]
-        memcpy(b, X.pc[g].box, 4 * sizeof(double))
-        for k in range(g + 1, upto + 1):
-            _box_union(b, X.pc[k].box)
+        c0 = (upto / size) * 4
+        n = (upto + 1 - (upto / size) * size) / (size >> 2)
+        for k in range(n):
+            _x_fold(X, lev - 1, c0 + k)
 
 
 cdef bint _x_add(XState *X, const XPiece *q, size_t depth) noexcept nogil:
@@ -314,12 +358,19 @@ cdef bint _x_add(XState *X, const XPiece *q, size_t depth) noexcept nogil:
     j = X.n
     X.pc[j] = q[0]
     X.n += 1
-    for lev in range(XLEV):
-        g = &X.g[lev][4 * (j >> (2 * lev + 2))]
-        if (j & (((<size_t>4) << (2 * lev)) - 1)) == 0:
-            g[0] = q.box[0]; g[1] = q.box[1]; g[2] = q.box[2]; g[3] = q.box[3]
-        else:
-            _box_union(g, q.box)
+    # the level-0 group box always covers its pieces; the box of a higher group covers
+    # its complete subgroups (folded in when one completes): _x_find reads complete
+    # groups only
+    g = &X.g[0][4 * (j >> 2)]
+    if (j & 3) == 0:
+        g[0] = q.box[0]; g[1] = q.box[1]; g[2] = q.box[2]; g[3] = q.box[3]
+    else:
+        _box_union(g, q.box)
+    j += 1
+    lev = 0
+    while lev + 1 < XLEV and (j & (((<size_t>4) << (2 * lev)) - 1)) == 0:
+        _x_fold(X, lev, (j >> (2 * lev + 2)) - 1)
+        lev += 1
     return True
 
 
@@ -402,8 +453,11 @@ cdef int cross_write(CompState *S, CompEl *el) noexcept nogil:
     # corner): the start and end rules of the chain, no loop
     closing = el.part == X.last_part and hypot(el.e[0] - X.start[0], el.e[1] - X.start[1]) < 1e-9
     # the element's own piece
-    memset(&pb, 0, sizeof(pb))
     pb.part = el.part
+    pb.after = 0
+    pb.rec = 0
+    pb.ins = False
+    pb.prov = False
     pb.kind = el.kind
     pb.dir = el.dir
     pb.first = el.first
@@ -442,11 +496,14 @@ cdef int cross_write(CompState *S, CompEl *el) noexcept nogil:
     if el.ins == INS_NONE:
         return X_WRITE
     # its corner insertion (the InsRec _write_el adds next)
-    memset(&pi, 0, sizeof(pi))
     pi.part = el.part
     pi.after = el.part
     pi.rec = S.n_ins
     pi.ins = True
+    pi.first = False
+    pi.prov = False
+    pi.gprog = False
+    pi.sweep = -1.0                     # a corner: computed when the search needs it
     pi.kind = EL_LINE if el.ins == INS_G1 else EL_ARC
     pi.dir = 1 if el.ins == INS_G3 else -1
     pi.s[0] = el.pe[0]; pi.s[1] = el.pe[1]
