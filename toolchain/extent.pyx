@@ -1,18 +1,28 @@
 # The extent of a compiled program (GetGCodeSizeInfo): start, end, minimum and
 # maximum over every motion part, arcs with their true extreme points.
 from libc.string cimport memcpy
-from libc.math cimport sqrt, hypot
+from libc.math cimport sqrt
 
 
-cdef inline void _widen(GCODE_SIZE *size, const double *point) noexcept nogil:
+cdef inline void _widen(GCODE_SIZE *size, const double *point, int axes) noexcept nogil:
+    """Widens the first `axes` axes of the extent to the point."""
     cdef double *lo = <double *>&size.m_minimalPos
     cdef double *hi = <double *>&size.m_maximalPos
     cdef int k
-    for k in range(10):
+    for k in range(axes):
         if point[k] < lo[k]:
             lo[k] = point[k]
         if point[k] > hi[k]:
             hi[k] = point[k]
+
+
+cdef inline void _widen_axis(GCODE_SIZE *size, int k, double value) noexcept nogil:
+    cdef double *lo = <double *>&size.m_minimalPos
+    cdef double *hi = <double *>&size.m_maximalPos
+    if value < lo[k]:
+        lo[k] = value
+    if value > hi[k]:
+        hi[k] = value
 
 
 cdef inline int _quadrant(double x, double y) noexcept nogil:
@@ -29,7 +39,6 @@ cdef void _widen_arc(GCODE_SIZE *size, const double *s, const double *e, const d
     end, within the angular tolerance of arc_sweep, is a full circle."""
     cdef double sx, sy, ex, ey, cross
     cdef int q, qs, qe, n, k, k0
-    cdef double point[10]
     if radius <= 0:
         return
     sx = s[first] - cc[first]; sy = s[second] - cc[second]
@@ -47,12 +56,11 @@ cdef void _widen_arc(GCODE_SIZE *size, const double *s, const double *e, const d
     # a start exactly on an axis counts too (the ends already widen the extent, but
     # the axis point, centre + radius, may differ from them in the last bits)
     k0 = 0 if n < 4 and (sy == 0 if qs % 2 == 0 else sx == 0) else 1
-    memcpy(point, e, sizeof(point))
+    # the axis points differ from the ends only in the plane axes
     for k in range(k0, n + 1):
         q = (qs + k) & 3
-        point[first] = cc[first] + (radius if q == 0 else (-radius if q == 2 else 0.0))
-        point[second] = cc[second] + (radius if q == 1 else (-radius if q == 3 else 0.0))
-        _widen(size, point)
+        _widen_axis(size, first, cc[first] + (radius if q == 0 else (-radius if q == 2 else 0.0)))
+        _widen_axis(size, second, cc[second] + (radius if q == 1 else (-radius if q == 3 else 0.0)))
 
 
 cdef inline void _start_size(GCODE_SIZE *size, const double *start) noexcept nogil:
@@ -79,56 +87,81 @@ cdef inline void _unrotate(const Program *prog, uint16_t rot_idx, double *point)
 cdef void _extent_pair(const Program *prog, GCODE_SIZE *programmed, GCODE_SIZE *tool,
                        bint rotated) noexcept nogil:
     """The programmed and the compensated extent in one pass, as the machine runs
-    them (rotated) or as the program is written (G168 undone)."""
-    cdef size_t i
+    them (rotated) or as the program is written (G168 undone). The tool path differs
+    from the programmed one only in x y z: its other axes are copied at the end."""
+    cdef size_t i, last = prog.n_parts
     cdef const Part *p
-    cdef double s[10]
-    cdef double e[10]
-    cdef double cc[3]
-    cdef double cs[10]
-    cdef double ce[10]
-    cdef int first, second, normal
+    cdef const double *s
+    cdef const double *e
+    cdef const double *cc
+    cdef double s_buf[10]
+    cdef double e_buf[10]
+    cdef double cc_buf[3]
+    cdef double cs[3]
+    cdef double ce[3]
+    cdef double tool_end[3]
+    cdef double dx, dy
+    cdef int first, second, normal, k
     cdef bint arc
-    cdef uint16_t prev_rot = 0
+    cdef uint16_t prev_rot
     _start_size(programmed, prog.start)
     _start_size(tool, prog.start)
     for i in range(prog.n_parts):
         p = &prog.parts[i]
         if p.kind != PART_MOTION:
             continue
-        memcpy(s, part_start(prog, i), sizeof(s))
-        memcpy(e, p.e, sizeof(e))
-        memcpy(cc, p.cc, sizeof(cc))
-        if not rotated:
-            prev_rot = prog.parts[i - 1].rot_idx if i > 0 else 0
-            _unrotate(prog, prev_rot, s)
-            _unrotate(prog, p.rot_idx, e)
-            _unrotate(prog, p.rot_idx, cc)
-        _widen(programmed, e)
-        memcpy(&programmed.m_endPos, e, sizeof(P10DOUBLE))
+        last = i
+        s = part_start(prog, i)
+        e = p.e
+        cc = p.cc
+        prev_rot = prog.parts[i - 1].rot_idx if i > 0 else 0
+        if not rotated and (prev_rot != 0 or p.rot_idx != 0):
+            memcpy(s_buf, s, sizeof(s_buf))
+            memcpy(e_buf, e, sizeof(e_buf))
+            memcpy(cc_buf, cc, sizeof(cc_buf))
+            _unrotate(prog, prev_rot, s_buf)
+            _unrotate(prog, p.rot_idx, e_buf)
+            _unrotate(prog, p.rot_idx, cc_buf)
+            s = s_buf
+            e = e_buf
+            cc = cc_buf
+        _widen(programmed, e, 10)
         arc = (p.func == 2 or p.func == 3) and plane_axes(p.plane, &first, &second, &normal)
         if arc:
-            _widen_arc(programmed, s, e, cc, hypot(s[first] - cc[first], s[second] - cc[second]),
-                       first, second, p.func == 3)
+            dx = s[first] - cc[first]
+            dy = s[second] - cc[second]
+            _widen_arc(programmed, s, e, cc, sqrt(dx * dx + dy * dy), first, second, p.func == 3)
         if not prog.compensated:
             continue
-        # the tool path: compensated x y z (the other axes as programmed)
         ce[0] = p.ce[0]; ce[1] = p.ce[1]; ce[2] = p.ce[2]
-        memcpy(ce + 3, p.e + 3, 7 * sizeof(double))
         if not rotated:
             _unrotate(prog, p.rot_idx, ce)
-        _widen(tool, ce)
-        memcpy(&tool.m_endPos, ce, sizeof(P10DOUBLE))
+        _widen(tool, ce, 3)
+        tool_end[0] = ce[0]; tool_end[1] = ce[1]; tool_end[2] = ce[2]
         if arc:
-            # only the plane axes of the start matter: the previous part's compensated end
-            memcpy(cs, s, sizeof(cs))
+            # the previous part's compensated end
             if i > 0:
                 cs[0] = prog.parts[i - 1].ce[0]; cs[1] = prog.parts[i - 1].ce[1]; cs[2] = prog.parts[i - 1].ce[2]
                 if not rotated:
                     _unrotate(prog, prev_rot, cs)
+            else:
+                cs[0] = s[0]; cs[1] = s[1]; cs[2] = s[2]
             _widen_arc(tool, cs, ce, cc, p.radius, first, second, p.func == 3)
+    if last == prog.n_parts:
+        tool[0] = programmed[0]
+        return
+    memcpy(&programmed.m_endPos, prog.parts[last].e, sizeof(P10DOUBLE))
+    if not rotated:
+        _unrotate(prog, prog.parts[last].rot_idx, <double *>&programmed.m_endPos)
     if not prog.compensated:
         tool[0] = programmed[0]
+        return
+    # the axes the compensation leaves alone
+    tool.m_endPos = programmed.m_endPos
+    for k in range(3, 10):
+        (<double *>&tool.m_minimalPos)[k] = (<double *>&programmed.m_minimalPos)[k]
+        (<double *>&tool.m_maximalPos)[k] = (<double *>&programmed.m_maximalPos)[k]
+    memcpy(&tool.m_endPos, tool_end, sizeof(tool_end))
 
 
 cdef void program_extent(const Program *prog, GCODE_INFO *info) noexcept nogil:
