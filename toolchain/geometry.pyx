@@ -1,7 +1,13 @@
 # Plane and arc geometry shared by the stages (compiler, compensation, size info,
 # planner). Planes name their two arc axes in order (first, second) and the normal:
 # 17 XY, 18 XZ, 19 YZ, -18 ZX. Counter-clockwise = positive turn from first to second.
-from libc.math cimport atan2, sqrt, fabs, M_PI, cos, sin, hypot
+from libc.math cimport atan2, sqrt, fabs, M_PI, cos, sin
+
+
+cdef inline double distance2d(double dx, double dy) noexcept nogil:
+    """Length of (dx, dy). libm's hypot guards against overflow at several times the
+    cost; machine coordinates never come near it."""
+    return sqrt(dx * dx + dy * dy)
 
 
 cdef const char *axis_name(int k) noexcept nogil:

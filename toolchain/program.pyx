@@ -2,7 +2,7 @@
 # texts, and the one place a Part becomes a SIMPLE_GM_PARAMS.
 from libc.stdlib cimport malloc, realloc, free
 from libc.string cimport memset, memcpy, memcmp, memmove
-from libc.math cimport sqrt, fabs, hypot
+from libc.math cimport sqrt, fabs
 from program cimport *
 from includes.tgm_cnc cimport SIMPLE_GM_PARAMS, P10DOUBLE, P26FLOAT
 
@@ -223,7 +223,7 @@ cdef void part_to_gm(const Program *prog, size_t i, SIMPLE_GM_PARAMS *gm) noexce
         gm.m_pars.N = <float>part_length(prog, i)
         if (p.func == 2 or p.func == 3) and plane_axes(p.plane, &first, &second, &normal):
             start = part_start(prog, i)
-            gm.m_pars.R = <float>hypot(start[first] - p.cc[first], start[second] - p.cc[second])
+            gm.m_pars.R = <float>distance2d(start[first] - p.cc[first], start[second] - p.cc[second])
             gm.m_cc.x = p.cc[0]
             gm.m_cc.y = p.cc[1]
             gm.m_cc.z = p.cc[2]

@@ -14,9 +14,9 @@
 #   5. one merge pass rebuilds the part array with the insertions and gives the parts
 #      without motion in the plane the compensated position they sit at.
 from libc.stdlib cimport malloc, realloc, free, calloc
-from libc.string cimport memcpy, memset, memchr
+from libc.string cimport memcpy, memmove, memset, memchr
 from libc.stdio cimport snprintf
-from libc.math cimport fabs, hypot, sin, M_PI
+from libc.math cimport fabs, sin, M_PI
 
 cdef enum:
     ROLE_NONE = 0           # not compensated: ce = e
@@ -298,7 +298,7 @@ cdef bint _in_plane_motion(const CompState *S, size_t k, bint *is_arc) noexcept 
         is_arc[0] = True
         return True
     s = part_start(S.prog, k)
-    return hypot(p.e[S.first] - s[S.first], p.e[S.second] - s[S.second]) > 1e-9
+    return distance2d(p.e[S.first] - s[S.first], p.e[S.second] - s[S.second]) > 1e-9
 
 
 cdef int _run(CompState *S, size_t i, size_t j) noexcept nogil:
@@ -510,7 +510,7 @@ cdef int _merge(CompState *S) noexcept nogil:
     cdef Part *prev
     cdef Part *parts
     cdef const InsRec *rec
-    cdef size_t k, w, r, last_w
+    cdef size_t k, w, r, after, run, next_w
     cdef double cur[3]
     cdef int first, second, normal
     if S.n_ins == 0 and not S.has_followers:
@@ -545,23 +545,29 @@ cdef int _merge(CompState *S) noexcept nogil:
         return _comp_fail(S, ERR_OUT_OF_MEMORY, 0, 0, 0)
     prog.parts = parts
     prog.cap_parts = total
+    # parts [0, k) have not moved yet; part k now lives at next_w (total: there is
+    # no part after the last one). Every group but the first moves a run of at least
+    # its own corner part.
     w = total
-    r = S.n_ins
-    last_w = total
     k = n
-    while k > 0:
-        k -= 1
-        # parts[k] has not moved yet; parts[k + 1] now lives at last_w
-        while r > 0 and S.ins[r - 1].after == k:
+    next_w = total
+    r = S.n_ins
+    while r > 0:
+        after = S.ins[r - 1].after
+        run = k - (after + 1)
+        if run > 0:
+            w -= run
+            memmove(&parts[w], &parts[after + 1], run * sizeof(Part))
+            next_w = w
+        k = after + 1
+        # the insertions after this part, last first; parts[w - 1] lies above both
+        # `after` and next_w, so it is written in place
+        while r > 0 and S.ins[r - 1].after == after:
             rec = &S.ins[r - 1]
-            # parts[w - 1] lies above both k and last_w: written in place
             w -= 1
-            _inserted_part(&parts[w], &parts[k], &parts[last_w] if rec.src_next else &parts[k], rec, S.params)
+            _inserted_part(&parts[w], &parts[after], &parts[next_w] if rec.src_next else &parts[after],
+                           rec, S.params)
             r -= 1
-        w -= 1
-        if w != k:
-            parts[w] = parts[k]
-        last_w = w
     prog.n_parts = total
     return COMPILE_OK
 

@@ -6,7 +6,7 @@
 #   3. outer corner: an arc about the programmed corner (radius = tool radius), or with
 #      CORR_CORNER_INTERSECTION the intersection of the extended offsets when it lies
 #      closer than factor x radius to the corner.
-from libc.math cimport atan2, fabs, hypot, M_PI
+from libc.math cimport atan2, fabs, M_PI
 
 
 ctypedef struct CompCfg:
@@ -41,11 +41,11 @@ cdef int corner_resolve(CompEl *a, CompEl *b, const CompCfg *cfg) noexcept nogil
         # side or radius changed without G40: join the two perpendicular points by a line
         a.pe[0] = a.oe[0]; a.pe[1] = a.oe[1]
         b.ps[0] = b.os[0]; b.ps[1] = b.os[1]
-        if hypot(a.oe[0] - b.os[0], a.oe[1] - b.os[1]) > cfg.slack:
+        if distance2d(a.oe[0] - b.os[0], a.oe[1] - b.os[1]) > cfg.slack:
             a.ins = INS_G1
             a.ins_end[0] = b.os[0]; a.ins_end[1] = b.os[1]
         return CORNER_OK
-    if hypot(a.e[0] - b.s[0], a.e[1] - b.s[1]) > 1e-9:
+    if distance2d(a.e[0] - b.s[0], a.e[1] - b.s[1]) > 1e-9:
         # parts between them were removed: no common corner to go round, only the
         # intersection of the two offsets joins them
         ref[0] = 0.5 * (a.oe[0] + b.os[0])
@@ -77,7 +77,7 @@ cdef int corner_resolve(CompEl *a, CompEl *b, const CompCfg *cfg) noexcept nogil
         b.ps[0] = x[0]; b.ps[1] = x[1]
         return CORNER_OK
     if (cfg.strategy & CORR_CORNER_INTERSECTION) and el_intersect(a, b, ref, cfg.slack, x) \
-            and hypot(x[0] - a.e[0], x[1] - a.e[1]) < (cfg.corner_distance if cfg.corner_distance > 0
+            and distance2d(x[0] - a.e[0], x[1] - a.e[1]) < (cfg.corner_distance if cfg.corner_distance > 0
                                                        else cfg.factor * fabs(a.d)):
         a.pe[0] = x[0]; a.pe[1] = x[1]
         b.ps[0] = x[0]; b.ps[1] = x[1]

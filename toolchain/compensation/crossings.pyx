@@ -19,7 +19,7 @@
 # the first one (a start at an inner corner: the entry and exit rules).
 from libc.stdlib cimport realloc, free
 from libc.string cimport memmove, memcpy, memset
-from libc.math cimport fabs, hypot, sqrt, atan2, M_PI
+from libc.math cimport fabs, sqrt, atan2, M_PI
 
 cdef extern from *:
     int __builtin_ctzll(unsigned long long) nogil
@@ -195,7 +195,7 @@ cdef int _x_meet(const XPiece *p, const XPiece *q, double slack, double *pts) no
         pts[2] = ln.s[0] + (-b - sq) * dx; pts[3] = ln.s[1] + (-b - sq) * dy
         return 2
     dx = q.c[0] - p.c[0]; dy = q.c[1] - p.c[1]
-    dist = hypot(dx, dy)
+    dist = distance2d(dx, dy)
     if dist < 1e-12:
         return 0
     a = (p.r * p.r - q.r * q.r + dist * dist) / (2.0 * dist)
@@ -451,7 +451,7 @@ cdef int cross_write(CompState *S, CompEl *el) noexcept nogil:
         X.start[0] = el.s[0]; X.start[1] = el.s[1]
     # the last part of a closed contour crosses the first one where they meet (an inner
     # corner): the start and end rules of the chain, no loop
-    closing = el.part == X.last_part and hypot(el.e[0] - X.start[0], el.e[1] - X.start[1]) < 1e-9
+    closing = el.part == X.last_part and distance2d(el.e[0] - X.start[0], el.e[1] - X.start[1]) < 1e-9
     # the element's own piece
     pb.part = el.part
     pb.after = 0
@@ -515,7 +515,7 @@ cdef int cross_write(CompState *S, CompEl *el) noexcept nogil:
     if X.head_prov < X.n_prov and X.prov[X.head_prov] == el.part:
         X.head_prov += 1
         pi.prov = el.ins == INS_G1
-    if hypot(pi.e[0] - pi.s[0], pi.e[1] - pi.s[1]) < 1e-12:
+    if distance2d(pi.e[0] - pi.s[0], pi.e[1] - pi.s[1]) < 1e-12:
         return X_WRITE
     _x_geometry(&pi)
     res = _x_crossing(S, &pi, el.part, False, at, &qi)
@@ -528,7 +528,7 @@ cdef int cross_write(CompState *S, CompEl *el) noexcept nogil:
     _comp_warn(S, el.part, "loop removed from the path (offsets of distant parts cross)")
     X.n -= 1                            # el's own piece
     _x_cut(S, <size_t>qi, at, el.part, True)
-    if hypot(at[0] - pi.e[0], at[1] - pi.e[1]) >= S.cfg.slack:
+    if distance2d(at[0] - pi.e[0], at[1] - pi.e[1]) >= S.cfg.slack:
         if not _ins_add(S, el):
             return X_FAIL
         rec = &S.ins[S.n_ins - 1]
@@ -552,7 +552,7 @@ cdef bint cross_join(CompState *S, const CompEl *a, const CompEl *b) noexcept no
     cdef XState *X = &S.xs
     cdef size_t *prov
     cdef size_t cap
-    if not (S.cfg.strategy & CORR_REMOVE_CROSSING) or hypot(a.e[0] - b.s[0], a.e[1] - b.s[1]) <= 1e-9:
+    if not (S.cfg.strategy & CORR_REMOVE_CROSSING) or distance2d(a.e[0] - b.s[0], a.e[1] - b.s[1]) <= 1e-9:
         return False
     if X.head_prov == X.n_prov:
         X.head_prov = 0

@@ -15,7 +15,7 @@
 # (insertArcMode 1) nor any G167 of the program switches insertion on.
 from libc.stdlib cimport realloc, free, malloc
 from libc.string cimport memcpy, memset
-from libc.math cimport fabs, hypot, atan2, cos, tan, M_PI
+from libc.math cimport fabs, atan2, cos, tan, M_PI
 
 
 ctypedef struct ArcIns:
@@ -66,7 +66,7 @@ cdef bint _ia_in_plane_line(const Program *prog, size_t k, int a, int b) noexcep
     for i in range(10):
         if i != a and i != b and fabs(e[i] - s[i]) > 1e-9:
             return False
-    return hypot(e[a] - s[a], e[b] - s[b]) > 1e-9
+    return distance2d(e[a] - s[a], e[b] - s[b]) > 1e-9
 
 
 cdef int insert_arcs(Program *prog, const GCODE_PARAMETERS *params, ErrorInfo *err) noexcept nogil:
@@ -130,8 +130,8 @@ cdef int insert_arcs(Program *prog, const GCODE_PARAMETERS *params, ErrorInfo *e
         _ia_point(p, a, b, e1)
         if on and tol_max > 0 and prev_line and prev_a == a and prev_b == b:
             # corner at s1 between the previous line (prev_start -> s1) and this one
-            len0 = hypot(s1[0] - prev_start[0], s1[1] - prev_start[1])
-            len1 = hypot(e1[0] - s1[0], e1[1] - s1[1])
+            len0 = distance2d(s1[0] - prev_start[0], s1[1] - prev_start[1])
+            len1 = distance2d(e1[0] - s1[0], e1[1] - s1[1])
             u0[0] = (s1[0] - prev_start[0]) / len0; u0[1] = (s1[1] - prev_start[1]) / len0
             u1[0] = (e1[0] - s1[0]) / len1; u1[1] = (e1[1] - s1[1]) / len1
             cross = u0[0] * u1[1] - u0[1] * u1[0]
@@ -164,7 +164,7 @@ cdef int insert_arcs(Program *prog, const GCODE_PARAMETERS *params, ErrorInfo *e
                     x.end[0] = s1[0] + u1[0] * tang; x.end[1] = s1[1] + u1[1] * tang
                     # centre: from the corner along the bisector (towards the inside)
                     bis[0] = u1[0] - u0[0]; bis[1] = u1[1] - u0[1]
-                    bl = hypot(bis[0], bis[1])
+                    bl = distance2d(bis[0], bis[1])
                     x.cc[0] = s1[0] + bis[0] / bl * rad / ct
                     x.cc[1] = s1[1] + bis[1] / bl * rad / ct
                     x.radius = rad

@@ -1,7 +1,7 @@
 # Offset curves (equidistants) of lines and arcs in the compensation plane.
 # Everything here is plain 2-D geometry on (first, second) plane coordinates; the
 # offset distance d is signed: d > 0 = left of the direction of travel (G41).
-from libc.math cimport sqrt, fabs, atan2, M_PI, hypot
+from libc.math cimport sqrt, fabs, atan2, M_PI
 
 cdef extern from "tgm_cnc.h":
     enum:
@@ -79,7 +79,7 @@ cdef bint el_init(CompEl *el, size_t part, int kind, int direction, double d,
     el.first = False
     el.fixed_start = False
     if kind == EL_LINE:
-        L = hypot(e[0] - s[0], e[1] - s[1])
+        L = distance2d(e[0] - s[0], e[1] - s[1])
         if L <= 1e-12:
             return False
         el.u[0] = (e[0] - s[0]) / L
@@ -91,7 +91,7 @@ cdef bint el_init(CompEl *el, size_t part, int kind, int direction, double d,
         el.oe[0] = e[0] - d * el.u[1]; el.oe[1] = e[1] + d * el.u[0]
     else:
         el.c[0] = c[0]; el.c[1] = c[1]
-        el.R = hypot(s[0] - c[0], s[1] - c[1])
+        el.R = distance2d(s[0] - c[0], s[1] - c[1])
         el.sweep = fabs(sweep)
         el.u[0] = 0.0; el.u[1] = 0.0
         # the left side of a CCW arc is its centre: the radius shrinks by d
@@ -100,7 +100,7 @@ cdef bint el_init(CompEl *el, size_t part, int kind, int direction, double d,
         # circle, within the arc-centre tolerance, still gives a point on the path)
         f = el.ro / el.R if el.R > 0 else 0.0
         el.os[0] = c[0] + (s[0] - c[0]) * f; el.os[1] = c[1] + (s[1] - c[1]) * f
-        L = hypot(e[0] - c[0], e[1] - c[1])
+        L = distance2d(e[0] - c[0], e[1] - c[1])
         f = el.ro / L if L > 0 else 0.0
         el.oe[0] = c[0] + (e[0] - c[0]) * f; el.oe[1] = c[1] + (e[1] - c[1]) * f
     el.ps[0] = el.os[0]; el.ps[1] = el.os[1]
@@ -125,7 +125,7 @@ cdef void el_tangent(const CompEl *el, bint at_end, double *t) noexcept nogil:
 cdef inline void _pick(double ax, double ay, double bx, double by, const double *ref,
                        double *out) noexcept nogil:
     # the root nearer the reference point
-    if hypot(ax - ref[0], ay - ref[1]) <= hypot(bx - ref[0], by - ref[1]):
+    if distance2d(ax - ref[0], ay - ref[1]) <= distance2d(bx - ref[0], by - ref[1]):
         out[0] = ax; out[1] = ay
     else:
         out[0] = bx; out[1] = by
@@ -152,7 +152,7 @@ cdef bint _line_circle(const double *p, const double *u, const double *c, double
 cdef bint _circle_circle(const double *c1, double r1, const double *c2, double r2,
                          double slack, const double *ref, double *out) noexcept nogil:
     cdef double dx = c2[0] - c1[0], dy = c2[1] - c1[1]
-    cdef double dist = hypot(dx, dy)
+    cdef double dist = distance2d(dx, dy)
     cdef double a, h2, h, mx, my
     if dist < 1e-12:
         return False

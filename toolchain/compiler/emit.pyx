@@ -1,7 +1,7 @@
 # Parts: turns the executed words of a line into compact Part records (motion,
 # dwell, M function, print). Geometry is computed in program coordinates and then
 # transformed to machine coordinates (zero offset, G92, mirroring, rotation).
-from libc.math cimport hypot, fabs, sqrt
+from libc.math cimport fabs, sqrt
 
 
 cdef Part *em_part(CState *st, int kind, int func) noexcept nogil:
@@ -128,7 +128,7 @@ cdef inline double val(const LineWords *lw, char letter) noexcept nogil:
 cdef int em_arc_error(CState *st, int fa, int sa, const double *s, const double *e, double rs,
                       double re) noexcept nogil:
     cdef ErrArg a[11]
-    cdef double chord = hypot(e[fa] - s[fa], e[sa] - s[sa])
+    cdef double chord = distance2d(e[fa] - s[fa], e[sa] - s[sa])
     cdef int i
     for i in range(11):
         a[i].text = NULL
@@ -168,7 +168,7 @@ cdef int em_arc(CState *st, const LineWords *lw, Part *p, int *func, const doubl
         tol = 0.005
     if has(lw, b'R'):
         r = val(lw, b'R')
-        d = hypot(ex - sx, ey - sy)
+        d = distance2d(ex - sx, ey - sy)
         if d == 0.0 or r == 0.0:
             return cerr(st, ERR_ARC_NO_CENTRE)
         if d > 2.0 * fabs(r) + tol:
@@ -193,8 +193,8 @@ cdef int em_arc(CState *st, const LineWords *lw, Part *p, int *func, const doubl
             cy = sy + (val(lw, lj) if has(lw, lj) else 0.0)
     else:
         return cerr(st, ERR_ARC_NO_CENTRE)
-    rs = hypot(sx - cx, sy - cy)
-    re = hypot(ex - cx, ey - cy)
+    rs = distance2d(sx - cx, sy - cy)
+    re = distance2d(ex - cx, ey - cy)
     if rs == 0.0:
         return cerr(st, ERR_ARC_NO_CENTRE)
     if fabs(rs - re) > tol:
