@@ -182,12 +182,29 @@ def test_a_contour_crossing_itself_is_no_loop(harness):
         assert ce == [(0, -10), (0, 1), (19, 1), (19, 4), (11, 4), (11, -10), (10, -20)]
 
 
-@pytest.mark.xfail(strict=True, reason="a chain starting inside the neck keeps the neck (docs/compensation.md)")
-def test_dumbbell_entered_in_the_neck(harness):
+@pytest.mark.parametrize("reverse", [False, True])
+@pytest.mark.parametrize("r", [2.5, 3.0, 4.0])
+def test_dumbbell_entered_in_the_neck_is_an_error(harness, reverse, r):
+    # the chain starts in the bar: the loop cuts would keep the bar's offsets, which
+    # lie closer than r to the other side of the bar; error 504 on a bar line
     pts = DUMBBELL[2:] + DUMBBELL[:2]       # the first edge is the bar's bottom
     m0, els = polygon_elements(pts)
-    out, err, _ = run(harness, m0, els, 3.0, 41, REMOVE)
-    if err is None:
-        path = tool_path(out, 2, len(out) - 2)
-        d = shapely.distance(shapely.points(path), LineString(programmed_polyline(m0, els)))
-        assert float(np.min(d)) > 3.0 - TOL
+    g = 41
+    if reverse:
+        m0, els = reverse_contour(m0, els)
+        g = 42
+    out, err, warn = run(harness, m0, els, r, g, REMOVE)
+    assert err is not None and err["number"] == ERR_COMP_CROSSING, (err, warn)
+    # lines: 1 approach, 2 G41 block, 3 .. the contour: the bar is its first or last edge
+    assert err["line"] in (3, len(els) + 2)
+    assert "loop removed" in warn
+
+
+def test_dumbbell_entered_in_a_wide_neck_is_clean(harness):
+    pts = DUMBBELL[2:] + DUMBBELL[:2]
+    m0, els = polygon_elements(pts)
+    out, err, warn = run(harness, m0, els, 1.9, 41, REMOVE)
+    assert err is None and "loop" not in warn
+    path = tool_path(out, 2, len(out) - 2)
+    d = shapely.distance(shapely.points(path), LineString(programmed_polyline(m0, els)))
+    assert float(np.min(d)) > 1.9 - TOL

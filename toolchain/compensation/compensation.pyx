@@ -282,7 +282,7 @@ cdef int _chain_end(CompState *S, bint fixed_end) noexcept nogil:
     if not _flush(S, 0):
         return _comp_fail(S, ERR_OUT_OF_MEMORY, S.prog.main_file_idx, 0, 0)
     if not cross_chain_end(S):
-        return _comp_fail(S, S.xs.err_number, S.xs.err_part, 0, 0)
+        return _comp_fail(S, S.xs.err_number, S.xs.err_part, S.xs.err_arg, 0)
     S.entry_part = -1
     return COMPILE_OK
 

@@ -50,6 +50,7 @@ ctypedef struct XPiece:
     unsigned char first     # the body of the chain's first element
     unsigned char prov      # a G1 join that has to end up inside a removed loop
     unsigned char gprog     # bodies: the programmed element (gs .. gsweep) follows
+    unsigned char cut       # a loop was cut at one of its ends (checked at the chain's end)
 
 ctypedef struct XState:
     XPiece *pc
@@ -417,6 +418,124 @@ cdef bint _x_cut(CompState *S, size_t qi, const double *at, size_t b_part, bint 
     return True
 
 
+cdef double _x_dist(const XPiece *g, double x, double y) noexcept nogil:
+    """Distance of a point from piece g (a line segment or an arc with its sweep)."""
+    cdef double dx, dy, L2, t, rho
+    if g.kind == EL_LINE:
+        dx = g.e[0] - g.s[0]; dy = g.e[1] - g.s[1]
+        L2 = dx * dx + dy * dy
+        t = ((x - g.s[0]) * dx + (y - g.s[1]) * dy) / L2 if L2 > 0 else 0.0
+        t = 0.0 if t < 0 else (1.0 if t > 1 else t)
+        return distance2d(x - g.s[0] - t * dx, y - g.s[1] - t * dy)
+    rho = distance2d(x - g.c[0], y - g.c[1])
+    if rho > 0 and _x_angle(g, x, y) <= g.sweep:
+        return fabs(rho - g.r)
+    dx = distance2d(x - g.s[0], y - g.s[1])
+    dy = distance2d(x - g.e[0], y - g.e[1])
+    return dx if dx < dy else dy
+
+
+cdef int _x_toward(const XPiece *t, double x, double y, double *pts) noexcept nogil:
+    """Points of piece t nearest to the point (x, y) and, for arcs, farthest from it on
+    its circle (0 to 2 candidates, in pts)."""
+    cdef double dx, dy, L2, u, rho
+    cdef int n = 0, k
+    if t.kind == EL_LINE:
+        dx = t.e[0] - t.s[0]; dy = t.e[1] - t.s[1]
+        L2 = dx * dx + dy * dy
+        u = ((x - t.s[0]) * dx + (y - t.s[1]) * dy) / L2 if L2 > 0 else 0.0
+        u = 0.0 if u < 0 else (1.0 if u > 1 else u)
+        pts[0] = t.s[0] + u * dx; pts[1] = t.s[1] + u * dy
+        return 1
+    rho = distance2d(x - t.c[0], y - t.c[1])
+    if rho <= 0:
+        return 0
+    for k in range(2):
+        u = 1.0 - 2.0 * k
+        pts[2 * n] = t.c[0] + u * t.r * (x - t.c[0]) / rho
+        pts[2 * n + 1] = t.c[1] + u * t.r * (y - t.c[1]) / rho
+        if _x_angle(t, pts[2 * n], pts[2 * n + 1]) <= t.sweep:
+            n += 1
+    return n
+
+
+cdef double _x_gap(const XPiece *t, const XPiece *g, double slack) noexcept nogil:
+    """Smallest distance between pieces t and g: 0 when they cross, else the least over
+    the points where it can occur (ends, feet of the other's ends and centre, the
+    points of an arc facing a line or the other circle)."""
+    cdef double pts[4]
+    cdef double cand[24]
+    cdef double best, d, pos, nx, ny, L
+    cdef int m, k, n = 0
+    m = _x_meet(t, g, slack, pts)
+    for k in range(m):
+        if _x_on(t, pts[2 * k], pts[2 * k + 1], 0.0, &pos) and _x_on(g, pts[2 * k], pts[2 * k + 1], 0.0, &pos):
+            return 0.0
+    cand[0] = t.s[0]; cand[1] = t.s[1]; cand[2] = t.e[0]; cand[3] = t.e[1]
+    n = 2
+    n += _x_toward(t, g.s[0], g.s[1], &cand[2 * n])
+    n += _x_toward(t, g.e[0], g.e[1], &cand[2 * n])
+    if g.kind == EL_ARC:
+        n += _x_toward(t, g.c[0], g.c[1], &cand[2 * n])
+    elif t.kind == EL_ARC:
+        # the points of t's circle along g's normal through its centre
+        L = distance2d(g.e[0] - g.s[0], g.e[1] - g.s[1])
+        if L > 0:
+            nx = -(g.e[1] - g.s[1]) / L; ny = (g.e[0] - g.s[0]) / L
+            n += _x_toward(t, t.c[0] + nx, t.c[1] + ny, &cand[2 * n])
+    best = 1e300
+    for k in range(n):
+        d = _x_dist(g, cand[2 * k], cand[2 * k + 1])
+        if d < best:
+            best = d
+    return best
+
+
+cdef bint _x_clear(CompState *S, const XPiece *t, size_t last_part) noexcept nogil:
+    """At the chain's end, for a piece next to a loop cut: it keeps the tool radius from
+    the programmed contour of the chain's parts in the search window (up to
+    last_part). Otherwise the cuts kept the wrong side (a chain starting inside a neck
+    narrower than the tool): error 504 on t's line. False with S.xs.err_* filled."""
+    cdef XState *X = &S.xs
+    cdef const Part *p
+    cdef const double *st
+    cdef XPiece g
+    cdef double r = fabs(_comp_distance(S, &S.prog.parts[t.part]))
+    cdef double turn, box[4]
+    cdef size_t k
+    cdef bint is_arc
+    if X.base >= X.n:
+        return True
+    box[0] = t.box[0] - r; box[1] = t.box[1] - r; box[2] = t.box[2] + r; box[3] = t.box[3] + r
+    memset(&g, 0, sizeof(g))
+    for k in range(X.pc[X.base].part, last_part + 1):
+        p = &S.prog.parts[k]
+        if p.func == 0 or not _in_plane_motion(S, k, &is_arc):
+            continue
+        st = part_start(S.prog, k)
+        g.s[0] = st[S.first]; g.s[1] = st[S.second]
+        g.e[0] = p.e[S.first]; g.e[1] = p.e[S.second]
+        g.kind = EL_LINE
+        if is_arc or p.func == 2 or p.func == 3:
+            g.kind = EL_ARC
+            g.dir = 1 if p.func == 3 else -1
+            g.c[0] = p.cc[S.first]; g.c[1] = p.cc[S.second]
+            g.r = distance2d(g.s[0] - g.c[0], g.s[1] - g.c[1])
+            turn = g.dir * _turn(g.s[0] - g.c[0], g.s[1] - g.c[1], g.e[0] - g.c[0], g.e[1] - g.c[1])
+            g.sweep = turn if turn > 1e-12 else turn + 2.0 * M_PI
+            if g.r <= 0:
+                continue
+        _x_geometry(&g)
+        if not _box_hit(g.box, box, 0.0):
+            continue
+        if _x_gap(t, &g, S.cfg.slack) < r - S.cfg.slack:
+            X.err_number = ERR_COMP_CROSSING
+            X.err_part = t.part
+            X.err_arg = r
+            return False
+    return True
+
+
 cdef int _x_crossing(CompState *S, XPiece *pp, size_t b_part, bint closing, double *at,
                      int64_t *qi) noexcept nogil:
     """Searches a crossing of piece pp; X_WRITE when none, X_DONE when one is to be
@@ -458,6 +577,7 @@ cdef int cross_write(CompState *S, CompEl *el) noexcept nogil:
     pb.rec = 0
     pb.ins = False
     pb.prov = False
+    pb.cut = False
     pb.kind = el.kind
     pb.dir = el.dir
     pb.first = el.first
@@ -489,6 +609,8 @@ cdef int cross_write(CompState *S, CompEl *el) noexcept nogil:
         if pb.kind == EL_ARC:
             pb.sweep = 0.0
         _x_geometry(&pb)
+        X.pc[qi].cut = True
+        pb.cut = True
     if res == X_FAIL:
         return X_FAIL
     if not _x_add(X, &pb, S.cfg.depth):
@@ -502,6 +624,7 @@ cdef int cross_write(CompState *S, CompEl *el) noexcept nogil:
     pi.ins = True
     pi.first = False
     pi.prov = False
+    pi.cut = False
     pi.gprog = False
     pi.sweep = -1.0                     # a corner: computed when the search needs it
     pi.kind = EL_LINE if el.ins == INS_G1 else EL_ARC
@@ -528,6 +651,7 @@ cdef int cross_write(CompState *S, CompEl *el) noexcept nogil:
     _comp_warn(S, el.part, "loop removed from the path (offsets of distant parts cross)")
     X.n -= 1                            # el's own piece
     _x_cut(S, <size_t>qi, at, el.part, True)
+    X.pc[qi].cut = True
     if distance2d(at[0] - pi.e[0], at[1] - pi.e[1]) >= S.cfg.slack:
         if not _ins_add(S, el):
             return X_FAIL
@@ -538,6 +662,7 @@ cdef int cross_write(CompState *S, CompEl *el) noexcept nogil:
         pi.s[0] = at[0]; pi.s[1] = at[1]
         pi.sweep = 0.0
         _x_geometry(&pi)
+        pi.cut = True
         if not _x_add(X, &pi, S.cfg.depth):
             return X_FAIL
     return X_DONE
@@ -579,6 +704,9 @@ cdef bint cross_chain_end(CompState *S) noexcept nogil:
         if X.pc[k].prov:
             X.err_number = ERR_COMP_NOT_FOUND
             X.err_part = X.pc[k].part
+            return False
+    for k in range(X.base, X.n):
+        if X.pc[k].cut and not _x_clear(S, &X.pc[k], X.pc[X.n - 1].part):
             return False
     X.n = 0
     X.base = 0
