@@ -271,6 +271,25 @@ def test_negative_offset_arcs_error_or_removed(harness):
     assert len(arcs) == 4 and all(p["radius"] == 0 for p in arcs)
 
 
+def test_arcs_below_the_minimum_radius_are_removed(harness):
+    # tolerance[4]: tool path arcs smaller than it are removed like arcs of no radius,
+    # the neighbouring lines' offsets meet at their intersection
+    m0, els = rounded_rectangle(-20, -15, 40, 30, 2.3)
+    parts = [dict(func=1, e=(0, -40), comp=40), L(*m0)] + [dict(el, comp=41) for el in els]
+    parts.append(L(0, -40, comp=40))
+    out = check_oracle(harness, m0, els, 2.0, 41)       # radius 0.3 kept without it
+    assert sorted(round(p["radius"], 9) for p in out if p["func"] == 3) == [0.3] * 4
+    tol = (0.005, 0.001, 0.03, 0.005, 0.5)
+    out, err, warn = comp_run(parts, r=2.0, start=(0, -40, 0), tolerances=tol)
+    assert err is None and warn.count("tolerance[4]") == 4
+    arcs = [p for p in out if p["func"] == 3]
+    assert len(arcs) == 4 and all(p["radius"] == 0 for p in arcs)
+    corners = {tuple(round(v, 9) for v in p["ce"][:2]) for p in out[2:-1]}
+    assert corners == {(-18, -13), (18, -13), (18, 13), (-18, 13), (0, -13)}
+    out, err, warn = comp_run(parts, r=2.0, start=(0, -40, 0), tolerances=(0, 0, 0, 0, 0.2))
+    assert err is None and "tolerance[4]" not in warn
+
+
 def test_arc_radius_equal_to_the_tool_radius_is_a_point(harness):
     m0, els = rounded_rectangle(-20, -15, 40, 30, 2.0)
     check_oracle(harness, m0, els, 2.0, 41)

@@ -382,6 +382,11 @@ cdef int _run(CompState *S, size_t i, size_t j) noexcept nogil:
                 # an offset of no radius is a point the neighbours' offsets pass through
                 _discard(S, k)
                 continue
+            if el.ro < S.cfg.min_arc:
+                # below the minimum arc radius (tolerance[4]): removed the same way
+                _comp_warn(S, k, "arc with an offset radius below tolerance[4] removed")
+                _discard(S, k)
+                continue
             if entry_arc or (S.n_st == 0 and S.next_fixed):
                 # the chain starts on an arc: switch on by a line to its perpendicular
                 entry_arc = False

@@ -18,6 +18,7 @@ ctypedef struct CompCfg:
     double factor           # CORR_CORNER_INTERSECTION: limit distance in radii
     double corner_distance  # ... or in mm (G172 R), when > 0
     size_t depth            # how many parts back a crossing may be removed
+    double min_arc          # tolerance[4]: tool path arcs of a smaller radius are removed (0 = none)
 
 cdef enum CornerResult:
     CORNER_OK = 0

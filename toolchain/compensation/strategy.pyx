@@ -31,6 +31,7 @@ cdef void comp_config(CompCfg *cfg, const GCODE_PARAMETERS *params) noexcept nog
     cfg.tol_angle = (params.tolerance[2] if params.tolerance[2] > 0 else 0.03) * M_PI / 180.0
     cfg.sin_tol = sin(cfg.tol_angle)
     cfg.slack = params.tolerance[1] if params.tolerance[1] > 0 else 0.001
+    cfg.min_arc = params.tolerance[4] if params.tolerance[4] > 0 else 0.0
     if params.correctionStrategy & CORR_CORNER_FACTOR_2:
         cfg.factor = 2.0
     else:
