@@ -208,3 +208,18 @@ def test_dumbbell_entered_in_a_wide_neck_is_clean(harness):
     path = tool_path(out, 2, len(out) - 2)
     d = shapely.distance(shapely.points(path), LineString(programmed_polyline(m0, els)))
     assert float(np.min(d)) > 1.9 - TOL
+
+
+@pytest.mark.parametrize("depth", [0x600, 0x700])
+def test_comb_with_gaps_narrower_than_the_tool(harness, depth):
+    # CCW comb: 40 teeth 3 wide and 10 high with gaps 1 wide; outside (G42) with r = 1
+    # every gap is a loop, bridged at its mouth; the checks after the cuts pass
+    pts = [(-10, -10), (160, -10), (160, 10)]
+    x = 160.0
+    for _ in range(40):
+        pts += [(x - 3, 10), (x - 3, 0), (x - 4, 0), (x - 4, 10)]
+        x -= 4
+    pts += [(-10, 10)]
+    m0, els = polygon_elements(pts)
+    out = check_oracle(harness, m0, els, 1.0, 42, strategy=REMOVE | depth)
+    assert sum(1 for p in out if p["inserted"]) > 40

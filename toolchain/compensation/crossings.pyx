@@ -17,7 +17,7 @@
 # Not loops: a crossing where the programmed elements cross too (the contour itself
 # crosses, the tool has to), and the crossing of the last part of a closed contour with
 # the first one (a start at an inner corner: the entry and exit rules).
-from libc.stdlib cimport realloc, free
+from libc.stdlib cimport malloc, realloc, free
 from libc.string cimport memmove, memcpy, memset
 from libc.math cimport fabs, sqrt, atan2, M_PI
 
@@ -30,6 +30,8 @@ cdef enum:
     X_WRITE = 1             # cross_write: let _write_el write the element
     X_DONE = 2              # ... the element is already written (removed)
     X_FAIL = 0
+    CLEAR_SPAN = 4096       # parts either side a piece next to a loop cut is checked against
+    CLEAR_BLOCK = 64        # parts per box of that check
 
 ctypedef struct XPiece:
     double s[2]
@@ -491,49 +493,107 @@ cdef double _x_gap(const XPiece *t, const XPiece *g, double slack) noexcept nogi
     return best
 
 
-cdef bint _x_clear(CompState *S, const XPiece *t, size_t last_part) noexcept nogil:
-    """At the chain's end, for a piece next to a loop cut: it keeps the tool radius from
-    the programmed contour of the chain's parts in the search window (up to
-    last_part). Otherwise the cuts kept the wrong side (a chain starting inside a neck
-    narrower than the tool): error 504 on t's line. False with S.xs.err_* filled."""
-    cdef XState *X = &S.xs
-    cdef const Part *p
+cdef bint _x_programmed(const CompState *S, size_t k, XPiece *g) noexcept nogil:
+    """The programmed contour piece of part k (False: none, e.g. a rapid) with a
+    conservative box (an arc's whole circle); the sweep is left for _x_clear."""
+    cdef const Part *p = &S.prog.parts[k]
     cdef const double *st
+    cdef bint is_arc
+    if p.func == 0 or not _in_plane_motion(S, k, &is_arc):
+        return False
+    st = part_start(S.prog, k)
+    g.part = k
+    g.s[0] = st[S.first]; g.s[1] = st[S.second]
+    g.e[0] = p.e[S.first]; g.e[1] = p.e[S.second]
+    if p.func == 2 or p.func == 3:
+        g.kind = EL_ARC
+        g.dir = 1 if p.func == 3 else -1
+        g.c[0] = p.cc[S.first]; g.c[1] = p.cc[S.second]
+        g.r = distance2d(g.s[0] - g.c[0], g.s[1] - g.c[1])
+        if g.r <= 0:
+            return False
+        g.box[0] = g.c[0] - g.r; g.box[1] = g.c[1] - g.r; g.box[2] = g.c[0] + g.r; g.box[3] = g.c[1] + g.r
+    else:
+        g.kind = EL_LINE
+        g.sweep = 0.0
+        _x_geometry(g)
+    return True
+
+
+cdef bint _x_clear(CompState *S, const XPiece *t, size_t lo, size_t hi, const double *blocks) noexcept nogil:
+    """At the chain's end, for a piece next to a loop cut: it keeps the tool radius from
+    the programmed contour of parts lo..hi (the search window; at most CLEAR_SPAN parts
+    either side of its own). `blocks`: boxes of the parts by CLEAR_BLOCK from lo.
+    Otherwise the cuts kept the wrong side (a chain starting inside a neck narrower
+    than the tool): error 504 on t's line. False with S.xs.err_* filled."""
+    cdef XState *X = &S.xs
     cdef XPiece g
     cdef double r = fabs(_comp_distance(S, &S.prog.parts[t.part]))
     cdef double turn, box[4]
-    cdef size_t k
-    cdef bint is_arc
-    if X.base >= X.n:
-        return True
+    cdef size_t k, b, first, last, k_end
     box[0] = t.box[0] - r; box[1] = t.box[1] - r; box[2] = t.box[2] + r; box[3] = t.box[3] + r
+    first = t.part - CLEAR_SPAN if t.part > lo + CLEAR_SPAN else lo
+    last = hi if hi < t.part + CLEAR_SPAN else t.part + CLEAR_SPAN
     memset(&g, 0, sizeof(g))
-    for k in range(X.pc[X.base].part, last_part + 1):
-        p = &S.prog.parts[k]
-        if p.func == 0 or not _in_plane_motion(S, k, &is_arc):
+    k = first
+    while k <= last:
+        b = (k - lo) / CLEAR_BLOCK
+        k_end = lo + (b + 1) * CLEAR_BLOCK
+        if k_end > last + 1:
+            k_end = last + 1
+        if not _box_hit(&blocks[4 * b], box, 0.0):
+            k = k_end
             continue
-        st = part_start(S.prog, k)
-        g.s[0] = st[S.first]; g.s[1] = st[S.second]
-        g.e[0] = p.e[S.first]; g.e[1] = p.e[S.second]
-        g.kind = EL_LINE
-        if is_arc or p.func == 2 or p.func == 3:
-            g.kind = EL_ARC
-            g.dir = 1 if p.func == 3 else -1
-            g.c[0] = p.cc[S.first]; g.c[1] = p.cc[S.second]
-            g.r = distance2d(g.s[0] - g.c[0], g.s[1] - g.c[1])
-            turn = g.dir * _turn(g.s[0] - g.c[0], g.s[1] - g.c[1], g.e[0] - g.c[0], g.e[1] - g.c[1])
-            g.sweep = turn if turn > 1e-12 else turn + 2.0 * M_PI
-            if g.r <= 0:
-                continue
-        _x_geometry(&g)
-        if not _box_hit(g.box, box, 0.0):
-            continue
-        if _x_gap(t, &g, S.cfg.slack) < r - S.cfg.slack:
-            X.err_number = ERR_COMP_CROSSING
-            X.err_part = t.part
-            X.err_arg = r
-            return False
+        while k < k_end:
+            if _x_programmed(S, k, &g) and _box_hit(g.box, box, 0.0):
+                if g.kind == EL_ARC:
+                    turn = g.dir * _turn(g.s[0] - g.c[0], g.s[1] - g.c[1], g.e[0] - g.c[0], g.e[1] - g.c[1])
+                    g.sweep = turn if turn > 1e-12 else turn + 2.0 * M_PI
+                    _x_geometry(&g)
+                if _box_hit(g.box, box, 0.0) and _x_gap(t, &g, S.cfg.slack) < r - S.cfg.slack:
+                    X.err_number = ERR_COMP_CROSSING
+                    X.err_part = t.part
+                    X.err_arg = r
+                    return False
+            k += 1
     return True
+
+
+cdef bint _x_check_cuts(CompState *S) noexcept nogil:
+    """Every piece of the window next to a loop cut keeps the tool radius (_x_clear);
+    False with S.xs.err_* filled (an out-of-memory error included)."""
+    cdef XState *X = &S.xs
+    cdef XPiece g
+    cdef double *blocks
+    cdef double *bx
+    cdef size_t k, lo, hi, nb
+    cdef bint ok = True
+    for k in range(X.base, X.n):
+        if X.pc[k].cut:
+            break
+    else:
+        return True
+    lo = X.pc[X.base].part
+    hi = X.pc[X.n - 1].part
+    nb = (hi - lo) / CLEAR_BLOCK + 1
+    blocks = <double *>malloc(4 * nb * sizeof(double))
+    if blocks == NULL:
+        X.err_number = ERR_OUT_OF_MEMORY
+        X.err_part = hi
+        return False
+    for k in range(nb):
+        bx = &blocks[4 * k]
+        bx[0] = 1e300; bx[1] = 1e300; bx[2] = -1e300; bx[3] = -1e300
+    memset(&g, 0, sizeof(g))
+    for k in range(lo, hi + 1):
+        if _x_programmed(S, k, &g):
+            _box_union(&blocks[4 * ((k - lo) / CLEAR_BLOCK)], g.box)
+    for k in range(X.base, X.n):
+        if X.pc[k].cut and not _x_clear(S, &X.pc[k], lo, hi, blocks):
+            ok = False
+            break
+    free(blocks)
+    return ok
 
 
 cdef int _x_crossing(CompState *S, XPiece *pp, size_t b_part, bint closing, double *at,
@@ -705,9 +765,8 @@ cdef bint cross_chain_end(CompState *S) noexcept nogil:
             X.err_number = ERR_COMP_NOT_FOUND
             X.err_part = X.pc[k].part
             return False
-    for k in range(X.base, X.n):
-        if X.pc[k].cut and not _x_clear(S, &X.pc[k], X.pc[X.n - 1].part):
-            return False
+    if not _x_check_cuts(S):
+        return False
     X.n = 0
     X.base = 0
     return True
