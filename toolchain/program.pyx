@@ -1,7 +1,7 @@
 # The compiled program: growable arrays of parts, their addresses, zero offsets and
 # texts, and the one place a Part becomes a SIMPLE_GM_PARAMS.
 from libc.stdlib cimport malloc, realloc, free
-from libc.string cimport memset, memcpy, memcmp, memmove
+from libc.string cimport memset, memcpy, memcmp
 from libc.math cimport sqrt, fabs
 from program cimport *
 from includes.tgm_cnc cimport SIMPLE_GM_PARAMS, P10DOUBLE, P26FLOAT
@@ -55,20 +55,6 @@ cdef Part *program_add_part(Program *prog) noexcept nogil:
         return NULL
     p = &prog.parts[prog.n_parts]
     prog.n_parts += 1
-    _part_defaults(p)
-    return p
-
-
-cdef Part *program_insert_part(Program *prog, size_t at) noexcept nogil:
-    """Inserts a zeroed part before index `at` (compensation, inserted arcs)."""
-    cdef Part *p
-    if at > prog.n_parts:
-        at = prog.n_parts
-    if program_add_part(prog) == NULL:
-        return NULL
-    if at < prog.n_parts - 1:
-        memmove(&prog.parts[at + 1], &prog.parts[at], (prog.n_parts - 1 - at) * sizeof(Part))
-    p = &prog.parts[at]
     _part_defaults(p)
     return p
 
