@@ -529,7 +529,8 @@ cdef bint _x_clear(CompState *S, const XPiece *t, size_t lo, size_t hi, const do
     cdef XState *X = &S.xs
     cdef XPiece g
     cdef double r = fabs(_comp_distance(S, &S.prog.parts[t.part]))
-    cdef double turn, box[4]
+    cdef double turn
+    cdef double box[4]
     cdef size_t k, b, first, last, k_end
     box[0] = t.box[0] - r; box[1] = t.box[1] - r; box[2] = t.box[2] + r; box[3] = t.box[3] + r
     first = t.part - CLEAR_SPAN if t.part > lo + CLEAR_SPAN else lo

@@ -87,7 +87,8 @@ cdef int insert_arcs(Program *prog, const GCODE_PARAMETERS *params, ErrorInfo *e
     cdef double e1[2]
     cdef double u0[2]
     cdef double u1[2]
-    cdef double len0, len1, cross, dot, t, half, ct, tt, d, rad, tang, bis[2], bl
+    cdef double len0, len1, cross, dot, t, half, ct, tt, d, rad, tang, bl
+    cdef double bis[2]
     # the line before the corner: its start before this pass shortened it
     cdef double prev_start[2]
     cdef bint prev_line = False
