@@ -18,6 +18,7 @@ INI = "[Modules]\nCompiler0=x\n[CNC]\nDriver=offline\n"
 
 class Hmi:
     def __init__(self, tmp_path):
+        self.tmp = tmp_path
         self.lib = load()
         ini = tmp_path / "comp.ini"
         ini.write_text(INI)
@@ -187,3 +188,24 @@ def test_loop_at_a_narrow_neck_through_the_driver(hmi):
     ends = [tuple(round(v, 6) for v in p["e"][:2]) for p in parts]
     assert (round(-5 - math.sqrt(5), 6), 0) in ends            # the corner arcs' crossing
     assert hmi.compile(DUMBBELL, r=1.9) is None                 # a tool that fits
+
+
+def test_the_benchmark_cutting_program_compensates(hmi):
+    # benchmarks/compile_benchmark.py compiles this program under G41: it must
+    # compensate cleanly (its timing assumes no error), with three outer corners per
+    # cut part: the notch's two ends and the corner before the bottom edge
+    import importlib.util
+    from pathlib import Path
+    path = Path(__file__).resolve().parents[1] / "benchmarks" / "compile_benchmark.py"
+    spec = importlib.util.spec_from_file_location("compile_benchmark", path)
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+    program = hmi.tmp / "cutting.nc"
+    bench.write_program(program, 1100, head="G41")
+    assert hmi.compile(program.read_text(), r=0.3, abs_mode=0) is None
+    parts = hmi.run()
+    inserted = [p for p in parts if p["index"] % 2 == 1]
+    assert len(inserted) == 3 * 100
+    assert all(p["func"] in (2, 3) and p["cc"][3] == pytest.approx(0.3) for p in inserted)
+    for a, b in zip(parts, parts[1:]):
+        assert np.allclose(a["e"], b["s"], atol=1e-9)
