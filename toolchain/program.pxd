@@ -106,6 +106,13 @@ ctypedef struct ErrArg:
     double num
     const char *text
 
+# The merge of parts a stage inserts (program.pyx program_merge): where insertion
+# `rec` goes (after which part), and how it is built from the part before it and the
+# part after it (NULL after the last part).
+ctypedef size_t (*inserted_after_fn)(void *ctx, size_t rec) noexcept nogil
+ctypedef void (*make_inserted_fn)(void *ctx, size_t rec, Part *out, const Part *before,
+                                  const Part *after) noexcept nogil
+
 # Hooks a stage may call while it works (all optional: NULL function = none).
 # warn_fn: a numbered warning of the catalogue (errors.pxd WARN_*) with its location.
 ctypedef void (*warn_fn)(void *ctx, const ErrorInfo *warning) noexcept nogil

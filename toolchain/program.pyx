@@ -59,6 +59,50 @@ cdef Part *program_add_part(Program *prog) noexcept nogil:
     return p
 
 
+cdef bint program_merge(Program *prog, size_t n_ins, void *ctx, inserted_after_fn after_of,
+                        make_inserted_fn make) noexcept nogil:
+    """Inserts n_ins parts (in part order: after_of non-decreasing) in one backward pass
+    over the grown array: every part moves up by the insertions before it, whole runs
+    at a time (a Part holds doubles: its size is a multiple of 8). False when memory
+    is exhausted (the program unchanged)."""
+    cdef size_t n = prog.n_parts, total = prog.n_parts + n_ins
+    cdef size_t k, w, r, after, run, next_w
+    cdef Part *parts
+    cdef Part made
+    if n_ins == 0:
+        return True
+    parts = <Part *>realloc(prog.parts, total * sizeof(Part))
+    if parts == NULL:
+        return False
+    prog.parts = parts
+    prog.cap_parts = total
+    # parts [0, k) have not moved yet; part k now lives at next_w (total: there is no
+    # part after the last one). Every group but the first moves a run of at least its
+    # own part.
+    w = total
+    k = n
+    next_w = total
+    r = n_ins
+    while r > 0:
+        after = after_of(ctx, r - 1)
+        run = k - (after + 1)
+        if run > 0:
+            w -= run
+            tc_stream_up(&parts[w], &parts[after + 1], run * sizeof(Part) // 8)
+            next_w = w
+        k = after + 1
+        # the insertions after this part, last first; parts[w - 1] lies above both
+        # `after` and next_w
+        while r > 0 and after_of(ctx, r - 1) == after:
+            w -= 1
+            make(ctx, r - 1, &made, &parts[after], &parts[next_w] if next_w < total else NULL)
+            tc_stream_up(&parts[w], &made, sizeof(Part) // 8)
+            r -= 1
+    tc_stream_fence()
+    prog.n_parts = total
+    return True
+
+
 cdef bint program_set_pars(Program *prog, Part *part, const float *values, uint32_t mask) noexcept nogil:
     """Stores the addresses of `mask` (values indexed by letter - 'A') for the part."""
     cdef int letter, n = 0

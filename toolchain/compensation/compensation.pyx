@@ -14,7 +14,7 @@
 #   5. one merge pass rebuilds the part array with the insertions and gives the parts
 #      without motion in the plane the compensated position they sit at.
 from libc.stdlib cimport malloc, realloc, free, calloc
-from libc.string cimport memcpy, memmove, memset, memchr
+from libc.string cimport memcpy, memset, memchr
 from libc.stdio cimport snprintf
 from libc.math cimport fabs, sin, M_PI
 
@@ -505,17 +505,25 @@ cdef inline size_t _next_follow(const CompState *S, size_t k, size_t n) noexcept
     return <size_t>(hit - S.role) if hit != NULL else n
 
 
+cdef size_t _ins_after(void *ctx, size_t rec) noexcept nogil:
+    return (<CompState *>ctx).ins[rec].after
+
+
+cdef void _ins_make(void *ctx, size_t rec, Part *out, const Part *before, const Part *after) noexcept nogil:
+    cdef CompState *S = <CompState *>ctx
+    cdef const InsRec *r = &S.ins[rec]
+    _inserted_part(out, before, after if r.src_next else before, r, S.params)
+
+
 cdef int _merge(CompState *S) noexcept nogil:
     """Step 5. Forward: parts without motion in the plane take the compensated position
-    of the point they sit at (after any insertion before them). Backward, in place in
-    the grown array: every part moves up by the insertions before it."""
+    of the point they sit at (after any insertion before them). Then the inserted
+    parts go into the program (program_merge)."""
     cdef Program *prog = S.prog
-    cdef size_t n = prog.n_parts, total = prog.n_parts + S.n_ins
+    cdef size_t n = prog.n_parts
     cdef Part *p
     cdef Part *prev
-    cdef Part *parts
-    cdef const InsRec *rec
-    cdef size_t k, w, r, after, run, next_w
+    cdef size_t k, r
     cdef double cur[3]
     cdef int first, second, normal
     if S.n_ins == 0 and not S.has_followers:
@@ -543,37 +551,8 @@ cdef int _merge(CompState *S) noexcept nogil:
             p.ce[first] = cur[first]
             p.ce[second] = cur[second]
         k = _next_follow(S, k + 1, n)
-    if S.n_ins == 0:
-        return COMPILE_OK
-    parts = <Part *>realloc(prog.parts, total * sizeof(Part))
-    if parts == NULL:
+    if not program_merge(prog, S.n_ins, S, _ins_after, _ins_make):
         return _comp_fail(S, ERR_OUT_OF_MEMORY, 0, 0, 0)
-    prog.parts = parts
-    prog.cap_parts = total
-    # parts [0, k) have not moved yet; part k now lives at next_w (total: there is
-    # no part after the last one). Every group but the first moves a run of at least
-    # its own corner part.
-    w = total
-    k = n
-    next_w = total
-    r = S.n_ins
-    while r > 0:
-        after = S.ins[r - 1].after
-        run = k - (after + 1)
-        if run > 0:
-            w -= run
-            memmove(&parts[w], &parts[after + 1], run * sizeof(Part))
-            next_w = w
-        k = after + 1
-        # the insertions after this part, last first; parts[w - 1] lies above both
-        # `after` and next_w, so it is written in place
-        while r > 0 and S.ins[r - 1].after == after:
-            rec = &S.ins[r - 1]
-            w -= 1
-            _inserted_part(&parts[w], &parts[after], &parts[next_w] if rec.src_next else &parts[after],
-                           rec, S.params)
-            r -= 1
-    prog.n_parts = total
     return COMPILE_OK
 
 

@@ -71,14 +71,13 @@ cdef bint _ia_in_plane_line(const Program *prog, size_t k, int a, int b) noexcep
 
 cdef int insert_arcs(Program *prog, const GCODE_PARAMETERS *params, ErrorInfo *err) noexcept nogil:
     """Inserts the automatic arcs; COMPILE_OK or COMPILE_ERROR (out of memory)."""
-    cdef size_t k, r, w, n, region = 0, programmed = 0, n_ins = 0, cap_ins = 0
-    cdef bint on, any_on, cur_ok
+    cdef size_t k, n, region = 0, programmed = 0, n_ins = 0, cap_ins = 0
+    cdef bint on, any_on, cur_ok, merged
     cdef int32_t plane
     cdef double tol_max, tol_min, max_angle, min_angle
     cdef int a, b, c, pa, pb, pc, sa, sb, sc
     cdef Part *p
     cdef Part *q
-    cdef Part *parts
     cdef ArcIns *ins = NULL
     cdef ArcIns *grown
     cdef ArcIns *x
@@ -179,30 +178,11 @@ cdef int insert_arcs(Program *prog, const GCODE_PARAMETERS *params, ErrorInfo *e
         prev_start[0] = s1[0]; prev_start[1] = s1[1]
     if n_ins == 0:
         return COMPILE_OK
-    # merge: backwards, in place in the grown array
-    parts = <Part *>realloc(prog.parts, (n + n_ins) * sizeof(Part))
-    if parts == NULL:
-        free(ins)
+    merged = program_merge(prog, n_ins, ins, _ia_after, _ia_make)
+    free(ins)
+    if not merged:
         set_error(err, ERR_OUT_OF_MEMORY, prog.main_file_idx, 0, NULL, 0)
         return COMPILE_ERROR
-    prog.parts = parts
-    prog.cap_parts = n + n_ins
-    w = n + n_ins
-    r = n_ins
-    k = n
-    while k > 0:
-        k -= 1
-        # parts[k + 1] (the second line) already moved to parts[w]
-        while r > 0 and ins[r - 1].after == k:
-            x = &ins[r - 1]
-            w -= 1
-            _ia_part(&parts[w], &parts[k], &parts[w + 1], x)
-            r -= 1
-        w -= 1
-        if w != k:
-            parts[w] = parts[k]
-    prog.n_parts = n + n_ins
-    free(ins)
     return COMPILE_OK
 
 
@@ -216,6 +196,14 @@ cdef void _ia_set(Part *q, int a, int b, double va, double vb) noexcept nogil:
     if q.comp == 40:
         q.e[a] = va
         q.e[b] = vb
+
+
+cdef size_t _ia_after(void *ctx, size_t rec) noexcept nogil:
+    return (<ArcIns *>ctx)[rec].after
+
+
+cdef void _ia_make(void *ctx, size_t rec, Part *out, const Part *before, const Part *after) noexcept nogil:
+    _ia_part(out, before, after, &(<ArcIns *>ctx)[rec])
 
 
 cdef void _ia_part(Part *q, const Part *prev, const Part *src, const ArcIns *x) noexcept nogil:

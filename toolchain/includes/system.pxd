@@ -42,3 +42,26 @@ cdef extern from *:
     int32_t TC_ATOMIC_LOAD(int32_t *p) nogil
     void TC_ATOMIC_STORE(int32_t *p, int32_t v) nogil
     bint TC_ATOMIC_CAS(int32_t *p, int32_t *expected, int32_t desired) nogil
+
+# Copies of parts into memory that is not read back soon (the merge of inserted
+# parts): non-temporal stores skip reading each destination line first, a third of
+# the merge's memory traffic. dst lies above src (they may overlap): highest word
+# first. tc_stream_fence orders them before the program is handed to other threads.
+cdef extern from *:
+    """
+    #if defined(__x86_64__)
+    #include <immintrin.h>
+    static inline void tc_stream_up(void *dst, const void *src, size_t words) {
+        long long *d = (long long *)dst;
+        const long long *s = (const long long *)src;
+        while (words--) _mm_stream_si64(d + words, s[words]);
+    }
+    static inline void tc_stream_fence(void) { _mm_sfence(); }
+    #else
+    #include <string.h>
+    static inline void tc_stream_up(void *dst, const void *src, size_t words) { memmove(dst, src, words * 8); }
+    static inline void tc_stream_fence(void) {}
+    #endif
+    """
+    void tc_stream_up(void *dst, const void *src, size_t words) nogil
+    void tc_stream_fence() nogil
