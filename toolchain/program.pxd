@@ -112,6 +112,12 @@ ctypedef struct ErrArg:
 ctypedef size_t (*inserted_after_fn)(void *ctx, size_t rec) noexcept nogil
 ctypedef void (*make_inserted_fn)(void *ctx, size_t rec, Part *out, const Part *before,
                                   const Part *after) noexcept nogil
+# ... and, optionally, a last change to parts [first, end) before they move (once per
+# range, in cache then): rec is the last insertion right before part `first`
+# (NO_INSERTION at the start of the program).
+ctypedef void (*settle_parts_fn)(void *ctx, size_t first, size_t end, size_t rec) noexcept nogil
+cdef enum:
+    NO_INSERTION = -1
 
 # Hooks a stage may call while it works (all optional: NULL function = none).
 # warn_fn: a numbered warning of the catalogue (errors.pxd WARN_*) with its location.

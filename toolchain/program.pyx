@@ -60,16 +60,19 @@ cdef Part *program_add_part(Program *prog) noexcept nogil:
 
 
 cdef bint program_merge(Program *prog, size_t n_ins, void *ctx, inserted_after_fn after_of,
-                        make_inserted_fn make) noexcept nogil:
+                        make_inserted_fn make, settle_parts_fn settle) noexcept nogil:
     """Inserts n_ins parts (in part order: after_of non-decreasing) in one backward pass
     over the grown array: every part moves up by the insertions before it, whole runs
-    at a time (a Part holds doubles: its size is a multiple of 8). False when memory
-    is exhausted (the program unchanged)."""
+    at a time (a Part holds doubles: its size is a multiple of 8). `settle` (may be
+    NULL) sees every part once, the runs from the last down. False when memory is
+    exhausted (the program unchanged)."""
     cdef size_t n = prog.n_parts, total = prog.n_parts + n_ins
     cdef size_t k, w, r, after, run, next_w
     cdef Part *parts
     cdef Part made
     if n_ins == 0:
+        if settle != NULL:
+            settle(ctx, 0, n, <size_t>NO_INSERTION)
         return True
     parts = <Part *>realloc(prog.parts, total * sizeof(Part))
     if parts == NULL:
@@ -87,6 +90,8 @@ cdef bint program_merge(Program *prog, size_t n_ins, void *ctx, inserted_after_f
         after = after_of(ctx, r - 1)
         run = k - (after + 1)
         if run > 0:
+            if settle != NULL:
+                settle(ctx, after + 1, k, r - 1)
             w -= run
             tc_stream_up(&parts[w], &parts[after + 1], run * sizeof(Part) // 8)
             next_w = w
@@ -98,6 +103,8 @@ cdef bint program_merge(Program *prog, size_t n_ins, void *ctx, inserted_after_f
             make(ctx, r - 1, &made, &parts[after], &parts[next_w] if next_w < total else NULL)
             tc_stream_up(&parts[w], &made, sizeof(Part) // 8)
             r -= 1
+    if settle != NULL:
+        settle(ctx, 0, k, <size_t>NO_INSERTION)     # the parts that stay where they are
     tc_stream_fence()
     prog.n_parts = total
     return True

@@ -515,43 +515,42 @@ cdef void _ins_make(void *ctx, size_t rec, Part *out, const Part *before, const 
     _inserted_part(out, before, after if r.src_next else before, r, S.params)
 
 
-cdef int _merge(CompState *S) noexcept nogil:
-    """Step 5. Forward: parts without motion in the plane take the compensated position
-    of the point they sit at (after any insertion before them). Then the inserted
-    parts go into the program (program_merge)."""
+cdef void _settle(void *ctx, size_t first, size_t end, size_t rec) noexcept nogil:
+    """Parts without motion in the plane (ROLE_FOLLOW) among [first, end) take the
+    compensated position they sit at: their predecessor's (already final), after the
+    insertion `rec` for one at the start of the range."""
+    cdef CompState *S = <CompState *>ctx
     cdef Program *prog = S.prog
-    cdef size_t n = prog.n_parts
     cdef Part *p
     cdef Part *prev
-    cdef size_t k, r
     cdef double cur[3]
-    cdef int first, second, normal
-    if S.n_ins == 0 and not S.has_followers:
-        return COMPILE_OK
-    # only the parts left without motion in the plane (ROLE_FOLLOW) change here: each
-    # takes the position after its predecessor (already final) and the insertions
-    # after that, so the pass jumps from one to the next
-    r = 0
-    k = _next_follow(S, 0, n)
-    while k < n:
+    cdef int a, b, c
+    cdef size_t k = _next_follow(S, first, end)
+    while k < end:
         p = &prog.parts[k]
         if k == 0:
             cur[0] = prog.start[0]; cur[1] = prog.start[1]; cur[2] = prog.start[2]
         else:
             prev = &prog.parts[k - 1]
             cur[0] = prev.ce[0]; cur[1] = prev.ce[1]; cur[2] = prev.ce[2]
-            while r < S.n_ins and S.ins[r].after < k - 1:
-                r += 1
-            while r < S.n_ins and S.ins[r].after == k - 1:
-                if plane_axes(prev.plane, &first, &second, &normal):
-                    cur[first] = S.ins[r].end[0]
-                    cur[second] = S.ins[r].end[1]
-                r += 1
-        if plane_axes(p.plane, &first, &second, &normal):
-            p.ce[first] = cur[first]
-            p.ce[second] = cur[second]
-        k = _next_follow(S, k + 1, n)
-    if not program_merge(prog, S.n_ins, S, _ins_after, _ins_make):
+            if k == first and rec != <size_t>NO_INSERTION and plane_axes(prev.plane, &a, &b, &c):
+                cur[a] = S.ins[rec].end[0]
+                cur[b] = S.ins[rec].end[1]
+        if plane_axes(p.plane, &a, &b, &c):
+            p.ce[a] = cur[a]
+            p.ce[b] = cur[b]
+        k = _next_follow(S, k + 1, end)
+
+
+cdef int _merge(CompState *S) noexcept nogil:
+    """Step 5: the inserted parts go into the program (program_merge), and on the way
+    the parts without motion in the plane take the compensated position they sit at."""
+    cdef settle_parts_fn settle = NULL
+    if S.n_ins == 0 and not S.has_followers:
+        return COMPILE_OK
+    if S.has_followers:
+        settle = _settle
+    if not program_merge(S.prog, S.n_ins, S, _ins_after, _ins_make, settle):
         return _comp_fail(S, ERR_OUT_OF_MEMORY, 0, 0, 0)
     return COMPILE_OK
 
