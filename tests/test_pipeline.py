@@ -233,6 +233,28 @@ def test_reset_moves_a_relative_program_with_its_start(core):
     assert ends == [pytest.approx((15, 5)), pytest.approx((15, 15))]
 
 
+def test_the_seven_other_axes_through_parts_size_info_and_reset(core):
+    # axes c b u v w a o are kept apart from x y z (an entry per change): every part
+    # still reports all ten, the size info covers them, a relative program moves them
+    core.compile_text("G1 X1 C5 F1000\nG1 X2\nG1 U-3 O7\nG1 X3\nG1 C0 U0 O0\n", "axes.nc")
+    run = core.simulate()
+    ends = [(p["m_e"]["x"], p["m_e"]["c"], p["m_e"]["u"], p["m_e"]["o"]) for p in run.parts]
+    starts = [(p["m_s"]["x"], p["m_s"]["c"], p["m_s"]["u"], p["m_s"]["o"]) for p in run.parts]
+    assert ends == [(1, 5, 0, 0), (2, 5, 0, 0), (2, 5, -3, 7), (3, 5, -3, 7), (3, 0, 0, 0)]
+    assert starts == [(0, 0, 0, 0)] + ends[:-1]
+    size = core.size_info().m_size[0]
+    assert (size.m_minimalPos.c, size.m_maximalPos.c) == (0, 5)
+    assert (size.m_minimalPos.u, size.m_maximalPos.u) == (-3, 0)
+    assert (size.m_minimalPos.o, size.m_maximalPos.o) == (0, 7)
+    assert (size.m_endPos.x, size.m_endPos.c) == (3, 0)
+    core.update_params(absMode=0)
+    core.compile_text("G1 X1 C5 F1000\nG1 U-3\n", "axes_rel.nc")
+    core.reset([10.0, 0, 0, 100.0, 0, 50.0])
+    run = core.simulate()
+    ends = [(p["m_e"]["x"], p["m_e"]["c"], p["m_e"]["u"]) for p in run.parts]
+    assert ends == [(11, 105, 50), (11, 105, 47)]
+
+
 def test_size_info_original_and_rotated(core):
     # G168: the program turned by 90 degrees about (0, 0); [0]/[1] are the program as
     # written, [2]/[3] as the machine runs it

@@ -90,16 +90,18 @@ cdef void _extent_pair(const Program *prog, GCODE_SIZE *programmed, GCODE_SIZE *
     them (rotated) or as the program is written (G168 undone). The tool path differs
     from the programmed one only in x y z: its other axes are copied at the end."""
     cdef size_t i, last = prog.n_parts
+    cdef uint32_t axes_idx = <uint32_t>-1
     cdef const Part *p
     cdef const double *s
     cdef const double *e
     cdef const double *cc
-    cdef double s_buf[10]
-    cdef double e_buf[10]
+    cdef double s_buf[3]
+    cdef double e_buf[3]
     cdef double cc_buf[3]
     cdef double cs[3]
     cdef double ce[3]
     cdef double tool_end[3]
+    cdef double other[10]
     cdef double dx, dy
     cdef int first, second, normal, k
     cdef bint arc
@@ -111,7 +113,7 @@ cdef void _extent_pair(const Program *prog, GCODE_SIZE *programmed, GCODE_SIZE *
         if p.kind != PART_MOTION:
             continue
         last = i
-        s = part_start(prog, i)
+        s = part_start_xyz(prog, i)
         e = p.e
         cc = p.cc
         prev_rot = prog.parts[i - 1].rot_idx if i > 0 else 0
@@ -125,7 +127,13 @@ cdef void _extent_pair(const Program *prog, GCODE_SIZE *programmed, GCODE_SIZE *
             s = s_buf
             e = e_buf
             cc = cc_buf
-        _widen(programmed, e, 10)
+        if p.axes_idx != axes_idx:
+            # the other seven axes: once per entry of Program.axes
+            axes_idx = p.axes_idx
+            part_end(prog, p, other)
+            other[0] = e[0]; other[1] = e[1]; other[2] = e[2]
+            _widen(programmed, other, 10)
+        _widen(programmed, e, 3)
         arc = (p.func == 2 or p.func == 3) and plane_axes(p.plane, &first, &second, &normal)
         if arc:
             dx = s[first] - cc[first]
@@ -150,7 +158,7 @@ cdef void _extent_pair(const Program *prog, GCODE_SIZE *programmed, GCODE_SIZE *
     if last == prog.n_parts:
         tool[0] = programmed[0]
         return
-    memcpy(&programmed.m_endPos, prog.parts[last].e, sizeof(P10DOUBLE))
+    part_end(prog, &prog.parts[last], <double *>&programmed.m_endPos)
     if not rotated:
         _unrotate(prog, prog.parts[last].rot_idx, <double *>&programmed.m_endPos)
     if not prog.compensated:
@@ -188,11 +196,13 @@ cdef void program_move_start(Program *prog, const double *position) noexcept nog
             delta[k] = position[k] - prog.start[k]
         for i in range(prog.n_parts):
             p = &prog.parts[i]
-            for k in range(10):
-                p.e[k] += delta[k]
             for k in range(3):
+                p.e[k] += delta[k]
                 p.ce[k] += delta[k]
                 p.cc[k] += delta[k]
+        for i in range(prog.n_axes):
+            for k in range(7):
+                prog.axes[7 * i + k] += delta[3 + k]
         for i in range(1, prog.n_rotations):
             for k in range(3):
                 prog.rotations[12 * i + k] += delta[k]

@@ -27,8 +27,8 @@ cdef enum PartFlags:
     FLAG_COMP_END = 0x20         # last part of a compensated run
 
 ctypedef struct Part:
-    double e[10]            # programmed end, machine coordinates (program + zero offset); M parts: current position
-    double ce[3]            # compensated end x y z (other axes = e); equal to e[0..2] when not compensated
+    double e[3]             # programmed end x y z, machine coordinates (program + zero offset); M parts: current position
+    double ce[3]            # compensated end x y z (the other axes as programmed); = e when not compensated
     double cc[3]            # arc centre x y z (machine coordinates), programmed
     double radius           # arc radius of the tool path (compensated); 0 for lines
     double feed             # F in mm/min (G94) or mm/rev (G95) after forceMode/M99; rapid: motion[0].feed
@@ -41,6 +41,7 @@ ctypedef struct Part:
     uint32_t pars_off       # offset of this part's addresses in Program.pars (see pars_mask)
     uint32_t pars_mask      # bit (letter - 'A') set for every address written on the line
     uint32_t aux            # PART_PRINT: offset of its text in Program.texts
+    uint32_t axes_idx       # the end's other seven axes (c b u v w a o): Program.axes[7 * axes_idx ...]
     uint16_t zero_idx       # index into Program.zeros (active zero offset)
     uint16_t rot_idx        # index into Program.rotations (G168), 0 = not rotated
     uint16_t tool           # T
@@ -80,6 +81,8 @@ ctypedef struct Program:
     size_t n_strategy_regions, cap_strategy_regions
     char *texts             # NUL-terminated PRINT texts
     size_t n_texts, cap_texts
+    double *axes            # positions of the axes c b u v w a o, 7 doubles per entry (Part.axes_idx):
+    size_t n_axes, cap_axes # a new entry only when one of them moves, so most programs have one
     double start[10]        # machine position before the first part
     int32_t main_file_idx
     uint32_t n_lines        # lines of the main file

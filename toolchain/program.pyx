@@ -14,6 +14,7 @@ cdef void program_init(Program *prog) noexcept nogil:
 
 cdef void program_free(Program *prog) noexcept nogil:
     free(prog.parts)
+    free(prog.axes)
     free(prog.pars)
     free(prog.zeros)
     free(prog.rotations)
@@ -179,17 +180,51 @@ cdef int64_t program_add_text(Program *prog, const char *text, size_t n) noexcep
     return <int64_t>off
 
 
-cdef inline const double *part_start(const Program *prog, size_t i) noexcept nogil:
-    """Programmed start of part i: the previous part's end, or the program start."""
+cdef bint program_set_end(Program *prog, Part *p, const double *end) noexcept nogil:
+    """Sets the programmed end of part p (all ten axes): x y z in the part, the other
+    seven as an entry of Program.axes (the last one again when they did not move).
+    False when memory is exhausted."""
+    cdef double *last
+    p.e[0] = end[0]; p.e[1] = end[1]; p.e[2] = end[2]
+    if prog.n_axes > 0:
+        last = &prog.axes[7 * (prog.n_axes - 1)]
+        if memcmp(last, end + 3, 7 * sizeof(double)) == 0:
+            p.axes_idx = <uint32_t>(prog.n_axes - 1)
+            return True
+    if not _grow(<void **>&prog.axes, &prog.cap_axes, 7 * (prog.n_axes + 1), sizeof(double)):
+        return False
+    memcpy(&prog.axes[7 * prog.n_axes], end + 3, 7 * sizeof(double))
+    p.axes_idx = <uint32_t>prog.n_axes
+    prog.n_axes += 1
+    return True
+
+
+cdef inline void part_end(const Program *prog, const Part *p, double *out) noexcept nogil:
+    """Programmed end of part p, all ten axes."""
+    out[0] = p.e[0]; out[1] = p.e[1]; out[2] = p.e[2]
+    memcpy(out + 3, &prog.axes[7 * p.axes_idx], 7 * sizeof(double))
+
+
+cdef inline const double *part_start_xyz(const Program *prog, size_t i) noexcept nogil:
+    """x y z of the programmed start of part i: the previous part's end, or the
+    program start."""
     if i > 0:
         return prog.parts[i - 1].e
     return prog.start
 
 
+cdef inline void part_start(const Program *prog, size_t i, double *out) noexcept nogil:
+    """Programmed start of part i, all ten axes."""
+    if i > 0:
+        part_end(prog, &prog.parts[i - 1], out)
+    else:
+        memcpy(out, prog.start, 10 * sizeof(double))
+
+
 cdef void part_calc_start(const Program *prog, size_t i, double *out) noexcept nogil:
     """Compensated start of part i (all ten axes)."""
     cdef const Part *prev
-    memcpy(out, part_start(prog, i), 10 * sizeof(double))
+    part_start(prog, i, out)
     if i > 0:
         prev = &prog.parts[i - 1]
         out[0] = prev.ce[0]
@@ -207,7 +242,7 @@ cdef double part_length(const Program *prog, size_t i) noexcept nogil:
     if p.kind != PART_MOTION:
         return 0.0
     part_calc_start(prog, i, s)
-    memcpy(e, p.e, sizeof(e))
+    part_end(prog, p, e)
     e[0] = p.ce[0]; e[1] = p.ce[1]; e[2] = p.ce[2]
     if (p.func == 2 or p.func == 3) and p.radius > 0 and plane_axes(p.plane, &first, &second, &normal):
         sweep = arc_sweep(s[first], s[second], e[first], e[second], p.cc[first], p.cc[second],
@@ -234,10 +269,10 @@ cdef void part_to_gm(const Program *prog, size_t i, SIMPLE_GM_PARAMS *gm) noexce
     cdef double e[10]
     cdef const double *start
     cdef int first, second, normal
-    _p10(&gm.m_s, part_start(prog, i))
-    _p10(&gm.m_e, p.e)
+    part_start(prog, i, <double *>&gm.m_s)
+    part_end(prog, p, <double *>&gm.m_e)
     part_calc_start(prog, i, <double *>&gm.m_calcS)
-    memcpy(e, p.e, sizeof(e))
+    part_end(prog, p, e)
     e[0] = p.ce[0]; e[1] = p.ce[1]; e[2] = p.ce[2]
     _p10(&gm.m_calcE, e)
     if prog.n_zeros > p.zero_idx:
@@ -259,7 +294,7 @@ cdef void part_to_gm(const Program *prog, size_t i, SIMPLE_GM_PARAMS *gm) noexce
         gm.m_pars.G = <float>p.func
         gm.m_pars.N = <float>part_length(prog, i)
         if (p.func == 2 or p.func == 3) and plane_axes(p.plane, &first, &second, &normal):
-            start = part_start(prog, i)
+            start = part_start_xyz(prog, i)
             gm.m_pars.R = <float>distance2d(start[first] - p.cc[first], start[second] - p.cc[second])
             gm.m_cc.x = p.cc[0]
             gm.m_cc.y = p.cc[1]

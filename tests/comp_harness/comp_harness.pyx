@@ -31,6 +31,7 @@ def compensate(list parts, start, long long strategy=0, corrections=(), toleranc
     cdef GCODE_PARAMETERS params
     cdef ErrorInfo err
     cdef Part *p
+    cdef double end[10]
     cdef int k, rc
     cdef char *warn = <char *>calloc(65536, 1)
     cdef timespec t0, t1
@@ -48,13 +49,11 @@ def compensate(list parts, start, long long strategy=0, corrections=(), toleranc
         p = program_add_part(&prog)
         p.kind = d.get("kind", 1)
         p.func = d.get("func", 1)
-        e = list(d.get("e", ())) if d.get("e") is not None else None
-        if e is None:
-            for k in range(10):
-                p.e[k] = prog.parts[idx - 1].e[k] if idx > 0 else prog.start[k]
-        else:
-            for k in range(10):
-                p.e[k] = e[k] if k < len(e) else (prog.parts[idx - 1].e[k] if idx > 0 else prog.start[k])
+        e = list(d.get("e", ())) if d.get("e") is not None else []
+        part_start(&prog, idx, end)         # unset axes stay where the previous part ended
+        for k in range(min(len(e), 10)):
+            end[k] = e[k]
+        program_set_end(&prog, p, end)
         for k in range(3):
             p.ce[k] = p.e[k]
         cc = d.get("cc", (0, 0, 0))
@@ -79,9 +78,10 @@ def compensate(list parts, start, long long strategy=0, corrections=(), toleranc
     if rc == COMPILE_OK:
         for k in range(<int>prog.n_parts):
             p = &prog.parts[k]
+            part_end(&prog, p, end)
             out.append(dict(kind=p.kind, func=p.func, line=p.line, gcode_index=p.gcode_index,
                             flags=p.flags, comp=p.comp, plane=p.plane,
-                            e=[p.e[i] for i in range(10)], ce=[p.ce[i] for i in range(3)],
+                            e=[end[i] for i in range(10)], ce=[p.ce[i] for i in range(3)],
                             cc=[p.cc[i] for i in range(3)], radius=p.radius,
                             inserted=bool(p.flags & FLAG_INSERTED)))
     error = None

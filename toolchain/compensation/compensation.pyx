@@ -297,7 +297,7 @@ cdef bint _in_plane_motion(const CompState *S, size_t k, bint *is_arc) noexcept 
     if (p.func == 2 or p.func == 3) and p.radius > 0:
         is_arc[0] = True
         return True
-    s = part_start(S.prog, k)
+    s = part_start_xyz(S.prog, k)
     return distance2d(p.e[S.first] - s[S.first], p.e[S.second] - s[S.second]) > 1e-9
 
 
@@ -362,7 +362,7 @@ cdef int _run(CompState *S, size_t i, size_t j) noexcept nogil:
                 S.next_fixed = False
                 S.entry_part = k
             continue
-        s = part_start(prog, k)
+        s = part_start_xyz(prog, k)
         ps[0] = s[S.first]; ps[1] = s[S.second]
         pe[0] = p.e[S.first]; pe[1] = p.e[S.second]
         if is_arc:
@@ -468,6 +468,7 @@ cdef void _inserted_part(Part *q, const Part *p, const Part *src, const InsRec *
     memset(q, 0, sizeof(Part))
     plane_axes(p.plane, &first, &second, &normal)
     memcpy(q.e, p.e, sizeof(q.e))
+    q.axes_idx = p.axes_idx
     for a in range(3):
         q.ce[a] = p.ce[a]
         q.cc[a] = p.e[a]

@@ -501,7 +501,7 @@ cdef bint _x_programmed(const CompState *S, size_t k, XPiece *g) noexcept nogil:
     cdef bint is_arc
     if p.func == 0 or not _in_plane_motion(S, k, &is_arc):
         return False
-    st = part_start(S.prog, k)
+    st = part_start_xyz(S.prog, k)
     g.part = k
     g.s[0] = st[S.first]; g.s[1] = st[S.second]
     g.e[0] = p.e[S.first]; g.e[1] = p.e[S.second]

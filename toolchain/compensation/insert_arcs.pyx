@@ -47,9 +47,9 @@ cdef bint program_add_arc_region(Program *prog, size_t first, bint on, int32_t p
 
 
 cdef inline void _ia_point(const Part *p, int a, int b, double *out) noexcept nogil:
-    """Where the tool is at the end of p, in the plane (a, b): ce for x y z."""
-    out[0] = p.ce[a] if a < 3 else p.e[a]
-    out[1] = p.ce[b] if b < 3 else p.e[b]
+    """Where the tool is at the end of p, in the plane (a, b) (plane axes are x y z)."""
+    out[0] = p.ce[a]
+    out[1] = p.ce[b]
 
 
 cdef bint _ia_in_plane_line(const Program *prog, size_t k, int a, int b) noexcept nogil:
@@ -61,7 +61,7 @@ cdef bint _ia_in_plane_line(const Program *prog, size_t k, int a, int b) noexcep
     if p.kind != PART_MOTION or p.func != 1:
         return False
     part_calc_start(prog, k, s)
-    memcpy(e, p.e, sizeof(e))
+    part_end(prog, p, e)
     e[0] = p.ce[0]; e[1] = p.ce[1]; e[2] = p.ce[2]
     for i in range(10):
         if i != a and i != b and fabs(e[i] - s[i]) > 1e-9:
@@ -187,12 +187,10 @@ cdef int insert_arcs(Program *prog, const GCODE_PARAMETERS *params, ErrorInfo *e
 
 
 cdef void _ia_set(Part *q, int a, int b, double va, double vb) noexcept nogil:
-    """Moves the tool end of part q in the plane; a part without compensation moves its
-    programmed end with it (ce = e)."""
-    if a < 3:
-        q.ce[a] = va
-    if b < 3:
-        q.ce[b] = vb
+    """Moves the tool end of part q in the plane (x y z axes); a part without
+    compensation moves its programmed end with it (ce = e)."""
+    q.ce[a] = va
+    q.ce[b] = vb
     if q.comp == 40:
         q.e[a] = va
         q.e[b] = vb
@@ -212,6 +210,7 @@ cdef void _ia_part(Part *q, const Part *prev, const Part *src, const ArcIns *x) 
     cdef int a, b, c
     memset(q, 0, sizeof(Part))
     memcpy(q.e, prev.e, sizeof(q.e))
+    q.axes_idx = prev.axes_idx
     q.ce[0] = prev.ce[0]; q.ce[1] = prev.ce[1]; q.ce[2] = prev.ce[2]
     plane_axes(x.plane, &a, &b, &c)
     q.comp = src.comp

@@ -17,7 +17,9 @@ cdef Part *em_part(CState *st, int kind, int func) noexcept nogil:
         return NULL
     p.kind = kind
     p.func = func
-    memcpy(p.e, st.mpos, sizeof(p.e))
+    if not program_set_end(prog, p, st.mpos):
+        cerr(st, ERR_OUT_OF_MEMORY)
+        return NULL
     p.ce[0] = st.mpos[0]; p.ce[1] = st.mpos[1]; p.ce[2] = st.mpos[2]
     p.fp = <float>st.fp
     p.spindle = st.spindle
@@ -249,7 +251,8 @@ cdef int em_motion(CState *st, const LineWords *lw, int func) noexcept nogil:
     p = em_part(st, PART_MOTION, func)
     if p == NULL:
         return R_ERR
-    memcpy(p.e, e, sizeof(e))
+    if not program_set_end(st.prog, p, e):
+        return cerr(st, ERR_OUT_OF_MEMORY)
     p.ce[0] = e[0]; p.ce[1] = e[1]; p.ce[2] = e[2]
     em_feed(st, p, func)
     if func == 2 or func == 3:
