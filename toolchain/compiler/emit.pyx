@@ -4,8 +4,9 @@
 from libc.math cimport fabs, sqrt
 
 
-cdef Part *em_part(CState *st, int kind, int func) noexcept nogil:
-    """A new part with the modal fields filled in; NULL on error (recorded)."""
+cdef Part *em_part(CState *st, int kind, int func, const double *end) noexcept nogil:
+    """A new part ending at `end` (machine coordinates, ten axes) with the modal fields
+    filled in; NULL on error (recorded)."""
     cdef Part *p
     cdef Program *prog = st.prog
     if prog.n_parts >= MAX_PARTS:
@@ -17,10 +18,10 @@ cdef Part *em_part(CState *st, int kind, int func) noexcept nogil:
         return NULL
     p.kind = kind
     p.func = func
-    if not program_set_end(prog, p, st.mpos):
+    if not program_set_end(prog, p, end):
         cerr(st, ERR_OUT_OF_MEMORY)
         return NULL
-    p.ce[0] = st.mpos[0]; p.ce[1] = st.mpos[1]; p.ce[2] = st.mpos[2]
+    p.ce[0] = end[0]; p.ce[1] = end[1]; p.ce[2] = end[2]
     p.fp = <float>st.fp
     p.spindle = st.spindle
     p.tool = <uint16_t>st.tool
@@ -248,12 +249,9 @@ cdef int em_motion(CState *st, const LineWords *lw, int func) noexcept nogil:
     if st.absolute:
         st.relative_only = False
     to_machine(st, newp, e)
-    p = em_part(st, PART_MOTION, func)
+    p = em_part(st, PART_MOTION, func, e)
     if p == NULL:
         return R_ERR
-    if not program_set_end(st.prog, p, e):
-        return cerr(st, ERR_OUT_OF_MEMORY)
-    p.ce[0] = e[0]; p.ce[1] = e[1]; p.ce[2] = e[2]
     em_feed(st, p, func)
     if func == 2 or func == 3:
         if em_arc(st, lw, p, &f, st.ppos, newp) != 0:
@@ -272,7 +270,7 @@ cdef int em_motion(CState *st, const LineWords *lw, int func) noexcept nogil:
 
 cdef int em_dwell(CState *st, const LineWords *lw) noexcept nogil:
     """G4: W milliseconds, or H / X / T seconds."""
-    cdef Part *p = em_part(st, PART_DWELL, 4)
+    cdef Part *p = em_part(st, PART_DWELL, 4, st.mpos)
     if p == NULL:
         return R_ERR
     if has(lw, b'W'):
@@ -287,7 +285,7 @@ cdef int em_dwell(CState *st, const LineWords *lw) noexcept nogil:
 
 
 cdef int em_mfunc(CState *st, const LineWords *lw, int m, bint continuous) noexcept nogil:
-    cdef Part *p = em_part(st, PART_MFUNC, m)
+    cdef Part *p = em_part(st, PART_MFUNC, m, st.mpos)
     if p == NULL:
         return R_ERR
     if continuous:
@@ -300,7 +298,7 @@ cdef int em_print(CState *st, const LineWords *lw, int m, const char *text, int 
     cdef Part *p
     if off < 0:
         return cerr(st, ERR_OUT_OF_MEMORY)
-    p = em_part(st, PART_PRINT, m)
+    p = em_part(st, PART_PRINT, m, st.mpos)
     if p == NULL:
         return R_ERR
     p.aux = <uint32_t>off
