@@ -46,15 +46,20 @@ cdef extern from *:
 # Copies of parts into memory that is not read back soon (the merge of inserted
 # parts): non-temporal stores skip reading each destination line first, a third of
 # the merge's memory traffic. dst lies above src (they may overlap): highest word
-# first. tc_stream_fence orders them before the program is handed to other threads.
+# first. The parts are copied as 8-byte words (may_alias), between compiler barriers
+# so that no access to them as parts moves across the copy. tc_stream_fence orders
+# the stores before the program is handed to other threads.
 cdef extern from *:
     """
     #if defined(__x86_64__)
     #include <immintrin.h>
+    typedef long long __attribute__((__may_alias__)) tc_word;
     static inline void tc_stream_up(void *dst, const void *src, size_t words) {
-        long long *d = (long long *)dst;
-        const long long *s = (const long long *)src;
-        while (words--) _mm_stream_si64(d + words, s[words]);
+        tc_word *d = (tc_word *)dst;
+        const tc_word *s = (const tc_word *)src;
+        __asm__ __volatile__("" ::: "memory");
+        while (words--) _mm_stream_si64((long long *)(d + words), s[words]);
+        __asm__ __volatile__("" ::: "memory");
     }
     static inline void tc_stream_fence(void) { _mm_sfence(); }
     #else
