@@ -291,6 +291,7 @@ cdef bint _in_plane_motion(const CompState *S, size_t k, bint *is_arc) noexcept 
     """Whether part k moves in the compensation plane (arcs always do)."""
     cdef const Part *p = &S.prog.parts[k]
     cdef const double *s
+    cdef double dx, dy
     is_arc[0] = False
     if p.kind != PART_MOTION:
         return False
@@ -298,7 +299,9 @@ cdef bint _in_plane_motion(const CompState *S, size_t k, bint *is_arc) noexcept 
         is_arc[0] = True
         return True
     s = part_start_xyz(S.prog, k)
-    return distance2d(p.e[S.first] - s[S.first], p.e[S.second] - s[S.second]) > 1e-9
+    dx = p.e[S.first] - s[S.first]
+    dy = p.e[S.second] - s[S.second]
+    return dx * dx + dy * dy > 1e-18        # longer than 1e-9
 
 
 cdef int _run(CompState *S, size_t i, size_t j) noexcept nogil:
