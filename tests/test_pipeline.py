@@ -255,6 +255,24 @@ def test_the_seven_other_axes_through_parts_size_info_and_reset(core):
     assert ends == [(11, 105, 50), (11, 105, 47)]
 
 
+def test_compensated_size_info_under_a_rotation(core):
+    # a square compensated outside (corner arcs inserted) and turned by G168: as
+    # written, [1] is the square grown by the radius; as run, [3] is that turned
+    p = core.params
+    for i in range(8):
+        p.correction[i].size = 2.0
+    core.params = p
+    core.compile_text("G168 X0 Y0 R30\nG0 X0 Y-20\nG42 G1 X0 Y-10 F1000\nX10\nY10\nX-10\nY-10\nX0\n"
+                      "G40 X0 Y-20\n", "rotsq.nc")
+    size = core.size_info().m_size
+    written = size[1]
+    assert (written.m_minimalPos.x, written.m_maximalPos.x) == pytest.approx((-12, 12))
+    assert (written.m_minimalPos.y, written.m_maximalPos.y) == pytest.approx((-20, 12))
+    # as run: the corner arc about (10, -10), turned by 30 degrees, reaches furthest in x
+    c, s30 = math.cos(math.radians(30)), math.sin(math.radians(30))
+    assert size[3].m_maximalPos.x == pytest.approx(10 * (c + s30) + 2)
+
+
 def test_size_info_original_and_rotated(core):
     # G168: the program turned by 90 degrees about (0, 0); [0]/[1] are the program as
     # written, [2]/[3] as the machine runs it

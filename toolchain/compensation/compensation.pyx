@@ -472,6 +472,7 @@ cdef void _inserted_part(Part *q, const Part *p, const Part *src, const InsRec *
     plane_axes(p.plane, &first, &second, &normal)
     memcpy(q.e, p.e, sizeof(q.e))
     q.axes_idx = p.axes_idx
+    q.rot_idx = p.rot_idx           # under the G168 rotation of its corner
     for a in range(3):
         q.ce[a] = p.ce[a]
         q.cc[a] = p.e[a]

@@ -211,6 +211,7 @@ cdef void _ia_part(Part *q, const Part *prev, const Part *src, const ArcIns *x) 
     memset(q, 0, sizeof(Part))
     memcpy(q.e, prev.e, sizeof(q.e))
     q.axes_idx = prev.axes_idx
+    q.rot_idx = prev.rot_idx
     q.ce[0] = prev.ce[0]; q.ce[1] = prev.ce[1]; q.ce[2] = prev.ce[2]
     plane_axes(x.plane, &a, &b, &c)
     q.comp = src.comp
