@@ -17,6 +17,9 @@
 # Not loops: a crossing where the programmed elements cross too (the contour itself
 # crosses, the tool has to), and the crossing of the last part of a closed contour with
 # the first one (a start at an inner corner: the entry and exit rules).
+# At the chain's end the pieces next to a cut must keep the tool radius from the
+# contour (_x_check_cuts): a cut that kept the wrong side (a chain started inside a
+# neck narrower than the tool) is error 504 instead of a gouging path.
 from libc.stdlib cimport malloc, realloc, free
 from libc.string cimport memmove, memcpy, memset
 from libc.math cimport fabs, sqrt, atan2, M_PI
