@@ -304,13 +304,15 @@ cdef bint _in_plane_motion(const CompState *S, size_t k, bint *is_arc) noexcept 
     return dx * dx + dy * dy > 1e-18        # longer than 1e-9
 
 
-cdef int _run(CompState *S, size_t i, size_t j) noexcept nogil:
-    """Compensates the run of parts i..j-1 (all with comp 41/42)."""
+cdef int _run(CompState *S, size_t i, size_t *end) noexcept nogil:
+    """Compensates the run of parts from i (comp 41/42) up to the next part with comp 40
+    or the end of the program, whose index goes to `end` (found on the way: the run is
+    read once)."""
     cdef Program *prog = S.prog
     cdef Part *p
     cdef CompEl el
     cdef int plane = prog.parts[i].plane
-    cdef size_t k, idle = 0
+    cdef size_t k, j, nxt, idle = 0
     cdef bint first_motion = True, is_arc, g0_never, entry_arc = False
     cdef const double *s
     cdef double ps[2]
@@ -324,7 +326,10 @@ cdef int _run(CompState *S, size_t i, size_t j) noexcept nogil:
     S.entry_part = -1
     S.next_fixed = False
     S.n_st = 0
-    for k in range(i, j):
+    nxt = i
+    while nxt < prog.n_parts and prog.parts[nxt].comp != 40:
+        k = nxt
+        nxt += 1
         p = &prog.parts[k]
         if p.plane != plane:
             return _comp_fail(S, ERR_COMP_PLANE_CHANGE, k, 0, 0)
@@ -403,6 +408,8 @@ cdef int _run(CompState *S, size_t i, size_t j) noexcept nogil:
         res = _chain_add(S, &el)
         if res != COMPILE_OK:
             return res
+    j = nxt
+    end[0] = j
     # the exit: strategy 1 ends the last part before G40 uncompensated (a line)
     if S.cfg.mode == 1 and j < prog.n_parts and S.n_st > 0 and S.st[S.n_st - 1].kind == EL_LINE:
         res = _chain_end(S, True)
@@ -567,7 +574,7 @@ cdef int compensate_program(Program *prog, const GCODE_PARAMETERS *params, Error
     to `output` (text) and `warn` (numbered, WARN_COMP)."""
     cdef CompState S
     cdef CompCfg host
-    cdef size_t i, j, region = 0
+    cdef size_t i, region = 0
     cdef int res = COMPILE_OK
     memset(&S, 0, sizeof(S))
     S.prog = prog
@@ -592,12 +599,8 @@ cdef int compensate_program(Program *prog, const GCODE_PARAMETERS *params, Error
         if prog.parts[i].comp == 40:
             i += 1
             continue
-        j = i + 1
-        while j < prog.n_parts and prog.parts[j].comp != 40:
-            j += 1
         run_config(prog, &host, i, &region, &S.cfg)
-        res = _run(&S, i, j)
-        i = j
+        res = _run(&S, i, &i)
     if res != COMPILE_OK and S.xs.err_number != 0:
         _comp_fail(&S, S.xs.err_number, S.xs.err_part, S.xs.err_arg, 0)
     if res == COMPILE_OK:
