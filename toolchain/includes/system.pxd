@@ -45,8 +45,8 @@ cdef extern from *:
 
 # Copies of parts into memory that is not read back soon (the merge of inserted
 # parts): non-temporal stores skip reading each destination line first, a third of
-# the merge's memory traffic. dst lies above src (they may overlap): highest word
-# first. The parts are copied as 8-byte words (may_alias), between compiler barriers
+# the merge's memory traffic; 16 bytes at a time where the destination allows. dst
+# lies above src by at least 16 bytes (they may overlap): highest word first. The parts are copied as 8-byte words (may_alias), between compiler barriers
 # so that no access to them as parts moves across the copy. tc_stream_fence orders
 # the stores before the program is handed to other threads.
 cdef extern from *:
@@ -58,7 +58,18 @@ cdef extern from *:
         tc_word *d = (tc_word *)dst;
         const tc_word *s = (const tc_word *)src;
         __asm__ __volatile__("" ::: "memory");
-        while (words--) _mm_stream_si64((long long *)(d + words), s[words]);
+        /* highest first: a lone word up to a 16-byte boundary of the destination,
+           then 16-byte stores, then a lone word at the bottom */
+        if (words && ((size_t)(d + words) & 15)) {
+            words--;
+            _mm_stream_si64((long long *)(d + words), s[words]);
+        }
+        while (words >= 2) {
+            words -= 2;
+            _mm_stream_si128((__m128i *)(d + words), _mm_loadu_si128((const __m128i *)(s + words)));
+        }
+        if (words)
+            _mm_stream_si64((long long *)d, s[0]);
         __asm__ __volatile__("" ::: "memory");
     }
     static inline void tc_stream_fence(void) { _mm_sfence(); }
