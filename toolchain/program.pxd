@@ -23,8 +23,6 @@ cdef enum PartFlags:
     FLAG_INSERTED = 0x02         # inserted by the system (compensation, G167 arcs)
     FLAG_CONTINUOUS_M = 0x04     # M >= 1001: signalled at the start of the next move, no wait
     FLAG_HELIX = 0x08            # arc with off-plane motion
-    FLAG_COMP_START = 0x10       # first part of a compensated run
-    FLAG_COMP_END = 0x20         # last part of a compensated run
 
 ctypedef struct Part:
     double e[3]             # programmed end x y z, machine coordinates (program + zero offset); M parts: current position

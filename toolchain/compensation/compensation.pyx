@@ -449,7 +449,6 @@ cdef void _compatibility(Program *prog) noexcept nogil:
         if p.comp != 40 and not moved:
             while k < n and prog.parts[k].comp != 40:
                 prog.parts[k].comp = 40
-                prog.parts[k].flags &= ~(FLAG_COMP_START | FLAG_COMP_END)
                 if prog.parts[k].kind == PART_MOTION:
                     moved = True
                 k += 1
@@ -462,8 +461,6 @@ cdef void _compatibility(Program *prog) noexcept nogil:
             while m < n and prog.parts[m].comp == 40 and prog.parts[m].kind != PART_MOTION:
                 m += 1
             if m < n and prog.parts[m].comp != 40:
-                prog.parts[k].flags &= ~FLAG_COMP_END
-                prog.parts[m].flags &= ~FLAG_COMP_START
                 for b in range(k + 1, m):
                     prog.parts[b].comp = p.comp
                     prog.parts[b].comp_slot = p.comp_slot

@@ -297,7 +297,6 @@ cdef void cp_comp(CState *st, int g) noexcept nogil:
     """G40 off; G41..G48: side 41/42 (a negative radius swaps it), slot 0..7."""
     cdef int slot, side
     if g == 40:
-        em_comp_close(st)
         st.comp = 40
         st.comp_slot = 0
         return
@@ -305,9 +304,6 @@ cdef void cp_comp(CState *st, int g) noexcept nogil:
     side = 41 if (slot & 1) == 0 else 42
     if st.params.correction[slot].size < 0.0:
         side = 83 - side
-    if side != st.comp or slot != st.comp_slot:
-        em_comp_close(st)
-        st.comp_pending_start = True
     st.comp = side
     st.comp_slot = slot
 
@@ -687,7 +683,6 @@ cdef void cp_init(CState *st, const CompileInput *inp, Program *prog, ErrorInfo 
     st.per_min = True
     st.fp = 1.0
     st.comp = 40
-    st.comp_last = -1
     st.relative_only = True
     st.last_percent = -1
 
@@ -761,7 +756,6 @@ cdef int compile_program(const CompileInput *inp, Program *prog, ErrorInfo *err)
     for i in range(3):
         lb_free(&units[i])
     if result == COMPILE_OK:
-        em_comp_close(st)
         prog.relative_only = st.relative_only
     free(st)
     return result

@@ -103,23 +103,6 @@ cdef void em_feed(CState *st, Part *p, int func) noexcept nogil:
         p.fp = 1.0
 
 
-cdef void em_comp_mark(CState *st, Part *p) noexcept nogil:
-    """Marks the first and remembers the last motion part of a compensated run."""
-    if st.comp == 40:
-        return
-    if st.comp_pending_start:
-        p.flags |= FLAG_COMP_START
-        st.comp_pending_start = False
-    st.comp_last = <int64_t>(p - st.prog.parts)
-    st.prog.compensated = True
-
-
-cdef void em_comp_close(CState *st) noexcept nogil:
-    if st.comp_last >= 0:
-        st.prog.parts[st.comp_last].flags |= FLAG_COMP_END
-    st.comp_last = -1
-
-
 cdef inline bint has(const LineWords *lw, char letter) noexcept nogil:
     return (lw.mask >> (<int>letter - 65)) & 1
 
@@ -262,7 +245,6 @@ cdef int em_motion(CState *st, const LineWords *lw, int func) noexcept nogil:
             p.value = val(lw, b'K')
         elif has(lw, b'F'):
             p.value = val(lw, b'F')
-    em_comp_mark(st, p)
     memcpy(st.ppos, newp, sizeof(newp))
     memcpy(st.mpos, e, sizeof(e))
     return em_pars(st, lw, p.func, -10000)

@@ -104,8 +104,6 @@ ctypedef struct CState:
     float spindle
     int tool
     int comp, comp_slot
-    int64_t comp_last                       # index of the last compensated motion part, -1
-    bint comp_pending_start
     bint g167_on
     double g167[4]                          # E A U Q
     uint32_t limits_off                     # M-5: axes whose limits are disabled
