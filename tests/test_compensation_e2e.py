@@ -209,3 +209,71 @@ def test_the_benchmark_cutting_program_compensates(hmi):
     assert all(p["func"] in (2, 3) and p["cc"][3] == pytest.approx(0.3) for p in inserted)
     for a, b in zip(parts, parts[1:]):
         assert np.allclose(a["e"], b["s"], atol=1e-9)
+
+
+# A square wave run to the right, compensated on the left (G41, r = 2), written
+# relative and repeated by a FOR loop: far more parts than lines, so the part array
+# grows while the compensation reads it beside the compiler (toolchain/pipeline.pyx),
+# and G172/G173 in the loop grow the strategy regions meanwhile. Each tooth (X10 Y10
+# X10 Y-10 from (0, 0)) has two inner corners, where the offsets meet, and two outer
+# ones, where an arc of radius 2 goes round the corner: hand-computed ends below.
+TOOTH_ENDS = [(8, 2), (8, 10), (10, 12), (20, 12), (22, 10), (22, 2)]
+WAVE = """G41 G1 X0 Y0 F1000
+FOR P1 = 1 TO {n}
+G1 X10
+Y10
+G172 C0
+X10
+G173
+Y-10
+END
+G1 X10
+G40 G1 X0 Y-10
+M30
+"""
+
+
+def test_a_long_program_is_compensated_beside_the_compiler(hmi):
+    _compiles(hmi)
+    n = 3000                                # 12,000 programmed parts from 12 lines
+    assert hmi.compile(WAVE.format(n=n), abs_mode=0) is None
+    parts = hmi.run()
+    first = 1                               # parts[0] is the G41 block, at the wave's start
+    origin = np.array(parts[0]["pe"][:2])   # (a relative program starts where the machine is)
+    ends = np.array([p["e"][:2] for p in parts]) - origin
+    # the first X10 is the ramp to the perpendicular of the next part (8, 0)
+    assert np.allclose(ends[first:first + 6], [(8, 0)] + TOOTH_ENDS[1:], atol=1e-9)
+    for k in range(1, n):
+        tooth = ends[first + 6 * k: first + 6 * k + 6]
+        assert np.allclose(tooth, np.array(TOOTH_ENDS) + (20 * k, 0), atol=1e-9), k
+    assert [p["func"] for p in parts[first:first + 6]] == [1, 1, 2, 1, 2, 1]
+    for a, b in zip(parts, parts[1:]):
+        assert np.allclose(a["e"], b["s"], atol=1e-9)
+
+
+def test_an_error_of_the_compensation_beside_the_compiler_keeps_its_line(hmi):
+    _compiles(hmi)
+    # after 12,000 parts an arc of radius 1 on the tool's side (G41, CCW): error 503
+    code = WAVE.format(n=3000).replace("G1 X10\nG40", "G1 X10\nG3 X2 Y0 I1 J0\nG1 X10\nG40")
+    err = hmi.compile(code, abs_mode=0)
+    assert err is not None and err[0] == 503 and err[1] == 11, err
+    # a compile error later in the program is the one reported (the compiler's errors
+    # come first, as when the compensation ran after it)
+    err = hmi.compile(code.replace("M30", "G1 X1/0\nM30"), abs_mode=0)
+    assert err is not None and err[0] == 200 and err[1] == 14, err
+    assert hmi.compile(WAVE.format(n=10), abs_mode=0) is None      # the core is usable
+
+
+def test_reset_interrupts_a_compensated_compilation(hmi):
+    _compiles(hmi)
+    p = abi.GCODE_PARAMETERS.from_buffer_copy(hmi.saved)
+    p.absMode = 0
+    p.correction[0].size = 2.0
+    assert hmi.lib.ToolChainCore_SetGCodeParameters(CORE, ctypes.byref(p)) == 0
+    code = WAVE.format(n=2_000_000).encode()
+    for delay in (0.0, 0.02, 0.2):
+        assert hmi.lib.ToolChainCore_CompileFromMemory(CORE, b"comp.nc", code) == 0
+        time.sleep(delay)
+        assert hmi.lib.ToolChainCore_ResetCNC(CORE, 0, 0, None) == 0
+        assert hmi.lib.ToolChainCore_StatusCNC(CORE) != 1
+    assert hmi.compile(WAVE.format(n=10), abs_mode=0) is None

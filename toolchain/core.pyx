@@ -390,6 +390,37 @@ cdef void _compile_warn(void *ctx, const ErrorInfo *warning) noexcept nogil:
         (<TC_MathWarning>cb.fn)(cb.user, &info)
 
 
+cdef int _compile_and_compensate(Core *core, CompileInput *inp, Program *prog, ErrorInfo *err) noexcept nogil:
+    """The compiler, and the compensation's pass beside it in a thread of its own
+    (pipeline.pyx), then the compensation's merge: COMPILE_OK, or the compiler's
+    failure, else the compensation's (err filled)."""
+    cdef CompState comp
+    cdef Follow follow
+    cdef ErrorInfo *comp_err = <ErrorInfo *>calloc(1, sizeof(ErrorInfo))
+    cdef int result
+    if comp_err == NULL:
+        set_error(err, ERR_OUT_OF_MEMORY, inp.file_idx, 0, NULL, 0)
+        return COMPILE_ERROR
+    compensate_begin(&comp, prog, &inp.params, comp_err, _compile_output, _compile_warn, core)
+    follow_init(&follow, compensate_feed, &comp)
+    prog.follow = &follow
+    result = compile_program(inp, prog, err)
+    if result == COMPILE_OK and prog.compensated:
+        follow_finish(&follow, prog.n_parts)        # the pass takes the rest and ends
+    else:
+        follow_abandon(&follow)
+    prog.follow = NULL
+    follow_destroy(&follow)
+    if result == COMPILE_OK and prog.compensated:
+        result = compensate_end(&comp)
+        if result != COMPILE_OK:
+            err[0] = comp_err[0]
+    else:
+        compensate_free(&comp)
+    free(comp_err)
+    return result
+
+
 cdef void *_compile_body(void *arg) noexcept nogil:
     cdef Core *core = <Core *>arg
     cdef CompileInput *inp = <CompileInput *>calloc(1, sizeof(CompileInput))
@@ -431,9 +462,7 @@ cdef void *_compile_body(void *arg) noexcept nogil:
         snprintf(text, sizeof(text), "Compiling %s", core.source_name)
         core_status_text(core, text)
         core_progress(core, 0)
-        result = compile_program(inp, &prog, err)
-        if result == COMPILE_OK and prog.compensated:
-            result = compensate_program(&prog, &inp.params, err, _compile_output, _compile_warn, core)
+        result = _compile_and_compensate(core, inp, &prog, err)
         if result == COMPILE_OK:
             result = insert_arcs(&prog, &inp.params, err)
         if result == COMPILE_CANCELLED:

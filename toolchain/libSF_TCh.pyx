@@ -15,6 +15,7 @@ from errors cimport *
 include "errors.pyx"
 include "geometry.pyx"
 include "program.pyx"
+include "pipeline.pyx"
 include "compiler/lexer.pyx"
 include "compiler/state.pyx"
 include "compiler/expressions.pyx"

@@ -4,6 +4,7 @@
 # (program.pyx: part_to_gm).
 from libc.stdint cimport int8_t, int16_t, int32_t, uint8_t, uint16_t, uint32_t, int64_t
 from includes.tgm_cnc cimport GCODE_PARAMETERS, P10DOUBLE
+from includes.system cimport pthread_t, pthread_mutex_t, pthread_cond_t
 
 
 cdef enum:
@@ -66,6 +67,27 @@ ctypedef struct StrategyRegion:   # G172 / G173: the compensation strategy from 
     double depth            # C: search depth in parts (0 = the host's)
     bint drop_arcs          # D1: drop arcs whose offset radius becomes negative (D0 keeps the host's bit)
 
+# A stage that reads the parts while the compiler still writes them, in a thread of
+# its own (pipeline.pyx; the compensation): the compiler hands over the parts as they
+# become final, and growth of an array the stage reads waits until it is between
+# batches. Everything but `started` is guarded by `lock`.
+ctypedef int (*consume_fn)(void *ctx, size_t upto, bint last) noexcept nogil
+
+ctypedef struct Follow:
+    consume_fn consume      # takes parts [previous upto, upto); last: the program is complete
+    void *ctx
+    pthread_mutex_t lock
+    pthread_cond_t cond
+    pthread_t thread
+    size_t published        # parts [0, published) are final
+    int result              # the consumer's first result other than COMPILE_OK
+    bint started            # the thread runs (only the compiler's thread reads or writes it)
+    bint done               # published is the whole program
+    bint stop               # give up (compile error, cancel)
+    bint paused             # the compiler grows an array: start no batch
+    bint busy               # a batch is being consumed
+    bint ended              # the thread has consumed its last batch
+
 ctypedef struct Program:
     Part *parts
     size_t n_parts, cap_parts
@@ -88,6 +110,7 @@ ctypedef struct Program:
     bint relative_only      # every position is relative to the start (G91 throughout): ResetCNC moves it
     ArcRegion *arc_regions  # G167 changes, in part order (compensation/insert_arcs.pyx)
     size_t n_arc_regions, cap_arc_regions
+    Follow *follow          # while a stage reads the parts beside the compiler, else NULL
 
 # One error: number of the catalogue (errors.pyx), location and the formatted texts.
 cdef enum:

@@ -49,10 +49,25 @@ cdef inline void _part_defaults(Part *p) noexcept nogil:
     p.comp = 40
 
 
+cdef bint program_grow_shared(Program *prog, void **buf, size_t *cap, size_t need,
+                              size_t item) noexcept nogil:
+    """_grow for an array that a stage beside the compiler reads (Program.follow):
+    the array moves only while that stage waits between batches."""
+    cdef bint ok
+    if need <= cap[0]:
+        return True
+    if prog.follow != NULL:
+        follow_pause(prog.follow)
+    ok = _grow(buf, cap, need, item)
+    if prog.follow != NULL:
+        follow_resume(prog.follow)
+    return ok
+
+
 cdef Part *program_add_part(Program *prog) noexcept nogil:
     """Appends a zeroed part (zero_idx 0, file -1); NULL when out of memory."""
     cdef Part *p
-    if not _grow(<void **>&prog.parts, &prog.cap_parts, prog.n_parts + 1, sizeof(Part)):
+    if not program_grow_shared(prog, <void **>&prog.parts, &prog.cap_parts, prog.n_parts + 1, sizeof(Part)):
         return NULL
     p = &prog.parts[prog.n_parts]
     prog.n_parts += 1

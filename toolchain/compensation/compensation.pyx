@@ -1,9 +1,11 @@
 # Tool radius compensation G41-G48 / G40: the tool centre path of every compensated
 # part (Part.ce, Part.radius) and the parts inserted at outer corners.
 #
-# One pass over the program, O(n):
+# One pass over the program, O(n), that takes the parts in batches as the compiler
+# finishes them (compensate_feed, run beside the compiler by pipeline.pyx):
 #   1. split the program into runs of parts with comp 41/42 (strategy 0x80000000 first
-#      merges G40..G41 pairs without a move between and drops a leading G41);
+#      merges G40..G41 pairs without a move between and drops a leading G41: that
+#      needs the whole program, so the pass then waits for its end);
 #   2. inside a run, the motion parts in the plane become offset elements; they form
 #      chains between the entry ramp (G41 block or G0) and the exit (G40 block or G0);
 #   3. each new element resolves its corner with the top of a stack of open elements;
@@ -56,6 +58,21 @@ ctypedef struct CompState:
     int n_warnings
     bint has_followers      # some compensated part has no motion in the plane
     XState xs               # crossings of parts that are not neighbours (crossings.pyx)
+    CompCfg host            # the host's strategy (run_config changes it per run)
+    size_t region           # next strategy region (run_config)
+    size_t next             # first part compensate_feed has not taken yet
+    size_t cap_role
+    int result              # COMPILE_OK, or the first failure (err filled)
+    # the run being read (parts with comp 41/42)
+    bint in_run
+    int plane
+    size_t idle             # parts without motion in the plane since the last one with
+    bint first_motion       # the G41/G42 block is still to come
+    bint entry_arc          # ... it was an arc: the chain starts on it
+    bint g0_never
+    # after a run: the first move in the plane must be linear (G40 on an arc is an error)
+    bint exit_check
+    size_t exit_from
 
 
 cdef void _comp_warn(CompState *S, size_t part, const char *what) noexcept nogil:
@@ -304,116 +321,122 @@ cdef bint _in_plane_motion(const CompState *S, size_t k, bint *is_arc) noexcept 
     return dx * dx + dy * dy > 1e-18        # longer than 1e-9
 
 
-cdef int _run(CompState *S, size_t i, size_t *end) noexcept nogil:
-    """Compensates the run of parts from i (comp 41/42) up to the next part with comp 40
-    or the end of the program, whose index goes to `end` (found on the way: the run is
-    read once)."""
+cdef int _run_begin(CompState *S, size_t i) noexcept nogil:
+    """A run of parts with comp 41/42 starts at part i."""
+    S.g0_never = (S.cfg.strategy & CORR_G0_NEVER_COMPENSATED) != 0
+    S.plane = S.prog.parts[i].plane
+    if not plane_axes(S.plane, &S.first, &S.second, &S.normal):
+        return _comp_fail(S, ERR_COMP_PLANE_CHANGE, i, 0, 0)
+    S.entry_part = -1
+    S.next_fixed = False
+    S.n_st = 0
+    S.first_motion = True
+    S.entry_arc = False
+    S.idle = 0
+    S.in_run = True
+    return COMPILE_OK
+
+
+cdef int _run_part(CompState *S, size_t k) noexcept nogil:
+    """Part k of the run: an element of the chain, a ramp, a rapid or a part without
+    motion in the plane."""
     cdef Program *prog = S.prog
-    cdef Part *p
+    cdef Part *p = &prog.parts[k]
     cdef CompEl el
-    cdef int plane = prog.parts[i].plane
-    cdef size_t k, j, nxt, idle = 0
-    cdef bint first_motion = True, is_arc, g0_never, entry_arc = False
+    cdef bint is_arc
     cdef const double *s
     cdef double ps[2]
     cdef double pe[2]
     cdef double pc[2]
     cdef double sweep
     cdef int res
-    g0_never = (S.cfg.strategy & CORR_G0_NEVER_COMPENSATED) != 0
-    if not plane_axes(plane, &S.first, &S.second, &S.normal):
-        return _comp_fail(S, ERR_COMP_PLANE_CHANGE, i, 0, 0)
-    S.entry_part = -1
-    S.next_fixed = False
-    S.n_st = 0
-    nxt = i
-    while nxt < prog.n_parts and prog.parts[nxt].comp != 40:
-        k = nxt
-        nxt += 1
-        p = &prog.parts[k]
-        if p.plane != plane:
-            return _comp_fail(S, ERR_COMP_PLANE_CHANGE, k, 0, 0)
-        S.role[k] = ROLE_FOLLOW
-        if not _in_plane_motion(S, k, &is_arc):
-            S.has_followers = True
-            idle += 1
-            if idle > LOOKAHEAD_PARTS and S.n_st > 0:
-                return _comp_fail(S, ERR_COMP_LOOKAHEAD, k, LOOKAHEAD_PARTS, 0)
-            continue
-        idle = 0
-        if first_motion and is_arc:
-            # G41/G42 without a move of its own before an arc: an inserted line goes
-            # to the arc's perpendicular and the arc is compensated whole
-            first_motion = False
-            if k == 0:
-                return _comp_fail(S, ERR_COMP_ON_ARC, k, 0, 0)
-            entry_arc = True
-        elif first_motion:
-            # the G41/G42 block: a line to the perpendicular of the next part (strategy 0)
-            # or an uncompensated move (strategy 1, G0 never compensated)
-            first_motion = False
-            S.role[k] = ROLE_SET
-            if S.cfg.mode == 1 or (p.func == 0 and g0_never):
-                S.next_fixed = True
-            else:
-                S.entry_part = k
-            continue
-        if p.func == 0:
-            # a rapid leaves the contour on the perpendicular and re-enters it like G41
-            res = _chain_end(S, False)
-            if res != COMPILE_OK:
-                return res
-            S.role[k] = ROLE_SET
-            if g0_never:
-                S.next_fixed = True
-            else:
-                S.next_fixed = False
-                S.entry_part = k
-            continue
-        s = part_start_xyz(prog, k)
-        ps[0] = s[S.first]; ps[1] = s[S.second]
-        pe[0] = p.e[S.first]; pe[1] = p.e[S.second]
-        if is_arc:
-            pc[0] = p.cc[S.first]; pc[1] = p.cc[S.second]
-            # sweep in the arc's direction, a full circle when start = end (as arc_sweep)
-            sweep = _turn(ps[0] - pc[0], ps[1] - pc[1], pe[0] - pc[0], pe[1] - pc[1])
-            if p.func == 3 and sweep <= 1e-12:
-                sweep += 2.0 * M_PI
-            elif p.func == 2 and sweep >= -1e-12:
-                sweep -= 2.0 * M_PI
-            el_init(&el, k, EL_ARC, 1 if p.func == 3 else -1, _comp_distance(S, p), ps, pe, pc, sweep)
-            if el.ro <= 1e-9 * el.R:
-                if el.ro < -1e-9 * el.R:
-                    if not (S.cfg.strategy & CORR_DROP_NEGATIVE_ARCS):
-                        return _comp_fail(S, ERR_COMP_NEGATIVE_ARC, k, el.R, fabs(el.d))
-                    _comp_warn(S, k, "arc with negative equidistant removed")
-                # an offset of no radius is a point the neighbours' offsets pass through
-                _discard(S, k)
-                continue
-            if el.ro < S.cfg.min_arc:
-                # below the minimum arc radius (tolerance[4]): removed the same way
-                _comp_warn(S, k, "arc with an offset radius below tolerance[4] removed")
-                _discard(S, k)
-                continue
-            if entry_arc or (S.n_st == 0 and S.next_fixed):
-                # the chain starts on an arc: switch on by a line to its perpendicular
-                entry_arc = False
-                S.next_fixed = False
-                S.entry_part = -1
-                if not _flush(S, 0) or not _ins_line(S, k - 1, k, el.os):
-                    return _comp_fail(S, ERR_OUT_OF_MEMORY, k, 0, 0)
-                _comp_warn(S, k, "compensation switched on before an arc: line to its perpendicular inserted")
+    if p.plane != S.plane:
+        return _comp_fail(S, ERR_COMP_PLANE_CHANGE, k, 0, 0)
+    S.role[k] = ROLE_FOLLOW
+    if not _in_plane_motion(S, k, &is_arc):
+        S.has_followers = True
+        S.idle += 1
+        if S.idle > LOOKAHEAD_PARTS and S.n_st > 0:
+            return _comp_fail(S, ERR_COMP_LOOKAHEAD, k, LOOKAHEAD_PARTS, 0)
+        return COMPILE_OK
+    S.idle = 0
+    if S.first_motion and is_arc:
+        # G41/G42 without a move of its own before an arc: an inserted line goes
+        # to the arc's perpendicular and the arc is compensated whole
+        S.first_motion = False
+        if k == 0:
+            return _comp_fail(S, ERR_COMP_ON_ARC, k, 0, 0)
+        S.entry_arc = True
+    elif S.first_motion:
+        # the G41/G42 block: a line to the perpendicular of the next part (strategy 0)
+        # or an uncompensated move (strategy 1, G0 never compensated)
+        S.first_motion = False
+        S.role[k] = ROLE_SET
+        if S.cfg.mode == 1 or (p.func == 0 and S.g0_never):
+            S.next_fixed = True
         else:
-            el_init(&el, k, EL_LINE, 0, _comp_distance(S, p), ps, pe, pc, 0.0)
-        res = _chain_add(S, &el)
+            S.entry_part = k
+        return COMPILE_OK
+    if p.func == 0:
+        # a rapid leaves the contour on the perpendicular and re-enters it like G41
+        res = _chain_end(S, False)
         if res != COMPILE_OK:
             return res
-    j = nxt
-    end[0] = j
-    # the exit: strategy 1 ends the last part before G40 uncompensated (a line)
-    if S.cfg.mode == 1 and j < prog.n_parts and S.n_st > 0 and S.st[S.n_st - 1].kind == EL_LINE:
+        S.role[k] = ROLE_SET
+        if S.g0_never:
+            S.next_fixed = True
+        else:
+            S.next_fixed = False
+            S.entry_part = k
+        return COMPILE_OK
+    s = part_start_xyz(prog, k)
+    ps[0] = s[S.first]; ps[1] = s[S.second]
+    pe[0] = p.e[S.first]; pe[1] = p.e[S.second]
+    if is_arc:
+        pc[0] = p.cc[S.first]; pc[1] = p.cc[S.second]
+        # sweep in the arc's direction, a full circle when start = end (as arc_sweep)
+        sweep = _turn(ps[0] - pc[0], ps[1] - pc[1], pe[0] - pc[0], pe[1] - pc[1])
+        if p.func == 3 and sweep <= 1e-12:
+            sweep += 2.0 * M_PI
+        elif p.func == 2 and sweep >= -1e-12:
+            sweep -= 2.0 * M_PI
+        el_init(&el, k, EL_ARC, 1 if p.func == 3 else -1, _comp_distance(S, p), ps, pe, pc, sweep)
+        if el.ro <= 1e-9 * el.R:
+            if el.ro < -1e-9 * el.R:
+                if not (S.cfg.strategy & CORR_DROP_NEGATIVE_ARCS):
+                    return _comp_fail(S, ERR_COMP_NEGATIVE_ARC, k, el.R, fabs(el.d))
+                _comp_warn(S, k, "arc with negative equidistant removed")
+            # an offset of no radius is a point the neighbours' offsets pass through
+            _discard(S, k)
+            return COMPILE_OK
+        if el.ro < S.cfg.min_arc:
+            # below the minimum arc radius (tolerance[4]): removed the same way
+            _comp_warn(S, k, "arc with an offset radius below tolerance[4] removed")
+            _discard(S, k)
+            return COMPILE_OK
+        if S.entry_arc or (S.n_st == 0 and S.next_fixed):
+            # the chain starts on an arc: switch on by a line to its perpendicular
+            S.entry_arc = False
+            S.next_fixed = False
+            S.entry_part = -1
+            if not _flush(S, 0) or not _ins_line(S, k - 1, k, el.os):
+                return _comp_fail(S, ERR_OUT_OF_MEMORY, k, 0, 0)
+            _comp_warn(S, k, "compensation switched on before an arc: line to its perpendicular inserted")
+    else:
+        el_init(&el, k, EL_LINE, 0, _comp_distance(S, p), ps, pe, pc, 0.0)
+    return _chain_add(S, &el)
+
+
+cdef int _run_end(CompState *S, size_t j, bint g40) noexcept nogil:
+    """The run ends before part j: at a part with comp 40 (g40), or at the end of the
+    program. Strategy 1 ends the last part before G40 uncompensated (a line)."""
+    cdef size_t k
+    cdef double pe[2]
+    cdef int res
+    S.in_run = False
+    if S.cfg.mode == 1 and g40 and S.n_st > 0 and S.st[S.n_st - 1].kind == EL_LINE:
         res = _chain_end(S, True)
-    elif S.cfg.mode == 1 and j < prog.n_parts and S.n_st > 0:
+    elif S.cfg.mode == 1 and g40 and S.n_st > 0:
         # the last move before G40 is an arc: it stays compensated, a line leaves it
         k = S.st[S.n_st - 1].part
         pe[0] = S.st[S.n_st - 1].e[0]; pe[1] = S.st[S.n_st - 1].e[1]
@@ -424,16 +447,22 @@ cdef int _run(CompState *S, size_t i, size_t *end) noexcept nogil:
             _comp_warn(S, k, "compensation switched off after an arc: line to the programmed end inserted")
     else:
         res = _chain_end(S, False)
-    if res != COMPILE_OK:
-        return res
-    # G40 only on a linear move: the first move in the plane after the run
-    for k in range(j, prog.n_parts):
-        if k - j > LOOKAHEAD_PARTS or prog.parts[k].comp != 40:
-            break
-        if _in_plane_motion(S, k, &is_arc):
-            if is_arc:
-                return _comp_fail(S, ERR_COMP_ON_ARC, k, 0, 0)
-            break
+    # G40 only on a linear move: checked on the parts from j on (compensate_feed)
+    S.exit_check = g40
+    S.exit_from = j
+    return res
+
+
+cdef int _exit_part(CompState *S, size_t k) noexcept nogil:
+    """Part k after a run: the first move in the plane within LOOKAHEAD_PARTS must
+    not be an arc; the check ends there or at the next compensated part."""
+    cdef bint is_arc
+    if k - S.exit_from > LOOKAHEAD_PARTS or S.prog.parts[k].comp != 40:
+        S.exit_check = False
+    elif _in_plane_motion(S, k, &is_arc):
+        S.exit_check = False
+        if is_arc:
+            return _comp_fail(S, ERR_COMP_ON_ARC, k, 0, 0)
     return COMPILE_OK
 
 
@@ -564,16 +593,11 @@ cdef int _merge(CompState *S) noexcept nogil:
     return COMPILE_OK
 
 
-cdef int compensate_program(Program *prog, const GCODE_PARAMETERS *params, ErrorInfo *err,
-                            output_fn output, warn_fn warn, void *ctx) noexcept nogil:
-    """Computes the compensated path (Part.ce, Part.radius, inserted parts) of every
-    part with comp 41/42; COMPILE_OK or COMPILE_ERROR with err filled. Warnings go
-    to `output` (text) and `warn` (numbered, WARN_COMP)."""
-    cdef CompState S
-    cdef CompCfg host
-    cdef size_t i, region = 0
-    cdef int res = COMPILE_OK
-    memset(&S, 0, sizeof(S))
+cdef void compensate_begin(CompState *S, Program *prog, const GCODE_PARAMETERS *params, ErrorInfo *err,
+                           output_fn output, warn_fn warn, void *ctx) noexcept nogil:
+    """Prepares the pass over `prog`; warnings go to `output` (text) and `warn`
+    (numbered, WARN_COMP), from the thread that runs compensate_feed."""
+    memset(S, 0, sizeof(CompState))
     S.prog = prog
     S.params = params
     S.err = err
@@ -581,29 +605,99 @@ cdef int compensate_program(Program *prog, const GCODE_PARAMETERS *params, Error
     S.warn = warn
     S.ctx = ctx
     S.xs.last_part = <size_t>-1
-    comp_config(&host, params)
-    S.cfg = host
-    if prog.n_parts == 0:
-        return COMPILE_OK
-    if S.cfg.strategy & CORR_OLD_COMPATIBILITY:
+    comp_config(&S.host, params)
+    S.cfg = S.host
+    S.result = COMPILE_OK
+
+
+cdef bint _role_room(CompState *S, size_t n) noexcept nogil:
+    """S.role covers parts [0, n), new entries ROLE_NONE."""
+    cdef size_t cap
+    cdef uint8_t *role
+    if n <= S.cap_role:
+        return True
+    cap = S.cap_role * 2 if S.cap_role else 65536
+    while cap < n:
+        cap *= 2
+    role = <uint8_t *>realloc(S.role, cap)
+    if role == NULL:
+        return False
+    memset(role + S.cap_role, ROLE_NONE, cap - S.cap_role)
+    S.role = role
+    S.cap_role = cap
+    return True
+
+
+cdef int compensate_feed(void *ctx, size_t upto, bint last) noexcept nogil:
+    """Steps 1-4 on parts [S.next, upto), which the compiler has finished; `last`:
+    upto is the end of the program. COMPILE_OK, or the first failure (err filled),
+    after which nothing more is taken (consume_fn of pipeline.pyx)."""
+    cdef CompState *S = <CompState *>ctx
+    cdef Program *prog = S.prog
+    cdef size_t k
+    cdef int res = COMPILE_OK
+    if S.result != COMPILE_OK:
+        return S.result
+    if S.host.strategy & CORR_OLD_COMPATIBILITY:
+        if not last:
+            return COMPILE_OK
         _compatibility(prog)
-    S.role = <uint8_t *>calloc(prog.n_parts, 1)
-    if S.role == NULL:
-        set_error(err, ERR_OUT_OF_MEMORY, prog.main_file_idx, 0, NULL, 0)
-        return COMPILE_ERROR
-    i = 0
-    while i < prog.n_parts and res == COMPILE_OK:
-        if prog.parts[i].comp == 40:
-            i += 1
-            continue
-        run_config(prog, &host, i, &region, &S.cfg)
-        res = _run(&S, i, &i)
+    if not _role_room(S, upto):
+        S.result = _comp_fail(S, ERR_OUT_OF_MEMORY, S.next if S.next < upto else 0, 0, 0)
+        return S.result
+    k = S.next
+    while k < upto and res == COMPILE_OK:
+        if S.exit_check:
+            res = _exit_part(S, k)
+            if res != COMPILE_OK:
+                break
+        if S.in_run:
+            if prog.parts[k].comp == 40:
+                res = _run_end(S, k, True)
+                continue                    # part k is the first after the run
+            res = _run_part(S, k)
+        elif prog.parts[k].comp != 40:
+            run_config(prog, &S.host, k, &S.region, &S.cfg)
+            res = _run_begin(S, k)
+            continue                        # part k is the run's first
+        k += 1
+    S.next = k
+    if res == COMPILE_OK and last and S.in_run:
+        res = _run_end(S, upto, False)
     if res != COMPILE_OK and S.xs.err_number != 0:
-        _comp_fail(&S, S.xs.err_number, S.xs.err_part, S.xs.err_arg, 0)
+        _comp_fail(S, S.xs.err_number, S.xs.err_part, S.xs.err_arg, 0)
+    S.result = res
+    return res
+
+
+cdef int compensate_end(CompState *S) noexcept nogil:
+    """Step 5 after compensate_feed took the whole program: the merge. Frees the
+    state; COMPILE_OK or COMPILE_ERROR with err filled."""
+    cdef int res = S.result
+    if res == COMPILE_OK and not _role_room(S, S.prog.n_parts):
+        res = _comp_fail(S, ERR_OUT_OF_MEMORY, 0, 0, 0)
     if res == COMPILE_OK:
-        res = _merge(&S)
+        res = _merge(S)
+    compensate_free(S)
+    return res
+
+
+cdef void compensate_free(CompState *S) noexcept nogil:
     cross_free(&S.xs)
     free(S.role)
     free(S.st)
     free(S.ins)
-    return res
+    S.role = NULL
+    S.st = NULL
+    S.ins = NULL
+
+
+cdef int compensate_program(Program *prog, const GCODE_PARAMETERS *params, ErrorInfo *err,
+                            output_fn output, warn_fn warn, void *ctx) noexcept nogil:
+    """The whole pass on a complete program in the caller's thread: Part.ce,
+    Part.radius and the inserted parts of every part with comp 41/42; COMPILE_OK or
+    COMPILE_ERROR with err filled."""
+    cdef CompState S
+    compensate_begin(&S, prog, params, err, output, warn, ctx)
+    compensate_feed(&S, prog.n_parts, True)
+    return compensate_end(&S)

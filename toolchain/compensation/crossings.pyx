@@ -65,7 +65,7 @@ ctypedef struct XState:
     double start[2]         # programmed start of the chain's first element
     size_t *prov            # parts whose corner cross_join joined by a G1 (FIFO)
     size_t n_prov, head_prov, cap_prov
-    int32_t err_number      # error found while writing (reported by compensate_program)
+    int32_t err_number      # error found while writing (reported by compensate_feed)
     size_t err_part
     double err_arg
 

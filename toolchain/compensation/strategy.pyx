@@ -6,21 +6,27 @@ from libc.math cimport sin, M_PI
 cdef bint program_add_strategy_region(Program *prog, size_t first, bint on, double corner_distance,
                                       double depth, bint drop_arcs) noexcept nogil:
     """Records a G172 (on) / G173 (off) that applies from part `first` on; False =
-    no memory. Several before the same part: the last one counts."""
+    no memory. Several before the same part: the last one counts. The compensation
+    may be reading the regions beside the compiler: it waits meanwhile."""
     cdef StrategyRegion *r
+    cdef bint ok
+    if prog.follow != NULL:
+        follow_pause(prog.follow)
     if prog.n_strategy_regions > 0 and prog.strategy_regions[prog.n_strategy_regions - 1].first == first:
         prog.n_strategy_regions -= 1
-    if not _grow(<void **>&prog.strategy_regions, &prog.cap_strategy_regions, prog.n_strategy_regions + 1,
-                 sizeof(StrategyRegion)):
-        return False
-    r = &prog.strategy_regions[prog.n_strategy_regions]
-    prog.n_strategy_regions += 1
-    r.first = first
-    r.on = on
-    r.corner_distance = corner_distance if corner_distance > 0 else 0.0
-    r.depth = depth if depth > 0 else 0.0
-    r.drop_arcs = drop_arcs
-    return True
+    ok = _grow(<void **>&prog.strategy_regions, &prog.cap_strategy_regions, prog.n_strategy_regions + 1,
+               sizeof(StrategyRegion))
+    if ok:
+        r = &prog.strategy_regions[prog.n_strategy_regions]
+        prog.n_strategy_regions += 1
+        r.first = first
+        r.on = on
+        r.corner_distance = corner_distance if corner_distance > 0 else 0.0
+        r.depth = depth if depth > 0 else 0.0
+        r.drop_arcs = drop_arcs
+    if prog.follow != NULL:
+        follow_resume(prog.follow)
+    return ok
 
 
 cdef void comp_config(CompCfg *cfg, const GCODE_PARAMETERS *params) noexcept nogil:

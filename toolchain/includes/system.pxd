@@ -28,6 +28,8 @@ cdef extern from "<pthread.h>" nogil:
     int pthread_cond_init(pthread_cond_t *c, const pthread_condattr_t *a)
     int pthread_cond_wait(pthread_cond_t *c, pthread_mutex_t *m)
     int pthread_cond_broadcast(pthread_cond_t *c)
+    int pthread_cond_destroy(pthread_cond_t *c)
+    int pthread_mutex_destroy(pthread_mutex_t *m)
     int pthread_once(pthread_once_t *once, void (*init)() noexcept nogil)
 
 # GCC/Clang atomic builtins on int32 flags shared between the host's threads and

@@ -1,0 +1,123 @@
+# Stages side by side: a stage that only needs the parts before the one it works on
+# (the compensation) runs in a thread of its own on the parts the compiler has
+# finished, so on a large program it costs little more than its tail once the
+# compiler ends. The hand-over (Follow, program.pxd):
+#   - the compiler publishes the parts it will not touch again at its periodic check
+#     (every 1024 blocks, when at least FOLLOW_BATCH new parts are final); the first
+#     publication starts the thread;
+#   - the consumer reads the published parts and the arrays the compiler only appends
+#     to under follow_pause (parts, strategy regions), nothing else the compiler writes;
+#   - follow_finish hands over the rest and joins; the consumer's first failure is
+#     its result. A program that never published (small) is consumed in the
+#     caller's thread: the same consumer, the same order.
+from libc.string cimport memset
+
+cdef enum:
+    FOLLOW_BATCH = 4096     # parts: fewer are not worth waking the thread for
+
+
+cdef void follow_init(Follow *F, consume_fn consume, void *ctx) noexcept nogil:
+    memset(F, 0, sizeof(Follow))
+    F.consume = consume
+    F.ctx = ctx
+    F.result = COMPILE_OK
+    pthread_mutex_init(&F.lock, NULL)
+    pthread_cond_init(&F.cond, NULL)
+
+
+cdef void follow_destroy(Follow *F) noexcept nogil:
+    pthread_cond_destroy(&F.cond)
+    pthread_mutex_destroy(&F.lock)
+
+
+cdef void *_follow_body(void *arg) noexcept nogil:
+    cdef Follow *F = <Follow *>arg
+    cdef size_t taken = 0, upto
+    cdef bint last
+    cdef int res
+    pthread_mutex_lock(&F.lock)
+    while True:
+        while not F.stop and (F.paused or (F.published <= taken and not F.done)):
+            pthread_cond_wait(&F.cond, &F.lock)
+        if F.stop:
+            break
+        upto = F.published
+        last = F.done
+        F.busy = True
+        pthread_mutex_unlock(&F.lock)
+        res = F.consume(F.ctx, upto, last)
+        pthread_mutex_lock(&F.lock)
+        F.busy = False
+        taken = upto
+        pthread_cond_broadcast(&F.cond)     # a compiler waiting in follow_pause
+        if res != COMPILE_OK:
+            F.result = res
+            break
+        if last:
+            break
+    F.ended = True
+    pthread_mutex_unlock(&F.lock)
+    return NULL
+
+
+cdef void follow_publish(Follow *F, size_t n) noexcept nogil:
+    """The compiler: parts [0, n) are final."""
+    if not F.started:
+        if n < FOLLOW_BATCH:
+            return
+        F.published = n
+        # no thread (resources): follow_finish consumes everything in the caller's thread
+        F.started = pthread_create(&F.thread, NULL, _follow_body, F) == 0
+        return
+    pthread_mutex_lock(&F.lock)
+    if n >= F.published + FOLLOW_BATCH and not F.ended:
+        F.published = n
+        pthread_cond_broadcast(&F.cond)
+    pthread_mutex_unlock(&F.lock)
+
+
+cdef void follow_pause(Follow *F) noexcept nogil:
+    """The compiler, before it moves an array the consumer reads: waits until the
+    consumer is between batches and keeps it there until follow_resume."""
+    if not F.started:
+        return
+    pthread_mutex_lock(&F.lock)
+    F.paused = True
+    while F.busy:
+        pthread_cond_wait(&F.cond, &F.lock)
+    pthread_mutex_unlock(&F.lock)
+
+
+cdef void follow_resume(Follow *F) noexcept nogil:
+    if not F.started:
+        return
+    pthread_mutex_lock(&F.lock)
+    F.paused = False
+    pthread_cond_broadcast(&F.cond)
+    pthread_mutex_unlock(&F.lock)
+
+
+cdef int follow_finish(Follow *F, size_t n) noexcept nogil:
+    """All n parts are final: the consumer takes the rest and ends; its result."""
+    if not F.started:
+        return F.consume(F.ctx, n, True)
+    pthread_mutex_lock(&F.lock)
+    F.published = n
+    F.done = True
+    pthread_cond_broadcast(&F.cond)
+    pthread_mutex_unlock(&F.lock)
+    pthread_join(F.thread, NULL)
+    F.started = False
+    return F.result
+
+
+cdef void follow_abandon(Follow *F) noexcept nogil:
+    """The compilation failed or was cancelled: the consumer stops after its batch."""
+    if not F.started:
+        return
+    pthread_mutex_lock(&F.lock)
+    F.stop = True
+    pthread_cond_broadcast(&F.cond)
+    pthread_mutex_unlock(&F.lock)
+    pthread_join(F.thread, NULL)
+    F.started = False
