@@ -277,3 +277,32 @@ def test_reset_interrupts_a_compensated_compilation(hmi):
         assert hmi.lib.ToolChainCore_ResetCNC(CORE, 0, 0, None) == 0
         assert hmi.lib.ToolChainCore_StatusCNC(CORE) != 1
     assert hmi.compile(WAVE.format(n=10), abs_mode=0) is None
+
+
+def test_a_warning_callback_may_destroy_the_core_during_a_long_compile(hmi):
+    # the warnings of the pass beside the compiler come from the compiling thread, in
+    # order, after the pass: a host may call back into the library from them
+    _compiles(hmi)
+    seen = []
+
+    def on_warn(user, info):
+        seen.append(info.contents.actLine)
+        hmi.lib.ToolChainCore_DestroyCNC(CORE)
+        return 0
+
+    cb = abi.MathWarning(on_warn)
+    assert hmi.lib.ToolChainCore_SetCallBack(CORE, abi.CB_MATH_WARNING, 0, ctypes.cast(cb, ctypes.c_void_p)) == 0
+    try:
+        # the arc of radius 1 on the tool's side is dropped with 0x200000: a warning
+        code = WAVE.format(n=3000).replace("G1 X10\nG40", "G1 X10\nG3 X2 Y0 I1 J0\nG1 X10\nG40")
+        p = abi.GCODE_PARAMETERS.from_buffer_copy(hmi.saved)
+        p.absMode = 0
+        p.correctionStrategy = 0x200000
+        p.correction[0].size = 2.0
+        assert hmi.lib.ToolChainCore_SetGCodeParameters(CORE, ctypes.byref(p)) == 0
+        assert hmi.lib.ToolChainCore_CompileFromMemory(CORE, b"comp.nc", code.encode()) == 0
+        hmi.wait(lambda s: s != 1, timeout=30)
+    finally:
+        hmi.lib.ToolChainCore_SetCallBack(CORE, abi.CB_MATH_WARNING, 0, None)
+    assert seen[:1] == [11]
+    assert hmi.compile(WAVE.format(n=10), abs_mode=0) is None      # usable again

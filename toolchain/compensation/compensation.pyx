@@ -39,6 +39,14 @@ ctypedef struct InsRec:
     uint8_t src_next        # takes its attributes (line, feed, comp) from part after + 1, else after
     uint8_t no_centre       # centre 0, 0 in the plane (lines switching on or off)
 
+# A warning, kept until the pass is over: compensate_end gives them from the thread
+# that ends the compilation (a callback may then call back into the library, even
+# DestroyCNC, as it may from the compiler's callbacks).
+ctypedef struct CompWarning:
+    const char *what        # a literal of this stage; NULL: "further warnings suppressed"
+    uint32_t line
+    int32_t file_idx
+
 ctypedef struct CompState:
     Program *prog
     const GCODE_PARAMETERS *params
@@ -56,6 +64,7 @@ ctypedef struct CompState:
     int64_t entry_part      # ramp whose end is the start of the chain's first element
     bint next_fixed         # the next chain starts at an uncompensated point
     int n_warnings
+    CompWarning warnings[MAX_WARNINGS]
     bint has_followers      # some compensated part has no motion in the plane
     XState xs               # crossings of parts that are not neighbours (crossings.pyx)
     CompCfg host            # the host's strategy (run_config changes it per run)
@@ -76,24 +85,37 @@ ctypedef struct CompState:
 
 
 cdef void _comp_warn(CompState *S, size_t part, const char *what) noexcept nogil:
+    """Keeps a warning about part `part` (`what`: a literal) for _comp_deliver."""
+    cdef CompWarning *w
+    if S.n_warnings >= MAX_WARNINGS:
+        return
+    w = &S.warnings[S.n_warnings]
+    S.n_warnings += 1
+    w.what = what if S.n_warnings < MAX_WARNINGS else NULL
+    w.line = S.prog.parts[part].line
+    w.file_idx = S.prog.parts[part].file_idx
+
+
+cdef void _comp_deliver(CompState *S) noexcept nogil:
+    """The kept warnings, in order, to `output` (text) and `warn` (numbered)."""
     cdef char text[300]
     cdef ErrorInfo info
     cdef ErrArg arg
-    S.n_warnings += 1
-    if S.n_warnings > MAX_WARNINGS:
-        return
-    if S.n_warnings == MAX_WARNINGS:
-        snprintf(text, sizeof(text), "Warning: tool radius compensation: further warnings suppressed")
-    else:
-        snprintf(text, sizeof(text), "Warning: tool radius compensation, line %u: %s",
-                 S.prog.parts[part].line, what)
-        if S.warn != NULL:
-            arg.num = 0; arg.text = what
-            set_error(&info, WARN_COMP, S.prog.parts[part].file_idx, <int32_t>S.prog.parts[part].line, &arg, 1)
-            info.n_lines = <int32_t>S.prog.n_lines
-            S.warn(S.ctx, &info)
-    if S.output != NULL:
-        S.output(S.ctx, 0, text)
+    cdef const CompWarning *w
+    cdef int k
+    for k in range(S.n_warnings):
+        w = &S.warnings[k]
+        if w.what == NULL:
+            snprintf(text, sizeof(text), "Warning: tool radius compensation: further warnings suppressed")
+        else:
+            snprintf(text, sizeof(text), "Warning: tool radius compensation, line %u: %s", w.line, w.what)
+            if S.warn != NULL:
+                arg.num = 0; arg.text = w.what
+                set_error(&info, WARN_COMP, w.file_idx, <int32_t>w.line, &arg, 1)
+                info.n_lines = <int32_t>S.prog.n_lines
+                S.warn(S.ctx, &info)
+        if S.output != NULL:
+            S.output(S.ctx, 0, text)
 
 
 cdef int _comp_fail(CompState *S, int32_t number, size_t part, double a0, double a1) noexcept nogil:
@@ -595,8 +617,8 @@ cdef int _merge(CompState *S) noexcept nogil:
 
 cdef void compensate_begin(CompState *S, Program *prog, const GCODE_PARAMETERS *params, ErrorInfo *err,
                            output_fn output, warn_fn warn, void *ctx) noexcept nogil:
-    """Prepares the pass over `prog`; warnings go to `output` (text) and `warn`
-    (numbered, WARN_COMP), from the thread that runs compensate_feed."""
+    """Prepares the pass over `prog`; compensate_end gives its warnings to `output`
+    (text) and `warn` (numbered, WARN_COMP)."""
     memset(S, 0, sizeof(CompState))
     S.prog = prog
     S.params = params
@@ -671,13 +693,14 @@ cdef int compensate_feed(void *ctx, size_t upto, bint last) noexcept nogil:
 
 
 cdef int compensate_end(CompState *S) noexcept nogil:
-    """Step 5 after compensate_feed took the whole program: the merge. Frees the
-    state; COMPILE_OK or COMPILE_ERROR with err filled."""
+    """Step 5 after compensate_feed took the whole program: the merge; then the
+    warnings. Frees the state; COMPILE_OK or COMPILE_ERROR with err filled."""
     cdef int res = S.result
     if res == COMPILE_OK and not _role_room(S, S.prog.n_parts):
         res = _comp_fail(S, ERR_OUT_OF_MEMORY, 0, 0, 0)
     if res == COMPILE_OK:
         res = _merge(S)
+    _comp_deliver(S)
     compensate_free(S)
     return res
 
