@@ -45,3 +45,11 @@ def test_info_prints_version_cores_and_matching_sizes():
     assert "cores:   3" in proc.stdout
     assert "MISMATCH" not in proc.stdout
     assert re.search(r"SIMPLE_GM_PARAMS\s+616 / 616", proc.stdout)
+
+
+def test_a_cnc_error_propagates_through_a_with_block():
+    from sf_tch.core import CncError, Core
+    with pytest.raises(CncError) as caught:
+        with Core(0) as core:
+            core.compile_text("G1 X1/0\n", "bad.nc")
+    assert caught.value.number == 200 and caught.value.line == 1

@@ -19,9 +19,10 @@ from .library import load
 PART_DTYPE = np.dtype(abi.SIMPLE_GM_PARAMS)
 
 
-@dataclass(frozen=True)
+@dataclass(eq=False)
 class CncError(Exception):
-    """An error the library reported (GetLastError)."""
+    """An error the library reported (GetLastError). Not frozen: Python sets the
+    traceback of an exception as it propagates (a `with` block among others)."""
 
     number: int
     line: int
