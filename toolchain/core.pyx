@@ -402,7 +402,7 @@ cdef int _compile_and_compensate(Core *core, CompileInput *inp, Program *prog, E
         set_error(err, ERR_OUT_OF_MEMORY, inp.file_idx, 0, NULL, 0)
         return COMPILE_ERROR
     compensate_begin(&comp, prog, &inp.params, comp_err, _compile_output, _compile_warn, core)
-    follow_init(&follow, compensate_feed, &comp)
+    follow_init(&follow, prog, compensate_feed, &comp)
     prog.follow = &follow
     result = compile_program(inp, prog, err)
     if result == COMPILE_OK and prog.compensated:

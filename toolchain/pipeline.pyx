@@ -1,7 +1,9 @@
 # Stages side by side: a stage that only needs the parts before the one it works on
 # (the compensation) runs in a thread of its own on the parts the compiler has
 # finished, so on a large program it costs little more than its tail once the
-# compiler ends. The hand-over (Follow, program.pxd):
+# compiler ends. Between batches the thread also faults in the memory the compiler
+# and the compensation's merge will write next (program_prefault), which is most of
+# the cost of writing fresh memory. The hand-over (Follow, program.pxd):
 #   - the compiler publishes the parts it will not touch again at its periodic check
 #     (every 1024 blocks, when at least FOLLOW_BATCH new parts are final); the first
 #     publication starts the thread;
@@ -14,10 +16,12 @@ from libc.string cimport memset
 
 cdef enum:
     FOLLOW_BATCH = 4096     # parts: fewer are not worth waking the thread for
+    PREFAULT_AHEAD = 65536  # parts (10 MB) whose memory the thread readies ahead of the compiler
 
 
-cdef void follow_init(Follow *F, consume_fn consume, void *ctx) noexcept nogil:
+cdef void follow_init(Follow *F, Program *prog, consume_fn consume, void *ctx) noexcept nogil:
     memset(F, 0, sizeof(Follow))
+    F.prog = prog
     F.consume = consume
     F.ctx = ctx
     F.result = COMPILE_OK
@@ -32,7 +36,7 @@ cdef void follow_destroy(Follow *F) noexcept nogil:
 
 cdef void *_follow_body(void *arg) noexcept nogil:
     cdef Follow *F = <Follow *>arg
-    cdef size_t taken = 0, upto
+    cdef size_t taken = 0, upto, more = 0
     cdef bint last
     cdef int res
     pthread_mutex_lock(&F.lock)
@@ -45,7 +49,11 @@ cdef void *_follow_body(void *arg) noexcept nogil:
         last = F.done
         F.busy = True
         pthread_mutex_unlock(&F.lock)
-        res = F.consume(F.ctx, upto, last)
+        res = F.consume(F.ctx, upto, last, &more)
+        if not last:
+            # page faults are most of the cost of writing fresh memory: taken here,
+            # beside the compiler, for the parts it writes next and the merge's room
+            program_prefault(F.prog, upto, more + PREFAULT_AHEAD)
         pthread_mutex_lock(&F.lock)
         F.busy = False
         taken = upto
@@ -99,8 +107,9 @@ cdef void follow_resume(Follow *F) noexcept nogil:
 
 cdef int follow_finish(Follow *F, size_t n) noexcept nogil:
     """All n parts are final: the consumer takes the rest and ends; its result."""
+    cdef size_t more
     if not F.started:
-        return F.consume(F.ctx, n, True)
+        return F.consume(F.ctx, n, True, &more)
     pthread_mutex_lock(&F.lock)
     F.published = n
     F.done = True

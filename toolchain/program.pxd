@@ -67,26 +67,7 @@ ctypedef struct StrategyRegion:   # G172 / G173: the compensation strategy from 
     double depth            # C: search depth in parts (0 = the host's)
     bint drop_arcs          # D1: drop arcs whose offset radius becomes negative (D0 keeps the host's bit)
 
-# A stage that reads the parts while the compiler still writes them, in a thread of
-# its own (pipeline.pyx; the compensation): the compiler hands over the parts as they
-# become final, and growth of an array the stage reads waits until it is between
-# batches. Everything but `started` is guarded by `lock`.
-ctypedef int (*consume_fn)(void *ctx, size_t upto, bint last) noexcept nogil
-
-ctypedef struct Follow:
-    consume_fn consume      # takes parts [previous upto, upto); last: the program is complete
-    void *ctx
-    pthread_mutex_t lock
-    pthread_cond_t cond
-    pthread_t thread
-    size_t published        # parts [0, published) are final
-    int result              # the consumer's first result other than COMPILE_OK
-    bint started            # the thread runs (only the compiler's thread reads or writes it)
-    bint done               # published is the whole program
-    bint stop               # give up (compile error, cancel)
-    bint paused             # the compiler grows an array: start no batch
-    bint busy               # a batch is being consumed
-    bint ended              # the thread has consumed its last batch
+cdef struct Follow                  # below: the stage beside the compiler
 
 ctypedef struct Program:
     Part *parts
@@ -111,6 +92,29 @@ ctypedef struct Program:
     ArcRegion *arc_regions  # G167 changes, in part order (compensation/insert_arcs.pyx)
     size_t n_arc_regions, cap_arc_regions
     Follow *follow          # while a stage reads the parts beside the compiler, else NULL
+    size_t prefaulted       # parts [0, prefaulted) of the capacity are faulted in (program_prefault)
+
+# A stage that reads the parts while the compiler still writes them, in a thread of
+# its own (pipeline.pyx; the compensation): the compiler hands over the parts as they
+# become final, and growth of an array the stage reads waits until it is between
+# batches. Everything but `started` is guarded by `lock`.
+ctypedef int (*consume_fn)(void *ctx, size_t upto, bint last, size_t *more) noexcept nogil
+
+cdef struct Follow:
+    consume_fn consume      # takes parts [previous upto, upto); last: the program is complete;
+    void *ctx               # more: parts it will insert later (their memory is readied too)
+    Program *prog
+    pthread_mutex_t lock
+    pthread_cond_t cond
+    pthread_t thread
+    size_t published        # parts [0, published) are final
+    int result              # the consumer's first result other than COMPILE_OK
+    bint started            # the thread runs (only the compiler's thread reads or writes it)
+    bint done               # published is the whole program
+    bint stop               # give up (compile error, cancel)
+    bint paused             # the compiler grows an array: start no batch
+    bint busy               # a batch is being consumed
+    bint ended              # the thread has consumed its last batch
 
 # One error: number of the catalogue (errors.pyx), location and the formatted texts.
 cdef enum:

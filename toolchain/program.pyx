@@ -126,6 +126,40 @@ cdef bint program_merge(Program *prog, size_t n_ins, void *ctx, inserted_after_f
     return True
 
 
+cdef extern from *:
+    """
+    #include <sys/mman.h>
+    #ifndef MADV_POPULATE_WRITE
+    #define MADV_POPULATE_WRITE 23
+    #endif
+    """
+    int madvise(void *addr, size_t length, int advice) nogil
+    int MADV_POPULATE_WRITE
+
+cdef int32_t g_no_populate      # the kernel refused MADV_POPULATE_WRITE (before 5.14)
+
+
+cdef void program_prefault(Program *prog, size_t first, size_t count) noexcept nogil:
+    """Faults in (zeroes) the memory of parts [first, first + count) within the
+    capacity, without touching their contents: the thread beside the compiler does
+    this ahead of it, so the compiler and the merge write into memory that is there.
+    Only a hint."""
+    cdef size_t end = first + count
+    cdef size_t lo, hi
+    if end > prog.cap_parts:
+        end = prog.cap_parts
+    if first < prog.prefaulted:
+        first = prog.prefaulted
+    if first >= end or TC_ATOMIC_LOAD(&g_no_populate):
+        return
+    lo = (<size_t>&prog.parts[first] + 0xFFF) & ~(<size_t>0xFFF)
+    hi = <size_t>&prog.parts[end] & ~(<size_t>0xFFF)
+    if lo < hi and madvise(<void *>lo, hi - lo, MADV_POPULATE_WRITE) != 0:
+        TC_ATOMIC_STORE(&g_no_populate, 1)
+        return
+    prog.prefaulted = end
+
+
 cdef bint program_set_pars(Program *prog, Part *part, const float *values, uint32_t mask) noexcept nogil:
     """Stores the addresses of `mask` (values indexed by letter - 'A') for the part."""
     cdef int letter, n = 0

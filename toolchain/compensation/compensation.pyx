@@ -650,14 +650,16 @@ cdef bint _role_room(CompState *S, size_t n) noexcept nogil:
     return True
 
 
-cdef int compensate_feed(void *ctx, size_t upto, bint last) noexcept nogil:
+cdef int compensate_feed(void *ctx, size_t upto, bint last, size_t *more) noexcept nogil:
     """Steps 1-4 on parts [S.next, upto), which the compiler has finished; `last`:
-    upto is the end of the program. COMPILE_OK, or the first failure (err filled),
-    after which nothing more is taken (consume_fn of pipeline.pyx)."""
+    upto is the end of the program; `more`: the insertions queued so far. COMPILE_OK,
+    or the first failure (err filled), after which nothing more is taken (consume_fn
+    of pipeline.pyx)."""
     cdef CompState *S = <CompState *>ctx
     cdef Program *prog = S.prog
     cdef size_t k
     cdef int res = COMPILE_OK
+    more[0] = S.n_ins
     if S.result != COMPILE_OK:
         return S.result
     if S.host.strategy & CORR_OLD_COMPATIBILITY:
@@ -689,6 +691,7 @@ cdef int compensate_feed(void *ctx, size_t upto, bint last) noexcept nogil:
     if res != COMPILE_OK and S.xs.err_number != 0:
         _comp_fail(S, S.xs.err_number, S.xs.err_part, S.xs.err_arg, 0)
     S.result = res
+    more[0] = S.n_ins
     return res
 
 
@@ -721,6 +724,7 @@ cdef int compensate_program(Program *prog, const GCODE_PARAMETERS *params, Error
     Part.radius and the inserted parts of every part with comp 41/42; COMPILE_OK or
     COMPILE_ERROR with err filled."""
     cdef CompState S
+    cdef size_t more
     compensate_begin(&S, prog, params, err, output, warn, ctx)
-    compensate_feed(&S, prog.n_parts, True)
+    compensate_feed(&S, prog.n_parts, True, &more)
     return compensate_end(&S)

@@ -621,7 +621,7 @@ cdef int cp_run(CState *st, Unit *u, bint main) noexcept nogil:
         if (st.blocks & 1023) == 0:
             if st.inp.cancel != NULL and TC_ATOMIC_LOAD(st.inp.cancel) != 0:
                 return COMPILE_CANCELLED
-            if st.prog.follow != NULL and st.prog.compensated:
+            if st.prog.follow != NULL:
                 follow_publish(st.prog.follow, st.prog.n_parts)     # between lines: all final
             if st.blocks > st.block_limit:
                 st.line = line
@@ -696,14 +696,16 @@ cdef extern from "<sys/mman.h>" nogil:
 
 cdef void reserve_parts(Program *prog, uint32_t lines) noexcept nogil:
     """Reserves room for about one part per line up front (one allocation instead of
-    a doubling series) and asks for transparent huge pages: on large programs most
-    of the compile time is otherwise spent faulting in fresh 4 KiB pages. Only a
-    hint; the arrays still grow on demand."""
+    a doubling series), and half as many again for the parts the compensation may
+    insert at corners (address space only until written: the array need not move),
+    and asks for transparent huge pages: on large programs most of the compile time
+    is otherwise spent faulting in fresh 4 KiB pages. Only a hint; the arrays still
+    grow on demand."""
     cdef size_t n = <size_t>lines + 64
     cdef size_t start, end
     if lines < 100000:
         return
-    if _grow(<void **>&prog.parts, &prog.cap_parts, n, sizeof(Part)):
+    if _grow(<void **>&prog.parts, &prog.cap_parts, n + n // 2, sizeof(Part)):
         _advise_huge(prog.parts, prog.cap_parts * sizeof(Part))
     if _grow(<void **>&prog.pars, &prog.cap_pars, n * 4, sizeof(float)):
         _advise_huge(prog.pars, prog.cap_pars * sizeof(float))
