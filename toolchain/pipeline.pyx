@@ -11,12 +11,15 @@
 #     to under follow_pause (parts, strategy regions), nothing else the compiler writes;
 #   - follow_finish hands over the rest and joins; the consumer's first failure is
 #     its result. A program that never published (small) is consumed in the
-#     caller's thread: the same consumer, the same order.
+#     caller's thread: the same consumer, the same order;
+#   - while no batch waits, the thread faults in the part memory ahead of the
+#     compiler, as far as the consumer's queued insertions plus PREFAULT_AHEAD parts.
 from libc.string cimport memset
 
 cdef enum:
     FOLLOW_BATCH = 4096     # parts: fewer are not worth waking the thread for
     PREFAULT_AHEAD = 65536  # parts (10 MB) whose memory the thread readies ahead of the compiler
+    PREFAULT_CHUNK = 16384  # parts (2.4 MB) readied at a time between batches
 
 
 cdef void follow_init(Follow *F, Program *prog, consume_fn consume, void *ctx) noexcept nogil:
@@ -35,34 +38,44 @@ cdef void follow_destroy(Follow *F) noexcept nogil:
 
 
 cdef void *_follow_body(void *arg) noexcept nogil:
+    """Takes the batches as they come; while there is none, readies memory ahead of
+    the compiler a chunk at a time (the batches come first)."""
     cdef Follow *F = <Follow *>arg
-    cdef size_t taken = 0, upto, more = 0
+    cdef size_t taken = 0, upto, more = 0, ready = 0
     cdef bint last
     cdef int res
     pthread_mutex_lock(&F.lock)
-    while True:
-        while not F.stop and (F.paused or (F.published <= taken and not F.done)):
+    while not F.stop:
+        if F.paused:
             pthread_cond_wait(&F.cond, &F.lock)
-        if F.stop:
-            break
-        upto = F.published
-        last = F.done
-        F.busy = True
-        pthread_mutex_unlock(&F.lock)
-        res = F.consume(F.ctx, upto, last, &more)
-        if not last:
-            # page faults are most of the cost of writing fresh memory: taken here,
-            # beside the compiler, for the parts it writes next and the merge's room
-            program_prefault(F.prog, upto, more + PREFAULT_AHEAD)
-        pthread_mutex_lock(&F.lock)
-        F.busy = False
-        taken = upto
-        pthread_cond_broadcast(&F.cond)     # a compiler waiting in follow_pause
-        if res != COMPILE_OK:
-            F.result = res
-            break
-        if last:
-            break
+            continue
+        if F.published > taken or F.done:
+            upto = F.published
+            last = F.done
+            F.busy = True
+            pthread_mutex_unlock(&F.lock)
+            res = F.consume(F.ctx, upto, last, &more)
+            pthread_mutex_lock(&F.lock)
+            F.busy = False
+            taken = upto
+            ready = upto + more + PREFAULT_AHEAD
+            pthread_cond_broadcast(&F.cond)     # a compiler waiting in follow_pause
+            if res != COMPILE_OK:
+                F.result = res
+                break
+            if last:
+                break
+        elif F.prog.prefaulted < ready:
+            upto = F.published                  # the compiler is at least there
+            F.busy = True
+            pthread_mutex_unlock(&F.lock)
+            if not program_prefault(F.prog, upto, PREFAULT_CHUNK, ready):
+                ready = 0                       # nothing more to do (or not supported)
+            pthread_mutex_lock(&F.lock)
+            F.busy = False
+            pthread_cond_broadcast(&F.cond)
+        else:
+            pthread_cond_wait(&F.cond, &F.lock)
     F.ended = True
     pthread_mutex_unlock(&F.lock)
     return NULL

@@ -136,28 +136,34 @@ cdef extern from *:
     int madvise(void *addr, size_t length, int advice) nogil
     int MADV_POPULATE_WRITE
 
-cdef int32_t g_no_populate      # the kernel refused MADV_POPULATE_WRITE (before 5.14)
+cdef bint g_no_populate         # the kernel refused MADV_POPULATE_WRITE (before 5.14): a hint less
 
 
-cdef void program_prefault(Program *prog, size_t first, size_t count) noexcept nogil:
-    """Faults in (zeroes) the memory of parts [first, first + count) within the
+cdef bint program_prefault(Program *prog, size_t first, size_t count, size_t limit) noexcept nogil:
+    """Faults in (zeroes) the memory of up to `count` parts from `first` on, or from
+    where the last call stopped if that is further, below part `limit` and the
     capacity, without touching their contents: the thread beside the compiler does
     this ahead of it, so the compiler and the merge write into memory that is there.
-    Only a hint."""
-    cdef size_t end = first + count
+    Only a hint; False when there is nothing left to do (or the kernel cannot)."""
+    global g_no_populate
+    cdef size_t end
     cdef size_t lo, hi
-    if end > prog.cap_parts:
-        end = prog.cap_parts
     if first < prog.prefaulted:
         first = prog.prefaulted
-    if first >= end or TC_ATOMIC_LOAD(&g_no_populate):
-        return
+    end = first + count
+    if end > limit:
+        end = limit
+    if end > prog.cap_parts:
+        end = prog.cap_parts
+    if first >= end or g_no_populate:
+        return False
     lo = (<size_t>&prog.parts[first] + 0xFFF) & ~(<size_t>0xFFF)
     hi = <size_t>&prog.parts[end] & ~(<size_t>0xFFF)
     if lo < hi and madvise(<void *>lo, hi - lo, MADV_POPULATE_WRITE) != 0:
-        TC_ATOMIC_STORE(&g_no_populate, 1)
-        return
+        g_no_populate = True
+        return False
     prog.prefaulted = end
+    return True
 
 
 cdef bint program_set_pars(Program *prog, Part *part, const float *values, uint32_t mask) noexcept nogil:
