@@ -8,7 +8,7 @@ with and without tool radius compensation.
    waiting and continuous M functions, comments), a rapid between parts, Z moves.
 2. In a fresh Python process: CompileFromFile on core 0 until StatusCNC reads -1,
    while the host thread polls StatusCNC + GetPos every millisecond; reports the
-   wall time, the worst poll latency and the peak RSS (getrusage) of that process.
+   wall time, the worst poll latency and the peak RSS (VmHWM) of that process.
 3. The floor: a tiny C program (compiled now with cc -O2) that reads the same file
    and converts every number with strtod. Prints compile time / floor.
 4. The same program under G41 (r = 0.3, a first line "G41"): compile time / floor and
@@ -63,8 +63,15 @@ int main(int argc, char **argv) {
 """
 
 CHILD = r"""
-import ctypes, json, resource, sys, time, threading
+import ctypes, json, sys, time, threading
 from sf_tch import abi, library
+
+def status_mb(key):
+    # this process's own memory (ru_maxrss would still hold the parent's from before exec)
+    for line in open("/proc/self/status"):
+        if line.startswith(key + ":"):
+            return int(line.split()[1]) / 1024
+
 lib = library.load()
 path = sys.argv[1].encode()
 p = abi.GCODE_PARAMETERS()
@@ -73,7 +80,7 @@ p.absMode = 0
 p.correction[0].size = float(sys.argv[2]) if len(sys.argv) > 2 else 0.0
 lib.ToolChainCore_SetGCodeParameters(0, ctypes.byref(p))
 pos, enh = abi.SIMPLE_GM_PARAMS(), abi.GM_PARAMS_ENHANCED()
-rss0 = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+rss0 = status_mb("VmRSS")
 t0 = time.perf_counter()
 assert lib.ToolChainCore_CompileFromFile(0, path) == 0
 worst = 0.0
@@ -91,9 +98,9 @@ while True:
 t1 = time.perf_counter()
 info = abi.CALLBACK_INFO()
 err = lib.ToolChainCore_GetLastError(0, ctypes.byref(info))
-rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+rss = status_mb("VmHWM")
 print(json.dumps({"seconds": t1 - t0, "worst_poll_ms": worst * 1e3, "polls": polls,
-                  "peak_rss_mb": rss / 1024, "rss_before_mb": rss0 / 1024,
+                  "peak_rss_mb": rss, "rss_before_mb": rss0,
                   "error": (info.m_fullError or b"").decode() if err == 1 else None}))
 lib.ToolChainCore_DestroyCNC(0)
 """
