@@ -126,17 +126,7 @@ cdef bint program_merge(Program *prog, size_t n_ins, void *ctx, inserted_after_f
     return True
 
 
-cdef extern from *:
-    """
-    #include <sys/mman.h>
-    #ifndef MADV_POPULATE_WRITE
-    #define MADV_POPULATE_WRITE 23
-    #endif
-    """
-    int madvise(void *addr, size_t length, int advice) nogil
-    int MADV_POPULATE_WRITE
-
-cdef bint g_no_populate         # the kernel refused MADV_POPULATE_WRITE (before 5.14): a hint less
+cdef int32_t g_no_populate      # the kernel refused MADV_POPULATE_WRITE (before 5.14): a hint less
 
 
 cdef bint program_prefault(Program *prog, size_t first, size_t count, size_t limit) noexcept nogil:
@@ -145,7 +135,6 @@ cdef bint program_prefault(Program *prog, size_t first, size_t count, size_t lim
     capacity, without touching their contents: the thread beside the compiler does
     this ahead of it, so the compiler and the merge write into memory that is there.
     Only a hint; False when there is nothing left to do (or the kernel cannot)."""
-    global g_no_populate
     cdef size_t end
     cdef size_t lo, hi
     if first < prog.prefaulted:
@@ -155,12 +144,12 @@ cdef bint program_prefault(Program *prog, size_t first, size_t count, size_t lim
         end = limit
     if end > prog.cap_parts:
         end = prog.cap_parts
-    if first >= end or g_no_populate:
+    if first >= end or TC_ATOMIC_LOAD(&g_no_populate):
         return False
     lo = (<size_t>&prog.parts[first] + 0xFFF) & ~(<size_t>0xFFF)
     hi = <size_t>&prog.parts[end] & ~(<size_t>0xFFF)
     if lo < hi and madvise(<void *>lo, hi - lo, MADV_POPULATE_WRITE) != 0:
-        g_no_populate = True
+        TC_ATOMIC_STORE(&g_no_populate, 1)
         return False
     prog.prefaulted = end
     return True

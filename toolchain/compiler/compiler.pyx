@@ -689,11 +689,6 @@ cdef void cp_init(CState *st, const CompileInput *inp, Program *prog, ErrorInfo 
     st.last_percent = -1
 
 
-cdef extern from "<sys/mman.h>" nogil:
-    int madvise(void *addr, size_t length, int advice)
-    int MADV_HUGEPAGE
-
-
 cdef void reserve_parts(Program *prog, uint32_t lines) noexcept nogil:
     """Reserves room for about one part per line up front (one allocation instead of
     a doubling series), and half as many again for the parts the compensation may

@@ -1,5 +1,5 @@
 # C declarations of the system libraries the library uses that Cython's own
-# includes lack: POSIX threads and atomics. Gathered here, declared once.
+# includes lack: POSIX threads, memory advice and atomics. Gathered here, declared once.
 from libc.stdint cimport int32_t, int64_t
 
 cdef extern from "<pthread.h>" nogil:
@@ -31,6 +31,19 @@ cdef extern from "<pthread.h>" nogil:
     int pthread_cond_destroy(pthread_cond_t *c)
     int pthread_mutex_destroy(pthread_mutex_t *m)
     int pthread_once(pthread_once_t *once, void (*init)() noexcept nogil)
+
+# Memory advice: transparent huge pages for the large arrays, and faulting pages in
+# ahead of their writer (Linux 5.14; older kernels refuse it, a hint less).
+cdef extern from *:
+    """
+    #include <sys/mman.h>
+    #ifndef MADV_POPULATE_WRITE
+    #define MADV_POPULATE_WRITE 23
+    #endif
+    """
+    int madvise(void *addr, size_t length, int advice) nogil
+    int MADV_HUGEPAGE
+    int MADV_POPULATE_WRITE
 
 # GCC/Clang atomic builtins on int32 flags shared between the host's threads and
 # the core's worker thread (status, cancel requests).
