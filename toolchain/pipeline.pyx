@@ -82,7 +82,9 @@ cdef void *_follow_body(void *arg) noexcept nogil:
 
 
 cdef void follow_publish(Follow *F, size_t n) noexcept nogil:
-    """The compiler: parts [0, n) are final."""
+    """The compiler: parts [0, n) are final. F may be NULL."""
+    if F == NULL:
+        return
     if not F.started:
         if n < FOLLOW_BATCH:
             return
@@ -99,8 +101,9 @@ cdef void follow_publish(Follow *F, size_t n) noexcept nogil:
 
 cdef void follow_pause(Follow *F) noexcept nogil:
     """The compiler, before it moves an array the consumer reads: waits until the
-    consumer is between batches and keeps it there until follow_resume."""
-    if not F.started:
+    consumer is between batches and keeps it there until follow_resume. F may be
+    NULL (no stage beside the compiler)."""
+    if F == NULL or not F.started:
         return
     pthread_mutex_lock(&F.lock)
     F.paused = True
@@ -110,7 +113,7 @@ cdef void follow_pause(Follow *F) noexcept nogil:
 
 
 cdef void follow_resume(Follow *F) noexcept nogil:
-    if not F.started:
+    if F == NULL or not F.started:
         return
     pthread_mutex_lock(&F.lock)
     F.paused = False

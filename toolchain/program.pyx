@@ -56,11 +56,9 @@ cdef bint program_grow_shared(Program *prog, void **buf, size_t *cap, size_t nee
     cdef bint ok
     if need <= cap[0]:
         return True
-    if prog.follow != NULL:
-        follow_pause(prog.follow)
+    follow_pause(prog.follow)
     ok = _grow(buf, cap, need, item)
-    if prog.follow != NULL:
-        follow_resume(prog.follow)
+    follow_resume(prog.follow)
     return ok
 
 

@@ -10,8 +10,7 @@ cdef bint program_add_strategy_region(Program *prog, size_t first, bint on, doub
     may be reading the regions beside the compiler: it waits meanwhile."""
     cdef StrategyRegion *r
     cdef bint ok
-    if prog.follow != NULL:
-        follow_pause(prog.follow)
+    follow_pause(prog.follow)
     if prog.n_strategy_regions > 0 and prog.strategy_regions[prog.n_strategy_regions - 1].first == first:
         prog.n_strategy_regions -= 1
     ok = _grow(<void **>&prog.strategy_regions, &prog.cap_strategy_regions, prog.n_strategy_regions + 1,
@@ -24,8 +23,7 @@ cdef bint program_add_strategy_region(Program *prog, size_t first, bint on, doub
         r.corner_distance = corner_distance if corner_distance > 0 else 0.0
         r.depth = depth if depth > 0 else 0.0
         r.drop_arcs = drop_arcs
-    if prog.follow != NULL:
-        follow_resume(prog.follow)
+    follow_resume(prog.follow)
     return ok
 
 

@@ -621,8 +621,7 @@ cdef int cp_run(CState *st, Unit *u, bint main) noexcept nogil:
         if (st.blocks & 1023) == 0:
             if st.inp.cancel != NULL and TC_ATOMIC_LOAD(st.inp.cancel) != 0:
                 return COMPILE_CANCELLED
-            if st.prog.follow != NULL:
-                follow_publish(st.prog.follow, st.prog.n_parts)     # between lines: all final
+            follow_publish(st.prog.follow, st.prog.n_parts)         # between lines: all final
             if st.blocks > st.block_limit:
                 st.line = line
                 cerr_num(st, ERR_BLOCK_LIMIT, <double>(st.block_limit))
