@@ -9,9 +9,16 @@
  * Layouts follow the vendor's data-structure description (natural C alignment, no
  * packing pragma). Sizes on Linux x86_64 are asserted at the end of this file.
  *
- * Threading: every function may be called from any host thread. Long work
- * (compilation, simulation, motion) runs in the library's own threads; the calls
- * that start it return at once. Callbacks may be called from those threads.
+ * Threading (docs/threading.md): every function may be called from any thread at
+ * any moment, also from inside a callback the library is running. Long work
+ * (compilation, simulation, motion) runs in one worker thread per core; the calls
+ * that start it return at once. Callbacks are called from the worker (and the
+ * error callbacks of a refused call from the caller's thread). StatusCNC and GetPos
+ * never wait for a lock. A call that ends the core's activity (DestroyCNC, ResetCNC,
+ * ResetStatusCNC) returns once the worker has been joined; made inside a callback of
+ * a running activity it returns at once and the worker applies it when the callback
+ * has returned. A call that starts an activity (Compile*, StartCNCEx) is refused
+ * inside a callback of that core's running activity (-1, error 20).
  *
  * Valid C99 and C++.
  */
@@ -449,8 +456,10 @@ TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_Init(const DLL_INIT_STRUC
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_LoadFromIni(uint32_t intIdx, TGM_LPCTSTR iniFile, uint32_t *pnMaxCores);
 
 /* Stops everything on the core (interrupts a compilation, ends a simulation or motion,
- * joins the core's threads) and frees its program. Safe to call twice and at any time.
- * Returns 0, -2 bad core. */
+ * joins the core's worker) and releases its program; status 0. Safe to call twice and
+ * at any time; no callback of the ended activity is called after it returns (inside a
+ * callback: the activity ends once that callback returns). The machine position
+ * (ResetCNC) is kept. Returns 0, -2 bad core. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_DestroyCNC(uint32_t intIdx);
 
 /* Version and build date/time; valid until the library is unloaded. Never NULL
@@ -501,11 +510,20 @@ TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_CompileFromMemory(uint32_
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_IsBusy(uint32_t intIdx);
 
 /* 0 no error (info untouched); 1 the last compilation or run failed and info is filled
- * (the strings stay valid until the next compilation or start on the core); -1 NULL. */
+ * (the strings stay valid until the next compilation or start on the core); -1 NULL.
+ * A refused call never changes it: see GetLastCallError. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GetLastError(uint32_t intIdx, CALLBACK_INFO *info);
 
-/* Index of a file name (new names get the next index, 64 per core). Special names give
- * -1..-4; NULL, empty or names of 252 characters or more: -1. */
+/* Beyond the vendor's list. The error of the last call on the core that was refused
+ * with an error text (busy, wrong status, unreadable file, not implemented, ...):
+ * 1 and info filled (strings valid until the next refused call), 0 none yet; -1 NULL,
+ * -2 bad core. The same error also went to DispAndLocateError and AddOutputLog. */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GetLastCallError(uint32_t intIdx, CALLBACK_INFO *info);
+
+/* Index of a file name (new names get the next index, 64 per core; when the table is
+ * full the least recently used name that no loaded program references is replaced,
+ * its run time forgotten). Special names give -1..-4; NULL, empty or names of 252
+ * characters or more: -1. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_FileToIdx(uint32_t intIdx, TGM_LPCTSTR fileName);
 
 /* Inverse of FileToIdx; special and unknown indexes give the special names. Never NULL. */
@@ -530,17 +548,23 @@ TOOLCHAIN_API TGM_LPCTSTR TOOLCHAIN_CALLTYPE ToolChain_IdxToFile(int32_t fileIdx
  * Running
  */
 
-/* Ends any activity (interrupts a compilation, stops a run) and sets the start position:
- * regime 1 only marks the program start; otherwise the first nCoords machine coordinates
- * come from coords (axis order; nCoords 0 keeps all). Status -30 when a program is
+/* Ends any activity (interrupts a compilation, stops a run; waits until the worker is
+ * joined) and sets the machine position, where the next run and compilation start:
+ * regime 1 only marks the program start; otherwise the first nCoords machine
+ * coordinates come from coords (axis order; nCoords 0 keeps all). A program written
+ * relative to its start (G91 from the first block) moves with it; any other keeps its
+ * positions and only its first move starts there. Status -30 when a program is
  * compiled. -1 when nCoords > 10 or coords is NULL with nCoords > 0. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_ResetCNC(uint32_t intIdx, int32_t regime, uint32_t nCoords, const double *coords);
 
-/* Starts a run in the core's thread (run_regime). addCode: M functions sent first.
- * -1 when compiling, nothing compiled, or the regime cannot start in this status. */
+/* Starts a run in the core's worker (run_regime) from the machine position; a
+ * simulation or test is a dry run and does not move the machine position. addCode:
+ * M functions sent first. -1 when compiling, nothing compiled, the regime cannot start
+ * in this status, or inside a callback of the core's running activity. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_StartCNCEx(uint32_t intIdx, int32_t regime, TGM_LPCSTR addCode);
 
-/* Controlled stop (simulation: -11, test: -21, motion: -31). -1 when nothing runs. */
+/* Controlled stop (simulation: -11, test: -21, motion: -31); returns at once, the
+ * worker sets the status when it has stopped. -1 when nothing runs. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_StopCNCEx(uint32_t intIdx, TGM_LPCSTR addCode);
 
 /* Moves back onto the trajectory (connect_type). See API.md. */
@@ -580,8 +604,10 @@ TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_LoadCNCCalcPlugIn(TGM_LPC
  */
 
 /* Sets (fn non-NULL) or removes (fn NULL) callback fceNo (callback_number) of the core;
- * userData is passed back as the first argument. 0; -1 unknown number, or a driver
- * number (> 1000) before LoadFromIni; -2 bad core. */
+ * userData is passed back as the first argument. Returns once no call of the previous
+ * function runs on another thread, and no later call reaches it: the host may free it
+ * then. 0; -1 unknown number, or a driver number (> 1000) before LoadFromIni; -2 bad
+ * core. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_SetCallBack(uint32_t intIdx, uint32_t fceNo, intptr_t userData, void *fn);
 
 /*

@@ -17,8 +17,10 @@ VENDOR_INI = ("[Modules]\nCompiler0=SF_Compiler\nExecutor0=SF_Executor\nCalculat
 
 
 def last_error(lib, idx=0):
+    """The error of the last refused call (GetLastCallError); GetLastError keeps the
+    error of the last compilation or run."""
     info = abi.CALLBACK_INFO()
-    rc = lib.ToolChainCore_GetLastError(idx, byref(info))
+    rc = lib.ToolChainCore_GetLastCallError(idx, byref(info))
     return rc, info
 
 
@@ -31,9 +33,9 @@ def other_error(lib, idx=0):
 
 # ------------------------------------------------------------------ exports
 
-def test_all_40_exports_are_dynamic_symbols(lib_path):
+def test_all_41_exports_are_dynamic_symbols(lib_path):
     names = {name for name, _, _ in abi.FUNCTIONS}
-    assert len(names) == 40
+    assert len(names) == 41
     nm = shutil.which("nm")
     if nm is None:
         pytest.skip("nm not available")
@@ -200,9 +202,13 @@ def test_legacy_get_last_error_is_core_0(run_python):
         legacy.stringId = info.stringId = 4321
         print(lib.ToolChain_GetLastError(ctypes.byref(legacy)), lib.ToolChainCore_GetLastError(0, ctypes.byref(info)),
               legacy.stringId, info.stringId)   # no error yet: info untouched
-        lib.ToolChainCore_StopCNCEx(1, None)                     # an error on core 1 only
+        def compile_bad(core):
+            assert lib.ToolChainCore_CompileFromMemory(core, b"bad.nc", b"G2 X10 Y0") == 0
+            while lib.ToolChainCore_StatusCNC(core) == 1:
+                pass
+        compile_bad(1)                                           # an error on core 1 only
         print(lib.ToolChain_GetLastError(ctypes.byref(legacy)))
-        lib.ToolChainCore_StartCNCEx(0, 10, None)                # an error on core 0
+        compile_bad(0)                                           # an error on core 0
         print(lib.ToolChain_GetLastError(ctypes.byref(legacy)), lib.ToolChainCore_GetLastError(0, ctypes.byref(info)))
         print(legacy.stringId == info.stringId != 0, legacy.m_fullError == info.m_fullError, legacy.m_fullError)
     """).stdout.splitlines()

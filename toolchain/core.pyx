@@ -1,18 +1,20 @@
-# One CNC core (interpolator channel): its configuration, its compiled program, its
-# last error, its callbacks, and the worker thread that compiles or runs. The host's
-# threads and the worker meet here:
-#   - `status` and `cancel` are int32 read and written atomically (StatusCNC polls
-#     status without any lock);
-#   - `lock` guards everything else and is only held for short copies, never while
-#     a callback runs or a thread is joined.
+# One CNC core (interpolator channel): its configuration, its program, its errors,
+# and the life of its one activity (a compilation or a run) in a worker thread.
+# core.pxd says who may touch what; docs/threading.md draws the lifecycle:
+#
+#   idle --begin--> running --(done | stopped | cancelled)--> finished --join--> idle
+#
+# A call that starts an activity joins the finished worker of the last one first; a
+# call that ends one (DestroyCNC, ResetCNC, ResetStatusCNC) cancels it, waits until
+# it is joined (by itself, or by the thread that already joins it) and then applies
+# its own end, in the same critical section, so no start can slip in between. A call
+# made inside a callback of a running activity (on any worker thread) never waits
+# for a worker: it leaves its end to the worker, which applies it when the callback
+# has returned.
 from libc.stdlib cimport malloc, calloc, free
-from libc.string cimport memset, memcpy, strlen, strcmp, strncpy, strcasecmp
+from libc.string cimport memset, memcpy, memcmp, strlen, strcmp, strncpy, strcasecmp, strdup
 from libc.stdio cimport snprintf, FILE, fopen, fclose, fread, fseek, ftell, SEEK_END, SEEK_SET
 from libc.stdlib cimport strtod, strtol, strtoul
-
-cdef extern from "<pthread.h>" nogil:
-    pthread_t pthread_self()
-    int pthread_equal(pthread_t a, pthread_t b)
 
 cdef extern from *:
     """
@@ -20,86 +22,18 @@ cdef extern from *:
     """
     const char *TC_VERSION_STRING
 
-cdef enum:
-    MAX_FILES = 64          # file names per core (FileToIdx)
-    N_CALLBACK_SLOTS = 24   # documented callback numbers
-
-# the documented callback numbers, in slot order
-cdef int32_t callback_slot(uint32_t number) noexcept nogil:
-    if number == CB_ADD_OUTPUT_LOG: return 0
-    if number == CB_SET_STATUS_BAR_TEXT: return 1
-    if number == CB_IS_DEBUG_MODE: return 2
-    if number == CB_IS_VERBOSE_MODE: return 3
-    if number == CB_GET_LIB_PATH: return 4
-    if number == CB_GET_TOOL_PATH: return 5
-    if number == CB_GET_SYSTEM_PATH: return 6
-    if number == CB_GET_FILE_TIME_STAMP: return 7
-    if number == CB_DO_YIELD: return 8
-    if number == CB_READ_INI_STRING: return 9
-    if number == CB_READ_INI_DOUBLE: return 10
-    if number == CB_READ_INI_INT: return 11
-    if number == CB_IS_BREAKPOINT: return 12
-    if number == CB_DISP_AND_LOCATE_ERROR: return 13
-    if number == CB_ADD_OUTPUT_LOG_WITH_MSG_BOX: return 14
-    if number == CB_SET_STATUS_BAR_PROGRESS: return 15
-    if number == CB_DRIVER_INITIALIZE: return 16
-    if number == CB_DRIVER_G_FUNC: return 17
-    if number == CB_DRIVER_M_FUNC: return 18
-    if number == CB_CONNECT_POINT_CALC_START: return 19
-    if number == CB_CONNECT_POINT_CALC: return 20
-    if number == CB_CONNECT_POINT_CALC_END: return 21
-    if number == CB_DRIVER_END: return 22
-    if number == CB_MATH_WARNING: return 23
-    return -1
-
-ctypedef struct Callback:
-    void *fn
-    intptr_t user
-
-ctypedef struct Core:
-    int32_t index
-    int32_t status              # cnc_status, atomic
-    int32_t cancel              # atomic: ask the worker to end (reset/destroy)
-    int32_t stop                # atomic: StopCNCEx during a run
-    pthread_mutex_t lock
-    # worker thread
-    pthread_t worker
-    bint worker_started         # a thread was created and not yet joined
-    int32_t run_regime
-    char *add_code              # StartCNCEx addCode of the current run
-    # configuration
-    GCODE_PARAMETERS params
-    MACHINE_PARAMETERS machine
-    double user_params[100]
-    bint has_user_params
-    char *prefix
+# What a worker gets from the call that started it; the worker frees it.
+ctypedef struct Job:
+    Core *core
+    int32_t regime              # runs: StartCNCEx regime
+    char *text                  # compilations: the program text (owned); NULL: read `name`
+    size_t length
+    int32_t files[3]            # compilations: file table entries of main, prefix, postfix
+    char *prefix                # compilations: GCodePrefixPostfix texts at the start (owned)
     char *postfix
-    bint ini_loaded
-    char driver[256]
-    Callback callbacks[24]
-    # files and run times
-    char files[64][252]
-    int32_t n_files
-    double run_times[64]
-    # compilation input (owned while the worker compiles)
-    char *source
-    size_t source_len
-    int32_t source_idx
-    char source_name[252]
-    # result
-    Program program
-    bint has_program            # compiled without error
-    ErrorInfo error             # last error (number 0 = none)
-    GCODE_INFO size_info
-    # machine
-    double position[10]
-    double rel_feed
-    uint32_t breakpoint_line
-    int32_t breakpoint_file
-    # GetPos snapshot (written by the worker under lock)
-    int32_t last_motion         # 0 none, 1 rapid, 2 cut: for the transition counters
-    SIMPLE_GM_PARAMS pos
-    GM_PARAMS_ENHANCED enh
+    char name[252]
+    char *add_code              # runs: StartCNCEx addCode (owned, may be NULL)
+
 
 cdef Core g_cores[3]
 cdef pthread_once_t g_once
@@ -166,12 +100,13 @@ cdef void _init_cores() noexcept nogil:
         memset(core, 0, sizeof(Core))
         core.index = i
         pthread_mutex_init(&core.lock, NULL)
+        pthread_cond_init(&core.changed, NULL)
         default_gcode_parameters(&core.params)
-        program_init(&core.program)
         core.rel_feed = 1.0
-        core.source_idx = -1
         core.breakpoint_file = -1
-        core.pos.m_fileIdx = -1
+        core.compile_files[0] = core.compile_files[1] = core.compile_files[2] = -1
+        snapshot_init(&core.snap)
+        core.snap.data.enh.m_relFeed = 1.0
     g_core_mode = 2
 
 
@@ -189,98 +124,71 @@ cdef inline int32_t core_status(Core *core) noexcept nogil:
 
 cdef inline void core_set_status(Core *core, int32_t status) noexcept nogil:
     TC_ATOMIC_STORE(&core.status, status)
-    TC_ATOMIC_STORE(&core.enh.m_statusCNC, status)
 
 
-cdef inline bint status_is_running(int32_t status) noexcept nogil:
-    """Positive statuses: something works (compiling, running, moving)."""
-    return status > 0
+cdef inline bint on_worker_thread() noexcept nogil:
+    """True inside a callback of any core's running activity (a library thread)."""
+    return tc_worker_core != NULL
 
 
-# ------------------------------------------------------------------ callbacks
+# ------------------------------------------------------------------ refused calls
 
-cdef Callback core_callback(Core *core, uint32_t number) noexcept nogil:
-    """A copy of the callback (fn NULL when unset); read under the lock so that a
-    concurrent SetCallBack never tears the pair."""
-    cdef Callback cb
-    cdef int32_t slot = callback_slot(number)
-    cb.fn = NULL
-    cb.user = 0
-    if slot < 0:
-        return cb
+cdef int32_t core_fail(Core *core, int32_t number, const char *text_arg) noexcept nogil:
+    """Records and reports the error of a refused call (no file, no line) in the
+    call's slot (GetLastCallError); the activity's error (GetLastError) stays.
+    Returns TOOL_CHAIN_ERROR."""
+    cdef ErrorInfo *err = <ErrorInfo *>malloc(sizeof(ErrorInfo))
+    if err == NULL:
+        return TOOL_CHAIN_ERROR
+    set_error_text(err, number, -1, 0, text_arg)
     pthread_mutex_lock(&core.lock)
-    cb = core.callbacks[slot]
+    core.call_error = err[0]
     pthread_mutex_unlock(&core.lock)
-    return cb
+    core_report_error(core, err)
+    free(err)
+    return TOOL_CHAIN_ERROR
 
 
-cdef void fill_callback_info(Core *core, const ErrorInfo *err, CALLBACK_INFO *info) noexcept nogil:
-    info.stringId = err.number
-    info.nLines = err.n_lines
-    info.actLine = err.line
-    info.fileIdx = err.file_idx
-    info.m_fullError = err.text
-    info.m_errorArguments = err.args
-
-
-cdef void core_output(Core *core, uint32_t tab, const char *text) noexcept nogil:
-    """A line for the host's output log (AddOutputLog), e.g. PRINT text on tab 2."""
-    cdef Callback cb = core_callback(core, CB_ADD_OUTPUT_LOG)
-    cdef CALLBACK_INFO info
-    memset(&info, 0, sizeof(info))
-    info.stringId = -1
-    info.fileIdx = -1
-    if cb.fn != NULL:
-        (<TC_AddOutputLog>cb.fn)(cb.user, tab, text, &info)
-    log_line(LOG_TOOLCHAIN, text)
-
-
-cdef void core_report_error(Core *core, const ErrorInfo *err) noexcept nogil:
-    """Every error reaches the host at once: DispAndLocateError, AddOutputLog tab 0
-    and the log. The ErrorInfo must stay valid during the calls."""
-    cdef Callback disp = core_callback(core, CB_DISP_AND_LOCATE_ERROR)
-    cdef Callback out = core_callback(core, CB_ADD_OUTPUT_LOG)
-    cdef CALLBACK_INFO info
-    cdef char line[1400]
-    fill_callback_info(core, err, &info)
-    if disp.fn != NULL:
-        (<TC_DispAndLocateError>disp.fn)(disp.user, <uint32_t>err.line, err.file_idx, err.text, &info)
-    if out.fn != NULL:
-        (<TC_AddOutputLog>out.fn)(out.user, 0, err.text, &info)
-    snprintf(line, sizeof(line), "core %d: error %d at file %d line %d: %s",
-             core.index, err.number, err.file_idx, err.line, err.text)
-    log_line(LOG_TOOLCHAIN, line)
-
-
-cdef void core_fail(Core *core, int32_t number, const char *text_arg) noexcept nogil:
-    """Records and reports an error of the host's call (no file, no line)."""
+cdef int32_t core_refuse(Core *core, const char *what, int32_t status) noexcept nogil:
+    """A call the transition table refuses in `status`: ERR_BUSY while an activity
+    runs, ERR_BAD_STATUS (with the status' number and name) otherwise."""
+    cdef ErrorInfo *err
+    cdef ErrArg args[3]
+    if status > 0:
+        return core_fail(core, ERR_BUSY, status_name(status))
+    err = <ErrorInfo *>malloc(sizeof(ErrorInfo))
+    if err == NULL:
+        return TOOL_CHAIN_ERROR
+    args[0].text = what
+    args[1].text = NULL
+    args[1].num = status
+    args[2].text = status_name(status)
+    set_error(err, ERR_BAD_STATUS, -1, 0, args, 3)
     pthread_mutex_lock(&core.lock)
-    set_error_text(&core.error, number, -1, 0, text_arg)
+    core.call_error = err[0]
     pthread_mutex_unlock(&core.lock)
-    core_report_error(core, &core.error)
-
-
-cdef void core_progress(Core *core, uint32_t percent) noexcept nogil:
-    cdef Callback cb = core_callback(core, CB_SET_STATUS_BAR_PROGRESS)
-    if cb.fn != NULL:
-        (<TC_SetStatusBarProgress>cb.fn)(cb.user, percent)
-
-
-cdef void core_status_text(Core *core, const char *text) noexcept nogil:
-    cdef Callback cb = core_callback(core, CB_SET_STATUS_BAR_TEXT)
-    cdef CALLBACK_INFO info
-    memset(&info, 0, sizeof(info))
-    info.stringId = -1
-    info.fileIdx = core.source_idx
-    info.nLines = <int32_t>core.program.n_lines
-    if cb.fn != NULL:
-        (<TC_SetStatusBarText>cb.fn)(cb.user, 0, text, &info)
+    core_report_error(core, err)
+    free(err)
+    return TOOL_CHAIN_ERROR
 
 
 # ------------------------------------------------------------------ files
 
+cdef bint _file_referenced(Core *core, int32_t idx) noexcept nogil:
+    """Under core.lock: the loaded program or the compilation that runs uses entry idx."""
+    cdef int k
+    for k in range(3):
+        if core.compile_files[k] == idx:
+            return True
+        if core.program != NULL and core.program.files[k] == idx:
+            return True
+    return False
+
+
 cdef int32_t core_file_to_idx(Core *core, const char *name) noexcept nogil:
-    """FileToIdx under the core's lock."""
+    """FileToIdx: the entry of `name`, a new one, or (table full) the least recently
+    used entry that no loaded program references, recycled; -1 when none is free."""
+    cdef FileTable *t = &core.files
     cdef int32_t i, found = -1
     if name == NULL or name[0] == 0 or strlen(name) >= <size_t>TOOL_CHAIN_MAX_FILE_NAME:
         return -1
@@ -289,16 +197,25 @@ cdef int32_t core_file_to_idx(Core *core, const char *name) noexcept nogil:
     if strcmp(name, "__stop__") == 0: return -3
     if strcmp(name, "__exec__") == 0: return -4
     pthread_mutex_lock(&core.lock)
-    for i in range(core.n_files):
-        if strcmp(core.files[i], name) == 0:
+    for i in range(t.n):
+        if strcmp(t.names[i], name) == 0:
             found = i
             break
-    if found < 0 and core.n_files < MAX_FILES:
-        found = core.n_files
-        strncpy(core.files[found], name, TOOL_CHAIN_MAX_FILE_NAME - 1)
-        core.files[found][TOOL_CHAIN_MAX_FILE_NAME - 1] = 0
-        core.run_times[found] = -1.0
-        core.n_files += 1
+    if found < 0:
+        if t.n < MAX_FILES:
+            found = t.n
+            t.n += 1
+        else:
+            for i in range(t.n):
+                if not _file_referenced(core, i) and (found < 0 or t.used[i] < t.used[found]):
+                    found = i
+        if found >= 0:
+            strncpy(t.names[found], name, TOOL_CHAIN_MAX_FILE_NAME - 1)
+            t.names[found][TOOL_CHAIN_MAX_FILE_NAME - 1] = 0
+            t.run_times[found] = -1.0
+    if found >= 0:
+        t.clock += 1
+        t.used[found] = t.clock
     pthread_mutex_unlock(&core.lock)
     return found
 
@@ -307,68 +224,218 @@ cdef const char *core_idx_to_file(Core *core, int32_t idx) noexcept nogil:
     if idx == -2: return "__end__"
     if idx == -3: return "__stop__"
     if idx == -4: return "__exec__"
-    if idx < 0 or idx >= core.n_files:
+    if idx < 0 or idx >= core.files.n:
         return "__unknown__"
-    return core.files[idx]
+    return core.files.names[idx]
 
 
-# ------------------------------------------------------------------ worker thread
+# ------------------------------------------------------------------ the activity
 
-cdef void core_end_activity(Core *core) noexcept nogil:
-    """Interrupts a compilation or a run: asks the worker to end and waits for it
-    (never from the worker itself, which only gets the request: it is calling back
-    into the host)."""
+cdef bint _join_locked(Core *core, uint64_t activity) noexcept nogil:
+    """With core.lock held: waits until the worker of `activity` (if it still has
+    one) is joined, joining it itself unless another thread already does. False
+    when a newer activity began meanwhile (it is not touched)."""
     cdef pthread_t worker
-    pthread_mutex_lock(&core.lock)
-    if not core.worker_started:
-        pthread_mutex_unlock(&core.lock)
-        return
-    worker = core.worker
-    if pthread_equal(worker, pthread_self()):
-        pthread_mutex_unlock(&core.lock)
+    while core.has_worker and core.activity == activity:
+        if core.joining:
+            pthread_cond_wait(&core.changed, &core.lock)
+            continue
+        core.joining = True
+        worker = core.worker
         TC_ATOMIC_STORE(&core.cancel, 1)
+        pthread_mutex_unlock(&core.lock)
+        pthread_join(worker, NULL)
+        pthread_mutex_lock(&core.lock)
+        core.has_worker = False
+        core.joining = False
+        pthread_cond_broadcast(&core.changed)
+    return core.activity == activity
+
+
+cdef int32_t _end_command(int32_t kind) noexcept nogil:
+    if kind == END_RESET: return CMD_RESET
+    if kind == END_DESTROY: return CMD_DESTROY
+    if kind == END_DROP_PROGRAM: return CMD_DROP_PROGRAM
+    return CMD_OUT_OF_TRAJECTORY
+
+
+cdef void _publish_position(Core *core, const double *position) noexcept nogil:
+    """GetPos after an end: standing at `position`, counters cleared."""
+    cdef SnapshotData *data = <SnapshotData *>calloc(1, sizeof(SnapshotData))
+    if data == NULL:
         return
-    core.worker_started = False
-    pthread_mutex_unlock(&core.lock)
-    TC_ATOMIC_STORE(&core.cancel, 1)
-    pthread_join(worker, NULL)
-    TC_ATOMIC_STORE(&core.cancel, 0)
+    data.pos.m_fileIdx = -1
+    memcpy(&data.pos.m_s, position, sizeof(P10DOUBLE))
+    data.pos.m_e = data.pos.m_s
+    data.pos.m_calcS = data.pos.m_s
+    data.pos.m_calcE = data.pos.m_s
+    snapshot_publish(&core.snap, data)
+    free(data)
 
 
-cdef bint core_claim(Core *core, int32_t running_status) noexcept nogil:
-    """Moves an idle core to `running_status` atomically; False when it is busy.
-    The previous (finished) worker is joined first."""
-    cdef int32_t current
-    while True:
-        current = core_status(core)
-        if status_is_running(current):
-            return False
-        if TC_ATOMIC_CAS(&core.status, &current, running_status):
-            TC_ATOMIC_STORE(&core.enh.m_statusCNC, running_status)
-            return True
+cdef LoadedProgram *_apply_end_locked(Core *core, int32_t kind) noexcept nogil:
+    """With core.lock held and no activity running: the end `kind` (status from the
+    table). Returns the program reference the caller must release after unlocking."""
+    cdef LoadedProgram *dropped = NULL
+    cdef int32_t after = status_after(core_status(core), _end_command(kind), core.program != NULL)
+    if kind == END_DESTROY or kind == END_DROP_PROGRAM:
+        dropped = core.program
+        core.program = NULL
+        memset(&core.size_info, 0, sizeof(GCODE_INFO))
+        after = status_after(core_status(core), _end_command(kind), False)
+    if kind == END_DESTROY or kind == END_RESET:
+        _publish_position(core, core.position)
+    if after != TC_KEEP and after != TC_REFUSED:
+        core_set_status(core, after)
+    return dropped
 
 
-cdef bint core_launch(Core *core, void *(*body)(void *) noexcept nogil) noexcept nogil:
-    """Starts the worker for a claimed core; False (and the status restored by the
-    caller) when no thread can be created."""
-    cdef pthread_t old
-    cdef bint had_old
+cdef void _refresh_size_info(Core *core) noexcept nogil:
+    """GetGCodeSizeInfo of the core's program from the current start position: an
+    O(n) pass over the immutable program, outside the lock."""
+    cdef LoadedProgram *lp
+    cdef Program view
+    cdef GCODE_INFO *info = <GCODE_INFO *>malloc(sizeof(GCODE_INFO))
+    cdef double delta[10]
+    if info == NULL:
+        return
     pthread_mutex_lock(&core.lock)
-    had_old = core.worker_started
-    old = core.worker
-    core.worker_started = False
+    lp = loaded_program_ref(core.program)
+    if lp != NULL:
+        view = lp.prog                  # shares the arrays, reads only
+        memcpy(view.start, core.position, sizeof(view.start))
     pthread_mutex_unlock(&core.lock)
-    if had_old and not pthread_equal(old, pthread_self()):
-        pthread_join(old, NULL)         # finished already: the status was not running
+    if lp == NULL:
+        free(info)
+        return
+    if program_start_delta(&lp.prog, view.start, delta):
+        info[0] = lp.extent
+        extent_shift(info, delta)
+    else:
+        program_extent(&view, info)
+    pthread_mutex_lock(&core.lock)
+    if core.program == lp and memcmp(view.start, core.position, sizeof(view.start)) == 0:
+        core.size_info = info[0]
+    pthread_mutex_unlock(&core.lock)
+    loaded_program_release(lp)
+    free(info)
+
+
+cdef int32_t core_end(Core *core, int32_t kind, const char *what, uint32_t n_coords,
+                      const double *coords) noexcept nogil:
+    """DestroyCNC, ResetCNC (with the coordinates of the new start position),
+    ResetStatusCNC: ends the activity and applies `kind`. Inside a callback of a
+    running activity the end is left to that activity's worker (it applies it once
+    the callback returns). TOOL_CHAIN_SUCCESS, or the table's refusal."""
+    cdef int32_t status
+    cdef LoadedProgram *dropped = NULL
+    pthread_mutex_lock(&core.lock)
+    status = core_status(core)
+    if status_after(status, _end_command(kind), core.program != NULL) == TC_REFUSED:
+        pthread_mutex_unlock(&core.lock)
+        return core_refuse(core, what, status)
+    if n_coords > 0:
+        memcpy(core.position, coords, n_coords * sizeof(double))
+    if status > 0 and core.has_worker and on_worker_thread():
+        if kind == END_DESTROY or core.deferred_end == END_NONE:
+            core.deferred_end = kind
+        TC_ATOMIC_STORE(&core.cancel, 1)
+        pthread_mutex_unlock(&core.lock)
+        return TOOL_CHAIN_SUCCESS
+    if _join_locked(core, core.activity):
+        dropped = _apply_end_locked(core, kind)
+    pthread_mutex_unlock(&core.lock)
+    loaded_program_release(dropped)
+    if kind == END_RESET:
+        _refresh_size_info(core)
+    return TOOL_CHAIN_SUCCESS
+
+
+cdef int32_t core_begin(Core *core, int32_t command, const char *what,
+                        void *(*body)(void *) noexcept nogil, Job *job) noexcept nogil:
+    """Starts an activity: checks the transition table, joins the finished worker of
+    the last activity, sets the running status and starts `body(job)` -- all in one
+    critical section. Takes ownership of `job` (freed here on refusal).
+    TOOL_CHAIN_SUCCESS or TOOL_CHAIN_ERROR (with the call's error)."""
+    cdef int32_t status, after, err = 0
+    if tc_worker_core == <void *>core:
+        job_free(job)
+        return core_fail(core, ERR_REENTRANT, what)
+    pthread_mutex_lock(&core.lock)
+    while True:
+        status = core_status(core)
+        after = status_after(status, command, core.program != NULL)
+        if after == TC_REFUSED:
+            break
+        if (command == CMD_SIMULATE or command == CMD_TEST) and core.program == NULL:
+            err = ERR_NOTHING_COMPILED
+            break
+        if not core.has_worker:
+            break
+        _join_locked(core, core.activity)   # finished: the join is short
+    if after == TC_REFUSED or err != 0:
+        pthread_mutex_unlock(&core.lock)
+        job_free(job)
+        if err != 0:
+            return core_fail(core, err, NULL)
+        return core_refuse(core, what, status)
+    core.activity += 1
     TC_ATOMIC_STORE(&core.cancel, 0)
     TC_ATOMIC_STORE(&core.stop, 0)
-    pthread_mutex_lock(&core.lock)
-    if pthread_create(&core.worker, NULL, body, core) != 0:
+    core.deferred_end = END_NONE
+    memset(&core.error, 0, sizeof(ErrorInfo))
+    if command == CMD_COMPILE:
+        memcpy(core.compile_files, job.files, sizeof(core.compile_files))
+    core_set_status(core, after)
+    job.core = core
+    if pthread_create(&core.worker, NULL, body, job) != 0:
+        core.compile_files[0] = core.compile_files[1] = core.compile_files[2] = -1
+        core_set_status(core, status)
         pthread_mutex_unlock(&core.lock)
-        return False
-    core.worker_started = True
+        job_free(job)
+        return core_fail(core, ERR_OUT_OF_MEMORY, NULL)
+    core.has_worker = True
     pthread_mutex_unlock(&core.lock)
-    return True
+    return TOOL_CHAIN_SUCCESS
+
+
+cdef void core_finish(Core *core, int32_t event) noexcept nogil:
+    """The worker's last step: an end asked from inside a callback, else the status
+    of `event` (EV_DONE, EV_STOPPED) unless an ending call cancelled the activity
+    (that call sets the status once it has joined the worker)."""
+    cdef LoadedProgram *dropped = NULL
+    cdef int32_t kind, after
+    pthread_mutex_lock(&core.lock)
+    kind = core.deferred_end
+    core.deferred_end = END_NONE
+    core.compile_files[0] = core.compile_files[1] = core.compile_files[2] = -1
+    if kind != END_NONE:
+        dropped = _apply_end_locked(core, kind)
+    elif not TC_ATOMIC_LOAD(&core.cancel):
+        after = status_after(core_status(core), event, core.program != NULL)
+        if after != TC_KEEP and after != TC_REFUSED:
+            core_set_status(core, after)
+    pthread_mutex_unlock(&core.lock)
+    loaded_program_release(dropped)
+    if kind == END_RESET:
+        _refresh_size_info(core)
+    tc_worker_core = NULL
+
+
+cdef Job *job_new() noexcept nogil:
+    cdef Job *job = <Job *>calloc(1, sizeof(Job))
+    if job != NULL:
+        job.files[0] = job.files[1] = job.files[2] = -1
+    return job
+
+
+cdef void job_free(Job *job) noexcept nogil:
+    if job != NULL:
+        free(job.text)
+        free(job.prefix)
+        free(job.postfix)
+        free(job.add_code)
+        free(job)
 
 
 # ------------------------------------------------------------------ compilation
@@ -382,12 +449,7 @@ cdef void _compile_output(void *ctx, int tab, const char *text) noexcept nogil:
 
 
 cdef void _compile_warn(void *ctx, const ErrorInfo *warning) noexcept nogil:
-    """A numbered warning of a stage (e.g. the compensation) to MathWarning (2001)."""
-    cdef Callback cb = core_callback(<Core *>ctx, CB_MATH_WARNING)
-    cdef CALLBACK_INFO info
-    if cb.fn != NULL:
-        fill_callback_info(<Core *>ctx, warning, &info)
-        (<TC_MathWarning>cb.fn)(cb.user, &info)
+    core_warning(<Core *>ctx, warning)
 
 
 cdef int _compile_and_compensate(Core *core, CompileInput *inp, Program *prog, ErrorInfo *err) noexcept nogil:
@@ -421,114 +483,124 @@ cdef int _compile_and_compensate(Core *core, CompileInput *inp, Program *prog, E
     return result
 
 
+cdef int _compile_job(Core *core, Job *job, Program *prog, GCODE_INFO *extent, ErrorInfo *err) noexcept nogil:
+    """Reads (if need be), compiles, compensates, inserts arcs and measures the
+    program of `job`; no lock is held but for copying the core's settings."""
+    cdef CompileInput *inp
+    cdef int32_t read_error = 0
+    cdef int result
+    cdef char text[400]
+    if job.text == NULL:
+        job.text = read_whole_file(job.name, &job.length, &read_error)
+        if job.text == NULL:
+            set_error_text(err, read_error, job.files[0], 0, job.name)
+            return COMPILE_ERROR
+    inp = <CompileInput *>calloc(1, sizeof(CompileInput))
+    if inp == NULL:
+        set_error(err, ERR_OUT_OF_MEMORY, job.files[0], 0, NULL, 0)
+        return COMPILE_ERROR
+    inp.text = job.text
+    inp.length = job.length
+    inp.file_idx = job.files[0]
+    inp.prefix_idx = job.files[1]
+    inp.postfix_idx = job.files[2]
+    inp.prefix = job.prefix
+    inp.postfix = job.postfix
+    pthread_mutex_lock(&core.lock)
+    inp.params = core.params
+    if core.has_user_params:
+        memcpy(inp.user_params, core.user_params, sizeof(inp.user_params))
+    memcpy(inp.start, core.position, sizeof(inp.start))
+    pthread_mutex_unlock(&core.lock)
+    inp.plc = TGM_Data
+    inp.cancel = &core.cancel
+    inp.progress = _compile_progress
+    inp.output = _compile_output
+    inp.ctx = core
+    snprintf(text, sizeof(text), "Compiling %s", job.name)
+    core_status_text(core, text, job.files[0], 0)
+    core_progress(core, 0)
+    result = _compile_and_compensate(core, inp, prog, err)
+    if result == COMPILE_OK:
+        result = insert_arcs(prog, &inp.params, err)
+    if result == COMPILE_OK:
+        program_extent(prog, extent)
+    elif result == COMPILE_CANCELLED:
+        set_error(err, ERR_CANCELLED, job.files[0], 0, NULL, 0)
+    free(inp)
+    return result
+
+
 cdef void *_compile_body(void *arg) noexcept nogil:
-    cdef Core *core = <Core *>arg
-    cdef CompileInput *inp = <CompileInput *>calloc(1, sizeof(CompileInput))
+    cdef Job *job = <Job *>arg
+    cdef Core *core = job.core
     cdef Program prog
     cdef ErrorInfo *err = <ErrorInfo *>calloc(1, sizeof(ErrorInfo))
-    cdef int result
-    cdef int32_t read_error = 0
-    cdef GCODE_INFO extent
+    cdef GCODE_INFO *extent = <GCODE_INFO *>calloc(1, sizeof(GCODE_INFO))
+    cdef LoadedProgram *loaded = NULL
+    cdef LoadedProgram *old
+    cdef int result = COMPILE_ERROR
     cdef char text[400]
+    tc_worker_core = core
     program_init(&prog)
-    if core.source == NULL and inp != NULL and err != NULL:
-        core.source = read_whole_file(core.source_name, &core.source_len, &read_error)
-    if read_error != 0:
-        result = COMPILE_ERROR
-        set_error_text(err, read_error, core.source_idx, 0, core.source_name)
-    elif inp == NULL or err == NULL:
-        result = COMPILE_ERROR
-        if err != NULL:
-            set_error(err, ERR_OUT_OF_MEMORY, core.source_idx, 0, NULL, 0)
-    else:
-        pthread_mutex_lock(&core.lock)
-        inp.text = core.source
-        inp.length = core.source_len
-        inp.file_idx = core.source_idx
-        inp.prefix = core.prefix
-        inp.postfix = core.postfix
-        inp.params = core.params
-        if core.has_user_params:
-            memcpy(inp.user_params, core.user_params, sizeof(inp.user_params))
-        memcpy(inp.start, core.position, sizeof(inp.start))
-        pthread_mutex_unlock(&core.lock)
-        inp.prefix_idx = core_file_to_idx(core, "__prefix__") if inp.prefix != NULL else -1
-        inp.postfix_idx = core_file_to_idx(core, "__postfix__") if inp.postfix != NULL else -1
-        inp.plc = TGM_Data
-        inp.cancel = &core.cancel
-        inp.progress = _compile_progress
-        inp.output = _compile_output
-        inp.ctx = core
-        snprintf(text, sizeof(text), "Compiling %s", core.source_name)
-        core_status_text(core, text)
-        core_progress(core, 0)
-        result = _compile_and_compensate(core, inp, &prog, err)
+    if err != NULL and extent != NULL:
+        result = _compile_job(core, job, &prog, extent, err)
         if result == COMPILE_OK:
-            result = insert_arcs(&prog, &inp.params, err)
-        if result == COMPILE_CANCELLED:
-            set_error(err, ERR_CANCELLED, core.source_idx, 0, NULL, 0)
-    if result == COMPILE_OK:
-        program_extent(&prog, &extent)      # before taking the lock: GetPos never waits for it
+            loaded = loaded_program_new(&prog, extent, job.files)
+            if loaded == NULL:
+                result = COMPILE_ERROR
+                set_error(err, ERR_OUT_OF_MEMORY, job.files[0], 0, NULL, 0)
+    if result != COMPILE_OK and err != NULL:
+        err.n_lines = <int32_t>prog.n_lines     # lines of the main file, counted before compiling
     pthread_mutex_lock(&core.lock)
-    program_free(&core.program)
-    memset(&core.size_info, 0, sizeof(GCODE_INFO))
-    if result == COMPILE_OK:
-        core.program = prog
-        core.has_program = True
-        core.size_info = extent
+    old = core.program
+    core.program = loaded
+    if loaded != NULL:
+        core.size_info = loaded.extent
         memset(&core.error, 0, sizeof(ErrorInfo))
     else:
-        err.n_lines = <int32_t>prog.n_lines     # lines of the main file, counted before compiling
-        program_free(&prog)
-        program_init(&core.program)
-        core.has_program = False
-        core.error = err[0]
-    free(core.source)
-    core.source = NULL
-    core.source_len = 0
+        memset(&core.size_info, 0, sizeof(GCODE_INFO))
+        if err != NULL:
+            core.error = err[0]
+        else:
+            set_error(&core.error, ERR_OUT_OF_MEMORY, job.files[0], 0, NULL, 0)
     pthread_mutex_unlock(&core.lock)
-    if result == COMPILE_OK:
-        snprintf(text, sizeof(text), "Compiled %s: %lu parts", core.source_name,
-                 <unsigned long>core.program.n_parts)
+    program_free(&prog)                 # what a failed compilation left
+    loaded_program_release(old)
+    if loaded != NULL:
+        snprintf(text, sizeof(text), "Compiled %s: %lu parts", job.name, <unsigned long>loaded.prog.n_parts)
         core_progress(core, 100)
-        core_status_text(core, text)
+        core_status_text(core, text, job.files[0], <int32_t>loaded.prog.n_lines)
         log_line(LOG_COMPILER, text)
-    elif result != COMPILE_CANCELLED or TC_ATOMIC_LOAD(&core.cancel) == 0:
-        core_report_error(core, &core.error)
-    free(inp)
+    elif err != NULL and (result != COMPILE_CANCELLED or TC_ATOMIC_LOAD(&core.cancel) == 0):
+        core_report_error(core, err)
     free(err)
-    core_set_status(core, CNC_STATUS_COMPILED)
+    free(extent)
+    job_free(job)
+    core_finish(core, EV_DONE)
     return NULL
 
 
-cdef int32_t core_start_compile(Core *core, const char *name, char *source, size_t length) noexcept nogil:
-    """Takes ownership of `source` and compiles it in the worker; -1 when busy.
-    source NULL: the worker reads the file `name`."""
-    cdef int32_t idx
-    if not core_claim(core, CNC_STATUS_COMPILING):
-        free(source)
-        core_fail(core, ERR_BUSY, "compilation")
-        return TOOL_CHAIN_ERROR
-    idx = core_file_to_idx(core, name)
+cdef int32_t core_start_compile(Core *core, const char *name, char *text, size_t length) noexcept nogil:
+    """CompileFromFile (text NULL: the worker reads the file `name`) and
+    CompileFromMemory (takes ownership of `text`)."""
+    cdef Job *job = job_new()
+    if job == NULL:
+        free(text)
+        return core_fail(core, ERR_OUT_OF_MEMORY, NULL)
+    job.text = text
+    job.length = length
+    strncpy(job.name, name, sizeof(job.name) - 1)
+    job.files[0] = core_file_to_idx(core, name)
     pthread_mutex_lock(&core.lock)
-    free(core.source)
-    core.source = source
-    core.source_len = length
-    core.source_idx = idx
-    strncpy(core.source_name, name, sizeof(core.source_name) - 1)
-    core.source_name[sizeof(core.source_name) - 1] = 0
-    memset(&core.error, 0, sizeof(ErrorInfo))
-    core.has_program = False
+    job.prefix = strdup(core.prefix) if core.prefix != NULL else NULL
+    job.postfix = strdup(core.postfix) if core.postfix != NULL else NULL
     pthread_mutex_unlock(&core.lock)
-    if not core_launch(core, _compile_body):
-        pthread_mutex_lock(&core.lock)
-        free(core.source)
-        core.source = NULL
-        pthread_mutex_unlock(&core.lock)
-        core_set_status(core, CNC_STATUS_NOTHING_LOADED)
-        core_fail(core, ERR_OUT_OF_MEMORY, NULL)
-        return TOOL_CHAIN_ERROR
-    return TOOL_CHAIN_SUCCESS
+    if job.prefix != NULL:
+        job.files[1] = core_file_to_idx(core, "__prefix__")
+    if job.postfix != NULL:
+        job.files[2] = core_file_to_idx(core, "__postfix__")
+    return core_begin(core, CMD_COMPILE, "compilation", _compile_body, job)
 
 
 cdef enum:
@@ -571,38 +643,6 @@ cdef char *read_whole_file(const char *path, size_t *length, int32_t *error) noe
     buf[size] = 0
     length[0] = <size_t>size
     return buf
-
-
-# ------------------------------------------------------------------ reset / destroy
-
-cdef bint core_on_worker(Core *core) noexcept nogil:
-    """True inside the worker thread (a callback calling back into the library)."""
-    cdef bint inside
-    pthread_mutex_lock(&core.lock)
-    inside = core.worker_started and pthread_equal(core.worker, pthread_self())
-    pthread_mutex_unlock(&core.lock)
-    return inside
-
-
-cdef void core_destroy(Core *core) noexcept nogil:
-    if core_on_worker(core):
-        # called from a callback: the worker still uses the program; ask it to end
-        # and leave the memory to the next DestroyCNC from a host thread
-        TC_ATOMIC_STORE(&core.cancel, 1)
-        return
-    core_end_activity(core)
-    pthread_mutex_lock(&core.lock)
-    program_free(&core.program)
-    core.has_program = False
-    free(core.source)
-    core.source = NULL
-    memset(&core.size_info, 0, sizeof(GCODE_INFO))
-    memset(&core.pos, 0, sizeof(SIMPLE_GM_PARAMS))
-    core.pos.m_fileIdx = -1
-    memset(&core.enh, 0, sizeof(GM_PARAMS_ENHANCED))
-    core.enh.m_relFeed = core.rel_feed
-    pthread_mutex_unlock(&core.lock)
-    core_set_status(core, CNC_STATUS_NOTHING_LOADED)
 
 
 # ------------------------------------------------------------------ INI

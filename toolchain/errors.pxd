@@ -9,11 +9,13 @@ cdef enum ErrorNumber:
     ERR_CANCELLED = 5               # Compilation interrupted
     ERR_NOTHING_COMPILED = 6        # No compiled program
     ERR_DRIVER_REFUSED = 7          # Driver callback %s returned %d
-    ERR_BUSY = 8                    # Core busy: %s running
-    ERR_BAD_STATUS = 9              # %s not allowed in status %d
+    ERR_BUSY = 8                    # Core busy: %s
+    ERR_BAD_STATUS = 9              # %s not allowed in status %d (%s)
     ERR_NOT_IMPLEMENTED = 10        # %s is not implemented yet
     ERR_INI_FIRST = 11              # Callback %d needs LoadFromIni first
     ERR_FILE_TOO_LARGE = 12         # File '%s' is larger than 1 GiB
+    ERR_REENTRANT = 20              # %s is not allowed inside a callback of the core's running activity
+    ERR_BAD_REGIME = 21             # StartCNCEx: unknown regime
     # lexical (100..199)
     ERR_UNKNOWN_WORD = 100          # Unknown word '%s'
     ERR_BAD_NUMBER = 101            # Bad number '%s'

@@ -32,10 +32,10 @@ cdef public int32_t ToolChainCore_LoadFromIni(uint32_t intIdx, TGM_LPCTSTR iniFi
     if iniFile == NULL:
         core_fail(core, ERR_INI_OPEN, "(null)")
         return TOOL_CHAIN_XEXEC
-    if status_is_running(core_status(core)):
-        core_fail(core, ERR_BUSY, "LoadFromIni")
-        return TOOL_CHAIN_ERROR
     pthread_mutex_lock(&core.lock)
+    if status_after(core_status(core), CMD_LOAD_INI, False) == TC_REFUSED:
+        pthread_mutex_unlock(&core.lock)
+        return core_refuse(core, "LoadFromIni", core_status(core))
     keys = ini_read(iniFile, _apply_ini, core)
     if keys >= 0:
         core.ini_loaded = True
@@ -52,8 +52,7 @@ cdef public int32_t ToolChainCore_DestroyCNC(uint32_t intIdx) noexcept nogil:
     cdef Core *core = core_get(intIdx)
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
-    core_destroy(core)
-    return TOOL_CHAIN_SUCCESS
+    return core_end(core, END_DESTROY, "DestroyCNC", 0, NULL)
 
 
 cdef public TGM_LPCTSTR ToolChainCore_GetVersionString(uint32_t intIdx) noexcept nogil:
@@ -91,11 +90,11 @@ cdef public int32_t ToolChainCore_SetGCodeParameters(uint32_t intIdx, const GCOD
         return TOOL_CHAIN_BAD_INTR_INDEX
     if p == NULL:
         return TOOL_CHAIN_ERROR
-    status = core_status(core)
-    if status_is_running(status):
-        core_fail(core, ERR_BUSY, "SetGCodeParameters")
-        return TOOL_CHAIN_ERROR
     pthread_mutex_lock(&core.lock)
+    status = core_status(core)
+    if status_after(status, CMD_SET_PARAMETERS, False) == TC_REFUSED:
+        pthread_mutex_unlock(&core.lock)
+        return core_refuse(core, "SetGCodeParameters", status)
     if status == CNC_STATUS_STOPPED or status == CNC_STATUS_STOPPED_BY_M0:
         # stopped on the trajectory: only what the feeds depend on may change
         memcpy(core.params.motion, p.motion, sizeof(p.motion))
@@ -176,14 +175,16 @@ cdef public int32_t ToolChainCore_GCodePrefixPostfix(uint32_t intIdx, TGM_LPCSTR
     cdef char *post = NULL
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
-    if core_status(core) == CNC_STATUS_COMPILING:
-        core_fail(core, ERR_BUSY, "compilation")
-        return TOOL_CHAIN_ERROR
     if prefix != NULL and prefix[0] != 0:
         pre = strdup(prefix)
     if postfix != NULL and postfix[0] != 0:
         post = strdup(postfix)
     pthread_mutex_lock(&core.lock)
+    if status_after(core_status(core), CMD_SET_PREFIX, False) == TC_REFUSED:
+        pthread_mutex_unlock(&core.lock)
+        free(pre)
+        free(post)
+        return core_refuse(core, "GCodePrefixPostfix", core_status(core))
     free(core.prefix)
     free(core.postfix)
     core.prefix = pre
@@ -205,9 +206,6 @@ cdef public int32_t ToolChainCore_CompileFromFile(uint32_t intIdx, TGM_LPCTSTR f
     if fileName[0] == 0 or strlen(fileName) >= <size_t>TOOL_CHAIN_MAX_FILE_NAME:
         core_fail(core, ERR_FILE_OPEN, fileName)
         return TOOL_CHAIN_ERROR
-    if status_is_running(core_status(core)):
-        core_fail(core, ERR_BUSY, "compilation or run")
-        return TOOL_CHAIN_ERROR
     probe = fopen(fileName, "rb")          # unreadable: refused now; read in the worker
     if probe == NULL:
         core_fail(core, ERR_FILE_OPEN, fileName)
@@ -223,9 +221,6 @@ cdef public int32_t ToolChainCore_CompileFromMemory(uint32_t intIdx, TGM_LPCTSTR
         return TOOL_CHAIN_BAD_INTR_INDEX
     if fileName == NULL or code == NULL or fileName[0] == 0 or strlen(fileName) >= <size_t>TOOL_CHAIN_MAX_FILE_NAME:
         return TOOL_CHAIN_ERROR
-    if status_is_running(core_status(core)):
-        core_fail(core, ERR_BUSY, "compilation or run")
-        return TOOL_CHAIN_ERROR
     source = strdup(code)
     if source == NULL:
         core_fail(core, ERR_OUT_OF_MEMORY, NULL)
@@ -237,7 +232,7 @@ cdef public int32_t ToolChainCore_IsBusy(uint32_t intIdx) noexcept nogil:
     cdef Core *core = core_get(intIdx)
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
-    return 1 if status_is_running(core_status(core)) else 0
+    return 1 if core_status(core) > 0 else 0
 
 
 cdef public int32_t ToolChainCore_GetLastError(uint32_t intIdx, CALLBACK_INFO *info) noexcept nogil:
@@ -249,7 +244,22 @@ cdef public int32_t ToolChainCore_GetLastError(uint32_t intIdx, CALLBACK_INFO *i
         return TOOL_CHAIN_ERROR
     pthread_mutex_lock(&core.lock)
     if core.error.number != 0:
-        fill_callback_info(core, &core.error, info)
+        fill_callback_info(&core.error, info)
+        result = 1
+    pthread_mutex_unlock(&core.lock)
+    return result
+
+
+cdef public int32_t ToolChainCore_GetLastCallError(uint32_t intIdx, CALLBACK_INFO *info) noexcept nogil:
+    cdef Core *core = core_get(intIdx)
+    cdef int32_t result = 0
+    if core == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX
+    if info == NULL:
+        return TOOL_CHAIN_ERROR
+    pthread_mutex_lock(&core.lock)
+    if core.call_error.number != 0:
+        fill_callback_info(&core.call_error, info)
         result = 1
     pthread_mutex_unlock(&core.lock)
     return result
@@ -285,7 +295,7 @@ cdef public int32_t ToolChainCore_GetGCodeSizeInfo(uint32_t intIdx, GCODE_INFO *
     if p == NULL or core_status(core) == CNC_STATUS_COMPILING:
         return TOOL_CHAIN_ERROR
     pthread_mutex_lock(&core.lock)
-    if core.has_program:
+    if core.program != NULL:
         p[0] = core.size_info
         result = TOOL_CHAIN_SUCCESS
     pthread_mutex_unlock(&core.lock)
@@ -298,8 +308,8 @@ cdef public double ToolChainCore_GetGCodeRunTime(uint32_t intIdx, int32_t fileId
     if core == NULL or fileIdx < 0 or fileIdx >= MAX_FILES:
         return -1.0
     pthread_mutex_lock(&core.lock)
-    if fileIdx < core.n_files:
-        seconds = core.run_times[fileIdx]
+    if fileIdx < core.files.n:
+        seconds = core.files.run_times[fileIdx]
     pthread_mutex_unlock(&core.lock)
     return seconds
 
@@ -312,8 +322,8 @@ cdef public int32_t ToolChainCore_SetGCodeRunTime(uint32_t intIdx, int32_t fileI
     if fileIdx < 0 or not (seconds >= 0.0):
         return TOOL_CHAIN_ERROR
     pthread_mutex_lock(&core.lock)
-    if fileIdx < core.n_files:
-        core.run_times[fileIdx] = seconds
+    if fileIdx < core.files.n:
+        core.files.run_times[fileIdx] = seconds
         result = TOOL_CHAIN_SUCCESS
     pthread_mutex_unlock(&core.lock)
     return result
@@ -325,23 +335,11 @@ cdef public int32_t ToolChainCore_ResetCNC(uint32_t intIdx, int32_t regime, uint
     cdef Core *core = core_get(intIdx)
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
-    if regime != RESET_MARK_START_ONLY and (nCoords > 10 or (nCoords > 0 and coords == NULL)):
+    if regime == RESET_MARK_START_ONLY:
+        nCoords = 0
+    elif nCoords > 10 or (nCoords > 0 and coords == NULL):
         return TOOL_CHAIN_ERROR
-    core_end_activity(core)
-    pthread_mutex_lock(&core.lock)
-    if regime != RESET_MARK_START_ONLY and nCoords > 0:
-        memcpy(core.position, coords, nCoords * sizeof(double))
-        if core.has_program:
-            program_move_start(&core.program, core.position)
-            program_extent(&core.program, &core.size_info)
-    memset(&core.enh, 0, sizeof(GM_PARAMS_ENHANCED))
-    core.enh.m_relFeed = core.rel_feed
-    pthread_mutex_unlock(&core.lock)
-    if core.has_program:
-        core_set_status(core, CNC_STATUS_AT_START)
-    elif core_status(core) != CNC_STATUS_NOTHING_LOADED:
-        core_set_status(core, CNC_STATUS_COMPILED)
-    return TOOL_CHAIN_SUCCESS
+    return core_end(core, END_RESET, "ResetCNC", nCoords, coords)
 
 
 cdef public int32_t ToolChainCore_StartCNCEx(uint32_t intIdx, int32_t regime, TGM_LPCSTR addCode) noexcept nogil:
@@ -357,9 +355,8 @@ cdef public int32_t ToolChainCore_StopCNCEx(uint32_t intIdx, TGM_LPCSTR addCode)
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
     status = core_status(core)
-    if status != CNC_STATUS_SIMULATING and status != CNC_STATUS_TESTING:
-        core_fail(core, ERR_BAD_STATUS, "StopCNCEx")
-        return TOOL_CHAIN_ERROR
+    if status_after(status, CMD_STOP, False) == TC_REFUSED:
+        return core_refuse(core, "StopCNCEx", status)
     TC_ATOMIC_STORE(&core.stop, 1)
     return TOOL_CHAIN_SUCCESS
 
@@ -416,10 +413,7 @@ cdef public int32_t ToolChainCore_SetRelFeed(uint32_t intIdx, double relFeed) no
         relFeed = 0.001
     elif relFeed > 2.0:
         relFeed = 2.0
-    pthread_mutex_lock(&core.lock)
-    core.rel_feed = relFeed
-    core.enh.m_relFeed = relFeed
-    pthread_mutex_unlock(&core.lock)
+    TC_ATOMIC_STORE_D(&core.rel_feed, relFeed)
     return TOOL_CHAIN_SUCCESS
 
 
@@ -436,24 +430,11 @@ cdef public int32_t ToolChainCore_SetBreakpoint(uint32_t intIdx, uint32_t editor
 
 cdef public int32_t ToolChainCore_ResetStatusCNC(uint32_t intIdx, uint32_t mode) noexcept nogil:
     cdef Core *core = core_get(intIdx)
-    cdef int32_t status
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
-    status = core_status(core)
-    if status >= 0 or mode > 1 or core_on_worker(core):
-        core_fail(core, ERR_BAD_STATUS, "ResetStatusCNC")
+    if mode > 1:
         return TOOL_CHAIN_ERROR
-    core_end_activity(core)
-    if mode == 0:
-        pthread_mutex_lock(&core.lock)
-        program_free(&core.program)
-        core.has_program = False
-        memset(&core.size_info, 0, sizeof(GCODE_INFO))
-        pthread_mutex_unlock(&core.lock)
-        core_set_status(core, CNC_STATUS_NOTHING_LOADED)
-    else:
-        core_set_status(core, CNC_STATUS_OUT_OF_TRAJECTORY)
-    return TOOL_CHAIN_SUCCESS
+    return core_end(core, END_DROP_PROGRAM if mode == 0 else END_OUT_OF_TRAJECTORY, "ResetStatusCNC", 0, NULL)
 
 
 cdef public int32_t ToolChainCore_StatusCNC(uint32_t intIdx) noexcept nogil:
@@ -465,17 +446,18 @@ cdef public int32_t ToolChainCore_StatusCNC(uint32_t intIdx) noexcept nogil:
 
 cdef public int32_t ToolChainCore_GetPos(uint32_t intIdx, int32_t reserved, SIMPLE_GM_PARAMS *pos, GM_PARAMS_ENHANCED *enh) noexcept nogil:
     cdef Core *core = core_get(intIdx)
+    cdef SnapshotData view
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
     if pos == NULL and enh == NULL:
         return TOOL_CHAIN_ERROR
-    pthread_mutex_lock(&core.lock)
+    snapshot_read(&core.snap, &view)
     if pos != NULL:
-        pos[0] = core.pos
+        pos[0] = view.pos
     if enh != NULL:
-        enh[0] = core.enh
+        enh[0] = view.enh
         enh.m_statusCNC = core_status(core)
-    pthread_mutex_unlock(&core.lock)
+        enh.m_relFeed = TC_ATOMIC_LOAD_D(&core.rel_feed)
     return TOOL_CHAIN_SUCCESS
 
 
@@ -485,7 +467,7 @@ cdef public int32_t ToolChainCore_LoadCNCCalcPlugIn(TGM_LPCTSTR fileName, uint32
     if fileName == NULL:
         return TOOL_CHAIN_ERROR
     for i in range(TOOL_CHAIN_MAX_CORES):
-        if status_is_running(core_status(core_get(i))):
+        if core_status(core_get(i)) > 0:
             return TOOL_CHAIN_ERROR
     if fileName[0] == 0:
         return 1                          # unloading: nothing is loaded
@@ -505,18 +487,20 @@ cdef public int32_t ToolChainCore_SetCallBack(uint32_t intIdx, uint32_t fceNo, i
     if fceNo > 1000 and fn != NULL and not core.ini_loaded:
         _fail_ini_first(core, fceNo)
         return TOOL_CHAIN_ERROR
-    pthread_mutex_lock(&core.lock)
-    core.callbacks[slot].fn = fn
-    core.callbacks[slot].user = userData if fn != NULL else 0
-    pthread_mutex_unlock(&core.lock)
+    callback_set(core, slot, fn, userData)
     return TOOL_CHAIN_SUCCESS
 
 
 cdef void _fail_ini_first(Core *core, uint32_t number) noexcept nogil:
+    cdef ErrorInfo *err = <ErrorInfo *>malloc(sizeof(ErrorInfo))
+    if err == NULL:
+        return
+    set_error_num(err, ERR_INI_FIRST, -1, 0, <double>number)
     pthread_mutex_lock(&core.lock)
-    set_error_num(&core.error, ERR_INI_FIRST, -1, 0, <double>number)
+    core.call_error = err[0]
     pthread_mutex_unlock(&core.lock)
-    core_report_error(core, &core.error)
+    core_report_error(core, err)
+    free(err)
 
 
 # ------------------------------------------------------------------ logging

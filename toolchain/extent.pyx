@@ -183,27 +183,26 @@ cdef void program_extent(const Program *prog, GCODE_INFO *info) noexcept nogil:
         info.m_size[1] = info.m_size[3]
 
 
-cdef void program_move_start(Program *prog, const double *position) noexcept nogil:
-    """ResetCNC with coordinates: a program written relative to its start (G91 from
-    the first block) moves with it; any other keeps its positions and only its
-    first move starts from the new position."""
-    cdef double delta[10]
-    cdef size_t i
+cdef bint program_start_delta(const Program *prog, const double *start, double *delta) noexcept nogil:
+    """A program written relative to its start (G91 from the first block) moves with
+    it: delta = start - the compile's start, True. Any other program keeps its
+    positions (only its first move starts from `start`): False."""
     cdef int k
-    cdef Part *p
-    if prog.relative_only:
+    if not prog.relative_only:
+        return False
+    for k in range(10):
+        delta[k] = start[k] - prog.start[k]
+    return True
+
+
+cdef void extent_shift(GCODE_INFO *info, const double *delta) noexcept nogil:
+    """The size info of a program moved by delta (every part: an exact shift)."""
+    cdef int s, k
+    cdef GCODE_SIZE *size
+    for s in range(4):
+        size = &info.m_size[s]
         for k in range(10):
-            delta[k] = position[k] - prog.start[k]
-        for i in range(prog.n_parts):
-            p = &prog.parts[i]
-            for k in range(3):
-                p.e[k] += delta[k]
-                p.ce[k] += delta[k]
-                p.cc[k] += delta[k]
-        for i in range(prog.n_axes):
-            for k in range(7):
-                prog.axes[7 * i + k] += delta[3 + k]
-        for i in range(1, prog.n_rotations):
-            for k in range(3):
-                prog.rotations[12 * i + k] += delta[k]
-    memcpy(prog.start, position, sizeof(prog.start))
+            (<double *>&size.m_startPos)[k] += delta[k]
+            (<double *>&size.m_endPos)[k] += delta[k]
+            (<double *>&size.m_minimalPos)[k] += delta[k]
+            (<double *>&size.m_maximalPos)[k] += delta[k]

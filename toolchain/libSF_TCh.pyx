@@ -11,6 +11,7 @@ from includes.tgm_cnc cimport *
 from includes.system cimport *
 from program cimport *
 from errors cimport *
+from core cimport *
 
 include "errors.pyx"
 include "geometry.pyx"
@@ -33,6 +34,10 @@ include "extent.pyx"
 include "planner.pyx"
 include "logging.pyx"
 include "ini.pyx"
+include "runtime/transitions.pyx"
+include "runtime/snapshot.pyx"
+include "runtime/programs.pyx"
+include "runtime/callbacks.pyx"
 include "core.pyx"
 include "simulator.pyx"
 include "exports.pyx"

@@ -1,7 +1,8 @@
 # Runs of a compiled program in the core's worker: simulation (regime 10) hands
 # every part to the driver callbacks as fast as possible; test (regime 20) does
 # the same and checks the machine limits. Both keep GetPos current.
-from libc.string cimport memset, memcpy
+from libc.string cimport memset, memcpy, memcmp, strdup
+from libc.stdlib cimport malloc, calloc, free
 from libc.stdlib cimport strtol
 from libc.stdio cimport snprintf
 
@@ -38,23 +39,23 @@ cdef bint check_limits(Core *core, const MACHINE_PARAMETERS *machine, const SIMP
     return inside
 
 
-cdef void _update_position(Core *core, const Program *prog, size_t i, const SIMPLE_GM_PARAMS *gm,
-                           double length, double run_time) noexcept nogil:
-    """GetPos after part i: position, counters and lengths."""
+cdef void _count_part(SnapshotData *view, const Program *prog, size_t i, const SIMPLE_GM_PARAMS *gm,
+                      double length, double run_time, const GCODE_PARAMETERS *params,
+                      int32_t *last_motion) noexcept nogil:
+    """GetPos after part i: position, counters and lengths (the run's own copy,
+    published after each part)."""
     cdef const Part *p = &prog.parts[i]
-    cdef GM_PARAMS_ENHANCED *enh = &core.enh
+    cdef GM_PARAMS_ENHANCED *enh = &view.enh
     cdef bint rapid
-    pthread_mutex_lock(&core.lock)
-    core.pos = gm[0]
-    core.pos.m_calcS = gm.m_calcE
-    memcpy(core.position, &gm.m_calcE, sizeof(core.position))
+    view.pos = gm[0]
+    view.pos.m_calcS = gm.m_calcE
     if p.kind == PART_MOTION:
         rapid = p.func == 0
-        if core.last_motion == 2 and rapid:
+        if last_motion[0] == 2 and rapid:
             enh.m_nWorkToG00Changes += 1
-        elif core.last_motion == 1 and not rapid:
+        elif last_motion[0] == 1 and not rapid:
             enh.m_nG00ToWorkChanges += 1
-        core.last_motion = 1 if rapid else 2
+        last_motion[0] = 1 if rapid else 2
         if rapid:
             enh.m_actG00PartsLen += length
             enh.m_nG00Counter += 1
@@ -65,26 +66,62 @@ cdef void _update_position(Core *core, const Program *prog, size_t i, const SIMP
         enh.m_actPartLen = length
         enh.m_actPartRemain = 0.0
         enh.m_setFeed = p.feed
-        enh.m_calcFeed = part_feed(p, &core.params)
+        enh.m_calcFeed = part_feed(p, params)
     elif p.kind == PART_MFUNC:
         enh.m_nMCounter += 1
     enh.m_MasterEditorLine = p.line if p.file_idx == prog.main_file_idx else enh.m_MasterEditorLine
     enh.m_MasterFileIdx = <uint32_t>prog.main_file_idx
     enh.m_cncRunTime = run_time
-    core.pos.m_pars.N = <float>enh.m_actWorkPartsLen
-    core.pos.m_pars.T = <float>enh.m_actG00PartsLen
-    core.pos.m_pars.P = 100.0
-    pthread_mutex_unlock(&core.lock)
+    view.pos.m_pars.N = <float>enh.m_actWorkPartsLen
+    view.pos.m_pars.T = <float>enh.m_actG00PartsLen
+    view.pos.m_pars.P = 100.0
 
 
-cdef void _send_add_code(Core *core, const char *code, TC_DriverMFunc send, intptr_t user) noexcept nogil:
+cdef void _shift_gm(SIMPLE_GM_PARAMS *gm, const double *delta, bint arc) noexcept nogil:
+    """A part of a program that moves with its start, moved by delta."""
+    cdef int k
+    for k in range(10):
+        (<double *>&gm.m_s)[k] += delta[k]
+        (<double *>&gm.m_e)[k] += delta[k]
+        (<double *>&gm.m_calcS)[k] += delta[k]
+        (<double *>&gm.m_calcE)[k] += delta[k]
+    if arc:
+        gm.m_cc.x += delta[0]
+        gm.m_cc.y += delta[1]
+        gm.m_cc.z += delta[2]
+        gm.m_pars.I = <float>gm.m_cc.x
+        gm.m_pars.J = <float>gm.m_cc.y
+        gm.m_pars.K = <float>gm.m_cc.z
+
+
+cdef void run_part_to_gm(const Program *prog, size_t i, const double *start, const double *delta,
+                         SIMPLE_GM_PARAMS *gm) noexcept nogil:
+    """part_to_gm for a run from machine position `start`: a program relative to its
+    start moved by delta (NULL: it keeps its positions and only its first move
+    starts from `start`)."""
+    cdef const Part *p = &prog.parts[i]
+    part_to_gm(prog, i, gm)
+    if delta != NULL:
+        _shift_gm(gm, delta, p.kind == PART_MOTION and (p.func == 2 or p.func == 3))
+    elif i == 0 and memcmp(start, prog.start, 10 * sizeof(double)) != 0:
+        memcpy(&gm.m_s, start, sizeof(P10DOUBLE))
+        memcpy(&gm.m_calcS, start, sizeof(P10DOUBLE))
+        if p.kind == PART_MOTION and p.func != 2 and p.func != 3:
+            gm.m_pars.N = <float>segment_length(<double *>&gm.m_calcS, <double *>&gm.m_calcE)
+        elif p.kind != PART_MOTION:
+            gm.m_e = gm.m_s
+            gm.m_calcE = gm.m_s
+
+
+cdef void _send_add_code(Core *core, const char *code, const double *position) noexcept nogil:
     """StartCNCEx addCode: its M words become M parts sent before the program."""
     cdef SIMPLE_GM_PARAMS gm
+    cdef Callback cb
     cdef char *end
     cdef long number
     cdef float *cells = <float *>&gm.m_pars
     cdef int k
-    if code == NULL or send == NULL:
+    if code == NULL:
         return
     while code[0] != 0:
         if code[0] == b'M' or code[0] == b'm':
@@ -97,117 +134,140 @@ cdef void _send_add_code(Core *core, const char *code, TC_DriverMFunc send, intp
                 gm.m_pars.M = <float>number
                 gm.m_fileIdx = TOOL_CHAIN_FILE_EXEC
                 gm.m_fp = 1.0
-                memcpy(&gm.m_s, core.position, sizeof(P10DOUBLE))
+                memcpy(&gm.m_s, position, sizeof(P10DOUBLE))
                 gm.m_e = gm.m_s
                 gm.m_calcS = gm.m_s
                 gm.m_calcE = gm.m_s
-                send(user, &gm)
+                if callback_enter(core, SLOT_DRIVER_M_FUNC, &cb):
+                    (<TC_DriverMFunc>cb.fn)(cb.user, &gm)
+                    callback_leave(core, SLOT_DRIVER_M_FUNC)
                 code = end
                 continue
         code += 1
 
 
+cdef void _deliver(Core *core, const Program *prog, size_t i, const SIMPLE_GM_PARAMS *gm) noexcept nogil:
+    """Hands part i to its driver callback, looked up now: a removed callback is
+    never called again."""
+    cdef const Part *p = &prog.parts[i]
+    cdef Callback cb
+    cdef int32_t slot
+    if p.kind == PART_PRINT:
+        core_output(core, 2, prog.texts + p.aux)
+        return
+    if p.kind == PART_MOTION or p.kind == PART_DWELL:
+        slot = SLOT_DRIVER_G_FUNC
+    elif p.kind == PART_MFUNC:
+        slot = SLOT_DRIVER_M_FUNC
+    else:
+        return
+    if callback_enter(core, slot, &cb):
+        (<TC_DriverGFunc>cb.fn)(cb.user, gm)
+        callback_leave(core, slot)
+
+
 cdef void *_run_body(void *arg) noexcept nogil:
-    cdef Core *core = <Core *>arg
-    cdef Program *prog = &core.program      # stable: nobody frees it while we run
-    cdef Callback init_cb = core_callback(core, CB_DRIVER_INITIALIZE)
-    cdef Callback g_cb = core_callback(core, CB_DRIVER_G_FUNC)
-    cdef Callback m_cb = core_callback(core, CB_DRIVER_M_FUNC)
-    cdef Callback end_cb = core_callback(core, CB_DRIVER_END)
-    cdef GCODE_PARAMETERS params
-    cdef MACHINE_PARAMETERS machine
+    cdef Job *job = <Job *>arg
+    cdef Core *core = job.core
+    cdef LoadedProgram *loaded
+    cdef const Program *prog
+    cdef Callback cb
+    cdef GCODE_PARAMETERS *params = <GCODE_PARAMETERS *>malloc(sizeof(GCODE_PARAMETERS))
+    cdef MACHINE_PARAMETERS *machine = <MACHINE_PARAMETERS *>malloc(sizeof(MACHINE_PARAMETERS))
+    cdef SnapshotData *view = <SnapshotData *>calloc(1, sizeof(SnapshotData))
+    cdef ErrorInfo *first_error = <ErrorInfo *>calloc(1, sizeof(ErrorInfo))
     cdef SIMPLE_GM_PARAMS gm
-    cdef ErrorInfo first_error
     cdef double start[10]
+    cdef double delta[10]
+    cdef bint moves
     cdef double run_time = 0.0, t, length
-    cdef int32_t regime = core.run_regime
-    cdef bint testing = regime == RUN_TEST
-    cdef bint stopped = False
-    cdef size_t i, n = prog.n_parts
+    cdef bint testing = job.regime == RUN_TEST
+    cdef bint stopped = False, complete = False
+    cdef int32_t last_motion = 0
+    cdef size_t i, n
     cdef uint32_t percent, last_percent = 0
     cdef const Part *p
+    tc_worker_core = core
     pthread_mutex_lock(&core.lock)
-    params = core.params
-    machine = core.machine
-    memcpy(start, prog.start, sizeof(start))
-    memset(&core.enh, 0, sizeof(GM_PARAMS_ENHANCED))
-    core.enh.m_relFeed = core.rel_feed
-    core.last_motion = 0
+    loaded = loaded_program_ref(core.program)       # core_begin made sure there is one
+    if params != NULL and machine != NULL:
+        params[0] = core.params
+        machine[0] = core.machine
+    memcpy(start, core.position, sizeof(start))
     pthread_mutex_unlock(&core.lock)
-    memset(&first_error, 0, sizeof(first_error))
-    if init_cb.fn != NULL:
-        (<TC_DriverInitialize>init_cb.fn)(init_cb.user, start, 10, regime)
-    _send_add_code(core, core.add_code, <TC_DriverMFunc>m_cb.fn, m_cb.user)
-    for i in range(n):
-        if TC_ATOMIC_LOAD(&core.cancel):
-            break
-        if TC_ATOMIC_LOAD(&core.stop):
-            stopped = True
-            break
-        p = &prog.parts[i]
-        part_to_gm(prog, i, &gm)
-        length = gm.m_pars.N if p.kind == PART_MOTION else 0.0
-        if params.calcTime:
-            t = part_time(prog, i, &params)
-            if t > 0:
-                run_time += t
-        if p.kind == PART_MOTION or p.kind == PART_DWELL:
-            if testing and p.kind == PART_MOTION:
-                check_limits(core, &machine, &gm, p, &first_error)
-            if g_cb.fn != NULL:
-                (<TC_DriverGFunc>g_cb.fn)(g_cb.user, &gm)
-        elif p.kind == PART_MFUNC:
-            if m_cb.fn != NULL:
-                (<TC_DriverMFunc>m_cb.fn)(m_cb.user, &gm)
-        elif p.kind == PART_PRINT:
-            core_output(core, 2, prog.texts + p.aux)
-        _update_position(core, prog, i, &gm, length, run_time)
-        percent = <uint32_t>((i + 1) * 100 // n)
-        if percent != last_percent:
-            last_percent = percent
-            core_progress(core, percent)
-    if end_cb.fn != NULL:
-        (<TC_DriverEnd>end_cb.fn)(end_cb.user)
-    pthread_mutex_lock(&core.lock)
-    if first_error.number != 0:
-        core.error = first_error
-    if params.calcTime and not stopped and TC_ATOMIC_LOAD(&core.cancel) == 0:
-        if 0 <= prog.main_file_idx < MAX_FILES:
-            core.run_times[prog.main_file_idx] = run_time
-        core.enh.m_cncRunTime = run_time
-    pthread_mutex_unlock(&core.lock)
-    if TC_ATOMIC_LOAD(&core.cancel):
-        return NULL                       # ResetCNC / DestroyCNC set the status
-    if testing:
-        core_set_status(core, CNC_STATUS_TEST_STOPPED if stopped else CNC_STATUS_TEST_DONE)
+    if loaded == NULL or params == NULL or machine == NULL or view == NULL or first_error == NULL:
+        pthread_mutex_lock(&core.lock)
+        set_error(&core.error, ERR_OUT_OF_MEMORY, -1, 0, NULL, 0)
+        pthread_mutex_unlock(&core.lock)
+        stopped = True
     else:
-        core_set_status(core, CNC_STATUS_SIMULATION_STOPPED if stopped else CNC_STATUS_SIMULATION_DONE)
+        prog = &loaded.prog
+        n = prog.n_parts
+        moves = program_start_delta(prog, start, delta)
+        view.pos.m_fileIdx = -1
+        view.enh.m_relFeed = TC_ATOMIC_LOAD_D(&core.rel_feed)
+        snapshot_publish(&core.snap, view)
+        if callback_enter(core, SLOT_DRIVER_INITIALIZE, &cb):
+            (<TC_DriverInitialize>cb.fn)(cb.user, start, 10, job.regime)
+            callback_leave(core, SLOT_DRIVER_INITIALIZE)
+        _send_add_code(core, job.add_code, start)
+        complete = True
+        for i in range(n):
+            if TC_ATOMIC_LOAD(&core.cancel):
+                complete = False
+                break
+            if TC_ATOMIC_LOAD(&core.stop):
+                stopped = True
+                complete = False
+                break
+            p = &prog.parts[i]
+            run_part_to_gm(prog, i, start, delta if moves else NULL, &gm)
+            length = gm.m_pars.N if p.kind == PART_MOTION else 0.0
+            if params.calcTime:
+                t = part_time(prog, i, params)
+                if t > 0:
+                    run_time += t
+            if testing and p.kind == PART_MOTION:
+                check_limits(core, machine, &gm, p, first_error)
+            _deliver(core, prog, i, &gm)
+            _count_part(view, prog, i, &gm, length, run_time, params, &last_motion)
+            view.enh.m_relFeed = TC_ATOMIC_LOAD_D(&core.rel_feed)
+            snapshot_publish(&core.snap, view)
+            percent = <uint32_t>((i + 1) * 100 // n)
+            if percent != last_percent:
+                last_percent = percent
+                core_progress(core, percent)
+        if callback_enter(core, SLOT_DRIVER_END, &cb):
+            (<TC_DriverEnd>cb.fn)(cb.user)
+            callback_leave(core, SLOT_DRIVER_END)
+        pthread_mutex_lock(&core.lock)
+        if first_error.number != 0:
+            core.error = first_error[0]
+        if params.calcTime and complete and 0 <= prog.main_file_idx < MAX_FILES:
+            core.files.run_times[prog.main_file_idx] = run_time
+        pthread_mutex_unlock(&core.lock)
+    loaded_program_release(loaded)
+    free(params)
+    free(machine)
+    free(view)
+    free(first_error)
+    job_free(job)
+    core_finish(core, EV_STOPPED if stopped else EV_DONE)
     return NULL
 
 
 cdef int32_t core_start_run(Core *core, int32_t regime, const char *add_code) noexcept nogil:
     """StartCNCEx: simulation (10) and test (20) of the compiled program."""
-    cdef int32_t status = core_status(core)
+    cdef Job *job
+    if regime == RUN_FORWARD or regime == RUN_FORWARD_NO_M or regime == RUN_BACKWARD or regime == RUN_FORWARD_SKIP_FIRST_M:
+        return core_fail(core, ERR_NOT_IMPLEMENTED, "StartCNCEx of the offline machine (regimes 30-33)")
     if regime != RUN_SIMULATION and regime != RUN_TEST:
-        if regime == RUN_FORWARD or regime == RUN_FORWARD_NO_M or regime == RUN_BACKWARD or regime == RUN_FORWARD_SKIP_FIRST_M:
-            core_fail(core, ERR_NOT_IMPLEMENTED, "StartCNCEx of the offline machine (regimes 30-33)")
-        else:
-            core_fail(core, ERR_BAD_STATUS, "StartCNCEx regime")
-        return TOOL_CHAIN_ERROR
-    if not core.has_program or status == CNC_STATUS_NOTHING_LOADED:
-        core_fail(core, ERR_NOTHING_COMPILED, NULL)
-        return TOOL_CHAIN_ERROR
-    if not core_claim(core, CNC_STATUS_SIMULATING if regime == RUN_SIMULATION else CNC_STATUS_TESTING):
-        core_fail(core, ERR_BUSY, "compilation or run")
-        return TOOL_CHAIN_ERROR
-    pthread_mutex_lock(&core.lock)
-    free(core.add_code)
-    core.add_code = strdup(add_code) if add_code != NULL else NULL
-    memset(&core.error, 0, sizeof(ErrorInfo))
-    core.run_regime = regime
-    pthread_mutex_unlock(&core.lock)
-    if not core_launch(core, _run_body):
-        core_set_status(core, status)
-        core_fail(core, ERR_OUT_OF_MEMORY, NULL)
-        return TOOL_CHAIN_ERROR
-    return TOOL_CHAIN_SUCCESS
+        return core_fail(core, ERR_BAD_REGIME, NULL)
+    job = job_new()
+    if job == NULL:
+        return core_fail(core, ERR_OUT_OF_MEMORY, NULL)
+    job.regime = regime
+    if add_code != NULL:
+        job.add_code = strdup(add_code)
+    return core_begin(core, CMD_SIMULATE if regime == RUN_SIMULATION else CMD_TEST, "StartCNCEx",
+                      _run_body, job)

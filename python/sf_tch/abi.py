@@ -293,6 +293,7 @@ FUNCTIONS = (
     ("ToolChainCore_CompileFromMemory", c_int32, (c_uint32, c_char_p, c_char_p)),
     ("ToolChainCore_IsBusy", c_int32, (c_uint32,)),
     ("ToolChainCore_GetLastError", c_int32, (c_uint32, _P(CALLBACK_INFO))),
+    ("ToolChainCore_GetLastCallError", c_int32, (c_uint32, _P(CALLBACK_INFO))),
     ("ToolChainCore_FileToIdx", c_int32, (c_uint32, c_char_p)),
     ("ToolChainCore_IdxToFile", c_char_p, (c_uint32, c_int32)),
     ("ToolChainCore_GetGCodeSizeInfo", c_int32, (c_uint32, _P(GCODE_INFO))),

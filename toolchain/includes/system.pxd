@@ -58,6 +58,15 @@ cdef extern from *:
     void TC_ATOMIC_STORE(int32_t *p, int32_t v) nogil
     bint TC_ATOMIC_CAS(int32_t *p, int32_t *expected, int32_t desired) nogil
 
+# ... and on doubles set by one thread and read by others (the feed override).
+cdef extern from *:
+    """
+    static inline double TC_ATOMIC_LOAD_D(double *p) { double v; __atomic_load(p, &v, __ATOMIC_ACQUIRE); return v; }
+    static inline void TC_ATOMIC_STORE_D(double *p, double v) { __atomic_store(p, &v, __ATOMIC_RELEASE); }
+    """
+    double TC_ATOMIC_LOAD_D(double *p) nogil
+    void TC_ATOMIC_STORE_D(double *p, double v) nogil
+
 # Copies of parts into memory that is not read back soon (the merge of inserted
 # parts): non-temporal stores skip reading each destination line first, a third of
 # the merge's memory traffic; 16 bytes at a time where the destination allows. dst

@@ -1,0 +1,102 @@
+# The runtime of one CNC core (interpolator channel): what a core holds and who may
+# touch it. docs/threading.md draws the lifecycle; in short:
+#   - `status`, `cancel` and `stop` are int32 read and written atomically: StatusCNC
+#     polls `status` without any lock;
+#   - `snap` (the GetPos view) is a seqlock: its writers take `snap.write_lock`,
+#     its readers never wait;
+#   - `lock` guards everything else. It is held only for copies and pointer swaps:
+#     never during file I/O, a pass over the parts, a callback or a join;
+#   - one activity (compilation or run) at a time, run by one worker thread; exactly
+#     one thread joins it (`joining`), every caller that ends it waits for the join
+#     on `changed`.
+from libc.stdint cimport int32_t, uint32_t, uint64_t, intptr_t
+from includes.tgm_cnc cimport GCODE_PARAMETERS, MACHINE_PARAMETERS, GCODE_INFO, SIMPLE_GM_PARAMS, GM_PARAMS_ENHANCED
+from includes.system cimport pthread_t, pthread_mutex_t, pthread_cond_t
+from program cimport Program, ErrorInfo
+
+cdef enum:
+    MAX_FILES = 64          # file names per core (FileToIdx); recycled when full
+    N_CALLBACK_SLOTS = 24   # documented callback numbers
+
+# What an ending call asks for once the activity is over (the commands of the
+# transition table that end an activity; runtime/transitions.pyx).
+cdef enum EndKind:
+    END_NONE = 0
+    END_RESET = 1           # ResetCNC: program kept, status -30 (or -1 / 0 without a program)
+    END_DESTROY = 2         # DestroyCNC: program dropped, status 0
+    END_DROP_PROGRAM = 3    # ResetStatusCNC mode 0: program dropped, status 0
+    END_OUT_OF_TRAJECTORY = 4   # ResetStatusCNC mode 1: status -50
+
+ctypedef struct Callback:
+    void *fn
+    intptr_t user
+
+# A compiled program, immutable once published, shared by the core and every run
+# that reads it; the last release frees it (runtime/programs.pyx).
+ctypedef struct LoadedProgram:
+    int32_t refs            # atomic
+    Program prog
+    GCODE_INFO extent       # GetGCodeSizeInfo at the program's compile start
+    int32_t files[3]        # file table entries it references: main, prefix, postfix (-1 none)
+
+# GetPos: what a poller reads, published by whoever moves the position
+# (runtime/snapshot.pyx).
+ctypedef struct SnapshotData:
+    SIMPLE_GM_PARAMS pos
+    GM_PARAMS_ENHANCED enh
+
+ctypedef struct Snapshot:
+    uint32_t seq            # odd while a writer writes
+    pthread_mutex_t write_lock
+    SnapshotData data
+
+ctypedef struct FileTable:
+    char names[64][252]
+    double run_times[64]
+    uint64_t used[64]       # last use (FileToIdx, compile): the oldest unreferenced entry is recycled
+    uint64_t clock
+    int32_t n
+
+ctypedef struct Core:
+    int32_t index
+    int32_t status              # cnc_status, atomic
+    int32_t cancel              # atomic: the activity must end now (reset, destroy)
+    int32_t stop                # atomic: StopCNCEx during a run
+    pthread_mutex_t lock
+    pthread_cond_t changed      # a worker was joined, a callback call ended
+    # the activity
+    pthread_t worker
+    bint has_worker             # a worker thread exists and nobody joined it yet
+    bint joining                # a thread is joining it (the others wait on `changed`)
+    uint64_t activity           # number of the current (or last) activity
+    int32_t deferred_end        # EndKind asked from inside a callback: applied by the worker at its end
+    int32_t run_regime
+    char *add_code              # StartCNCEx addCode of the current run
+    # configuration
+    GCODE_PARAMETERS params
+    MACHINE_PARAMETERS machine
+    double user_params[100]
+    bint has_user_params
+    char *prefix
+    char *postfix
+    bint ini_loaded
+    char driver[256]
+    Callback callbacks[24]
+    int32_t in_flight[24]       # calls of each slot running now, on any thread
+    FileTable files
+    # the compilation's input (owned by the compile worker while it runs)
+    char *source
+    size_t source_len
+    int32_t compile_files[3]    # main, prefix, postfix entries of the compilation that runs
+    char source_name[252]
+    # results
+    LoadedProgram *program      # NULL: nothing compiled (or the compilation failed)
+    ErrorInfo error             # error of the last activity (GetLastError)
+    ErrorInfo call_error        # error of the last refused call (GetLastCallError)
+    GCODE_INFO size_info        # of `program` at the current start position
+    # the machine
+    double position[10]         # machine position: where the next run and compilation start
+    double rel_feed             # atomic (TC_ATOMIC_*_D)
+    uint32_t breakpoint_line
+    int32_t breakpoint_file
+    Snapshot snap

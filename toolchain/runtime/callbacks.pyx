@@ -1,0 +1,178 @@
+# The host's callbacks of a core. Every call is counted while it runs (in_flight,
+# under core.lock; and per thread, for calls nested in a callback), so that
+# SetCallBack can return only once no call of the slot runs on another thread: a
+# host may free its function as soon as it has removed it. A worker looks a callback
+# up at each call, never caching it across calls.
+from libc.string cimport memset
+from libc.stdio cimport snprintf
+
+cdef extern from *:
+    """
+    /* The core whose worker runs on this thread (NULL on the host's threads), and the
+       callback calls this thread is inside of, per core and slot. */
+    static __thread void *tc_worker_core = 0;
+    static __thread int tc_own_calls[3][24];
+    """
+    void *tc_worker_core
+    int tc_own_calls[3][24]
+
+
+# Slots of the callback table, in the order of the documented numbers.
+cdef enum CallbackSlot:
+    SLOT_ADD_OUTPUT_LOG = 0
+    SLOT_SET_STATUS_BAR_TEXT = 1
+    SLOT_IS_DEBUG_MODE = 2
+    SLOT_IS_VERBOSE_MODE = 3
+    SLOT_GET_LIB_PATH = 4
+    SLOT_GET_TOOL_PATH = 5
+    SLOT_GET_SYSTEM_PATH = 6
+    SLOT_GET_FILE_TIME_STAMP = 7
+    SLOT_DO_YIELD = 8
+    SLOT_READ_INI_STRING = 9
+    SLOT_READ_INI_DOUBLE = 10
+    SLOT_READ_INI_INT = 11
+    SLOT_IS_BREAKPOINT = 12
+    SLOT_DISP_AND_LOCATE_ERROR = 13
+    SLOT_ADD_OUTPUT_LOG_WITH_MSG_BOX = 14
+    SLOT_SET_STATUS_BAR_PROGRESS = 15
+    SLOT_DRIVER_INITIALIZE = 16
+    SLOT_DRIVER_G_FUNC = 17
+    SLOT_DRIVER_M_FUNC = 18
+    SLOT_CONNECT_POINT_CALC_START = 19
+    SLOT_CONNECT_POINT_CALC = 20
+    SLOT_CONNECT_POINT_CALC_END = 21
+    SLOT_DRIVER_END = 22
+    SLOT_MATH_WARNING = 23
+
+
+cdef int32_t callback_slot(uint32_t number) noexcept nogil:
+    """The slot of a documented callback number, -1 for any other number."""
+    if number == CB_ADD_OUTPUT_LOG: return SLOT_ADD_OUTPUT_LOG
+    if number == CB_SET_STATUS_BAR_TEXT: return SLOT_SET_STATUS_BAR_TEXT
+    if number == CB_IS_DEBUG_MODE: return SLOT_IS_DEBUG_MODE
+    if number == CB_IS_VERBOSE_MODE: return SLOT_IS_VERBOSE_MODE
+    if number == CB_GET_LIB_PATH: return SLOT_GET_LIB_PATH
+    if number == CB_GET_TOOL_PATH: return SLOT_GET_TOOL_PATH
+    if number == CB_GET_SYSTEM_PATH: return SLOT_GET_SYSTEM_PATH
+    if number == CB_GET_FILE_TIME_STAMP: return SLOT_GET_FILE_TIME_STAMP
+    if number == CB_DO_YIELD: return SLOT_DO_YIELD
+    if number == CB_READ_INI_STRING: return SLOT_READ_INI_STRING
+    if number == CB_READ_INI_DOUBLE: return SLOT_READ_INI_DOUBLE
+    if number == CB_READ_INI_INT: return SLOT_READ_INI_INT
+    if number == CB_IS_BREAKPOINT: return SLOT_IS_BREAKPOINT
+    if number == CB_DISP_AND_LOCATE_ERROR: return SLOT_DISP_AND_LOCATE_ERROR
+    if number == CB_ADD_OUTPUT_LOG_WITH_MSG_BOX: return SLOT_ADD_OUTPUT_LOG_WITH_MSG_BOX
+    if number == CB_SET_STATUS_BAR_PROGRESS: return SLOT_SET_STATUS_BAR_PROGRESS
+    if number == CB_DRIVER_INITIALIZE: return SLOT_DRIVER_INITIALIZE
+    if number == CB_DRIVER_G_FUNC: return SLOT_DRIVER_G_FUNC
+    if number == CB_DRIVER_M_FUNC: return SLOT_DRIVER_M_FUNC
+    if number == CB_CONNECT_POINT_CALC_START: return SLOT_CONNECT_POINT_CALC_START
+    if number == CB_CONNECT_POINT_CALC: return SLOT_CONNECT_POINT_CALC
+    if number == CB_CONNECT_POINT_CALC_END: return SLOT_CONNECT_POINT_CALC_END
+    if number == CB_DRIVER_END: return SLOT_DRIVER_END
+    if number == CB_MATH_WARNING: return SLOT_MATH_WARNING
+    return -1
+
+
+cdef bint callback_enter(Core *core, int32_t slot, Callback *cb) noexcept nogil:
+    """The callback of `slot` for one call (False when none is set); the call must be
+    closed with callback_leave."""
+    pthread_mutex_lock(&core.lock)
+    cb[0] = core.callbacks[slot]
+    if cb.fn != NULL:
+        core.in_flight[slot] += 1
+    pthread_mutex_unlock(&core.lock)
+    if cb.fn == NULL:
+        return False
+    tc_own_calls[core.index][slot] += 1
+    return True
+
+
+cdef void callback_leave(Core *core, int32_t slot) noexcept nogil:
+    tc_own_calls[core.index][slot] -= 1
+    pthread_mutex_lock(&core.lock)
+    core.in_flight[slot] -= 1
+    if core.in_flight[slot] == 0:
+        pthread_cond_broadcast(&core.changed)
+    pthread_mutex_unlock(&core.lock)
+
+
+cdef void callback_set(Core *core, int32_t slot, void *fn, intptr_t user) noexcept nogil:
+    """SetCallBack: the new function is used by every later call; returns once the
+    calls of the old one on other threads have returned (this thread's own calls,
+    when it changes a callback from inside one, are not waited for)."""
+    pthread_mutex_lock(&core.lock)
+    core.callbacks[slot].fn = fn
+    core.callbacks[slot].user = user if fn != NULL else 0
+    while core.in_flight[slot] > tc_own_calls[core.index][slot]:
+        pthread_cond_wait(&core.changed, &core.lock)
+    pthread_mutex_unlock(&core.lock)
+
+
+cdef void fill_callback_info(const ErrorInfo *err, CALLBACK_INFO *info) noexcept nogil:
+    info.stringId = err.number
+    info.nLines = err.n_lines
+    info.actLine = err.line
+    info.fileIdx = err.file_idx
+    info.m_fullError = <const char *>err.text
+    info.m_errorArguments = <const char *>err.args
+
+
+cdef void core_output(Core *core, uint32_t tab, const char *text) noexcept nogil:
+    """A line for the host's output log (AddOutputLog), e.g. PRINT text on tab 2."""
+    cdef Callback cb
+    cdef CALLBACK_INFO info
+    memset(&info, 0, sizeof(info))
+    info.stringId = -1
+    info.fileIdx = -1
+    if callback_enter(core, SLOT_ADD_OUTPUT_LOG, &cb):
+        (<TC_AddOutputLog>cb.fn)(cb.user, tab, text, &info)
+        callback_leave(core, SLOT_ADD_OUTPUT_LOG)
+    log_line(LOG_TOOLCHAIN, text)
+
+
+cdef void core_report_error(Core *core, const ErrorInfo *err) noexcept nogil:
+    """Every error reaches the host at once: DispAndLocateError, AddOutputLog tab 0
+    and the log. `err` must stay valid during the calls (a copy of the caller's)."""
+    cdef Callback cb
+    cdef CALLBACK_INFO info
+    cdef char line[1400]
+    fill_callback_info(err, &info)
+    if callback_enter(core, SLOT_DISP_AND_LOCATE_ERROR, &cb):
+        (<TC_DispAndLocateError>cb.fn)(cb.user, <uint32_t>err.line, err.file_idx, err.text, &info)
+        callback_leave(core, SLOT_DISP_AND_LOCATE_ERROR)
+    if callback_enter(core, SLOT_ADD_OUTPUT_LOG, &cb):
+        (<TC_AddOutputLog>cb.fn)(cb.user, 0, err.text, &info)
+        callback_leave(core, SLOT_ADD_OUTPUT_LOG)
+    snprintf(line, sizeof(line), "core %d: error %d at file %d line %d: %s",
+             core.index, err.number, err.file_idx, err.line, err.text)
+    log_line(LOG_TOOLCHAIN, line)
+
+
+cdef void core_progress(Core *core, uint32_t percent) noexcept nogil:
+    cdef Callback cb
+    if callback_enter(core, SLOT_SET_STATUS_BAR_PROGRESS, &cb):
+        (<TC_SetStatusBarProgress>cb.fn)(cb.user, percent)
+        callback_leave(core, SLOT_SET_STATUS_BAR_PROGRESS)
+
+
+cdef void core_status_text(Core *core, const char *text, int32_t file_idx, int32_t n_lines) noexcept nogil:
+    cdef Callback cb
+    cdef CALLBACK_INFO info
+    memset(&info, 0, sizeof(info))
+    info.stringId = -1
+    info.fileIdx = file_idx
+    info.nLines = n_lines
+    if callback_enter(core, SLOT_SET_STATUS_BAR_TEXT, &cb):
+        (<TC_SetStatusBarText>cb.fn)(cb.user, 0, text, &info)
+        callback_leave(core, SLOT_SET_STATUS_BAR_TEXT)
+
+
+cdef void core_warning(Core *core, const ErrorInfo *warning) noexcept nogil:
+    """A numbered warning of a stage (e.g. the compensation) to MathWarning (2001)."""
+    cdef Callback cb
+    cdef CALLBACK_INFO info
+    if callback_enter(core, SLOT_MATH_WARNING, &cb):
+        fill_callback_info(warning, &info)
+        (<TC_MathWarning>cb.fn)(cb.user, &info)
+        callback_leave(core, SLOT_MATH_WARNING)

@@ -1,0 +1,110 @@
+# The status machine of a core in one table: for every status of API.md and every
+# command (a host call, or the end of the worker's activity) the status that follows,
+# or a refusal. The core asks the table before it acts; tests read it as a table
+# (tests/test_transitions.py).
+
+cdef enum Command:
+    CMD_COMPILE = 0             # CompileFromFile / CompileFromMemory
+    CMD_SIMULATE = 1            # StartCNCEx 10 (also needs a compiled program)
+    CMD_TEST = 2                # StartCNCEx 20 (also needs a compiled program)
+    CMD_STOP = 3                # StopCNCEx: the worker ends with EV_STOPPED
+    CMD_RESET = 4               # ResetCNC
+    CMD_DESTROY = 5             # DestroyCNC
+    CMD_DROP_PROGRAM = 6        # ResetStatusCNC mode 0
+    CMD_OUT_OF_TRAJECTORY = 7   # ResetStatusCNC mode 1
+    CMD_SET_PARAMETERS = 8      # SetGCodeParameters (while stopped on the path: feeds only)
+    CMD_LOAD_INI = 9            # LoadFromIni
+    CMD_SET_PREFIX = 10         # GCodePrefixPostfix
+    EV_DONE = 11                # the worker finished its activity
+    EV_STOPPED = 12             # the worker stopped on StopCNCEx
+    N_COMMANDS = 13
+
+cdef extern from *:
+    """
+    /* Entries: a status, or one of these. */
+    #define TC_REFUSED   (-1234)  /* the command is refused in this status (-1) */
+    #define TC_KEEP      (-9999)  /* accepted, the status stays */
+    #define TC_AT_START  (-9998)  /* -30 with a compiled program, else -1 (0 from 0) */
+    #define R TC_REFUSED
+    #define K TC_KEEP
+    #define S TC_AT_START
+    #define TC_N_STATUSES 26
+    static const int32_t tc_status_values[TC_N_STATUSES] = {
+        0, -2, 1, -1, 10, -10, -11, 20, -20, -21, -30, -31, -32, -33,
+        30, 31, 32, 33, 40, 41, 50, -50, 60, 70, 80, 90};
+    static const char *const tc_status_names[TC_N_STATUSES] = {
+        "nothing loaded", "not connected", "compiling", "compiled",
+        "simulating", "simulation finished", "simulation stopped",
+        "test running", "test finished", "test stopped",
+        "at the start", "stopped on the trajectory", "at the end", "stopped by M0",
+        "forward", "forward without M", "backward", "forward skipping the first M",
+        "calculating the connection", "moving to the connection",
+        "manual move", "out of the trajectory", "internal calculation",
+        "sending start M", "sending stop M", "sending connect M"};
+    /*                     COMPILE SIM TEST STOP RESET DESTROY DROP  OUT  PARAMS INI PREFIX DONE STOPPED */
+    static const int32_t tc_transitions[TC_N_STATUSES][13] = {
+    /*   0 */            {  1,    10,  20,  R,   S,    0,      R,    R,   K,     K,  K,     R,   R   },
+    /*  -2 */            {  1,    10,  20,  R,   S,    0,      0,  -50,   K,     K,  K,     R,   R   },
+    /*   1 */            {  R,    R,   R,   R,   S,    0,      R,    R,   R,     R,  R,    -1,   R   },
+    /*  -1 */            {  1,    10,  20,  R,   S,    0,      0,  -50,   K,     K,  K,     R,   R   },
+    /*  10 */            {  R,    R,   R,   K,   S,    0,      R,    R,   R,     R,  K,   -10, -11   },
+    /* -10 */            {  1,    10,  20,  R,   S,    0,      0,  -50,   K,     K,  K,     R,   R   },
+    /* -11 */            {  1,    10,  20,  R,   S,    0,      0,  -50,   K,     K,  K,     R,   R   },
+    /*  20 */            {  R,    R,   R,   K,   S,    0,      R,    R,   R,     R,  K,   -20, -21   },
+    /* -20 */            {  1,    10,  20,  R,   S,    0,      0,  -50,   K,     K,  K,     R,   R   },
+    /* -21 */            {  1,    10,  20,  R,   S,    0,      0,  -50,   K,     K,  K,     R,   R   },
+    /* -30 */            {  1,    10,  20,  R,   S,    0,      0,  -50,   K,     K,  K,     R,   R   },
+    /* -31 */            {  1,    10,  20,  R,   S,    0,      0,  -50,   K,     K,  K,     R,   R   },
+    /* -32 */            {  1,    10,  20,  R,   S,    0,      0,  -50,   K,     K,  K,     R,   R   },
+    /* -33 */            {  1,    10,  20,  R,   S,    0,      0,  -50,   K,     K,  K,     R,   R   },
+    /*  30 */            {  R,    R,   R,   R,   S,    0,      R,    R,   R,     R,  K,     R,   R   },
+    /*  31 */            {  R,    R,   R,   R,   S,    0,      R,    R,   R,     R,  K,     R,   R   },
+    /*  32 */            {  R,    R,   R,   R,   S,    0,      R,    R,   R,     R,  K,     R,   R   },
+    /*  33 */            {  R,    R,   R,   R,   S,    0,      R,    R,   R,     R,  K,     R,   R   },
+    /*  40 */            {  R,    R,   R,   R,   S,    0,      R,    R,   R,     R,  K,     R,   R   },
+    /*  41 */            {  R,    R,   R,   R,   S,    0,      R,    R,   R,     R,  K,     R,   R   },
+    /*  50 */            {  R,    R,   R,   R,   S,    0,      R,    R,   R,     R,  K,     R,   R   },
+    /* -50 */            {  1,    10,  20,  R,   S,    0,      0,  -50,   K,     K,  K,     R,   R   },
+    /*  60 */            {  R,    R,   R,   R,   S,    0,      R,    R,   R,     R,  K,     R,   R   },
+    /*  70 */            {  R,    R,   R,   R,   S,    0,      R,    R,   R,     R,  K,     R,   R   },
+    /*  80 */            {  R,    R,   R,   R,   S,    0,      R,    R,   R,     R,  K,     R,   R   },
+    /*  90 */            {  R,    R,   R,   R,   S,    0,      R,    R,   R,     R,  K,     R,   R   }};
+    #undef R
+    #undef K
+    #undef S
+    """
+    int32_t TC_REFUSED, TC_KEEP, TC_AT_START, TC_N_STATUSES
+    const int32_t tc_status_values[]
+    const char *const tc_status_names[]
+    const int32_t tc_transitions[][13]
+
+
+cdef int32_t _status_row(int32_t status) noexcept nogil:
+    cdef int32_t i
+    for i in range(TC_N_STATUSES):
+        if tc_status_values[i] == status:
+            return i
+    return -1
+
+
+cdef int32_t status_after(int32_t status, int32_t command, bint has_program) noexcept nogil:
+    """The status that `command` leads to from `status`: a status, TC_KEEP, or
+    TC_REFUSED (also for a status that is not in API.md's list)."""
+    cdef int32_t row = _status_row(status)
+    cdef int32_t after
+    if row < 0 or command < 0 or command >= N_COMMANDS:
+        return TC_REFUSED
+    after = tc_transitions[row][command]
+    if after == TC_AT_START:
+        if has_program:
+            return CNC_STATUS_AT_START
+        return CNC_STATUS_NOTHING_LOADED if status == CNC_STATUS_NOTHING_LOADED else CNC_STATUS_COMPILED
+    return after
+
+
+cdef const char *status_name(int32_t status) noexcept nogil:
+    """The English name of a status of API.md (never NULL)."""
+    cdef int32_t row = _status_row(status)
+    if row < 0:
+        return "invalid"
+    return tc_status_names[row]
