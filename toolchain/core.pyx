@@ -419,7 +419,7 @@ cdef void core_finish(Core *core, int32_t event) noexcept nogil:
     loaded_program_release(dropped)
     if kind == END_RESET:
         _refresh_size_info(core)
-    tc_worker_core = NULL
+    worker_thread_mark(NULL)
 
 
 cdef Job *job_new() noexcept nogil:
@@ -541,7 +541,7 @@ cdef void *_compile_body(void *arg) noexcept nogil:
     cdef LoadedProgram *old
     cdef int result = COMPILE_ERROR
     cdef char text[400]
-    tc_worker_core = core
+    worker_thread_mark(core)
     program_init(&prog)
     if err != NULL and extent != NULL:
         result = _compile_job(core, job, &prog, extent, err)

@@ -187,7 +187,7 @@ cdef void *_run_body(void *arg) noexcept nogil:
     cdef size_t i, n
     cdef uint32_t percent, last_percent = 0
     cdef const Part *p
-    tc_worker_core = core
+    worker_thread_mark(core)
     pthread_mutex_lock(&core.lock)
     loaded = loaded_program_ref(core.program)       # core_begin made sure there is one
     if params != NULL and machine != NULL:

@@ -17,6 +17,12 @@ cdef extern from *:
     int tc_own_calls[3][24]
 
 
+cdef void worker_thread_mark(Core *core) noexcept nogil:
+    """Marks the calling thread as `core`'s worker (NULL: no longer)."""
+    global tc_worker_core
+    tc_worker_core = core
+
+
 # Slots of the callback table, in the order of the documented numbers.
 cdef enum CallbackSlot:
     SLOT_ADD_OUTPUT_LOG = 0
