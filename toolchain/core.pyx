@@ -291,33 +291,26 @@ cdef LoadedProgram *_apply_end_locked(Core *core, int32_t kind) noexcept nogil:
 
 
 cdef void _refresh_size_info(Core *core) noexcept nogil:
-    """GetGCodeSizeInfo of the core's program from the current start position: an
-    O(n) pass over the immutable program, outside the lock."""
+    """GetGCodeSizeInfo of the core's program from the current machine position: a
+    pass over the immutable program, outside the lock."""
     cdef LoadedProgram *lp
-    cdef Program view
+    cdef Placement placement
     cdef GCODE_INFO *info = <GCODE_INFO *>malloc(sizeof(GCODE_INFO))
-    cdef double delta[10]
+    cdef bint ok = False
     if info == NULL:
         return
     pthread_mutex_lock(&core.lock)
     lp = loaded_program_ref(core.program)
     if lp != NULL:
-        view = lp.prog                  # shares the arrays, reads only
-        memcpy(view.start, core.position, sizeof(view.start))
+        placement_init(&placement, &lp.prog, core.position)
     pthread_mutex_unlock(&core.lock)
-    if lp == NULL:
-        free(info)
-        return
-    if program_start_delta(&lp.prog, view.start, delta):
-        info[0] = lp.extent
-        extent_shift(info, delta)
-    else:
-        program_extent(&view, info)
-    pthread_mutex_lock(&core.lock)
-    if core.program == lp and memcmp(view.start, core.position, sizeof(view.start)) == 0:
-        core.size_info = info[0]
-    pthread_mutex_unlock(&core.lock)
-    loaded_program_release(lp)
+    if lp != NULL:
+        ok = placed_extent(&lp.prog, &placement, info)
+        pthread_mutex_lock(&core.lock)
+        if ok and core.program == lp and memcmp(placement.start, core.position, sizeof(placement.start)) == 0:
+            core.size_info = info[0]
+        pthread_mutex_unlock(&core.lock)
+        loaded_program_release(lp)
     free(info)
 
 

@@ -182,27 +182,3 @@ cdef void program_extent(const Program *prog, GCODE_INFO *info) noexcept nogil:
         info.m_size[0] = info.m_size[2]
         info.m_size[1] = info.m_size[3]
 
-
-cdef bint program_start_delta(const Program *prog, const double *start, double *delta) noexcept nogil:
-    """A program written relative to its start (G91 from the first block) moves with
-    it: delta = start - the compile's start, True. Any other program keeps its
-    positions (only its first move starts from `start`): False."""
-    cdef int k
-    if not prog.relative_only:
-        return False
-    for k in range(10):
-        delta[k] = start[k] - prog.start[k]
-    return True
-
-
-cdef void extent_shift(GCODE_INFO *info, const double *delta) noexcept nogil:
-    """The size info of a program moved by delta (every part: an exact shift)."""
-    cdef int s, k
-    cdef GCODE_SIZE *size
-    for s in range(4):
-        size = &info.m_size[s]
-        for k in range(10):
-            (<double *>&size.m_startPos)[k] += delta[k]
-            (<double *>&size.m_endPos)[k] += delta[k]
-            (<double *>&size.m_minimalPos)[k] += delta[k]
-            (<double *>&size.m_maximalPos)[k] += delta[k]

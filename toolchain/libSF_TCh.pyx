@@ -6,7 +6,7 @@
 # here needs the Python module to be initialised, so a host may load the library
 # with ctypes alone. Module-level variables are therefore only zero-initialised C
 # statics (constants live in functions or C literals).
-from libc.stdint cimport int8_t, int16_t, int32_t, int64_t, uint8_t, uint16_t, uint32_t, intptr_t
+from libc.stdint cimport int8_t, int16_t, int32_t, int64_t, uint8_t, uint16_t, uint32_t, intptr_t, INT32_MAX
 from includes.tgm_cnc cimport *
 from includes.system cimport *
 from program cimport *
@@ -31,6 +31,7 @@ include "compensation/crossings.pyx"
 include "compensation/compensation.pyx"
 include "compensation/insert_arcs.pyx"
 include "extent.pyx"
+include "placement.pyx"
 include "planner.pyx"
 include "logging.pyx"
 include "ini.pyx"

@@ -88,7 +88,9 @@ ctypedef struct Program:
     int32_t main_file_idx
     uint32_t n_lines        # lines of the main file
     bint compensated        # some part has comp != 40
-    bint relative_only      # every position is relative to the start (G91 throughout): ResetCNC moves it
+    int32_t start_gindex[10]    # parts whose gcode_index is below it take axis k relative to the
+                                # machine position a run starts from (the axis not yet named
+                                # absolutely: G91 moves, or not named at all); INT32_MAX: every part
     ArcRegion *arc_regions  # G167 changes, in part order (compensation/insert_arcs.pyx)
     size_t n_arc_regions, cap_arc_regions
     Follow *follow          # while a stage reads the parts beside the compiler, else NULL

@@ -1,7 +1,7 @@
 # Runs of a compiled program in the core's worker: simulation (regime 10) hands
 # every part to the driver callbacks as fast as possible; test (regime 20) does
 # the same and checks the machine limits. Both keep GetPos current.
-from libc.string cimport memset, memcpy, memcmp, strdup
+from libc.string cimport memset, memcpy, strdup
 from libc.stdlib cimport malloc, calloc, free
 from libc.stdlib cimport strtol
 from libc.stdio cimport snprintf
@@ -77,42 +77,6 @@ cdef void _count_part(SnapshotData *view, const Program *prog, size_t i, const S
     view.pos.m_pars.P = 100.0
 
 
-cdef void _shift_gm(SIMPLE_GM_PARAMS *gm, const double *delta, bint arc) noexcept nogil:
-    """A part of a program that moves with its start, moved by delta."""
-    cdef int k
-    for k in range(10):
-        (<double *>&gm.m_s)[k] += delta[k]
-        (<double *>&gm.m_e)[k] += delta[k]
-        (<double *>&gm.m_calcS)[k] += delta[k]
-        (<double *>&gm.m_calcE)[k] += delta[k]
-    if arc:
-        gm.m_cc.x += delta[0]
-        gm.m_cc.y += delta[1]
-        gm.m_cc.z += delta[2]
-        gm.m_pars.I = <float>gm.m_cc.x
-        gm.m_pars.J = <float>gm.m_cc.y
-        gm.m_pars.K = <float>gm.m_cc.z
-
-
-cdef void run_part_to_gm(const Program *prog, size_t i, const double *start, const double *delta,
-                         SIMPLE_GM_PARAMS *gm) noexcept nogil:
-    """part_to_gm for a run from machine position `start`: a program relative to its
-    start moved by delta (NULL: it keeps its positions and only its first move
-    starts from `start`)."""
-    cdef const Part *p = &prog.parts[i]
-    part_to_gm(prog, i, gm)
-    if delta != NULL:
-        _shift_gm(gm, delta, p.kind == PART_MOTION and (p.func == 2 or p.func == 3))
-    elif i == 0 and memcmp(start, prog.start, 10 * sizeof(double)) != 0:
-        memcpy(&gm.m_s, start, sizeof(P10DOUBLE))
-        memcpy(&gm.m_calcS, start, sizeof(P10DOUBLE))
-        if p.kind == PART_MOTION and p.func != 2 and p.func != 3:
-            gm.m_pars.N = <float>segment_length(<double *>&gm.m_calcS, <double *>&gm.m_calcE)
-        elif p.kind != PART_MOTION:
-            gm.m_e = gm.m_s
-            gm.m_calcE = gm.m_s
-
-
 cdef void _send_add_code(Core *core, const char *code, const double *position) noexcept nogil:
     """StartCNCEx addCode: its M words become M parts sent before the program."""
     cdef SIMPLE_GM_PARAMS gm
@@ -178,8 +142,7 @@ cdef void *_run_body(void *arg) noexcept nogil:
     cdef ErrorInfo *first_error = <ErrorInfo *>calloc(1, sizeof(ErrorInfo))
     cdef SIMPLE_GM_PARAMS gm
     cdef double start[10]
-    cdef double delta[10]
-    cdef bint moves
+    cdef Placement placement
     cdef double run_time = 0.0, t, length
     cdef bint testing = job.regime == RUN_TEST
     cdef bint stopped = False, complete = False
@@ -203,7 +166,7 @@ cdef void *_run_body(void *arg) noexcept nogil:
     else:
         prog = &loaded.prog
         n = prog.n_parts
-        moves = program_start_delta(prog, start, delta)
+        placement_init(&placement, prog, start)
         view.pos.m_fileIdx = -1
         view.enh.m_relFeed = TC_ATOMIC_LOAD_D(&core.rel_feed)
         snapshot_publish(&core.snap, view)
@@ -221,7 +184,7 @@ cdef void *_run_body(void *arg) noexcept nogil:
                 complete = False
                 break
             p = &prog.parts[i]
-            run_part_to_gm(prog, i, start, delta if moves else NULL, &gm)
+            placed_part_to_gm(prog, i, &placement, &gm)
             length = gm.m_pars.N if p.kind == PART_MOTION else 0.0
             if params.calcTime:
                 t = part_time(prog, i, params)

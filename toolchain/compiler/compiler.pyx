@@ -163,7 +163,6 @@ cdef int cp_zero(CState *st, const LineWords *lw, int g) noexcept nogil:
             st.zero[a] = lw.v[bit]
         elif g != 59:
             st.zero[a] = 0.0
-    st.relative_only = False
     cp_reframe(st)
     if not update_zero(st):
         return cerr(st, ERR_OUT_OF_MEMORY)
@@ -178,10 +177,11 @@ cdef int cp_g92(CState *st, const LineWords *lw) noexcept nogil:
         bit = <int>letter_of_axis(a) - 65
         if (lw.mask >> bit) & 1:
             st.ppos[a] = lw.v[bit]
+            # a shift taken where the machine follows the start follows it too
+            st.shift_follows[a] = not st.fixed[a]
     to_machine(st, st.ppos, t)
     for a in range(10):
         st.shift[a] += st.mpos[a] - t[a]
-    st.relative_only = False
     if not update_zero(st):
         return cerr(st, ERR_OUT_OF_MEMORY)
     return 0
@@ -684,7 +684,6 @@ cdef void cp_init(CState *st, const CompileInput *inp, Program *prog, ErrorInfo 
     st.per_min = True
     st.fp = 1.0
     st.comp = 40
-    st.relative_only = True
     st.last_percent = -1
 
 
@@ -754,6 +753,8 @@ cdef int compile_program(const CompileInput *inp, Program *prog, ErrorInfo *err)
     for i in range(3):
         lb_free(&units[i])
     if result == COMPILE_OK:
-        prog.relative_only = st.relative_only
+        for i in range(10):
+            if not st.fixed[i]:
+                prog.start_gindex[i] = INT32_MAX    # never named: every part follows the start
     free(st)
     return result

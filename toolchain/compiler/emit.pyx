@@ -173,7 +173,6 @@ cdef int em_arc(CState *st, const LineWords *lw, Part *p, int *func, const doubl
         if has(lw, b'Q') and val(lw, b'Q') == 70.0:
             cx = val(lw, li) if has(lw, li) else sx
             cy = val(lw, lj) if has(lw, lj) else sy
-            st.relative_only = False
         else:
             cx = sx + (val(lw, li) if has(lw, li) else 0.0)
             cy = sy + (val(lw, lj) if has(lw, lj) else 0.0)
@@ -222,6 +221,9 @@ cdef int em_motion(CState *st, const LineWords *lw, int func) noexcept nogil:
         a = axis_of_letter(<char>(65 + bit))
         if st.absolute:
             newp[a] = lw.v[bit]
+            if not st.fixed[a] and not st.shift_follows[a]:
+                st.fixed[a] = True      # from this part on the axis is where the program says
+                st.prog.start_gindex[a] = st.gindex
         else:
             newp[a] += lw.v[bit]
     if not any_axis:
@@ -229,8 +231,6 @@ cdef int em_motion(CState *st, const LineWords *lw, int func) noexcept nogil:
             return R_NEXT
         if not (has(lw, b'I') or has(lw, b'J') or has(lw, b'K')):
             return R_NEXT       # bare G2/G3: only the modal change
-    if st.absolute:
-        st.relative_only = False
     to_machine(st, newp, e)
     p = em_part(st, PART_MOTION, func, e)
     if p == NULL:

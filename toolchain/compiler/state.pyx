@@ -110,7 +110,8 @@ ctypedef struct CState:
     uint32_t g900_ignore_angle, g900_ignore_feed
     int32_t g900_stop_mode, g900_arc_table
     int32_t gindex
-    bint relative_only
+    bint fixed[10]                          # the axis no longer follows the start (named absolutely)
+    bint shift_follows[10]                  # a G92 on the axis while it followed the start
     bint program_end
     int64_t blocks, block_limit
     Frame frames[FRAME_DEPTH]
