@@ -516,6 +516,8 @@ cdef int _compile_job(Core *core, Job *job, Program *prog, GCODE_INFO *extent, E
     result = _compile_and_compensate(core, inp, prog, err)
     if result == COMPILE_OK:
         result = insert_arcs(prog, &inp.params, err)
+    if result == COMPILE_OK and TC_ATOMIC_LOAD(&core.cancel):
+        result = COMPILE_CANCELLED          # ended while it finished: nothing is published
     if result == COMPILE_OK:
         program_extent(prog, extent)
     elif result == COMPILE_CANCELLED:
