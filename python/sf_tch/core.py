@@ -135,9 +135,12 @@ class Core:
         if error is not None:
             raise error
 
-    def last_error(self) -> CncError | None:
+    def last_error(self, refused_call: bool = False) -> CncError | None:
+        """The error of the last compilation or run (GetLastError), or with
+        refused_call the error of the last call the library refused (GetLastCallError)."""
         info = abi.CALLBACK_INFO()
-        if self.lib.ToolChainCore_GetLastError(self.index, ctypes.byref(info)) != 1:
+        read = self.lib.ToolChainCore_GetLastCallError if refused_call else self.lib.ToolChainCore_GetLastError
+        if read(self.index, ctypes.byref(info)) != 1:
             return None
         args = (info.m_errorArguments or b"").decode(errors="replace")
         return CncError(info.stringId, info.actLine, self.file_name(info.fileIdx),
@@ -213,7 +216,7 @@ class Core:
     def _check(self, rc: int):
         if rc == abi.TOOL_CHAIN_SUCCESS:
             return
-        error = self.last_error()
+        error = self.last_error(refused_call=True)
         if rc == abi.TOOL_CHAIN_BAD_INTR_INDEX:
             raise IndexError(f"core {self.index} does not exist")
         raise error or RuntimeError(f"library call failed with {rc}")
