@@ -326,6 +326,8 @@ cdef int32_t core_end(Core *core, int32_t kind, const char *what, uint32_t n_coo
     status = core_status(core)
     if status_after(status, _end_command(kind), core.program != NULL) == TC_REFUSED:
         pthread_mutex_unlock(&core.lock)
+        if tc_worker_core == <void *>core:
+            return core_fail(core, ERR_REENTRANT, what)
         return core_refuse(core, what, status)
     if n_coords > 0:
         memcpy(core.position, coords, n_coords * sizeof(double))
