@@ -10,10 +10,14 @@ cdef enum ErrorNumber:
     ERR_NOTHING_COMPILED = 6        # No compiled program
     ERR_DRIVER_REFUSED = 7          # Driver callback %s returned %d
     ERR_BUSY = 8                    # Core busy: %s running
-    ERR_BAD_STATUS = 9              # %s not allowed in status %d
+    ERR_BAD_STATUS = 9              # %s not allowed in status %d (%s)
     ERR_NOT_IMPLEMENTED = 10        # %s is not implemented yet
     ERR_INI_FIRST = 11              # Callback %d needs LoadFromIni first
     ERR_FILE_TOO_LARGE = 12         # File '%s' is larger than 1 GiB
+    ERR_NOT_REGULAR_FILE = 13       # '%s' is not a regular file
+    ERR_NOT_FINITE = 14             # %s = %g is not a finite number
+    ERR_OUT_OF_RANGE = 15           # %s = %g is outside <%g, %g>
+    ERR_INI_VALUE = 16              # INI file '%s' line %d: %s
     # lexical (100..199)
     ERR_UNKNOWN_WORD = 100          # Unknown word '%s'
     ERR_BAD_NUMBER = 101            # Bad number '%s'
@@ -23,6 +27,7 @@ cdef enum ErrorNumber:
     ERR_LINE_TOO_LONG = 105         # Line longer than %d characters
     ERR_BAD_VALUE = 106             # Bad value %g of address %s
     ERR_TOO_MANY_WORDS = 107        # More than %d %s words on one line
+    ERR_NUMBER_OVERFLOW = 108       # Number '%s' at column %d is too large
     # expressions and parameters (200..299)
     ERR_DIVISION_BY_ZERO = 200      # Division by zero
     ERR_BAD_PARAMETER = 201         # Parameter P%g does not exist (P00..P99)
@@ -31,6 +36,7 @@ cdef enum ErrorNumber:
     ERR_MATH_DOMAIN = 204           # Argument out of domain in %s(%g)
     ERR_BAD_PLC_ADDRESS = 205       # PLC address %g out of range (1..%d)
     ERR_PARAM_STACK = 206           # G900 parameter stack %s
+    ERR_NOT_FINITE_RESULT = 207     # Expression '%s' does not give a finite number
     # program flow (300..399)
     ERR_UNDEFINED_LABEL = 300       # Undefined label '%s'
     ERR_DUPLICATE_LABEL = 301       # Label '%s' defined twice (first on line %d)
