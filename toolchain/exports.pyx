@@ -26,7 +26,9 @@ cdef public int32_t ToolChainCore_Init(const DLL_INIT_STRUCT *p) noexcept nogil:
 
 cdef public int32_t ToolChainCore_LoadFromIni(uint32_t intIdx, TGM_LPCTSTR iniFile, uint32_t *pnMaxCores) noexcept nogil:
     cdef Core *core = core_get(intIdx)
-    cdef int keys
+    cdef IniSettings settings
+    cdef ErrorInfo err
+    cdef int32_t result
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
     if iniFile == NULL:
@@ -35,14 +37,27 @@ cdef public int32_t ToolChainCore_LoadFromIni(uint32_t intIdx, TGM_LPCTSTR iniFi
     if status_is_running(core_status(core)):
         core_fail(core, ERR_BUSY, "LoadFromIni")
         return TOOL_CHAIN_ERROR
+    # read and parse into a copy without the lock (GetPos, GetLastError never wait
+    # for the file); store under the lock only when every value is good
     pthread_mutex_lock(&core.lock)
-    keys = ini_read(iniFile, _apply_ini, core)
-    if keys >= 0:
-        core.ini_loaded = True
+    settings.params = core.params
+    memcpy(settings.driver, core.driver, sizeof(settings.driver))
     pthread_mutex_unlock(&core.lock)
-    if keys < 0:
-        core_fail(core, ERR_INI_OPEN, iniFile)
+    settings.path = iniFile
+    settings.err = &err
+    clear_error(&err)
+    result = ini_read(iniFile, ini_apply_setting, &settings)
+    if result != 0:
+        if result != ERR_INI_VALUE:
+            set_error_text(&err, ERR_INI_OPEN if result == ERR_FILE_OPEN else result, -1, 0, iniFile)
+        _fail_with(core, &err)
         return TOOL_CHAIN_XEXEC
+    normalise_gcode_parameters(&settings.params)
+    pthread_mutex_lock(&core.lock)
+    core.params = settings.params
+    memcpy(core.driver, settings.driver, sizeof(core.driver))
+    core.ini_loaded = True
+    pthread_mutex_unlock(&core.lock)
     if pnMaxCores != NULL:
         pnMaxCores[0] = TOOL_CHAIN_MAX_CORES
     return TOOL_CHAIN_SUCCESS
@@ -86,7 +101,9 @@ cdef public int32_t ToolChainCore_GetStructuresSize(uint32_t intIdx, uint32_t nI
 cdef public int32_t ToolChainCore_SetGCodeParameters(uint32_t intIdx, const GCODE_PARAMETERS *p) noexcept nogil:
     cdef Core *core = core_get(intIdx)
     cdef int32_t status
-    cdef int i
+    cdef GCODE_PARAMETERS params
+    cdef ErrorInfo err
+    cdef bint good
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
     if p == NULL:
@@ -98,20 +115,24 @@ cdef public int32_t ToolChainCore_SetGCodeParameters(uint32_t intIdx, const GCOD
     pthread_mutex_lock(&core.lock)
     if status == CNC_STATUS_STOPPED or status == CNC_STATUS_STOPPED_BY_M0:
         # stopped on the trajectory: only what the feeds depend on may change
-        memcpy(core.params.motion, p.motion, sizeof(p.motion))
-        core.params.startAngle = p.startAngle
-        core.params.endAngle = p.endAngle
-        core.params.minAngleFeed = p.minAngleFeed
-        core.params.overrideInc = p.overrideInc
-        memcpy(core.params.arcFeedTable, p.arcFeedTable, sizeof(p.arcFeedTable))
-        memcpy(core.params.axisLimits, p.axisLimits, sizeof(p.axisLimits))
+        params = core.params
+        memcpy(params.motion, p.motion, sizeof(p.motion))
+        params.startAngle = p.startAngle
+        params.endAngle = p.endAngle
+        params.minAngleFeed = p.minAngleFeed
+        params.overrideInc = p.overrideInc
+        memcpy(params.arcFeedTable, p.arcFeedTable, sizeof(p.arcFeedTable))
+        memcpy(params.axisLimits, p.axisLimits, sizeof(p.axisLimits))
     else:
-        core.params = p[0]
-    if core.params.overrideInc <= 0.0:
-        core.params.overrideInc = 0.001
-    elif core.params.overrideInc > 0.1:
-        core.params.overrideInc = 0.1
+        params = p[0]
+    good = check_gcode_parameters(&params, &err)
+    if good:
+        normalise_gcode_parameters(&params)
+        core.params = params
     pthread_mutex_unlock(&core.lock)
+    if not good:
+        _fail_with(core, &err)
+        return TOOL_CHAIN_ERROR
     return TOOL_CHAIN_SUCCESS
 
 
@@ -141,9 +162,13 @@ cdef public int32_t ToolChainCore_GetMachineParameters(uint32_t intIdx, MACHINE_
 
 cdef public int32_t ToolChainCore_SetMachineParameters(uint32_t intIdx, MACHINE_PARAMETERS *p) noexcept nogil:
     cdef Core *core = core_get(intIdx)
+    cdef ErrorInfo err
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
     if p == NULL:
+        return TOOL_CHAIN_ERROR
+    if not check_machine_parameters(p, &err):
+        _fail_with(core, &err)
         return TOOL_CHAIN_ERROR
     pthread_mutex_lock(&core.lock)
     core.machine = p[0]
@@ -158,6 +183,8 @@ cdef public int32_t ToolChainCore_SetUserParams(uint32_t intIdx, const double *p
     if n != 0 and n != 100:
         return TOOL_CHAIN_ERROR
     if n == 100 and p == NULL:
+        return TOOL_CHAIN_ERROR
+    if n == 100 and not user_params_finite(p):
         return TOOL_CHAIN_ERROR
     pthread_mutex_lock(&core.lock)
     if n == 100:
@@ -196,7 +223,7 @@ cdef public int32_t ToolChainCore_GCodePrefixPostfix(uint32_t intIdx, TGM_LPCSTR
 
 cdef public int32_t ToolChainCore_CompileFromFile(uint32_t intIdx, TGM_LPCTSTR fileName) noexcept nogil:
     cdef Core *core = core_get(intIdx)
-    cdef FILE *probe
+    cdef int32_t unreadable
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
     if fileName == NULL:
@@ -208,11 +235,11 @@ cdef public int32_t ToolChainCore_CompileFromFile(uint32_t intIdx, TGM_LPCTSTR f
     if status_is_running(core_status(core)):
         core_fail(core, ERR_BUSY, "compilation or run")
         return TOOL_CHAIN_ERROR
-    probe = fopen(fileName, "rb")          # unreadable: refused now; read in the worker
-    if probe == NULL:
-        core_fail(core, ERR_FILE_OPEN, fileName)
+    # refused now when it cannot be read (never blocks: files.pyx); read in the worker
+    unreadable = file_check_readable(fileName)
+    if unreadable != 0:
+        core_fail(core, unreadable, fileName)
         return TOOL_CHAIN_ERROR
-    fclose(probe)
     return core_start_compile(core, fileName, NULL, 0)
 
 
@@ -358,7 +385,7 @@ cdef public int32_t ToolChainCore_StopCNCEx(uint32_t intIdx, TGM_LPCSTR addCode)
         return TOOL_CHAIN_BAD_INTR_INDEX
     status = core_status(core)
     if status != CNC_STATUS_SIMULATING and status != CNC_STATUS_TESTING:
-        core_fail(core, ERR_BAD_STATUS, "StopCNCEx")
+        core_fail_status(core, "StopCNCEx")
         return TOOL_CHAIN_ERROR
     TC_ATOMIC_STORE(&core.stop, 1)
     return TOOL_CHAIN_SUCCESS
@@ -441,7 +468,7 @@ cdef public int32_t ToolChainCore_ResetStatusCNC(uint32_t intIdx, uint32_t mode)
         return TOOL_CHAIN_BAD_INTR_INDEX
     status = core_status(core)
     if status >= 0 or mode > 1 or core_on_worker(core):
-        core_fail(core, ERR_BAD_STATUS, "ResetStatusCNC")
+        core_fail_status(core, "ResetStatusCNC")
         return TOOL_CHAIN_ERROR
     core_end_activity(core)
     if mode == 0:
@@ -510,6 +537,14 @@ cdef public int32_t ToolChainCore_SetCallBack(uint32_t intIdx, uint32_t fceNo, i
     core.callbacks[slot].user = userData if fn != NULL else 0
     pthread_mutex_unlock(&core.lock)
     return TOOL_CHAIN_SUCCESS
+
+
+cdef void _fail_with(Core *core, const ErrorInfo *err) noexcept nogil:
+    """Records and reports a refusal described by err."""
+    pthread_mutex_lock(&core.lock)
+    core.error = err[0]
+    pthread_mutex_unlock(&core.lock)
+    core_report_error(core, &core.error)
 
 
 cdef void _fail_ini_first(Core *core, uint32_t number) noexcept nogil:

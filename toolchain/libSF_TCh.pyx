@@ -12,6 +12,7 @@ from includes.system cimport *
 from program cimport *
 from errors cimport *
 
+include "numbers.pyx"
 include "errors.pyx"
 include "geometry.pyx"
 include "program.pyx"
@@ -32,7 +33,9 @@ include "compensation/insert_arcs.pyx"
 include "extent.pyx"
 include "planner.pyx"
 include "logging.pyx"
+include "files.pyx"
 include "ini.pyx"
+include "parameters.pyx"
 include "core.pyx"
 include "simulator.pyx"
 include "exports.pyx"

@@ -192,7 +192,7 @@ cdef int32_t core_start_run(Core *core, int32_t regime, const char *add_code) no
         if regime == RUN_FORWARD or regime == RUN_FORWARD_NO_M or regime == RUN_BACKWARD or regime == RUN_FORWARD_SKIP_FIRST_M:
             core_fail(core, ERR_NOT_IMPLEMENTED, "StartCNCEx of the offline machine (regimes 30-33)")
         else:
-            core_fail(core, ERR_BAD_STATUS, "StartCNCEx regime")
+            core_fail_status(core, "StartCNCEx regime")
         return TOOL_CHAIN_ERROR
     if not core.has_program or status == CNC_STATUS_NOTHING_LOADED:
         core_fail(core, ERR_NOTHING_COMPILED, NULL)
