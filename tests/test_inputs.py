@@ -310,6 +310,22 @@ def test_expression_without_a_finite_value_is_an_error(host, code, number):
     assert r.error[1] == code.count("\n") + 1         # the last line of the program
 
 
+@pytest.mark.parametrize("value", [math.nan, math.inf])
+def test_non_finite_plc_double_is_an_error(host, value):
+    """The PLC memory is the host's: a NaN or infinity read from it is refused."""
+    from sf_tch.library import plc_memory
+    memory = plc_memory(host.lib)
+    address = 4000
+    saved = bytes(memory[address:address + 8])
+    ctypes.memmove(ctypes.addressof(memory) + address, ctypes.byref(ctypes.c_double(value)), 8)
+    try:
+        r = host.compile(f"G1 X1 F100\nG1 X(ReadPLCDouble({address}))\n", run=False)
+    finally:
+        ctypes.memmove(ctypes.addressof(memory) + address, saved, 8)
+    assert r.error is not None and r.error[0] == ERR_NOT_FINITE_RESULT and r.error[1] == 2
+    assert "ReadPLCDouble" in r.error[3]
+
+
 def test_large_finite_values_still_compile(host):
     r = host.compile("P1 = 10^200 * 10^100\nG1 X1 F100\n")
     assert r.error is None
