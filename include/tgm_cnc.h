@@ -450,7 +450,8 @@ TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_Init(const DLL_INIT_STRUC
  * than 1 GiB, or a [GCodeParameters] value is not a number or outside the bounds of
  * SetGCodeParameters (error 16 naming the key and the line; nothing of the file is
  * applied) -- the reason via GetLastError and DispAndLocateError; -2 bad core; -1
- * while the core is busy. */
+ * while the core is busy. The file is read into a copy of the core's G-code
+ * parameters: a SetGCodeParameters from another thread during the call is replaced. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_LoadFromIni(uint32_t intIdx, TGM_LPCTSTR iniFile, uint32_t *pnMaxCores);
 
 /* Stops everything on the core (interrupts a compilation, ends a simulation or motion,
@@ -553,7 +554,8 @@ TOOLCHAIN_API TGM_LPCTSTR TOOLCHAIN_CALLTYPE ToolChain_IdxToFile(int32_t fileIdx
 /* Ends any activity (interrupts a compilation, stops a run) and sets the start position:
  * regime 1 only marks the program start; otherwise the first nCoords machine coordinates
  * come from coords (axis order; nCoords 0 keeps all). Status -30 when a program is
- * compiled. -1 when nCoords > 10 or coords is NULL with nCoords > 0. */
+ * compiled. -1 when nCoords > 10, coords is NULL with nCoords > 0, or one of the first
+ * nCoords coordinates is NaN or infinite (nothing done). */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_ResetCNC(uint32_t intIdx, int32_t regime, uint32_t nCoords, const double *coords);
 
 /* Starts a run in the core's thread (run_regime). addCode: M functions sent first.

@@ -278,6 +278,14 @@ def test_set_machine_parameters_bounds(fresh_core, field, axis, value, text):
     assert bytes(m) == before
 
 
+def test_reset_cnc_refuses_non_finite_coordinates(fresh_core):
+    lib = fresh_core
+    coords = (ctypes.c_double * 10)(*([1.0] * 9 + [math.inf]))
+    assert lib.ToolChainCore_ResetCNC(0, 0, 10, coords) == -1
+    assert lib.ToolChainCore_ResetCNC(0, 0, 9, coords) == 0       # the tenth is not taken
+    assert lib.ToolChainCore_ResetCNC(0, 1, 10, coords) == 0      # regime 1 takes none
+
+
 def test_set_user_params_refuses_non_finite(fresh_core):
     values = (ctypes.c_double * 100)(*([1.0] * 99 + [math.nan]))
     assert fresh_core.ToolChainCore_SetUserParams(0, values, 100) == -1

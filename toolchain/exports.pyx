@@ -354,6 +354,8 @@ cdef public int32_t ToolChainCore_ResetCNC(uint32_t intIdx, int32_t regime, uint
         return TOOL_CHAIN_BAD_INTR_INDEX
     if regime != RESET_MARK_START_ONLY and (nCoords > 10 or (nCoords > 0 and coords == NULL)):
         return TOOL_CHAIN_ERROR
+    if regime != RESET_MARK_START_ONLY and not coordinates_finite(coords, nCoords):
+        return TOOL_CHAIN_ERROR
     core_end_activity(core)
     pthread_mutex_lock(&core.lock)
     if regime != RESET_MARK_START_ONLY and nCoords > 0:

@@ -3,7 +3,8 @@
 # printf would write 15,62. Every conversion between a double and text in the
 # library goes through here: one C locale object, created once, used by strtod_l
 # and, per call and per thread, around vsnprintf (uselocale only changes the
-# calling thread, so a host thread gets its own locale back at once).
+# calling thread, so a host thread gets its own locale back at once). Integers and
+# strings print the same in every locale: only conversions of doubles need this.
 from libc.math cimport isfinite
 from libc.stdlib cimport strtol
 

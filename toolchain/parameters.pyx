@@ -201,8 +201,13 @@ cdef void normalise_gcode_parameters(GCODE_PARAMETERS *p) noexcept nogil:
 
 cdef bint user_params_finite(const double *values) noexcept nogil:
     """SetUserParams: the 100 presets P00..P99 are finite numbers."""
-    cdef int i
-    for i in range(100):
+    return coordinates_finite(values, 100)
+
+
+cdef bint coordinates_finite(const double *values, uint32_t n) noexcept nogil:
+    """The first n values (ResetCNC's coordinates, presets) are finite numbers."""
+    cdef uint32_t i
+    for i in range(n):
         if not isfinite(values[i]):
             return False
     return True
