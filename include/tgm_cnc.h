@@ -540,7 +540,8 @@ TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GetGCodeSizeInfo(uint32_t
  * or SetGCodeRunTime; negative if unknown. */
 TOOLCHAIN_API double TOOLCHAIN_CALLTYPE ToolChainCore_GetGCodeRunTime(uint32_t intIdx, int32_t fileIdx);
 
-/* Stores a known run time for a file index. -1 for a negative index or time. */
+/* Stores a known run time for a file index. -1 for a negative index, a negative,
+ * infinite or NaN time. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_SetGCodeRunTime(uint32_t intIdx, int32_t fileIdx, double seconds);
 
 /* Legacy single-core names: core 0. */

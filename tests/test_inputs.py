@@ -286,6 +286,15 @@ def test_reset_cnc_refuses_non_finite_coordinates(fresh_core):
     assert lib.ToolChainCore_ResetCNC(0, 1, 10, coords) == 0      # regime 1 takes none
 
 
+def test_set_gcode_run_time_refuses_non_finite(fresh_core):
+    lib = fresh_core
+    idx = lib.ToolChainCore_FileToIdx(0, b"timed.nc")
+    assert lib.ToolChainCore_SetGCodeRunTime(0, idx, math.inf) == -1
+    assert lib.ToolChainCore_SetGCodeRunTime(0, idx, math.nan) == -1
+    assert lib.ToolChainCore_SetGCodeRunTime(0, idx, 12.5) == 0
+    assert lib.ToolChainCore_GetGCodeRunTime(0, idx) == 12.5
+
+
 def test_set_user_params_refuses_non_finite(fresh_core):
     values = (ctypes.c_double * 100)(*([1.0] * 99 + [math.nan]))
     assert fresh_core.ToolChainCore_SetUserParams(0, values, 100) == -1

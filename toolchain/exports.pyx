@@ -336,7 +336,7 @@ cdef public int32_t ToolChainCore_SetGCodeRunTime(uint32_t intIdx, int32_t fileI
     cdef int32_t result = TOOL_CHAIN_ERROR
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
-    if fileIdx < 0 or not (seconds >= 0.0):
+    if fileIdx < 0 or not (seconds >= 0.0) or not isfinite(seconds):
         return TOOL_CHAIN_ERROR
     pthread_mutex_lock(&core.lock)
     if fileIdx < core.n_files:
