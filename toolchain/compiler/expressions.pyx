@@ -160,6 +160,7 @@ cdef int ex_param_index(CState *st, const char **pp, const char *eol) noexcept n
 cdef int ex_primary(CState *st, const char **pp, const char *eol, double *out, int depth) noexcept nogil:
     cdef const char *p = lx_skip_ws(pp[0], eol)
     cdef const char *name
+    cdef const char *number_start
     cdef int n, r, nargs, idx
     cdef double args[2]
     cdef double extra
@@ -168,10 +169,10 @@ cdef int ex_primary(CState *st, const char **pp, const char *eol, double *out, i
     if p >= eol:
         return ex_error(st, pp[0], eol)
     if lx_is_digit(p[0]) or p[0] == b'.':
-        name = p
+        number_start = p
         r = lx_number(&p, eol, out)
         if r == -3:
-            return ex_overflow(st, name, p, eol)
+            return ex_overflow(st, number_start, p, eol)
         if r != 0:
             return cerr_text(st, ERR_BAD_NUMBER, cword(st, pp[0], eol, <int>(p - pp[0]) + 1))
         pp[0] = p
