@@ -451,8 +451,14 @@ TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_Init(const DLL_INIT_STRUC
 
 /* Loads the core's configuration from a Windows-syntax INI file ([Modules], [CNC],
  * [GCodeParameters]) and writes the number of cores to *pnMaxCores (may be NULL).
- * Returns 0, or 1 (TOOL_CHAIN_XEXEC) when the file is missing or unreadable (the reason
- * via GetLastError and DispAndLocateError); -2 bad core; -1 while the core is busy. */
+ * Only a regular file is read (a FIFO or device never blocks the call), without the
+ * core's lock; numbers have a '.' decimal point whatever the locale. Returns 0, or 1
+ * (TOOL_CHAIN_XEXEC) when the file is missing, not a regular file, unreadable, larger
+ * than 1 GiB, or a [GCodeParameters] value is not a number or outside the bounds of
+ * SetGCodeParameters (error 16 naming the key and the line; nothing of the file is
+ * applied) -- the reason via GetLastError and DispAndLocateError; -2 bad core; -1
+ * while the core is busy. The file is read into a copy of the core's G-code
+ * parameters: a SetGCodeParameters from another thread during the call is replaced. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_LoadFromIni(uint32_t intIdx, TGM_LPCTSTR iniFile, uint32_t *pnMaxCores);
 
 /* Stops everything on the core (interrupts a compilation, ends a simulation or motion,
@@ -477,18 +483,31 @@ TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GetStructuresSize(uint32_
 
 /* Sets the core's G-code properties. -1 for NULL, while compiling or moving; while
  * stopped on the trajectory only the feed-related fields (motion, startAngle, endAngle,
- * minAngleFeed, overrideInc, arcFeedTable, axisLimits) are taken. */
+ * minAngleFeed, overrideInc, arcFeedTable, axisLimits) are taken.
+ * -1 too, nothing changed and an error naming the field (14 not finite, 15 out of
+ * range), when a double taken is NaN, infinite or outside its bounds:
+ *   motion[i].feed/acc/dec in (0, 1e9]; correction[i].size, dynamicG4xCorrection_mm
+ *   in [-1e6, 1e6] mm; maxConnectionDistance, tolerance[i], arcFeedTable[i].m_r,
+ *   mFuncInsertTable[i].distance, insertArcToleranceRMax/RMin in [0, 1e6];
+ *   minAngleFeed, centripetalAcc, axisLimits[i].* in [0, 1e9] (0 = no limit);
+ *   startAngle, endAngle, insertArcMaxAngle/MinAngle in [0, 360] degrees;
+ *   arcFeedTable[i].m_relFeed in [0, 100]; mFuncInsertTable[i].relFeed in [0, 1];
+ *   dynamicG4xCorrection_percent in [-1000, 1000]; overrideInc finite (then clamped:
+ *   0 or less -> 0.001, at most 0.1). `reserved` and the integers are not checked. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_SetGCodeParameters(uint32_t intIdx, const GCODE_PARAMETERS *p);
 
 /* Copies the current G-code properties (defaults, INI or the last Set). -1 NULL. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GetGCodeParameters(uint32_t intIdx, GCODE_PARAMETERS *p);
 
-/* Soft limits and backlash; any status. -1 NULL. */
+/* Soft limits and backlash; any status. -1 NULL. SetMachineParameters: -1 too, nothing
+ * changed and an error naming the field, when minCoords, maxCoords or refCoords is not
+ * finite or beyond +-1e6 mm, or backlash / backlashInc is outside [0, 1e6]. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GetMachineParameters(uint32_t intIdx, MACHINE_PARAMETERS *p);
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_SetMachineParameters(uint32_t intIdx, MACHINE_PARAMETERS *p);
 
 /* Presets P00..P99 for the next compilations: n = 100 (p not NULL) sets them, n = 0
- * clears the preset (parameters start at 0). Other n: -1. */
+ * clears the preset (parameters start at 0). Other n, or a value that is NaN or
+ * infinite: -1. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_SetUserParams(uint32_t intIdx, const double *p, uint32_t n);
 
 /* G-code compiled before / after every main program; NULL = none. -1 while compiling. */
@@ -499,7 +518,9 @@ TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GCodePrefixPostfix(uint32
  */
 
 /* Starts compiling a file in the core's background thread and returns at once:
- * 0 (status already reads 1 or -1), -1 bad name / unreadable file / already busy, -2.
+ * 0 (status already reads 1 or -1), -1 bad name / unreadable file / not a regular file
+ * (a FIFO or device: refused, never opened blocking) / larger than 1 GiB / already
+ * busy, -2.
  * The result: StatusCNC -1, then GetLastError. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_CompileFromFile(uint32_t intIdx, TGM_LPCTSTR fileName);
 
@@ -537,7 +558,8 @@ TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GetGCodeSizeInfo(uint32_t
  * or SetGCodeRunTime; negative if unknown. */
 TOOLCHAIN_API double TOOLCHAIN_CALLTYPE ToolChainCore_GetGCodeRunTime(uint32_t intIdx, int32_t fileIdx);
 
-/* Stores a known run time for a file index. -1 for a negative index or time. */
+/* Stores a known run time for a file index. -1 for a negative index, a negative,
+ * infinite or NaN time. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_SetGCodeRunTime(uint32_t intIdx, int32_t fileIdx, double seconds);
 
 /* Legacy single-core names: core 0. */
@@ -554,7 +576,8 @@ TOOLCHAIN_API TGM_LPCTSTR TOOLCHAIN_CALLTYPE ToolChain_IdxToFile(int32_t fileIdx
  * coordinates come from coords (axis order; nCoords 0 keeps all). A program written
  * relative to its start (G91 from the first block) moves with it; any other keeps its
  * positions and only its first move starts there. Status -30 when a program is
- * compiled. -1 when nCoords > 10 or coords is NULL with nCoords > 0. */
+ * compiled. -1 when nCoords > 10, coords is NULL with nCoords > 0, or one of the first
+ * nCoords coordinates is NaN or infinite (nothing done). */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_ResetCNC(uint32_t intIdx, int32_t regime, uint32_t nCoords, const double *coords);
 
 /* Starts a run in the core's worker (run_regime) from the machine position; a

@@ -68,9 +68,12 @@ def default_params(lib, core):
     return p
 
 
-def last_error(lib, core):
+def last_error(lib, core, refused_call=False):
+    """(number, line, file, text, arguments) of the last compilation's or run's error
+    (GetLastError), or with refused_call of the last refused call (GetLastCallError)."""
     info = abi.CALLBACK_INFO()
-    rc = lib.ToolChainCore_GetLastError(core, ctypes.byref(info))
+    read = lib.ToolChainCore_GetLastCallError if refused_call else lib.ToolChainCore_GetLastError
+    rc = read(core, ctypes.byref(info))
     if rc != 1:
         return None
     return (info.stringId, info.actLine, info.fileIdx, (info.m_fullError or b"").decode(),

@@ -69,7 +69,7 @@ def err(host, code, **kw):
     ("M99999999999999999999\n", 405, 1, None),
     ("G(10^300)\n", 404, 1, None),
     ("G25 L(10^300)\n", 300, 1, None),
-    ("G26 L(-10^300) H(10^300)\n", 300, 1, None),
+    ("G26 L(-10^300) H(10^300)\n", 106, 1, None),      # H beyond 1e30 is refused first
     ("G900 S(10^300)\n", 106, 1, None),
 ])
 def test_error(host, code, number, line, text):
@@ -80,9 +80,15 @@ def test_error(host, code, number, line, text):
         assert e[3] == text, e
 
 
-def test_huge_values_saturate(host):
-    r = host.compile("T(10^300) M6\nM-6 S(10^300)\nG168 Q(10^300) R1\n", run=False)
-    assert r.error[0] == 403
+@pytest.mark.parametrize("line, letter", [("T(10^300) M6", "T"), ("M-6 S(10^300)", "S"),
+                                          ("G168 Q(10^300) R1", "Q"), ("G1 X(-10^30 * 1.01)", "X"),
+                                          ("G1 F(2 * 10^30) X1", "F")])
+def test_huge_values_are_refused(host, line, letter):
+    """Beyond 1e30 a word (other than G, M, L) is a bad value: a part never carries
+    an infinite float."""
+    r = host.compile("G1 X1 F100\n" + line + "\n", run=False)
+    assert r.error[0] == 106 and r.error[1] == 2
+    assert r.error[3].startswith("Bad value") and r.error[3].endswith(f"of address {letter}")
 
 
 def test_error_file_index_and_prefix(host):

@@ -311,8 +311,23 @@ def _distinct_parameters():
     raw = (ctypes.c_ubyte * ctypes.sizeof(p)).from_buffer(p)
     for i in range(len(raw)):
         raw[i] = (i * 7 + 3) & 0xFF
-    # doubles made of those bytes are valid numbers; keep overrideInc in range
-    p.overrideInc = 0.05
+    # the doubles: distinct and within the bounds SetGCodeParameters checks
+    doubles = iter(0.001 * k for k in range(1, 1000))
+
+    def fill(struct):           # ctypes hands out views: assignments reach p
+        for name, ctype in struct._fields_:
+            value = getattr(struct, name)
+            if ctype is ctypes.c_double:
+                setattr(struct, name, next(doubles))
+            elif isinstance(value, ctypes.Structure):
+                fill(value)
+            elif isinstance(value, ctypes.Array) and value._type_ is ctypes.c_double:
+                for k in range(len(value)):
+                    value[k] = next(doubles)
+            elif isinstance(value, ctypes.Array) and issubclass(value._type_, ctypes.Structure):
+                for item in value:
+                    fill(item)
+    fill(p)
     return p
 
 

@@ -171,7 +171,7 @@ def test_a_refused_call_keeps_the_compile_error_and_names_the_status(fresh_core)
     info = abi.CALLBACK_INFO()
     assert lib.ToolChainCore_GetLastError(CORE, ctypes.byref(info)) == 0
     assert lib.ToolChainCore_GetLastCallError(CORE, ctypes.byref(info)) == 1
-    assert info.m_fullError == b"StopCNCEx not allowed in status -1 (compiled)"
+    assert info.m_fullError == b"StopCNCEx not allowed in status -1 (compilation finished)"
     assert compile_(lib, BAD) == -1
     assert lib.ToolChainCore_StopCNCEx(CORE, None) == -1
     assert lib.ToolChainCore_GetLastError(CORE, ctypes.byref(info)) == 1

@@ -12,9 +12,8 @@
 # for a worker: it leaves its end to the worker, which applies it when the callback
 # has returned.
 from libc.stdlib cimport malloc, calloc, free
-from libc.string cimport memset, memcpy, memcmp, strlen, strcmp, strncpy, strcasecmp, strdup
-from libc.stdio cimport snprintf, FILE, fopen, fclose, fread, fseek, ftell, SEEK_END, SEEK_SET
-from libc.stdlib cimport strtod, strtol, strtoul
+from libc.string cimport memset, memcpy, memcmp, strlen, strcmp, strncpy, strdup
+from libc.stdio cimport snprintf
 
 cdef extern from *:
     """
@@ -39,57 +38,6 @@ cdef Core g_cores[3]
 cdef pthread_once_t g_once
 cdef int32_t g_core_mode           # Local_Core_Mode of ToolChainCore_Init (2 offline until Init)
 cdef char g_macros_dir[1024]       # Macros_Dir of ToolChainCore_Init (external G functions: not used yet)
-
-
-cdef void default_gcode_parameters(GCODE_PARAMETERS *p) noexcept nogil:
-    """The documented defaults (ABI.md)."""
-    cdef int i
-    memset(p, 0, sizeof(GCODE_PARAMETERS))
-    p.absMode = 1
-    p.correctionStrategy = 0x600
-    for i in range(8):
-        p.motion[i].feed = 1000.0
-        p.motion[i].acc = 500.0
-        p.motion[i].dec = 500.0
-        p.motion[i].rampType = 1
-    p.motion[0].feed = 10000.0          # rapid
-    p.motion[6].dec = 1000.0            # normal stop
-    p.motion[7].dec = 5000.0            # emergency stop
-    for i in range(8):
-        p.correction[i].gCode = 41 + i
-    p.maxConnectionDistance = 10.0
-    p.startAngle = 360.0
-    p.endAngle = 360.0
-    p.overrideInc = 0.001
-    p.M02_programEnd1 = 2
-    p.M30_programEnd2 = 30
-    p.M03_startSpindleCW = 3
-    p.M04_startSpindleCCW = 4
-    p.M05_stopSpindle = 5
-    p.M06_changeTool = 6
-    p.M07_coolOn = 7
-    p.M08_oilOn = 8
-    p.M09_coolOilOff = 9
-    p.M17_return = 17
-    p.M29_print = 29
-    p.M80_mirrorOff = 80
-    p.M81_mirrorX = 81
-    p.M82_mirrorY = 82
-    p.M83_mirrorZ = 83
-    p.M84_mirrorXY = 84
-    p.M85_mirrorXZ = 85
-    p.M86_mirrorYZ = 86
-    p.M87_mirrorXYZ = 87
-    p.M99_defFeed = 99
-    p.insertArcToleranceRMax = 0.03
-    p.insertArcToleranceRMin = 0.03
-    p.insertArcMaxAngle = 90.0
-    p.tolerance[0] = 0.005
-    p.tolerance[1] = 0.001
-    p.tolerance[2] = 0.03
-    p.tolerance[3] = 0.005
-    p.tolerance[5] = 3.0
-    p.tolerance[6] = 0.01
 
 
 cdef void _init_cores() noexcept nogil:
@@ -141,35 +89,32 @@ cdef int32_t core_fail(Core *core, int32_t number, const char *text_arg) noexcep
     if err == NULL:
         return TOOL_CHAIN_ERROR
     set_error_text(err, number, -1, 0, text_arg)
-    pthread_mutex_lock(&core.lock)
-    core.call_error = err[0]
-    pthread_mutex_unlock(&core.lock)
-    core_report_error(core, err)
+    core_fail_with(core, err)
     free(err)
     return TOOL_CHAIN_ERROR
 
 
 cdef int32_t core_refuse(Core *core, const char *what, int32_t status) noexcept nogil:
     """A call the transition table refuses in `status`: ERR_BUSY while an activity
-    runs, ERR_BAD_STATUS (with the status' number and name) otherwise."""
+    runs, ERR_BAD_STATUS (the status' number and name) otherwise."""
     cdef ErrorInfo *err
-    cdef ErrArg args[3]
     if status > 0:
         return core_fail(core, ERR_BUSY, status_name(status))
     err = <ErrorInfo *>malloc(sizeof(ErrorInfo))
     if err == NULL:
         return TOOL_CHAIN_ERROR
-    args[0].text = what
-    args[1].text = NULL
-    args[1].num = status
-    args[2].text = status_name(status)
-    set_error(err, ERR_BAD_STATUS, -1, 0, args, 3)
+    set_error_status(err, what, status)
+    core_fail_with(core, err)
+    free(err)
+    return TOOL_CHAIN_ERROR
+
+
+cdef void core_fail_with(Core *core, const ErrorInfo *err) noexcept nogil:
+    """Records `err` as the error of a refused call (GetLastCallError) and reports it."""
     pthread_mutex_lock(&core.lock)
     core.call_error = err[0]
     pthread_mutex_unlock(&core.lock)
     core_report_error(core, err)
-    free(err)
-    return TOOL_CHAIN_ERROR
 
 
 # ------------------------------------------------------------------ files
@@ -600,89 +545,3 @@ cdef int32_t core_start_compile(Core *core, const char *name, char *text, size_t
     return core_begin(core, CMD_COMPILE, "compilation", _compile_body, job)
 
 
-cdef enum:
-    MAX_SOURCE_BYTES = 1 << 30      # 1 GiB: larger G-code files are refused
-
-
-cdef char *read_whole_file(const char *path, size_t *length, int32_t *error) noexcept nogil:
-    """The file's bytes, NUL-terminated (malloc'ed); NULL with *error set
-    (ERR_FILE_OPEN, ERR_FILE_READ, ERR_FILE_TOO_LARGE, ERR_OUT_OF_MEMORY)."""
-    cdef FILE *f = fopen(path, "rb")
-    cdef long size
-    cdef char *buf
-    if f == NULL:
-        error[0] = ERR_FILE_OPEN
-        return NULL
-    if fseek(f, 0, SEEK_END) != 0:
-        fclose(f)
-        error[0] = ERR_FILE_READ
-        return NULL
-    size = ftell(f)
-    if size < 0 or fseek(f, 0, SEEK_SET) != 0:
-        fclose(f)
-        error[0] = ERR_FILE_READ
-        return NULL
-    if size > MAX_SOURCE_BYTES:
-        fclose(f)
-        error[0] = ERR_FILE_TOO_LARGE
-        return NULL
-    buf = <char *>malloc(<size_t>size + 1)
-    if buf == NULL:
-        fclose(f)
-        error[0] = ERR_OUT_OF_MEMORY
-        return NULL
-    if fread(buf, 1, <size_t>size, f) != <size_t>size:
-        free(buf)
-        fclose(f)
-        error[0] = ERR_FILE_READ
-        return NULL
-    fclose(f)
-    buf[size] = 0
-    length[0] = <size_t>size
-    return buf
-
-
-# ------------------------------------------------------------------ INI
-
-cdef void _apply_ini(void *ctx, const char *section, const char *key, const char *value) noexcept nogil:
-    cdef Core *core = <Core *>ctx
-    if strcasecmp(section, "CNC") == 0 and strcasecmp(key, "Driver") == 0:
-        strncpy(core.driver, value, sizeof(core.driver) - 1)
-    elif strcasecmp(section, "GCodeParameters") == 0:
-        gcode_parameter_from_ini(&core.params, key, value)
-
-
-cdef bint gcode_parameter_from_ini(GCODE_PARAMETERS *p, const char *key, const char *value) noexcept nogil:
-    """[GCodeParameters] key = value for the scalar fields of GCODE_PARAMETERS and
-    the radii correction0..correction7; False for an unknown key (ignored)."""
-    cdef double d = strtod(value, NULL)
-    cdef long i = strtol(value, NULL, 0)
-    if strcasecmp(key, "absMode") == 0: p.absMode = <int32_t>i
-    elif strcasecmp(key, "swapG2G3") == 0: p.swapG2G3 = <int32_t>i
-    elif strcasecmp(key, "correctionStrategy") == 0: p.correctionStrategy = <uint32_t>strtoul(value, NULL, 0)
-    elif strcasecmp(key, "forceMode") == 0: p.forceMode = <int32_t>i
-    elif strcasecmp(key, "calcTime") == 0: p.calcTime = <int32_t>i
-    elif strcasecmp(key, "insertArcMode") == 0: p.insertArcMode = <int32_t>i
-    elif strcasecmp(key, "maxConnectionDistance") == 0: p.maxConnectionDistance = d
-    elif strcasecmp(key, "startAngle") == 0: p.startAngle = d
-    elif strcasecmp(key, "endAngle") == 0: p.endAngle = d
-    elif strcasecmp(key, "minAngleFeed") == 0: p.minAngleFeed = d
-    elif strcasecmp(key, "overrideInc") == 0: p.overrideInc = d
-    elif strcasecmp(key, "rapidFeed") == 0: p.motion[0].feed = d
-    elif strcasecmp(key, "forwardFeed") == 0: p.motion[1].feed = d
-    elif strncasecmp_prefix(key, "correction") and key[10] >= b'0' and key[10] <= b'7' and key[11] == 0:
-        p.correction[<int>key[10] - 48].size = d
-    elif strncasecmp_prefix(key, "tolerance") and key[9] >= b'0' and key[9] <= b'9' and key[10] == 0:
-        p.tolerance[<int>key[9] - 48] = d
-    else:
-        return False
-    return True
-
-
-cdef bint strncasecmp_prefix(const char *s, const char *prefix) noexcept nogil:
-    cdef size_t i = 0
-    while prefix[i] != 0:
-        if s[i] == 0 or (s[i] | 0x20) != (prefix[i] | 0x20):
-            return False
-        i += 1
-    return True

@@ -16,6 +16,10 @@ cdef enum ErrorNumber:
     ERR_FILE_TOO_LARGE = 12         # File '%s' is larger than 1 GiB
     ERR_REENTRANT = 20              # %s is not allowed inside a callback of the core's running activity
     ERR_BAD_REGIME = 21             # StartCNCEx: unknown regime
+    ERR_NOT_REGULAR_FILE = 13       # '%s' is not a regular file
+    ERR_NOT_FINITE = 14             # %s = %g is not a finite number
+    ERR_OUT_OF_RANGE = 15           # %s = %g is outside <%g, %g>
+    ERR_INI_VALUE = 16              # INI file '%s' line %d: %s
     # lexical (100..199)
     ERR_UNKNOWN_WORD = 100          # Unknown word '%s'
     ERR_BAD_NUMBER = 101            # Bad number '%s'
@@ -25,6 +29,7 @@ cdef enum ErrorNumber:
     ERR_LINE_TOO_LONG = 105         # Line longer than %d characters
     ERR_BAD_VALUE = 106             # Bad value %g of address %s
     ERR_TOO_MANY_WORDS = 107        # More than %d %s words on one line
+    ERR_NUMBER_OVERFLOW = 108       # Number '%s' at column %d is too large
     # expressions and parameters (200..299)
     ERR_DIVISION_BY_ZERO = 200      # Division by zero
     ERR_BAD_PARAMETER = 201         # Parameter P%g does not exist (P00..P99)
@@ -33,6 +38,7 @@ cdef enum ErrorNumber:
     ERR_MATH_DOMAIN = 204           # Argument out of domain in %s(%g)
     ERR_BAD_PLC_ADDRESS = 205       # PLC address %g out of range (1..%d)
     ERR_PARAM_STACK = 206           # G900 parameter stack %s
+    ERR_NOT_FINITE_RESULT = 207     # Expression '%s' does not give a finite number
     # program flow (300..399)
     ERR_UNDEFINED_LABEL = 300       # Undefined label '%s'
     ERR_DUPLICATE_LABEL = 301       # Label '%s' defined twice (first on line %d)

@@ -1,6 +1,6 @@
 # The English texts of the error catalogue (numbers in errors.pxd) and the one way
-# an error is recorded: set_error formats the text and its '\n'-separated arguments.
-from libc.stdio cimport snprintf
+# an error is recorded: set_error formats the text and its '\n'-separated arguments
+# (numbers with a '.' decimal point under any locale: numbers.pyx c_snprintf).
 from libc.string cimport memset, strlen
 from errors cimport *
 
@@ -20,6 +20,10 @@ cdef const char *error_format(int32_t number) noexcept nogil:
     if number == ERR_NOT_IMPLEMENTED: return "%s is not implemented yet"
     if number == ERR_INI_FIRST: return "Callback %d needs LoadFromIni first"
     if number == ERR_FILE_TOO_LARGE: return "File '%s' is larger than 1 GiB"
+    if number == ERR_NOT_REGULAR_FILE: return "'%s' is not a regular file"
+    if number == ERR_NOT_FINITE: return "%s = %g is not a finite number"
+    if number == ERR_OUT_OF_RANGE: return "%s = %g is outside <%g, %g>"
+    if number == ERR_INI_VALUE: return "INI file '%s' line %d: %s"
     if number == ERR_UNKNOWN_WORD: return "Unknown word '%s'"
     if number == ERR_BAD_NUMBER: return "Bad number '%s'"
     if number == ERR_MISSING_VALUE: return "Address %s without a value"
@@ -28,7 +32,9 @@ cdef const char *error_format(int32_t number) noexcept nogil:
     if number == ERR_LINE_TOO_LONG: return "Line longer than %d characters"
     if number == ERR_BAD_VALUE: return "Bad value %g of address %s"
     if number == ERR_TOO_MANY_WORDS: return "More than %d %s words on one line"
+    if number == ERR_NUMBER_OVERFLOW: return "Number '%s' at column %d is too large"
     if number == ERR_PARAM_STACK: return "G900 parameter stack %s"
+    if number == ERR_NOT_FINITE_RESULT: return "Expression '%s' does not give a finite number"
     if number == ERR_DIVISION_BY_ZERO: return "Division by zero"
     if number == ERR_BAD_PARAMETER: return "Parameter P%g does not exist (P00..P99)"
     if number == ERR_BAD_EXPRESSION: return "Syntax error in expression '%s'"
@@ -67,6 +73,51 @@ cdef const char *error_format(int32_t number) noexcept nogil:
     return NULL
 
 
+cdef const char *status_name(int32_t status) noexcept nogil:
+    """Every cnc_status of the API (include/tgm_cnc.h) by name, for error texts;
+    "unknown" for a value that is not a status."""
+    if status == CNC_STATUS_NOTHING_LOADED: return "nothing loaded"
+    if status == CNC_STATUS_NOT_CONNECTED: return "remote device not connected"
+    if status == CNC_STATUS_COMPILING: return "compiling"
+    if status == CNC_STATUS_COMPILED: return "compilation finished"
+    if status == CNC_STATUS_SIMULATING: return "simulating"
+    if status == CNC_STATUS_SIMULATION_DONE: return "simulation finished"
+    if status == CNC_STATUS_SIMULATION_STOPPED: return "simulation stopped"
+    if status == CNC_STATUS_TESTING: return "test running"
+    if status == CNC_STATUS_TEST_DONE: return "test finished"
+    if status == CNC_STATUS_TEST_STOPPED: return "test stopped"
+    if status == CNC_STATUS_AT_START: return "at the start of the trajectory"
+    if status == CNC_STATUS_STOPPED: return "stopped on the trajectory"
+    if status == CNC_STATUS_AT_END: return "end of the trajectory"
+    if status == CNC_STATUS_STOPPED_BY_M0: return "stopped by M0"
+    if status == CNC_STATUS_FORWARD: return "running forward"
+    if status == CNC_STATUS_FORWARD_NO_M: return "running forward without M functions"
+    if status == CNC_STATUS_BACKWARD: return "running backward"
+    if status == CNC_STATUS_FORWARD_SKIP_FIRST_M: return "running forward skipping the first M functions"
+    if status == CNC_STATUS_CONNECT_CALCULATING: return "calculating the connection"
+    if status == CNC_STATUS_CONNECT_MOVING: return "moving to the connection point"
+    if status == CNC_STATUS_MANUAL_MOVE: return "manual move"
+    if status == CNC_STATUS_OUT_OF_TRAJECTORY: return "out of the trajectory"
+    if status == CNC_STATUS_INTERNAL_CALC: return "internal calculation"
+    if status == CNC_STATUS_SENDING_START_M: return "sending start M functions"
+    if status == CNC_STATUS_SENDING_STOP_M: return "sending stop M functions"
+    if status == CNC_STATUS_SENDING_CONNECT_M: return "sending connect M functions"
+    if status == CNC_STATUS_INVALID: return "invalid"
+    return "unknown"
+
+
+cdef void set_error_status(ErrorInfo *err, const char *what, int32_t status) noexcept nogil:
+    """ERR_BAD_STATUS: `what` is not allowed in `status` (number and name)."""
+    cdef ErrArg a[3]
+    a[0].num = 0
+    a[0].text = what
+    a[1].num = status
+    a[1].text = NULL
+    a[2].num = 0
+    a[2].text = status_name(status)
+    set_error(err, ERR_BAD_STATUS, -1, 0, a, 3)
+
+
 cdef size_t _append(char *buf, size_t cap, size_t pos, const char *s, size_t n) noexcept nogil:
     # Copies n bytes of s at buf[pos], truncating at cap - 1; keeps buf terminated.
     cdef size_t i = 0
@@ -96,7 +147,7 @@ cdef void set_error(ErrorInfo *err, int32_t number, int32_t file_idx, int32_t li
     err.text[0] = 0
     err.args[0] = 0
     if fmt == NULL:  # not in the catalogue: keep the number visible
-        n = snprintf(piece, sizeof(piece), "Error %d", number)
+        n = c_snprintf(piece, sizeof(piece), "Error %d", number)
         _append(err.text, ERROR_TEXT_BYTES, 0, piece, <size_t>n)
         return
     while p[0] != 0:
@@ -124,14 +175,14 @@ cdef void set_error(ErrorInfo *err, int32_t number, int32_t file_idx, int32_t li
                 text_arg = args[used].text
                 if text_arg == NULL:
                     text_arg = "(null)"
-                n = snprintf(piece, sizeof(piece), spec, text_arg)
+                n = c_snprintf(piece, sizeof(piece), spec, text_arg)
             elif conv == b'd' or conv == b'i' or conv == b'x':
-                n = snprintf(piece, sizeof(piece), spec, <int>args[used].num)
+                n = c_snprintf(piece, sizeof(piece), spec, <int>args[used].num)
             else:
-                n = snprintf(piece, sizeof(piece), spec, args[used].num)
+                n = c_snprintf(piece, sizeof(piece), spec, args[used].num)
             used += 1
         else:
-            n = snprintf(piece, sizeof(piece), "?")
+            n = c_snprintf(piece, sizeof(piece), "?")
         if n < 0:
             n = 0
         if n >= <int>sizeof(piece):

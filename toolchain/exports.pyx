@@ -26,7 +26,9 @@ cdef public int32_t ToolChainCore_Init(const DLL_INIT_STRUCT *p) noexcept nogil:
 
 cdef public int32_t ToolChainCore_LoadFromIni(uint32_t intIdx, TGM_LPCTSTR iniFile, uint32_t *pnMaxCores) noexcept nogil:
     cdef Core *core = core_get(intIdx)
-    cdef int keys
+    cdef IniSettings settings
+    cdef ErrorInfo err
+    cdef int32_t result
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
     if iniFile == NULL:
@@ -36,13 +38,26 @@ cdef public int32_t ToolChainCore_LoadFromIni(uint32_t intIdx, TGM_LPCTSTR iniFi
     if status_after(core_status(core), CMD_LOAD_INI, False) == TC_REFUSED:
         pthread_mutex_unlock(&core.lock)
         return core_refuse(core, "LoadFromIni", core_status(core))
-    keys = ini_read(iniFile, _apply_ini, core)
-    if keys >= 0:
-        core.ini_loaded = True
+    # read and parse into a copy without the lock (GetPos, GetLastError never wait
+    # for the file); store under the lock only when every value is good
+    settings.params = core.params
+    memcpy(settings.driver, core.driver, sizeof(settings.driver))
     pthread_mutex_unlock(&core.lock)
-    if keys < 0:
-        core_fail(core, ERR_INI_OPEN, iniFile)
+    settings.path = iniFile
+    settings.err = &err
+    clear_error(&err)
+    result = ini_read(iniFile, ini_apply_setting, &settings)
+    if result != 0:
+        if result != ERR_INI_VALUE:
+            set_error_text(&err, ERR_INI_OPEN if result == ERR_FILE_OPEN else result, -1, 0, iniFile)
+        core_fail_with(core, &err)
         return TOOL_CHAIN_XEXEC
+    normalise_gcode_parameters(&settings.params)
+    pthread_mutex_lock(&core.lock)
+    core.params = settings.params
+    memcpy(core.driver, settings.driver, sizeof(core.driver))
+    core.ini_loaded = True
+    pthread_mutex_unlock(&core.lock)
     if pnMaxCores != NULL:
         pnMaxCores[0] = TOOL_CHAIN_MAX_CORES
     return TOOL_CHAIN_SUCCESS
@@ -85,7 +100,9 @@ cdef public int32_t ToolChainCore_GetStructuresSize(uint32_t intIdx, uint32_t nI
 cdef public int32_t ToolChainCore_SetGCodeParameters(uint32_t intIdx, const GCODE_PARAMETERS *p) noexcept nogil:
     cdef Core *core = core_get(intIdx)
     cdef int32_t status
-    cdef int i
+    cdef GCODE_PARAMETERS params
+    cdef ErrorInfo err
+    cdef bint good
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
     if p == NULL:
@@ -97,20 +114,24 @@ cdef public int32_t ToolChainCore_SetGCodeParameters(uint32_t intIdx, const GCOD
         return core_refuse(core, "SetGCodeParameters", status)
     if status == CNC_STATUS_STOPPED or status == CNC_STATUS_STOPPED_BY_M0:
         # stopped on the trajectory: only what the feeds depend on may change
-        memcpy(core.params.motion, p.motion, sizeof(p.motion))
-        core.params.startAngle = p.startAngle
-        core.params.endAngle = p.endAngle
-        core.params.minAngleFeed = p.minAngleFeed
-        core.params.overrideInc = p.overrideInc
-        memcpy(core.params.arcFeedTable, p.arcFeedTable, sizeof(p.arcFeedTable))
-        memcpy(core.params.axisLimits, p.axisLimits, sizeof(p.axisLimits))
+        params = core.params
+        memcpy(params.motion, p.motion, sizeof(p.motion))
+        params.startAngle = p.startAngle
+        params.endAngle = p.endAngle
+        params.minAngleFeed = p.minAngleFeed
+        params.overrideInc = p.overrideInc
+        memcpy(params.arcFeedTable, p.arcFeedTable, sizeof(p.arcFeedTable))
+        memcpy(params.axisLimits, p.axisLimits, sizeof(p.axisLimits))
     else:
-        core.params = p[0]
-    if core.params.overrideInc <= 0.0:
-        core.params.overrideInc = 0.001
-    elif core.params.overrideInc > 0.1:
-        core.params.overrideInc = 0.1
+        params = p[0]
+    good = check_gcode_parameters(&params, &err)
+    if good:
+        normalise_gcode_parameters(&params)
+        core.params = params
     pthread_mutex_unlock(&core.lock)
+    if not good:
+        core_fail_with(core, &err)
+        return TOOL_CHAIN_ERROR
     return TOOL_CHAIN_SUCCESS
 
 
@@ -140,9 +161,13 @@ cdef public int32_t ToolChainCore_GetMachineParameters(uint32_t intIdx, MACHINE_
 
 cdef public int32_t ToolChainCore_SetMachineParameters(uint32_t intIdx, MACHINE_PARAMETERS *p) noexcept nogil:
     cdef Core *core = core_get(intIdx)
+    cdef ErrorInfo err
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
     if p == NULL:
+        return TOOL_CHAIN_ERROR
+    if not check_machine_parameters(p, &err):
+        core_fail_with(core, &err)
         return TOOL_CHAIN_ERROR
     pthread_mutex_lock(&core.lock)
     core.machine = p[0]
@@ -157,6 +182,8 @@ cdef public int32_t ToolChainCore_SetUserParams(uint32_t intIdx, const double *p
     if n != 0 and n != 100:
         return TOOL_CHAIN_ERROR
     if n == 100 and p == NULL:
+        return TOOL_CHAIN_ERROR
+    if n == 100 and not user_params_finite(p):
         return TOOL_CHAIN_ERROR
     pthread_mutex_lock(&core.lock)
     if n == 100:
@@ -197,7 +224,7 @@ cdef public int32_t ToolChainCore_GCodePrefixPostfix(uint32_t intIdx, TGM_LPCSTR
 
 cdef public int32_t ToolChainCore_CompileFromFile(uint32_t intIdx, TGM_LPCTSTR fileName) noexcept nogil:
     cdef Core *core = core_get(intIdx)
-    cdef FILE *probe
+    cdef int32_t unreadable
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
     if fileName == NULL:
@@ -206,11 +233,11 @@ cdef public int32_t ToolChainCore_CompileFromFile(uint32_t intIdx, TGM_LPCTSTR f
     if fileName[0] == 0 or strlen(fileName) >= <size_t>TOOL_CHAIN_MAX_FILE_NAME:
         core_fail(core, ERR_FILE_OPEN, fileName)
         return TOOL_CHAIN_ERROR
-    probe = fopen(fileName, "rb")          # unreadable: refused now; read in the worker
-    if probe == NULL:
-        core_fail(core, ERR_FILE_OPEN, fileName)
+    # refused now when it cannot be read (never blocks: files.pyx); read in the worker
+    unreadable = file_check_readable(fileName)
+    if unreadable != 0:
+        core_fail(core, unreadable, fileName)
         return TOOL_CHAIN_ERROR
-    fclose(probe)
     return core_start_compile(core, fileName, NULL, 0)
 
 
@@ -319,7 +346,7 @@ cdef public int32_t ToolChainCore_SetGCodeRunTime(uint32_t intIdx, int32_t fileI
     cdef int32_t result = TOOL_CHAIN_ERROR
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
-    if fileIdx < 0 or not (seconds >= 0.0):
+    if fileIdx < 0 or not (seconds >= 0.0) or not isfinite(seconds):
         return TOOL_CHAIN_ERROR
     pthread_mutex_lock(&core.lock)
     if fileIdx < core.files.n:
@@ -338,6 +365,8 @@ cdef public int32_t ToolChainCore_ResetCNC(uint32_t intIdx, int32_t regime, uint
     if regime == RESET_MARK_START_ONLY:
         nCoords = 0
     elif nCoords > 10 or (nCoords > 0 and coords == NULL):
+        return TOOL_CHAIN_ERROR
+    if regime != RESET_MARK_START_ONLY and not coordinates_finite(coords, nCoords):
         return TOOL_CHAIN_ERROR
     return core_end(core, END_RESET, "ResetCNC", nCoords, coords)
 
@@ -496,10 +525,7 @@ cdef void _fail_ini_first(Core *core, uint32_t number) noexcept nogil:
     if err == NULL:
         return
     set_error_num(err, ERR_INI_FIRST, -1, 0, <double>number)
-    pthread_mutex_lock(&core.lock)
-    core.call_error = err[0]
-    pthread_mutex_unlock(&core.lock)
-    core_report_error(core, err)
+    core_fail_with(core, err)
     free(err)
 
 

@@ -1,59 +1,78 @@
 # Reading the vendor's Windows-syntax INI files: [section] headers, key=value lines,
-# ';' and '#' comments. Each entry is handed to a visitor; the core decides what
-# it means (core.pyx: core_apply_ini).
-from libc.stdio cimport FILE, fopen, fclose, fgets
-from libc.string cimport strlen, strchr, memcpy
+# ';' and '#' comments. The whole file is read first (files.pyx: regular files
+# only, never blocking), then parsed in memory, so a line is as long as it is:
+# never cut into two. Each entry goes to a visitor, which decides what it means
+# (parameters.pyx) and may stop the reading with an error.
+from libc.stdlib cimport free
+from libc.string cimport strchr
 
-ctypedef void (*ini_visitor)(void *ctx, const char *section, const char *key, const char *value) noexcept nogil
+# 0 to go on; anything else stops ini_read, which returns it
+ctypedef int32_t (*ini_visitor)(void *ctx, const char *section, const char *key, const char *value,
+                                int32_t line) noexcept nogil
 
 
-cdef char *_strip(char *s) noexcept nogil:
-    cdef size_t n
+cdef char *_ini_strip(char *s) noexcept nogil:
+    cdef char *end
     while s[0] == b' ' or s[0] == b'\t':
         s += 1
-    n = strlen(s)
-    while n > 0 and (s[n - 1] == b' ' or s[n - 1] == b'\t' or s[n - 1] == b'\r' or s[n - 1] == b'\n'):
-        n -= 1
-    s[n] = 0
+    end = s
+    while end[0] != 0:
+        end += 1
+    while end > s and ((end - 1)[0] == b' ' or (end - 1)[0] == b'\t' or (end - 1)[0] == b'\r'):
+        end -= 1
+    end[0] = 0
     return s
 
 
-cdef int ini_read(const char *path, ini_visitor visit, void *ctx) noexcept nogil:
-    """Visits every key of the file; -1 when it cannot be opened, else the number
-    of keys read. A UTF-8 byte order mark is skipped."""
-    cdef FILE *f = fopen(path, "rb")
-    cdef char line[4096]
-    cdef char section[256]
+cdef int32_t ini_parse(char *text, size_t length, ini_visitor visit, void *ctx) noexcept nogil:
+    """Visits every key of the NUL-terminated `text` (changed in place); 0, or the
+    first non-zero result of the visitor. A UTF-8 byte order mark is skipped; a NUL
+    byte inside a line ends that line's content."""
+    cdef char *end = text + length
+    cdef char *line = text
+    cdef char *eol
     cdef char *s
     cdef char *eq
-    cdef char *end
-    cdef int keys = 0
-    cdef size_t n
-    if f == NULL:
-        return -1
-    section[0] = 0
-    while fgets(line, sizeof(line), f) != NULL:
-        s = line
-        if <unsigned char>s[0] == 0xEF and <unsigned char>s[1] == 0xBB and <unsigned char>s[2] == 0xBF:
-            s += 3
-        s = _strip(s)
+    cdef char *close
+    cdef const char *section = ""
+    cdef int32_t number = 0, result
+    if length >= 3 and <unsigned char>text[0] == 0xEF and <unsigned char>text[1] == 0xBB \
+            and <unsigned char>text[2] == 0xBF:
+        line += 3
+    while line < end:
+        number += 1
+        eol = line
+        while eol < end and eol[0] != b'\n':
+            eol += 1
+        eol[0] = 0                  # '\n', or the terminating NUL at the end
+        s = _ini_strip(line)
+        line = eol + 1
         if s[0] == 0 or s[0] == b';' or s[0] == b'#':
             continue
         if s[0] == b'[':
-            end = strchr(s, b']')
-            if end != NULL:
-                end[0] = 0
-                n = strlen(s + 1)
-                if n >= sizeof(section):
-                    n = sizeof(section) - 1
-                memcpy(section, s + 1, n)
-                section[n] = 0
+            close = strchr(s, b']')
+            if close != NULL:
+                close[0] = 0
+                section = s + 1
             continue
         eq = strchr(s, b'=')
         if eq == NULL:
             continue
         eq[0] = 0
-        visit(ctx, section, _strip(s), _strip(eq + 1))
-        keys += 1
-    fclose(f)
-    return keys
+        result = visit(ctx, section, _ini_strip(s), _ini_strip(eq + 1), number)
+        if result != 0:
+            return result
+    return 0
+
+
+cdef int32_t ini_read(const char *path, ini_visitor visit, void *ctx) noexcept nogil:
+    """Reads the INI file `path` and visits its keys: 0, the error number of the
+    reading (files.pyx), or the first non-zero result of the visitor."""
+    cdef size_t length
+    cdef int32_t error = 0
+    cdef char *text = read_whole_file(path, &length, &error)
+    if text == NULL:
+        return error
+    error = ini_parse(text, length, visit, ctx)
+    free(text)
+    return error

@@ -13,6 +13,7 @@ from program cimport *
 from errors cimport *
 from core cimport *
 
+include "numbers.pyx"
 include "errors.pyx"
 include "geometry.pyx"
 include "program.pyx"
@@ -34,7 +35,9 @@ include "extent.pyx"
 include "placement.pyx"
 include "planner.pyx"
 include "logging.pyx"
+include "files.pyx"
 include "ini.pyx"
+include "parameters.pyx"
 include "runtime/transitions.pyx"
 include "runtime/snapshot.pyx"
 include "runtime/programs.pyx"

@@ -348,7 +348,9 @@ cdef void part_to_gm(const Program *prog, size_t i, SIMPLE_GM_PARAMS *gm) noexce
     elif p.kind == PART_DWELL:
         gm.m_pars.G = <float>p.func
     gm.m_pars.S = p.spindle
-    gm.m_planeTool = (<int32_t>p.tool << 16) | (<int32_t>p.plane & 0xFFFF)
+    # tool in the high 16 bits, plane in the low 16 (ABI.md); shifted unsigned: a tool
+    # of 32768 and more sets the sign bit, which a signed shift may not do
+    gm.m_planeTool = <int32_t>((<uint32_t>p.tool << 16) | (<uint32_t>p.plane & 0xFFFF))
     gm.m_reserved = 0
     gm.m_editorLine = p.line
     gm.m_fileIdx = p.file_idx

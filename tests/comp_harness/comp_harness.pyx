@@ -3,7 +3,8 @@
 #
 # Test-only Python module: the library's stages (toolchain/libSF_TCh.pyx) plus one
 # entry point that runs compensate_program on parts given from Python, so the
-# compensation geometry can be checked without going through the G-code compiler.
+# compensation geometry can be checked without going through the G-code compiler;
+# also the status names of the error texts (test_inputs).
 include "libSF_TCh.pyx"
 
 from libc.string cimport strncat
@@ -91,3 +92,8 @@ def compensate(list parts, start, long long strategy=0, corrections=(), toleranc
     free(warn)
     program_free(&prog)
     return out, error, warnings
+
+
+def cnc_status_name(int status):
+    """The name errors.pyx gives a cnc_status in error texts (test of its table)."""
+    return (<bytes>status_name(status)).decode()

@@ -104,6 +104,10 @@ cdef int cp_words(CState *st, const char *p, const char *eol, LineWords *lw) noe
             return cerr_text(st, ERR_MISSING_VALUE, letter)
         if ex_value(st, &q, eol, &v) != 0:
             return R_ERR
+        if not (v >= -TC_MAX_WORD_VALUE and v <= TC_MAX_WORD_VALUE) and L != 71 and L != 77 and L != 76:
+            letter[0] = <char>L
+            letter[1] = 0
+            return _bad_value(st, v, letter)
         p = q
         if L == 71:     # G
             if lw.ng >= MAX_WORD_LIST:

@@ -24,7 +24,7 @@ cdef Part *em_part(CState *st, int kind, int func, const double *end) noexcept n
     p.ce[0] = end[0]; p.ce[1] = end[1]; p.ce[2] = end[2]
     p.fp = <float>st.fp
     p.spindle = st.spindle
-    p.tool = <uint16_t>st.tool
+    p.tool = <uint16_t>(0 if st.tool < 0 else (65535 if st.tool > 65535 else st.tool))    # 16 bits in m_planeTool
     p.zero_idx = <uint16_t>st.zero_idx
     p.rot_idx = <uint16_t>st.rot_idx
     p.line = st.line

@@ -36,6 +36,24 @@ cdef int ex_domain(CState *st, const char *fname, double x) noexcept nogil:
     return R_ERR
 
 
+cdef int ex_overflow(CState *st, const char *number, const char *after, const char *eol) noexcept nogil:
+    """ERR_NUMBER_OVERFLOW: the number at [number, after) is too large for a double;
+    the column counts from 1 at the start of the line."""
+    cdef ErrArg a[2]
+    cdef const char *line_start = st.unit.text + st.cur_pos
+    a[0].num = 0
+    a[0].text = cword(st, number, eol, <int>(after - number))
+    a[1].num = <double>(number - line_start + 1) if number >= line_start else 0.0
+    a[1].text = NULL
+    set_error(st.err, ERR_NUMBER_OVERFLOW, st.unit.file_idx, st.line, a, 2)
+    return R_ERR
+
+
+cdef int ex_not_finite(CState *st, const char *start, const char *end) noexcept nogil:
+    """ERR_NOT_FINITE_RESULT for the expression text [start, end)."""
+    return cerr_text(st, ERR_NOT_FINITE_RESULT, cword(st, start, end, <int>(end - start)))
+
+
 cdef int ex_function(CState *st, const char *name, int n, double *args, int nargs,
                      double *out) noexcept nogil:
     """Applies function `name` (n chars) to its arguments."""
@@ -142,6 +160,7 @@ cdef int ex_param_index(CState *st, const char **pp, const char *eol) noexcept n
 cdef int ex_primary(CState *st, const char **pp, const char *eol, double *out, int depth) noexcept nogil:
     cdef const char *p = lx_skip_ws(pp[0], eol)
     cdef const char *name
+    cdef const char *number_start
     cdef int n, r, nargs, idx
     cdef double args[2]
     cdef double extra
@@ -150,7 +169,10 @@ cdef int ex_primary(CState *st, const char **pp, const char *eol, double *out, i
     if p >= eol:
         return ex_error(st, pp[0], eol)
     if lx_is_digit(p[0]) or p[0] == b'.':
+        number_start = p
         r = lx_number(&p, eol, out)
+        if r == -3:
+            return ex_overflow(st, number_start, p, eol)
         if r != 0:
             return cerr_text(st, ERR_BAD_NUMBER, cword(st, pp[0], eol, <int>(p - pp[0]) + 1))
         pp[0] = p
@@ -202,6 +224,8 @@ cdef int ex_primary(CState *st, const char **pp, const char *eol, double *out, i
                 return cerr(st, ERR_UNBALANCED_BRACKETS)
         if ex_function(st, name, n, args, nargs, out) != 0:
             return R_ERR
+        if not isfinite(out[0]):        # e.g. ReadPLCDouble of a NaN
+            return ex_not_finite(st, name, p)
         pp[0] = p
         return 0
     return ex_error(st, p, eol)
@@ -243,6 +267,7 @@ cdef int ex_power(CState *st, const char **pp, const char *eol, double *out, int
 
 cdef int ex_product(CState *st, const char **pp, const char *eol, double *out, int depth) noexcept nogil:
     cdef const char *p
+    cdef const char *start = lx_skip_ws(pp[0], eol)
     cdef double rhs
     cdef char op
     if ex_unary(st, pp, eol, out, depth) != 0:
@@ -265,10 +290,13 @@ cdef int ex_product(CState *st, const char **pp, const char *eol, double *out, i
             out[0] = out[0] / rhs
         else:
             out[0] = fmod(out[0], rhs)
+        if not isfinite(out[0]):        # 1e308 * 10
+            return ex_not_finite(st, start, pp[0])
 
 
 cdef int ex_sum(CState *st, const char **pp, const char *eol, double *out, int depth) noexcept nogil:
     cdef const char *p
+    cdef const char *start = lx_skip_ws(pp[0], eol)
     cdef double rhs
     cdef char op
     if ex_product(st, pp, eol, out, depth) != 0:
@@ -285,6 +313,8 @@ cdef int ex_sum(CState *st, const char **pp, const char *eol, double *out, int d
             out[0] = out[0] + rhs
         else:
             out[0] = out[0] - rhs
+        if not isfinite(out[0]):        # 1e308 + 1e308
+            return ex_not_finite(st, start, pp[0])
 
 
 cdef int ex_value(CState *st, const char **pp, const char *eol, double *out) noexcept nogil:

@@ -283,11 +283,11 @@ cdef int fl_target(CState *st, const char *name, int n, double num, bint has_num
         if fabs(num) < 1e15 and num == <double>(<int64_t>num):
             e = lb_find(st.unit, NULL, 0, <int64_t>num)
         if e == NULL:
-            k = snprintf(buf, sizeof(buf), "%.0f", num)
+            k = c_snprintf(buf, sizeof(buf), "%.0f", num)
             if k > 0 and k < <int>sizeof(buf):
                 e = lb_find(st.unit, buf, k, 0)
         if e == NULL:
-            snprintf(buf, sizeof(buf), "N%g", num)
+            c_snprintf(buf, sizeof(buf), "N%g", num)
             return cerr_text(st, ERR_UNDEFINED_LABEL, buf)
     else:
         e = lb_find(st.unit, name, n, 0)

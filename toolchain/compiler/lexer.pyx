@@ -1,7 +1,7 @@
 # G-code lexer: character classes, words, comments and numbers. Works on one line
 # [p, eol) of the source at a time, never past eol (lines are not NUL-terminated).
-from libc.stdlib cimport strtod
 from libc.string cimport memcpy, memchr
+from libc.math cimport isfinite
 
 cdef extern from *:
     """
@@ -104,7 +104,8 @@ cdef const char *lx_skip_gap(const char *p, const char *eol, int *status) noexce
 cdef int lx_number(const char **pp, const char *eol, double *out) noexcept nogil:
     """Plain decimal number (digits, optional '.', digits; no sign, no exponent: 'E'
     is an address). Fast exact path when the digits fit 2^53 and at most 22 decimals,
-    else strtod on a copy. 0 ok, -1 not a number, -2 bad number (e.g. '1.2.3')."""
+    else strtod (C locale) on a copy. 0 ok, -1 not a number, -2 bad number (e.g.
+    '1.2.3'), -3 a number too large for a double (pp is then past it)."""
     cdef const char *p = pp[0]
     cdef const char *start = p
     cdef unsigned long long mant = 0
@@ -113,7 +114,7 @@ cdef int lx_number(const char **pp, const char *eol, double *out) noexcept nogil
     cdef char buf[NUMBER_MAX_CHARS + 1]
     cdef int n
     cdef unsigned int d
-    # up to 19 digits fit a uint64 exactly; more digits go to strtod
+    # up to 19 digits fit a uint64 exactly; more digits go to c_strtod
     while p < eol:
         d = <unsigned int>(<unsigned char>p[0]) - 48u
         if d > 9u:
@@ -148,5 +149,7 @@ cdef int lx_number(const char **pp, const char *eol, double *out) noexcept nogil
         return -2
     memcpy(buf, start, n)
     buf[n] = 0
-    out[0] = strtod(buf, NULL)
+    out[0] = c_strtod(buf, NULL)
+    if not isfinite(out[0]):
+        return -3
     return 0

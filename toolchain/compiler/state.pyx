@@ -14,6 +14,15 @@ cdef enum:
     MAX_WORD_LIST = 16          # G or M words on one line
     DEFAULT_MAX_BLOCKS = 10000000
 
+cdef extern from *:
+    """
+    /* largest value of an address word that parts carry (not G, M, L): squares stay
+       finite, and so do the floats of P26FLOAT, even the lengths summed over the
+       MAX_PARTS parts of a program (2e7 x 2e30 < FLT_MAX) */
+    #define TC_MAX_WORD_VALUE 1e30
+    """
+    double TC_MAX_WORD_VALUE
+
 # what exec_line asks the run loop to do next
 cdef enum:
     R_NEXT = 0

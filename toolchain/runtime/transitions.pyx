@@ -1,4 +1,4 @@
-# The status machine of a core in one table: for every status of API.md and every
+# The status machine of a core in one table (the statuses' names: errors.pyx): for every status of API.md and every
 # command (a host call, or the end of the worker's activity) the status that follows,
 # or a refusal. The core asks the table before it acts; tests read it as a table
 # (tests/test_transitions.py).
@@ -32,15 +32,6 @@ cdef extern from *:
     static const int32_t tc_status_values[TC_N_STATUSES] = {
         0, -2, 1, -1, 10, -10, -11, 20, -20, -21, -30, -31, -32, -33,
         30, 31, 32, 33, 40, 41, 50, -50, 60, 70, 80, 90};
-    static const char *const tc_status_names[TC_N_STATUSES] = {
-        "nothing loaded", "not connected", "compiling", "compiled",
-        "simulating", "simulation finished", "simulation stopped",
-        "test running", "test finished", "test stopped",
-        "at the start", "stopped on the trajectory", "at the end", "stopped by M0",
-        "forward", "forward without M", "backward", "forward skipping the first M",
-        "calculating the connection", "moving to the connection",
-        "manual move", "out of the trajectory", "internal calculation",
-        "sending start M", "sending stop M", "sending connect M"};
     /*                     COMPILE SIM TEST STOP RESET DESTROY DROP  OUT  PARAMS INI PREFIX DONE STOPPED */
     static const int32_t tc_transitions[TC_N_STATUSES][13] = {
     /*   0 */            {  1,    10,  20,  R,   S,    0,      R,    R,   K,     K,  K,     R,   R   },
@@ -75,7 +66,6 @@ cdef extern from *:
     """
     int32_t TC_REFUSED, TC_KEEP, TC_AT_START, TC_N_STATUSES
     const int32_t tc_status_values[]
-    const char *const tc_status_names[]
     const int32_t tc_transitions[][13]
 
 
@@ -101,10 +91,3 @@ cdef int32_t status_after(int32_t status, int32_t command, bint has_program) noe
         return CNC_STATUS_NOTHING_LOADED if status == CNC_STATUS_NOTHING_LOADED else CNC_STATUS_COMPILED
     return after
 
-
-cdef const char *status_name(int32_t status) noexcept nogil:
-    """The English name of a status of API.md (never NULL)."""
-    cdef int32_t row = _status_row(status)
-    if row < 0:
-        return "invalid"
-    return tc_status_names[row]
