@@ -5,19 +5,19 @@
  *     ./c_hmi path/to/libSF_TCh.so SF_TCh.ini demo.nc [options]
  *
  * Loads the library with dlopen (no link-time dependency, no libpython), then does
- * what a panel does: Init, LoadFromIni, sets the tool radius, compiles the program in
- * the library's thread while polling StatusCNC, simulates it (regime 10) with the
+ * what a panel does: Init, LoadFromIni, sets G-code parameters, compiles the program in
+ * the library's thread while polling it, simulates it (regime 10) with the
  * driver callbacks DriverGFunc / DriverMFunc and the output log, prints a summary and
  * destroys the core. Options:
  *
  *   --core N        core index (default 0)
- *   --radius R      tool radius of G41..G48 in mm (default 1)
+ *   --radius R      tool radius of G41..G48 in mm (default: as the INI sets it)
  *   --abs-mode M    GCODE_PARAMETERS.absMode (default: as the INI sets it)
  *   --pollers N     N extra threads call StatusCNC + GetPos in a loop meanwhile,
  *                   as a panel's timers do (default 0)
  *   --parts         also print every motion part
  *   --host-locale   take the locale from the environment (setlocale(LC_ALL, ""), as
- *                   GUI toolkits do); this program still prints in the C locale
+ *                   GUI toolkits do); the summary is still printed in the C locale
  *
  * Exit status: 0 done, 1 the library reported an error (printed as file:line: error
  * N: text on stderr), 2 bad arguments or the library could not be loaded or used.
@@ -171,14 +171,14 @@ static int usage(void) {
 
 int main(int argc, char **argv) {
     uint32_t core = 0;
-    double radius = 1.0;
-    int abs_mode = -1, n_pollers = 0, list_parts = 0, host_locale = 0;
+    double radius = 0.0;
+    int set_radius = 0, abs_mode = -1, n_pollers = 0, list_parts = 0, host_locale = 0;
     if (argc < 4)
         return usage();
     for (int i = 4; i < argc; i++) {
         const char *next = i + 1 < argc ? argv[i + 1] : NULL;
         if (!strcmp(argv[i], "--core") && next) core = (uint32_t)strtoul(argv[++i], NULL, 10);
-        else if (!strcmp(argv[i], "--radius") && next) radius = strtod(argv[++i], NULL);
+        else if (!strcmp(argv[i], "--radius") && next) { radius = strtod(argv[++i], NULL); set_radius = 1; }
         else if (!strcmp(argv[i], "--abs-mode") && next) abs_mode = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--pollers") && next) n_pollers = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--parts")) list_parts = 1;
@@ -187,12 +187,8 @@ int main(int argc, char **argv) {
     }
     if (n_pollers < 0 || n_pollers > 64)
         return usage();
-    if (host_locale) {
-        /* the whole process (and so the library's threads) runs in the host's
-           locale; this thread alone prints in the C locale */
+    if (host_locale)   /* the library then runs in the host's locale, on every thread */
         setlocale(LC_ALL, "");
-        uselocale(newlocale(LC_ALL_MASK, "C", (locale_t)0));
-    }
 
     void *lib = dlopen(argv[1], RTLD_NOW | RTLD_LOCAL);
     if (lib == NULL) {
@@ -223,7 +219,7 @@ int main(int argc, char **argv) {
 
     GCODE_PARAMETERS params;
     tc.ToolChainCore_GetGCodeParameters(core, &params);
-    for (int k = 0; k < 8; k++)
+    for (int k = 0; set_radius && k < 8; k++)
         params.correction[k].size = radius;
     if (abs_mode >= 0)
         params.absMode = abs_mode;
@@ -292,6 +288,9 @@ int main(int argc, char **argv) {
     }
 
     if (!failed) {
+        /* the summary alone is printed in the C locale */
+        locale_t c_locale = newlocale(LC_ALL_MASK, "C", (locale_t)0);
+        locale_t host = uselocale(c_locale);
         GCODE_INFO info;
         GM_PARAMS_ENHANCED enh;
         double cut = 0, rapid = 0;
@@ -322,6 +321,8 @@ int main(int argc, char **argv) {
             line = end + 1;
         }
         printf("errors:        none\n");
+        uselocale(host);
+        freelocale(c_locale);
     }
     if (n_pollers)
         fprintf(stderr, "c_hmi: %d threads polled StatusCNC + GetPos %ld times\n", n_pollers, polls);
