@@ -2,6 +2,7 @@
 bare ctypes in each CPython >= 3.11 on the machine and the C example
 examples/c_hmi (dlopen, no libpython) get the results of the package's own run
 (sf_tch.core.Core in this process) on the bundled sample and on the seed program."""
+import functools
 import json
 import os
 import re
@@ -71,12 +72,22 @@ def test_the_library_is_no_python_module(lib_path, tmp_path):
 
 # ------------------------------------------------------------ one run, three hosts
 
-def summary(run: dict) -> tuple[list, str]:
-    """The stdout lines and the stderr of examples/c_hmi (with --parts) for a run."""
+def summary(run: dict, cores: int = 1) -> tuple[list, str]:
+    """The stdout lines and the stderr of examples/c_hmi (with --parts) for a run, done
+    on `cores` cores at once (each core's report under a line "core k")."""
     lines = [f"library:       {run['version']}", f"cores:         {run['cores']}"]
+    error = ""
     if run["error"] is not None:
         file, line, number, text = run["error"]
-        return lines, f"{file}:{line}: error {number}: {text}\n"
+        error = f"{file}:{line}: error {number}: {text}\n"
+    body = [] if error else core_summary(run)
+    for k in range(cores):
+        lines += ([f"core {k}"] if cores > 1 else []) + body
+    return lines, error * cores
+
+
+def core_summary(run: dict) -> list:
+    lines = []
     cut = rapid = 0.0
     n_cut = n_rapid = 0
     for k, (func, line, ex, ey, ez, cx, cy, length) in enumerate(run["parts"]):
@@ -95,7 +106,7 @@ def summary(run: dict) -> tuple[list, str]:
     lines.append(f"run time:      {run['run_time']:.6f} s (estimate)")
     lines += [f"PRINT:         {text}" for text in run["printed"]]
     lines.append("errors:        none")
-    return lines, ""
+    return lines
 
 
 def part_row(p) -> list:
@@ -170,16 +181,19 @@ def case_args(case, seed_file):
     return (sample_program() if program == "sample" else seed_file), abs_mode, radius
 
 
-@pytest.mark.parametrize("pollers", [0, 3])
+@pytest.mark.parametrize("cores, pollers", [(1, 0), (1, 3), (3, 3)])
 @pytest.mark.parametrize("case", CASES)
-def test_c_program_gets_the_package_results(fresh_core, c_hmi, lib_path, seed_file, tmp_path, case, pollers):
+def test_c_program_gets_the_package_results(fresh_core, c_hmi, lib_path, seed_file, tmp_path, case, cores,
+                                            pollers):
+    """On one core, or on three cores at once from three host threads; with none or
+    three more threads polling StatusCNC + GetPos meanwhile."""
     program, abs_mode, radius = case_args(case, seed_file)
     expected = package_run(fresh_core, program, abs_mode, radius)
-    options = ["--radius", repr(radius), "--pollers", str(pollers)]
+    options = ["--radius", repr(radius), "--cores", str(cores), "--pollers", str(pollers)]
     if abs_mode is not None:
         options += ["--abs-mode", str(abs_mode)]
     proc = run_c_hmi(c_hmi, lib_path, program, *options, cwd=tmp_path)
-    lines, error = summary(expected)
+    lines, error = summary(expected, cores)
     assert proc.stdout.splitlines() == lines
     assert proc.returncode == (1 if error else 0), proc.stderr
     if pollers:
@@ -306,6 +320,7 @@ print(json.dumps(run))
 """
 
 
+@functools.lru_cache(maxsize=None)
 def find_cpython(minor: int) -> str | None:
     """A CPython 3.<minor> of this machine: on PATH or under pyenv's versions."""
     pyenv = Path(os.environ.get("PYENV_ROOT", Path.home() / ".pyenv"))
