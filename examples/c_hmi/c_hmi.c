@@ -56,7 +56,7 @@ static struct {
 } tc;
 
 /* Parts handed to the driver callbacks, in order (the core's worker thread appends,
- * the main thread reads once the run is over). */
+ * the job's thread reads once the run is over). */
 typedef struct {
     SIMPLE_GM_PARAMS *items;
     size_t count, capacity;
@@ -69,32 +69,33 @@ typedef struct {
     char printed[4096];         /* PRINT / M29 texts (output log tab 2), one a line */
 } RunLog;
 
-static int append_part(RunLog *log, PartList *list, const SIMPLE_GM_PARAMS *part) {
+static void append_part(RunLog *log, PartList *list, const SIMPLE_GM_PARAMS *part) {
     pthread_mutex_lock(&log->lock);
     if (list->count == list->capacity) {
         size_t capacity = list->capacity ? 2 * list->capacity : 64;
         SIMPLE_GM_PARAMS *grown = realloc(list->items, capacity * sizeof *grown);
         if (grown == NULL) {
-            list->out_of_memory = 1;
+            list->out_of_memory = 1;   /* reported once the run is over */
             pthread_mutex_unlock(&log->lock);
-            return 1;           /* non-zero: the driver refuses the part */
+            return;
         }
         list->items = grown;
         list->capacity = capacity;
     }
     list->items[list->count++] = *part;
     pthread_mutex_unlock(&log->lock);
-    return 0;
 }
 
 static int32_t on_g_function(intptr_t user, const SIMPLE_GM_PARAMS *part) {
     RunLog *log = (RunLog *)user;
-    return append_part(log, &log->motion, part);
+    append_part(log, &log->motion, part);
+    return 0;
 }
 
 static int32_t on_m_function(intptr_t user, const SIMPLE_GM_PARAMS *part) {
     RunLog *log = (RunLog *)user;
-    return append_part(log, &log->m_functions, part);
+    append_part(log, &log->m_functions, part);
+    return 0;
 }
 
 static int32_t on_output(intptr_t user, uint32_t tab, TGM_LPCTSTR text, CALLBACK_INFO *info) {
