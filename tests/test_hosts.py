@@ -214,6 +214,75 @@ def test_the_package_run_is_the_documented_one(fresh_core, seed_file):
     assert seed["error"][3].startswith("Wrongly entered centre of circular interpolation XY\n")
 
 
+# A C++ host: the header compiled as C++17, every function typed by decltype of its
+# prototype; compiles argv[2] (absMode argv[3]) and prints the extents, or the error.
+CPP_HOST = r"""
+#include <dlfcn.h>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <thread>
+#include "tgm_cnc.h"
+
+template <typename F> F lookup(void *lib, const char *name) {
+    void *fn = dlsym(lib, name);
+    if (!fn) { std::fprintf(stderr, "missing %s\n", name); std::exit(2); }
+    return reinterpret_cast<F>(fn);
+}
+#define LOOKUP(lib, name) lookup<decltype(&name)>(lib, #name)
+
+int main(int argc, char **argv) {
+    void *lib = dlopen(argv[1], RTLD_NOW | RTLD_LOCAL);
+    if (!lib) { std::fprintf(stderr, "%s\n", dlerror()); return 2; }
+    auto get_params = LOOKUP(lib, ToolChainCore_GetGCodeParameters);
+    auto set_params = LOOKUP(lib, ToolChainCore_SetGCodeParameters);
+    auto compile = LOOKUP(lib, ToolChainCore_CompileFromFile);
+    auto status = LOOKUP(lib, ToolChainCore_StatusCNC);
+    auto last_error = LOOKUP(lib, ToolChainCore_GetLastError);
+    auto size_info = LOOKUP(lib, ToolChainCore_GetGCodeSizeInfo);
+    GCODE_PARAMETERS params{};
+    get_params(1, &params);
+    params.absMode = std::atoi(argv[3]);
+    if (set_params(1, &params) != TOOL_CHAIN_SUCCESS || compile(1, argv[2]) != TOOL_CHAIN_SUCCESS) return 2;
+    while (status(1) == CNC_STATUS_COMPILING)
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    CALLBACK_INFO info{};
+    if (last_error(1, &info) == 1) {
+        std::printf("error %d line %d\n", info.stringId, info.actLine);
+        return 1;
+    }
+    GCODE_INFO extents{};
+    size_info(1, &extents);
+    for (const GCODE_SIZE &s : extents.m_size)
+        std::printf("%.17g %.17g %.17g %.17g\n", s.m_minimalPos.x, s.m_maximalPos.x,
+                    s.m_minimalPos.y, s.m_maximalPos.y);
+    return 0;
+}
+"""
+
+
+@pytest.mark.parametrize("abs_mode", [0, 1])
+def test_a_cpp_host_gets_the_package_results(fresh_core, lib_path, seed_file, tmp_path, abs_mode):
+    cxx = tool("c++")
+    source, exe = tmp_path / "host.cpp", tmp_path / "host"
+    source.write_text(CPP_HOST)
+    subprocess.run([cxx, "-std=c++17", "-O1", "-Wall", "-Werror", "-I", str(Path(sf_tch.header_path()).parent),
+                    str(source), "-o", str(exe), "-ldl", "-pthread"], check=True, timeout=120)
+    proc = subprocess.run([str(exe), lib_path, seed_file, str(abs_mode)], capture_output=True, text=True,
+                          timeout=120, cwd=tmp_path)
+    with Core(1, default_ini()) as core:
+        core.update_params(absMode=abs_mode)
+        core.reset([0.0] * 10)                  # the position of a fresh process
+        try:
+            core.compile_file(seed_file)
+        except CncError as error:
+            assert (proc.returncode, proc.stdout) == (1, f"error {error.number} line {error.line}\n")
+            return
+        expected = "".join(f"{s.m_minimalPos.x:.17g} {s.m_maximalPos.x:.17g} "
+                           f"{s.m_minimalPos.y:.17g} {s.m_maximalPos.y:.17g}\n" for s in core.size_info().m_size)
+    assert (proc.returncode, proc.stdout) == (0, expected), proc.stderr
+
+
 @pytest.fixture(scope="module")
 def comma_locale(tmp_path_factory):
     """LOCPATH and LC_ALL of a German locale (decimal comma) compiled for the test."""
