@@ -347,6 +347,7 @@ cdef void part_to_gm(const Program *prog, size_t i, SIMPLE_GM_PARAMS *gm) noexce
             gm.m_pars.K = <float>p.cc[2]
     elif p.kind == PART_DWELL:
         gm.m_pars.G = <float>p.func
+        gm.m_pars.N = 0.0       # the length of the part: a dwell does not move
     gm.m_pars.S = p.spindle
     gm.m_planeTool = (<int32_t>p.tool << 16) | (<int32_t>p.plane & 0xFFFF)
     gm.m_reserved = 0
