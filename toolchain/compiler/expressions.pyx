@@ -130,7 +130,7 @@ cdef int ex_param_index(CState *st, const char **pp, const char *eol) noexcept n
         nd += 1
         p += 1
     if nd == 0:
-        cerr_text(st, ERR_UNKNOWN_WORD, "P")
+        cerr_at(st, ERR_UNKNOWN_WORD, "P", column_of(st, p - 1))
         return -1
     pp[0] = p
     if idx > 99 or (p < eol and lx_is_digit(p[0])):
@@ -150,9 +150,10 @@ cdef int ex_primary(CState *st, const char **pp, const char *eol, double *out, i
     if p >= eol:
         return ex_error(st, pp[0], eol)
     if lx_is_digit(p[0]) or p[0] == b'.':
+        name = p
         r = lx_number(&p, eol, out)
         if r != 0:
-            return cerr_text(st, ERR_BAD_NUMBER, cword(st, pp[0], eol, <int>(p - pp[0]) + 1))
+            return cerr_at(st, ERR_BAD_NUMBER, cword(st, name, eol, <int>(p - name) + 1), column_of(st, name))
         pp[0] = p
         return 0
     if p[0] == b'(':

@@ -134,7 +134,7 @@ cdef int fl_rest_of_line(CState *st, const char *p, const char *eol) noexcept no
     if status:
         return cerr(st, ERR_UNTERMINATED_COMMENT)
     if p < eol:
-        return cerr_text(st, ERR_UNKNOWN_WORD, cword(st, p, eol, <int>(eol - p)))
+        return cerr_at(st, ERR_UNKNOWN_WORD, cword_at(st, p, eol), column_of(st, p))
     return 0
 
 
