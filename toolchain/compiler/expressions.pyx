@@ -153,7 +153,7 @@ cdef int ex_primary(CState *st, const char **pp, const char *eol, double *out, i
         name = p
         r = lx_number(&p, eol, out)
         if r != 0:
-            return cerr_at(st, ERR_BAD_NUMBER, cword(st, name, eol, <int>(p - name) + 1), column_of(st, name))
+            return cerr_at(st, ERR_BAD_NUMBER, cword_at(st, name, eol), column_of(st, name))
         pp[0] = p
         return 0
     if p[0] == b'(':
