@@ -479,8 +479,9 @@ cdef void iso_units(CState *st, LineWords *lw) noexcept nogil:
         lw.ff *= st.unit_scale
 
 
-cdef int cp_iso_g(CState *st, const LineWords *lw, int i, uint32_t *consumed) noexcept nogil:
-    """ISO mode: G function i of the line read as ISO G-code. 1 done, 0 TG's meaning."""
+cdef int cp_iso_g(CState *st, const LineWords *lw, int i) noexcept nogil:
+    """ISO mode: G function i of the line read as ISO G-code. 1 done, 0 TG's meaning,
+    R_ERR (error recorded)."""
     cdef double gv = lw.g[i]
     cdef int col = lw.gcol[i], a
     if gv == 20.0 or gv == 21.0 or gv == 91.1:
@@ -489,8 +490,6 @@ cdef int cp_iso_g(CState *st, const LineWords *lw, int i, uint32_t *consumed) no
         st.plane = -18              # ISO's G18 is the ZX plane
         return 1
     if gv == 43.0 or gv == 44.0 or gv == 49.0 or gv == 61.0 or gv == 61.1 or gv == 64.0 or gv == 80.0:
-        if gv == 43.0 or gv == 44.0:
-            consumed[0] |= bit_of(b'H')     # a tool length offset: no radius compensation
         cwarn_at(st, WARN_ISO_IGNORED, word_at_column(st, col), col)
         return 1
     if gv == 92.1:
@@ -584,7 +583,7 @@ cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
         gv = lw.g[i]
         g = to_int(gv)
         if st.iso:
-            r = cp_iso_g(st, lw, i, &consumed)
+            r = cp_iso_g(st, lw, i)
             if r < 0:
                 return R_ERR
             if r > 0:
