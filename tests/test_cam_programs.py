@@ -81,6 +81,12 @@ def test_dwell_part_has_length_zero(host):
     ("G1 X1 M2.5\n", 405, 1, ["Bad M function M2.5 at column 7"]),
     ("G900\n", 102, 1, ["Address S at column 1"]),
     ("G1 X1 P = 4\n", 108, 1, ["Word 'P' at column 7", "Pnn = value"]),
+    ("IF 1 > 0 THEN (note\r\nEND\n", 104, 1, ["Comment '(' at column 15"]),
+    ("G1 X1 (a) (b\r\n", 104, 1, ["Comment '(' at column 11"]),
+    ("G1 X ABS(2\r\n", 103, 1, ["'(' at column 9"]),
+    ("G1 X SQRTT(4)\n", 203, 1, ["'SQRTT' at column 6"]),
+    ("G1 X 2 +* 3\r\n", 202, 1, ["'* 3' at column 9"]),
+    ("FOR P1 = 1 TO 2\nG1 X1\nEND junk\r\n", 100, 3, ["'junk' at column 5"]),
 ])
 def test_error_names_the_word_and_its_column(host, code, number, line, parts):
     r = host.compile(code, run=False, start=[0] * 10)

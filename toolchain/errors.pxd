@@ -18,8 +18,8 @@ cdef enum ErrorNumber:
     ERR_UNKNOWN_WORD = 100          # Unknown word '%s' at column %d
     ERR_BAD_NUMBER = 101            # Bad number '%s' at column %d
     ERR_MISSING_VALUE = 102         # Address %s at column %d without a value
-    ERR_UNBALANCED_BRACKETS = 103   # Unbalanced brackets
-    ERR_UNTERMINATED_COMMENT = 104  # Comment '(' not closed on this line
+    ERR_UNBALANCED_BRACKETS = 103   # Unbalanced brackets: '(' at column %d not closed
+    ERR_UNTERMINATED_COMMENT = 104  # Comment '(' at column %d not closed on this line
     ERR_LINE_TOO_LONG = 105         # Line longer than %d characters
     ERR_BAD_VALUE = 106             # Bad value %g of address %s
     ERR_TOO_MANY_WORDS = 107        # More than %d %s words on one line
@@ -28,8 +28,8 @@ cdef enum ErrorNumber:
     # expressions and parameters (200..299)
     ERR_DIVISION_BY_ZERO = 200      # Division by zero
     ERR_BAD_PARAMETER = 201         # Parameter P%g does not exist (P00..P99)
-    ERR_BAD_EXPRESSION = 202        # Syntax error in expression '%s'
-    ERR_UNKNOWN_FUNCTION = 203      # Unknown function '%s'
+    ERR_BAD_EXPRESSION = 202        # Syntax error in expression '%s' at column %d
+    ERR_UNKNOWN_FUNCTION = 203      # Unknown function '%s' at column %d
     ERR_MATH_DOMAIN = 204           # Argument out of domain in %s(%g)
     ERR_BAD_PLC_ADDRESS = 205       # PLC address %g out of range (1..%d)
     ERR_PARAM_STACK = 206           # G900 parameter stack %s

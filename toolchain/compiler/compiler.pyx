@@ -77,9 +77,10 @@ cdef int cp_words(CState *st, const char *p, const char *eol, LineWords *lw) noe
     lw.has_pword = False
     lw.first_is_o = False
     while True:
+        w = p
         p = lx_skip_gap(p, eol, &status)
         if status:
-            return cerr(st, ERR_UNTERMINATED_COMMENT)
+            return cerr_open_comment(st, w, eol)
         if p >= eol:
             return 0
         w = p

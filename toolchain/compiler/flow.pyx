@@ -130,9 +130,10 @@ cdef int fl_for(CState *st, const char *p, const char *eol) noexcept nogil:
 cdef int fl_rest_of_line(CState *st, const char *p, const char *eol) noexcept nogil:
     """Only blanks and comments may follow a flow statement."""
     cdef int status
+    cdef const char *gap = p
     p = lx_skip_gap(p, eol, &status)
     if status:
-        return cerr(st, ERR_UNTERMINATED_COMMENT)
+        return cerr_open_comment(st, gap, eol)
     if p < eol:
         return cerr_at(st, ERR_UNKNOWN_WORD, cword_at(st, p, eol), column_of(st, p))
     return 0

@@ -258,6 +258,18 @@ cdef int cerr_num_at(CState *st, int32_t number, double value, int column) noexc
     return R_ERR
 
 
+cdef int cerr_open_comment(CState *st, const char *p, const char *eol) noexcept nogil:
+    """Error 104 for the gap [p, eol) that holds a '(' without ')': comments do not
+    nest, so it is the first '(' after the last ')'."""
+    cdef const char *q = eol
+    cdef const char *open_at = NULL
+    while q > p and (q - 1)[0] != b')':
+        q -= 1
+        if q[0] == b'(':
+            open_at = q
+    return cerr_num(st, ERR_UNTERMINATED_COMMENT, column_of(st, open_at if open_at != NULL else p))
+
+
 # --------------------------------------------------------------- warnings
 
 cdef void cwarn(CState *st, int32_t number, const ErrArg *args, int n_args) noexcept nogil:
