@@ -74,6 +74,8 @@ def test_dwell_part_has_length_zero(host):
     ("G17 G92.1\n", 408, 1, ["G92.1 at column 5"]),
     ("#1 = 5\n", 109, 1, ["'#1' at column 1", "P00..P99"]),
     ("G1 X[1 + 2]\n", 109, 1, ["'[1' at column 5", "( ) brackets"]),
+    ("G1 X P100 + 1\n", 201, 1, ["Parameter P100 at column 6"]),
+    ("P123 = 4\n", 201, 1, ["Parameter P123 at column 1"]),
     ("G1 X1 QQ5\r\n", 100, 1, ["Unknown word 'QQ5' at column 7"]),
     ("G1 X1 Y1.2.3\n", 101, 1, ["'1.2.3' at column 8"]),
     ("G1 X1 Y\r\n", 102, 1, ["Address Y at column 7 without a value"]),

@@ -27,7 +27,7 @@ cdef enum ErrorNumber:
     ERR_NOT_TG = 109                # '%s' at column %d is not TG G-code: %s
     # expressions and parameters (200..299)
     ERR_DIVISION_BY_ZERO = 200      # Division by zero
-    ERR_BAD_PARAMETER = 201         # Parameter P%g does not exist (P00..P99)
+    ERR_BAD_PARAMETER = 201         # Parameter P%g at column %d does not exist (P00..P99)
     ERR_BAD_EXPRESSION = 202        # Syntax error in expression '%s' at column %d
     ERR_UNKNOWN_FUNCTION = 203      # Unknown function '%s' at column %d
     ERR_MATH_DOMAIN = 204           # Argument out of domain in %s(%g)

@@ -31,7 +31,7 @@ cdef const char *error_format(int32_t number) noexcept nogil:
     if number == ERR_NOT_TG: return "'%s' at column %d is not TG G-code: %s"
     if number == ERR_PARAM_STACK: return "G900 parameter stack %s"
     if number == ERR_DIVISION_BY_ZERO: return "Division by zero"
-    if number == ERR_BAD_PARAMETER: return "Parameter P%g does not exist (P00..P99)"
+    if number == ERR_BAD_PARAMETER: return "Parameter P%g at column %d does not exist (P00..P99)"
     if number == ERR_BAD_EXPRESSION: return "Syntax error in expression '%s' at column %d"
     if number == ERR_UNKNOWN_FUNCTION: return "Unknown function '%s' at column %d"
     if number == ERR_MATH_DOMAIN: return "Argument out of domain in %s(%g)"

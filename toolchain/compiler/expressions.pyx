@@ -138,7 +138,7 @@ cdef int ex_param_index(CState *st, const char **pp, const char *eol) noexcept n
         return -1
     pp[0] = p
     if idx > 99 or (p < eol and lx_is_digit(p[0])):
-        cerr_num(st, ERR_BAD_PARAMETER, idx)
+        cerr_num_at(st, ERR_BAD_PARAMETER, idx, column_of(st, pp[0] - nd - 1))
         return -1
     return idx
 
