@@ -38,13 +38,19 @@ def _contour(f, x0, y0, w, h, r, arc_g="G3", feed=""):
     return pts
 
 
+_radii_mm = []      # corner radii of the contours generated last, in mm (see corpus())
+
+
 def _parts(rng, n, scale=1.0):
+    """n rounded rectangles (x0, y0, w, h, r) side by side, in mm * scale."""
     out = []
     for k in range(n):
-        w = rng.uniform(20, 80) * scale
-        h = rng.uniform(20, 60) * scale
-        r = rng.uniform(2, 8) * scale
-        out.append((k * 100.0 * scale + rng.uniform(0, 5) * scale, rng.uniform(0, 20) * scale, w, h, r))
+        w = rng.uniform(20, 80)
+        h = rng.uniform(20, 60)
+        r = rng.uniform(2, 8)
+        _radii_mm.append(r)
+        out.append(((k * 100.0 + rng.uniform(0, 5)) * scale, rng.uniform(0, 20) * scale, w * scale, h * scale,
+                    r * scale))
     return out
 
 
@@ -215,13 +221,16 @@ VARIANTS = 4
 
 
 def corpus(variants=VARIANTS):
-    """[(style, name, text)], deterministic."""
+    """[(style, name, text, radii)], deterministic; radii: the corner radius of each
+    contour in mm (four quarter circles in the XY plane per contour)."""
     out = []
     for s, (style, make) in enumerate(STYLES.items()):
         for v in range(variants):
             rng = random.Random(1000 * s + v)
-            text = "\r\n" if style.startswith("SheetCam") and v % 2 else "\n"
-            out.append((style, f"{make.__name__}_{v}.nc", text.join(make(rng)) + text))
+            eol = "\r\n" if style.startswith("SheetCam") and v % 2 else "\n"
+            _radii_mm.clear()
+            text = eol.join(make(rng)) + eol
+            out.append((style, f"{make.__name__}_{v}.nc", text, tuple(_radii_mm)))
     return out
 
 
@@ -231,7 +240,7 @@ def count(core, iso):
     from sf_tch.core import CncError
     core.update_params(rezerva1=1 if iso else 0)
     table, errors = {}, []
-    for style, name, text in corpus():
+    for style, name, text, _ in corpus():
         ok, total = table.get(style, (0, 0))
         try:
             core.compile_text(text, name)

@@ -276,3 +276,25 @@ def test_corpus_counts(fresh_core):
     assert {(e.number, e.text.split(" at ")[0]) for _, e in iso_errors} == {(408, "G28"), (109, "'sub'")}
     # every TG-dialect failure names its construct and column
     assert all("column" in e.text for _, e in tg_errors)
+
+
+@pytest.mark.parametrize("iso", [0, ISO])
+def test_corpus_geometry(host, iso):
+    """Every program of the corpus that compiles cuts its contours' corner arcs at their
+    true length (closed form: a quarter circle per corner, from the generator's radii in
+    mm): inches converted, I J relative, no arc turned into a loop, lead-in arcs of
+    Fusion in their own plane."""
+    compiled = 0
+    for style, name, text, radii in cam_corpus.corpus():
+        r = host.compile(text, name=name, start=[0] * 10, rezerva1=iso)
+        if r.error is not None:
+            continue
+        compiled += 1
+        arcs = [p for p in r.g if p.func in (2, 3) and p.plane == 17]
+        assert len(arcs) == 4 * len(radii), name
+        # coordinates are written with 3 or 4 decimals: 0.005 mm per arc
+        assert math.isclose(sum(p.pars["N"] for p in arcs), sum(2 * math.pi * rad for rad in radii),
+                            abs_tol=0.005 * len(arcs)), name
+        if iso:
+            assert all(p.comp == 40 for p in r.g), name      # G43 H is no radius compensation
+    assert compiled == (40 if iso else 12)
