@@ -610,7 +610,7 @@ cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
             jump_col = lw.gcol[i]
             consumed |= bit_of(b'L') | bit_of(b'H')
         elif g >= 40 and g <= 48:
-            if g == 43 and has(lw, b'H') and not st.iso:
+            if g == 43 and has(lw, b'H'):     # (the ISO mode took G43 above)
                 cwarn_num_col(st, WARN_G43_H, lw.gcol[i])
             cp_comp(st, g)
         elif g == 53 or (g >= 54 and g <= 57) or g == 59:
