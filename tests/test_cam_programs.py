@@ -298,3 +298,65 @@ def test_corpus_geometry(host, iso):
         if iso:
             assert all(p.comp == 40 for p in r.g), name      # G43 H is no radius compensation
     assert compiled == (40 if iso else 12)
+
+
+MUTATION_SCRIPT = """
+import ctypes, json, sys, time
+from sf_tch import abi, library
+lib = library.load(LIB_PATH)
+programs = json.load(open(PROGRAMS_PATH))
+p = abi.GCODE_PARAMETERS()
+assert lib.ToolChainCore_GetGCodeParameters(0, ctypes.byref(p)) == 0
+for iso, text in programs:
+    p.rezerva1 = iso
+    assert lib.ToolChainCore_SetGCodeParameters(0, ctypes.byref(p)) == 0
+    assert lib.ToolChainCore_CompileFromMemory(0, b"mutated.nc", text.encode("latin-1")) == 0
+    deadline = time.monotonic() + 60
+    while lib.ToolChainCore_StatusCNC(0) == 1:
+        assert time.monotonic() < deadline, "compilation hangs"
+        time.sleep(0.001)
+    info = abi.CALLBACK_INFO()
+    failed = lib.ToolChainCore_GetLastError(0, ctypes.byref(info))
+    print(json.dumps([lib.ToolChainCore_StatusCNC(0), failed, info.stringId if failed else 0,
+                      info.actLine if failed else 0, (info.m_fullError or b"").decode("latin-1") if failed else ""]))
+"""
+
+WORD_ERRORS = {100, 101, 102, 103, 104, 108, 109, 201, 202, 203, 404, 405, 408}
+
+
+@pytest.mark.slow
+def test_random_mutations_of_corpus_programs(run_python, tmp_path):
+    """Corpus programs with bytes dropped, inserted or replaced (other dialects' characters
+    among them), in both modes, in a fresh interpreter: no crash or hang, every error
+    on a line of the program, word errors with a column."""
+    import json
+    import os
+    import random
+    scale = int(os.environ.get("SF_TCH_SLOW_SCALE", "1"))
+    rng = random.Random(15)
+    alphabet = "GXYZIJKFPMOHN0123456789.-+*/()[]#<>=:;% \r\n"
+    texts = [text for _, _, text, _ in cam_corpus.corpus()]
+    programs = []
+    for k in range(60 * scale):
+        code = list(rng.choice(texts))
+        for _ in range(rng.randrange(1, 10)):
+            i = rng.randrange(len(code))
+            choice = rng.randrange(3)
+            if choice == 0:
+                del code[i]
+            elif choice == 1:
+                code.insert(i, rng.choice(alphabet))
+            else:
+                code[i] = rng.choice(alphabet)
+        programs.append((k % 2, "".join(code)))
+    path = tmp_path / "programs.json"
+    path.write_text(json.dumps(programs))
+    out = run_python(f"PROGRAMS_PATH = {str(path)!r}\n" + MUTATION_SCRIPT, timeout=600).stdout
+    results = [json.loads(line) for line in out.splitlines()]
+    assert len(results) == len(programs)
+    for (iso, text), (status, failed, number, line, message) in zip(programs, results):
+        assert status == -1
+        if failed:
+            assert 1 <= line <= text.count("\n") + 1, (number, line, message)
+            if number in WORD_ERRORS:
+                assert "column" in message, message
