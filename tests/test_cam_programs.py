@@ -198,10 +198,14 @@ def test_iso_dwell_p_is_seconds(host):
     times = []
     for code, iso in (("G1 X10 F600\nG4 P2.5\nG1 X20\n", ISO), ("G1 X10 F600\nG4 H2.5\nG1 X20\n", 0),
                       ("G1 X10 F600\nG1 X20\n", 0)):
-        r = ok(host, code, start=[0] * 10, rezerva1=iso, calcTime=1)
-        times.append(host.lib.ToolChainCore_GetGCodeRunTime(host.core, host.lib.ToolChainCore_FileToIdx(host.core, b"prog.nc")))
+        ok(host, code, start=[0] * 10, rezerva1=iso, calcTime=1)
+        file_idx = host.lib.ToolChainCore_FileToIdx(host.core, b"prog.nc")
+        times.append(host.lib.ToolChainCore_GetGCodeRunTime(host.core, file_idx))
     assert times[0] == times[1]
     assert math.isclose(times[0] - times[2], 2.5, abs_tol=1e-6)
+    # the driver gets the dwell as TG writes it: H seconds
+    r = ok(host, "G4 P2.5\n", start=[0] * 10, rezerva1=ISO)
+    assert r.g[0].func == 4 and r.g[0].pars["H"] == 2.5 and "P" not in r.g[0].pars
 
 
 def test_iso_inches_equal_the_program_in_millimetres(host):

@@ -506,14 +506,18 @@ cdef int cp_iso_g(CState *st, const LineWords *lw, int i) noexcept nogil:
 
 
 cdef int cp_pword(CState *st, LineWords *lw, bint dwell) noexcept nogil:
-    """A P word without '=': ISO's dwell seconds (em_dwell), G64's tolerance or an
-    M function's argument, ignored with a warning in ISO mode; else an error that says
-    what TG expects."""
+    """A P word without '=': in ISO mode dwell seconds (given to the part as H), G64's
+    tolerance, or an M function's argument ignored with a warning; else an error that
+    says what TG expects."""
     cdef int i
     cdef const char *hint
     cdef const char *word
     if st.iso:
         if dwell:
+            if not (lw.mask & (bit_of(b'W') | bit_of(b'H') | bit_of(b'X') | bit_of(b'T'))):
+                lw.v[7] = lw.pword          # TG's H seconds: the driver sees a G4 it knows
+                lw.mask |= bit_of(b'H')
+                lw.col[7] = lw.col[15]
             return 0
         for i in range(lw.ng):
             if lw.g[i] == 64.0:

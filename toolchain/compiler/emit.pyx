@@ -251,7 +251,7 @@ cdef int em_motion(CState *st, const LineWords *lw, int func) noexcept nogil:
 
 
 cdef int em_dwell(CState *st, const LineWords *lw) noexcept nogil:
-    """G4: W milliseconds, or H / X / T (ISO mode: P) seconds."""
+    """G4: W milliseconds, or H / X / T seconds."""
     cdef Part *p = em_part(st, PART_DWELL, 4, st.mpos)
     if p == NULL:
         return R_ERR
@@ -263,8 +263,6 @@ cdef int em_dwell(CState *st, const LineWords *lw) noexcept nogil:
         p.value = val(lw, b'X')
     elif has(lw, b'T'):
         p.value = val(lw, b'T')
-    elif lw.has_pword:
-        p.value = lw.pword      # ISO mode: P seconds (cp_pword refuses it otherwise)
     return em_pars(st, lw, 4, -10000)
 
 
