@@ -42,7 +42,7 @@ cdef enum ErrorNumber:
     ERR_RETURN_WITHOUT_CALL = 305   # RETURN outside a subroutine
     ERR_BLOCK_LIMIT = 306           # More than %d blocks executed: endless loop?
     ERR_BREAK_OUTSIDE_LOOP = 307    # %s outside a loop
-    ERR_BAD_CONDITION = 308         # Bad condition '%s'
+    ERR_BAD_CONDITION = 308         # Bad condition '%s' at column %d
     ERR_PART_LIMIT = 309            # More than %d parts: program too large
     # geometry (400..499)
     ERR_ARC_CENTRE = 400            # Wrongly entered centre of circular interpolation ...

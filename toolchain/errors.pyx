@@ -44,7 +44,7 @@ cdef const char *error_format(int32_t number) noexcept nogil:
     if number == ERR_RETURN_WITHOUT_CALL: return "RETURN outside a subroutine"
     if number == ERR_BLOCK_LIMIT: return "More than %d blocks executed: endless loop?"
     if number == ERR_BREAK_OUTSIDE_LOOP: return "%s outside a loop"
-    if number == ERR_BAD_CONDITION: return "Bad condition '%s'"
+    if number == ERR_BAD_CONDITION: return "Bad condition '%s' at column %d"
     if number == ERR_PART_LIMIT: return "More than %d parts: program too large"
     if number == ERR_ARC_CENTRE:
         return ("Wrongly entered centre of circular interpolation %s\n"

@@ -13,12 +13,7 @@ cdef enum:
 cdef int ex_error(CState *st, const char *start, const char *eol) noexcept nogil:
     """Syntax error: the rest of the line from `start` (up to 40 characters, without
     trailing blanks or CR) and its column."""
-    cdef const char *e = start
-    while e < eol and e - start < 40:
-        e += 1
-    while e > start and ((e - 1)[0] == b' ' or (e - 1)[0] == b'\t' or (e - 1)[0] == b'\r'):
-        e -= 1
-    return cerr_at(st, ERR_BAD_EXPRESSION, cword(st, start, eol, <int>(e - start)), column_of(st, start))
+    return cerr_at(st, ERR_BAD_EXPRESSION, cword_rest(st, start, eol), column_of(st, start))
 
 
 cdef int ex_plc_addr(CState *st, double addr, int size) noexcept nogil:

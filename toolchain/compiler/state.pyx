@@ -230,6 +230,13 @@ cdef const char *cword_at(CState *st, const char *p, const char *eol) noexcept n
     return cword(st, p, eol, n if n > 0 else 1)
 
 
+cdef const char *cword_rest(CState *st, const char *p, const char *eol) noexcept nogil:
+    """The rest of the line from p for a message, without trailing blanks or CR."""
+    while eol > p and ((eol - 1)[0] == b' ' or (eol - 1)[0] == b'\t' or (eol - 1)[0] == b'\r'):
+        eol -= 1
+    return cword(st, p, eol, <int>(eol - p))
+
+
 cdef int cerr_at(CState *st, int32_t number, const char *word, int column) noexcept nogil:
     """Error `number` with a word and its column (formats '%s ... column %d')."""
     cdef ErrArg a[2]
