@@ -175,6 +175,12 @@ enum connect_type {
 #define CORR_G0_NEVER_COMPENSATED   0x40000000u
 #define CORR_OLD_COMPATIBILITY      0x80000000u
 
+/* GCODE_PARAMETERS.rezerva1 bits (beyond the vendor's list; 0 = the vendor's behaviour).
+   ISO_COMPAT: the compiler reads ISO/LinuxCNC constructs of CAM programs (G20/G21 units,
+   G4 P seconds, G18 as ZX, G43 H tool length ignored, G64/G61/G80/G49 ignored, P words of
+   M functions ignored, O program numbers), with a warning where it ignores something. */
+#define GCODE_REZERVA1_ISO_COMPAT 0x00000001u
+
 /* AddOutputLog tabs and flags. */
 #define OUTPUT_TAB_ERRORS 0
 #define OUTPUT_TAB_CNC    1
@@ -373,7 +379,7 @@ typedef struct GCODE_PARAMETERS {
     double   insertArcMaxAngle;
     double   insertArcMinAngle;
     int32_t  insertArcPlane;
-    int32_t  rezerva1;
+    int32_t  rezerva1;           /* reserved by the vendor; this library: GCODE_REZERVA1_* bits */
     int32_t  calcTime;
     int32_t  rezerva2;
     double   dynamicG41Correction_mm;

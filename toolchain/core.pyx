@@ -456,6 +456,7 @@ cdef int _compile_job(Core *core, Job *job, Program *prog, GCODE_INFO *extent, E
     inp.cancel = &core.cancel
     inp.progress = _compile_progress
     inp.output = _compile_output
+    inp.warn = _compile_warn
     inp.ctx = core
     snprintf(text, sizeof(text), "Compiling %s", job.name)
     core_status_text(core, text, job.files[0], 0)

@@ -21,20 +21,22 @@ cdef enum ErrorNumber:
     ERR_OUT_OF_RANGE = 15           # %s = %g is outside <%g, %g>
     ERR_INI_VALUE = 16              # INI file '%s' line %d: %s
     # lexical (100..199)
-    ERR_UNKNOWN_WORD = 100          # Unknown word '%s'
-    ERR_BAD_NUMBER = 101            # Bad number '%s'
-    ERR_MISSING_VALUE = 102         # Address %s without a value
-    ERR_UNBALANCED_BRACKETS = 103   # Unbalanced brackets
-    ERR_UNTERMINATED_COMMENT = 104  # Comment '(' not closed on this line
+    ERR_UNKNOWN_WORD = 100          # Unknown word '%s' at column %d
+    ERR_BAD_NUMBER = 101            # Bad number '%s' at column %d
+    ERR_MISSING_VALUE = 102         # Address %s at column %d without a value
+    ERR_UNBALANCED_BRACKETS = 103   # Unbalanced brackets: '(' at column %d not closed
+    ERR_UNTERMINATED_COMMENT = 104  # Comment '(' at column %d not closed on this line
     ERR_LINE_TOO_LONG = 105         # Line longer than %d characters
     ERR_BAD_VALUE = 106             # Bad value %g of address %s
     ERR_TOO_MANY_WORDS = 107        # More than %d %s words on one line
     ERR_NUMBER_OVERFLOW = 108       # Number '%s' at column %d is too large
+    ERR_P_WORD = 110                # Word '%s' at column %d: P is reserved for parameters P00..P99 (Pnn = value); %s
+    ERR_NOT_TG = 111                # '%s' at column %d is not TG G-code: %s
     # expressions and parameters (200..299)
     ERR_DIVISION_BY_ZERO = 200      # Division by zero
-    ERR_BAD_PARAMETER = 201         # Parameter P%g does not exist (P00..P99)
-    ERR_BAD_EXPRESSION = 202        # Syntax error in expression '%s'
-    ERR_UNKNOWN_FUNCTION = 203      # Unknown function '%s'
+    ERR_BAD_PARAMETER = 201         # Parameter P%g at column %d does not exist (P00..P99)
+    ERR_BAD_EXPRESSION = 202        # Syntax error in expression '%s' at column %d
+    ERR_UNKNOWN_FUNCTION = 203      # Unknown function '%s' at column %d
     ERR_MATH_DOMAIN = 204           # Argument out of domain in %s(%g)
     ERR_BAD_PLC_ADDRESS = 205       # PLC address %g out of range (1..%d)
     ERR_PARAM_STACK = 206           # G900 parameter stack %s
@@ -48,17 +50,18 @@ cdef enum ErrorNumber:
     ERR_RETURN_WITHOUT_CALL = 305   # RETURN outside a subroutine
     ERR_BLOCK_LIMIT = 306           # More than %d blocks executed: endless loop?
     ERR_BREAK_OUTSIDE_LOOP = 307    # %s outside a loop
-    ERR_BAD_CONDITION = 308         # Bad condition '%s'
+    ERR_BAD_CONDITION = 308         # Bad condition '%s' at column %d
     ERR_PART_LIMIT = 309            # More than %d parts: program too large
     # geometry (400..499)
     ERR_ARC_CENTRE = 400            # Wrongly entered centre of circular interpolation ...
     ERR_ARC_RADIUS = 401            # Arc radius %g too small for chord %g
     ERR_ARC_NO_CENTRE = 402         # Arc without centre (I J K or R)
     ERR_BAD_PLANE = 403             # Bad plane G%d
-    ERR_BAD_G = 404                 # Unknown G function G%g
-    ERR_BAD_M = 405                 # Bad M function M%g
+    ERR_BAD_G = 404                 # Unknown G function G%g at column %d
+    ERR_BAD_M = 405                 # Bad M function M%g at column %d
     ERR_ARC_RADII = 407             # Wrongly entered centre ... radius at start <> radius at end
     ERR_MACHINE_LIMIT = 406         # Axis %s position %g outside the machine limits <%g, %g>
+    ERR_ISO_G = 408                 # G%g at column %d is not TG G-code: %s
     # tool radius compensation (500..599)
     ERR_COMP_NOT_FOUND = 500        # Intersection of equidistants not found
     ERR_COMP_ON_ARC = 501           # Compensation switched on or off on an arc
@@ -68,3 +71,9 @@ cdef enum ErrorNumber:
     ERR_COMP_LOOKAHEAD = 505        # More than %d blocks without motion in the compensation plane
     # warnings (600..699): MathWarning callback, not errors
     WARN_COMP = 600                 # Tool radius compensation: %s
+    # compile warnings: the program looks written for ISO G-code (docs/compiler.md)
+    WARN_G43_H = 610                # G43 with H at column %d: ...
+    WARN_O_AT_START = 611           # O%g at column %d at the start of the program moves the O axis ...
+    WARN_G18_ARC = 612              # G18 arc at column %d after an ISO header: ...
+    WARN_ZERO_WITH_MOVE = 613       # G%g at column %d with axis words sets the zero offset ...
+    WARN_ISO_IGNORED = 620          # '%s' at column %d ignored (ISO compatibility mode)

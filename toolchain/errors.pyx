@@ -24,21 +24,24 @@ cdef const char *error_format(int32_t number) noexcept nogil:
     if number == ERR_NOT_FINITE: return "%s = %g is not a finite number"
     if number == ERR_OUT_OF_RANGE: return "%s = %g is outside <%g, %g>"
     if number == ERR_INI_VALUE: return "INI file '%s' line %d: %s"
-    if number == ERR_UNKNOWN_WORD: return "Unknown word '%s'"
-    if number == ERR_BAD_NUMBER: return "Bad number '%s'"
-    if number == ERR_MISSING_VALUE: return "Address %s without a value"
-    if number == ERR_UNBALANCED_BRACKETS: return "Unbalanced brackets"
-    if number == ERR_UNTERMINATED_COMMENT: return "Comment '(' not closed on this line"
+    if number == ERR_UNKNOWN_WORD: return "Unknown word '%s' at column %d"
+    if number == ERR_BAD_NUMBER: return "Bad number '%s' at column %d"
+    if number == ERR_MISSING_VALUE: return "Address %s at column %d without a value"
+    if number == ERR_UNBALANCED_BRACKETS: return "Unbalanced brackets: '(' at column %d not closed"
+    if number == ERR_UNTERMINATED_COMMENT: return "Comment '(' at column %d not closed on this line"
     if number == ERR_LINE_TOO_LONG: return "Line longer than %d characters"
     if number == ERR_BAD_VALUE: return "Bad value %g of address %s"
     if number == ERR_TOO_MANY_WORDS: return "More than %d %s words on one line"
     if number == ERR_NUMBER_OVERFLOW: return "Number '%s' at column %d is too large"
+    if number == ERR_P_WORD:
+        return "Word '%s' at column %d: P is reserved for parameters P00..P99 (Pnn = value); %s"
+    if number == ERR_NOT_TG: return "'%s' at column %d is not TG G-code: %s"
     if number == ERR_PARAM_STACK: return "G900 parameter stack %s"
     if number == ERR_NOT_FINITE_RESULT: return "Expression '%s' does not give a finite number"
     if number == ERR_DIVISION_BY_ZERO: return "Division by zero"
-    if number == ERR_BAD_PARAMETER: return "Parameter P%g does not exist (P00..P99)"
-    if number == ERR_BAD_EXPRESSION: return "Syntax error in expression '%s'"
-    if number == ERR_UNKNOWN_FUNCTION: return "Unknown function '%s'"
+    if number == ERR_BAD_PARAMETER: return "Parameter P%g at column %d does not exist (P00..P99)"
+    if number == ERR_BAD_EXPRESSION: return "Syntax error in expression '%s' at column %d"
+    if number == ERR_UNKNOWN_FUNCTION: return "Unknown function '%s' at column %d"
     if number == ERR_MATH_DOMAIN: return "Argument out of domain in %s(%g)"
     if number == ERR_BAD_PLC_ADDRESS: return "PLC address %g out of range (1..%d)"
     if number == ERR_UNDEFINED_LABEL: return "Undefined label '%s'"
@@ -49,7 +52,7 @@ cdef const char *error_format(int32_t number) noexcept nogil:
     if number == ERR_RETURN_WITHOUT_CALL: return "RETURN outside a subroutine"
     if number == ERR_BLOCK_LIMIT: return "More than %d blocks executed: endless loop?"
     if number == ERR_BREAK_OUTSIDE_LOOP: return "%s outside a loop"
-    if number == ERR_BAD_CONDITION: return "Bad condition '%s'"
+    if number == ERR_BAD_CONDITION: return "Bad condition '%s' at column %d"
     if number == ERR_PART_LIMIT: return "More than %d parts: program too large"
     if number == ERR_ARC_CENTRE:
         return ("Wrongly entered centre of circular interpolation %s\n"
@@ -60,8 +63,9 @@ cdef const char *error_format(int32_t number) noexcept nogil:
     if number == ERR_ARC_RADIUS: return "Arc radius %g too small for chord %g"
     if number == ERR_ARC_NO_CENTRE: return "Arc without centre (I J K or R)"
     if number == ERR_BAD_PLANE: return "Bad plane G%d"
-    if number == ERR_BAD_G: return "Unknown G function G%g"
-    if number == ERR_BAD_M: return "Bad M function M%g"
+    if number == ERR_BAD_G: return "Unknown G function G%g at column %d"
+    if number == ERR_BAD_M: return "Bad M function M%g at column %d"
+    if number == ERR_ISO_G: return "G%g at column %d is not TG G-code: %s"
     if number == ERR_MACHINE_LIMIT: return "Axis %s position %g outside the machine limits <%g, %g>"
     if number == ERR_COMP_NOT_FOUND: return "Intersection of equidistants not found"
     if number == ERR_COMP_ON_ARC: return "Compensation switched on or off on an arc"
@@ -70,6 +74,20 @@ cdef const char *error_format(int32_t number) noexcept nogil:
     if number == ERR_COMP_CROSSING: return "Equidistants cross: the tool (radius %g) does not fit the contour"
     if number == ERR_COMP_LOOKAHEAD: return "More than %d blocks without motion in the compensation plane"
     if number == WARN_COMP: return "Tool radius compensation: %s"
+    if number == WARN_G43_H:
+        return ("G43 with H at column %d: TG's G43 switches on tool radius compensation with "
+                "correction[2], it is no tool length offset (isoCompat: ignored)")
+    if number == WARN_O_AT_START:
+        return ("O%g at column %d at the start of the program moves the O axis; a program "
+                "number? (isoCompat: ignored)")
+    if number == WARN_G18_ARC:
+        return ("G18 arc at column %d after an ISO header (G21 / G90): TG's G18 is the XZ plane "
+                "with arcs turning the other way than ISO's ZX plane, which is TG's G-18 "
+                "(isoCompat: G18 is read as G-18)")
+    if number == WARN_ZERO_WITH_MOVE:
+        return ("G%g at column %d with axis words sets the zero offset to them; the axes do not "
+                "move (isoCompat: G54..G59 keep the offset and the line moves)")
+    if number == WARN_ISO_IGNORED: return "'%s' at column %d ignored (ISO compatibility mode)"
     return NULL
 
 

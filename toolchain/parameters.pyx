@@ -246,6 +246,14 @@ cdef int gcode_parameter_from_ini(GCODE_PARAMETERS *p, const char *key, const ch
             return -1
         p.correctionStrategy = <uint32_t>i
         return 1
+    if strcasecmp(key, "isoCompat") == 0:        # docs/compiler.md: the ISO compatibility mode
+        if not c_parse_long(value, 0, 1, &i):
+            return -1
+        if i:
+            p.rezerva1 = p.rezerva1 | <int32_t>GCODE_REZERVA1_ISO_COMPAT
+        else:
+            p.rezerva1 = p.rezerva1 & ~<int32_t>GCODE_REZERVA1_ISO_COMPAT
+        return 1
     if strcasecmp(key, "absMode") == 0 or strcasecmp(key, "swapG2G3") == 0 or strcasecmp(key, "forceMode") == 0 \
             or strcasecmp(key, "calcTime") == 0 or strcasecmp(key, "insertArcMode") == 0:
         if not is_int:

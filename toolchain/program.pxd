@@ -171,6 +171,7 @@ ctypedef struct CompileInput:
     int32_t *cancel         # set non-zero (atomically) to interrupt: the compiler returns COMPILE_CANCELLED
     progress_fn progress
     output_fn output        # compile-time messages (warnings) to the output log
+    warn_fn warn            # numbered compile warnings (errors.pxd 610..): MathWarning; may be NULL
     void *ctx
     int64_t max_blocks      # limit of executed blocks (endless loops); 0 = default
 

@@ -347,6 +347,7 @@ cdef void part_to_gm(const Program *prog, size_t i, SIMPLE_GM_PARAMS *gm) noexce
             gm.m_pars.K = <float>p.cc[2]
     elif p.kind == PART_DWELL:
         gm.m_pars.G = <float>p.func
+        gm.m_pars.N = 0.0       # the length of the part: a dwell does not move
     gm.m_pars.S = p.spindle
     # tool in the high 16 bits, plane in the low 16 (ABI.md); shifted unsigned: a tool
     # of 32768 and more sets the sign bit, which a signed shift may not do

@@ -28,12 +28,43 @@ cdef int cp_text(CState *st, const char *p, const char *eol, LineWords *lw) noex
     return 0
 
 
+cdef bint _value_starts(const char *q, const char *eol) noexcept nogil:
+    """A word's value may start at q: a number, a sign, a bracket, a parameter or function."""
+    return q < eol and (lx_is_digit(q[0]) or q[0] == b'.' or q[0] == b'-' or q[0] == b'+'
+                        or q[0] == b'(' or lx_is_alpha(q[0]))
+
+
+cdef bint _o_word_keyword(const char *p, int n) noexcept nogil:
+    return (lx_eq(p, n, "SUB") or lx_eq(p, n, "ENDSUB") or lx_eq(p, n, "CALL") or lx_eq(p, n, "RETURN")
+            or lx_eq(p, n, "DO") or lx_eq(p, n, "WHILE") or lx_eq(p, n, "ENDWHILE") or lx_eq(p, n, "IF")
+            or lx_eq(p, n, "ELSEIF") or lx_eq(p, n, "ELSE") or lx_eq(p, n, "ENDIF") or lx_eq(p, n, "REPEAT")
+            or lx_eq(p, n, "ENDREPEAT") or lx_eq(p, n, "BREAK") or lx_eq(p, n, "CONTINUE"))
+
+
+cdef int cp_bad_word(CState *st, const char *p, const char *eol, int col, const LineWords *lw) noexcept nogil:
+    """A word the dialect does not know: says what TG expects where the word is
+    another dialect's (LinuxCNC O-words and # parameters, [ ] expressions)."""
+    cdef int n = lx_ident_run(p, eol)
+    if p[0] == b'#':
+        return cerr_hint(st, ERR_NOT_TG, cword_at(st, p, eol), col,
+                         "TG parameters are P00..P99 (P1 = value, X P1)")
+    if p[0] == b'[':
+        return cerr_hint(st, ERR_NOT_TG, cword_at(st, p, eol), col,
+                         "TG expressions are written in ( ) brackets: X (P1 * 2)")
+    if lw.first_is_o and n > 0 and _o_word_keyword(p, n):
+        return cerr_hint(st, ERR_NOT_TG, cword(st, p, eol, n), col,
+                         "O-word subroutines and loops are LinuxCNC G-code; TG uses labels "
+                         "(name:) with CALL / RETURN, and FOR / WHILE / IF ... END")
+    return cerr_at(st, ERR_UNKNOWN_WORD, cword_at(st, p, eol), col)
+
+
 cdef int cp_words(CState *st, const char *p, const char *eol, LineWords *lw) noexcept nogil:
     """Reads the address words of a line into lw (values evaluated)."""
-    cdef int status, n, idx, L
+    cdef int status, n, idx, L, col, digits
     cdef const char *q
+    cdef const char *w
     cdef double v
-    cdef bint jump_g = False
+    cdef bint jump_g = False, first = True
     cdef char letter[2]
     lw.mask = 0
     lw.ng = 0
@@ -43,14 +74,19 @@ cdef int cp_words(CState *st, const char *p, const char *eol, LineWords *lw) noe
     lw.has_text = False
     lw.label = NULL
     lw.label_len = 0
+    lw.has_pword = False
+    lw.first_is_o = False
     while True:
+        w = p
         p = lx_skip_gap(p, eol, &status)
         if status:
-            return cerr(st, ERR_UNTERMINATED_COMMENT)
+            return cerr_open_comment(st, w, eol)
         if p >= eol:
             return 0
+        w = p
+        col = column_of(st, p)
         if not lx_is_alpha(p[0]):
-            return cerr_text(st, ERR_UNKNOWN_WORD, cword(st, p, eol, 12))
+            return cp_bad_word(st, p, eol, col, lw)
         n = lx_alpha_run(p, eol)
         if n >= 2:
             if lx_eq(p, n, "REM"):
@@ -73,20 +109,40 @@ cdef int cp_words(CState *st, const char *p, const char *eol, LineWords *lw) noe
                     lw.has_fp = True
                     lw.fp = v
                 p = q
+                first = False
                 continue
-            return cerr_text(st, ERR_UNKNOWN_WORD, cword(st, p, eol, lx_ident_run(p, eol)))
+            return cp_bad_word(st, p, eol, col, lw)
         L = <int>lx_upper(p[0])
         p += 1
         if L == 80:     # 'P': parameter assignment Pnn = expression
-            idx = ex_param_index(st, &p, eol)
-            if idx < 0:
+            digits = 0
+            while p + digits < eol and lx_is_digit(p[digits]):
+                digits += 1
+            q = lx_skip_ws(p + digits, eol)
+            if digits > 0 and q < eol and q[0] == b'=' and not (q + 1 < eol and q[1] == b'='):
+                idx = ex_param_index(st, &p, eol)
+                if idx < 0:
+                    return R_ERR
+                p = lx_skip_ws(p, eol) + 1
+                if ex_sum(st, &p, eol, &st.P[idx], 0) != 0:
+                    return R_ERR
+                first = False
+                continue
+            # a P word with a value (ISO: dwell seconds, G64 tolerance, an M function's
+            # argument): cp_block decides, after the G functions of the line
+            q = lx_skip_ws(p, eol)
+            if not _value_starts(q, eol):
+                return cerr_hint(st, ERR_P_WORD, cword_at(st, w, eol), col,
+                                 "an assignment is written Pnn = value")
+            if ex_value(st, &q, eol, &v) != 0:
                 return R_ERR
-            p = lx_skip_ws(p, eol)
-            if p >= eol or p[0] != b'=':
-                return cerr_text(st, ERR_UNKNOWN_WORD, cword(st, p - 1, eol, 8))
-            p += 1
-            if ex_sum(st, &p, eol, &st.P[idx], 0) != 0:
-                return R_ERR
+            lw.has_pword = True
+            lw.pword = v
+            lw.pword_at = w
+            lw.pword_len = <int>(q - w)
+            lw.col[15] = col
+            p = q
+            first = False
             continue
         q = lx_skip_ws(p, eol)
         if L == 76 and q < eol and (lx_is_alpha(q[0]) or q[0] == b'_') \
@@ -96,12 +152,17 @@ cdef int cp_words(CState *st, const char *p, const char *eol, LineWords *lw) noe
                 lw.label = q          # L name: a label target
                 lw.label_len = n
                 p = q + n
+                first = False
                 continue
-        if q >= eol or not (lx_is_digit(q[0]) or q[0] == b'.' or q[0] == b'-' or q[0] == b'+'
-                            or q[0] == b'(' or lx_is_alpha(q[0])):
+        if L == 79 and q < eol and q[0] == b'<':
+            return cerr_hint(st, ERR_NOT_TG, cword_at(st, w, eol), col,
+                             "O-word subroutines are LinuxCNC G-code; TG uses labels (name:) with CALL")
+        if q < eol and q[0] == b'[':
+            return cp_bad_word(st, q, eol, column_of(st, q), lw)
+        if not _value_starts(q, eol):
             letter[0] = <char>L
             letter[1] = 0
-            return cerr_text(st, ERR_MISSING_VALUE, letter)
+            return cerr_at(st, ERR_MISSING_VALUE, letter, col)
         if ex_value(st, &q, eol, &v) != 0:
             return R_ERR
         if not (v >= -TC_MAX_WORD_VALUE and v <= TC_MAX_WORD_VALUE) and L != 71 and L != 77 and L != 76:
@@ -113,6 +174,7 @@ cdef int cp_words(CState *st, const char *p, const char *eol, LineWords *lw) noe
             if lw.ng >= MAX_WORD_LIST:
                 return _too_many(st, "G")
             lw.g[lw.ng] = v
+            lw.gcol[lw.ng] = col
             lw.ng += 1
             if v == 29.0:
                 return 0        # G29: the rest of the line is a comment
@@ -122,12 +184,17 @@ cdef int cp_words(CState *st, const char *p, const char *eol, LineWords *lw) noe
             if lw.nm >= MAX_WORD_LIST:
                 return _too_many(st, "M")
             lw.m[lw.nm] = v
+            lw.mcol[lw.nm] = col
             lw.nm += 1
             if st.params.M29_print != 0 and v == st.params.M29_print:
                 return cp_text(st, p, eol, lw)
         else:
             lw.v[L - 65] = v
             lw.mask |= 1u << (L - 65)
+            lw.col[L - 65] = col
+            if first and L == 79:
+                lw.first_is_o = True
+        first = False
 
 
 cdef int _too_many(CState *st, const char *what) noexcept nogil:
@@ -237,12 +304,12 @@ cdef uint32_t _axis_flags(const LineWords *lw) noexcept nogil:
     return m
 
 
-cdef int cp_g900(CState *st, const LineWords *lw) noexcept nogil:
-    """G900 S..: changes the working copy of GCODE_PARAMETERS."""
+cdef int cp_g900(CState *st, const LineWords *lw, int col) noexcept nogil:
+    """G900 S..: changes the working copy of GCODE_PARAMETERS (col: the G900's column)."""
     cdef int s, a
     cdef double sv
     if not has(lw, b'S'):
-        return cerr_text(st, ERR_MISSING_VALUE, "S")
+        return cerr_at(st, ERR_MISSING_VALUE, "S", col)
     sv = val(lw, b'S')
     s = to_int(sv)
     if s == 1:
@@ -337,10 +404,169 @@ cdef int cp_g167(CState *st, const LineWords *lw) noexcept nogil:
     return 0
 
 
+# ------------------------------------------------- other dialects (ISO, LinuxCNC)
+
+cdef const char *iso_g_hint(double gv) noexcept nogil:
+    """What TG expects instead of an ISO G function it does not have; NULL: no ISO meaning."""
+    if gv == 20.0:
+        return "TG works in millimetres (isoCompat reads G20 as inches)"
+    if gv == 28.0 or gv == 30.0:
+        return "returns to a home position do not exist in TG (G98 is TG's reference run)"
+    if gv == 49.0 or gv == 43.1:
+        return "TG has no tool length offsets (isoCompat ignores G43 H and G49)"
+    if gv == 61.0 or gv == 61.1 or gv == 64.0:
+        return "path blending is set by GCODE_PARAMETERS (isoCompat ignores G61 and G64)"
+    if gv == 80.0:
+        return "TG has no canned cycles (isoCompat ignores G80)"
+    if gv == 73.0 or gv == 76.0 or (gv >= 81.0 and gv <= 89.0 and gv == <double>(<int>gv)):
+        return "TG has no canned drilling cycles: write the moves (G0 / G1)"
+    if gv == 90.1:
+        return "TG's arc centres are relative; Q70 on the arc's line makes I J K absolute"
+    if gv == 91.1:
+        return "TG's arc centres are relative already (isoCompat ignores G91.1)"
+    if gv == 92.1 or gv == 92.2:
+        return "TG resets a G92 shift with G92 and the axes (isoCompat: G92.1 clears the shift)"
+    if gv == 10.0:
+        return "TG sets zero offsets with G54..G59 and the axes"
+    if gv >= 38.2 and gv <= 38.5:
+        return "TG has no probing moves"
+    if gv == 93.0:
+        return "TG has no inverse time feed (G94 mm/min, G95 mm/rev)"
+    return NULL
+
+
+cdef int cp_unknown_g(CState *st, double gv, int col) noexcept nogil:
+    cdef const char *hint = iso_g_hint(gv)
+    cdef ErrArg a[3]
+    if hint == NULL:
+        return cerr_num_at(st, ERR_BAD_G, gv, col)
+    a[0].num = gv; a[0].text = NULL
+    a[1].num = col; a[1].text = NULL
+    a[2].num = 0; a[2].text = hint
+    set_error(st.err, ERR_ISO_G, st.unit.file_idx, st.line, a, 3)
+    return R_ERR
+
+
+cdef const char *word_at_column(CState *st, int col) noexcept nogil:
+    """The source word at column col of the current line, for messages."""
+    return cword_at(st, st.unit.text + st.cur_pos + col - 1, st.unit.text + st.next_pos - 1)
+
+
+cdef void iso_units(CState *st, LineWords *lw) noexcept nogil:
+    """ISO mode: G20 / G21 of the line switch inches / millimetres; in inches the
+    lengths of the line (X Y Z U V W, I J K, R, F, FF) are converted to mm. Not on G4
+    (times), G900 (parameters), nor G168's R (degrees)."""
+    cdef int i, bit
+    cdef bint rotation = False
+    cdef uint32_t letters, bits
+    for i in range(lw.ng):
+        if lw.g[i] == 20.0:
+            st.unit_scale = 25.4
+        elif lw.g[i] == 21.0:
+            st.unit_scale = 1.0
+    if st.unit_scale == 1.0:
+        return
+    for i in range(lw.ng):
+        if lw.g[i] == 4.0 or lw.g[i] == 900.0:
+            return
+        if lw.g[i] == 168.0:
+            rotation = True
+    letters = (bit_of(b'X') | bit_of(b'Y') | bit_of(b'Z') | bit_of(b'U') | bit_of(b'V') | bit_of(b'W')
+               | bit_of(b'I') | bit_of(b'J') | bit_of(b'K') | bit_of(b'F'))
+    if not rotation:
+        letters |= bit_of(b'R')
+    bits = lw.mask & letters
+    while bits:
+        bit = SF_CTZ(bits)
+        bits &= bits - 1
+        lw.v[bit] *= st.unit_scale
+    if lw.has_ff:
+        lw.ff *= st.unit_scale
+
+
+cdef int cp_iso_g(CState *st, const LineWords *lw, int i) noexcept nogil:
+    """ISO mode: G function i of the line read as ISO G-code. 1 done, 0 TG's meaning,
+    R_ERR (error recorded)."""
+    cdef double gv = lw.g[i]
+    cdef int col = lw.gcol[i], a
+    if gv == 20.0 or gv == 21.0 or gv == 91.1:
+        return 1                    # units: iso_units; relative centres: TG's own
+    if gv == 18.0:
+        st.plane = -18              # ISO's G18 is the ZX plane
+        return 1
+    if gv == 43.0 or gv == 44.0 or gv == 49.0 or gv == 61.0 or gv == 61.1 or gv == 64.0 or gv == 80.0:
+        cwarn_at(st, WARN_ISO_IGNORED, word_at_column(st, col), col)
+        return 1
+    if gv == 92.1:
+        for a in range(10):
+            st.shift[a] = 0.0
+        cp_reframe(st)
+        if not update_zero(st):
+            return cerr(st, ERR_OUT_OF_MEMORY)
+        return 1
+    if gv == 53.0 or (gv >= 54.0 and gv <= 59.0 and gv == <double>(<int>gv)):
+        return 1                    # no table of offsets: the offset stays and the axes move
+    return 0
+
+
+cdef int cp_pword(CState *st, LineWords *lw, bint dwell) noexcept nogil:
+    """A P word without '=': in ISO mode dwell seconds (given to the part as H), G64's
+    tolerance, or an M function's argument ignored with a warning; else an error that
+    says what TG expects."""
+    cdef int i
+    cdef const char *hint
+    cdef const char *word
+    if st.iso:
+        if dwell:
+            if not (lw.mask & (bit_of(b'W') | bit_of(b'H') | bit_of(b'X') | bit_of(b'T'))):
+                lw.v[7] = lw.pword          # TG's H seconds: the driver sees a G4 it knows
+                lw.mask |= bit_of(b'H')
+                lw.col[7] = lw.col[15]
+            return 0
+        for i in range(lw.ng):
+            if lw.g[i] == 64.0:
+                return 0            # ignored with its G64 (warned)
+        if lw.nm > 0:
+            word = cword(st, lw.pword_at, lw.pword_at + lw.pword_len, lw.pword_len)
+            cwarn_at(st, WARN_ISO_IGNORED, word, lw.col[15])
+            return 0
+    if dwell:
+        hint = "G4 takes W (milliseconds), H, X or T (seconds)"
+    elif lw.nm > 0:
+        hint = "M functions take no P word (isoCompat ignores it)"
+    else:
+        hint = "a P word without '=' is ISO G-code (isoCompat reads G4 P and G64 P)"
+    word = cword(st, lw.pword_at, lw.pword_at + lw.pword_len, lw.pword_len)
+    return cerr_hint(st, ERR_P_WORD, word, lw.col[15], hint)
+
+
+cdef void cp_dialect_warnings(CState *st, const LineWords *lw, int motion, int zero_g,
+                              int zero_col) noexcept nogil:
+    """Default mode: warnings where the line looks written for ISO G-code and TG reads
+    it otherwise (docs/compiler.md)."""
+    cdef int arc = motion if motion >= 0 else st.motion
+    cdef int col
+    cdef ErrArg a[2]
+    if lw.first_is_o and st.prog.n_parts == 0:
+        a[0].num = val(lw, b'O'); a[0].text = NULL
+        a[1].num = lw.col[14]; a[1].text = NULL
+        cwarn(st, WARN_O_AT_START, a, 2)
+    if zero_g != 0 and motion >= 0 and (lw.mask & axes_mask()):
+        a[0].num = zero_g; a[0].text = NULL
+        a[1].num = zero_col; a[1].text = NULL
+        cwarn(st, WARN_ZERO_WITH_MOVE, a, 2)
+    if st.plane == 18 and (arc == 2 or arc == 3) and (has(lw, b'I') or has(lw, b'K')) \
+            and st.iso_header and not st.warned_g18:
+        st.warned_g18 = True
+        col = lw.col[8] if has(lw, b'I') else lw.col[10]
+        a[0].num = col; a[0].text = NULL
+        cwarn(st, WARN_G18_ARC, a, 1)
+
+
 cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
     """Executes the words of one line: G settings, modal values, continuous M,
     motion or dwell, then the other M functions and the flow words."""
-    cdef int i, k, g, m, r, motion = -1, jump = 0
+    cdef int i, k, g, m, r, motion = -1, jump = 0, jump_col = 0, zero_g = 0, zero_col = 0
     cdef bint dwell = False, g9x = False, end = False, ret = False, g900 = False, g168 = False
     cdef uint32_t consumed = 0, saved
     cdef uint32_t axes = axes_mask()
@@ -357,12 +583,22 @@ cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
             consumed |= bit_of(b'A') | bit_of(b'S')
         elif _is_m(pr, m, pr.M99_defFeed):
             consumed |= bit_of(b'F')
+    if st.iso:
+        iso_units(st, lw)
+        if lw.first_is_o:
+            lw.mask &= ~bit_of(b'O')        # a program number
     # G functions, in the order written
     for i in range(lw.ng):
         gv = lw.g[i]
         g = to_int(gv)
+        if st.iso:
+            r = cp_iso_g(st, lw, i)
+            if r < 0:
+                return R_ERR
+            if r > 0:
+                continue
         if gv != <double>g:
-            return cerr_num(st, ERR_BAD_G, gv)
+            return cp_unknown_g(st, gv, lw.gcol[i])
         if g == 0 or g == 1 or g == 2 or g == 3 or g == 33:
             motion = g
             st.motion = g
@@ -374,20 +610,27 @@ cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
         elif g == 17 or g == 18 or g == 19 or g == -18:
             st.plane = g
         elif g == 21 or g == 29:
-            pass
+            st.iso_header = st.iso_header or g == 21
         elif g == 24:
             st.lathe_radius = True
         elif g == 25 or g == 26 or g == 27:
             jump = g
+            jump_col = lw.gcol[i]
             consumed |= bit_of(b'L') | bit_of(b'H')
         elif g >= 40 and g <= 48:
+            if g == 43 and has(lw, b'H'):     # (the ISO mode took G43 above)
+                cwarn_num_col(st, WARN_G43_H, lw.gcol[i])
             cp_comp(st, g)
         elif g == 53 or (g >= 54 and g <= 57) or g == 59:
             consumed |= axes
+            if g != 53:
+                zero_g = g
+                zero_col = lw.gcol[i]
             if cp_zero(st, lw, g) != 0:
                 return R_ERR
         elif g == 90 or g == 91:
             st.absolute = g == 90
+            st.iso_header = st.iso_header or (g == 90 and st.prog.n_parts == 0)
             g9x = True
         elif g == 92 or g == 98:
             consumed |= axes
@@ -421,10 +664,14 @@ cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
         elif g == 900:
             g900 = True
             consumed = ~(<uint32_t>0)
-            if cp_g900(st, lw) != 0:
+            if cp_g900(st, lw, lw.gcol[i]) != 0:
                 return R_ERR
         else:
-            return cerr_num(st, ERR_BAD_G, gv)
+            return cp_unknown_g(st, gv, lw.gcol[i])
+    if lw.has_pword and cp_pword(st, lw, dwell) != 0:
+        return R_ERR
+    if not st.iso:
+        cp_dialect_warnings(st, lw, motion, zero_g, zero_col)
     # modal values
     if not (consumed & bit_of(b'F')) and has(lw, b'F'):
         st.feed = val(lw, b'F')
@@ -441,7 +688,7 @@ cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
     for i in range(lw.nm):
         m = to_int(lw.m[i])
         if lw.m[i] != <double>m or m == 1000 or m < -6 or m > 1000000000 or (m < 0 and m != -5 and m != -6):
-            return cerr_num(st, ERR_BAD_M, lw.m[i])
+            return cerr_num_at(st, ERR_BAD_M, lw.m[i], lw.mcol[i])
         if m >= 1001:
             if em_mfunc(st, lw, m, True) != 0:
                 return R_ERR
@@ -527,7 +774,7 @@ cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
             r = fl_call(st, NULL, 0, val(lw, b'L'), True, jump != 27,
                         to_int(val(lw, b'H')) if (jump == 26 and has(lw, b'H')) else 1)
         else:
-            return cerr_text(st, ERR_MISSING_VALUE, "L")
+            return cerr_at(st, ERR_MISSING_VALUE, "L", jump_col)
         return r
     if ret:
         return fl_return(st)
@@ -689,6 +936,8 @@ cdef void cp_init(CState *st, const CompileInput *inp, Program *prog, ErrorInfo 
     st.fp = 1.0
     st.comp = 40
     st.last_percent = -1
+    st.iso = (<uint32_t>inp.params.rezerva1 & GCODE_REZERVA1_ISO_COMPAT) != 0
+    st.unit_scale = 1.0
 
 
 cdef void reserve_parts(Program *prog, uint32_t lines) noexcept nogil:

@@ -11,10 +11,9 @@ cdef enum:
 
 
 cdef int ex_error(CState *st, const char *start, const char *eol) noexcept nogil:
-    cdef const char *e = start
-    while e < eol and e - start < 40:
-        e += 1
-    return cerr_text(st, ERR_BAD_EXPRESSION, cword(st, start, eol, <int>(e - start)))
+    """Syntax error: the rest of the line from `start` (up to 40 characters, without
+    trailing blanks or CR) and its column."""
+    return cerr_at(st, ERR_BAD_EXPRESSION, cword_rest(st, start, eol), column_of(st, start))
 
 
 cdef int ex_plc_addr(CState *st, double addr, int size) noexcept nogil:
@@ -80,8 +79,8 @@ cdef int ex_function(CState *st, const char *name, int n, double *args, int narg
                 or lx_eq(name, n, "LOG10") or lx_eq(name, n, "LOG") or lx_eq(name, n, "FLOOR") \
                 or lx_eq(name, n, "CEIL") or lx_eq(name, n, "READPLCLONG") \
                 or lx_eq(name, n, "READPLCDOUBLE") or want != 1:
-            return cerr_text(st, ERR_BAD_EXPRESSION, fname)
-        return cerr_text(st, ERR_UNKNOWN_FUNCTION, fname)
+            return cerr_at(st, ERR_BAD_EXPRESSION, fname, column_of(st, name))
+        return cerr_at(st, ERR_UNKNOWN_FUNCTION, fname, column_of(st, name))
     if want == 0:
         out[0] = M_PI
     elif lx_eq(name, n, "SIN"): out[0] = sin(x * d2r)
@@ -135,7 +134,7 @@ cdef int ex_function(CState *st, const char *name, int n, double *args, int narg
         out[0] = dv
         memcpy(st.inp.plc + addr, &args[1], 8)
     else:
-        return cerr_text(st, ERR_UNKNOWN_FUNCTION, fname)
+        return cerr_at(st, ERR_UNKNOWN_FUNCTION, fname, column_of(st, name))
     return 0
 
 
@@ -148,11 +147,11 @@ cdef int ex_param_index(CState *st, const char **pp, const char *eol) noexcept n
         nd += 1
         p += 1
     if nd == 0:
-        cerr_text(st, ERR_UNKNOWN_WORD, "P")
+        cerr_at(st, ERR_UNKNOWN_WORD, "P", column_of(st, p - 1))
         return -1
     pp[0] = p
     if idx > 99 or (p < eol and lx_is_digit(p[0])):
-        cerr_num(st, ERR_BAD_PARAMETER, idx)
+        cerr_num_at(st, ERR_BAD_PARAMETER, idx, column_of(st, pp[0] - nd - 1))
         return -1
     return idx
 
@@ -161,6 +160,7 @@ cdef int ex_primary(CState *st, const char **pp, const char *eol, double *out, i
     cdef const char *p = lx_skip_ws(pp[0], eol)
     cdef const char *name
     cdef const char *number_start
+    cdef const char *open_at
     cdef int n, r, nargs, idx
     cdef double args[2]
     cdef double extra
@@ -170,20 +170,22 @@ cdef int ex_primary(CState *st, const char **pp, const char *eol, double *out, i
         return ex_error(st, pp[0], eol)
     if lx_is_digit(p[0]) or p[0] == b'.':
         number_start = p
+        name = p
         r = lx_number(&p, eol, out)
         if r == -3:
             return ex_overflow(st, number_start, p, eol)
         if r != 0:
-            return cerr_text(st, ERR_BAD_NUMBER, cword(st, pp[0], eol, <int>(p - pp[0]) + 1))
+            return cerr_at(st, ERR_BAD_NUMBER, cword_at(st, name, eol), column_of(st, name))
         pp[0] = p
         return 0
     if p[0] == b'(':
+        name = p
         p += 1
         if ex_sum(st, &p, eol, out, depth + 1) != 0:
             return R_ERR
         p = lx_skip_ws(p, eol)
         if p >= eol or p[0] != b')':
-            return cerr(st, ERR_UNBALANCED_BRACKETS)
+            return cerr_num(st, ERR_UNBALANCED_BRACKETS, column_of(st, name))
         pp[0] = p + 1
         return 0
     if (p[0] == b'P' or p[0] == b'p') and p + 1 < eol and lx_is_digit(p[1]):
@@ -200,6 +202,7 @@ cdef int ex_primary(CState *st, const char **pp, const char *eol, double *out, i
         p = lx_skip_ws(p + n, eol)
         if p >= eol or p[0] != b'(':
             return ex_error(st, name, eol)
+        open_at = p
         p += 1
         nargs = 0
         p = lx_skip_ws(p, eol)
@@ -221,7 +224,7 @@ cdef int ex_primary(CState *st, const char **pp, const char *eol, double *out, i
                 if p < eol and p[0] == b')':
                     p += 1
                     break
-                return cerr(st, ERR_UNBALANCED_BRACKETS)
+                return cerr_num(st, ERR_UNBALANCED_BRACKETS, column_of(st, open_at))
         if ex_function(st, name, n, args, nargs, out) != 0:
             return R_ERR
         if not isfinite(out[0]):        # e.g. ReadPLCDouble of a NaN

@@ -83,21 +83,21 @@ cdef int fl_for(CState *st, const char *p, const char *eol) noexcept nogil:
     cdef Frame *f
     p = lx_skip_ws(p, eol)
     if p >= eol or lx_upper(p[0]) != b'P':
-        return cerr_text(st, ERR_BAD_CONDITION, cword(st, p, eol, <int>(eol - p)))
+        return cerr_at(st, ERR_BAD_CONDITION, cword_rest(st, p, eol), column_of(st, p))
     p += 1
     idx = ex_param_index(st, &p, eol)
     if idx < 0:
         return R_ERR
     p = lx_skip_ws(p, eol)
     if p >= eol or p[0] != b'=':
-        return cerr_text(st, ERR_BAD_CONDITION, cword(st, p, eol, <int>(eol - p)))
+        return cerr_at(st, ERR_BAD_CONDITION, cword_rest(st, p, eol), column_of(st, p))
     p += 1
     if ex_sum(st, &p, eol, &a, 0) != 0:
         return R_ERR
     p = lx_skip_ws(p, eol)
     n = lx_alpha_run(p, eol)
     if not lx_eq(p, n, "TO"):
-        return cerr_text(st, ERR_BAD_CONDITION, cword(st, p, eol, <int>(eol - p)))
+        return cerr_at(st, ERR_BAD_CONDITION, cword_rest(st, p, eol), column_of(st, p))
     p += n
     if ex_sum(st, &p, eol, &b, 0) != 0:
         return R_ERR
@@ -105,7 +105,7 @@ cdef int fl_for(CState *st, const char *p, const char *eol) noexcept nogil:
     n = lx_alpha_run(p, eol)
     if n > 0:
         if not lx_eq(p, n, "STEP"):
-            return cerr_text(st, ERR_BAD_CONDITION, cword(st, p, eol, <int>(eol - p)))
+            return cerr_at(st, ERR_BAD_CONDITION, cword_rest(st, p, eol), column_of(st, p))
         p += n
         if ex_sum(st, &p, eol, &s, 0) != 0:
             return R_ERR
@@ -130,11 +130,12 @@ cdef int fl_for(CState *st, const char *p, const char *eol) noexcept nogil:
 cdef int fl_rest_of_line(CState *st, const char *p, const char *eol) noexcept nogil:
     """Only blanks and comments may follow a flow statement."""
     cdef int status
+    cdef const char *gap = p
     p = lx_skip_gap(p, eol, &status)
     if status:
-        return cerr(st, ERR_UNTERMINATED_COMMENT)
+        return cerr_open_comment(st, gap, eol)
     if p < eol:
-        return cerr_text(st, ERR_UNKNOWN_WORD, cword(st, p, eol, <int>(eol - p)))
+        return cerr_at(st, ERR_UNKNOWN_WORD, cword_at(st, p, eol), column_of(st, p))
     return 0
 
 
@@ -194,7 +195,7 @@ cdef int fl_if(CState *st, const char *p, const char *eol) noexcept nogil:
         if not cond:
             return R_NEXT
         return fl_call_stmt(st, p + n, eol, lx_eq(p, n, "CALL"))
-    return cerr_text(st, ERR_BAD_CONDITION, cword(st, p, eol, <int>(eol - p)))
+    return cerr_at(st, ERR_BAD_CONDITION, cword_rest(st, p, eol), column_of(st, p))
 
 
 cdef int fl_else(CState *st) noexcept nogil:
@@ -340,4 +341,4 @@ cdef int fl_call_stmt(CState *st, const char *p, const char *eol, bint call) noe
         if fl_rest_of_line(st, p, eol) != 0:
             return R_ERR
         return fl_call(st, NULL, 0, v, True, call, 1)
-    return cerr_text(st, ERR_UNDEFINED_LABEL, cword(st, p, eol, <int>(eol - p)))
+    return cerr_text(st, ERR_UNDEFINED_LABEL, cword_rest(st, p, eol))

@@ -3,6 +3,7 @@
 # line, error helpers, and the program -> machine coordinate transform.
 from libc.math cimport sin, cos, sqrt, fabs, M_PI
 from libc.string cimport memcpy
+from libc.stdio cimport snprintf
 
 
 cdef enum:
@@ -12,6 +13,7 @@ cdef enum:
     MAX_LINE_CHARS = 65536      # longer lines are refused (ERR_LINE_TOO_LONG)
     MAX_PARTS = 20000000        # ERR_PART_LIMIT
     MAX_WORD_LIST = 16          # G or M words on one line
+    MAX_COMPILE_WARNINGS = 50   # per compilation; then one "further warnings suppressed"
     DEFAULT_MAX_BLOCKS = 10000000
 
 cdef extern from *:
@@ -73,6 +75,14 @@ ctypedef struct LineWords:
     int ng, nm
     double g[MAX_WORD_LIST]
     double m[MAX_WORD_LIST]
+    int gcol[MAX_WORD_LIST]     # 1-based columns of the G / M words, for messages
+    int mcol[MAX_WORD_LIST]
+    int col[26]                 # column of each address letter (valid where mask is set)
+    bint has_pword              # a P word that is no assignment (P0.1): ISO dwell, G64 or M argument
+    double pword
+    const char *pword_at        # its text, for messages
+    int pword_len
+    bint first_is_o             # the line starts with an O word (a program number in ISO)
     bint has_ff, has_fp
     double ff, fp
     const char *label       # G25/G26/G27 L target given as a name
@@ -135,6 +145,11 @@ ctypedef struct CState:
     size_t jpos
     uint32_t jline
     int last_percent
+    bint iso                                # ISO compatibility mode (GCODE_REZERVA1_ISO_COMPAT)
+    double unit_scale                       # 1, or 25.4 after an ISO G20 (inches)
+    bint iso_header                         # G21, or G90 before the first part: written for ISO?
+    bint warned_g18                         # the G18 arc warning is given once
+    int n_warnings
     char word[64]                           # text of an offending word for messages
     LineWords lw                            # words of the current line
 
@@ -209,6 +224,103 @@ cdef const char *cword(CState *st, const char *p, const char *eol, int n) noexce
         i += 1
     st.word[i] = 0
     return st.word
+
+
+cdef int column_of(const CState *st, const char *p) noexcept nogil:
+    """1-based column of p in the line being executed."""
+    return <int>(p - (st.unit.text + st.cur_pos)) + 1
+
+
+cdef const char *cword_at(CState *st, const char *p, const char *eol) noexcept nogil:
+    """The word at p for a message: up to a blank (CR included), a comment or 40 characters."""
+    cdef int n = 0
+    while p + n < eol and n < 40 and p[n] != b' ' and p[n] != b'\t' and p[n] != b'\r' \
+            and p[n] != b'(' and p[n] != b';':
+        n += 1
+    return cword(st, p, eol, n if n > 0 else 1)
+
+
+cdef const char *cword_rest(CState *st, const char *p, const char *eol) noexcept nogil:
+    """The rest of the line from p for a message, without trailing blanks or CR."""
+    while eol > p and ((eol - 1)[0] == b' ' or (eol - 1)[0] == b'\t' or (eol - 1)[0] == b'\r'):
+        eol -= 1
+    return cword(st, p, eol, <int>(eol - p))
+
+
+cdef int cerr_at(CState *st, int32_t number, const char *word, int column) noexcept nogil:
+    """Error `number` with a word and its column (formats '%s ... column %d')."""
+    cdef ErrArg a[2]
+    a[0].num = 0; a[0].text = word
+    a[1].num = column; a[1].text = NULL
+    set_error(st.err, number, st.unit.file_idx, st.line, a, 2)
+    return R_ERR
+
+
+cdef int cerr_hint(CState *st, int32_t number, const char *word, int column, const char *hint) noexcept nogil:
+    """Error `number` with a word, its column and what TG expects instead."""
+    cdef ErrArg a[3]
+    a[0].num = 0; a[0].text = word
+    a[1].num = column; a[1].text = NULL
+    a[2].num = 0; a[2].text = hint
+    set_error(st.err, number, st.unit.file_idx, st.line, a, 3)
+    return R_ERR
+
+
+cdef int cerr_num_at(CState *st, int32_t number, double value, int column) noexcept nogil:
+    """Error `number` with a value and its column (formats '%g ... column %d')."""
+    cdef ErrArg a[2]
+    a[0].num = value; a[0].text = NULL
+    a[1].num = column; a[1].text = NULL
+    set_error(st.err, number, st.unit.file_idx, st.line, a, 2)
+    return R_ERR
+
+
+cdef int cerr_open_comment(CState *st, const char *p, const char *eol) noexcept nogil:
+    """Error 104 for the gap [p, eol) that holds a '(' without ')': comments do not
+    nest, so it is the first '(' after the last ')'."""
+    cdef const char *q = eol
+    cdef const char *open_at = NULL
+    while q > p and (q - 1)[0] != b')':
+        q -= 1
+        if q[0] == b'(':
+            open_at = q
+    return cerr_num(st, ERR_UNTERMINATED_COMMENT, column_of(st, open_at if open_at != NULL else p))
+
+
+# --------------------------------------------------------------- warnings
+
+cdef void cwarn(CState *st, int32_t number, const ErrArg *args, int n_args) noexcept nogil:
+    """A numbered compile warning (600..699) on the current line: to the host's
+    MathWarning (CompileInput.warn) and to the output log, like the compensation's."""
+    cdef ErrorInfo info
+    cdef char text[1100]
+    if st.n_warnings > MAX_COMPILE_WARNINGS:
+        return
+    st.n_warnings += 1
+    if st.n_warnings > MAX_COMPILE_WARNINGS:
+        if st.inp.output != NULL:
+            st.inp.output(st.inp.ctx, 0, "Warning: G-code: further warnings suppressed")
+        return
+    set_error(&info, number, st.unit.file_idx, <int32_t>st.line, args, n_args)
+    info.n_lines = <int32_t>st.prog.n_lines
+    if st.inp.warn != NULL:
+        st.inp.warn(st.inp.ctx, &info)
+    if st.inp.output != NULL:
+        snprintf(text, sizeof(text), "Warning: G-code, line %u: %s", st.line, info.text)
+        st.inp.output(st.inp.ctx, 0, text)
+
+
+cdef void cwarn_num_col(CState *st, int32_t number, int column) noexcept nogil:
+    cdef ErrArg a
+    a.num = column; a.text = NULL
+    cwarn(st, number, &a, 1)
+
+
+cdef void cwarn_at(CState *st, int32_t number, const char *word, int column) noexcept nogil:
+    cdef ErrArg a[2]
+    a[0].num = 0; a[0].text = word
+    a[1].num = column; a[1].text = NULL
+    cwarn(st, number, a, 2)
 
 
 # ----------------------------------------------------- coordinate transform

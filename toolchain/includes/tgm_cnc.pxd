@@ -13,6 +13,7 @@ cdef extern from "tgm_cnc.h" nogil:
     int TOOL_CHAIN_FILE_UNKNOWN, TOOL_CHAIN_FILE_END, TOOL_CHAIN_FILE_STOP, TOOL_CHAIN_FILE_EXEC
     double INVALID_VALUE
     float INVALID_VALUE_F
+    uint32_t GCODE_REZERVA1_ISO_COMPAT
 
     ctypedef const char *TGM_LPCTSTR
     ctypedef char *TGM_LPTSTR
