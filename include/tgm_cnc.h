@@ -398,12 +398,13 @@ typedef struct GCODE_PARAMETERS {
 #define TC_TOOLPATH_CONTINUOUS_M    0x04u /* M >= 1001: signalled at the start of the next move, no wait */
 #define TC_TOOLPATH_HELIX           0x08u /* arc with motion off its plane */
 
-/* One part of the compiled program (192 bytes, no padding). */
+/* One part of the compiled program (168 bytes, no padding). A part starts where the
+ * previous one ends: the start of the tool centre's path is the previous record's
+ * tool_end (the first record's: its start). */
 typedef struct TC_TOOLPATH_RECORD {
     double   start[3];      /* programmed start x y z, mm: the previous part's end (the first: the program start) */
     double   end[3];        /* programmed end x y z, mm; M functions, dwells, prints: the current position */
-    double   tool_start[3]; /* start of the tool centre's path (after radius compensation), mm; = start without */
-    double   tool_end[3];   /* end of the tool centre's path, mm; = end without compensation */
+    double   tool_end[3];   /* end of the tool centre's path (after radius compensation), mm; = end without */
     double   centre[3];     /* arc centre x y z, mm (G2/G3; the same for both paths); 0 0 0 otherwise */
     double   radius;        /* radius of the tool centre's arc, mm (G2/G3); 0 otherwise */
     double   length;        /* length of the tool centre's path, mm (helix: with its rise); 0 unless motion */
@@ -678,7 +679,7 @@ TGM_STATIC_ASSERT(sizeof(MACHINE_PARAMETERS) == 448, "MACHINE_PARAMETERS");
 TGM_STATIC_ASSERT(offsetof(GCODE_PARAMETERS, M02_programEnd1) == 624, "M02_programEnd1");
 TGM_STATIC_ASSERT(offsetof(GCODE_PARAMETERS, tolerance) == 1032, "tolerance");
 TGM_STATIC_ASSERT(offsetof(SIMPLE_GM_PARAMS, m_fp) == 612, "m_fp");
-TGM_STATIC_ASSERT(sizeof(TC_TOOLPATH_RECORD) == 192, "TC_TOOLPATH_RECORD");
+TGM_STATIC_ASSERT(sizeof(TC_TOOLPATH_RECORD) == 168, "TC_TOOLPATH_RECORD");
 #  undef TGM_STATIC_ASSERT
 #endif
 

@@ -34,14 +34,9 @@ cdef inline uint32_t _record_flags(const Part *p) noexcept nogil:
 cdef void toolpath_record(const Program *prog, size_t i, TC_TOOLPATH_RECORD *r) noexcept nogil:
     """Record of part i: the fields as include/tgm_cnc.h documents them."""
     cdef const Part *p = &prog.parts[i]
-    cdef const double *start = part_start_xyz(prog, i)
-    cdef const double *tool_start = prog.start
     cdef bint arc = p.kind == PART_MOTION and (p.func == 2 or p.func == 3)
-    if i > 0:
-        tool_start = prog.parts[i - 1].ce
-    memcpy(r.start, start, 3 * sizeof(double))
+    memcpy(r.start, part_start_xyz(prog, i), 3 * sizeof(double))
     memcpy(r.end, p.e, 3 * sizeof(double))
-    memcpy(r.tool_start, tool_start, 3 * sizeof(double))
     memcpy(r.tool_end, p.ce, 3 * sizeof(double))
     if arc:
         memcpy(r.centre, p.cc, 3 * sizeof(double))

@@ -220,7 +220,6 @@ class TC_TOOLPATH_RECORD(ctypes.Structure):
     _fields_ = [
         ("start", c_double * 3),
         ("end", c_double * 3),
-        ("tool_start", c_double * 3),
         ("tool_end", c_double * 3),
         ("centre", c_double * 3),
         ("radius", c_double),

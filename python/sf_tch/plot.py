@@ -59,9 +59,9 @@ def plot_program(program: Program, ax=None, step: float = 0.2, title: str | None
 
 def draw_toolpath(ax, toolpath: Toolpath, step: float = 0.2) -> None:
     """The programmed path (grey), the compensated path when it differs (blue), rapids (green, dashed) and the start of every cut after a rapid."""
-    motion = toolpath.motion
+    records = toolpath.records
     # drawn twice only where the paths differ (G41 with radius 0 is the programmed path)
-    compensated = bool(np.any(np.abs(motion["tool_end"] - motion["end"]) > 1e-9))
+    compensated = bool(np.any(np.abs(records["tool_end"] - records["end"]) > 1e-9))
     labelled = set()
 
     def label(text: str) -> str | None:

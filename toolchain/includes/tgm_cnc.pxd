@@ -148,7 +148,6 @@ cdef extern from "tgm_cnc.h" nogil:
     ctypedef struct TC_TOOLPATH_RECORD:
         double start[3]
         double end[3]
-        double tool_start[3]
         double tool_end[3]
         double centre[3]
         double radius
