@@ -92,6 +92,7 @@ class ProgressBar:
             self.shown = True
 
     def close(self) -> None:
+        """Clears the bar's line (the summary follows on a clean terminal)."""
         with self.lock:
             if self.shown:
                 sys.stderr.write("\r\033[K")
@@ -158,11 +159,13 @@ def _report(program: Program, args, extra: list[str] = ()) -> int:
 # ------------------------------------------------------------------ commands
 
 def cmd_compile(args) -> int:
+    """``sf-tch compile``: the summary, or the errors."""
     with _compile(args, args.program) as program:
         return _report(program, args)
 
 
 def cmd_demo(args) -> int:
+    """``sf-tch demo``: the summary with run time, PRINT texts and errors (the README's main job)."""
     with _compile(args, args.program or sample_program()) as program:
         if args.json or not program.ok:
             return _report(program, args)
@@ -173,6 +176,7 @@ def cmd_demo(args) -> int:
 
 
 def cmd_simulate(args) -> int:
+    """``sf-tch simulate``: compile, run regime 10 (or 20 with --test), report the run."""
     with _compile(args, args.program) as program:
         if not program.ok:
             return _report(program, args)
@@ -200,6 +204,7 @@ def cmd_simulate(args) -> int:
 
 
 def cmd_plot(args) -> int:
+    """``sf-tch plot``: draw the program into a PNG, SVG or PDF file."""
     from .plot import save_plot
     suffix = os.path.splitext(args.output)[1].lower()
     if suffix not in (".png", ".svg", ".pdf"):
@@ -220,6 +225,7 @@ def cmd_plot(args) -> int:
 
 
 def cmd_info(args) -> int:
+    """``sf-tch info``: version, library path, cores, structure sizes (library / mirror)."""
     lib = load()
     sizes = (ctypes.c_uint32 * 9)()
     lib.ToolChainCore_GetStructuresSize(0, 9, sizes)
