@@ -28,10 +28,17 @@ _PACKAGE_DIR = Path(__file__).resolve().parent
 
 def _candidates() -> list[Path]:
     """Where the library may be, in order: the package directory (a wheel or
-    ``pip install .``), then the build directories of a source tree (``pip install
-    -e .`` with scikit-build-core's ``build-dir``, or a CMake build in ``build/``)."""
-    root = _PACKAGE_DIR.parents[1]
+    ``pip install .``), where the installed distribution put it (``pip install -e
+    .``: site-packages, beside the redirected sources), then the build directories of
+    a source tree (scikit-build-core's ``build-dir``, a CMake build in ``build/``)."""
     found = [_PACKAGE_DIR / LIBRARY_NAME]
+    try:
+        installed = metadata.distribution("sf-tch")
+        found += [Path(installed.locate_file(f)) for f in installed.files or ()
+                  if f.name == LIBRARY_NAME]
+    except metadata.PackageNotFoundError:
+        pass
+    root = _PACKAGE_DIR.parents[1]
     for build in (root / "build", *sorted(root.glob("build/*"))):
         found.append(build / LIBRARY_NAME)
     return found
