@@ -408,7 +408,7 @@ typedef struct TC_TOOLPATH_RECORD {
     double   centre[3];     /* arc centre x y z, mm (G2/G3; the same for both paths); 0 0 0 otherwise */
     double   radius;        /* radius of the tool centre's arc, mm (G2/G3); 0 otherwise */
     double   length;        /* length of the tool centre's path, mm (helix: with its rise); 0 unless motion */
-    double   feed;          /* programmed feed after forceMode/M99: mm/min or mm/rev (flags); rapids: motion[0].feed */
+    double   feed;          /* motion: feed after forceMode/M99, mm/min or mm/rev (flags), rapids motion[0].feed; else 0 */
     double   value;         /* G4: dwell seconds; G33: thread pitch mm; 0 otherwise */
     int32_t  kind;          /* TC_TOOLPATH_MOTION .. TC_TOOLPATH_PRINT */
     int32_t  number;        /* G number of a motion or dwell (0 1 2 3 4 33), M number of an M function (29 print) */

@@ -25,7 +25,7 @@ import threading
 import time
 
 from . import __version__, abi, library_path
-from .core import Core, sample_program
+from .core import sample_program
 from .enums import Regime
 from .errors import Cancelled, CncError, SfTchError
 from .library import load
@@ -103,15 +103,8 @@ class ProgressBar:
 # ------------------------------------------------------------------ compiling
 
 def _compile(args, path: str) -> Program:
-    """Compiles `path` with the command's options, a progress bar meanwhile."""
-    if not os.path.exists(path):
-        raise UsageError(f"{path}: no such file")
-    if os.path.isdir(path):
-        raise UsageError(f"{path}: is a directory, not a G-code file")
-    if not os.access(path, os.R_OK):
-        raise UsageError(f"{path}: not readable")
-    if args.ini is not None and not os.path.isfile(args.ini):
-        raise UsageError(f"{args.ini}: no such INI file")
+    """Compiles `path` with the command's options, a progress bar meanwhile (a
+    missing file, a directory or an unreadable one raise OSError: exit 2)."""
     bar = ProgressBar(f"compiling {os.path.basename(path)}")
     params = {"absMode": 0} if args.relative else None
     try:

@@ -83,6 +83,8 @@ class Core:
     can be set) unless ``ini`` names another. Library output lines (AddOutputLog) go
     to the ``sf_tch`` logger: errors as ERROR, PRINT texts as INFO, the rest DEBUG."""
 
+    closed = False      # True once close() released the core
+
     def __init__(self, index: int | None = None, ini: str | None = None, timeout: float = 600.0):
         self.lib = load()
         self.timeout = timeout
@@ -130,10 +132,7 @@ class Core:
         self.close()
 
     def __del__(self):
-        if not getattr(self, "closed", True):
-            self.close()
-
-    closed = False
+        self.close()
 
     def close(self) -> None:
         """Destroys the core's program and activity and removes every callback set

@@ -92,7 +92,7 @@ def _uncompensated(program: Program) -> Toolpath | None:
     try:
         with compile_program(**program.compile_args(radius=0.0)) as again:
             return again.toolpath if again.ok else None
-    except Exception:
+    except Exception:       # no free core, the file gone meanwhile: the picture shows the errors only
         return None
 
 

@@ -37,6 +37,8 @@ def _read_source(source: Source, name: str | None) -> tuple[str | None, Path | N
         raise FileNotFoundError(f"{path}: no such file")
     if path.is_dir():
         raise IsADirectoryError(f"{path}: is a directory, not a G-code file")
+    if not os.access(path, os.R_OK):
+        raise PermissionError(f"{path}: not readable")
     return None, path, name or str(path)
 
 
