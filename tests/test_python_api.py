@@ -4,6 +4,7 @@ library_path(), the version, docstrings, and the README's snippet."""
 import ctypes
 import inspect
 import json
+import logging
 import re
 import threading
 from importlib import metadata
@@ -233,3 +234,13 @@ def test_core_simulate_returns_a_sized_result():
     assert run.parts["m_func"].tolist() == [0, 1, 1, 1, 1]
     assert "5 motion parts" in repr(run) and run.to_dict()["status"] == Status.SIMULATION_DONE
     assert ctypes.sizeof(abi.SIMPLE_GM_PARAMS) == run.parts.dtype.itemsize
+
+
+def test_library_output_goes_to_the_logger(caplog):
+    with caplog.at_level(logging.DEBUG, logger="sf_tch"):
+        with sf_tch.compile("G1 X1/0\n", name="bad.nc") as program:
+            assert not program.ok
+        with sf_tch.compile('G0 X0 Y0 Z0\nPRINT "hello"\nM30\n') as program:
+            assert program.printed == ["hello"]
+    levels = {(r.levelno, r.getMessage().split(": ", 1)[1]) for r in caplog.records if r.name == "sf_tch"}
+    assert (logging.ERROR, "Division by zero") in levels and (logging.INFO, "hello") in levels

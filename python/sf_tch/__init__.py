@@ -34,7 +34,7 @@ def _candidates() -> list[Path]:
     found = [_PACKAGE_DIR / LIBRARY_NAME]
     try:
         installed = metadata.distribution("sf-tch")
-        found += [Path(installed.locate_file(f)) for f in installed.files or ()
+        found += [Path(str(installed.locate_file(f))) for f in installed.files or ()
                   if f.name == LIBRARY_NAME]
     except metadata.PackageNotFoundError:
         pass

@@ -389,6 +389,6 @@ def _repr(self) -> str:
 
 
 for _cls in STRUCTURES.values():
-    _cls.to_dict = _to_dict
-    _cls.__repr__ = _repr
+    setattr(_cls, "to_dict", _to_dict)
+    setattr(_cls, "__repr__", _repr)
 del _cls

@@ -23,6 +23,7 @@ import os
 import sys
 import threading
 import time
+from typing import Sequence
 
 from . import __version__, abi, library_path
 from .core import sample_program
@@ -133,7 +134,7 @@ def _summary(program: Program) -> list[str]:
     return lines
 
 
-def _report(program: Program, args, extra: list[str] = ()) -> int:
+def _report(program: Program, args, extra: Sequence[str] = ()) -> int:
     """Prints the program's result (text or JSON); the exit code."""
     if args.json:
         print(json.dumps(program.to_dict(), indent=2))
