@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import argparse
 import ctypes
+import importlib.util
 import json
 import os
 import sys
@@ -203,10 +204,8 @@ def cmd_plot(args) -> int:
     suffix = os.path.splitext(args.output)[1].lower()
     if suffix not in (".png", ".svg", ".pdf"):
         raise UsageError(f"{args.output}: the picture's name must end in .png, .svg or .pdf")
-    try:
-        import matplotlib  # noqa: F401
-    except ImportError:
-        raise UsageError("plotting needs matplotlib: pip install 'sf-tch[plot]'") from None
+    if importlib.util.find_spec("matplotlib") is None:
+        raise UsageError("plotting needs matplotlib: pip install 'sf-tch[plot]'")
     with _compile(args, args.program) as program:
         save_plot(program, args.output, step=args.step)
         if args.json:
