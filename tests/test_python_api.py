@@ -244,3 +244,15 @@ def test_library_output_goes_to_the_logger(caplog):
             assert program.printed == ["hello"]
     levels = {(r.levelno, r.getMessage().split(": ", 1)[1]) for r in caplog.records if r.name == "sf_tch"}
     assert (logging.ERROR, "Division by zero") in levels and (logging.INFO, "hello") in levels
+
+
+def test_simulate_keeps_every_part_beyond_the_programs_own():
+    # StartCNCEx's addCode sends its M functions before the program: more parts than it has
+    add_code = " ".join(f"M{100 + k}" for k in range(40))
+    with sf_tch.Core() as core:
+        core.compile_text(SQUARE)
+        run = core.simulate(add_code=add_code)
+        again = core.simulate()
+    assert run.m_functions["m_func"].tolist() == list(range(100, 140)) + [30]
+    assert len(run) == 5 and again.m_functions["m_func"].tolist() == [30]
+    assert run.parts.tobytes() == again.parts.tobytes()
