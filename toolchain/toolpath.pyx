@@ -6,7 +6,9 @@ from libc.string cimport memcpy
 
 cdef const Program *toolpath_acquire(Core *core) noexcept nogil:
     """The core's compiled program, held until toolpath_release; NULL (nothing held)
-    when there is none. The only place this module reaches into the core."""
+    when there is none. With these two the only places this module reaches into the
+    core: for now the core's lock keeps the program from being replaced or freed
+    (a compilation's end, DestroyCNC) while it is copied."""
     pthread_mutex_lock(&core.lock)
     if not core.has_program:
         pthread_mutex_unlock(&core.lock)
@@ -15,6 +17,8 @@ cdef const Program *toolpath_acquire(Core *core) noexcept nogil:
 
 
 cdef void toolpath_release(Core *core, const Program *prog) noexcept nogil:
+    """Lets go of what toolpath_acquire returned (prog: what a reference-counted
+    program will release)."""
     pthread_mutex_unlock(&core.lock)
 
 
