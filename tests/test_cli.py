@@ -192,3 +192,20 @@ def test_a_cnc_error_propagates_through_a_with_block():
         with Core(0) as core:
             core.compile_text("G1 X1/0\n", "bad.nc")
     assert caught.value.number == 200 and caught.value.line == 1
+
+
+def test_progress_bar_only_for_long_work_and_cleared(capsys):
+    from sf_tch.cli import ProgressBar
+    quiet = ProgressBar("compiling x", enabled=False)
+    quiet.started -= 10
+    quiet(50)
+    fresh = ProgressBar("compiling x", enabled=True)
+    fresh(10)                                   # the first half second: nothing
+    bar = ProgressBar("compiling x", enabled=True)
+    bar.started -= 10
+    bar(40)
+    bar(100)
+    bar.close()
+    err = capsys.readouterr().err
+    assert err == ("\rcompiling x [" + "#" * 12 + " " * 18 + "]  40 %" + "\rcompiling x [" + "#" * 30 + "] 100 %"
+                   + "\r\033[K")
