@@ -256,3 +256,11 @@ def test_simulate_keeps_every_part_beyond_the_programs_own():
     assert run.m_functions["m_func"].tolist() == list(range(100, 140)) + [30]
     assert len(run) == 5 and again.m_functions["m_func"].tolist() == [30]
     assert run.parts.tobytes() == again.parts.tobytes()
+
+
+def test_an_error_of_no_file_names_no_place(tmp_path):
+    with sf_tch.Core() as core:
+        with pytest.raises(sf_tch.CncError) as caught:
+            core.compile_file(tmp_path / "missing.nc")
+    assert caught.value.number == ErrorNumber.FILE_OPEN
+    assert str(caught.value) == f"error 1: Cannot open file '{tmp_path / 'missing.nc'}'"

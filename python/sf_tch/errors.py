@@ -16,6 +16,10 @@ def _number(value: int) -> int:
         return value
 
 
+# IdxToFile's names of the special file indexes -1..-4: no file to point at
+_NO_FILE = ("__unknown__", "__end__", "__stop__", "__exec__")
+
+
 @dataclass(frozen=True)
 class Diagnostic:
     """One error or warning: catalogue number, file, 1-based line (0 unknown), 1-based
@@ -31,7 +35,10 @@ class Diagnostic:
     column: int | None = None
 
     def __str__(self) -> str:
-        """``file:line:col: error N: text``, the form compilers and editors read."""
+        """``file:line:col: error N: text``, the form compilers and editors read;
+        ``error N: text`` for an error of no file (e.g. a file that cannot be opened)."""
+        if self.line <= 0 and self.file in _NO_FILE:
+            return f"{self.severity} {int(self.number)}: {self.text}"
         place = f"{self.file}:{self.line}:" + (f"{self.column}:" if self.column else "")
         return f"{place} {self.severity} {int(self.number)}: {self.text}"
 
