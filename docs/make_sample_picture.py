@@ -13,9 +13,7 @@ from sf_tch.plot import save_plot
 
 def main() -> int:
     out = Path(sys.argv[1]) if len(sys.argv) > 1 else Path(__file__).resolve().parent / "sample.png"
-    with sf_tch.Core(0) as core:
-        core.reset([0.0] * 10)              # the first rapid starts at the machine's zero
-    with sf_tch.compile(sf_tch.sample_program(), radius=1.0, core=0) as program:
+    with sf_tch.compile(sf_tch.sample_program(), radius=1.0, start=(0.0, 0.0, 0.0)) as program:
         program.check()
         save_plot(program, str(out), dpi=100)
     print(f"wrote {out}")

@@ -264,3 +264,14 @@ def test_an_error_of_no_file_names_no_place(tmp_path):
             core.compile_file(tmp_path / "missing.nc")
     assert caught.value.number == ErrorNumber.FILE_OPEN
     assert str(caught.value) == f"error 1: Cannot open file '{tmp_path / 'missing.nc'}'"
+
+
+def test_the_start_position():
+    relative = "G91 G1 X10 F600\nG1 Y10\nM30\n"
+    with sf_tch.compile(relative, start=(5, 7, 1)) as program:
+        rec = program.toolpath.records
+        ends = rec["end"][rec["kind"] == sf_tch.PartKind.MOTION]
+        assert rec["start"][0].tolist() == [5, 7, 1]
+        assert ends.tolist() == [[15, 7, 1], [15, 17, 1]]
+        box = program.size_info.m_size[0]
+        assert (box.m_minimalPos.x, box.m_maximalPos.y) == (5, 17)

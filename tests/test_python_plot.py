@@ -13,14 +13,7 @@ import numpy as np  # noqa: E402
 
 from sf_tch.plot import save_plot  # noqa: E402
 
-
-@pytest.fixture(autouse=True)
-def machine_at_zero():
-    """The machine position outlives a core's program: the sample's first rapid starts
-    at (0, 0) only when the machine stands there."""
-    for index in range(3):
-        with sf_tch.Core(index) as core:
-            core.reset([0.0] * 10)
+ORIGIN = (0.0, 0.0, 0.0)        # the sample's first rapid starts at the machine's zero
 
 
 def _lines(ax):
@@ -28,7 +21,7 @@ def _lines(ax):
 
 
 def test_plot_of_the_compensated_sample_has_the_librarys_extent():
-    with sf_tch.compile(sf_tch.sample_program(), radius=1.0) as program:
+    with sf_tch.compile(sf_tch.sample_program(), radius=1.0, start=ORIGIN) as program:
         size = program.size_info.m_size
         fig, ax = plt.subplots()
         try:
@@ -49,7 +42,7 @@ def test_plot_of_the_compensated_sample_has_the_librarys_extent():
 
 
 def test_errors_are_marked_at_their_line():
-    with sf_tch.compile(sf_tch.sample_program(), radius=6.0) as program:
+    with sf_tch.compile(sf_tch.sample_program(), radius=6.0, start=ORIGIN) as program:
         assert not program.ok
         fig, ax = plt.subplots()
         try:
@@ -66,7 +59,7 @@ def test_errors_are_marked_at_their_line():
 
 def test_png_is_not_empty(tmp_path):
     out = tmp_path / "sample.png"
-    with sf_tch.compile(sf_tch.sample_program(), radius=1.0) as program:
+    with sf_tch.compile(sf_tch.sample_program(), radius=1.0, start=ORIGIN) as program:
         save_plot(program, str(out))
     pixels = matplotlib.image.imread(out)
     assert pixels.shape[0] > 500 and pixels.shape[1] > 500

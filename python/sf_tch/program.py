@@ -13,7 +13,7 @@ from __future__ import annotations
 import os
 import threading
 from pathlib import Path
-from typing import Callable, Iterator
+from typing import Callable, Iterator, Sequence
 
 import numpy as np
 
@@ -130,7 +130,7 @@ class CompileJob:
 def start_compile(source: Source, radius: float | None = None, strategy: int | None = None,
                   ini: str | os.PathLike | None = None, params: dict | None = None, core: int | None = None,
                   name: str | None = None, progress: Callable[[int], object] | None = None,
-                  cancel=None) -> CompileJob:
+                  cancel=None, start: Sequence[float] | None = None) -> CompileJob:
     """Starts compiling and returns the running :class:`CompileJob`; the arguments
     are those of :func:`compile`."""
     if radius is not None and not radius >= 0:
@@ -147,9 +147,11 @@ def start_compile(source: Source, radius: float | None = None, strategy: int | N
         handle.update_params(**fields)
         if radius is not None:
             handle.set_tool_radius(radius)
+        if start is not None:
+            handle.reset(start)
         job = CompileJob(handle, text, path, name, progress, cancel)
         job.arguments = {"source": source, "radius": radius, "strategy": strategy, "ini": ini,
-                         "params": params, "name": name}
+                         "params": params, "name": name, "start": start}
         return job
     except BaseException:
         handle.close()
@@ -159,7 +161,7 @@ def start_compile(source: Source, radius: float | None = None, strategy: int | N
 def compile(source: Source, radius: float | None = None, strategy: int | None = None,
             ini: str | os.PathLike | None = None, params: dict | None = None, core: int | None = None,
             name: str | None = None, progress: Callable[[int], object] | None = None,
-            cancel=None) -> Program:
+            cancel=None, start: Sequence[float] | None = None) -> Program:
     """Compiles G-code and returns the :class:`Program`; errors of the G-code are in
     ``program.errors`` (``program.check()`` raises the first).
 
@@ -169,12 +171,14 @@ def compile(source: Source, radius: float | None = None, strategy: int | None = 
       the side); ``strategy``: correctionStrategy bits (CORR_* of tgm_cnc.h);
     - ``ini``: a vendor INI file instead of the bundled one; ``params``: any other
       GCODE_PARAMETERS fields by name, e.g. ``{"absMode": 0}``;
-    - ``core``: the core (0..2), default the first free one;
+    - ``core``: the core (0..2), default the first free one; ``start``: the machine
+      position (x y z ... in axis order, up to 10) the program starts from, default
+      where the core's machine stands (the end of its last run, or 0);
     - ``progress``: called with the percent from the library's thread; ``cancel``:
       an object with ``is_set()`` (threading.Event) that interrupts when set.
     Raises FileNotFoundError / IsADirectoryError for a bad path, ValueError for a
     negative radius, :class:`Cancelled` when cancelled."""
-    job = start_compile(source, radius, strategy, ini, params, core, name, progress, cancel)
+    job = start_compile(source, radius, strategy, ini, params, core, name, progress, cancel, start)
     try:
         return job.result()
     except BaseException:
