@@ -48,10 +48,10 @@ class CompileJob:
     its :meth:`result`. Made by :func:`start_compile`."""
 
     def __init__(self, core: Core, text: str | None, path: Path | None, name: str,
-                 progress: Callable[[int], object] | None = None, cancel=None):
+                 progress: Callable[[int], object] | None = None, cancel=None, arguments: dict | None = None):
         self.core = core
         self.name = name
-        self._source_lines = text.splitlines() if text is not None else None
+        self._text = text
         self._path = path
         self._cancel_event = cancel
         self._percent = 0
@@ -59,7 +59,7 @@ class CompileJob:
         self.warnings: list[Diagnostic] = []
         self.errors: list[Diagnostic] = []
         self._program: Program | None = None
-        self.arguments: dict = {}                    # those of start_compile, for compiling again
+        self._arguments = dict(arguments or {})      # those of start_compile, for compiling again
         self._removers = [
             core.listen(Callback.SET_STATUS_BAR_PROGRESS, self._on_progress),
             core.listen(Callback.MATH_WARNING, self.warnings.append),
@@ -114,15 +114,19 @@ class CompileJob:
                 raise last
             if last is not None and not any(e.number == last.number and e.line == last.line for e in self.errors):
                 self.errors.append(last.diagnostic)
-            errors = [attach_column(e, self._source_lines or self._file_lines(e)) for e in self.errors]
-            self._program = Program(self.core, self.name, errors, list(self.warnings), self.arguments)
+            errors = [attach_column(e, self._source_lines(e)) for e in self.errors]
+            self._program = Program(self.core, self.name, errors, list(self.warnings), self._arguments)
         return self._program
 
-    def _file_lines(self, diagnostic: Diagnostic) -> list[str] | None:
-        if self._path is None or diagnostic.file != self.name:
+    def _source_lines(self, diagnostic: Diagnostic) -> list[str] | None:
+        """The lines of the source a diagnostic points into (only read when there is
+        one), None for another file (a prefix, a called file)."""
+        if diagnostic.file != self.name:
             return None
+        if self._text is not None:
+            return self._text.splitlines()
         try:
-            return self._path.read_text(encoding="latin-1").splitlines()
+            return self._path.read_text(encoding="latin-1").splitlines() if self._path else None
         except OSError:
             return None
 
@@ -149,10 +153,9 @@ def start_compile(source: Source, radius: float | None = None, strategy: int | N
             handle.set_tool_radius(radius)
         if start is not None:
             handle.reset(start)
-        job = CompileJob(handle, text, path, name, progress, cancel)
-        job.arguments = {"source": source, "radius": radius, "strategy": strategy, "ini": ini,
-                         "params": params, "name": name, "start": start}
-        return job
+        arguments = {"source": source, "radius": radius, "strategy": strategy, "ini": ini, "params": params,
+                     "name": name, "start": start}
+        return CompileJob(handle, text, path, name, progress, cancel, arguments)
     except BaseException:
         handle.close()
         raise
