@@ -180,7 +180,8 @@ class Core:
             return index
 
     def __repr__(self) -> str:
-        state = "closed" if self.closed else Status(self.status).name
+        status = self.status
+        state = "closed" if self.closed else getattr(status, "name", str(status))
         return f"<Core {self.index} {state}>"
 
     # -- context -------------------------------------------------------------
