@@ -411,7 +411,7 @@ typedef struct TC_TOOLPATH_RECORD {
     double   feed;          /* motion: feed after forceMode/M99, mm/min or mm/rev (flags), rapids motion[0].feed; else 0 */
     double   value;         /* G4: dwell seconds; G33: thread pitch mm; 0 otherwise */
     int32_t  kind;          /* TC_TOOLPATH_MOTION .. TC_TOOLPATH_PRINT */
-    int32_t  number;        /* G number of a motion or dwell (0 1 2 3 4 33), M number of an M function (29 print) */
+    int32_t  number;        /* G number of a motion or dwell (0 1 2 3 4 33), M number of an M function, 29 for a print */
     uint32_t line;          /* 1-based line in its file */
     int32_t  file_index;    /* file of the line (ToolChainCore_IdxToFile); -1 unknown */
     int32_t  plane;         /* 17 XY, 18 XZ, 19 YZ, -18 ZX (first axis, second axis): G3 turns from the first to the second */
@@ -646,13 +646,14 @@ TOOLCHAIN_API void TOOLCHAIN_CALLTYPE ToolChain_FlushLogFile(void);
  */
 
 /* Copies records [first, first + capacity) of the compiled program's toolpath into out
- * (TC_TOOLPATH_RECORD) and writes the number of records of the whole program to *total
- * (may be NULL); the records written are min(capacity, total - first). out may be NULL
- * when capacity is 0 (asks for the total). A host copies the whole program with one call
- * (capacity = total) or in chunks; the program is only replaced by a new compilation,
- * so chunks stay consistent while the host starts none. Holds the core's lock while it
- * copies (GetPos waits meanwhile); never fails for lack of memory and reports nothing
- * through GetLastError or the callbacks.
+ * (TC_TOOLPATH_RECORD) and, on success, writes the number of records of the whole
+ * program to *total (may be NULL); the records written are min(capacity, total - first).
+ * out may be NULL when capacity is 0 (asks for the total). A host copies the whole
+ * program with one call (capacity = total) or in chunks; chunks stay consistent while
+ * the host does not change the program meanwhile (a compilation replaces it, ResetCNC
+ * with coordinates moves its start, ResetStatusCNC 0 and DestroyCNC drop it). Holds the
+ * core's lock while it copies (GetPos waits meanwhile); never fails for lack of memory
+ * and reports nothing through GetLastError or the callbacks.
  * Returns 0; -1 while compiling, when nothing is compiled (or the compilation failed),
  * first > total, or out is NULL with capacity > 0; -2 bad core. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GetToolpath(uint32_t intIdx, TC_TOOLPATH_RECORD *out, uint64_t capacity, uint64_t first, uint64_t *total);
