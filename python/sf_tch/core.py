@@ -444,7 +444,7 @@ def attach_column(diagnostic: Diagnostic, source_lines: list[str] | None) -> Dia
     """The diagnostic with the column of its argument in its source line, when found."""
     if not source_lines or not 1 <= diagnostic.line <= len(source_lines):
         return diagnostic
-    column = locate_column(source_lines[diagnostic.line - 1], diagnostic.arguments)
+    column = locate_column(source_lines[diagnostic.line - 1], diagnostic.number, diagnostic.arguments)
     if column is None:
         return diagnostic
     return Diagnostic(diagnostic.severity, diagnostic.number, diagnostic.file, diagnostic.line,

@@ -2,7 +2,6 @@
 error or warning with its place) and the exceptions the package raises."""
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass
 
 from .enums import ErrorNumber
@@ -50,18 +49,23 @@ class Diagnostic:
                 "arguments": list(self.arguments)}
 
 
-def locate_column(source_line: str | None, arguments: tuple) -> int | None:
-    """1-based column of the first quoted text argument of an error (a word, a number,
-    an expression) in its source line, when it occurs there exactly once; else None."""
-    if not source_line:
+# Errors whose first argument is text of the line as written (a word, a number, an
+# address letter, an expression, a label, a condition): it gives the column.
+_SOURCE_TEXT_ARGUMENT = frozenset({
+    ErrorNumber.UNKNOWN_WORD, ErrorNumber.BAD_NUMBER, ErrorNumber.MISSING_VALUE, ErrorNumber.BAD_EXPRESSION,
+    ErrorNumber.UNKNOWN_FUNCTION, ErrorNumber.UNDEFINED_LABEL, ErrorNumber.DUPLICATE_LABEL,
+    ErrorNumber.BAD_CONDITION,
+})
+
+
+def locate_column(source_line: str | None, number: int, arguments: tuple) -> int | None:
+    """1-based column of an error in its source line: where the error's text argument
+    occurs, when it occurs there exactly once; else None."""
+    if not source_line or number not in _SOURCE_TEXT_ARGUMENT or not arguments or not arguments[0]:
         return None
-    for argument in arguments:
-        if len(argument) < 1 or re.fullmatch(r"-?[\d.]+(e[-+]?\d+)?", argument):
-            continue            # numbers formatted by the library need not appear as written
-        if source_line.count(argument) == 1:
-            return source_line.index(argument) + 1
+    if source_line.count(arguments[0]) != 1:
         return None
-    return None
+    return source_line.index(arguments[0]) + 1
 
 
 class SfTchError(Exception):
