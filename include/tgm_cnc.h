@@ -390,6 +390,51 @@ typedef struct GCODE_PARAMETERS {
     double   tolerance[10];
 } GCODE_PARAMETERS;
 
+/* ------------------------------------------------------------------ toolpath (extension) */
+
+/* Beyond the vendor's list: the compiled program as an array of fixed-size records,
+ * copied by ToolChainCore_GetToolpath in one call (a host allocates the array, e.g. a
+ * numpy structured array, and the library fills it). One record per part, in the
+ * order the simulation hands the parts to the driver callbacks. Positions are machine
+ * coordinates in mm (the programmed value plus the active zero offset, G54..G59/G92),
+ * axes x y z only (the other seven axes: SIMPLE_GM_PARAMS of the simulation). */
+
+/* TC_TOOLPATH_RECORD.kind */
+#define TC_TOOLPATH_MOTION     1 /* G0 G1 G2 G3 G33: a move from start to end */
+#define TC_TOOLPATH_M_FUNCTION 2 /* an M function (M0, M1, waiting < 1000, continuous >= 1001) */
+#define TC_TOOLPATH_DWELL      3 /* G4: dwell seconds in value */
+#define TC_TOOLPATH_PRINT      4 /* M29 / PRINT: a text for the output log */
+
+/* TC_TOOLPATH_RECORD.flags */
+#define TC_TOOLPATH_FEED_PER_MINUTE 0x01u /* feed is mm/min (G94); else mm per spindle revolution (G95) */
+#define TC_TOOLPATH_INSERTED        0x02u /* inserted by the library (compensation corner, G167 arc) */
+#define TC_TOOLPATH_CONTINUOUS_M    0x04u /* M >= 1001: signalled at the start of the next move, no wait */
+#define TC_TOOLPATH_HELIX           0x08u /* arc with motion off its plane */
+
+/* One part of the compiled program (168 bytes, no padding). A part starts where the
+ * previous one ends: the start of the tool centre's path is the previous record's
+ * tool_end (the first record's: its start). */
+typedef struct TC_TOOLPATH_RECORD {
+    double   start[3];      /* programmed start x y z, mm: the previous part's end (the first: the program start) */
+    double   end[3];        /* programmed end x y z, mm; M functions, dwells, prints: the current position */
+    double   tool_end[3];   /* end of the tool centre's path (after radius compensation), mm; = end without */
+    double   centre[3];     /* arc centre x y z, mm (G2/G3; the same for both paths); 0 0 0 otherwise */
+    double   radius;        /* radius of the tool centre's arc, mm (G2/G3); 0 otherwise */
+    double   length;        /* length of the tool centre's path, mm (helix: with its rise); 0 unless motion */
+    double   feed;          /* motion: feed after forceMode/M99, mm/min or mm/rev (flags), rapids motion[0].feed; else 0 */
+    double   value;         /* G4: dwell seconds; G33: thread pitch mm; 0 otherwise */
+    int32_t  kind;          /* TC_TOOLPATH_MOTION .. TC_TOOLPATH_PRINT */
+    int32_t  number;        /* G number of a motion or dwell (0 1 2 3 4 33), M number of an M function, 29 for a print */
+    uint32_t line;          /* 1-based line in its file */
+    int32_t  file_index;    /* file of the line (ToolChainCore_IdxToFile); -1 unknown */
+    int32_t  plane;         /* 17 XY, 18 XZ, 19 YZ, -18 ZX (first axis, second axis): G3 turns from the first to the second */
+    int32_t  compensation;  /* 40 none, 41 tool left of the path, 42 right (G41..G48 after the radius's sign) */
+    uint32_t flags;         /* TC_TOOLPATH_* bits */
+    int32_t  tool;          /* T number, 0 none */
+    float    spindle;       /* S, rev/min */
+    float    feed_factor;   /* FP relative feed, 1.0 = the programmed feed */
+} TC_TOOLPATH_RECORD;
+
 /* ------------------------------------------------------------------ callbacks */
 
 /* Numbers of ToolChainCore_SetCallBack. */
@@ -651,6 +696,23 @@ TOOLCHAIN_API void TOOLCHAIN_CALLTYPE ToolChain_LogANSI(TGM_LPCSTR text);
 /* Flushes the log file. */
 TOOLCHAIN_API void TOOLCHAIN_CALLTYPE ToolChain_FlushLogFile(void);
 
+/*
+ * Toolpath (extension, not in the vendor's library)
+ */
+
+/* Copies records [first, first + capacity) of the compiled program's toolpath into out
+ * (TC_TOOLPATH_RECORD) and, on success, writes the number of records of the whole
+ * program to *total (may be NULL); the records written are min(capacity, total - first).
+ * out may be NULL when capacity is 0 (asks for the total). A host copies the whole
+ * program with one call (capacity = total) or in chunks; chunks stay consistent while
+ * the host does not change the program meanwhile (a compilation replaces it, ResetCNC
+ * with coordinates moves its start, ResetStatusCNC 0 and DestroyCNC drop it). Holds the
+ * core's lock while it copies (GetPos waits meanwhile); never fails for lack of memory
+ * and reports nothing through GetLastError or the callbacks.
+ * Returns 0; -1 while compiling, when nothing is compiled (or the compilation failed),
+ * first > total, or out is NULL with capacity > 0; -2 bad core. */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GetToolpath(uint32_t intIdx, TC_TOOLPATH_RECORD *out, uint64_t capacity, uint64_t first, uint64_t *total);
+
 /* ------------------------------------------------------------------ layout checks */
 #if defined(__x86_64__) || defined(_M_X64)
 #  if defined(__cplusplus)
@@ -673,6 +735,7 @@ TGM_STATIC_ASSERT(sizeof(MACHINE_PARAMETERS) == 448, "MACHINE_PARAMETERS");
 TGM_STATIC_ASSERT(offsetof(GCODE_PARAMETERS, M02_programEnd1) == 624, "M02_programEnd1");
 TGM_STATIC_ASSERT(offsetof(GCODE_PARAMETERS, tolerance) == 1032, "tolerance");
 TGM_STATIC_ASSERT(offsetof(SIMPLE_GM_PARAMS, m_fp) == 612, "m_fp");
+TGM_STATIC_ASSERT(sizeof(TC_TOOLPATH_RECORD) == 168, "TC_TOOLPATH_RECORD");
 #  undef TGM_STATIC_ASSERT
 #endif
 

@@ -1,18 +1,42 @@
-"""The README's main job: `sf-tch demo` on the bundled sample, and `sf-tch info`."""
+"""The command line (`sf-tch`, `python -m sf_tch`): the README's main job `demo`,
+every command, `--json` parsed back, and every way it ends: program errors (1), bad
+usage (2, one line, no traceback), Ctrl-C (130) and a closed pipe (141)."""
+import json
+import os
 import re
+import signal
 import subprocess
 import sys
+import time
 
 import pytest
 
+import sf_tch
 
-def sf_tch(*args):
-    return subprocess.run([sys.executable, "-m", "sf_tch.cli", *args], capture_output=True, text=True,
-                          timeout=120)
+SQUARE = "G0 X0 Y0 Z0\nG1 X10 F600\nG1 Y10\nG1 X0\nG1 Y0\nM30\n"
+
+
+def sf_tch_cli(*args, module="sf_tch"):
+    return subprocess.run([sys.executable, "-m", module, *args], capture_output=True, text=True, timeout=120)
+
+
+def assert_usage_error(proc, pattern):
+    assert proc.returncode == 2, proc.stdout + proc.stderr
+    assert proc.stdout == ""
+    assert len(proc.stderr.strip().splitlines()) == 1, proc.stderr
+    assert re.search(pattern, proc.stderr), proc.stderr
+    assert "Traceback" not in proc.stderr
+
+
+@pytest.fixture
+def square(tmp_path):
+    path = tmp_path / "square.nc"
+    path.write_text(SQUARE)
+    return path
 
 
 def test_demo_compiles_compensates_and_simulates_the_sample():
-    proc = sf_tch("demo")
+    proc = sf_tch_cli("demo")
     assert proc.returncode == 0, proc.stderr
     out = proc.stdout
     assert re.search(r"parts:\s+28 motion, 16 M functions", out)
@@ -24,27 +48,142 @@ def test_demo_compiles_compensates_and_simulates_the_sample():
     assert "errors:        none" in out
 
 
-def test_demo_reports_a_tool_too_big_for_the_slot_with_its_line(tmp_path):
-    proc = sf_tch("demo", "--radius", "6")
+def test_the_old_module_entry_still_runs_the_demo():
+    proc = sf_tch_cli("demo", module="sf_tch.cli")
+    assert proc.returncode == 0 and "errors:        none" in proc.stdout
+
+
+def test_demo_reports_a_tool_too_big_for_the_slot_with_its_line():
+    proc = sf_tch_cli("demo", "--radius", "6")
     assert proc.returncode == 1
     assert re.search(r"demo\.nc:28: error 503: Arc radius 5 smaller than the tool radius 6", proc.stderr)
+    assert "Traceback" not in proc.stderr
 
 
-def test_demo_of_a_user_program(tmp_path):
-    program = tmp_path / "square.nc"
-    program.write_text("G0 X0 Y0\nG1 X10 F600\nG1 Y10\nG1 X0\nG1 Y0\nM30\n")
-    proc = sf_tch("demo", str(program))
+def test_demo_of_a_user_program(square):
+    proc = sf_tch_cli("demo", str(square))
     assert proc.returncode == 0, proc.stderr
     assert re.search(r"cut length:\s+40\.000 mm in 4 parts", proc.stdout)
 
 
-def test_info_prints_version_cores_and_matching_sizes():
-    proc = sf_tch("info")
+def test_compile_prints_the_summary(square):
+    proc = sf_tch_cli("compile", str(square), "--radius", "0")
+    assert proc.returncode == 0, proc.stderr
+    assert re.search(r"parts:\s+5 motion, 1 M functions", proc.stdout)
+    assert re.search(r"box programmed:\s+X 0\.000\.\.10\.000  Y 0\.000\.\.10\.000", proc.stdout)
+
+
+def test_compile_error_is_file_line_column_and_exit_1(tmp_path):
+    bad = tmp_path / "bad.nc"
+    bad.write_text("G1 X10 F100\nG1 Q1 W2 HH\n")
+    proc = sf_tch_cli("compile", str(bad))
+    assert proc.returncode == 1
+    assert proc.stderr.strip() == f"{bad}:2:10: error 100: Unknown word 'HH' at column 10"
+    assert proc.stdout == ""
+
+
+def test_json_is_parsed_back(square, tmp_path):
+    proc = sf_tch_cli("compile", str(square), "--json")
+    assert proc.returncode == 0, proc.stderr
+    doc = json.loads(proc.stdout)
+    assert doc["ok"] and doc["errors"] == [] and doc["toolpath"]["cut_length"] == pytest.approx(40)
+    assert doc["extent"]["programmed"]["max"][:2] == [10, 10] and doc["run_time"] > 0
+    bad = tmp_path / "bad.nc"
+    bad.write_text("G1 X1/0\n")
+    proc = sf_tch_cli("compile", str(bad), "--json")
+    assert proc.returncode == 1
+    doc = json.loads(proc.stdout)
+    assert not doc["ok"] and doc["errors"][0]["number"] == 200 and doc["errors"][0]["line"] == 1
+    assert doc["errors"][0]["name"] == "DIVISION_BY_ZERO" and doc["errors"][0]["file"] == str(bad)
+    info = json.loads(sf_tch_cli("info", "--json").stdout)
+    assert info["cores"] == 3 and info["structures"]["SIMPLE_GM_PARAMS"] == {"library": 616, "mirror": 616}
+
+
+def test_simulate_and_test_regime(square, tmp_path):
+    proc = sf_tch_cli("simulate", str(square), "--json")
+    assert proc.returncode == 0, proc.stderr
+    run = json.loads(proc.stdout)["run"]
+    assert run["status_name"] == "SIMULATION_DONE" and run["cut_length"] == pytest.approx(40)
+    assert run["cut_parts"] == 4 and run["m_functions"] == 1
+    proc = sf_tch_cli("simulate", str(square), "--test")
+    assert proc.returncode == 0, proc.stderr
+    assert re.search(r"run:\s+test, status -20 \(TEST_DONE\)", proc.stdout)
+
+
+def test_plot_writes_png_and_svg(square, tmp_path):
+    for name in ("out.png", "out.svg"):
+        out = tmp_path / name
+        proc = sf_tch_cli("plot", str(square), "-o", str(out))
+        assert proc.returncode == 0, proc.stderr
+        assert out.stat().st_size > 5000
+    assert (tmp_path / "out.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert b"<svg" in (tmp_path / "out.svg").read_bytes()[:500]
+    assert_usage_error(sf_tch_cli("plot", str(square), "-o", str(tmp_path / "out.gif")), r"\.png, \.svg or \.pdf")
+
+
+def test_version_info_and_help():
+    for proc in (sf_tch_cli("--version"), sf_tch_cli("--version", module="sf_tch.cli")):
+        assert proc.returncode == 0 and proc.stdout.strip() == f"sf-tch {sf_tch.__version__}"
+    proc = sf_tch_cli("info")
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.startswith("SF_TCh ")
     assert "cores:   3" in proc.stdout
     assert "MISMATCH" not in proc.stdout
     assert re.search(r"SIMPLE_GM_PARAMS\s+616 / 616", proc.stdout)
+    assert "Exit codes" in sf_tch_cli("--help").stdout
+
+
+def test_bad_usage_is_one_line_and_exit_2(square, tmp_path):
+    assert_usage_error(sf_tch_cli("compile", str(tmp_path / "missing.nc")), r"missing\.nc: no such file")
+    assert_usage_error(sf_tch_cli("compile", str(tmp_path)), r"is a directory")
+    assert_usage_error(sf_tch_cli("compile", str(square), "--core", "5"), r"core 5 does not exist")
+    assert_usage_error(sf_tch_cli("compile", str(square), "--core", "x"), r"not a core number")
+    assert_usage_error(sf_tch_cli("demo", "--radius", "-1"), r"radius >= 0")
+    assert_usage_error(sf_tch_cli("demo", "--radius", "nan"), r"radius >= 0")
+    assert_usage_error(sf_tch_cli("compile", str(square), "--strategy", "zz"), r"not an integer")
+    assert_usage_error(sf_tch_cli("compile", str(square), "--ini", str(tmp_path / "no.ini")), r"no such INI")
+    assert_usage_error(sf_tch_cli("frobnicate"), r"invalid choice")
+    assert_usage_error(sf_tch_cli(), r"required")
+
+
+def test_a_missing_library_is_a_usage_error(square, tmp_path):
+    env = dict(os.environ, SF_TCH_LIBRARY=str(tmp_path / "gone.so"))
+    proc = subprocess.run([sys.executable, "-m", "sf_tch", "compile", str(square)], capture_output=True,
+                          text=True, timeout=60, env=env)
+    assert_usage_error(proc, r"SF_TCH_LIBRARY=.*gone\.so: no such file")
+
+
+def test_a_closed_pipe_ends_quietly(tmp_path):
+    # a summary longer than the pipe reads: `sf-tch compile --json ... | head -c 10`
+    program = tmp_path / "many.nc"
+    program.write_text("G0 X0 Y0 Z0\n" + "".join(f"G1 X{k % 50} Y{k % 7} F900\n" for k in range(20000)))
+    reader = subprocess.Popen([sys.executable, "-m", "sf_tch", "info", "--json"], stdout=subprocess.PIPE,
+                              stderr=subprocess.PIPE)
+    reader.stdout.read(10)
+    reader.stdout.close()                  # the reader goes away before the writer has finished
+    stderr = reader.stderr.read().decode()
+    code = reader.wait(timeout=60)
+    assert code in (0, 141), stderr
+    assert "Traceback" not in stderr and "BrokenPipe" not in stderr
+    shell = subprocess.run(f"{sys.executable} -m sf_tch compile --json {program} | head -c 10",
+                           shell=True, capture_output=True, text=True, timeout=120)
+    assert len(shell.stdout) == 10 and "Traceback" not in shell.stderr and "Broken" not in shell.stderr
+
+
+def test_ctrl_c_interrupts_a_long_compile_quietly(tmp_path):
+    program = tmp_path / "endless.nc"
+    program.write_text("L1:\nG1 X1 F100\nG1 X0\nGOTO L1\n")      # runs until the block limit
+    env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1")     # one thread until the compile
+    proc = subprocess.Popen([sys.executable, "-m", "sf_tch", "compile", str(program)], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, env=env)
+    deadline = time.monotonic() + 30
+    while len(os.listdir(f"/proc/{proc.pid}/task")) < 2:      # the core's worker thread compiles
+        assert time.monotonic() < deadline and proc.poll() is None
+        time.sleep(0.01)
+    proc.send_signal(signal.SIGINT)
+    out, err = proc.communicate(timeout=60)
+    assert proc.returncode == 130, (out, err)
+    assert err.strip() == "sf-tch: interrupted" and out == ""
 
 
 def test_a_cnc_error_propagates_through_a_with_block():
@@ -53,3 +192,20 @@ def test_a_cnc_error_propagates_through_a_with_block():
         with Core(0) as core:
             core.compile_text("G1 X1/0\n", "bad.nc")
     assert caught.value.number == 200 and caught.value.line == 1
+
+
+def test_progress_bar_only_for_long_work_and_cleared(capsys):
+    from sf_tch.cli import ProgressBar
+    quiet = ProgressBar("compiling x", enabled=False)
+    quiet.started -= 10
+    quiet(50)
+    fresh = ProgressBar("compiling x", enabled=True)
+    fresh(10)                                   # the first half second: nothing
+    bar = ProgressBar("compiling x", enabled=True)
+    bar.started -= 10
+    bar(40)
+    bar(100)
+    bar.close()
+    err = capsys.readouterr().err
+    assert err == ("\rcompiling x [" + "#" * 12 + " " * 18 + "]  40 %" + "\rcompiling x [" + "#" * 30 + "] 100 %"
+                   + "\r\033[K")

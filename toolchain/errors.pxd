@@ -14,12 +14,12 @@ cdef enum ErrorNumber:
     ERR_NOT_IMPLEMENTED = 10        # %s is not implemented yet
     ERR_INI_FIRST = 11              # Callback %d needs LoadFromIni first
     ERR_FILE_TOO_LARGE = 12         # File '%s' is larger than 1 GiB
-    ERR_REENTRANT = 20              # %s is not allowed inside a callback of the core's running activity
-    ERR_BAD_REGIME = 21             # StartCNCEx: unknown regime
     ERR_NOT_REGULAR_FILE = 13       # '%s' is not a regular file
     ERR_NOT_FINITE = 14             # %s = %g is not a finite number
     ERR_OUT_OF_RANGE = 15           # %s = %g is outside <%g, %g>
     ERR_INI_VALUE = 16              # INI file '%s' line %d: %s
+    ERR_REENTRANT = 20              # %s is not allowed inside a callback of the core's running activity
+    ERR_BAD_REGIME = 21             # StartCNCEx: unknown regime
     # lexical (100..199)
     ERR_UNKNOWN_WORD = 100          # Unknown word '%s' at column %d
     ERR_BAD_NUMBER = 101            # Bad number '%s' at column %d

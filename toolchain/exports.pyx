@@ -546,3 +546,15 @@ cdef public void ToolChain_LogANSI(TGM_LPCSTR text) noexcept nogil:
 
 cdef public void ToolChain_FlushLogFile() noexcept nogil:
     log_flush()
+
+
+# ------------------------------------------------------------------ toolpath (extension)
+
+cdef public int32_t ToolChainCore_GetToolpath(uint32_t intIdx, TC_TOOLPATH_RECORD *out, uint64_t capacity,
+                                              uint64_t first, uint64_t *total) noexcept nogil:
+    cdef Core *core = core_get(intIdx)
+    if core == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX
+    if (out == NULL and capacity > 0) or core_status(core) == CNC_STATUS_COMPILING:
+        return TOOL_CHAIN_ERROR
+    return toolpath_copy(core, out, capacity, first, total)

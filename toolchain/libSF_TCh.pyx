@@ -6,7 +6,7 @@
 # here needs the Python module to be initialised, so a host may load the library
 # with ctypes alone. Module-level variables are therefore only zero-initialised C
 # statics (constants live in functions or C literals).
-from libc.stdint cimport int8_t, int16_t, int32_t, int64_t, uint8_t, uint16_t, uint32_t, intptr_t, INT32_MAX
+from libc.stdint cimport int8_t, int16_t, int32_t, int64_t, uint8_t, uint16_t, uint32_t, uint64_t, intptr_t, INT32_MAX
 from includes.tgm_cnc cimport *
 from includes.system cimport *
 from program cimport *
@@ -44,4 +44,5 @@ include "runtime/programs.pyx"
 include "runtime/callbacks.pyx"
 include "core.pyx"
 include "simulator.pyx"
+include "toolpath.pyx"
 include "exports.pyx"

@@ -1,28 +1,90 @@
 """sf_tch: the open drop-in replacement of the TG Motion CNC module library.
 
 The product is the shared library ``libSF_TCh.so`` (its C ABI is ``include/tgm_cnc.h``);
-this package ships it and adds a thin Pythonic layer over ``ctypes``:
+this package ships it and adds a Pythonic layer over ``ctypes``:
 
-- :func:`library_path` -- where the installed library is, for ``ctypes.CDLL``;
+- :func:`compile` -- G-code (a file or text) to a :class:`Program`: errors and
+  warnings, the toolpath as numpy records, extents, run time, :meth:`Program.plot`;
+- :class:`Core` -- a handle of one CNC core (compile, simulate, callbacks);
+- :mod:`sf_tch.enums` -- statuses, regimes, callbacks, error numbers, part kinds;
+- :func:`library_path` -- where the library is, for ``ctypes.CDLL``;
 - :mod:`sf_tch.abi` -- the ctypes mirror of every structure of the header;
-- :mod:`sf_tch.library` -- the library loaded once, with typed prototypes;
-- :mod:`sf_tch.core` -- :class:`Core`, a Pythonic handle of one CNC core.
+- :mod:`sf_tch.library` -- the library loaded once, with typed prototypes.
 """
+import os
+from importlib import metadata
 from pathlib import Path
 
-__version__ = "0.1.0"
+try:
+    __version__ = metadata.version("sf-tch")        # pyproject.toml [project] version, the one place
+except metadata.PackageNotFoundError:               # imported from a source tree that is not installed
+    __version__ = "0+unknown"
 
 LIBRARY_NAME = "libSF_TCh.so"
+LIBRARY_ENV = "SF_TCH_LIBRARY"
+
+_PACKAGE_DIR = Path(__file__).resolve().parent
+
+
+def _candidates() -> list[Path]:
+    """Where the library may be, in order: the package directory (a wheel or
+    ``pip install .``), where the installed distribution put it (``pip install -e
+    .``: site-packages, beside the redirected sources), then the build directories of
+    a source tree (scikit-build-core's ``build-dir``, a CMake build in ``build/``)."""
+    found = [_PACKAGE_DIR / LIBRARY_NAME]
+    try:
+        installed = metadata.distribution("sf-tch")
+        found += [Path(str(installed.locate_file(f))) for f in installed.files or ()
+                  if f.name == LIBRARY_NAME]
+    except metadata.PackageNotFoundError:
+        pass
+    root = _PACKAGE_DIR.parents[1]
+    for build in (root / "build", *sorted(root.glob("build/*"))):
+        found.append(build / LIBRARY_NAME)
+    return found
 
 
 def library_path() -> str:
-    """Absolute path of the installed ``libSF_TCh.so``."""
-    path = Path(__file__).resolve().parent / LIBRARY_NAME
-    if not path.exists():
-        raise FileNotFoundError(f"{LIBRARY_NAME} is not installed next to {__file__}; run 'pip install .'")
-    return str(path)
+    """Absolute path of ``libSF_TCh.so``: ``$SF_TCH_LIBRARY`` when set (e.g. a
+    sanitizer build), else the installed one, else one built in the source tree.
+    Raises :class:`LibraryNotFoundError` saying where it looked."""
+    from .errors import LibraryNotFoundError
+    override = os.environ.get(LIBRARY_ENV)
+    if override:
+        path = Path(override).expanduser()
+        if not path.is_file():
+            raise LibraryNotFoundError(f"{LIBRARY_ENV}={override}: no such file")
+        return str(path.resolve())
+    candidates = _candidates()
+    for path in candidates:
+        if path.is_file():
+            return str(path)
+    looked = ", ".join(str(p) for p in candidates[:2])
+    raise LibraryNotFoundError(f"{LIBRARY_NAME} not found (looked in {looked}, ...): build and install it "
+                               f"with 'pip install .' (needs a C compiler), or set {LIBRARY_ENV}")
 
 
 def header_path() -> str:
-    """Absolute path of the installed C header ``tgm_cnc.h``."""
-    return str(Path(__file__).resolve().parent / "include" / "tgm_cnc.h")
+    """Absolute path of the C header ``tgm_cnc.h``: the installed copy, else the
+    source tree's."""
+    installed = _PACKAGE_DIR / "include" / "tgm_cnc.h"
+    if installed.is_file():
+        return str(installed)
+    return str(_PACKAGE_DIR.parents[1] / "include" / "tgm_cnc.h")
+
+
+from .enums import (Callback, Compensation, ErrorNumber, GFunction, MFunction, PartKind, Plane,  # noqa: E402
+                    Regime, ReturnCode, Status, ToolpathFlag)
+from .errors import (Cancelled, CncError, Diagnostic, LibraryNotFoundError, NoFreeCoreError,  # noqa: E402
+                     SfTchError)
+from .core import Core, RunResult, default_ini, sample_program  # noqa: E402
+from .program import CompileJob, Program, compile, start_compile  # noqa: E402
+from .toolpath import TOOLPATH_DTYPE, Run, Toolpath  # noqa: E402
+
+__all__ = [
+    "__version__", "library_path", "header_path", "compile", "start_compile", "CompileJob", "Program",
+    "Core", "RunResult", "Toolpath", "Run", "TOOLPATH_DTYPE", "Diagnostic", "SfTchError", "CncError",
+    "Cancelled", "LibraryNotFoundError", "NoFreeCoreError", "Callback", "Compensation", "ErrorNumber",
+    "GFunction", "MFunction", "PartKind", "Plane", "Regime", "ReturnCode", "Status", "ToolpathFlag",
+    "default_ini", "sample_program",
+]

@@ -5,7 +5,7 @@ same fields in the same order, plus the constants an HMI needs.
 and with the library's ``ToolChainCore_GetStructuresSize``.
 """
 import ctypes
-from ctypes import c_char_p, c_double, c_float, c_int32, c_int64, c_ssize_t, c_uint32, c_void_p
+from ctypes import c_char_p, c_double, c_float, c_int32, c_int64, c_ssize_t, c_uint32, c_uint64, c_void_p
 
 # return codes
 TOOL_CHAIN_BAD_INTR_INDEX = -2
@@ -205,6 +205,41 @@ class GCODE_PARAMETERS(ctypes.Structure):
     ]
 
 
+# Toolpath (extension beyond the vendor's list): ToolChainCore_GetToolpath fills an
+# array of these; include/tgm_cnc.h documents every field and its unit.
+TC_TOOLPATH_MOTION = 1
+TC_TOOLPATH_M_FUNCTION = 2
+TC_TOOLPATH_DWELL = 3
+TC_TOOLPATH_PRINT = 4
+TC_TOOLPATH_FEED_PER_MINUTE = 0x01
+TC_TOOLPATH_INSERTED = 0x02
+TC_TOOLPATH_CONTINUOUS_M = 0x04
+TC_TOOLPATH_HELIX = 0x08
+
+
+class TC_TOOLPATH_RECORD(ctypes.Structure):
+    _fields_ = [
+        ("start", c_double * 3),
+        ("end", c_double * 3),
+        ("tool_end", c_double * 3),
+        ("centre", c_double * 3),
+        ("radius", c_double),
+        ("length", c_double),
+        ("feed", c_double),
+        ("value", c_double),
+        ("kind", c_int32),
+        ("number", c_int32),
+        ("line", c_uint32),
+        ("file_index", c_int32),
+        ("plane", c_int32),
+        ("compensation", c_int32),
+        ("flags", c_uint32),
+        ("tool", c_int32),
+        ("spindle", c_float),
+        ("feed_factor", c_float),
+    ]
+
+
 # Every structure of the header, by name (abi_check walks this).
 STRUCTURES = {
     cls.__name__: cls
@@ -212,6 +247,7 @@ STRUCTURES = {
         P10DOUBLE, P10BOOL, P26FLOAT, DLL_INIT_STRUCT, SIMPLE_GM_PARAMS, GM_PARAMS_ENHANCED,
         CALLBACK_INFO, GCODE_SIZE, GCODE_INFO, MACHINE_PARAMETERS, MACHINE_STATUS, GCODE_FEED,
         GCODE_CORRECTION, ARC_FEED_TABLE, INTERNAL_MFUNC_INSERT_TABLE, AXIS_LIMITS, GCODE_PARAMETERS,
+        TC_TOOLPATH_RECORD,
     )
 }
 
@@ -321,4 +357,40 @@ FUNCTIONS = (
     ("ToolChainCore_GetLogValue", c_uint32, ()),
     ("ToolChain_LogANSI", None, (c_char_p,)),
     ("ToolChain_FlushLogFile", None, ()),
+    ("ToolChainCore_GetToolpath", c_int32,
+     (c_uint32, _P(TC_TOOLPATH_RECORD), c_uint64, c_uint64, _P(c_uint64))),
 )
+
+
+# Beyond the vendor's list (ABI.md): the structures and functions this library adds.
+EXTENSION_STRUCTURES = ("TC_TOOLPATH_RECORD",)
+EXTENSION_FUNCTIONS = ("ToolChainCore_GetLastCallError", "ToolChainCore_GetToolpath")
+
+
+# Readable repr() and to_dict() of every structure (added to the classes above,
+# whose definitions stay the header's).
+def _value(value):
+    if isinstance(value, ctypes.Structure):
+        return _to_dict(value)
+    if isinstance(value, ctypes.Array):
+        return [_value(v) for v in value]
+    if isinstance(value, bytes):
+        return value.decode(errors="replace")
+    return value
+
+
+def _to_dict(self) -> dict:
+    """Every field by name, nested structures and arrays as dicts and lists."""
+    return {name: _value(getattr(self, name)) for name, *_ in self._fields_}
+
+
+def _repr(self) -> str:
+    fields = ", ".join(f"{name}={_value(getattr(self, name))!r}" for name, *_ in self._fields_
+                       if not name.startswith(("padding", "rezerva", "m_reserved", "reserved")))
+    return f"{type(self).__name__}({fields})"
+
+
+for _cls in STRUCTURES.values():
+    setattr(_cls, "to_dict", _to_dict)
+    setattr(_cls, "__repr__", _repr)
+del _cls

@@ -1,9 +1,10 @@
 """The library, loaded once per process with typed prototypes.
 
-``load()`` opens the installed ``libSF_TCh.so`` with ``ctypes.CDLL`` (which releases
-the GIL during every call, so the library's threads may call back into Python) and
-applies the argument and result types of :data:`sf_tch.abi.FUNCTIONS`. A host that
-opens the same path with its own ``ctypes.CDLL`` shares the same library state.
+``load()`` opens ``libSF_TCh.so`` (:func:`sf_tch.library_path`) with ``ctypes.CDLL``
+(which releases the GIL during every call, so the library's threads may call back
+into Python) and applies the argument and result types of
+:data:`sf_tch.abi.FUNCTIONS`. A host that opens the same path with its own
+``ctypes.CDLL`` shares the same library state.
 """
 import ctypes
 import functools
@@ -13,6 +14,7 @@ from . import abi, library_path
 
 @functools.lru_cache(maxsize=None)
 def load(path: str | None = None) -> ctypes.CDLL:
+    """The library at `path` (default :func:`sf_tch.library_path`), prototypes applied."""
     lib = ctypes.CDLL(path or library_path())
     for name, restype, argtypes in abi.FUNCTIONS:
         fn = getattr(lib, name)

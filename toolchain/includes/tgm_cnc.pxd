@@ -141,3 +141,27 @@ cdef extern from "tgm_cnc.h" nogil:
     enum run_regime:
         RUN_SIMULATION, RUN_TEST, RUN_FORWARD, RUN_FORWARD_NO_M, RUN_BACKWARD, RUN_FORWARD_SKIP_FIRST_M
     int RESET_MARK_START_ONLY
+
+    # toolpath (extension): ToolChainCore_GetToolpath
+    int TC_TOOLPATH_MOTION, TC_TOOLPATH_M_FUNCTION, TC_TOOLPATH_DWELL, TC_TOOLPATH_PRINT
+    unsigned int TC_TOOLPATH_FEED_PER_MINUTE, TC_TOOLPATH_INSERTED, TC_TOOLPATH_CONTINUOUS_M
+    unsigned int TC_TOOLPATH_HELIX
+    ctypedef struct TC_TOOLPATH_RECORD:
+        double start[3]
+        double end[3]
+        double tool_end[3]
+        double centre[3]
+        double radius
+        double length
+        double feed
+        double value
+        int32_t kind
+        int32_t number
+        uint32_t line
+        int32_t file_index
+        int32_t plane
+        int32_t compensation
+        uint32_t flags
+        int32_t tool
+        float spindle
+        float feed_factor

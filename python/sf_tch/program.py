@@ -1,0 +1,305 @@
+"""``sf_tch.compile()``: G-code in, a :class:`Program` out.
+
+    program = sf_tch.compile("part.nc", radius=1.0)
+    with program:                       # the core is released at the end
+        print(program.errors or "ok", program.run_time)
+        path = program.toolpath          # numpy records (sf_tch.toolpath)
+
+A program keeps the core it was compiled on (for simulation and run time) until it
+is closed; at most three programs (the library's cores) live at a time.
+"""
+from __future__ import annotations
+
+import os
+import threading
+from pathlib import Path
+from typing import Callable, Iterator, Sequence
+
+import numpy as np
+
+from .core import Core, RunResult, attach_column
+from .enums import Callback, ErrorNumber, OutputTab, Regime
+from .errors import CncError, Diagnostic
+from .toolpath import TOOLPATH_DTYPE, Toolpath
+
+Source = str | bytes | os.PathLike
+
+
+def _read_source(source: Source, name: str | None) -> tuple[str | None, Path | None, str]:
+    """(text, path, name): text for G-code given as text, path for a file. A str
+    with a line break, or bytes, is G-code; any other str or a PathLike is a file."""
+    if isinstance(source, bytes):
+        return source.decode("latin-1"), None, name or "program.nc"
+    if isinstance(source, str) and ("\n" in source or "\r" in source):
+        return source, None, name or "program.nc"
+    path = Path(source)
+    if not path.exists():
+        raise FileNotFoundError(f"{path}: no such file")
+    if path.is_dir():
+        raise IsADirectoryError(f"{path}: is a directory, not a G-code file")
+    if not os.access(path, os.R_OK):
+        raise PermissionError(f"{path}: not readable")
+    return None, path, name or str(path)
+
+
+class CompileJob:
+    """A compilation running in the library's thread: iterate over it for the
+    progress in percent (0..100, each value once), :meth:`cancel` it, or wait for
+    its :meth:`result`. Made by :func:`start_compile`."""
+
+    def __init__(self, core: Core, text: str | None, path: Path | None, name: str,
+                 progress: Callable[[int], object] | None = None, cancel=None, arguments: dict | None = None):
+        self.core = core
+        self.name = name
+        self._text = text
+        self._path = path
+        self._cancel_event = cancel
+        self._percent = 0
+        self._changed = threading.Event()
+        self.warnings: list[Diagnostic] = []
+        self.errors: list[Diagnostic] = []
+        self._program: Program | None = None
+        self._arguments = dict(arguments or {})      # those of start_compile, for compiling again
+        self._removers = [
+            core.listen(Callback.SET_STATUS_BAR_PROGRESS, self._on_progress),
+            core.listen(Callback.MATH_WARNING, self.warnings.append),
+            core.listen(Callback.DISP_AND_LOCATE_ERROR, self.errors.append),
+        ]
+        if progress is not None:
+            self._removers.append(core.listen(Callback.SET_STATUS_BAR_PROGRESS, progress))
+        if text is not None:
+            core.start_compile_text(text, name)
+        else:
+            core.start_compile_file(path)
+
+    def _on_progress(self, percent: int) -> None:
+        self._percent = percent
+        self._changed.set()
+
+    def __repr__(self) -> str:
+        return f"<CompileJob {self.name!r} {'done' if self.done() else f'{self._percent} %'}>"
+
+    def done(self) -> bool:
+        """True once the library has finished (or given up)."""
+        return self.core.lib.ToolChainCore_IsBusy(self.core.index) <= 0
+
+    def cancel(self) -> None:
+        """Interrupts the compilation; :meth:`result` then raises :class:`Cancelled`."""
+        self.core.cancel()
+
+    def __iter__(self) -> Iterator[int]:
+        last = -1
+        while True:
+            finished = self.done()
+            if self._percent != last:
+                last = self._percent
+                yield last
+            if finished:
+                return
+            if self._cancel_event is not None and self._cancel_event.is_set():
+                self.cancel()
+            self._changed.wait(0.05)
+            self._changed.clear()
+
+    def result(self, timeout: float | None = None) -> Program:
+        """Waits for the end and returns the :class:`Program` (errors in its
+        ``errors``). Raises :class:`Cancelled` when it was cancelled; Ctrl-C cancels
+        it and is raised."""
+        if self._program is None:
+            self.core.wait(timeout, cancel=self._cancel_event)
+            for remove in self._removers:
+                remove()
+            last = self.core.last_error()
+            if last is not None and last.number == ErrorNumber.CANCELLED:
+                raise last
+            if last is not None and not any(e.number == last.number and e.line == last.line for e in self.errors):
+                self.errors.append(last.diagnostic)
+            errors = [attach_column(e, self._source_lines(e)) for e in self.errors]
+            self._program = Program(self.core, self.name, errors, list(self.warnings), self._arguments)
+        return self._program
+
+    def _source_lines(self, diagnostic: Diagnostic) -> list[str] | None:
+        """The lines of the source a diagnostic points into (only read when there is
+        one), None for another file (a prefix, a called file)."""
+        if diagnostic.file != self.name:
+            return None
+        if self._text is not None:
+            return self._text.splitlines()
+        try:
+            return self._path.read_text(encoding="latin-1").splitlines() if self._path else None
+        except OSError:
+            return None
+
+
+def start_compile(source: Source, radius: float | None = None, strategy: int | None = None,
+                  ini: str | os.PathLike | None = None, params: dict | None = None, core: int | None = None,
+                  name: str | None = None, progress: Callable[[int], object] | None = None,
+                  cancel=None, start: Sequence[float] | None = None) -> CompileJob:
+    """Starts compiling and returns the running :class:`CompileJob`; the arguments
+    are those of :func:`compile`."""
+    if radius is not None and not radius >= 0:
+        raise ValueError(f"tool radius must be a number >= 0 mm, not {radius}")
+    if ini is not None and not Path(ini).is_file():
+        raise FileNotFoundError(f"{ini}: no such INI file")
+    text, path, name = _read_source(source, name)
+    handle = Core(core, ini=str(ini) if ini is not None else None)
+    try:
+        fields = dict(params or {})
+        fields.setdefault("calcTime", 1)
+        if strategy is not None:
+            fields["correctionStrategy"] = strategy
+        handle.update_params(**fields)
+        if radius is not None:
+            handle.set_tool_radius(radius)
+        if start is not None:
+            handle.reset(start)
+        arguments = {"source": source, "radius": radius, "strategy": strategy, "ini": ini, "params": params,
+                     "name": name, "start": start}
+        return CompileJob(handle, text, path, name, progress, cancel, arguments)
+    except BaseException:
+        handle.close()
+        raise
+
+
+def compile(source: Source, radius: float | None = None, strategy: int | None = None,
+            ini: str | os.PathLike | None = None, params: dict | None = None, core: int | None = None,
+            name: str | None = None, progress: Callable[[int], object] | None = None,
+            cancel=None, start: Sequence[float] | None = None) -> Program:
+    """Compiles G-code and returns the :class:`Program`; errors of the G-code are in
+    ``program.errors`` (``program.check()`` raises the first).
+
+    - ``source``: a file (path or str without a line break) or G-code text (a str
+      with a line break, or bytes); ``name`` names text in errors;
+    - ``radius``: tool radius in mm for every G41..G48 slot (>= 0; G41/G42 choose
+      the side); ``strategy``: correctionStrategy bits (CORR_* of tgm_cnc.h);
+    - ``ini``: a vendor INI file instead of the bundled one; ``params``: any other
+      GCODE_PARAMETERS fields by name, e.g. ``{"absMode": 0}``;
+    - ``core``: the core (0..2), default the first free one; ``start``: the machine
+      position (x y z ... in axis order, up to 10) the program starts from, default
+      where the core's machine stands (the end of its last run, or 0);
+    - ``progress``: called with the percent from the library's thread; ``cancel``:
+      an object with ``is_set()`` (threading.Event) that interrupts when set.
+    Raises FileNotFoundError / IsADirectoryError for a bad path, ValueError for a
+    negative radius, :class:`Cancelled` when cancelled."""
+    job = start_compile(source, radius, strategy, ini, params, core, name, progress, cancel, start)
+    try:
+        return job.result()
+    except BaseException:
+        job.core.close()
+        raise
+
+
+class Program:
+    """A compiled program on its core: ``errors`` and ``warnings``
+    (:class:`Diagnostic` lists), ``toolpath`` (numpy records, fetched on first use),
+    ``size_info`` (GCODE_INFO), ``run_time`` (seconds, from a simulation run on first
+    use). A context manager; :meth:`close` releases the core."""
+
+    def __init__(self, core: Core, name: str, errors: list[Diagnostic], warnings: list[Diagnostic],
+                 arguments: dict | None = None):
+        self.core = core
+        self._arguments = dict(arguments or {})
+        self.name = name
+        self.errors = errors
+        self.warnings = warnings
+        self._toolpath: Toolpath | None = None
+        self._run_time: float | None = None
+        self._printed: list[str] = []
+
+    def __repr__(self) -> str:
+        state = f"{len(self.errors)} error(s)" if self.errors else "ok"
+        parts = f", {len(self._toolpath)} parts" if self._toolpath is not None else ""
+        return f"<Program {self.name!r} {state}, {len(self.warnings)} warning(s){parts}>"
+
+    def __enter__(self) -> Program:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    def close(self) -> None:
+        """Releases the core (its program is destroyed); the fetched toolpath stays."""
+        self.core.close()
+
+    def compile_args(self, **changes) -> dict:
+        """The keyword arguments of :func:`compile` that made this program, with
+        `changes` (e.g. ``radius=0.0``): to compile it again on another core."""
+        return {**self._arguments, **changes}
+
+    @property
+    def ok(self) -> bool:
+        """True when the program compiled without error."""
+        return not self.errors
+
+    def check(self) -> Program:
+        """Raises the first error as :class:`CncError`; returns the program otherwise."""
+        if self.errors:
+            raise CncError.from_diagnostic(self.errors[0])
+        return self
+
+    @property
+    def toolpath(self) -> Toolpath:
+        """Every part, in order (:class:`~sf_tch.toolpath.Toolpath`); empty after an error."""
+        if self._toolpath is None:
+            if not self.ok:
+                return Toolpath(np.empty(0, TOOLPATH_DTYPE))
+            self._toolpath = self.core.toolpath()
+        return self._toolpath
+
+    @property
+    def size_info(self):
+        """GCODE_INFO: m_size[0] programmed, [1] compensated, [2]/[3] as the machine
+        runs them (G168 rotations); None after an error."""
+        return self.core.size_info() if self.ok else None
+
+    @property
+    def run_time(self) -> float | None:
+        """Estimated seconds (per-part trapezoids, calcTime): simulated once on first
+        use; None after an error."""
+        if self._run_time is None and self.ok:
+            self._simulate_once()
+        return self._run_time
+
+    @property
+    def printed(self) -> list[str]:
+        """The PRINT / M29 texts of a run, in order (simulated once on first use)."""
+        if self._run_time is None and self.ok:
+            self._simulate_once()
+        return list(self._printed)
+
+    def _simulate_once(self) -> None:
+        def on_output(tab: int, text: str) -> None:
+            if tab == OutputTab.PRINT:
+                self._printed.append(text)
+
+        remove = self.core.listen(Callback.ADD_OUTPUT_LOG, on_output)
+        try:
+            self.core.run(Regime.SIMULATION)
+        finally:
+            remove()
+        self._run_time = self.core.run_time()
+
+    def simulate(self, regime: Regime = Regime.SIMULATION) -> RunResult:
+        """Every part as the driver callbacks receive it (SIMPLE_GM_PARAMS records)."""
+        self.check()
+        return self.core.simulate(regime)
+
+    def plot(self, ax=None, **options):
+        """Draws the program with matplotlib (the ``sf-tch[plot]`` extra): see
+        :func:`sf_tch.plot.plot_program`. Returns the Axes."""
+        from .plot import plot_program
+        return plot_program(self, ax=ax, **options)
+
+    def to_dict(self) -> dict:
+        """Name, errors, warnings, toolpath summary, extents and run time, as plain types."""
+        result = {"program": self.name, "ok": self.ok, "errors": [e.to_dict() for e in self.errors],
+                  "warnings": [w.to_dict() for w in self.warnings]}
+        if self.ok:
+            size = self.size_info.m_size
+            result["toolpath"] = self.toolpath.to_dict()
+            result["extent"] = {title: {"min": [size[k].m_minimalPos.x, size[k].m_minimalPos.y, size[k].m_minimalPos.z],
+                                        "max": [size[k].m_maximalPos.x, size[k].m_maximalPos.y, size[k].m_maximalPos.z]}
+                                for title, k in (("programmed", 0), ("compensated", 1))}
+            result["run_time"] = self.run_time
+            result["printed"] = self.printed
+        return result

@@ -1,0 +1,280 @@
+"""The Pythonic API: sf_tch.compile() and Program, diagnostics with file, line and
+column, progress and cancellation, cores always released, enums, repr/to_dict,
+library_path(), the version, docstrings, and the README's snippet."""
+import ctypes
+import inspect
+import json
+import logging
+import re
+import threading
+from importlib import metadata
+from pathlib import Path
+
+import pytest
+
+import sf_tch
+from compiler_host import SEED_PROGRAM
+from sf_tch import ErrorNumber, Status, abi
+
+README = Path(__file__).resolve().parents[1] / "README.md"
+SQUARE = "G0 X0 Y0 Z0\nG1 X10 F600\nG1 Y10\nG1 X0\nG1 Y0\nM30\n"
+
+
+def test_compile_text_gives_a_program_with_results():
+    with sf_tch.compile(SQUARE, name="square.nc") as program:
+        assert program.ok and program.errors == [] and program.warnings == []
+        assert program.toolpath.to_dict()["cut_length"] == pytest.approx(40)
+        size = program.size_info.m_size[0]
+        assert (size.m_minimalPos.x, size.m_maximalPos.y) == (0, 10)
+        # 4 lines of 10 mm at 600 mm/min from rest to rest (trapezoids: at least 4 s)
+        assert program.run_time >= 4.0
+        assert repr(program) == "<Program 'square.nc' ok, 0 warning(s), 6 parts>"
+        json.dumps(program.to_dict())
+
+
+def test_compile_a_file_and_the_seed_program(tmp_path):
+    path = tmp_path / "seed.nc"
+    path.write_text(SEED_PROGRAM + "\n")
+    with sf_tch.compile(path, params={"absMode": 0}) as program:
+        assert program.ok and program.name == str(path)
+    # absolute: the arc-centre error on line 4, with the file's name
+    with sf_tch.compile(str(path)) as program:
+        assert not program.ok
+        error = program.errors[0]
+        assert (error.number, error.line, error.file) == (ErrorNumber.ARC_CENTRE, 4, str(path))
+        assert str(error).startswith(f"{path}:4: error 400: Wrongly entered centre")
+        with pytest.raises(sf_tch.CncError) as caught:
+            program.check()
+        assert caught.value.line == 4 and caught.value.file == str(path)
+        assert program.size_info is None and program.run_time is None and len(program.toolpath) == 0
+
+
+@pytest.mark.parametrize("code, number, column", [
+    ("G1 X10 F100\nG1 X(1+)\n", ErrorNumber.BAD_EXPRESSION, 8),
+    ("G1 X10 F100\nG1 Q1 W2 HH\n", ErrorNumber.UNKNOWN_WORD, 10),
+    ("G1 X10 F100\nG4 P1\n", ErrorNumber.P_WORD, 4),                     # the P word
+    ("G1 X10 F100\nG1 X1.2.3\n", ErrorNumber.BAD_NUMBER, 5),
+    ("G1 X10 F100\nG1 X1/0\n", ErrorNumber.DIVISION_BY_ZERO, None),        # no text argument: no column
+])
+def test_errors_carry_file_line_and_column(code, number, column):
+    with sf_tch.compile(code, name="cols.nc") as program:
+        (error,) = program.errors
+    assert (error.file, error.line, error.column, error.number) == ("cols.nc", 2, column, number)
+    assert str(error).startswith(f"cols.nc:2:{column}: " if column else "cols.nc:2: ")
+    assert error.to_dict()["name"] == number.name
+
+
+def test_warnings_are_collected():
+    code = "G0 X0 Y0 Z0\nG41\nG3 X20 Y0 I10 J0 F1000\nG1 Y-10\nG40 X0\nM30\n"
+    with sf_tch.compile(code, radius=1.0, name="comp.nc") as program:
+        assert program.ok
+        (warning,) = program.warnings
+    assert warning.severity == "warning" and warning.number == ErrorNumber.COMPENSATION_WARNING
+    assert warning.line == 3 and warning.file == "comp.nc"
+
+
+def test_bad_sources_and_arguments(tmp_path):
+    with pytest.raises(FileNotFoundError, match="no such file"):
+        sf_tch.compile(tmp_path / "missing.nc")
+    with pytest.raises(IsADirectoryError):
+        sf_tch.compile(tmp_path)
+    with pytest.raises(ValueError, match="radius"):
+        sf_tch.compile(SQUARE, radius=-1)
+    with pytest.raises(FileNotFoundError, match="INI"):
+        sf_tch.compile(SQUARE, ini=tmp_path / "none.ini")
+    with pytest.raises(AttributeError, match="noSuchField"):
+        sf_tch.compile(SQUARE, params={"noSuchField": 1})
+    with pytest.raises(IndexError):
+        sf_tch.Core(3)
+    # none of these kept a core
+    programs = [sf_tch.compile(SQUARE) for _ in range(3)]
+    assert sorted(p.core.index for p in programs) == [0, 1, 2]
+    for p in programs:
+        p.close()
+
+
+def test_cores_are_claimed_and_always_released():
+    programs = [sf_tch.compile(SQUARE) for _ in range(3)]
+    with pytest.raises(sf_tch.NoFreeCoreError):
+        sf_tch.compile(SQUARE)
+    with pytest.raises(sf_tch.NoFreeCoreError, match="core 1 is in use"):
+        sf_tch.Core(1)
+    programs[1].close()
+    with sf_tch.compile(SQUARE) as again:
+        assert again.core.index == 1
+    assert again.core.closed and again.core.status == Status.NOTHING_LOADED
+    for p in programs:
+        p.close()
+    # an exception inside the block releases the core too
+    with pytest.raises(KeyError):
+        with sf_tch.compile(SQUARE) as program:
+            raise KeyError("x")
+    assert program.core.closed
+
+
+def _long_program(lines: int) -> str:
+    return "G0 X0 Y0 Z0\n" + "".join(f"G1 X{k % 100} Y{k % 37} F1000\n" for k in range(lines))
+
+
+def test_progress_callback_and_iterator():
+    seen = []
+    with sf_tch.compile(_long_program(200_000), progress=seen.append) as program:
+        assert program.ok
+    assert seen and seen == sorted(seen) and seen[-1] == 100
+    job = sf_tch.start_compile(_long_program(200_000))
+    try:
+        percents = list(job)
+        assert percents == sorted(percents) and percents[-1] == 100 and len(set(percents)) == len(percents)
+        assert job.result().ok
+    finally:
+        job.core.close()
+
+
+def test_cancellation_by_event_and_by_method():
+    endless = "L1:\nG1 X1 F100\nG1 X0\nGOTO L1\n"     # stopped by the block limit, if not cancelled first
+    event = threading.Event()
+
+    def cancel_at_first_progress(percent):
+        event.set()
+
+    event.set()
+    with pytest.raises(sf_tch.Cancelled) as caught:
+        sf_tch.compile(endless, cancel=event, progress=cancel_at_first_progress)
+    assert caught.value.number == ErrorNumber.CANCELLED
+    job = sf_tch.start_compile(endless)
+    job.cancel()
+    with pytest.raises(sf_tch.Cancelled):
+        job.result()
+    job.core.close()
+    # every core is free again
+    programs = [sf_tch.compile(SQUARE) for _ in range(3)]
+    for p in programs:
+        p.close()
+
+
+def test_enums_compare_with_the_librarys_ints():
+    assert Status.COMPILED == abi.STATUS_COMPILED and Status(-10) is Status.SIMULATION_DONE
+    assert sf_tch.Callback.DRIVER_G_FUNC == abi.CB_DRIVER_G_FUNC
+    assert sf_tch.Regime.TEST == abi.RUN_TEST
+    assert set(sf_tch.Callback) == set(abi.CALLBACK_NUMBERS)
+    assert sf_tch.PartKind.PRINT == abi.TC_TOOLPATH_PRINT
+    assert sf_tch.ToolpathFlag.HELIX == abi.TC_TOOLPATH_HELIX
+    # the error catalogue: every number of docs/errors.md
+    documented = set(int(n) for n in re.findall(r"^\| (\d+) \|", (README.parent / "docs" / "errors.md").read_text(),
+                                                  re.M))
+    assert documented and documented <= set(ErrorNumber)
+
+
+def test_every_structure_has_a_readable_repr_and_to_dict():
+    for name, cls in abi.STRUCTURES.items():
+        value = cls()
+        text = repr(value)
+        assert text.startswith(name + "(") and " object at 0x" not in text
+        json.dumps(value.to_dict())
+    with sf_tch.Core() as core:
+        params = core.params.to_dict()
+    assert params["absMode"] == 1 and params["motion"][0]["feed"] == 10000.0
+
+
+def test_library_path_honours_the_environment(run_python, lib_path, tmp_path):
+    out = run_python(f"""
+        import os, sf_tch
+        os.environ["SF_TCH_LIBRARY"] = {str(tmp_path / "nope.so")!r}
+        try:
+            sf_tch.library_path()
+        except sf_tch.LibraryNotFoundError as exc:
+            print("missing:", exc)
+        os.environ["SF_TCH_LIBRARY"] = LIB_PATH
+        print("found:", sf_tch.library_path() == LIB_PATH)
+    """).stdout
+    assert "missing: SF_TCH_LIBRARY=" in out and "no such file" in out and "found: True" in out
+
+
+def test_version_is_the_package_metadata():
+    assert sf_tch.__version__ == metadata.version("sf-tch")
+    assert re.fullmatch(r"\d+\.\d+\.\d+.*", sf_tch.__version__)
+
+
+def test_every_public_name_has_a_docstring():
+    missing = []
+    for module_name in ("sf_tch", "sf_tch.core", "sf_tch.program", "sf_tch.toolpath", "sf_tch.errors",
+                        "sf_tch.enums", "sf_tch.library", "sf_tch.cli", "sf_tch.plot"):
+        module = __import__(module_name, fromlist=["_"])
+        if not module.__doc__:
+            missing.append(module_name)
+        for name, obj in vars(module).items():
+            if name.startswith("_") or getattr(obj, "__module__", None) != module.__name__:
+                continue
+            if not (inspect.isclass(obj) or inspect.isfunction(obj)):
+                continue
+            if not inspect.getdoc(obj):
+                missing.append(f"{module_name}.{name}")
+            if inspect.isclass(obj) and not issubclass(obj, (int, Exception)):
+                for member, value in vars(obj).items():
+                    if member.startswith("_") or not (inspect.isfunction(value) or isinstance(value, property)):
+                        continue
+                    if not inspect.getdoc(value):
+                        missing.append(f"{module_name}.{name}.{member}")
+    assert missing == []
+
+
+def test_the_package_is_typed():
+    assert (Path(sf_tch.__file__).parent / "py.typed").exists()
+
+
+def test_the_readme_python_snippet_runs(run_python):
+    text = README.read_text()
+    section = text[text.index("### Using it from Python"):]
+    snippet = re.search(r"```python\n(.*?)```", section, re.S).group(1)
+    run_python(snippet)
+
+
+def test_core_simulate_returns_a_sized_result():
+    with sf_tch.Core() as core:
+        core.compile_text(SQUARE)
+        run = core.simulate()
+    assert len(run) == 5 and len(run.m_functions) == 1
+    assert run.parts["m_func"].tolist() == [0, 1, 1, 1, 1]
+    assert "5 motion parts" in repr(run) and run.to_dict()["status"] == Status.SIMULATION_DONE
+    assert ctypes.sizeof(abi.SIMPLE_GM_PARAMS) == run.parts.dtype.itemsize
+
+
+def test_library_output_goes_to_the_logger(caplog):
+    with caplog.at_level(logging.DEBUG, logger="sf_tch"):
+        with sf_tch.compile("G1 X1/0\n", name="bad.nc") as program:
+            assert not program.ok
+        with sf_tch.compile('G0 X0 Y0 Z0\nPRINT "hello"\nM30\n') as program:
+            assert program.printed == ["hello"]
+    levels = {(r.levelno, r.getMessage().split(": ", 1)[1]) for r in caplog.records if r.name == "sf_tch"}
+    assert (logging.ERROR, "Division by zero") in levels and (logging.INFO, "hello") in levels
+
+
+def test_simulate_keeps_every_part_beyond_the_programs_own():
+    # StartCNCEx's addCode sends its M functions before the program: more parts than it has
+    add_code = " ".join(f"M{100 + k}" for k in range(40))
+    with sf_tch.Core() as core:
+        core.compile_text(SQUARE)
+        run = core.simulate(add_code=add_code)
+        again = core.simulate()
+    assert run.m_functions["m_func"].tolist() == list(range(100, 140)) + [30]
+    assert len(run) == 5 and again.m_functions["m_func"].tolist() == [30]
+    assert run.parts.tobytes() == again.parts.tobytes()
+
+
+def test_an_error_of_no_file_names_no_place(tmp_path):
+    with sf_tch.Core() as core:
+        with pytest.raises(sf_tch.CncError) as caught:
+            core.compile_file(tmp_path / "missing.nc")
+    assert caught.value.number == ErrorNumber.FILE_OPEN
+    assert str(caught.value) == f"error 1: Cannot open file '{tmp_path / 'missing.nc'}'"
+
+
+def test_the_start_position():
+    relative = "G91 G1 X10 F600\nG1 Y10\nM30\n"
+    with sf_tch.compile(relative, start=(5, 7, 1)) as program:
+        rec = program.toolpath.records
+        ends = rec["end"][rec["kind"] == sf_tch.PartKind.MOTION]
+        assert rec["start"][0].tolist() == [5, 7, 1]
+        assert ends.tolist() == [[15, 7, 1], [15, 17, 1]]
+        box = program.size_info.m_size[0]
+        assert (box.m_minimalPos.x, box.m_maximalPos.y) == (5, 17)
