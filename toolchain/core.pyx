@@ -109,6 +109,18 @@ cdef int32_t core_refuse(Core *core, const char *what, int32_t status) noexcept 
     return TOOL_CHAIN_ERROR
 
 
+cdef int32_t core_read_error(Core *core, const ErrorInfo *slot, CALLBACK_INFO *info) noexcept nogil:
+    """GetLastError / GetLastCallError: 1 and info filled from `slot` (core.error or
+    core.call_error), 0 when it holds no error."""
+    cdef int32_t result = 0
+    pthread_mutex_lock(&core.lock)
+    if slot.number != 0:
+        fill_callback_info(slot, info)
+        result = 1
+    pthread_mutex_unlock(&core.lock)
+    return result
+
+
 cdef void core_fail_with(Core *core, const ErrorInfo *err) noexcept nogil:
     """Records `err` as the error of a refused call (GetLastCallError) and reports it."""
     pthread_mutex_lock(&core.lock)

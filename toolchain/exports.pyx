@@ -264,32 +264,20 @@ cdef public int32_t ToolChainCore_IsBusy(uint32_t intIdx) noexcept nogil:
 
 cdef public int32_t ToolChainCore_GetLastError(uint32_t intIdx, CALLBACK_INFO *info) noexcept nogil:
     cdef Core *core = core_get(intIdx)
-    cdef int32_t result = 0
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
     if info == NULL:
         return TOOL_CHAIN_ERROR
-    pthread_mutex_lock(&core.lock)
-    if core.error.number != 0:
-        fill_callback_info(&core.error, info)
-        result = 1
-    pthread_mutex_unlock(&core.lock)
-    return result
+    return core_read_error(core, &core.error, info)
 
 
 cdef public int32_t ToolChainCore_GetLastCallError(uint32_t intIdx, CALLBACK_INFO *info) noexcept nogil:
     cdef Core *core = core_get(intIdx)
-    cdef int32_t result = 0
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
     if info == NULL:
         return TOOL_CHAIN_ERROR
-    pthread_mutex_lock(&core.lock)
-    if core.call_error.number != 0:
-        fill_callback_info(&core.call_error, info)
-        result = 1
-    pthread_mutex_unlock(&core.lock)
-    return result
+    return core_read_error(core, &core.call_error, info)
 
 
 cdef public int32_t ToolChain_GetLastError(CALLBACK_INFO *info) noexcept nogil:
