@@ -465,6 +465,10 @@ cdef void *_compile_body(void *arg) noexcept nogil:
         result = _compile_and_compensate(core, inp, &prog, err)
         if result == COMPILE_OK:
             result = insert_arcs(&prog, &inp.params, err)
+        if result == COMPILE_OK and plan_program(&prog, &inp.params, <uint32_t>core.machine.enhancedInterpolatorParameters,
+                                                 inp.plan_window) != COMPILE_OK:
+            result = COMPILE_ERROR
+            set_error(err, ERR_OUT_OF_MEMORY, core.source_idx, 0, NULL, 0)
         if result == COMPILE_CANCELLED:
             set_error(err, ERR_CANCELLED, core.source_idx, 0, NULL, 0)
     if result == COMPILE_OK:

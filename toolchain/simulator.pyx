@@ -148,7 +148,7 @@ cdef void *_run_body(void *arg) noexcept nogil:
         part_to_gm(prog, i, &gm)
         length = gm.m_pars.N if p.kind == PART_MOTION else 0.0
         if params.calcTime:
-            t = part_time(prog, i, &params)
+            t = plan_part_time(prog, i)
             if t > 0:
                 run_time += t
         if p.kind == PART_MOTION or p.kind == PART_DWELL:

@@ -1,0 +1,190 @@
+# The look-ahead: every motion part gets an entry, peak and exit speed such that
+# the machine can still stop at the end of what it sees. The vendor's interpolator
+# sees the current part and the next 7 (its look-ahead table, seed 003), so the
+# default window is 8 parts (M functions count); a deeper window only lets parts
+# run faster. One sweep over the program with a ring of the visible parts:
+#   backward: from a stop at the window's end (or the program's end), the highest
+#             entry speed of each visible part (its junction limit, or what it can
+#             still brake away within its length);
+#   forward:  from the previous exit, accelerate within the part, exit at most at
+#             the next part's backward limit.
+# The backward limits are recomputed only when the window's end moves (an
+# unlimited window: once), so the cost is O(parts x window).
+from libc.stdlib cimport malloc, free
+from libc.math cimport sqrt
+
+cdef enum:
+    VENDOR_WINDOW = 8           # the current part + 7 more
+
+
+ctypedef struct PlanNode:       # a motion part with length, as the passes see it
+    size_t part
+    double length
+    double vmax
+    double acc, dec             # equivalent constant accelerations of its ramps (ramps.pyx)
+    double jin                  # speed limit at its start (0: the machine stands there)
+    double entry_limit          # backward pass: highest entry speed that can still stop in the window
+
+
+ctypedef struct NodeSource:     # makes the nodes, parts in order
+    const Program *prog
+    const GCODE_PARAMETERS *params
+    uint32_t enhanced
+    PlanCursor cursor
+    size_t scan                 # next part to read
+    bint have_prev, stop_pending, prev_rapid
+    double prev_vmax
+    double prev_tangent[10]
+
+
+cdef bint _next_node(NodeSource *src, PlanNode *node) noexcept nogil:
+    """Reads part `scan`; True when it is a node (filled in)."""
+    cdef size_t k = src.scan
+    cdef const Part *p = &src.prog.parts[k]
+    cdef const PlanRegion *s = cursor_settings(&src.cursor, k)
+    cdef Segment g
+    cdef PartLimits lim
+    cdef double t0[10]
+    src.scan += 1
+    if p.kind != PART_MOTION:
+        if part_stops_motion(p):
+            src.stop_pending = True
+        return False
+    segment_of_part(src.prog, k, &g)
+    if g.length <= 1e-9:
+        return False                    # no motion: the speed passes through
+    part_limits(&g, p, src.params, s, src.enhanced, &lim)
+    segment_tangent(&g, 0.0, t0)
+    node.part = k
+    node.length = g.length
+    node.vmax = lim.vmax
+    node.acc = ramp_equivalent_acc(lim.acc, lim.ramp)
+    node.dec = ramp_equivalent_acc(lim.dec, lim.ramp)
+    if not src.have_prev or src.stop_pending or junction_stops(src.prev_rapid, lim.rapid, s, src.params):
+        node.jin = 0.0
+    else:
+        node.jin = angle_feed(junction_angle(src.prev_tangent, t0,
+                                             s.ignore_angle | ((src.enhanced >> ENH_ANGLE_SHIFT) & AXIS_MASK)),
+                              min(src.prev_vmax, lim.vmax), s)
+    node.entry_limit = node.jin
+    segment_tangent(&g, 1.0, src.prev_tangent)
+    src.prev_vmax = lim.vmax
+    src.prev_rapid = lim.rapid
+    src.have_prev = True
+    src.stop_pending = False
+    return True
+
+
+cdef void _plan_node(const PlanNode *nd, double v_in, double exit_limit, PartPlan *out) noexcept nogil:
+    """Entry v_in, exit as fast as allowed, peak and time of one node (closed forms)."""
+    cdef double a = nd.acc, d = nd.dec, L = nd.length
+    cdef double v_out = min(exit_limit, sqrt(v_in * v_in + 2.0 * a * L))
+    cdef double peak = sqrt((2.0 * a * d * L + d * v_in * v_in + a * v_out * v_out) / (a + d))
+    cdef double cruise
+    if peak > nd.vmax:
+        peak = nd.vmax
+    if peak < v_in:
+        peak = v_in
+    if peak < v_out:
+        peak = v_out
+    cruise = L - (peak * peak - v_in * v_in) / (2.0 * a) - (peak * peak - v_out * v_out) / (2.0 * d)
+    if cruise < 0.0:
+        cruise = 0.0
+    out.v_peak = peak
+    out.v_exit = v_out
+    out.time = (peak - v_in) / a + (peak - v_out) / d + (cruise / peak if peak > 0.0 else 0.0)
+
+
+cdef void _plan_passing(const Program *prog, size_t first, size_t end, double v, PartPlan *plan) noexcept nogil:
+    """Parts without motion in [first, end): the speed passes through; dwells take their time."""
+    cdef size_t k
+    for k in range(first, end):
+        plan[k].v_peak = v
+        plan[k].v_exit = v
+        plan[k].time = prog.parts[k].value if prog.parts[k].kind == PART_DWELL else 0.0
+
+
+cdef int plan_program(Program *prog, const GCODE_PARAMETERS *params, uint32_t enhanced,
+                      int64_t window) noexcept nogil:
+    """Plans every part into prog.plan (replaced). window: parts the look-ahead sees
+    (0 the vendor's 8, < 0 unlimited). COMPILE_OK, or COMPILE_ERROR when out of memory."""
+    cdef size_t n = prog.n_parts, depth, i = 0, made = 0, planned_made = 0, filled = 0
+    cdef PartPlan *plan
+    cdef PlanNode *ring
+    cdef PlanNode *nd
+    cdef PlanNode *nj
+    cdef NodeSource src
+    cdef double v_prev = 0.0, v, exit_limit
+    cdef size_t j
+    free(prog.plan)
+    prog.plan = NULL
+    if n == 0:
+        return COMPILE_OK
+    if window == 0:
+        depth = VENDOR_WINDOW
+    elif window < 0 or <uint64_t>window > n:
+        depth = n
+    else:
+        depth = <size_t>window
+    plan = <PartPlan *>malloc(n * sizeof(PartPlan))
+    ring = <PlanNode *>malloc(depth * sizeof(PlanNode))   # the nodes of parts [node i, node i + depth)
+    if plan == NULL or ring == NULL:
+        free(plan)
+        free(ring)
+        return COMPILE_ERROR
+    src.prog = prog
+    src.params = params
+    src.enhanced = enhanced
+    cursor_init(&src.cursor, prog, params)
+    src.scan = 0
+    src.have_prev = False
+    src.stop_pending = False
+    src.prev_rapid = False
+    src.prev_vmax = 0.0
+    while True:
+        while made <= i and src.scan < n:
+            if _next_node(&src, &ring[made % depth]):
+                made += 1
+        if made <= i:
+            break
+        nd = &ring[i % depth]
+        while src.scan < n and src.scan < nd.part + depth:
+            if _next_node(&src, &ring[made % depth]):
+                made += 1
+        if made != planned_made:        # the window's end moved: backward pass over the window
+            v = 0.0
+            j = made
+            while j > i + 1:
+                j -= 1
+                nj = &ring[j % depth]
+                nj.entry_limit = min(nj.jin, sqrt(v * v + 2.0 * nj.dec * nj.length))
+                v = nj.entry_limit
+            planned_made = made
+        exit_limit = ring[(i + 1) % depth].entry_limit if i + 1 < made else 0.0
+        _plan_passing(prog, filled, nd.part, v_prev, plan)
+        _plan_node(nd, v_prev, exit_limit, &plan[nd.part])
+        v_prev = plan[nd.part].v_exit
+        filled = nd.part + 1
+        i += 1
+    _plan_passing(prog, filled, n, v_prev, plan)
+    free(ring)
+    prog.plan = plan
+    return COMPILE_OK
+
+
+cdef double plan_part_time(const Program *prog, size_t i) noexcept nogil:
+    """Planned seconds of part i (0 when the program has no plan)."""
+    return prog.plan[i].time if prog.plan != NULL else 0.0
+
+
+cdef double plan_entry_speed(const Program *prog, size_t i) noexcept nogil:
+    """mm/s at the start of part i."""
+    if prog.plan == NULL or i == 0:
+        return 0.0
+    return prog.plan[i - 1].v_exit
+
+
+cdef double plan_calc_feed(const Program *prog, size_t i) noexcept nogil:
+    """The planned feed of part i, mm/min: the highest speed it reaches
+    (GM_PARAMS_ENHANCED.m_calcFeed)."""
+    return prog.plan[i].v_peak * 60.0 if prog.plan != NULL else 0.0
