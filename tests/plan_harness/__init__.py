@@ -10,7 +10,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 
 
-def build(tmp: Path):
+def build(tmp: Path, opt: str = "-O1"):
     src = Path(__file__).with_name("plan_harness.pyx")
     c_file = tmp / "plan_harness.c"
     ext = sysconfig.get_config_var("EXT_SUFFIX")
@@ -19,7 +19,7 @@ def build(tmp: Path):
                     "-I", str(ROOT / "toolchain"), "-I", str(ROOT / "include"),
                     str(src), "-o", str(c_file)], check=True)
     cc = os.environ.get("CC", "gcc")
-    subprocess.run([cc, "-O1", "-shared", "-fPIC", "-w", "-I", str(ROOT / "include"),
+    subprocess.run([cc, *opt.split(), "-shared", "-fPIC", "-w", "-I", str(ROOT / "include"),
                     "-I", sysconfig.get_paths()["include"], str(c_file), "-o", str(so),
                     "-lpthread", "-lm"], check=True)
     spec = importlib.util.spec_from_file_location("plan_harness", so)

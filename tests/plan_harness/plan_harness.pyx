@@ -6,7 +6,10 @@
 # settings, returning the plan per part; and the ramps' closed forms.
 include "libSF_TCh.pyx"
 
-from posix.time cimport clock_gettime, timespec, CLOCK_MONOTONIC
+from posix.time cimport clock_gettime, timespec
+
+cdef extern from "<time.h>" nogil:
+    enum: CLOCK_THREAD_CPUTIME_ID
 
 
 def default_params():
@@ -16,17 +19,19 @@ def default_params():
     return (<char *>&p)[:sizeof(GCODE_PARAMETERS)]
 
 
-def plan_text(text, params=None, long long window=0, unsigned int enhanced=0):
+def plan_text(text, params=None, long long window=0, unsigned int enhanced=0, bint detail=True):
     """Compiles `text` (str) with GCODE_PARAMETERS `params` (bytes, else the defaults),
-    inserts the G167 arcs, plans. Returns (parts, error, seconds of the planning):
-    parts: dicts kind, func, line, length, v_in, v_peak, v_out, time."""
+    inserts the G167 arcs, plans. Returns (parts, error, timing): parts: dicts kind,
+    func, line, length, v_in, v_peak, v_out, time (detail), else one dict n_parts,
+    run_time, plan_bytes; timing: CPU seconds of the compile (with the arcs) and of the planning."""
     cdef CompileInput *inp = <CompileInput *>calloc(1, sizeof(CompileInput))
     cdef Program prog
     cdef ErrorInfo err
     cdef int rc
     cdef int32_t cancel = 0
     cdef size_t k
-    cdef timespec t0, t1
+    cdef timespec t0, t1, t2
+    cdef double run_time = 0.0
     cdef bytes src = text.encode("latin-1")
     cdef bytes pb
     program_init(&prog)
@@ -47,17 +52,22 @@ def plan_text(text, params=None, long long window=0, unsigned int enhanced=0):
     inp.plc = TGM_Data
     inp.cancel = &cancel
     inp.plan_window = window
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t0)
     rc = compile_program(inp, &prog, &err)
     if rc == COMPILE_OK:
         rc = insert_arcs(&prog, &inp.params, &err)
-    seconds = 0.0
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t1)
+    timing = dict(compile=(t1.tv_sec - t0.tv_sec) + 1e-9 * (t1.tv_nsec - t0.tv_nsec), plan=0.0)
     if rc == COMPILE_OK:
-        clock_gettime(CLOCK_MONOTONIC, &t0)
         rc = plan_program(&prog, &inp.params, enhanced, window)
-        clock_gettime(CLOCK_MONOTONIC, &t1)
-        seconds = (t1.tv_sec - t0.tv_sec) + 1e-9 * (t1.tv_nsec - t0.tv_nsec)
+        clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t2)
+        timing["plan"] = (t2.tv_sec - t1.tv_sec) + 1e-9 * (t2.tv_nsec - t1.tv_nsec)
     out = []
-    if rc == COMPILE_OK:
+    if rc == COMPILE_OK and not detail:
+        for k in range(prog.n_parts):
+            run_time += prog.plan[k].time
+        out = dict(n_parts=prog.n_parts, run_time=run_time, plan_bytes=prog.n_parts * sizeof(PartPlan))
+    elif rc == COMPILE_OK:
         for k in range(prog.n_parts):
             out.append(dict(kind=prog.parts[k].kind, func=prog.parts[k].func, line=prog.parts[k].line,
                             length=part_length(&prog, k), v_in=plan_entry_speed(&prog, k),
@@ -66,7 +76,7 @@ def plan_text(text, params=None, long long window=0, unsigned int enhanced=0):
     error = None if rc == COMPILE_OK else (err.number, err.line, err.text.decode("latin-1"))
     program_free(&prog)
     free(inp)
-    return out, error, seconds
+    return out, error, timing
 
 
 def ramp(double v0, double v1, double acc, int ramp_type, double t=-1.0):

@@ -56,12 +56,23 @@ cdef bint program_add_plan_region(Program *prog, size_t first, const GCODE_PARAM
     return True
 
 
+cdef inline bint _axes_limited(const PlanRegion *s) noexcept nogil:
+    """Some axis has a limit that is on."""
+    cdef int k
+    for k in range(10):
+        if not ((s.limits_off >> k) & 1) and (s.axisLimits[k].maxFeed > 0.0 or s.axisLimits[k].maxAcc > 0.0
+                                               or s.axisLimits[k].maxDec > 0.0):
+            return True
+    return False
+
+
 ctypedef struct PlanCursor:     # the settings of each part, parts visited in order
     const Program *prog
     PlanRegion cur
     size_t region           # next region to apply
     size_t programmed       # programmed parts before the next part
     size_t next_part
+    bint axes_limited       # some axis limit of cur is on
 
 
 cdef void cursor_init(PlanCursor *c, const Program *prog, const GCODE_PARAMETERS *params) noexcept nogil:
@@ -70,6 +81,7 @@ cdef void cursor_init(PlanCursor *c, const Program *prog, const GCODE_PARAMETERS
     c.region = 0
     c.programmed = 0
     c.next_part = 0
+    c.axes_limited = _axes_limited(&c.cur)
 
 
 cdef const PlanRegion *cursor_settings(PlanCursor *c, size_t part) noexcept nogil:
@@ -80,6 +92,7 @@ cdef const PlanRegion *cursor_settings(PlanCursor *c, size_t part) noexcept nogi
             while c.region < prog.n_plan_regions and prog.plan_regions[c.region].first <= c.programmed:
                 c.cur = prog.plan_regions[c.region]
                 c.region += 1
+                c.axes_limited = _axes_limited(&c.cur)
             c.programmed += 1
         c.next_part += 1
     return &c.cur
@@ -131,8 +144,8 @@ cdef double arc_feed_factor(const GCODE_PARAMETERS *params, int32_t state, doubl
 
 
 cdef void part_limits(const Segment *g, const Part *p, const GCODE_PARAMETERS *params,
-                      const PlanRegion *s, uint32_t enhanced, PartLimits *out) noexcept nogil:
-    """The static limits of a motion part with geometry g."""
+                      const PlanRegion *s, bint axes_limited, uint32_t enhanced, PartLimits *out) noexcept nogil:
+    """The static limits of a motion part with geometry g (axes_limited: _axes_limited(s))."""
     cdef const GCODE_FEED *cls
     cdef double reach[10]
     cdef double v, feed_len, curvature
@@ -154,6 +167,9 @@ cdef void part_limits(const Segment *g, const Part *p, const GCODE_PARAMETERS *p
         if params.centripetalAcc > 0.0:
             curvature = g.radius / (g.radius * g.radius + g.lead * g.lead)
             v = min(v, sqrt(params.centripetalAcc / curvature))
+    if not axes_limited:
+        out.vmax = v if v > 0.0 else 1.0 / 60.0
+        return
     segment_axis_reach(g, reach)
     for k in range(10):
         if (s.limits_off >> k) & 1 or reach[k] <= 1e-12:

@@ -9,7 +9,8 @@
 #   forward:  from the previous exit, accelerate within the part, exit at most at
 #             the next part's backward limit.
 # The backward limits are recomputed only when the window's end moves (an
-# unlimited window: once), so the cost is O(parts x window).
+# unlimited window: once), and only back to the first that does not change: at most
+# O(parts x window), O(parts) where the junctions' limits bind.
 from libc.stdlib cimport malloc, free
 from libc.math cimport sqrt
 
@@ -23,7 +24,9 @@ ctypedef struct PlanNode:       # a motion part with length, as the passes see i
     double vmax
     double acc, dec             # equivalent constant accelerations of its ramps (ramps.pyx)
     double jin                  # speed limit at its start (0: the machine stands there)
-    double entry_limit          # backward pass: highest entry speed that can still stop in the window
+    double jin2                 # its square
+    double brake2               # 2 dec length: what braking within it takes off the squared speed
+    double entry2               # backward pass: squared highest entry speed that can still stop in the window
 
 
 ctypedef struct NodeSource:     # makes the nodes, parts in order
@@ -34,6 +37,8 @@ ctypedef struct NodeSource:     # makes the nodes, parts in order
     size_t scan                 # next part to read
     bint have_prev, stop_pending, prev_rapid
     double prev_vmax
+    size_t prev_part            # the last node's part
+    bint prev_tangent_known     # prev_tangent holds its end tangent
     double prev_tangent[10]
 
 
@@ -42,7 +47,7 @@ cdef bint _next_node(NodeSource *src, PlanNode *node) noexcept nogil:
     cdef size_t k = src.scan
     cdef const Part *p = &src.prog.parts[k]
     cdef const PlanRegion *s = cursor_settings(&src.cursor, k)
-    cdef Segment g
+    cdef Segment g, prev_g
     cdef PartLimits lim
     cdef double t0[10]
     src.scan += 1
@@ -53,8 +58,7 @@ cdef bint _next_node(NodeSource *src, PlanNode *node) noexcept nogil:
     segment_of_part(src.prog, k, &g)
     if g.length <= 1e-9:
         return False                    # no motion: the speed passes through
-    part_limits(&g, p, src.params, s, src.enhanced, &lim)
-    segment_tangent(&g, 0.0, t0)
+    part_limits(&g, p, src.params, s, src.cursor.axes_limited, src.enhanced, &lim)
     node.part = k
     node.length = g.length
     node.vmax = lim.vmax
@@ -62,12 +66,23 @@ cdef bint _next_node(NodeSource *src, PlanNode *node) noexcept nogil:
     node.dec = ramp_equivalent_acc(lim.dec, lim.ramp)
     if not src.have_prev or src.stop_pending or junction_stops(src.prev_rapid, lim.rapid, s, src.params):
         node.jin = 0.0
+    elif s.startAngle >= 180.0:         # no angle is larger: the slow-down is off
+        node.jin = min(src.prev_vmax, lim.vmax)
     else:
+        if not src.prev_tangent_known:  # the slow-down came on at this junction
+            segment_of_part(src.prog, src.prev_part, &prev_g)
+            segment_tangent(&prev_g, 1.0, src.prev_tangent)
+        segment_tangent(&g, 0.0, t0)
         node.jin = angle_feed(junction_angle(src.prev_tangent, t0,
                                              s.ignore_angle | ((src.enhanced >> ENH_ANGLE_SHIFT) & AXIS_MASK)),
                               min(src.prev_vmax, lim.vmax), s)
-    node.entry_limit = node.jin
-    segment_tangent(&g, 1.0, src.prev_tangent)
+    node.jin2 = node.jin * node.jin
+    node.brake2 = 2.0 * node.dec * node.length
+    node.entry2 = -1.0                  # not computed yet
+    src.prev_tangent_known = s.startAngle < 180.0    # the next junction likely needs it
+    if src.prev_tangent_known:
+        segment_tangent(&g, 1.0, src.prev_tangent)
+    src.prev_part = k
     src.prev_vmax = lim.vmax
     src.prev_rapid = lim.rapid
     src.have_prev = True
@@ -114,7 +129,7 @@ cdef int plan_program(Program *prog, const GCODE_PARAMETERS *params, uint32_t en
     cdef PlanNode *nd
     cdef PlanNode *nj
     cdef NodeSource src
-    cdef double v_prev = 0.0, v, exit_limit
+    cdef double v_prev = 0.0, v2, exit_limit
     cdef size_t j
     free(prog.plan)
     prog.plan = NULL
@@ -141,6 +156,8 @@ cdef int plan_program(Program *prog, const GCODE_PARAMETERS *params, uint32_t en
     src.stop_pending = False
     src.prev_rapid = False
     src.prev_vmax = 0.0
+    src.prev_part = 0
+    src.prev_tangent_known = False
     while True:
         while made <= i and src.scan < n:
             if _next_node(&src, &ring[made % depth]):
@@ -152,15 +169,19 @@ cdef int plan_program(Program *prog, const GCODE_PARAMETERS *params, uint32_t en
             if _next_node(&src, &ring[made % depth]):
                 made += 1
         if made != planned_made:        # the window's end moved: backward pass over the window
-            v = 0.0
+            # squared speeds; the limits only grow with the window, and where one did not
+            # change, none before it does
+            v2 = 0.0
             j = made
             while j > i + 1:
                 j -= 1
                 nj = &ring[j % depth]
-                nj.entry_limit = min(nj.jin, sqrt(v * v + 2.0 * nj.dec * nj.length))
-                v = nj.entry_limit
+                v2 = min(nj.jin2, v2 + nj.brake2)
+                if v2 == nj.entry2:
+                    break
+                nj.entry2 = v2
             planned_made = made
-        exit_limit = ring[(i + 1) % depth].entry_limit if i + 1 < made else 0.0
+        exit_limit = sqrt(ring[(i + 1) % depth].entry2) if i + 1 < made else 0.0
         _plan_passing(prog, filled, nd.part, v_prev, plan)
         _plan_node(nd, v_prev, exit_limit, &plan[nd.part])
         v_prev = plan[nd.part].v_exit
