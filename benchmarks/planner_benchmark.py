@@ -36,7 +36,7 @@ def circle(radius: float, chord: float) -> str:
     n = int(round(2 * math.pi * radius / chord))
     pts = [(radius * math.cos(2 * math.pi * k / n), radius * math.sin(2 * math.pi * k / n))
            for k in range(n + 1)]
-    return (f"G0 X{pts[0][0]:.6f} Y{pts[0][1]:.6f}\nG4 X0\nF6000\n"
+    return (f"G92 X{pts[0][0]:.6f} Y{pts[0][1]:.6f}\nF6000\n"
             + "".join(f"G1 X{x:.6f} Y{y:.6f}\n" for x, y in pts[1:]))
 
 

@@ -90,24 +90,28 @@ cdef bint _next_node(NodeSource *src, PlanNode *node) noexcept nogil:
     return True
 
 
-cdef void _plan_node(const PlanNode *nd, double v_in, double exit_limit, PartPlan *out) noexcept nogil:
-    """Entry v_in, exit as fast as allowed, peak and time of one node (closed forms)."""
+cdef void _plan_node(const PlanNode *nd, double v_in, double exit2, PartPlan *out) noexcept nogil:
+    """Entry v_in, exit as fast as allowed (at most sqrt(exit2)), peak and time of one
+    node (closed forms; the usual cruising part takes one square root)."""
     cdef double a = nd.acc, d = nd.dec, L = nd.length
-    cdef double v_out = min(exit_limit, sqrt(v_in * v_in + 2.0 * a * L))
-    cdef double peak = sqrt((2.0 * a * d * L + d * v_in * v_in + a * v_out * v_out) / (a + d))
-    cdef double cruise
-    if peak > nd.vmax:
-        peak = nd.vmax
-    if peak < v_in:
-        peak = v_in
-    if peak < v_out:
-        peak = v_out
-    cruise = L - (peak * peak - v_in * v_in) / (2.0 * a) - (peak * peak - v_out * v_out) / (2.0 * d)
-    if cruise < 0.0:
+    cdef double half_inv_a = 0.5 / a, half_inv_d = 0.5 / d
+    cdef double in2 = v_in * v_in
+    cdef double out2 = min(exit2, in2 + 2.0 * a * L)
+    cdef double v_out = sqrt(out2)
+    cdef double peak = nd.vmax, peak2 = nd.vmax * nd.vmax
+    cdef double cruise = L - (peak2 - in2) * half_inv_a - (peak2 - out2) * half_inv_d
+    if cruise < 0.0:                    # no room to cruise: the ramps meet below the limit
+        peak2 = (2.0 * a * d * L + d * in2 + a * out2) / (a + d)
+        peak = sqrt(peak2)
+        if peak < v_in:
+            peak = v_in
+        if peak < v_out:
+            peak = v_out
         cruise = 0.0
     out.v_peak = peak
     out.v_exit = v_out
-    out.time = (peak - v_in) / a + (peak - v_out) / d + (cruise / peak if peak > 0.0 else 0.0)
+    out.time = ((peak - v_in) * 2.0 * half_inv_a + (peak - v_out) * 2.0 * half_inv_d
+                + (cruise / peak if peak > 0.0 else 0.0))
 
 
 cdef void _plan_passing(const Program *prog, size_t first, size_t end, double v, PartPlan *plan) noexcept nogil:
@@ -129,7 +133,7 @@ cdef int plan_program(Program *prog, const GCODE_PARAMETERS *params, uint32_t en
     cdef PlanNode *nd
     cdef PlanNode *nj
     cdef NodeSource src
-    cdef double v_prev = 0.0, v2, exit_limit
+    cdef double v_prev = 0.0, v2, exit2
     cdef size_t j
     free(prog.plan)
     prog.plan = NULL
@@ -181,9 +185,9 @@ cdef int plan_program(Program *prog, const GCODE_PARAMETERS *params, uint32_t en
                     break
                 nj.entry2 = v2
             planned_made = made
-        exit_limit = sqrt(ring[(i + 1) % depth].entry2) if i + 1 < made else 0.0
+        exit2 = ring[(i + 1) % depth].entry2 if i + 1 < made else 0.0
         _plan_passing(prog, filled, nd.part, v_prev, plan)
-        _plan_node(nd, v_prev, exit_limit, &plan[nd.part])
+        _plan_node(nd, v_prev, exit2, &plan[nd.part])
         v_prev = plan[nd.part].v_exit
         filled = nd.part + 1
         i += 1
