@@ -23,8 +23,7 @@ ctypedef struct PlanNode:       # a motion part with length, as the passes see i
     double length
     double vmax
     double acc, dec             # equivalent constant accelerations of its ramps (ramps.pyx)
-    double jin                  # speed limit at its start (0: the machine stands there)
-    double jin2                 # its square
+    double jin2                 # squared speed limit at its start (0: the machine stands there)
     double brake2               # 2 dec length: what braking within it takes off the squared speed
     double entry2               # backward pass: squared highest entry speed that can still stop in the window
 
@@ -50,6 +49,7 @@ cdef bint _next_node(NodeSource *src, PlanNode *node) noexcept nogil:
     cdef Segment g, prev_g
     cdef PartLimits lim
     cdef double t0[10]
+    cdef double jin
     src.scan += 1
     if p.kind != PART_MOTION:
         if part_stops_motion(p):
@@ -65,18 +65,18 @@ cdef bint _next_node(NodeSource *src, PlanNode *node) noexcept nogil:
     node.acc = ramp_equivalent_acc(lim.acc, lim.ramp)
     node.dec = ramp_equivalent_acc(lim.dec, lim.ramp)
     if not src.have_prev or src.stop_pending or junction_stops(src.prev_rapid, lim.rapid, s, src.params):
-        node.jin = 0.0
+        jin = 0.0
     elif s.startAngle >= 180.0:         # no angle is larger: the slow-down is off
-        node.jin = min(src.prev_vmax, lim.vmax)
+        jin = min(src.prev_vmax, lim.vmax)
     else:
         if not src.prev_tangent_known:  # the slow-down came on at this junction
             segment_of_part(src.prog, src.prev_part, &prev_g)
             segment_tangent(&prev_g, 1.0, src.prev_tangent)
         segment_tangent(&g, 0.0, t0)
-        node.jin = angle_feed(junction_angle(src.prev_tangent, t0,
-                                             s.ignore_angle | ((src.enhanced >> ENH_ANGLE_SHIFT) & AXIS_MASK)),
-                              min(src.prev_vmax, lim.vmax), s)
-    node.jin2 = node.jin * node.jin
+        jin = angle_feed(junction_angle(src.prev_tangent, t0,
+                                        s.ignore_angle | ((src.enhanced >> ENH_ANGLE_SHIFT) & AXIS_MASK)),
+                         min(src.prev_vmax, lim.vmax), s)
+    node.jin2 = jin * jin
     node.brake2 = 2.0 * node.dec * node.length
     node.entry2 = -1.0                  # not computed yet
     src.prev_tangent_known = s.startAngle < 180.0    # the next junction likely needs it
