@@ -194,6 +194,15 @@ def test_settings_from_the_program_apply_from_their_part_on(ph):
     assert [p["time"] for p in parts if p["kind"] == 1] == pytest.approx([2.0, 1.2], rel=1e-12)
 
 
+def test_a_setting_repeated_in_a_loop_makes_one_region(ph):
+    loop = "FOR P1 = 1 TO 500\nG900 S9 A30 B90 F600\nG1 X P1 F6000\nEND\n"
+    summary, error, _ = ph.plan_text(loop, None, 0, 0, False)
+    assert error is None and summary["regions"] == 1 and summary["n_parts"] == 500
+    toggling = "FOR P1 = 1 TO 50\nG900 S13 A0\nG1 X P1 F6000\nG900 S13 A1\nG1 Y P1\nEND\n"
+    summary, error, _ = ph.plan_text(toggling, None, 0, 0, False)
+    assert error is None and summary["regions"] == 100
+
+
 # ------------------------------------------------------------------ junctions
 
 def corner(angle_deg):

@@ -23,7 +23,7 @@ def plan_text(text, params=None, long long window=0, unsigned int enhanced=0, bi
     """Compiles `text` (str) with GCODE_PARAMETERS `params` (bytes, else the defaults),
     inserts the G167 arcs, plans. Returns (parts, error, timing): parts: dicts kind,
     func, line, length, v_in, v_peak, v_out, time (detail), else one dict n_parts,
-    run_time, plan_bytes; timing: CPU seconds of the compile (with the arcs) and of the planning."""
+    run_time, plan_bytes, regions (planning regions); timing: CPU seconds of the compile (with the arcs) and of the planning."""
     cdef CompileInput *inp = <CompileInput *>calloc(1, sizeof(CompileInput))
     cdef Program prog
     cdef ErrorInfo err
@@ -66,7 +66,8 @@ def plan_text(text, params=None, long long window=0, unsigned int enhanced=0, bi
     if rc == COMPILE_OK and not detail:
         for k in range(prog.n_parts):
             run_time += prog.plan[k].time
-        out = dict(n_parts=prog.n_parts, run_time=run_time, plan_bytes=prog.n_parts * sizeof(PartPlan))
+        out = dict(n_parts=prog.n_parts, run_time=run_time, plan_bytes=prog.n_parts * sizeof(PartPlan),
+                   regions=prog.n_plan_regions)
     elif rc == COMPILE_OK:
         for k in range(prog.n_parts):
             out.append(dict(kind=prog.parts[k].kind, func=prog.parts[k].func, line=prog.parts[k].line,

@@ -2,7 +2,7 @@
 # feed table, the centripetal acceleration and the axes' limits projected on the
 # tangent over the whole part; the planning settings in force (PlanRegion).
 from libc.math cimport sqrt, fabs
-from libc.string cimport memcpy
+from libc.string cimport memcpy, memcmp, memset
 
 cdef enum:
     AXIS_MASK = 0x3FF
@@ -33,26 +33,35 @@ cdef void plan_settings_from_params(PlanRegion *s, const GCODE_PARAMETERS *p) no
     s.arc_table = -1
 
 
+cdef bint _same_settings(const PlanRegion *a, const PlanRegion *b) noexcept nogil:
+    """Every setting but `first` equal (byte for byte: regions are zeroed before they are filled)."""
+    return memcmp(<const char *>a + sizeof(size_t), <const char *>b + sizeof(size_t),
+                  sizeof(PlanRegion) - sizeof(size_t)) == 0
+
+
 cdef bint program_add_plan_region(Program *prog, size_t first, const GCODE_PARAMETERS *p,
                                   uint32_t ignore_angle, uint32_t ignore_feed, uint32_t limits_off,
                                   int32_t stop_mode, int32_t arc_table) noexcept nogil:
     """Records the planning settings in force from programmed part `first` on (the
     compiler, after G900 or M-5); False when out of memory."""
-    cdef PlanRegion *r
+    cdef PlanRegion made
+    memset(&made, 0, sizeof(PlanRegion))   # the tail padding too: regions compare with memcmp
+    plan_settings_from_params(&made, p)
+    made.first = first
+    made.ignore_angle = ignore_angle
+    made.ignore_feed = ignore_feed
+    made.limits_off = limits_off
+    made.stop_mode = stop_mode
+    made.arc_table = arc_table
     if prog.n_plan_regions > 0 and prog.plan_regions[prog.n_plan_regions - 1].first == first:
         prog.n_plan_regions -= 1         # several changes before the same part: the last one counts
+    if prog.n_plan_regions > 0 and _same_settings(&prog.plan_regions[prog.n_plan_regions - 1], &made):
+        return True                      # nothing changed (a G900 in a loop): no new region
     if not _grow(<void **>&prog.plan_regions, &prog.cap_plan_regions, prog.n_plan_regions + 1,
                  sizeof(PlanRegion)):
         return False
-    r = &prog.plan_regions[prog.n_plan_regions]
+    memcpy(&prog.plan_regions[prog.n_plan_regions], &made, sizeof(PlanRegion))
     prog.n_plan_regions += 1
-    plan_settings_from_params(r, p)
-    r.first = first
-    r.ignore_angle = ignore_angle
-    r.ignore_feed = ignore_feed
-    r.limits_off = limits_off
-    r.stop_mode = stop_mode
-    r.arc_table = arc_table
     return True
 
 
