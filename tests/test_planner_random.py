@@ -218,3 +218,79 @@ def test_deeper_window_never_slower(ph):
             assert error is None
             times.append(sum(q["time"] for q in parts))
         assert all(a >= b * (1 - 1e-12) for a, b in zip(times, times[1:])), times
+
+
+def optimum_bounds(segments, caps, n_cells=200):
+    """Brute force: the time-optimal speed over a fine grid of each motion part, with
+    the part's speed limit, the junction caps, constant acceleration and deceleration
+    and a stop at the end. v^2 is exact at the grid nodes (a minimum of linear
+    constraints in s); within a cell the time lies between the chord's and that of the
+    highest speed the cell allows: returns (lower, upper) bounds of the optimal time."""
+    ds, vmax, acc, dec, cap = [], [], [], [], [0.0]
+    for (L, vm, a, d), c in zip(segments, caps):
+        cap[-1] = min(cap[-1], c * c) if len(cap) > 1 else 0.0
+        for k in range(n_cells):
+            ds.append(L / n_cells)
+            vmax.append(vm)
+            acc.append(a)
+            dec.append(d)
+            cap.append(vm * vm)
+        cap[-1] = vm * vm
+    cap[-1] = 0.0
+    # the boundary between cells of two parts: both parts' limits and the junction's
+    w = cap[:]
+    for k in range(1, len(w) - 1):
+        w[k] = min(w[k], vmax[k - 1] ** 2, vmax[k] ** 2)
+    for k in range(len(ds)):
+        w[k + 1] = min(w[k + 1], w[k] + 2 * acc[k] * ds[k])
+    for k in range(len(ds) - 1, -1, -1):
+        w[k] = min(w[k], w[k + 1] + 2 * dec[k] * ds[k])
+    lower = upper = 0.0
+    for k in range(len(ds)):
+        v0, v1 = math.sqrt(w[k]), math.sqrt(w[k + 1])
+        upper += 2 * ds[k] / (v0 + v1)
+        # the speed in the cell is at most what it reaches accelerating from the node
+        # before, what it can still brake from to the node after, and the limit
+        lower += max((math.sqrt(w[k] + 2 * acc[k] * ds[k]) - v0) / acc[k],
+                     (math.sqrt(w[k + 1] + 2 * dec[k] * ds[k]) - v1) / dec[k], ds[k] / vmax[k])
+    return lower, upper
+
+
+def test_unlimited_window_is_the_brute_force_optimum(ph):
+    """Random contours without stops inside (trapezoid ramps, feed, centripetal and angle
+    limits): the unlimited plan lies within the brute-force bounds of the optimum, the
+    vendor's window never below them."""
+    rng = random.Random(4242)
+    gaps = []
+    for _ in range(12):
+        text, geo = random_program(rng)
+        text = text.replace(" M1001", "").replace("M50\n", "").replace("G4 X0.1\n", "")
+        geo = [(k, g) for k, g in geo if k in "LA"]
+        feed = float(text.split("F", 1)[1].split()[0])
+        acc, dec = rng.uniform(50, 2000), rng.uniform(50, 2000)
+        setting = dict(start=rng.uniform(5, 60), end=rng.uniform(60, 175), min_feed=rng.uniform(10, 3000),
+                       centripetal=rng.uniform(10, 5000), axis_feed=[0.0, 0.0])
+        p = params(ph, motion=[None, (1000.0, acc, dec, 1)], startAngle=setting["start"],
+                   endAngle=setting["end"], minAngleFeed=setting["min_feed"],
+                   centripetalAcc=setting["centripetal"])
+        segments, caps, prev = [], [], None
+        for kind, g in geo:
+            L = length_of(kind, g)
+            if L <= 1e-9:
+                continue
+            vm = static_limit(kind, g, feed, setting)
+            if prev is None:
+                caps.append(0.0)
+            else:
+                t0, t1 = prev[1], tangent(kind, g, 0.0)
+                angle = math.degrees(math.acos(max(-1.0, min(1.0, t0[0] * t1[0] + t0[1] * t1[1]))))
+                caps.append(angle_rule(angle, min(prev[0], vm), setting))
+            segments.append((L, vm, acc, dec))
+            prev = (vm, tangent(kind, g, 1.0))
+        lower, upper = optimum_bounds(segments, caps)
+        unlimited = sum(q["time"] for q in ph.plan_text(text, p, -1, 0)[0])
+        vendor = sum(q["time"] for q in ph.plan_text(text, p, 0, 0)[0])
+        assert lower * (1 - 1e-6) <= unlimited <= upper * (1 + 1e-6)
+        assert vendor >= lower * (1 - 1e-6)
+        gaps.append(upper / lower - 1)
+    assert max(gaps) < 1e-3
