@@ -257,6 +257,45 @@ def test_exact_stops(ph):
     assert plan(ph, "G900 S12 A2\nG0 X100\nG1 X200 F6000\n")[0]["v_out"] == 0.0
 
 
+# ------------------------------------------------------------------ mFuncInsertTable
+
+def mfunc_table(ph, entries, text, window=0, **fields):
+    p = abi.GCODE_PARAMETERS.from_buffer_copy(params(ph, **fields))
+    p.MfuncInsertType = 1
+    for k, (m, rel, dist) in enumerate(entries):
+        p.mFuncInsertTable[k].mFunc, p.mFuncInsertTable[k].relFeed, p.mFuncInsertTable[k].distance = m, rel, dist
+    parts, error, _ = ph.plan_text(text, bytes(p), window, 0)
+    assert error is None, error
+    return parts
+
+
+def layout(parts):
+    return [("M", p["func"]) if p["kind"] == 2 else ("G", p["func"], p["line"]) for p in parts]
+
+
+def test_mfunc_insert_table(ph):
+    # a 90-degree corner slows to 10 mm/s (< 50 % of F), full speed again after it, the end
+    text = "G1 X10 F6000\nG1 X50\nG1 X100\nG1 X100 Y100\nG1 X100 Y200\n"
+    slow = dict(startAngle=30.0, endAngle=90.0, minAngleFeed=600.0)
+    table = [(1100, 0.5, 0.0), (1101, 0.9, 0.0), (1102, 1.0, 0.0)]
+    parts = mfunc_table(ph, table, text, **slow)
+    assert layout(parts) == [("G", 1, 1), ("G", 1, 2), ("M", 1100), ("G", 1, 3), ("G", 1, 4), ("M", 1101),
+                             ("M", 1100), ("G", 1, 5)]
+    # distance: 60 mm before the corner lies in line 2: before it
+    table[0] = (1100, 0.5, 60.0)
+    parts = mfunc_table(ph, table[:1], text, **slow)
+    assert layout(parts)[:4] == [("G", 1, 1), ("M", 1100), ("G", 1, 2), ("G", 1, 3)]
+    # continuous: the plan is the same with an unlimited window
+    plain = plan(ph, text, window=-1, **slow)
+    with_m = mfunc_table(ph, table, text, window=-1, **slow)
+    assert total(with_m) == pytest.approx(total(plain), rel=1e-12)
+    # before a rapid that follows a cut
+    parts = mfunc_table(ph, [(0, 0, 0), (0, 0, 0), (1102, 1.0, 0.0)], "G1 X100 F6000\nG0 X200\nG0 X300\n")
+    assert layout(parts) == [("G", 1, 1), ("M", 1102), ("G", 0, 2), ("G", 0, 3)]
+    # off unless MfuncInsertType = 1
+    assert len(plan(ph, text, **slow)) == 5
+
+
 # ------------------------------------------------------------------ look-ahead window
 
 def dense_line(n, step):

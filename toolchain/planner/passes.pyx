@@ -126,7 +126,19 @@ cdef void _plan_passing(const Program *prog, size_t first, size_t end, double v,
 cdef int plan_program(Program *prog, const GCODE_PARAMETERS *params, uint32_t enhanced,
                       int64_t window) noexcept nogil:
     """Plans every part into prog.plan (replaced). window: parts the look-ahead sees
-    (0 the vendor's 8, < 0 unlimited). COMPILE_OK, or COMPILE_ERROR when out of memory."""
+    (0 the vendor's 8, < 0 unlimited). With mFuncInsertTable on, inserts its M functions
+    where the plan slows down and plans again (they count in the window).
+    COMPILE_OK, or COMPILE_ERROR when out of memory."""
+    cdef int result = _plan_once(prog, params, enhanced, window)
+    if result == COMPILE_OK and mfunc_insert_wanted(params):
+        result = mfunc_insert(prog, params)
+        if result == COMPILE_OK:
+            result = _plan_once(prog, params, enhanced, window)
+    return result
+
+
+cdef int _plan_once(Program *prog, const GCODE_PARAMETERS *params, uint32_t enhanced,
+                    int64_t window) noexcept nogil:
     cdef size_t n = prog.n_parts, depth, i = 0, made = 0, planned_made = 0, filled = 0
     cdef PartPlan *plan
     cdef PlanNode *ring
