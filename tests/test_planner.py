@@ -384,3 +384,30 @@ def test_run_time_of_a_simulation_comes_from_the_plan(ph):
         finally:
             core.lib.ToolChainCore_DestroyCNC(2)
             core.params = saved
+
+
+# ------------------------------------------------------------------ hostile settings
+
+@pytest.mark.parametrize("head", [
+    "G900 S7 A0 F-5 C-1 D-1\n",                 # negative axis limits: no limit
+    "G900 S9 A120 B30 F-600\n",                 # end below start, negative feed: a stop at sharp corners
+    "G900 S30 F0 C0 D0 R7\n",                   # no acceleration, an unknown ramp type: trapezoid
+    "G900 S30 C1e-300 D1e-300\n",               # accelerations that barely move
+    "G900 S30 C1e300 D1e300\nG900 S7 A1 F1e300\n",
+    "G95 S0\n",                                 # per-revolution feed with the spindle stopped
+])
+def test_hostile_settings_plan_finite_times(ph, head):
+    parts = plan(ph, head + "G1 X10 F6000 FP0\nG2 X20 Y0 I5 J0\nG1 X20 Y0.000000000001\nG3 I0 J0.5\nG1 X0\n",
+                 centripetalAcc=-1.0, arc=[(5.0, -1.0)])
+    for p in parts:
+        assert math.isfinite(p["time"]) and p["time"] >= 0.0
+        assert math.isfinite(p["v_peak"]) and p["v_peak"] >= 0.0 and p["v_out"] >= 0.0
+
+
+def test_nan_settings_from_the_host_plan_finite_times(ph):
+    nan = float("nan")
+    parts = plan(ph, corner(70.0) + "G3 I5 J0\n", motion=[None, (nan, nan, nan, 2)],
+                 axis=[(0, nan, nan, nan)], arc=[(nan, 0.5), (2.0, nan)], centripetalAcc=nan,
+                 startAngle=nan, endAngle=nan, minAngleFeed=nan)
+    for p in parts:
+        assert math.isfinite(p["time"]) and p["time"] >= 0.0 and math.isfinite(p["v_peak"])

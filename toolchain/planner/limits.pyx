@@ -164,9 +164,10 @@ cdef void part_limits(const Segment *g, const Part *p, const GCODE_PARAMETERS *p
     cls = &s.motion[0] if out.rapid else &s.motion[1]
     out.length = g.length
     out.ramp = RAMP_SINE if cls.rampType == RAMP_SINE else RAMP_TRAPEZOID
-    # acc/dec 0: no limit of the class (instant ramps in practice)
-    out.acc = cls.acc if cls.acc > 0.0 else 1e12
-    out.dec = cls.dec if cls.dec > 0.0 else 1e12
+    # acc/dec 0 (or nonsense): no limit of the class, 1e12 mm/s^2 (instant ramps in
+    # practice); the cap keeps the closed forms finite
+    out.acc = cls.acc if 0.0 < cls.acc < 1e12 else 1e12
+    out.dec = cls.dec if 0.0 < cls.dec < 1e12 else 1e12
     v = part_feed(p, params) / 60.0
     feed_len = segment_feed_length(g, ignore_feed)
     if feed_len > 1e-12 and feed_len < g.length:
