@@ -87,6 +87,15 @@ def ramp(double v0, double v1, double acc, int ramp_type, double t=-1.0):
     return ramp_speed_at(v0, v1, acc, ramp_type, t), ramp_distance_at(v0, v1, acc, ramp_type, t)
 
 
+def profile(double length, double v_in, double v_peak, double v_out, double acc, int ramp_acc,
+            double dec, int ramp_dec, times):
+    """(duration, speeds at `times`) of a part's profile (ramps.pyx profile_of)."""
+    cdef Profile pr
+    profile_of(length, v_in, v_peak, v_out, acc, ramp_acc, dec, ramp_dec, &pr)
+    return (pr.t_up + pr.t_cruise + pr.t_down,
+            [profile_speed_at(&pr, acc, ramp_acc, dec, ramp_dec, t) for t in times])
+
+
 def arc_factor(table, double radius, int state=-1):
     """arc_feed_factor with arcFeedTable = [(r, relFeed), ...]."""
     cdef GCODE_PARAMETERS p

@@ -4,7 +4,7 @@
 # and ends at 0 and peaks at a: v(t) = v0 + (v1 - v0) (1 - cos(pi t / T)) / 2 with
 # T = pi |v1 - v0| / (2 a). Its time and distance are those of a trapezoid with
 # 2a/pi, so the passes plan both with one "equivalent" acceleration.
-from libc.math cimport fabs, cos, sin, M_PI, sqrt
+from libc.math cimport fabs, cos, sin, M_PI
 
 cdef enum:
     RAMP_TRAPEZOID = 1
@@ -52,12 +52,6 @@ cdef inline double ramp_distance_at(double v0, double v1, double acc, int32_t ra
     if ramp_type == RAMP_SINE:
         return v0 * t + (v1 - v0) * 0.5 * (t - T / M_PI * sin(M_PI * t / T))
     return v0 * t + (v1 - v0) * 0.5 * t * t / T
-
-
-cdef inline double ramp_reachable(double v0, double length, double acc, int32_t ramp_type) noexcept nogil:
-    """The highest speed reachable (or the lowest start speed that can still stop,
-    read backwards) from v0 within `length`."""
-    return sqrt(v0 * v0 + 2.0 * ramp_equivalent_acc(acc, ramp_type) * length)
 
 
 ctypedef struct Profile:      # one part: ramp up, cruise, ramp down
