@@ -1,7 +1,7 @@
 # Static limits of each part, before any look-ahead: the programmed feed, the arc
 # feed table, the centripetal acceleration and the axes' limits projected on the
 # tangent over the whole part; the planning settings in force (PlanRegion).
-from libc.math cimport sqrt, fabs
+from libc.math cimport sqrt
 from libc.string cimport memcpy, memcmp, memset
 
 cdef enum:

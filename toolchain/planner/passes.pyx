@@ -23,7 +23,8 @@ ctypedef struct PlanNode:       # a motion part with length, as the passes see i
     double length
     double vmax
     double acc, dec             # equivalent constant accelerations of its ramps (ramps.pyx)
-    double jin2                 # squared speed limit at its start (0: the machine stands there)
+    double jin                  # speed limit at its start (0: the machine stands there)
+    double jin2                 # its square
     double brake2               # 2 dec length: what braking within it takes off the squared speed
     double entry2               # backward pass: squared highest entry speed that can still stop in the window
 
@@ -76,6 +77,7 @@ cdef bint _next_node(NodeSource *src, PlanNode *node) noexcept nogil:
         jin = angle_feed(junction_angle(src.prev_tangent, t0,
                                         s.ignore_angle | ((src.enhanced >> ENH_ANGLE_SHIFT) & AXIS_MASK)),
                          min(src.prev_vmax, lim.vmax), s)
+    node.jin = jin
     node.jin2 = jin * jin
     node.brake2 = 2.0 * node.dec * node.length
     node.entry2 = -1.0                  # not computed yet
@@ -90,28 +92,49 @@ cdef bint _next_node(NodeSource *src, PlanNode *node) noexcept nogil:
     return True
 
 
-cdef void _plan_node(const PlanNode *nd, double v_in, double exit2, PartPlan *out) noexcept nogil:
-    """Entry v_in, exit as fast as allowed (at most sqrt(exit2)), peak and time of one
-    node (closed forms; the usual cruising part takes one square root)."""
+ctypedef struct Reciprocals:    # of the last node's values: runs of parts share them
+    double acc, dec, vmax
+    double half_inv_acc, half_inv_dec, inv_vmax
+
+
+cdef void _plan_node(const PlanNode *nd, double v_in, const PlanNode *next, Reciprocals *rc,
+                     PartPlan *out) noexcept nogil:
+    """Entry v_in, exit as fast as allowed (next: the node after it in the window, or
+    NULL: a stop), peak and time of one node (closed forms; a part that cruises into
+    its junction's limit takes no square root)."""
     cdef double a = nd.acc, d = nd.dec, L = nd.length
-    cdef double half_inv_a = 0.5 / a, half_inv_d = 0.5 / d
     cdef double in2 = v_in * v_in
+    cdef double exit2 = next.entry2 if next != NULL else 0.0
     cdef double out2 = min(exit2, in2 + 2.0 * a * L)
-    cdef double v_out = sqrt(out2)
-    cdef double peak = nd.vmax, peak2 = nd.vmax * nd.vmax
-    cdef double cruise = L - (peak2 - in2) * half_inv_a - (peak2 - out2) * half_inv_d
-    if cruise < 0.0:                    # no room to cruise: the ramps meet below the limit
+    cdef double v_out
+    if next != NULL and out2 == next.jin2:
+        v_out = next.jin
+    else:
+        v_out = sqrt(out2)
+    cdef double peak = nd.vmax, peak2 = nd.vmax * nd.vmax, cruise
+    if a != rc.acc:
+        rc.acc = a
+        rc.half_inv_acc = 0.5 / a
+    if d != rc.dec:
+        rc.dec = d
+        rc.half_inv_dec = 0.5 / d
+    if peak != rc.vmax:
+        rc.vmax = peak
+        rc.inv_vmax = 1.0 / peak
+    cruise = L - (peak2 - in2) * rc.half_inv_acc - (peak2 - out2) * rc.half_inv_dec
+    if cruise >= 0.0:
+        out.time = cruise * rc.inv_vmax
+    else:                               # no room to cruise: the ramps meet below the limit
         peak2 = (2.0 * a * d * L + d * in2 + a * out2) / (a + d)
         peak = sqrt(peak2)
         if peak < v_in:
             peak = v_in
         if peak < v_out:
             peak = v_out
-        cruise = 0.0
+        out.time = 0.0
     out.v_peak = peak
     out.v_exit = v_out
-    out.time = ((peak - v_in) * 2.0 * half_inv_a + (peak - v_out) * 2.0 * half_inv_d
-                + (cruise / peak if peak > 0.0 else 0.0))
+    out.time += (peak - v_in) * 2.0 * rc.half_inv_acc + (peak - v_out) * 2.0 * rc.half_inv_dec
 
 
 cdef void _plan_passing(const Program *prog, size_t first, size_t end, double v, PartPlan *plan) noexcept nogil:
@@ -145,7 +168,8 @@ cdef int _plan_once(Program *prog, const GCODE_PARAMETERS *params, uint32_t enha
     cdef PlanNode *nd
     cdef PlanNode *nj
     cdef NodeSource src
-    cdef double v_prev = 0.0, v2, exit2
+    cdef Reciprocals recip
+    cdef double v_prev = 0.0, v2
     cdef size_t j
     free(prog.plan)
     prog.plan = NULL
@@ -174,6 +198,9 @@ cdef int _plan_once(Program *prog, const GCODE_PARAMETERS *params, uint32_t enha
     src.prev_vmax = 0.0
     src.prev_part = 0
     src.prev_tangent_known = False
+    recip.acc = 0.0                     # none yet: every value differs from 0
+    recip.dec = 0.0
+    recip.vmax = 0.0
     while True:
         while made <= i and src.scan < n:
             if _next_node(&src, &ring[made % depth]):
@@ -197,9 +224,8 @@ cdef int _plan_once(Program *prog, const GCODE_PARAMETERS *params, uint32_t enha
                     break
                 nj.entry2 = v2
             planned_made = made
-        exit2 = ring[(i + 1) % depth].entry2 if i + 1 < made else 0.0
         _plan_passing(prog, filled, nd.part, v_prev, plan)
-        _plan_node(nd, v_prev, exit2, &plan[nd.part])
+        _plan_node(nd, v_prev, &ring[(i + 1) % depth] if i + 1 < made else NULL, &recip, &plan[nd.part])
         v_prev = plan[nd.part].v_exit
         filled = nd.part + 1
         i += 1
