@@ -106,12 +106,11 @@ cdef void _plan_node(const PlanNode *nd, double v_in, const PlanNode *next, Reci
     cdef double in2 = v_in * v_in
     cdef double exit2 = next.entry2 if next != NULL else 0.0
     cdef double out2 = min(exit2, in2 + 2.0 * a * L)
-    cdef double v_out
+    cdef double peak = nd.vmax, peak2 = nd.vmax * nd.vmax, cruise, v_out
     if next != NULL and out2 == next.jin2:
         v_out = next.jin
     else:
         v_out = sqrt(out2)
-    cdef double peak = nd.vmax, peak2 = nd.vmax * nd.vmax, cruise
     if a != rc.acc:
         rc.acc = a
         rc.half_inv_acc = 0.5 / a
