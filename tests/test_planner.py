@@ -2,6 +2,7 @@
 and arc feed tables, centripetal and axis limits, exact stops, the look-ahead window,
 ruckig (test-only) as the time-optimal oracle, and the run time of a simulation.
 The planner runs through tests/plan_harness (compiler + planner, no ctypes)."""
+import ctypes
 import math
 import tempfile
 from pathlib import Path
@@ -427,3 +428,32 @@ def test_nan_settings_from_the_host_plan_finite_times(ph):
                  startAngle=nan, endAngle=nan, minAngleFeed=nan)
     for p in parts:
         assert math.isfinite(p["time"]) and p["time"] >= 0.0 and math.isfinite(p["v_peak"])
+
+
+def test_simulation_with_machine_bits_and_inserted_m_functions(ph):
+    """Through the library: enhancedInterpolatorParameters from SetMachineParameters
+    reach the planner, and the inserted M functions reach the driver's M callback."""
+    text = "G1 X30 A40 F600\nG1 X60\nG0 X100\n"
+    expected = total(plan(ph, text, enhanced=1 << 18))
+    assert expected < total(plan(ph, text))
+    with Core(2) as core:
+        saved = core.params
+        machine = abi.MACHINE_PARAMETERS()
+        core.lib.ToolChainCore_GetMachineParameters(2, ctypes.byref(machine))
+        saved_machine = abi.MACHINE_PARAMETERS.from_buffer_copy(machine)
+        try:
+            machine.enhancedInterpolatorParameters = 1 << 18
+            assert core.lib.ToolChainCore_SetMachineParameters(2, ctypes.byref(machine)) == 0
+            p = core.params
+            p.absMode, p.calcTime, p.MfuncInsertType = 1, 1, 1
+            p.mFuncInsertTable[2].mFunc, p.mFuncInsertTable[2].relFeed = 1102, 1.0
+            core.params = p
+            core.reset([0.0] * 10)
+            core.compile_text(text, "bits.nc")
+            run = core.simulate()
+            assert [int(m["m_func"]) % 10000 for m in run.m_functions] == [1102]
+            assert core.run_time(core.file_index("bits.nc")) == pytest.approx(expected, rel=1e-12)
+        finally:
+            core.lib.ToolChainCore_SetMachineParameters(2, ctypes.byref(saved_machine))
+            core.lib.ToolChainCore_DestroyCNC(2)
+            core.params = saved
