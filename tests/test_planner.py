@@ -199,6 +199,8 @@ def test_feeds_by_force_mode_rev_and_rapids(ph):
     assert plan(ph, "G0 X1000\n")[0]["v_peak"] == pytest.approx(10000.0 / 60, rel=1e-12)
     assert plan(ph, "G900 S20 F3000\nG0 X1000\n")[0]["v_peak"] == pytest.approx(50.0, rel=1e-12)
     assert plan(ph, "M99 F1200\nG1 X100 F0\n")[0]["v_peak"] == pytest.approx(20.0, rel=1e-12)
+    # a thread: pitch 2 mm at S300 = 600 mm/min, whatever F and FP say
+    assert plan(ph, "S300 F5000 FP0.5\nG33 Z-100 K2\n")[0]["v_peak"] == pytest.approx(10.0, rel=1e-9)
 
 
 def test_settings_from_the_program_apply_from_their_part_on(ph):
