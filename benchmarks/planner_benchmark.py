@@ -12,8 +12,9 @@ to compile and plan, here with -O3 like the library) and
    prints the planned run time of each;
 2. compiles the compile benchmark's cutting program (benchmarks/compile_benchmark.py,
    --lines lines) --runs times in this process and prints the best compile time
-   (compiler + G167 arcs), the best planning time, their ratio, and the plan's memory
-   per part.
+   (compiler + G167 arcs), the best planning time (CPU time of the thread), their
+   ratio, and the plan's memory per part: the default window, the same with the
+   angle slow-down on (tangents at every junction), an unlimited window.
 """
 import argparse
 import math
@@ -65,15 +66,17 @@ def main() -> None:
         text = prog.read_text()
     relative = abi.GCODE_PARAMETERS.from_buffer_copy(ph.default_params())
     relative.absMode = 0                    # the program is written relative
-    for w in (0, -1):
+    slowing = abi.GCODE_PARAMETERS.from_buffer_copy(relative)
+    slowing.startAngle, slowing.endAngle, slowing.minAngleFeed = 30.0, 120.0, 600.0
+    for w, settings, what in ((0, relative, ""), (0, slowing, ", angle slow-down on"), (-1, relative, "")):
         compile_s, plan_s = [], []
         for _ in range(args.runs):
-            summary, error, timing = ph.plan_text(text, bytes(relative), w, 0, False)
+            summary, error, timing = ph.plan_text(text, bytes(settings), w, 0, False)
             assert error is None, error
             compile_s.append(timing["compile"])
             plan_s.append(timing["plan"])
         label = "unlimited" if w < 0 else "8 (vendor)"
-        print(f"{args.lines} lines, {summary['n_parts']} parts, window {label}: compile best "
+        print(f"{args.lines} lines, {summary['n_parts']} parts, window {label}{what}: compile best "
               f"{min(compile_s) * 1e3:.0f} ms, planning best {min(plan_s) * 1e3:.0f} ms "
               f"(+{100 * min(plan_s) / min(compile_s):.1f} %), median {sorted(plan_s)[len(plan_s) // 2] * 1e3:.0f} ms; "
               f"plan {summary['plan_bytes'] / summary['n_parts']:.0f} bytes/part; "

@@ -7,11 +7,16 @@ cdef enum:
     STOP_MODE_RAPID_CHANGE = 2      # G900 S12 A2: exact stop where rapid and cut meet
 
 
-cdef double junction_angle(const double *t_end, const double *t_start, uint32_t ignored) noexcept nogil:
-    """Degrees between the end tangent of one part and the start tangent of the next,
-    over the axes not in `ignored`; 0 when either moves only on ignored axes."""
+cdef double junction_cosine(const double *t_end, const double *t_start, uint32_t ignored) noexcept nogil:
+    """Cosine of the angle between the end tangent of one part and the start tangent of
+    the next (unit vectors), over the axes not in `ignored`; 1 when either moves only
+    on ignored axes."""
     cdef double dot = 0.0, n0 = 0.0, n1 = 0.0, c
     cdef int k
+    if ignored == 0:
+        for k in range(10):
+            dot += t_end[k] * t_start[k]
+        return dot
     for k in range(10):
         if (ignored >> k) & 1:
             continue
@@ -19,13 +24,16 @@ cdef double junction_angle(const double *t_end, const double *t_start, uint32_t 
         n0 += t_end[k] * t_end[k]
         n1 += t_start[k] * t_start[k]
     if n0 <= 1e-24 or n1 <= 1e-24:
+        return 1.0
+    return dot / sqrt(n0 * n1)
+
+
+cdef inline double junction_degrees(double cosine) noexcept nogil:
+    if cosine > 1.0:
         return 0.0
-    c = dot / sqrt(n0 * n1)
-    if c > 1.0:
-        c = 1.0
-    elif c < -1.0:
-        c = -1.0
-    return acos(c) * (180.0 / M_PI)
+    if cosine < -1.0:
+        return 180.0
+    return acos(cosine) * (180.0 / M_PI)
 
 
 cdef double angle_feed(double angle, double full, const PlanRegion *s) noexcept nogil:

@@ -1,7 +1,7 @@
 # Static limits of each part, before any look-ahead: the programmed feed, the arc
 # feed table, the centripetal acceleration and the axes' limits projected on the
 # tangent over the whole part; the planning settings in force (PlanRegion).
-from libc.math cimport sqrt
+from libc.math cimport sqrt, cos, M_PI
 from libc.string cimport memcpy, memcmp, memset
 
 cdef enum:
@@ -75,6 +75,13 @@ cdef inline bint _axes_limited(const PlanRegion *s) noexcept nogil:
     return False
 
 
+cdef inline double _cos_start(const PlanRegion *s) noexcept nogil:
+    """Junctions whose tangents' cosine is at least this run at full speed."""
+    if s.startAngle > 0.0 and s.startAngle < 180.0:
+        return cos(s.startAngle * (M_PI / 180.0))
+    return 2.0
+
+
 ctypedef struct PlanCursor:     # the settings of each part, parts visited in order
     const Program *prog
     PlanRegion cur
@@ -82,6 +89,7 @@ ctypedef struct PlanCursor:     # the settings of each part, parts visited in or
     size_t programmed       # programmed parts before the next part
     size_t next_part
     bint axes_limited       # some axis limit of cur is on
+    double cos_start        # cosine of cur.startAngle (2 when every angle slows down)
 
 
 cdef void cursor_init(PlanCursor *c, const Program *prog, const GCODE_PARAMETERS *params) noexcept nogil:
@@ -91,6 +99,7 @@ cdef void cursor_init(PlanCursor *c, const Program *prog, const GCODE_PARAMETERS
     c.programmed = 0
     c.next_part = 0
     c.axes_limited = _axes_limited(&c.cur)
+    c.cos_start = _cos_start(&c.cur)
 
 
 cdef const PlanRegion *cursor_settings(PlanCursor *c, size_t part) noexcept nogil:
@@ -102,6 +111,7 @@ cdef const PlanRegion *cursor_settings(PlanCursor *c, size_t part) noexcept nogi
                 c.cur = prog.plan_regions[c.region]
                 c.region += 1
                 c.axes_limited = _axes_limited(&c.cur)
+                c.cos_start = _cos_start(&c.cur)
             c.programmed += 1
         c.next_part += 1
     return &c.cur

@@ -50,7 +50,7 @@ cdef bint _next_node(NodeSource *src, PlanNode *node) noexcept nogil:
     cdef Segment g, prev_g
     cdef PartLimits lim
     cdef double t0[10]
-    cdef double jin
+    cdef double jin, cosine
     src.scan += 1
     if p.kind != PART_MOTION:
         if part_stops_motion(p):
@@ -74,9 +74,11 @@ cdef bint _next_node(NodeSource *src, PlanNode *node) noexcept nogil:
             segment_of_part(src.prog, src.prev_part, &prev_g)
             segment_tangent(&prev_g, 1.0, src.prev_tangent)
         segment_tangent(&g, 0.0, t0)
-        jin = angle_feed(junction_angle(src.prev_tangent, t0,
-                                        s.ignore_angle | ((src.enhanced >> ENH_ANGLE_SHIFT) & AXIS_MASK)),
-                         min(src.prev_vmax, lim.vmax), s)
+        jin = min(src.prev_vmax, lim.vmax)
+        cosine = junction_cosine(src.prev_tangent, t0,
+                                 s.ignore_angle | ((src.enhanced >> ENH_ANGLE_SHIFT) & AXIS_MASK))
+        if not (cosine >= src.cursor.cos_start):      # beyond startAngle (acos only there)
+            jin = angle_feed(junction_degrees(cosine), jin, s)
     node.jin = jin
     node.jin2 = jin * jin
     node.brake2 = 2.0 * node.dec * node.length
