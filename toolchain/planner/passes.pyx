@@ -16,6 +16,7 @@ from libc.math cimport sqrt
 
 cdef enum:
     VENDOR_WINDOW = 8           # the current part + 7 more
+    RING_START = 256            # nodes; a deeper window grows the ring as far as it reaches
 
 
 ctypedef struct PlanNode:       # a motion part with length, as the passes see it
@@ -27,6 +28,8 @@ ctypedef struct PlanNode:       # a motion part with length, as the passes see i
     double jin2                 # its square
     double brake2               # 2 dec length: what braking within it takes off the squared speed
     double entry2               # backward pass: squared highest entry speed that can still stop in the window
+    bint barrier                # it can brake from its junction's limit to rest within itself: no
+                                # part after it changes the limits of the parts before it
 
 
 ctypedef struct NodeSource:     # makes the nodes, parts in order
@@ -83,6 +86,7 @@ cdef bint _next_node(NodeSource *src, PlanNode *node) noexcept nogil:
     node.jin2 = jin * jin
     node.brake2 = 2.0 * node.dec * node.length
     node.entry2 = -1.0                  # not computed yet
+    node.barrier = node.jin2 <= node.brake2
     src.prev_tangent_known = s.startAngle < 180.0    # the next junction likely needs it
     if src.prev_tangent_known:
         segment_tangent(&g, 1.0, src.prev_tangent)
@@ -147,6 +151,18 @@ cdef void _plan_passing(const Program *prog, size_t first, size_t end, double v,
         plan[k].time = prog.parts[k].value if prog.parts[k].kind == PART_DWELL else 0.0
 
 
+cdef PlanNode *_ring_grow(PlanNode *ring, size_t cap, size_t first, size_t end) noexcept nogil:
+    """The ring of nodes [first, end) (node k at k % cap) with twice the room; NULL
+    (ring freed) when out of memory."""
+    cdef PlanNode *grown = <PlanNode *>malloc(2 * cap * sizeof(PlanNode))
+    cdef size_t k
+    if grown != NULL:
+        for k in range(first, end):
+            grown[k % (2 * cap)] = ring[k % cap]
+    free(ring)
+    return grown
+
+
 cdef int plan_program(Program *prog, const GCODE_PARAMETERS *params, uint32_t enhanced,
                       int64_t window) noexcept nogil:
     """Plans every part into prog.plan (replaced). window: parts the look-ahead sees
@@ -163,7 +179,7 @@ cdef int plan_program(Program *prog, const GCODE_PARAMETERS *params, uint32_t en
 
 cdef int _plan_once(Program *prog, const GCODE_PARAMETERS *params, uint32_t enhanced,
                     int64_t window) noexcept nogil:
-    cdef size_t n = prog.n_parts, depth, i = 0, made = 0, planned_made = 0, filled = 0
+    cdef size_t n = prog.n_parts, depth, cap, i = 0, made = 0, planned_made = 0, filled = 0
     cdef PartPlan *plan
     cdef PlanNode *ring
     cdef PlanNode *nd
@@ -182,8 +198,9 @@ cdef int _plan_once(Program *prog, const GCODE_PARAMETERS *params, uint32_t enha
         depth = n
     else:
         depth = <size_t>window
+    cap = depth if depth < RING_START else RING_START
     plan = <PartPlan *>malloc(n * sizeof(PartPlan))
-    ring = <PlanNode *>malloc(depth * sizeof(PlanNode))   # the nodes of parts [node i, node i + depth)
+    ring = <PlanNode *>malloc(cap * sizeof(PlanNode))   # nodes i.. (at most depth of them), k at k % cap
     if plan == NULL or ring == NULL:
         free(plan)
         free(ring)
@@ -204,14 +221,22 @@ cdef int _plan_once(Program *prog, const GCODE_PARAMETERS *params, uint32_t enha
     recip.vmax = 0.0
     while True:
         while made <= i and src.scan < n:
-            if _next_node(&src, &ring[made % depth]):
+            if _next_node(&src, &ring[made % cap]):
                 made += 1
         if made <= i:
             break
-        nd = &ring[i % depth]
-        while src.scan < n and src.scan < nd.part + depth:
-            if _next_node(&src, &ring[made % depth]):
+        # the window: parts up to node i's part + depth, or up to a barrier (the same limits)
+        while (src.scan < n and src.scan < ring[i % cap].part + depth
+               and not (made > i + 1 and ring[(made - 1) % cap].barrier)):
+            if made - i == cap:
+                ring = _ring_grow(ring, cap, i, made)
+                if ring == NULL:
+                    free(plan)
+                    return COMPILE_ERROR
+                cap *= 2
+            if _next_node(&src, &ring[made % cap]):
                 made += 1
+        nd = &ring[i % cap]
         if made != planned_made:        # the window's end moved: backward pass over the window
             # squared speeds; the limits only grow with the window, and where one did not
             # change, none before it does
@@ -219,14 +244,14 @@ cdef int _plan_once(Program *prog, const GCODE_PARAMETERS *params, uint32_t enha
             j = made
             while j > i + 1:
                 j -= 1
-                nj = &ring[j % depth]
+                nj = &ring[j % cap]
                 v2 = min(nj.jin2, v2 + nj.brake2)
                 if v2 == nj.entry2:
                     break
                 nj.entry2 = v2
             planned_made = made
         _plan_passing(prog, filled, nd.part, v_prev, plan)
-        _plan_node(nd, v_prev, &ring[(i + 1) % depth] if i + 1 < made else NULL, &recip, &plan[nd.part])
+        _plan_node(nd, v_prev, &ring[(i + 1) % cap] if i + 1 < made else NULL, &recip, &plan[nd.part])
         v_prev = plan[nd.part].v_exit
         filled = nd.part + 1
         i += 1
