@@ -184,6 +184,16 @@ def test_axis_limits_over_the_whole_arc(ph):
     assert p["v_peak"] == pytest.approx(50.0, rel=1e-9)
 
 
+def test_limits_on_arcs_in_other_planes(ph):
+    # a full circle in XZ (G18) and in YZ (G19): Z takes the whole speed somewhere
+    (p,) = plan(ph, "G18\nG0 X10\nG3 X10 Z0 I-10 K0 F6000\n", axis=[(2, 3000.0, 0.0, 0.0)])[1:]
+    assert p["v_peak"] == pytest.approx(50.0, rel=1e-12)
+    assert p["length"] == pytest.approx(20 * math.pi, rel=1e-12)
+    (p,) = plan(ph, "G19\nG0 Y10\nG2 Y10 Z0 J-10 K0 F6000\n", axis=[(2, 3000.0, 0.0, 0.0)],
+                centripetalAcc=160.0)[1:]
+    assert p["v_peak"] == pytest.approx(40.0, rel=1e-12)     # sqrt(160 * 10) below the axis's 50
+
+
 def test_axes_ignored_for_the_feed(ph):
     # G1 X30 A40 F600: the feed holds on X alone (A ignored), the path runs 5/3 faster
     text = "G1 X30 A40 F600\n"
