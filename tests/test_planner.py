@@ -354,11 +354,9 @@ def test_window_counts_m_functions(ph):
 
 # ------------------------------------------------------------------ ruckig oracle
 
-ruckig = pytest.importorskip("ruckig")
-
-
 def ruckig_time(length, v0, v1, vmax, acc, dec, jerk):
-    """Time-optimal 1-D move over `length` from v0 to v1 (ruckig)."""
+    """Time-optimal 1-D move over `length` from v0 to v1 (ruckig, the test extra)."""
+    ruckig = pytest.importorskip("ruckig")
     inp = ruckig.InputParameter(1)
     inp.current_position = [0.0]
     inp.current_velocity = [v0]
