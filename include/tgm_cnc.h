@@ -706,12 +706,25 @@ TOOLCHAIN_API void TOOLCHAIN_CALLTYPE ToolChain_FlushLogFile(void);
  * out may be NULL when capacity is 0 (asks for the total). A host copies the whole
  * program with one call (capacity = total) or in chunks; chunks stay consistent while
  * the host does not change the program meanwhile (a compilation replaces it, ResetCNC
- * with coordinates moves its start, ResetStatusCNC 0 and DestroyCNC drop it). Holds the
- * core's lock while it copies (GetPos waits meanwhile); never fails for lack of memory
- * and reports nothing through GetLastError or the callbacks.
+ * with coordinates moves its start, ResetStatusCNC 0 and DestroyCNC drop it). The
+ * positions are those of a run from the machine position (axes the program has not
+ * named yet follow it). Takes its own reference to the program, so it holds no lock
+ * while it copies; never fails for lack of memory and reports nothing through
+ * GetLastError or the callbacks.
  * Returns 0; -1 while compiling, when nothing is compiled (or the compilation failed),
  * first > total, or out is NULL with capacity > 0; -2 bad core. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GetToolpath(uint32_t intIdx, TC_TOOLPATH_RECORD *out, uint64_t capacity, uint64_t first, uint64_t *total);
+
+/*
+ * Feed planner (extension)
+ */
+
+/* Look-ahead of the feed planner in parts, for the core's next compilations: 0 the
+ * vendor's window (the current part and 7 more: run times as on a TG Motion machine),
+ * n >= 1 that many parts, -1 unlimited (faster on dense short segments; README, "Feed
+ * planner"). Also the INI key [GCodeParameters] lookAheadParts. Any thread, any status.
+ * Returns 0; -1 for parts < -1; -2 bad core. */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_SetLookAhead(uint32_t intIdx, int32_t parts);
 
 /* ------------------------------------------------------------------ layout checks */
 #if defined(__x86_64__) || defined(_M_X64)

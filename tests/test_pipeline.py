@@ -188,7 +188,7 @@ def test_progress_reaches_100(core):
     assert seen == sorted(seen)
 
 
-def test_run_time_is_the_trapezoid_of_each_part(core):
+def test_run_time_of_a_single_line_is_its_trapezoid(core):
     p = core.params
     p.motion[1].acc = p.motion[1].dec = 500.0
     core.params = p

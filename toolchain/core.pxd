@@ -9,7 +9,7 @@
 #   - one activity (compilation or run) at a time, run by one worker thread; exactly
 #     one thread joins it (`joining`), every caller that ends it waits for the join
 #     on `changed`.
-from libc.stdint cimport int32_t, uint32_t, uint64_t, intptr_t
+from libc.stdint cimport int32_t, int64_t, uint32_t, uint64_t, intptr_t
 from includes.tgm_cnc cimport GCODE_PARAMETERS, MACHINE_PARAMETERS, GCODE_INFO, SIMPLE_GM_PARAMS, GM_PARAMS_ENHANCED
 from includes.system cimport pthread_t, pthread_mutex_t, pthread_cond_t
 from program cimport Program, ErrorInfo
@@ -81,6 +81,7 @@ ctypedef struct Core:
     char *postfix
     bint ini_loaded
     char driver[256]
+    int64_t plan_window         # look-ahead of the feed planner in parts (SetLookAhead, INI lookAheadParts)
     Callback callbacks[24]
     int32_t in_flight[24]       # calls of each slot running now, on any thread
     FileTable files

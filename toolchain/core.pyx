@@ -440,6 +440,7 @@ cdef int _compile_job(Core *core, Job *job, Program *prog, GCODE_INFO *extent, E
     program of `job`; no lock is held but for copying the core's settings."""
     cdef CompileInput *inp
     cdef int32_t read_error = 0
+    cdef uint32_t machine_bits
     cdef int result
     cdef char text[400]
     if job.text == NULL:
@@ -463,6 +464,8 @@ cdef int _compile_job(Core *core, Job *job, Program *prog, GCODE_INFO *extent, E
     if core.has_user_params:
         memcpy(inp.user_params, core.user_params, sizeof(inp.user_params))
     memcpy(inp.start, core.position, sizeof(inp.start))
+    inp.plan_window = core.plan_window
+    machine_bits = <uint32_t>core.machine.enhancedInterpolatorParameters
     pthread_mutex_unlock(&core.lock)
     inp.plc = TGM_Data
     inp.cancel = &core.cancel
@@ -476,6 +479,9 @@ cdef int _compile_job(Core *core, Job *job, Program *prog, GCODE_INFO *extent, E
     result = _compile_and_compensate(core, inp, prog, err)
     if result == COMPILE_OK:
         result = insert_arcs(prog, &inp.params, err)
+    if result == COMPILE_OK and plan_program(prog, &inp.params, machine_bits, inp.plan_window) != COMPILE_OK:
+        result = COMPILE_ERROR
+        set_error(err, ERR_OUT_OF_MEMORY, job.files[0], 0, NULL, 0)
     if result == COMPILE_OK and TC_ATOMIC_LOAD(&core.cancel):
         result = COMPILE_CANCELLED          # ended while it finished: nothing is published
     if result == COMPILE_OK:

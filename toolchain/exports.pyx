@@ -41,6 +41,7 @@ cdef public int32_t ToolChainCore_LoadFromIni(uint32_t intIdx, TGM_LPCTSTR iniFi
     # read and parse into a copy without the lock (GetPos, GetLastError never wait
     # for the file); store under the lock only when every value is good
     settings.params = core.params
+    settings.plan_window = core.plan_window
     memcpy(settings.driver, core.driver, sizeof(settings.driver))
     pthread_mutex_unlock(&core.lock)
     settings.path = iniFile
@@ -55,6 +56,7 @@ cdef public int32_t ToolChainCore_LoadFromIni(uint32_t intIdx, TGM_LPCTSTR iniFi
     normalise_gcode_parameters(&settings.params)
     pthread_mutex_lock(&core.lock)
     core.params = settings.params
+    core.plan_window = settings.plan_window
     memcpy(core.driver, settings.driver, sizeof(core.driver))
     core.ini_loaded = True
     pthread_mutex_unlock(&core.lock)
@@ -534,6 +536,18 @@ cdef public void ToolChain_LogANSI(TGM_LPCSTR text) noexcept nogil:
 
 cdef public void ToolChain_FlushLogFile() noexcept nogil:
     log_flush()
+
+
+cdef public int32_t ToolChainCore_SetLookAhead(uint32_t intIdx, int32_t parts) noexcept nogil:
+    cdef Core *core = core_get(intIdx)
+    if core == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX
+    if parts < -1:
+        return TOOL_CHAIN_ERROR
+    pthread_mutex_lock(&core.lock)
+    core.plan_window = parts
+    pthread_mutex_unlock(&core.lock)
+    return TOOL_CHAIN_SUCCESS
 
 
 # ------------------------------------------------------------------ toolpath (extension)

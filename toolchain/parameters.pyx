@@ -220,6 +220,7 @@ ctypedef struct IniSettings:
     # read and parsed without the core's lock, and stored only when all of it is good
     GCODE_PARAMETERS params
     char driver[256]
+    int64_t plan_window     # [GCodeParameters] lookAheadParts (the core's, see SetLookAhead)
     const char *path
     ErrorInfo *err
 
@@ -301,9 +302,14 @@ cdef int32_t ini_apply_setting(void *ctx, const char *section, const char *key, 
     cdef ErrorInfo why
     cdef char text[400]
     cdef int known
+    cdef long window
     if strcasecmp(section, "CNC") == 0 and strcasecmp(key, "Driver") == 0:
         strncpy(s.driver, value, sizeof(s.driver) - 1)
         s.driver[sizeof(s.driver) - 1] = 0
+    elif strcasecmp(section, "GCodeParameters") == 0 and strcasecmp(key, "lookAheadParts") == 0:
+        if not c_parse_long(value, -1, 1000000000, &window):
+            return _ini_fail(s, line, "[GCodeParameters] lookAheadParts: parts of the planner's look-ahead, 0 (the vendor's 8), -1 (unlimited) or more")
+        s.plan_window = window
     elif strcasecmp(section, "GCodeParameters") == 0:
         candidate = s.params
         known = gcode_parameter_from_ini(&candidate, key, value)

@@ -3,7 +3,7 @@
 # growable C array; SIMPLE_GM_PARAMS (616 bytes) is only built at the API boundary
 # (program.pyx: part_to_gm).
 from libc.stdint cimport int8_t, int16_t, int32_t, uint8_t, uint16_t, uint32_t, int64_t
-from includes.tgm_cnc cimport GCODE_PARAMETERS, P10DOUBLE
+from includes.tgm_cnc cimport GCODE_PARAMETERS, GCODE_FEED, AXIS_LIMITS, P10DOUBLE
 from includes.system cimport pthread_t, pthread_mutex_t, pthread_cond_t
 
 
@@ -67,6 +67,26 @@ ctypedef struct StrategyRegion:   # G172 / G173: the compensation strategy from 
     double depth            # C: search depth in parts (0 = the host's)
     bint drop_arcs          # D1: drop arcs whose offset radius becomes negative (D0 keeps the host's bit)
 
+# Planning settings the program changes (G900, M-5), from programmed part `first` on
+# (not counting inserted parts); before the first region the host's GCODE_PARAMETERS hold.
+ctypedef struct PlanRegion:
+    size_t first
+    GCODE_FEED motion[8]    # G900 S20..S70
+    AXIS_LIMITS axisLimits[10]  # G900 S7
+    double startAngle, endAngle, minAngleFeed   # G900 S9
+    uint32_t ignore_angle   # G900 S10: axes left out of the junction angle
+    uint32_t ignore_feed    # G900 S11: axes left out of the feed's length
+    uint32_t limits_off     # M-5: axes whose axisLimits are off
+    int32_t stop_mode       # G900 S12 A
+    int32_t arc_table       # G900 S13 A: -1 never given (the host's table), 0 off, else on
+
+# The feed plan of one part (planner/): speeds in mm/s, the entry is the previous
+# part's exit (0 for the first part). M functions and dwells: the speed through them.
+ctypedef struct PartPlan:
+    double v_peak           # highest speed inside the part
+    double v_exit           # speed at its end
+    double time             # seconds (dwell: its time)
+
 cdef struct Follow                  # below: the stage beside the compiler
 
 ctypedef struct Program:
@@ -95,6 +115,9 @@ ctypedef struct Program:
     size_t n_arc_regions, cap_arc_regions
     Follow *follow          # while a stage reads the parts beside the compiler, else NULL
     size_t prefaulted       # parts [0, prefaulted) of the capacity are faulted in (program_prefault)
+    PlanRegion *plan_regions    # G900 / M-5 changes, in part order (compiler; planner/)
+    size_t n_plan_regions, cap_plan_regions
+    PartPlan *plan          # one per part once planned (planner/plan_program), else NULL
 
 # A stage that reads the parts while the compiler still writes them, in a thread of
 # its own (pipeline.pyx; the compensation): the compiler hands over the parts as they
@@ -174,6 +197,7 @@ ctypedef struct CompileInput:
     warn_fn warn            # numbered compile warnings (errors.pxd 610..): MathWarning; may be NULL
     void *ctx
     int64_t max_blocks      # limit of executed blocks (endless loops); 0 = default
+    int64_t plan_window     # look-ahead of the feed planner in parts: 0 the vendor's 8, -1 unlimited
 
 cdef enum CompileResult:
     COMPILE_OK = 0

@@ -21,6 +21,8 @@ cdef void program_free(Program *prog) noexcept nogil:
     free(prog.texts)
     free(prog.arc_regions)
     free(prog.strategy_regions)
+    free(prog.plan_regions)
+    free(prog.plan)
     program_init(prog)
 
 

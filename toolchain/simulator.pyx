@@ -66,7 +66,7 @@ cdef void _count_part(SnapshotData *view, const Program *prog, size_t i, const S
         enh.m_actPartLen = length
         enh.m_actPartRemain = 0.0
         enh.m_setFeed = p.feed
-        enh.m_calcFeed = part_feed(p, params)
+        enh.m_calcFeed = plan_calc_feed(prog, i)
     elif p.kind == PART_MFUNC:
         enh.m_nMCounter += 1
     enh.m_MasterEditorLine = p.line if p.file_idx == prog.main_file_idx else enh.m_MasterEditorLine
@@ -187,7 +187,7 @@ cdef void *_run_body(void *arg) noexcept nogil:
             placed_part_to_gm(prog, i, &placement, &gm)
             length = gm.m_pars.N if p.kind == PART_MOTION else 0.0
             if params.calcTime:
-                t = part_time(prog, i, params)
+                t = plan_part_time(prog, i)
                 if t > 0:
                     run_time += t
             if testing and p.kind == PART_MOTION:

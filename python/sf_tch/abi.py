@@ -359,12 +359,13 @@ FUNCTIONS = (
     ("ToolChain_FlushLogFile", None, ()),
     ("ToolChainCore_GetToolpath", c_int32,
      (c_uint32, _P(TC_TOOLPATH_RECORD), c_uint64, c_uint64, _P(c_uint64))),
+    ("ToolChainCore_SetLookAhead", c_int32, (c_uint32, c_int32)),
 )
 
 
 # Beyond the vendor's list (ABI.md): the structures and functions this library adds.
 EXTENSION_STRUCTURES = ("TC_TOOLPATH_RECORD",)
-EXTENSION_FUNCTIONS = ("ToolChainCore_GetLastCallError", "ToolChainCore_GetToolpath")
+EXTENSION_FUNCTIONS = ("ToolChainCore_GetLastCallError", "ToolChainCore_GetToolpath", "ToolChainCore_SetLookAhead")
 
 
 # Readable repr() and to_dict() of every structure (added to the classes above,

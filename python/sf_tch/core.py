@@ -236,6 +236,13 @@ class Core:
             p.correction[k].size = radius
         self.params = p
 
+    def set_look_ahead(self, parts: int) -> None:
+        """Parts the feed planner looks ahead from the next compilation on: 0 the
+        vendor's 8, n >= 1, or -1 unlimited (ToolChainCore_SetLookAhead)."""
+        if parts < -1:
+            raise ValueError(f"look-ahead must be -1 (unlimited), 0 (the vendor's 8) or more parts, not {parts}")
+        self._check(self.lib.ToolChainCore_SetLookAhead(self.index, parts))
+
     def set_callback(self, number: int, fn, user_data: int = 0) -> None:
         """Sets a raw callback: ``fn`` must be an instance of the abi prototype for
         that number (None removes it). Replaces the object's own handler of that number."""

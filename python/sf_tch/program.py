@@ -134,7 +134,7 @@ class CompileJob:
 def start_compile(source: Source, radius: float | None = None, strategy: int | None = None,
                   ini: str | os.PathLike | None = None, params: dict | None = None, core: int | None = None,
                   name: str | None = None, progress: Callable[[int], object] | None = None,
-                  cancel=None, start: Sequence[float] | None = None) -> CompileJob:
+                  cancel=None, start: Sequence[float] | None = None, look_ahead: int | None = None) -> CompileJob:
     """Starts compiling and returns the running :class:`CompileJob`; the arguments
     are those of :func:`compile`."""
     if radius is not None and not radius >= 0:
@@ -153,8 +153,10 @@ def start_compile(source: Source, radius: float | None = None, strategy: int | N
             handle.set_tool_radius(radius)
         if start is not None:
             handle.reset(start)
+        if look_ahead is not None:
+            handle.set_look_ahead(look_ahead)
         arguments = {"source": source, "radius": radius, "strategy": strategy, "ini": ini, "params": params,
-                     "name": name, "start": start}
+                     "name": name, "start": start, "look_ahead": look_ahead}
         return CompileJob(handle, text, path, name, progress, cancel, arguments)
     except BaseException:
         handle.close()
@@ -164,7 +166,7 @@ def start_compile(source: Source, radius: float | None = None, strategy: int | N
 def compile(source: Source, radius: float | None = None, strategy: int | None = None,
             ini: str | os.PathLike | None = None, params: dict | None = None, core: int | None = None,
             name: str | None = None, progress: Callable[[int], object] | None = None,
-            cancel=None, start: Sequence[float] | None = None) -> Program:
+            cancel=None, start: Sequence[float] | None = None, look_ahead: int | None = None) -> Program:
     """Compiles G-code and returns the :class:`Program`; errors of the G-code are in
     ``program.errors`` (``program.check()`` raises the first).
 
@@ -176,12 +178,14 @@ def compile(source: Source, radius: float | None = None, strategy: int | None = 
       GCODE_PARAMETERS fields by name, e.g. ``{"absMode": 0}``;
     - ``core``: the core (0..2), default the first free one; ``start``: the machine
       position (x y z ... in axis order, up to 10) the program starts from, default
-      where the core's machine stands (the end of its last run, or 0);
+      where the core's machine stands (set by ResetCNC, or 0);
+    - ``look_ahead``: parts the feed planner looks ahead (0 the vendor's 8, -1
+      unlimited; default what the core has, see ToolChainCore_SetLookAhead);
     - ``progress``: called with the percent from the library's thread; ``cancel``:
       an object with ``is_set()`` (threading.Event) that interrupts when set.
     Raises FileNotFoundError / IsADirectoryError for a bad path, ValueError for a
     negative radius, :class:`Cancelled` when cancelled."""
-    job = start_compile(source, radius, strategy, ini, params, core, name, progress, cancel, start)
+    job = start_compile(source, radius, strategy, ini, params, core, name, progress, cancel, start, look_ahead)
     try:
         return job.result()
     except BaseException:

@@ -356,6 +356,12 @@ cdef int cp_g900(CState *st, const LineWords *lw, int col) noexcept nogil:
     return 0
 
 
+cdef bint cp_plan_region(CState *st) noexcept nogil:
+    """The planning settings from the next part on (G900, M-5), for the planner."""
+    return program_add_plan_region(st.prog, st.prog.n_parts, &st.params, st.g900_ignore_angle,
+                                   st.g900_ignore_feed, st.limits_off, st.g900_stop_mode, st.g900_arc_table)
+
+
 cdef int _bad_value(CState *st, double v, const char *letter) noexcept nogil:
     cdef ErrArg a[2]
     a[0].num = v; a[0].text = NULL
@@ -666,6 +672,8 @@ cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
             consumed = ~(<uint32_t>0)
             if cp_g900(st, lw, lw.gcol[i]) != 0:
                 return R_ERR
+            if not cp_plan_region(st):
+                return cerr(st, ERR_OUT_OF_MEMORY)
         else:
             return cp_unknown_g(st, gv, lw.gcol[i])
     if lw.has_pword and cp_pword(st, lw, dwell) != 0:
@@ -721,6 +729,8 @@ cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
                         st.limits_off |= 1u << k
                     else:
                         st.limits_off &= ~(1u << k)
+            if not cp_plan_region(st):
+                return cerr(st, ERR_OUT_OF_MEMORY)
         elif m == -6:
             if has(lw, b'A'):
                 addr = ex_plc_addr(st, val(lw, b'A'), 4)
@@ -938,6 +948,7 @@ cdef void cp_init(CState *st, const CompileInput *inp, Program *prog, ErrorInfo 
     st.last_percent = -1
     st.iso = (<uint32_t>inp.params.rezerva1 & GCODE_REZERVA1_ISO_COMPAT) != 0
     st.unit_scale = 1.0
+    st.g900_arc_table = -1          # the host's arcFeedTable until G900 S13
 
 
 cdef void reserve_parts(Program *prog, uint32_t lines) noexcept nogil:

@@ -1,0 +1,106 @@
+# cython: language_level=3, boundscheck=False, wraparound=False, cdivision=True
+# cython: initializedcheck=False, nonecheck=False, overflowcheck=False
+#
+# Test-only Python module: the library's stages (toolchain/libSF_TCh.pyx) plus entry
+# points that compile G-code and run the feed planner on it with any window and
+# settings, returning the plan per part; and the ramps' closed forms.
+include "libSF_TCh.pyx"
+
+from posix.time cimport clock_gettime, timespec
+
+cdef extern from "<time.h>" nogil:
+    enum: CLOCK_THREAD_CPUTIME_ID
+
+
+def default_params():
+    """bytes of GCODE_PARAMETERS with the documented defaults."""
+    cdef GCODE_PARAMETERS p
+    default_gcode_parameters(&p)
+    return (<char *>&p)[:sizeof(GCODE_PARAMETERS)]
+
+
+def plan_text(text, params=None, long long window=0, unsigned int enhanced=0, bint detail=True):
+    """Compiles `text` (str) with GCODE_PARAMETERS `params` (bytes, else the defaults),
+    inserts the G167 arcs, plans. Returns (parts, error, timing): parts: dicts kind,
+    func, line, length, v_in, v_peak, v_out, time (detail), else one dict n_parts,
+    run_time, plan_bytes, regions (planning regions); timing: CPU seconds of the compile (with the arcs) and of the planning."""
+    cdef CompileInput *inp = <CompileInput *>calloc(1, sizeof(CompileInput))
+    cdef Program prog
+    cdef ErrorInfo err
+    cdef int rc
+    cdef int32_t cancel = 0
+    cdef size_t k
+    cdef timespec t0, t1, t2
+    cdef double run_time = 0.0
+    cdef bytes src = text.encode("latin-1")
+    cdef bytes pb
+    program_init(&prog)
+    memset(&err, 0, sizeof(err))
+    if params is None:
+        default_gcode_parameters(&inp.params)
+    else:
+        pb = bytes(params)
+        if len(pb) != sizeof(GCODE_PARAMETERS):
+            free(inp)
+            raise ValueError("params: wrong size")
+        memcpy(&inp.params, <const char *>pb, sizeof(GCODE_PARAMETERS))
+    inp.text = src
+    inp.length = len(src)
+    inp.file_idx = 0
+    inp.prefix_idx = -1
+    inp.postfix_idx = -1
+    inp.plc = TGM_Data
+    inp.cancel = &cancel
+    inp.plan_window = window
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t0)
+    rc = compile_program(inp, &prog, &err)
+    if rc == COMPILE_OK:
+        rc = insert_arcs(&prog, &inp.params, &err)
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t1)
+    timing = dict(compile=(t1.tv_sec - t0.tv_sec) + 1e-9 * (t1.tv_nsec - t0.tv_nsec), plan=0.0)
+    if rc == COMPILE_OK:
+        rc = plan_program(&prog, &inp.params, enhanced, window)
+        clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t2)
+        timing["plan"] = (t2.tv_sec - t1.tv_sec) + 1e-9 * (t2.tv_nsec - t1.tv_nsec)
+    out = []
+    if rc == COMPILE_OK and not detail:
+        for k in range(prog.n_parts):
+            run_time += prog.plan[k].time
+        out = dict(n_parts=prog.n_parts, run_time=run_time, plan_bytes=prog.n_parts * sizeof(PartPlan),
+                   regions=prog.n_plan_regions)
+    elif rc == COMPILE_OK:
+        for k in range(prog.n_parts):
+            out.append(dict(kind=prog.parts[k].kind, func=prog.parts[k].func, line=prog.parts[k].line,
+                            length=part_length(&prog, k), v_in=plan_entry_speed(&prog, k),
+                            v_peak=prog.plan[k].v_peak, v_out=prog.plan[k].v_exit,
+                            time=prog.plan[k].time, calc_feed=plan_calc_feed(&prog, k)))
+    error = None if rc == COMPILE_OK else (err.number, err.line, err.text.decode("latin-1"))
+    program_free(&prog)
+    free(inp)
+    return out, error, timing
+
+
+def ramp(double v0, double v1, double acc, int ramp_type, double t=-1.0):
+    """(time, distance) of a ramp, or (speed, distance) t seconds into it."""
+    if t < 0.0:
+        return ramp_time(v0, v1, acc, ramp_type), ramp_distance(v0, v1, acc, ramp_type)
+    return ramp_speed_at(v0, v1, acc, ramp_type, t), ramp_distance_at(v0, v1, acc, ramp_type, t)
+
+
+def profile(double length, double v_in, double v_peak, double v_out, double acc, int ramp_acc,
+            double dec, int ramp_dec, times):
+    """(duration, speeds at `times`) of a part's profile (ramps.pyx profile_of)."""
+    cdef Profile pr
+    profile_of(length, v_in, v_peak, v_out, acc, ramp_acc, dec, ramp_dec, &pr)
+    return (pr.t_up + pr.t_cruise + pr.t_down,
+            [profile_speed_at(&pr, acc, ramp_acc, dec, ramp_dec, t) for t in times])
+
+
+def arc_factor(table, double radius, int state=-1):
+    """arc_feed_factor with arcFeedTable = [(r, relFeed), ...]."""
+    cdef GCODE_PARAMETERS p
+    memset(&p, 0, sizeof(p))
+    for i, (r, f) in enumerate(table):
+        p.arcFeedTable[i].m_r = r
+        p.arcFeedTable[i].m_relFeed = f
+    return arc_feed_factor(&p, state, radius)

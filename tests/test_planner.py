@@ -1,0 +1,502 @@
+"""The feed planner (toolchain/planner/): closed forms computed by hand, the junction
+and arc feed tables, centripetal and axis limits, exact stops, the look-ahead window,
+ruckig (test-only) as the time-optimal oracle, and the run time of a simulation.
+The planner runs through tests/plan_harness (compiler + planner, no ctypes)."""
+import ctypes
+import math
+import tempfile
+from pathlib import Path
+
+import pytest
+
+from sf_tch import abi
+from sf_tch.core import Core
+
+_MODULE = []
+
+
+def harness_module():
+    if not _MODULE:
+        from plan_harness import build
+        _MODULE.append(build(Path(tempfile.mkdtemp(prefix="plan_harness"))))
+    return _MODULE[0]
+
+
+@pytest.fixture(scope="session")
+def ph():
+    return harness_module()
+
+
+def params(ph, **fields):
+    """Default GCODE_PARAMETERS with `fields` set; motion=[(feed, acc, dec, ramp), ...]
+    from index 0; axis=[(k, maxFeed, maxAcc, maxDec)]; arc=[(r, rel)]."""
+    p = abi.GCODE_PARAMETERS.from_buffer_copy(ph.default_params())
+    for k, m in enumerate(fields.pop("motion", ())):
+        if m is not None:
+            p.motion[k].feed, p.motion[k].acc, p.motion[k].dec, p.motion[k].rampType = m
+    for k, f, a, d in fields.pop("axis", ()):
+        p.axisLimits[k].maxFeed, p.axisLimits[k].maxAcc, p.axisLimits[k].maxDec = f, a, d
+    for k, (r, rel) in enumerate(fields.pop("arc", ())):
+        p.arcFeedTable[k].m_r, p.arcFeedTable[k].m_relFeed = r, rel
+    for name, value in fields.items():
+        setattr(p, name, value)
+    return bytes(p)
+
+
+def plan(ph, text, window=0, enhanced=0, **fields):
+    parts, error, _ = ph.plan_text(text, params(ph, **fields), window, enhanced)
+    assert error is None, error
+    return parts
+
+
+def total(parts):
+    return sum(p["time"] for p in parts)
+
+
+# ------------------------------------------------------------------ closed forms
+
+@pytest.mark.parametrize("ramp", [1, 2])
+@pytest.mark.parametrize("length", [100.0, 3.0])
+def test_single_line_rest_to_rest(ph, ramp, length):
+    v, a, d = 100.0, 500.0, 250.0            # F6000; acceleration and braking differ
+    parts = plan(ph, f"G1 X{length} F6000\n", motion=[None, (6000.0, a, d, ramp)])
+    (p,) = parts
+    ka, kd = (a, d) if ramp == 1 else (2 * a / math.pi, 2 * d / math.pi)   # sine: same time as 2a/pi
+    if length >= v * v / (2 * ka) + v * v / (2 * kd):
+        expected = length / v + v / (2 * ka) + v / (2 * kd)
+        peak = v
+    else:
+        peak = math.sqrt(2 * length * ka * kd / (ka + kd))
+        expected = peak / ka + peak / kd
+    assert p["time"] == pytest.approx(expected, rel=1e-12)
+    assert p["v_peak"] == pytest.approx(peak, rel=1e-12)
+    assert p["v_in"] == 0.0 and p["v_out"] == 0.0
+
+
+def test_long_line_by_hand(ph):
+    # 100 mm at 100 mm/s, 500 mm/s^2: trapezoid 1 + 0.1 + 0.1; sine ramps last pi/2 longer
+    assert total(plan(ph, "G1 X100 F6000\n")) == pytest.approx(1.2, rel=1e-12)
+    sine = plan(ph, "G1 X100 F6000\n", motion=[None, (1000.0, 500.0, 500.0, 2)])
+    assert total(sine) == pytest.approx(1.0 + math.pi / 10.0, rel=1e-12)
+
+
+def test_full_circle_rest_to_rest(ph):
+    # r 10, 2*pi*10 mm at 50 mm/s with 500 mm/s^2 (the dwell stops the rapid)
+    (p,) = plan(ph, "G0 X10\nG4 X0\nG3 X10 Y0 I-10 J0 F3000\n")[2:]
+    L = 20 * math.pi
+    assert p["length"] == pytest.approx(L, rel=1e-12)
+    assert p["time"] == pytest.approx(L / 50.0 + 0.1, rel=1e-12)
+
+
+def test_ramp_closed_forms(ph):
+    # trapezoid 20 -> 80 mm/s at 300 mm/s^2: 0.2 s, 10 mm; sine at peak 300: pi/2 longer
+    assert ph.ramp(20.0, 80.0, 300.0, 1) == pytest.approx((0.2, 10.0), rel=1e-14)
+    assert ph.ramp(20.0, 80.0, 300.0, 2) == pytest.approx((0.1 * math.pi, 5.0 * math.pi), rel=1e-14)
+    # sine: speed halfway is the mean, the distance there v0 t + dv/2 (t - T/pi)
+    T = 0.1 * math.pi
+    v, s = ph.ramp(20.0, 80.0, 300.0, 2, T / 2)
+    assert v == pytest.approx(50.0, rel=1e-14)
+    assert s == pytest.approx(20.0 * T / 2 + 30.0 * (T / 2 - T / math.pi), rel=1e-14)
+    # numeric integral of the sampled speed equals the closed-form distance
+    n = 20000
+    xs = [ph.ramp(20.0, 80.0, 300.0, 2, T * (k + 0.5) / n)[0] for k in range(n)]
+    assert sum(xs) * T / n == pytest.approx(5.0 * math.pi, rel=1e-8)
+
+
+@pytest.mark.parametrize("ramp", [1, 2])
+def test_profile_of_planned_parts(ph, ramp):
+    """ramps.pyx rebuilds each planned part: its duration is the plan's time and its
+    sampled speed integrates (midpoint rule) to the part's length."""
+    text = corner(50.0) + "G1 X300 Y150\nG1 X300.5 Y150\nG1 X301 Y150.3\n"
+    parts = plan(ph, text, startAngle=20.0, endAngle=120.0, minAngleFeed=900.0,
+                 motion=[None, (6000.0, 400.0, 700.0, ramp)])
+    for p in parts:
+        duration, _ = ph.profile(p["length"], p["v_in"], p["v_peak"], p["v_out"], 400.0, ramp, 700.0, ramp, [])
+        assert duration == pytest.approx(p["time"], rel=1e-12)
+        n = 20000
+        _, speeds = ph.profile(p["length"], p["v_in"], p["v_peak"], p["v_out"], 400.0, ramp, 700.0, ramp,
+                               [duration * (k + 0.5) / n for k in range(n)])
+        assert sum(speeds) * duration / n == pytest.approx(p["length"], rel=1e-6)
+
+
+# ------------------------------------------------------------------ static limits
+
+def test_arc_feed_table_values(ph):
+    table = [(10.0, 0.6), (2.0, 0.2), (50.0, 0.9)]   # any order
+    assert ph.arc_factor(table, 1.0) == pytest.approx(0.2)       # below the smallest radius
+    assert ph.arc_factor(table, 2.0) == pytest.approx(0.2)
+    assert ph.arc_factor(table, 5.0) == pytest.approx(0.2 + 0.4 * 3 / 8)
+    assert ph.arc_factor(table, 30.0) == pytest.approx(0.6 + 0.3 * 20 / 40)
+    assert ph.arc_factor(table, 50.1) == 1.0                     # above the largest: full feed
+    assert ph.arc_factor(table, 5.0, 0) == 1.0                   # G900 S13 A0
+    assert ph.arc_factor([], 5.0) == 1.0                         # empty table: off
+    assert ph.arc_factor([(4.0, 0.5), (0.0, 0.1), (8.0, 0.1)], 6.0) == 1.0   # r = 0 ends the table
+
+
+def test_arc_feed_table_in_the_plan(ph):
+    table = [(2.0, 0.2), (10.0, 0.6)]
+    text = "G0 X5\nG3 X5 Y0 I-5 J0 F600\n"
+    (p,) = plan(ph, text, arc=table)[1:]
+    assert p["v_peak"] == pytest.approx(10.0 * 0.35, rel=1e-12)
+    (p,) = plan(ph, "G900 S13 A0\n" + text, arc=table)[1:]
+    assert p["v_peak"] == pytest.approx(10.0, rel=1e-12)
+    (p,) = plan(ph, "G900 S13 A0\nG900 S13 A1\n" + text, arc=table)[1:]
+    assert p["v_peak"] == pytest.approx(3.5, rel=1e-12)
+
+
+def test_centripetal_limit_on_a_circle(ph):
+    (p,) = plan(ph, "G0 X10\nG3 X10 Y0 I-10 J0 F6000\n", centripetalAcc=100.0)[1:]
+    assert p["v_peak"] == pytest.approx(math.sqrt(100.0 * 10.0), rel=1e-12)
+    # a helix: curvature r / (r^2 + h^2) with h the rise per radian
+    (p,) = plan(ph, "G0 X10\nG3 X10 Y0 Z20 I-10 J0 F6000\n", centripetalAcc=100.0)[1:]
+    h = 20.0 / (2 * math.pi)
+    assert p["v_peak"] == pytest.approx(math.sqrt(100.0 * (100.0 + h * h) / 10.0), rel=1e-12)
+
+
+def test_axis_limits_on_a_line_at_30_degrees(ph):
+    c, s = math.cos(math.radians(30)), math.sin(math.radians(30))
+    text = f"G1 X{100 * c:.12f} Y{100 * s:.12f} F6000\n"
+    (p,) = plan(ph, text, axis=[(0, 3000.0, 200.0, 100.0)])
+    v, a, d = 50.0 / c, 200.0 / c, 100.0 / c
+    assert p["v_peak"] == pytest.approx(v, rel=1e-9)
+    assert p["time"] == pytest.approx(100.0 / v + v / (2 * a) + v / (2 * d), rel=1e-9)
+    # Y limited harder than X: Y decides
+    (p,) = plan(ph, text, axis=[(0, 3000.0, 0.0, 0.0), (1, 1200.0, 0.0, 0.0)])
+    assert p["v_peak"] == pytest.approx(20.0 / s, rel=1e-9)
+    # M-5 X0 switches the X limits off; G900 S7 sets them from the program
+    (p,) = plan(ph, "M-5 X0\n" + text, axis=[(0, 3000.0, 200.0, 100.0)])
+    assert p["v_peak"] == pytest.approx(100.0, rel=1e-12)
+    (p,) = plan(ph, "G900 S7 A0 F3000\n" + text)
+    assert p["v_peak"] == pytest.approx(50.0 / c, rel=1e-9)
+
+
+def test_axis_limits_over_the_whole_arc(ph):
+    # circle: X takes the whole speed somewhere -> v <= maxFeed_X
+    (p,) = plan(ph, "G0 X10\nG3 X10 Y0 I-10 J0 F6000\n", axis=[(0, 3000.0, 0.0, 0.0)])[1:]
+    assert p["v_peak"] == pytest.approx(50.0, rel=1e-12)
+    # CCW from 0 to 60 degrees: |t_x| = |sin| is at most sin 60 at the end
+    e = (10 * math.cos(math.radians(60)), 10 * math.sin(math.radians(60)))
+    text = f"G0 X10\nG3 X{e[0]:.12f} Y{e[1]:.12f} I-10 J0 F6000\n"
+    (p,) = plan(ph, text, axis=[(0, 3000.0, 0.0, 0.0)])[1:]
+    assert p["v_peak"] == pytest.approx(50.0 / math.sin(math.radians(60)), rel=1e-9)
+    # Y: |cos| is 1 at the start
+    (p,) = plan(ph, text, axis=[(1, 3000.0, 0.0, 0.0)])[1:]
+    assert p["v_peak"] == pytest.approx(50.0, rel=1e-9)
+
+
+def test_limits_on_arcs_in_other_planes(ph):
+    # a full circle in XZ (G18) and in YZ (G19): Z takes the whole speed somewhere
+    (p,) = plan(ph, "G18\nG0 X10\nG3 X10 Z0 I-10 K0 F6000\n", axis=[(2, 3000.0, 0.0, 0.0)])[1:]
+    assert p["v_peak"] == pytest.approx(50.0, rel=1e-12)
+    assert p["length"] == pytest.approx(20 * math.pi, rel=1e-12)
+    (p,) = plan(ph, "G19\nG0 Y10\nG2 Y10 Z0 J-10 K0 F6000\n", axis=[(2, 3000.0, 0.0, 0.0)],
+                centripetalAcc=160.0)[1:]
+    assert p["v_peak"] == pytest.approx(40.0, rel=1e-12)     # sqrt(160 * 10) below the axis's 50
+
+
+def test_axes_ignored_for_the_feed(ph):
+    # G1 X30 A40 F600: the feed holds on X alone (A ignored), the path runs 5/3 faster
+    text = "G1 X30 A40 F600\n"
+    assert plan(ph, text)[0]["v_peak"] == pytest.approx(10.0, rel=1e-12)
+    assert plan(ph, text, enhanced=1 << (10 + 8))[0]["v_peak"] == pytest.approx(10.0 * 50 / 30, rel=1e-12)
+    assert plan(ph, "G900 S11 A1\n" + text)[0]["v_peak"] == pytest.approx(10.0 * 50 / 30, rel=1e-12)
+
+
+def test_feeds_by_force_mode_rev_and_rapids(ph):
+    assert plan(ph, "G95 S100\nG1 X100 F0.5\n")[0]["v_peak"] == pytest.approx(50.0 / 60.0, rel=1e-12)
+    assert plan(ph, "G1 X100 F600 FP0.5\n")[0]["v_peak"] == pytest.approx(5.0, rel=1e-6)
+    assert plan(ph, "G1 X100 F600\n", forceMode=1)[0]["v_peak"] == pytest.approx(1000.0 / 60, rel=1e-12)
+    assert plan(ph, "G0 X1000\n")[0]["v_peak"] == pytest.approx(10000.0 / 60, rel=1e-12)
+    assert plan(ph, "G900 S20 F3000\nG0 X1000\n")[0]["v_peak"] == pytest.approx(50.0, rel=1e-12)
+    assert plan(ph, "M99 F1200\nG1 X100 F0\n")[0]["v_peak"] == pytest.approx(20.0, rel=1e-12)
+    # a thread: pitch 2 mm at S300 = 600 mm/min, whatever F and FP say
+    assert plan(ph, "S300 F5000 FP0.5\nG33 Z-100 K2\n")[0]["v_peak"] == pytest.approx(10.0, rel=1e-9)
+
+
+def test_settings_from_the_program_apply_from_their_part_on(ph):
+    # acceleration of the forward class changed between the two lines: G4 stops between
+    parts = plan(ph, "G1 X100 F6000\nG4 X0\nG900 S30 C100 D100\nG1 X200\n")
+    assert parts[0]["time"] == pytest.approx(1.2, rel=1e-12)
+    assert parts[2]["time"] == pytest.approx(1.0 + 0.5 + 0.5, rel=1e-12)
+    # G900 S1 / S2: push and pop
+    parts = plan(ph, "G900 S1\nG900 S30 C100 D100\nG1 X100 F6000\nG900 S2\nG4 X0\nG1 X200\n")
+    assert [p["time"] for p in parts if p["kind"] == 1] == pytest.approx([2.0, 1.2], rel=1e-12)
+
+
+def test_a_setting_repeated_in_a_loop_makes_one_region(ph):
+    loop = "FOR P1 = 1 TO 500\nG900 S9 A30 B90 F600\nG1 X P1 F6000\nEND\n"
+    summary, error, _ = ph.plan_text(loop, None, 0, 0, False)
+    assert error is None and summary["regions"] == 1 and summary["n_parts"] == 500
+    toggling = "FOR P1 = 1 TO 50\nG900 S13 A0\nG1 X P1 F6000\nG900 S13 A1\nG1 Y P1\nEND\n"
+    summary, error, _ = ph.plan_text(toggling, None, 0, 0, False)
+    assert error is None and summary["regions"] == 100
+
+
+# ------------------------------------------------------------------ junctions
+
+def corner(angle_deg):
+    """Two 100 mm lines turning by angle_deg at (100, 0)."""
+    t = math.radians(angle_deg)
+    return f"G1 X100 F6000\nG1 X{100 + 100 * math.cos(t):.12f} Y{100 * math.sin(t):.12f}\n"
+
+
+@pytest.mark.parametrize("angle", [0.0, 10.0, 30.0, 45.0, 60.0, 89.0, 90.0, 135.0, 180.0])
+def test_junction_feed_table(ph, angle):
+    parts = plan(ph, corner(angle), startAngle=30.0, endAngle=90.0, minAngleFeed=600.0)
+    if angle <= 30.0:
+        expected = 100.0
+    elif angle >= 90.0:
+        expected = 10.0
+    else:
+        expected = 100.0 + (10.0 - 100.0) * (angle - 30.0) / 60.0
+    assert parts[0]["v_out"] == pytest.approx(expected, rel=1e-9)
+    assert parts[1]["v_in"] == parts[0]["v_out"]
+
+
+def test_angle_slow_down_off_by_default_and_from_the_program(ph):
+    assert plan(ph, corner(90.0))[0]["v_out"] == pytest.approx(100.0)
+    assert plan(ph, "G900 S9 A30 B90 F600\n" + corner(60.0))[0]["v_out"] == pytest.approx(55.0)
+    # G900 S10: Y left out of the angle: the corner is a straight line for X (junction 0 deg)
+    assert plan(ph, "G900 S9 A30 B90 F600\nG900 S10 Y1\n" + corner(60.0))[0]["v_out"] == pytest.approx(100.0)
+    # enhancedInterpolatorParameters bit 1 (Y) the same
+    parts = plan(ph, "G900 S9 A30 B90 F600\n" + corner(60.0), enhanced=0b10)
+    assert parts[0]["v_out"] == pytest.approx(100.0)
+
+
+def test_exact_stops(ph):
+    lines = "G1 X100 F6000\n{}G1 X200\n"
+    assert plan(ph, lines.format(""))[0]["v_out"] == pytest.approx(100.0)
+    for stop in ("M50\n", "M0\n", "M1\n", "G4 X0.5\n"):
+        parts = plan(ph, lines.format(stop))
+        assert parts[0]["v_out"] == 0.0 and parts[1]["v_out"] == 0.0 and parts[2]["v_in"] == 0.0
+    assert total(plan(ph, lines.format("G4 X0.5\n"))) == pytest.approx(2 * 1.2 + 0.5, rel=1e-12)
+    # a continuous M function never stops the motion
+    parts = plan(ph, "G1 X100 F6000\nG1 X200 M1005\n")
+    assert [p["kind"] for p in parts] == [1, 2, 1]
+    assert parts[0]["v_out"] == pytest.approx(100.0) and parts[1]["v_out"] == pytest.approx(100.0)
+    assert total(parts) == pytest.approx(2.2, rel=1e-12)
+    # the end of the program
+    assert plan(ph, "G1 X100 F6000\n")[-1]["v_out"] == 0.0
+    # consecutive rapids with disableG0FeedOverride; G900 S12 stop modes
+    rapids = "G0 X100\nG0 X200\n"
+    assert plan(ph, rapids)[0]["v_out"] > 0.0
+    assert plan(ph, rapids, disableG0FeedOverride=1)[0]["v_out"] == 0.0
+    assert plan(ph, "G900 S12 A1\n" + lines.format(""))[0]["v_out"] == 0.0
+    assert plan(ph, "G900 S12 A2\n" + lines.format(""))[0]["v_out"] > 0.0
+    assert plan(ph, "G900 S12 A2\nG0 X100\nG1 X200 F6000\n")[0]["v_out"] == 0.0
+
+
+# ------------------------------------------------------------------ mFuncInsertTable
+
+def mfunc_table(ph, entries, text, window=0, **fields):
+    p = abi.GCODE_PARAMETERS.from_buffer_copy(params(ph, **fields))
+    p.MfuncInsertType = 1
+    for k, (m, rel, dist) in enumerate(entries):
+        p.mFuncInsertTable[k].mFunc, p.mFuncInsertTable[k].relFeed, p.mFuncInsertTable[k].distance = m, rel, dist
+    parts, error, _ = ph.plan_text(text, bytes(p), window, 0)
+    assert error is None, error
+    return parts
+
+
+def layout(parts):
+    return [("M", p["func"]) if p["kind"] == 2 else ("G", p["func"], p["line"]) for p in parts]
+
+
+def test_mfunc_insert_table(ph):
+    # a 90-degree corner slows to 10 mm/s (< 50 % of F), full speed again after it, the end
+    text = "G1 X10 F6000\nG1 X50\nG1 X100\nG1 X100 Y100\nG1 X100 Y200\n"
+    slow = dict(startAngle=30.0, endAngle=90.0, minAngleFeed=600.0)
+    table = [(1100, 0.5, 0.0), (1101, 0.9, 0.0), (1102, 1.0, 0.0)]
+    parts = mfunc_table(ph, table, text, **slow)
+    assert layout(parts) == [("G", 1, 1), ("G", 1, 2), ("M", 1100), ("G", 1, 3), ("G", 1, 4), ("M", 1101),
+                             ("M", 1100), ("G", 1, 5)]
+    # distance: 60 mm before the corner lies in line 2: before it
+    table[0] = (1100, 0.5, 60.0)
+    parts = mfunc_table(ph, table[:1], text, **slow)
+    assert layout(parts)[:4] == [("G", 1, 1), ("M", 1100), ("G", 1, 2), ("G", 1, 3)]
+    # continuous: the plan is the same with an unlimited window
+    plain = plan(ph, text, window=-1, **slow)
+    with_m = mfunc_table(ph, table, text, window=-1, **slow)
+    assert total(with_m) == pytest.approx(total(plain), rel=1e-12)
+    # before a rapid that follows a cut
+    parts = mfunc_table(ph, [(0, 0, 0), (0, 0, 0), (1102, 1.0, 0.0)], "G1 X100 F6000\nG0 X200\nG0 X300\n")
+    assert layout(parts) == [("G", 1, 1), ("M", 1102), ("G", 0, 2), ("G", 0, 3)]
+    # off unless MfuncInsertType = 1
+    assert len(plan(ph, text, **slow)) == 5
+
+
+# ------------------------------------------------------------------ look-ahead window
+
+def dense_line(n, step):
+    return "G1 X0 F6000\n" + "".join(f"G1 X{step * (k + 1):.6f}\n" for k in range(n))
+
+
+def test_window_on_dense_collinear_segments(ph):
+    text = dense_line(1000, 0.1)            # 100 mm in 0.1 mm pieces
+    unlimited = total(plan(ph, text, window=-1))
+    assert unlimited == pytest.approx(1.2, rel=1e-9)         # the single line's trapezoid
+    times = [total(plan(ph, text, window=w)) for w in (1, 2, 8, 32, 200)]
+    assert times == sorted(times, reverse=True)
+    # window 8 (the vendor's): stops within 8 parts = 0.8 mm ahead: v <= sqrt(2 * 500 * 0.7..0.8)
+    assert times[2] > 3.0
+    assert times[4] == pytest.approx(1.2, rel=1e-9)          # 20 mm ahead: enough to brake from 100 mm/s
+    # window 1: every part starts and ends at rest: 1000 triangles of 0.1 mm
+    peak = math.sqrt(0.1 * 500.0)
+    assert times[0] == pytest.approx(1000 * 2 * peak / 500.0, rel=1e-9)
+
+
+def test_window_counts_m_functions(ph):
+    # continuous M functions fill the window without moving: the braking room shrinks
+    plain = total(plan(ph, dense_line(200, 0.5)))
+    with_m = total(plan(ph, "G1 X0 F6000\n" + "".join(f"G1 X{0.5 * (k + 1):.6f} M1001\n" for k in range(200))))
+    assert with_m > plain
+
+
+# ------------------------------------------------------------------ ruckig oracle
+
+def ruckig_time(length, v0, v1, vmax, acc, dec, jerk):
+    """Time-optimal 1-D move over `length` from v0 to v1 (ruckig, the test extra)."""
+    ruckig = pytest.importorskip("ruckig")
+    inp = ruckig.InputParameter(1)
+    inp.current_position = [0.0]
+    inp.current_velocity = [v0]
+    inp.current_acceleration = [0.0]
+    inp.target_position = [length]
+    inp.target_velocity = [v1]
+    inp.target_acceleration = [0.0]
+    inp.max_velocity = [vmax]
+    inp.max_acceleration = [acc]
+    inp.min_acceleration = [-dec]
+    inp.max_jerk = [jerk]
+    traj = ruckig.Trajectory(1)
+    result = ruckig.Ruckig(1).calculate(inp, traj)
+    assert result == ruckig.Result.Working
+    return traj.duration
+
+
+def test_trapezoid_parts_are_time_optimal(ph):
+    # each part of a chain with boundary speeds: ruckig with (almost) no jerk limit
+    text = corner(40.0) + "G1 X150 Y80\nG1 X152 Y80\nG1 X152 Y200\n"
+    parts = plan(ph, text, startAngle=20.0, endAngle=90.0, minAngleFeed=300.0,
+                 motion=[None, (6000.0, 500.0, 300.0, 1)])
+    for p in parts:
+        opt = ruckig_time(p["length"], p["v_in"], p["v_out"], 100.0 + 1e-9, 500.0, 300.0, 1e9)
+        assert p["time"] == pytest.approx(opt, rel=2e-4)
+        assert p["time"] >= opt * (1 - 1e-5)     # ruckig's finite jerk makes it a little slower
+
+
+def test_sine_ramps_against_the_jerk_limited_optimum(ph):
+    # rest to rest: the sine ramp's peak jerk is a*pi/T = 2 a^2 / v; ruckig with that jerk
+    # is the time-optimal lower bound; the sine profile is close to it
+    for length in (100.0, 10.0):
+        (p,) = plan(ph, f"G1 X{length} F6000\n", motion=[None, (6000.0, 500.0, 500.0, 2)])
+        jerk = 2 * 500.0 ** 2 / p["v_peak"]
+        opt = ruckig_time(length, 0.0, 0.0, 100.0, 500.0, 500.0, jerk)
+        assert opt <= p["time"] <= opt * 1.15
+
+
+# ------------------------------------------------------------------ the simulation's run time
+
+def test_run_time_of_a_simulation_comes_from_the_plan(ph):
+    text = corner(60.0) + "M50\nG0 X0 Y0\nG1 X10 Y10 F3000\nG4 X0.25\nG2 X20 Y0 I0 J-10\n"
+    expected = total(plan(ph, text, startAngle=30.0, endAngle=90.0, minAngleFeed=600.0))
+    with Core(2) as core:
+        saved = core.params
+        try:
+            core.update_params(absMode=1, calcTime=1, startAngle=30.0, endAngle=90.0, minAngleFeed=600.0)
+            core.reset([0.0] * 10)
+            core.compile_text(text, "plan.nc")
+            core.simulate()
+            assert core.run_time(core.file_index("plan.nc")) == pytest.approx(expected, rel=1e-12)
+        finally:
+            core.lib.ToolChainCore_DestroyCNC(2)
+            core.params = saved
+
+
+# ------------------------------------------------------------------ hostile settings
+
+@pytest.mark.parametrize("head", [
+    "G900 S7 A0 F-5 C-1 D-1\n",                 # negative axis limits: no limit
+    "G900 S9 A120 B30 F-600\n",                 # end below start, negative feed: a stop at sharp corners
+    "G900 S30 F0 C0 D0 R7\n",                   # no acceleration, an unknown ramp type: trapezoid
+    "G900 S30 C1e-300 D1e-300\n",               # accelerations that barely move
+    "G900 S30 C1e300 D1e300\nG900 S7 A1 F1e300\n",
+    "G95 S0\n",                                 # per-revolution feed with the spindle stopped
+])
+def test_hostile_settings_plan_finite_times(ph, head):
+    parts = plan(ph, head + "G1 X10 F6000 FP0\nG2 X20 Y0 I5 J0\nG1 X20 Y0.000000000001\nG3 I0 J0.5\nG1 X0\n",
+                 centripetalAcc=-1.0, arc=[(5.0, -1.0)])
+    for p in parts:
+        assert math.isfinite(p["time"]) and p["time"] >= 0.0
+        assert math.isfinite(p["v_peak"]) and p["v_peak"] >= 0.0 and p["v_out"] >= 0.0
+
+
+def test_nan_settings_from_the_host_plan_finite_times(ph):
+    nan = float("nan")
+    parts = plan(ph, corner(70.0) + "G3 I5 J0\n", motion=[None, (nan, nan, nan, 2)],
+                 axis=[(0, nan, nan, nan)], arc=[(nan, 0.5), (2.0, nan)], centripetalAcc=nan,
+                 startAngle=nan, endAngle=nan, minAngleFeed=nan)
+    for p in parts:
+        assert math.isfinite(p["time"]) and p["time"] >= 0.0 and math.isfinite(p["v_peak"])
+
+
+def test_simulation_with_machine_bits_and_inserted_m_functions(ph):
+    """Through the library: enhancedInterpolatorParameters from SetMachineParameters
+    reach the planner, and the inserted M functions reach the driver's M callback."""
+    text = "G1 X30 A40 F600\nG1 X60\nG0 X100\n"
+    expected = total(plan(ph, text, enhanced=1 << 18))
+    assert expected < total(plan(ph, text))
+    with Core(2) as core:
+        saved = core.params
+        machine = abi.MACHINE_PARAMETERS()
+        core.lib.ToolChainCore_GetMachineParameters(2, ctypes.byref(machine))
+        saved_machine = abi.MACHINE_PARAMETERS.from_buffer_copy(machine)
+        try:
+            machine.enhancedInterpolatorParameters = 1 << 18
+            assert core.lib.ToolChainCore_SetMachineParameters(2, ctypes.byref(machine)) == 0
+            p = core.params
+            p.absMode, p.calcTime, p.MfuncInsertType = 1, 1, 1
+            p.mFuncInsertTable[2].mFunc, p.mFuncInsertTable[2].relFeed = 1102, 1.0
+            core.params = p
+            core.reset([0.0] * 10)
+            core.compile_text(text, "bits.nc")
+            run = core.simulate()
+            assert [int(m["m_func"]) % 10000 for m in run.m_functions] == [1102]
+            assert core.run_time(core.file_index("bits.nc")) == pytest.approx(expected, rel=1e-12)
+        finally:
+            core.lib.ToolChainCore_SetMachineParameters(2, ctypes.byref(saved_machine))
+            core.lib.ToolChainCore_DestroyCNC(2)
+            core.params = saved
+
+
+def test_look_ahead_through_the_library(ph, tmp_path, fresh_core):
+    """The window reaches the planner by ToolChainCore_SetLookAhead, the INI key
+    lookAheadParts and sf_tch.compile(look_ahead=): each gives the harness's time for
+    that window (the vendor's 8 by default)."""
+    import sf_tch
+    text = dense_line(1000, 0.1)
+    expected = {w: total(plan(ph, text, window=w)) for w in (0, 8, 32, -1)}
+    assert expected[0] == expected[8] > expected[32] > expected[-1]
+
+    def simulated(program):
+        program.simulate()
+        return program.run_time
+
+    with sf_tch.compile(text, look_ahead=32, core=2) as program:
+        assert simulated(program) == pytest.approx(expected[32], rel=1e-12)
+    with sf_tch.compile(text, core=2) as program:       # the core keeps what was set
+        assert simulated(program) == pytest.approx(expected[32], rel=1e-12)
+    lib = fresh_core
+    assert lib.ToolChainCore_SetLookAhead(2, -2) == -1
+    assert lib.ToolChainCore_SetLookAhead(2, -1) == 0
+    with sf_tch.compile(text, core=2) as program:
+        assert simulated(program) == pytest.approx(expected[-1], rel=1e-12)
+    ini = tmp_path / "window.ini"
+    ini.write_text(Path(sf_tch.library_path()).with_name("data").joinpath("SF_TCh.ini").read_text()
+                   + "\n[GCodeParameters]\nlookAheadParts = 0\n")
+    with sf_tch.compile(text, ini=ini, core=2) as program:
+        assert simulated(program) == pytest.approx(expected[0], rel=1e-12)
+    ini.write_text("[GCodeParameters]\nlookAheadParts = -5\n")
+    assert lib.ToolChainCore_LoadFromIni(2, str(ini).encode(), None) == abi.TOOL_CHAIN_XEXEC
+    with pytest.raises(ValueError):
+        sf_tch.compile(text, look_ahead=-3, core=2)

@@ -1,0 +1,70 @@
+# Junction speeds between two consecutive motion parts: the angle slow-down
+# (startAngle, endAngle, minAngleFeed; G900 S9) and the exact stops.
+from libc.math cimport acos, sqrt, M_PI
+
+cdef enum:
+    STOP_MODE_EVERY_JUNCTION = 1    # G900 S12 A1: exact stop between any two motion parts
+    STOP_MODE_RAPID_CHANGE = 2      # G900 S12 A2: exact stop where rapid and cut meet
+
+
+cdef double junction_cosine(const double *t_end, const double *t_start, uint32_t ignored) noexcept nogil:
+    """Cosine of the angle between the end tangent of one part and the start tangent of
+    the next (unit vectors), over the axes not in `ignored`; 1 when either moves only
+    on ignored axes."""
+    cdef double dot = 0.0, n0 = 0.0, n1 = 0.0, c
+    cdef int k
+    if ignored == 0:
+        for k in range(10):
+            dot += t_end[k] * t_start[k]
+        return dot
+    for k in range(10):
+        if (ignored >> k) & 1:
+            continue
+        dot += t_end[k] * t_start[k]
+        n0 += t_end[k] * t_end[k]
+        n1 += t_start[k] * t_start[k]
+    if n0 <= 1e-24 or n1 <= 1e-24:
+        return 1.0
+    return dot / sqrt(n0 * n1)
+
+
+cdef inline double junction_degrees(double cosine) noexcept nogil:
+    if cosine > 1.0:
+        return 0.0
+    if cosine < -1.0:
+        return 180.0
+    return acos(cosine) * (180.0 / M_PI)
+
+
+cdef double angle_feed(double angle, double full, const PlanRegion *s) noexcept nogil:
+    """Speed (mm/s) allowed at a junction of `angle` degrees when the parts allow
+    `full`: full below startAngle, linear to minAngleFeed at endAngle, minAngleFeed above."""
+    cdef double low = s.minAngleFeed / 60.0, v
+    if angle <= s.startAngle:
+        return full
+    if angle >= s.endAngle or s.endAngle <= s.startAngle:
+        v = low
+    else:
+        v = full + (low - full) * (angle - s.startAngle) / (s.endAngle - s.startAngle)
+    if v > full:
+        v = full
+    return v if v > 0.0 else 0.0
+
+
+cdef bint junction_stops(bint prev_rapid, bint next_rapid, const PlanRegion *s,
+                         const GCODE_PARAMETERS *params) noexcept nogil:
+    """The machine stands between the two motion parts (no waiting M between them)."""
+    if prev_rapid and next_rapid and params.disableG0FeedOverride == 1:
+        return True
+    if s.stop_mode == STOP_MODE_EVERY_JUNCTION:
+        return True
+    if s.stop_mode == STOP_MODE_RAPID_CHANGE and prev_rapid != next_rapid:
+        return True
+    return False
+
+
+cdef inline bint part_stops_motion(const Part *p) noexcept nogil:
+    """A non-motion part the machine waits at: waiting M functions (M0, M1 too), dwells."""
+    if p.kind == PART_DWELL:
+        return True
+    return p.kind == PART_MFUNC and not (p.flags & FLAG_CONTINUOUS_M)

@@ -1,0 +1,207 @@
+# Static limits of each part, before any look-ahead: the programmed feed, the arc
+# feed table, the centripetal acceleration and the axes' limits projected on the
+# tangent over the whole part; the planning settings in force (PlanRegion).
+from libc.math cimport sqrt, cos, M_PI
+from libc.string cimport memcpy, memcmp, memset
+
+cdef enum:
+    AXIS_MASK = 0x3FF
+    ENH_ANGLE_SHIFT = 0         # enhancedInterpolatorParameters bits 0-9: no tangency slow-down
+    ENH_FEED_SHIFT = 10         # bits 10-19: axis ignored for the feed
+
+
+ctypedef struct PartLimits:
+    double length           # mm
+    double vmax             # mm/s, never 0 for a part with length
+    double acc, dec         # mm/s^2, peak of the ramps
+    int32_t ramp            # rampType of the motion class (1 trapezoid, 2 sine)
+    bint rapid
+
+
+cdef void plan_settings_from_params(PlanRegion *s, const GCODE_PARAMETERS *p) noexcept nogil:
+    """The host's settings, before the program changes any."""
+    s.first = 0
+    memcpy(s.motion, p.motion, sizeof(s.motion))
+    memcpy(s.axisLimits, p.axisLimits, sizeof(s.axisLimits))
+    s.startAngle = p.startAngle
+    s.endAngle = p.endAngle
+    s.minAngleFeed = p.minAngleFeed
+    s.ignore_angle = 0
+    s.ignore_feed = 0
+    s.limits_off = 0
+    s.stop_mode = 0
+    s.arc_table = -1
+
+
+cdef bint _same_settings(const PlanRegion *a, const PlanRegion *b) noexcept nogil:
+    """Every setting but `first` equal (byte for byte: regions are zeroed before they are filled)."""
+    return memcmp(<const char *>a + sizeof(size_t), <const char *>b + sizeof(size_t),
+                  sizeof(PlanRegion) - sizeof(size_t)) == 0
+
+
+cdef bint program_add_plan_region(Program *prog, size_t first, const GCODE_PARAMETERS *p,
+                                  uint32_t ignore_angle, uint32_t ignore_feed, uint32_t limits_off,
+                                  int32_t stop_mode, int32_t arc_table) noexcept nogil:
+    """Records the planning settings in force from programmed part `first` on (the
+    compiler, after G900 or M-5); False when out of memory."""
+    cdef PlanRegion made
+    memset(&made, 0, sizeof(PlanRegion))   # the tail padding too: regions compare with memcmp
+    plan_settings_from_params(&made, p)
+    made.first = first
+    made.ignore_angle = ignore_angle
+    made.ignore_feed = ignore_feed
+    made.limits_off = limits_off
+    made.stop_mode = stop_mode
+    made.arc_table = arc_table
+    if prog.n_plan_regions > 0 and prog.plan_regions[prog.n_plan_regions - 1].first == first:
+        prog.n_plan_regions -= 1         # several changes before the same part: the last one counts
+    if prog.n_plan_regions > 0 and _same_settings(&prog.plan_regions[prog.n_plan_regions - 1], &made):
+        return True                      # nothing changed (a G900 in a loop): no new region
+    if not _grow(<void **>&prog.plan_regions, &prog.cap_plan_regions, prog.n_plan_regions + 1,
+                 sizeof(PlanRegion)):
+        return False
+    memcpy(&prog.plan_regions[prog.n_plan_regions], &made, sizeof(PlanRegion))
+    prog.n_plan_regions += 1
+    return True
+
+
+cdef inline bint _axes_limited(const PlanRegion *s) noexcept nogil:
+    """Some axis has a limit that is on."""
+    cdef int k
+    for k in range(10):
+        if not ((s.limits_off >> k) & 1) and (s.axisLimits[k].maxFeed > 0.0 or s.axisLimits[k].maxAcc > 0.0
+                                               or s.axisLimits[k].maxDec > 0.0):
+            return True
+    return False
+
+
+cdef inline double _cos_start(const PlanRegion *s) noexcept nogil:
+    """Junctions whose tangents' cosine is at least this run at full speed."""
+    if s.startAngle > 0.0 and s.startAngle < 180.0:
+        return cos(s.startAngle * (M_PI / 180.0))
+    return 2.0
+
+
+ctypedef struct PlanCursor:     # the settings of each part, parts visited in order
+    const Program *prog
+    PlanRegion cur
+    size_t region           # next region to apply
+    size_t programmed       # programmed parts before the next part
+    size_t next_part
+    bint axes_limited       # some axis limit of cur is on
+    double cos_start        # cosine of cur.startAngle (2 when every angle slows down)
+
+
+cdef void cursor_init(PlanCursor *c, const Program *prog, const GCODE_PARAMETERS *params) noexcept nogil:
+    c.prog = prog
+    plan_settings_from_params(&c.cur, params)
+    c.region = 0
+    c.programmed = 0
+    c.next_part = 0
+    c.axes_limited = _axes_limited(&c.cur)
+    c.cos_start = _cos_start(&c.cur)
+
+
+cdef const PlanRegion *cursor_settings(PlanCursor *c, size_t part) noexcept nogil:
+    """The settings part `part` runs with; parts in increasing order."""
+    cdef const Program *prog = c.prog
+    while c.next_part <= part:
+        if not (prog.parts[c.next_part].flags & FLAG_INSERTED):
+            while c.region < prog.n_plan_regions and prog.plan_regions[c.region].first <= c.programmed:
+                c.cur = prog.plan_regions[c.region]
+                c.region += 1
+                c.axes_limited = _axes_limited(&c.cur)
+                c.cos_start = _cos_start(&c.cur)
+            c.programmed += 1
+        c.next_part += 1
+    return &c.cur
+
+
+cdef double part_feed(const Part *p, const GCODE_PARAMETERS *params) noexcept nogil:
+    """mm/min: rapids their feed (FF or motion[0], the compiler chose by forceMode);
+    threads (G33) pitch times S; cuts F (or motion[1], M99 as the compiler resolved), per revolution times S, times FP."""
+    cdef double feed = p.feed
+    if p.func == 0:
+        return feed if feed > 0.0 else params.motion[0].feed
+    if p.func == 33 and p.value > 0.0:
+        return p.value * p.spindle      # a thread: its pitch per spindle turn, no override
+    if not (p.flags & FLAG_FEED_PER_MIN):
+        feed = feed * p.spindle
+    feed = feed * p.fp
+    if feed <= 0.0:
+        feed = params.motion[1].feed
+    return feed
+
+
+cdef double arc_feed_factor(const GCODE_PARAMETERS *params, int32_t state, double radius) noexcept nogil:
+    """Relative feed of an arc of `radius` from arcFeedTable: radii up to the smallest
+    entry take its value, between two entries linear in the radius, above the largest
+    entry full feed (1). The table ends at the first r <= 0; off when empty or G900 S13 A0."""
+    cdef double r[5]
+    cdef double f[5]
+    cdef int n = 0, i, j
+    cdef double tr, tf
+    if state == 0:
+        return 1.0
+    while n < 5 and params.arcFeedTable[n].m_r > 0.0:
+        r[n] = params.arcFeedTable[n].m_r
+        f[n] = params.arcFeedTable[n].m_relFeed
+        if f[n] < 0.001:
+            f[n] = 0.001
+        j = n
+        while j > 0 and r[j - 1] > r[j]:            # keep them sorted by radius
+            tr = r[j]; r[j] = r[j - 1]; r[j - 1] = tr
+            tf = f[j]; f[j] = f[j - 1]; f[j - 1] = tf
+            j -= 1
+        n += 1
+    if n == 0:
+        return 1.0
+    if radius <= r[0]:
+        return f[0]
+    for i in range(1, n):
+        if radius <= r[i]:
+            return f[i - 1] + (f[i] - f[i - 1]) * (radius - r[i - 1]) / (r[i] - r[i - 1])
+    return 1.0
+
+
+cdef void part_limits(const Segment *g, const Part *p, const GCODE_PARAMETERS *params,
+                      const PlanRegion *s, bint axes_limited, uint32_t enhanced, PartLimits *out) noexcept nogil:
+    """The static limits of a motion part with geometry g (axes_limited: _axes_limited(s))."""
+    cdef const GCODE_FEED *cls
+    cdef double reach[10]
+    cdef double v, feed_len, curvature
+    cdef uint32_t ignore_feed = s.ignore_feed | ((enhanced >> ENH_FEED_SHIFT) & AXIS_MASK)
+    cdef int k
+    out.rapid = p.func == 0
+    cls = &s.motion[0] if out.rapid else &s.motion[1]
+    out.length = g.length
+    out.ramp = RAMP_SINE if cls.rampType == RAMP_SINE else RAMP_TRAPEZOID
+    # acc/dec 0 (or nonsense): no limit of the class, 1e12 mm/s^2 (instant ramps in
+    # practice); the cap keeps the closed forms finite
+    out.acc = cls.acc if 0.0 < cls.acc < 1e12 else 1e12
+    out.dec = cls.dec if 0.0 < cls.dec < 1e12 else 1e12
+    v = part_feed(p, params) / 60.0
+    feed_len = segment_feed_length(g, ignore_feed)
+    if feed_len > 1e-12 and feed_len < g.length:
+        v = v * g.length / feed_len     # the feed holds on the other axes: the path runs faster
+    if g.arc and not out.rapid:
+        v = v * arc_feed_factor(params, s.arc_table, g.radius)
+        if params.centripetalAcc > 0.0:
+            curvature = g.radius / (g.radius * g.radius + g.lead * g.lead)
+            v = min(v, sqrt(params.centripetalAcc / curvature))
+    if not axes_limited:
+        out.vmax = v if v > 0.0 else 1.0 / 60.0
+        return
+    segment_axis_reach(g, reach)
+    for k in range(10):
+        if (s.limits_off >> k) & 1 or reach[k] <= 1e-12:
+            continue
+        if s.axisLimits[k].maxFeed > 0.0:
+            v = min(v, s.axisLimits[k].maxFeed / 60.0 / reach[k])
+        if s.axisLimits[k].maxAcc > 0.0:
+            out.acc = min(out.acc, s.axisLimits[k].maxAcc / reach[k])
+        if s.axisLimits[k].maxDec > 0.0:
+            out.dec = min(out.dec, s.axisLimits[k].maxDec / reach[k])
+    if not (v > 0.0):
+        v = 1.0 / 60.0                  # no feed anywhere: 1 mm/min rather than never arriving
+    out.vmax = v

@@ -1,0 +1,279 @@
+# The look-ahead: every motion part gets an entry, peak and exit speed such that
+# the machine can still stop at the end of what it sees. The vendor's interpolator
+# sees the current part and the next 7 (its look-ahead table, seed 003), so the
+# default window is 8 parts (M functions count); a deeper window only lets parts
+# run faster. One sweep over the program with a ring of the visible parts:
+#   backward: from a stop at the window's end (or the program's end), the highest
+#             entry speed of each visible part (its junction limit, or what it can
+#             still brake away within its length);
+#   forward:  from the previous exit, accelerate within the part, exit at most at
+#             the next part's backward limit.
+# The backward limits are recomputed only when the window's end moves (an
+# unlimited window: once), and only back to the first that does not change: at most
+# O(parts x window), O(parts) where the junctions' limits bind.
+from libc.stdlib cimport malloc, free
+from libc.math cimport sqrt
+
+cdef enum:
+    VENDOR_WINDOW = 8           # the current part + 7 more
+    RING_START = 256            # nodes; a deeper window grows the ring as far as it reaches
+
+
+ctypedef struct PlanNode:       # a motion part with length, as the passes see it
+    size_t part
+    double length
+    double vmax
+    double acc, dec             # equivalent constant accelerations of its ramps (ramps.pyx)
+    double jin                  # speed limit at its start (0: the machine stands there)
+    double jin2                 # its square
+    double brake2               # 2 dec length: what braking within it takes off the squared speed
+    double entry2               # backward pass: squared highest entry speed that can still stop in the window
+    bint barrier                # it can brake from its junction's limit to rest within itself: no
+                                # part after it changes the limits of the parts before it
+
+
+ctypedef struct NodeSource:     # makes the nodes, parts in order
+    const Program *prog
+    const GCODE_PARAMETERS *params
+    uint32_t enhanced
+    PlanCursor cursor
+    size_t scan                 # next part to read
+    bint have_prev, stop_pending, prev_rapid
+    double prev_vmax
+    size_t prev_part            # the last node's part
+    bint prev_tangent_known     # prev_tangent holds its end tangent
+    double prev_tangent[10]
+
+
+cdef bint _next_node(NodeSource *src, PlanNode *node) noexcept nogil:
+    """Reads part `scan`; True when it is a node (filled in)."""
+    cdef size_t k = src.scan
+    cdef const Part *p = &src.prog.parts[k]
+    cdef const PlanRegion *s = cursor_settings(&src.cursor, k)
+    cdef Segment g, prev_g
+    cdef PartLimits lim
+    cdef double t0[10]
+    cdef double jin, cosine
+    src.scan += 1
+    if p.kind != PART_MOTION:
+        if part_stops_motion(p):
+            src.stop_pending = True
+        return False
+    segment_of_part(src.prog, k, &g)
+    if g.length <= 1e-9:
+        return False                    # no motion: the speed passes through
+    part_limits(&g, p, src.params, s, src.cursor.axes_limited, src.enhanced, &lim)
+    node.part = k
+    node.length = g.length
+    node.vmax = lim.vmax
+    node.acc = ramp_equivalent_acc(lim.acc, lim.ramp)
+    node.dec = ramp_equivalent_acc(lim.dec, lim.ramp)
+    if not src.have_prev or src.stop_pending or junction_stops(src.prev_rapid, lim.rapid, s, src.params):
+        jin = 0.0
+    elif s.startAngle >= 180.0:         # no angle is larger: the slow-down is off
+        jin = min(src.prev_vmax, lim.vmax)
+    else:
+        if not src.prev_tangent_known:  # the slow-down came on at this junction
+            segment_of_part(src.prog, src.prev_part, &prev_g)
+            segment_tangent(&prev_g, 1.0, src.prev_tangent)
+        segment_tangent(&g, 0.0, t0)
+        jin = min(src.prev_vmax, lim.vmax)
+        cosine = junction_cosine(src.prev_tangent, t0,
+                                 s.ignore_angle | ((src.enhanced >> ENH_ANGLE_SHIFT) & AXIS_MASK))
+        if not (cosine >= src.cursor.cos_start):      # beyond startAngle (acos only there)
+            jin = angle_feed(junction_degrees(cosine), jin, s)
+    node.jin = jin
+    node.jin2 = jin * jin
+    node.brake2 = 2.0 * node.dec * node.length
+    node.entry2 = -1.0                  # not computed yet
+    node.barrier = node.jin2 <= node.brake2
+    src.prev_tangent_known = s.startAngle < 180.0    # the next junction likely needs it
+    if src.prev_tangent_known:
+        segment_tangent(&g, 1.0, src.prev_tangent)
+    src.prev_part = k
+    src.prev_vmax = lim.vmax
+    src.prev_rapid = lim.rapid
+    src.have_prev = True
+    src.stop_pending = False
+    return True
+
+
+ctypedef struct Reciprocals:    # of the last node's values: runs of parts share them
+    double acc, dec, vmax
+    double half_inv_acc, half_inv_dec, inv_vmax
+
+
+cdef void _plan_node(const PlanNode *nd, double v_in, const PlanNode *next, Reciprocals *rc,
+                     PartPlan *out) noexcept nogil:
+    """Entry v_in, exit as fast as allowed (next: the node after it in the window, or
+    NULL: a stop), peak and time of one node (closed forms; a part that cruises into
+    its junction's limit takes no square root)."""
+    cdef double a = nd.acc, d = nd.dec, L = nd.length
+    cdef double in2 = v_in * v_in
+    cdef double exit2 = next.entry2 if next != NULL else 0.0
+    cdef double out2 = min(exit2, in2 + 2.0 * a * L)
+    cdef double peak = nd.vmax, peak2 = nd.vmax * nd.vmax, cruise, v_out
+    if next != NULL and out2 == next.jin2:
+        v_out = next.jin
+    else:
+        v_out = sqrt(out2)
+    if a != rc.acc:
+        rc.acc = a
+        rc.half_inv_acc = 0.5 / a
+    if d != rc.dec:
+        rc.dec = d
+        rc.half_inv_dec = 0.5 / d
+    if peak != rc.vmax:
+        rc.vmax = peak
+        rc.inv_vmax = 1.0 / peak
+    cruise = L - (peak2 - in2) * rc.half_inv_acc - (peak2 - out2) * rc.half_inv_dec
+    if cruise >= 0.0:
+        out.time = cruise * rc.inv_vmax
+    else:                               # no room to cruise: the ramps meet below the limit
+        peak2 = (2.0 * a * d * L + d * in2 + a * out2) / (a + d)
+        peak = sqrt(peak2)
+        if peak < v_in:
+            peak = v_in
+        if peak < v_out:
+            peak = v_out
+        out.time = 0.0
+    out.v_peak = peak
+    out.v_exit = v_out
+    out.time += (peak - v_in) * 2.0 * rc.half_inv_acc + (peak - v_out) * 2.0 * rc.half_inv_dec
+
+
+cdef void _plan_passing(const Program *prog, size_t first, size_t end, double v, PartPlan *plan) noexcept nogil:
+    """Parts without motion in [first, end): the speed passes through; dwells take their time."""
+    cdef size_t k
+    for k in range(first, end):
+        plan[k].v_peak = v
+        plan[k].v_exit = v
+        plan[k].time = prog.parts[k].value if prog.parts[k].kind == PART_DWELL else 0.0
+
+
+cdef PlanNode *_ring_grow(PlanNode *ring, size_t cap, size_t first, size_t end) noexcept nogil:
+    """The ring of nodes [first, end) (node k at k % cap) with twice the room; NULL
+    (ring freed) when out of memory."""
+    cdef PlanNode *grown = <PlanNode *>malloc(2 * cap * sizeof(PlanNode))
+    cdef size_t k
+    if grown != NULL:
+        for k in range(first, end):
+            grown[k % (2 * cap)] = ring[k % cap]
+    free(ring)
+    return grown
+
+
+cdef int plan_program(Program *prog, const GCODE_PARAMETERS *params, uint32_t enhanced,
+                      int64_t window) noexcept nogil:
+    """Plans every part into prog.plan (replaced). window: parts the look-ahead sees
+    (0 the vendor's 8, < 0 unlimited). With mFuncInsertTable on, inserts its M functions
+    where the plan slows down and plans again (they count in the window).
+    COMPILE_OK, or COMPILE_ERROR when out of memory."""
+    cdef int result = _plan_once(prog, params, enhanced, window)
+    if result == COMPILE_OK and mfunc_insert_wanted(params):
+        result = mfunc_insert(prog, params)
+        if result == COMPILE_OK:
+            result = _plan_once(prog, params, enhanced, window)
+    return result
+
+
+cdef int _plan_once(Program *prog, const GCODE_PARAMETERS *params, uint32_t enhanced,
+                    int64_t window) noexcept nogil:
+    cdef size_t n = prog.n_parts, depth, cap, i = 0, made = 0, planned_made = 0, filled = 0
+    cdef PartPlan *plan
+    cdef PlanNode *ring
+    cdef PlanNode *nd
+    cdef PlanNode *nj
+    cdef NodeSource src
+    cdef Reciprocals recip
+    cdef double v_prev = 0.0, v2
+    cdef size_t j
+    free(prog.plan)
+    prog.plan = NULL
+    if n == 0:
+        return COMPILE_OK
+    if window == 0:
+        depth = VENDOR_WINDOW
+    elif window < 0 or <uint64_t>window > n:
+        depth = n
+    else:
+        depth = <size_t>window
+    cap = depth if depth < RING_START else RING_START
+    plan = <PartPlan *>malloc(n * sizeof(PartPlan))
+    ring = <PlanNode *>malloc(cap * sizeof(PlanNode))   # nodes i.. (at most depth of them), k at k % cap
+    if plan == NULL or ring == NULL:
+        free(plan)
+        free(ring)
+        return COMPILE_ERROR
+    src.prog = prog
+    src.params = params
+    src.enhanced = enhanced
+    cursor_init(&src.cursor, prog, params)
+    src.scan = 0
+    src.have_prev = False
+    src.stop_pending = False
+    src.prev_rapid = False
+    src.prev_vmax = 0.0
+    src.prev_part = 0
+    src.prev_tangent_known = False
+    recip.acc = 0.0                     # none yet: every value differs from 0
+    recip.dec = 0.0
+    recip.vmax = 0.0
+    while True:
+        while made <= i and src.scan < n:
+            if _next_node(&src, &ring[made % cap]):
+                made += 1
+        if made <= i:
+            break
+        # the window: parts up to node i's part + depth, or up to a barrier (the same limits)
+        while (src.scan < n and src.scan < ring[i % cap].part + depth
+               and not (made > i + 1 and ring[(made - 1) % cap].barrier)):
+            if made - i == cap:
+                ring = _ring_grow(ring, cap, i, made)
+                if ring == NULL:
+                    free(plan)
+                    return COMPILE_ERROR
+                cap *= 2
+            if _next_node(&src, &ring[made % cap]):
+                made += 1
+        nd = &ring[i % cap]
+        if made != planned_made:        # the window's end moved: backward pass over the window
+            # squared speeds; the limits only grow with the window, and where one did not
+            # change, none before it does
+            v2 = 0.0
+            j = made
+            while j > i + 1:
+                j -= 1
+                nj = &ring[j % cap]
+                v2 = min(nj.jin2, v2 + nj.brake2)
+                if v2 == nj.entry2:
+                    break
+                nj.entry2 = v2
+            planned_made = made
+        _plan_passing(prog, filled, nd.part, v_prev, plan)
+        _plan_node(nd, v_prev, &ring[(i + 1) % cap] if i + 1 < made else NULL, &recip, &plan[nd.part])
+        v_prev = plan[nd.part].v_exit
+        filled = nd.part + 1
+        i += 1
+    _plan_passing(prog, filled, n, v_prev, plan)
+    free(ring)
+    prog.plan = plan
+    return COMPILE_OK
+
+
+cdef double plan_part_time(const Program *prog, size_t i) noexcept nogil:
+    """Planned seconds of part i (0 when the program has no plan)."""
+    return prog.plan[i].time if prog.plan != NULL else 0.0
+
+
+cdef double plan_entry_speed(const Program *prog, size_t i) noexcept nogil:
+    """mm/s at the start of part i."""
+    if prog.plan == NULL or i == 0:
+        return 0.0
+    return prog.plan[i - 1].v_exit
+
+
+cdef double plan_calc_feed(const Program *prog, size_t i) noexcept nogil:
+    """The planned feed of part i, mm/min: the highest speed it reaches
+    (GM_PARAMS_ENHANCED.m_calcFeed)."""
+    return prog.plan[i].v_peak * 60.0 if prog.plan != NULL else 0.0

@@ -1,0 +1,156 @@
+# Segment geometry of one compiled part as the tool runs it (compensated path):
+# unit tangents at its ends and how much of the path speed each axis takes at most
+# over the whole part. The planner's limits and junctions read it.
+from libc.math cimport atan2, sqrt, fabs, sin, cos, ceil, M_PI
+
+
+ctypedef struct Segment:
+    double length
+    int n_axes              # 3: only x y z may move (the other seven as the part before), else 10
+    double start[10]        # compensated start, axes [0, n_axes)
+    double end[10]
+    bint arc                # a circular (or helical) part with a plane and a radius
+    int first, second, normal   # plane axes of an arc
+    double radius           # of the tool path (compensated)
+    double centre[2]        # in the plane (first, second)
+    double sweep            # signed, + = counter-clockwise
+    double lead             # off-plane travel per radian of turn (helix), >= 0
+
+
+cdef inline double _arc_turn(double sa, double sb, double ea, double eb, bint ccw) noexcept nogil:
+    """Signed sweep from radius (sa, sb) to radius (ea, eb), in (0, 2pi] in the arc's
+    direction, a full turn when they coincide (geometry.arc_sweep with one atan2)."""
+    cdef double d = atan2(sa * eb - sb * ea, sa * ea + sb * eb)
+    if ccw:
+        if d <= 1e-12:
+            d += 2.0 * M_PI
+    elif d >= -1e-12:
+        d -= 2.0 * M_PI
+    return d
+
+
+cdef void segment_of_part(const Program *prog, size_t i, Segment *g) noexcept nogil:
+    """The geometry of motion part i (its length as part_length measures it)."""
+    cdef const Part *p = &prog.parts[i]
+    cdef const Part *prev
+    cdef double rest = 0.0, d
+    cdef int k
+    if i > 0 and prog.parts[i - 1].axes_idx == p.axes_idx:
+        prev = &prog.parts[i - 1]       # the seven other axes stand: x y z alone
+        g.n_axes = 3
+        g.start[0] = prev.ce[0]; g.start[1] = prev.ce[1]; g.start[2] = prev.ce[2]
+    else:
+        g.n_axes = 10
+        part_calc_start(prog, i, g.start)
+        part_end(prog, p, g.end)
+    g.end[0] = p.ce[0]; g.end[1] = p.ce[1]; g.end[2] = p.ce[2]
+    g.arc = ((p.func == 2 or p.func == 3) and p.radius > 0
+             and plane_axes(p.plane, &g.first, &g.second, &g.normal))
+    if not g.arc:
+        for k in range(g.n_axes):
+            d = g.end[k] - g.start[k]
+            rest += d * d
+        g.length = sqrt(rest)
+        return
+    g.radius = p.radius
+    g.centre[0] = p.cc[g.first]
+    g.centre[1] = p.cc[g.second]
+    g.sweep = _arc_turn(g.start[g.first] - g.centre[0], g.start[g.second] - g.centre[1],
+                        g.end[g.first] - g.centre[0], g.end[g.second] - g.centre[1], p.func == 3)
+    for k in range(g.n_axes):
+        if k != g.first and k != g.second:
+            d = g.end[k] - g.start[k]
+            rest += d * d
+    g.lead = sqrt(rest) / fabs(g.sweep)
+    g.length = fabs(g.sweep) * sqrt(g.radius * g.radius + g.lead * g.lead)
+
+
+cdef void segment_tangent(const Segment *g, double u, double *t) noexcept nogil:
+    """Unit tangent (ten axes) at the fraction u (0 start, 1 end) of the part;
+    zeros for a part without length."""
+    cdef double theta, sgn, norm, turn, radial_a, radial_b, rho, inv
+    cdef int k
+    if g.length <= 0.0:
+        for k in range(10):
+            t[k] = 0.0
+        return
+    for k in range(g.n_axes, 10):
+        t[k] = 0.0
+    if not g.arc:
+        inv = 1.0 / g.length
+        for k in range(g.n_axes):
+            t[k] = (g.end[k] - g.start[k]) * inv
+        return
+    sgn = 1.0 if g.sweep > 0 else -1.0
+    turn = fabs(g.sweep)
+    norm = sqrt(g.radius * g.radius + g.lead * g.lead)
+    inv = 1.0 / (turn * norm)
+    for k in range(g.n_axes):
+        t[k] = (g.end[k] - g.start[k]) * inv
+    if u == 0.0 or u == 1.0:        # the radius to the end point gives cos and sin
+        radial_a = (g.start[g.first] if u == 0.0 else g.end[g.first]) - g.centre[0]
+        radial_b = (g.start[g.second] if u == 0.0 else g.end[g.second]) - g.centre[1]
+        rho = sqrt(radial_a * radial_a + radial_b * radial_b)
+        if rho > 0.0:
+            t[g.first] = -sgn * g.radius * (radial_b / rho) / norm
+            t[g.second] = sgn * g.radius * (radial_a / rho) / norm
+            return
+    theta = atan2(g.start[g.second] - g.centre[1], g.start[g.first] - g.centre[0]) + u * g.sweep
+    t[g.first] = -sgn * g.radius * sin(theta) / norm
+    t[g.second] = sgn * g.radius * cos(theta) / norm
+
+
+cdef inline bint _covers(double lo, double hi, double phase) noexcept nogil:
+    """Some angle phase + k*pi lies in [lo, hi]."""
+    return phase + ceil((lo - phase) / M_PI) * M_PI <= hi
+
+
+cdef void segment_axis_reach(const Segment *g, double *reach) noexcept nogil:
+    """reach[k] = the largest |t_k| over the whole part (t the unit tangent): the
+    share of the path speed (and tangential acceleration) axis k takes at most."""
+    cdef double lo, hi, norm, turn, angle0
+    cdef int k
+    if g.length <= 0.0:
+        for k in range(10):
+            reach[k] = 0.0
+        return
+    for k in range(g.n_axes, 10):
+        reach[k] = 0.0
+    if not g.arc:
+        for k in range(g.n_axes):
+            reach[k] = fabs(g.end[k] - g.start[k]) / g.length
+        return
+    turn = fabs(g.sweep)
+    norm = sqrt(g.radius * g.radius + g.lead * g.lead)
+    for k in range(g.n_axes):
+        reach[k] = fabs(g.end[k] - g.start[k]) / turn / norm
+    angle0 = atan2(g.start[g.second] - g.centre[1], g.start[g.first] - g.centre[0])
+    lo = angle0 if g.sweep > 0 else angle0 + g.sweep
+    hi = lo + turn
+    # first axis goes with |sin|, second with |cos| of the polar angle
+    reach[g.first] = g.radius / norm * (1.0 if _covers(lo, hi, 0.5 * M_PI)
+                                        else max(fabs(sin(lo)), fabs(sin(hi))))
+    reach[g.second] = g.radius / norm * (1.0 if _covers(lo, hi, 0.0)
+                                         else max(fabs(cos(lo)), fabs(cos(hi))))
+
+
+cdef double segment_feed_length(const Segment *g, uint32_t ignored) noexcept nogil:
+    """Length over the axes not in `ignored` (bit k = axis k), the length a programmed
+    feed is measured on. An arc whose plane axis is ignored counts whole."""
+    cdef double rest = 0.0, d
+    cdef int k
+    if ignored == 0:
+        return g.length
+    if g.arc and ((ignored >> g.first) & 1 or (ignored >> g.second) & 1):
+        return g.length
+    for k in range(g.n_axes):
+        if (ignored >> k) & 1:
+            continue
+        if g.arc and (k == g.first or k == g.second):
+            continue
+        d = g.end[k] - g.start[k]
+        rest += d * d
+    if g.arc:
+        d = fabs(g.sweep) * g.radius
+        return sqrt(d * d + rest)
+    return sqrt(rest)
