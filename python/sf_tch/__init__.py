@@ -8,6 +8,7 @@ this package ships it and adds a thin Pythonic layer over ``ctypes``:
 - :mod:`sf_tch.library` -- the library loaded once, with typed prototypes;
 - :mod:`sf_tch.core` -- :class:`Core`, a Pythonic handle of one CNC core.
 """
+import os
 from pathlib import Path
 
 __version__ = "0.1.0"
@@ -16,7 +17,10 @@ LIBRARY_NAME = "libSF_TCh.so"
 
 
 def library_path() -> str:
-    """Absolute path of the installed ``libSF_TCh.so``."""
+    """Absolute path of the installed ``libSF_TCh.so``, or the library that the
+    environment variable ``SF_TCH_LIBRARY`` names (e.g. a sanitized build)."""
+    if os.environ.get("SF_TCH_LIBRARY"):
+        return os.environ["SF_TCH_LIBRARY"]
     path = Path(__file__).resolve().parent / LIBRARY_NAME
     if not path.exists():
         raise FileNotFoundError(f"{LIBRARY_NAME} is not installed next to {__file__}; run 'pip install .'")
