@@ -4,15 +4,19 @@ written to be imported by the subprocess that each of those tests runs in, since
 defect of the runtime may crash or hang the process.
 
 ``script(body)`` builds such a subprocess's source: ``faulthandler`` dumps every
-thread's stack and exits if the body hangs, and ``lib``, ``abi`` and this module's
-names are predefined."""
+thread's stack and exits if the body hangs, ``lib``, ``abi`` and this module's names
+are predefined, and every core is destroyed at exit as a host ends (its threads
+joined: ThreadSanitizer reports a thread that nobody joined)."""
 import ctypes
 import os
+import signal
 import tempfile
 import textwrap
 import threading
 import time
 from pathlib import Path
+
+import pytest
 
 from sf_tch import abi, library
 
@@ -22,7 +26,21 @@ TESTS_DIR = str(Path(__file__).resolve().parent)
 SQUARE = b"G1 X10 F1000\nG1 Y10\nG1 X0\nG1 Y0\nM30\n"
 SQUARE_END = (0.0, 0.0)
 
-FINAL_STATUSES = (0, -1, -10, -11, -20, -21, -30)
+# Sanitized libraries run several times slower (tests/test_sanitizers.py sets it).
+TIME_SCALE = float(os.environ.get("SF_TCH_TIME_SCALE", "1"))
+
+
+def run_script(run_python, body: str, seconds: float, what: str = "subprocess") -> str:
+    """Runs body (see script) in a fresh interpreter; its stdout, or the test fails
+    with how the process ended (signal, exit status, hang) and its output."""
+    hang_after = seconds * TIME_SCALE
+    proc = run_python(script(body, hang_after), timeout=hang_after + 30, check=False)
+    if proc.returncode != 0:
+        how = (f"killed by {signal.Signals(-proc.returncode).name}" if proc.returncode < 0
+               else f"exit status {proc.returncode}")
+        pytest.fail(f"{what} {how}\n--- stdout\n{proc.stdout[-4000:]}\n--- stderr\n{proc.stderr[-8000:]}",
+                    pytrace=False)
+    return proc.stdout
 
 
 def script(body: str, hang_after: float) -> str:
@@ -30,14 +48,20 @@ def script(body: str, hang_after: float) -> str:
     Python stack is printed and the process exits with status 1 (a hang reported as
     a failure, not a pytest timeout)."""
     return (f"import sys\nsys.path.insert(0, {TESTS_DIR!r})\n"
-            "import faulthandler\nfaulthandler.enable()\n"
+            "import atexit, faulthandler\nfaulthandler.enable()\n"
             f"faulthandler.dump_traceback_later({hang_after!r}, exit=True)\n"
             "from runtime_host import *\n"
-            "lib = load(LIB_PATH)\n" + textwrap.dedent(body))
+            "lib = load(LIB_PATH)\n"
+            "atexit.register(destroy_all, lib)\n" + textwrap.dedent(body))
 
 
 def load(path):
     return library.load(path)
+
+
+def destroy_all(lib) -> None:
+    for core in range(abi.TOOL_CHAIN_MAX_CORES):
+        lib.ToolChainCore_DestroyCNC(core)
 
 
 def thread_count() -> int:

@@ -6,29 +6,14 @@ the file table's recycling and where a run starts.
 
 Each test runs in a fresh subprocess (runtime_host.script): a defect may crash the
 process or hang it, and is then reported as a failure with every thread's stack."""
-import signal
-
 import pytest
 
-from runtime_host import script
-
-# Sanitized libraries run several times slower (tests/test_sanitizers.py sets it).
-import os
-TIME_SCALE = float(os.environ.get("SF_TCH_TIME_SCALE", "1"))
+from runtime_host import run_script
 
 
 @pytest.fixture
 def run(run_python):
-    def run_body(body: str, seconds: float = 10.0) -> str:
-        hang_after = seconds * TIME_SCALE
-        proc = run_python(script(body, hang_after), timeout=hang_after + 30, check=False)
-        if proc.returncode != 0:
-            how = (f"killed by {signal.Signals(-proc.returncode).name}" if proc.returncode < 0
-                   else f"exit status {proc.returncode}")
-            pytest.fail(f"subprocess {how}\n--- stdout\n{proc.stdout[-4000:]}\n--- stderr\n{proc.stderr[-8000:]}",
-                        pytrace=False)
-        return proc.stdout
-    return run_body
+    return lambda body, seconds=10.0: run_script(run_python, body, seconds)
 
 
 # ------------------------------------------------------------------ ending calls from two host threads
