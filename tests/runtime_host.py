@@ -68,6 +68,16 @@ def thread_count() -> int:
     return len(os.listdir("/proc/self/task"))
 
 
+def assert_threads_back(base: int, what: str = "before") -> None:
+    """The process has base threads again. A thread that was just joined may still be
+    leaving the kernel (its /proc entry outlives the join by microseconds): polled
+    for up to a second before failing."""
+    deadline = time.monotonic() + 1.0
+    while thread_count() != base and time.monotonic() < deadline:
+        time.sleep(0.005)
+    assert thread_count() == base, f"{thread_count()} threads, {base} {what}"
+
+
 def vm_size_kb() -> int:
     with open("/proc/self/status") as status:
         for line in status:

@@ -55,7 +55,7 @@ def test_second_ending_call_waits_until_the_worker_is_joined(run, second):
         time.sleep(0.1)
         assert len(driver.parts) == parts_at_return, "a callback was called after the ending calls returned"
         assert lib.ToolChainCore_StatusCNC(0) == 0
-        assert thread_count() == base, f"threads {{thread_count()}}, {{base}} before the run"
+        assert_threads_back(base)
         driver.remove()
         check_usable(lib, 0)
     """)
@@ -104,7 +104,7 @@ def test_resets_and_compilations_from_three_threads_never_run_two_workers(run):
         assert seen["compiled"] > 0
         assert seen["max_library_threads"] <= 2, f"{seen['max_library_threads']} library threads at once"
         lib.ToolChainCore_DestroyCNC(0)
-        assert thread_count() == base, f"threads {thread_count()}, {base} before"
+        assert_threads_back(base)
         check_usable(lib, 0)
     """, seconds=20)
 
@@ -128,7 +128,7 @@ def test_no_callback_after_destroy_returned(run):
         time.sleep(0.2)
         assert state["late"] == 0, f"{state['late']} callbacks after DestroyCNC returned"
         assert lib.ToolChainCore_StatusCNC(0) == 0
-        assert thread_count() == base
+        assert_threads_back(base)
     """)
 
 
@@ -187,7 +187,7 @@ def test_destroy_from_a_callback_ends_the_activity(run, slot):
         assert status == 0, f"status {{status}} after DestroyCNC from the callback"
         time.sleep(0.05)
         assert lib.ToolChainCore_StatusCNC(0) == 0
-        assert thread_count() == base, f"threads {{thread_count()}}, {{base}} before"
+        assert_threads_back(base)
         set_callback(lib, 0, abi.{number}, None)
         set_params(lib, 0, absMode=1, correctionStrategy=0)
         check_usable(lib, 0)
@@ -221,7 +221,7 @@ def test_ending_call_from_driver_gfunc_ends_the_run_after_the_callback(run, call
         time.sleep(0.05)
         assert len(driver.parts) == 2, f"parts delivered after {call} in the second: {{driver.parts}}"
         assert len(driver.threads) == 1
-        assert thread_count() == base, f"threads {{thread_count()}}, {{base}} before"
+        assert_threads_back(base)
         driver.remove()
         check_usable(lib, 0)
     """)
@@ -255,7 +255,7 @@ def test_starting_calls_from_a_callback_are_refused(run, call, tmp_path):
         assert status == -10, f"the run after the refused call ended in status {{status}}"
         assert len(driver.g_parts) == 4 and len(driver.threads) == 1, driver.parts
         assert last_error(lib, 0) is None, "the refused call replaced the program's error"
-        assert thread_count() == base
+        assert_threads_back(base)
         driver.remove()
         check_usable(lib, 0)
     """)
@@ -280,7 +280,7 @@ def test_reset_and_restart_from_a_callback_never_start_a_second_worker(run):
         assert results == [(0, -1)], results
         assert status == -30 and lib.ToolChainCore_StatusCNC(0) == -30
         assert len(driver.parts) == 2 and len(driver.threads) == 1, driver.parts
-        assert thread_count() == base
+        assert_threads_back(base)
     """)
 
 
@@ -306,7 +306,7 @@ def test_restarts_from_callbacks_leave_no_thread(run):
             time.sleep(0.001)
             assert lib.ToolChainCore_StatusCNC(0) not in (1, 10), "a second run started from the callback"
         grown_mb = (vm_size_kb() - base_vm) / 1024
-        assert thread_count() == base_threads, f"threads {thread_count()}, {base_threads} before 100 runs"
+        assert_threads_back(base_threads, "before 100 runs")
         assert grown_mb < 64, f"address space grew by {grown_mb:.0f} MB in 100 runs"
     """, seconds=30)
 
@@ -321,8 +321,8 @@ def test_a_refused_call_does_not_replace_the_programs_error(run):
         assert last_call_error(lib, 0) is None                   # never failed
         assert compile_wait(lib, 0, SQUARE) is None
         assert lib.ToolChainCore_StopCNCEx(0, None) == -1         # nothing runs
-        assert last_error(lib, 0) is None, f"GetLastError after a refused StopCNCEx: {last_error(lib, 0)}"
         refused = last_call_error(lib, 0)
+        assert last_error(lib, 0) is None, f"GetLastError after a refused StopCNCEx: {last_error(lib, 0)}"
         assert refused is not None and "?" not in refused[1], refused
         assert seen and "?" not in seen[-1], seen               # the host saw it too
         assert lib.ToolChainCore_ResetCNC(0, 0, 0, None) == 0
@@ -334,8 +334,8 @@ def test_a_refused_call_does_not_replace_the_programs_error(run):
         program_error = last_error(lib, 0)
         assert program_error is not None and program_error[1] == 2
         assert lib.ToolChainCore_StartCNCEx(0, 10, None) == -1   # nothing compiled
-        assert last_error(lib, 0) == program_error
         refused = last_call_error(lib, 0)
+        assert last_error(lib, 0) == program_error
         assert refused is not None and "?" not in refused[1], refused
     """)
 

@@ -178,7 +178,7 @@ for core in CORES:
     assert status == -10 and len(driver.g_parts) == 2500, (status, len(driver.g_parts))
     assert driver.g_parts[-1][4][:2] == ((2499 * 7 + 3) % 50, (2499 * 13 + 3) % 70), driver.g_parts[-1]
     assert lib.ToolChainCore_DestroyCNC(core) == 0
-assert thread_count() == base_threads, f"threads {{thread_count()}}, {{base_threads}} before the storm"
+assert_threads_back(base_threads, "before the storm")
 """
 
 
