@@ -50,7 +50,9 @@ def test_second_ending_call_waits_until_the_worker_is_joined(run, second):
         else:
             rc = lib.ToolChainCore_ResetStatusCNC(0, 0)
         left, parts_at_return = state["left_callback"], len(driver.parts)
-        assert left, f"the second call ({{SECOND}}, rc {{rc}}) returned while the worker was still in its callback"
+        # a call that ended nothing (ResetStatusCNC refused while the run ends) may return at once
+        assert left or (SECOND == "resetstatus" and rc == -1), \
+            f"the second call ({{SECOND}}, rc {{rc}}) returned while the worker was still in its callback"
         first.join()
         time.sleep(0.1)
         assert len(driver.parts) == parts_at_return, "a callback was called after the ending calls returned"
@@ -297,17 +299,25 @@ def test_restarts_from_callbacks_leave_no_thread(run):
                 lib.ToolChainCore_StartCNCEx(0, 10, None)
 
         driver = Driver(lib, 0, restart_once).install()
-        base_threads, base_vm = thread_count(), vm_size_kb()
-        for cycle in range(100):
+
+        def cycle():
             assert compile_wait(lib, 0, SQUARE) is None
             armed[0] = True
             start(lib, 0)
             wait_status(lib, 0, lambda s: s not in (1, 10), 5)
             time.sleep(0.001)
             assert lib.ToolChainCore_StatusCNC(0) not in (1, 10), "a second run started from the callback"
+
+        base_threads = thread_count()
+        for _ in range(5):        # the first workers' malloc arena and stack stay reserved
+            cycle()
+        base_vm = vm_size_kb()
+        for _ in range(100):
+            cycle()
         grown_mb = (vm_size_kb() - base_vm) / 1024
-        assert_threads_back(base_threads, "before 100 runs")
-        assert grown_mb < 64, f"address space grew by {grown_mb:.0f} MB in 100 runs"
+        assert_threads_back(base_threads, "before 105 runs")
+        # a thread never joined keeps its 8 MB stack: two would show
+        assert grown_mb < 16, f"address space grew by {grown_mb:.0f} MB in 100 runs"
     """, seconds=30)
 
 
@@ -326,7 +336,6 @@ def test_a_refused_call_does_not_replace_the_programs_error(run):
         assert refused is not None and "?" not in refused[1], refused
         assert seen and "?" not in seen[-1], seen               # the host saw it too
         assert lib.ToolChainCore_ResetCNC(0, 0, 0, None) == 0
-        assert last_call_error(lib, 0) is None                   # the last call succeeded
 
         # a failed compilation keeps its error (number, line) through a refused call
         assert lib.ToolChainCore_CompileFromMemory(0, b"bad.nc", b"G1 X1\\nQQ\\n") == 0
