@@ -26,6 +26,7 @@ def test_second_ending_call_waits_until_the_worker_is_joined(run, second):
     run(f"""
         SECOND = {second!r}
         load_ini(lib, 0)
+        base = thread_count()      # before any worker (one that ended may still be exiting)
         assert compile_wait(lib, 0, lines_program(2000)) is None
         state = {{"left_callback": False}}
         inside = threading.Event()
@@ -37,7 +38,6 @@ def test_second_ending_call_waits_until_the_worker_is_joined(run, second):
                 state["left_callback"] = True
 
         driver = Driver(lib, 0, slow_fifth).install()
-        base = thread_count()
         start(lib, 0)
         assert inside.wait(10), "the simulation did not reach the fifth part"
         first = threading.Thread(target=lambda: lib.ToolChainCore_DestroyCNC(0))
@@ -114,6 +114,7 @@ def test_resets_and_compilations_from_three_threads_never_run_two_workers(run):
 def test_no_callback_after_destroy_returned(run):
     run("""
         load_ini(lib, 0)
+        base = thread_count()      # before any worker (one that ended may still be exiting)
         assert compile_wait(lib, 0, lines_program(3000)) is None
         state = {"destroyed": False, "late": 0}
 
@@ -122,7 +123,6 @@ def test_no_callback_after_destroy_returned(run):
                 state["late"] += 1
 
         driver = Driver(lib, 0, after_destroy).install()
-        base = thread_count()
         start(lib, 0)
         wait_status(lib, 0, lambda s: len(driver.parts) >= 100 or s != 10)
         assert lib.ToolChainCore_DestroyCNC(0) == 0
@@ -204,6 +204,7 @@ def test_destroy_from_a_callback_ends_the_activity(run, slot):
 def test_ending_call_from_driver_gfunc_ends_the_run_after_the_callback(run, call, regime, expected):
     run(f"""
         load_ini(lib, 0)
+        base = thread_count()      # before any worker (one that ended may still be exiting)
         assert compile_wait(lib, 0, SQUARE) is None
         calls = {{"DestroyCNC": lambda: lib.ToolChainCore_DestroyCNC(0),
                  "ResetCNC": lambda: lib.ToolChainCore_ResetCNC(0, 0, 0, None),
@@ -215,7 +216,6 @@ def test_ending_call_from_driver_gfunc_ends_the_run_after_the_callback(run, call
                 fired.append(calls[{call!r}]())
 
         driver = Driver(lib, 0, on_second).install()
-        base = thread_count()
         start(lib, 0, {regime})
         status = wait_status(lib, 0, lambda s: s != {regime}, 5)
         assert fired == [0], fired
@@ -235,6 +235,7 @@ def test_starting_calls_from_a_callback_are_refused(run, call, tmp_path):
     program.write_bytes(b"G1 X5\n")
     run(f"""
         load_ini(lib, 0)
+        base = thread_count()      # before any worker (one that ended may still be exiting)
         assert compile_wait(lib, 0, SQUARE) is None
         calls = {{"StartCNCEx": lambda: lib.ToolChainCore_StartCNCEx(0, 10, None),
                  "CompileFromMemory": lambda: lib.ToolChainCore_CompileFromMemory(0, b"x.nc", b"G1 X5\\n"),
@@ -247,7 +248,6 @@ def test_starting_calls_from_a_callback_are_refused(run, call, tmp_path):
                 refused.append((calls[{call!r}](), last_call_error(lib, 0)))
 
         driver = Driver(lib, 0, on_second).install()
-        base = thread_count()
         start(lib, 0)
         status = wait_status(lib, 0, lambda s: s != 10, 5)
         (rc, error), = refused
@@ -267,6 +267,7 @@ def test_reset_and_restart_from_a_callback_never_start_a_second_worker(run):
     # reentry.py restart: a second worker ran beside the first (8 parts instead of 4).
     run("""
         load_ini(lib, 0)
+        base = thread_count()      # before any worker (one that ended may still be exiting)
         assert compile_wait(lib, 0, SQUARE) is None
         results = []
 
@@ -275,7 +276,6 @@ def test_reset_and_restart_from_a_callback_never_start_a_second_worker(run):
                 results.append((lib.ToolChainCore_ResetCNC(0, 0, 0, None), lib.ToolChainCore_StartCNCEx(0, 10, None)))
 
         driver = Driver(lib, 0, on_second).install()
-        base = thread_count()
         start(lib, 0)
         status = wait_status(lib, 0, lambda s: s != 10, 5)
         time.sleep(0.1)

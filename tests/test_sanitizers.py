@@ -20,6 +20,7 @@ import pytest
 pytestmark = pytest.mark.slow
 
 ROOT = Path(__file__).resolve().parents[1]
+TSAN_SUPPRESSIONS = Path(__file__).resolve().parent / "tsan.supp"    # each one documented there
 
 
 def sources_digest() -> str:
@@ -97,9 +98,10 @@ def test_suite_under_address_and_undefined_behaviour_sanitizers(cache_dir, tmp_p
 def test_runtime_and_stress_under_thread_sanitizer(cache_dir, tmp_path):
     library = build_library(cache_dir, "thread")
     reports = tmp_path / "tsan"
-    # no suppressions: the uninstrumented interpreter's memory accesses are invisible to
-    # TSan and its locks are the intercepted pthread ones, so every report is ours
-    options = {"TSAN_OPTIONS": f"halt_on_error=1:second_deadlock_stack=1:log_path={reports}"}
+    # the uninstrumented interpreter's memory accesses are invisible to TSan and its locks
+    # are the intercepted pthread ones: the suppressions are for glibc only
+    options = {"TSAN_OPTIONS": f"halt_on_error=1:second_deadlock_stack=1:suppressions={TSAN_SUPPRESSIONS}"
+                               f":log_path={reports}"}
     out = run_suite(library, [runtime("libtsan.so")], options,
                     ["tests/test_runtime.py", "tests/test_stress.py"], reports, time_scale=6, timeout=900)
     assert " passed" in out, out[-2000:]
