@@ -11,6 +11,7 @@ sanitizers write their reports to files (log_path), so that a report from any pr
 of the run, even one whose exit status a test ignores, fails the test."""
 import hashlib
 import os
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -40,10 +41,13 @@ def tool(name: str) -> str:
 
 
 def build_library(cache_dir: Path, sanitize: str) -> Path:
-    build = cache_dir / f"{sanitize.replace(',', '-')}-{sources_digest()}"
+    kind = sanitize.replace(",", "-")
+    build = cache_dir / f"{kind}-{sources_digest()}"
     library = build / "libSF_TCh.so"
     if library.exists():
         return library
+    for stale in cache_dir.glob(f"{kind}-*"):     # builds of older sources
+        shutil.rmtree(stale, ignore_errors=True)
     build.mkdir(parents=True, exist_ok=True)
     configure = [tool("cmake"), "-S", str(ROOT), "-B", str(build), "-G", "Ninja",
                  f"-DCMAKE_MAKE_PROGRAM={tool('ninja')}", f"-DPython_EXECUTABLE={sys.executable}",
