@@ -73,7 +73,7 @@ def test_resets_and_compilations_from_three_threads_never_run_two_workers(run):
         code = lines_program(3000)
         stop = threading.Event()
         host_threads = 3
-        seen = {"compiled": 0, "max_library_threads": 0}
+        seen = {"compiled": 0, "max_library_threads": 0, "resets_refused": 0}
         base = thread_count()
 
         def count():
@@ -85,7 +85,8 @@ def test_resets_and_compilations_from_three_threads_never_run_two_workers(run):
 
         def resetter():
             while not stop.is_set():
-                assert lib.ToolChainCore_ResetCNC(0, 0, 0, None) == 0
+                if lib.ToolChainCore_ResetCNC(0, 0, 0, None) != 0:
+                    seen["resets_refused"] += 1
 
         def compiler():
             while not stop.is_set():
@@ -103,7 +104,7 @@ def test_resets_and_compilations_from_three_threads_never_run_two_workers(run):
             t.join()
         wait_status(lib, 0, lambda s: s != 1)
         set_callback(lib, 0, abi.CB_SET_STATUS_BAR_TEXT, None)
-        assert seen["compiled"] > 0
+        assert seen["compiled"] > 0 and seen["resets_refused"] == 0, seen
         assert seen["max_library_threads"] <= 2, f"{seen['max_library_threads']} library threads at once"
         lib.ToolChainCore_DestroyCNC(0)
         assert_threads_back(base)
