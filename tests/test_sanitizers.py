@@ -18,6 +18,8 @@ from pathlib import Path
 
 import pytest
 
+import sf_tch
+
 pytestmark = pytest.mark.slow
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -52,6 +54,11 @@ def build_library(cache_dir: Path, sanitize: str) -> Path:
     configure = [tool("cmake"), "-S", str(ROOT), "-B", str(build), "-G", "Ninja",
                  f"-DCMAKE_MAKE_PROGRAM={tool('ninja')}", f"-DPython_EXECUTABLE={sys.executable}",
                  "-DCMAKE_BUILD_TYPE=RelWithDebInfo", f"-DSF_TCH_SANITIZE={sanitize}"]
+    # laid out as installed: the package's files beside the library
+    package = Path(sf_tch.__file__).resolve().parent
+    for name in ("data", "include"):
+        if not (build / name).exists():
+            (build / name).symlink_to(package / name, target_is_directory=True)
     for command in (configure, [tool("cmake"), "--build", str(build)]):
         proc = subprocess.run(command, capture_output=True, text=True, timeout=900)
         assert proc.returncode == 0, f"{' '.join(command)}\n{proc.stdout[-4000:]}\n{proc.stderr[-4000:]}"

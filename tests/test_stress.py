@@ -75,11 +75,10 @@ def reenter(core):
         rc = lib.ToolChainCore_StartCNCEx(core, 10, None)
         assert rc == -1, f"StartCNCEx from DriverGFunc -> {{rc}}"
     elif roll < 0.05:
-        count("cb GetPos"); lib.ToolChainCore_GetPos(core, 0, ctypes.byref(cb_pos), None)
+        count("cb GetPos"); lib.ToolChainCore_GetPos(core, 0, ctypes.byref(abi.SIMPLE_GM_PARAMS()), None)
 
 
 callback_rng = random.Random(SEED)
-cb_pos = abi.SIMPLE_GM_PARAMS()
 g_callback = abi.DriverGFunc(on_g)
 m_callback = abi.DriverMFunc(lambda core, part: 0)      # kept alive for the whole process
 for core in CORES:
