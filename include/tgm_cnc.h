@@ -598,7 +598,9 @@ TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GetLastCallError(uint32_t
  * characters or more: -1. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_FileToIdx(uint32_t intIdx, TGM_LPCTSTR fileName);
 
-/* Inverse of FileToIdx; special and unknown indexes give the special names. Never NULL. */
+/* Inverse of FileToIdx; special and unknown indexes give the special names. Never NULL;
+ * the text is never rewritten (also when the entry is recycled) and stays valid until
+ * the library is unloaded. */
 TOOLCHAIN_API TGM_LPCTSTR TOOLCHAIN_CALLTYPE ToolChainCore_IdxToFile(uint32_t intIdx, int32_t fileIdx);
 
 /* Start/end/min/max of the compiled program (arcs with their true extremes). -1 NULL or

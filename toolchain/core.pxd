@@ -2,8 +2,9 @@
 # touch it. docs/threading.md draws the lifecycle; in short:
 #   - `status`, `cancel` and `stop` are int32 read and written atomically: StatusCNC
 #     polls `status` without any lock;
-#   - `snap` (the GetPos view) is a seqlock: its writers take `snap.write_lock`,
-#     its readers never wait;
+#   - `snap` (the GetPos view) is a double-buffered seqlock: its writers take
+#     `snap.write_lock`, its readers never wait, not even for a writer that was
+#     preempted in the middle of a copy;
 #   - `lock` guards everything else. It is held only for copies and pointer swaps:
 #     never during file I/O, a pass over the parts, a callback or a join;
 #   - one activity (compilation or run) at a time, run by one worker thread; exactly
@@ -45,13 +46,26 @@ ctypedef struct SnapshotData:
     SIMPLE_GM_PARAMS pos
     GM_PARAMS_ENHANCED enh
 
-ctypedef struct Snapshot:
-    uint32_t seq            # odd while a writer writes
-    pthread_mutex_t write_lock
+ctypedef struct SnapshotSlot:
+    uint32_t seq            # odd while a writer writes this slot
     SnapshotData data
 
+ctypedef struct Snapshot:
+    uint32_t current        # the slot readers read; a writer writes the other one
+    pthread_mutex_t write_lock
+    SnapshotSlot slots[2]
+
+# Every distinct file name a core has been given, each stored once and never moved
+# or rewritten: the pointer IdxToFile returns stays valid while a host holds it
+# (runtime/file_names.pyx).
+cdef struct NameChunk:
+    NameChunk *next
+    size_t used
+    char text[65520]
+
 ctypedef struct FileTable:
-    char names[64][252]
+    const char *names[64]   # into `store`
+    NameChunk *store
     double run_times[64]
     uint64_t used[64]       # last use (FileToIdx, compile): the oldest unreferenced entry is recycled
     uint64_t clock

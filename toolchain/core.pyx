@@ -54,7 +54,6 @@ cdef void _init_cores() noexcept nogil:
         core.breakpoint_file = -1
         core.compile_files[0] = core.compile_files[1] = core.compile_files[2] = -1
         snapshot_init(&core.snap)
-        core.snap.data.enh.m_relFeed = 1.0
     g_core_mode = 2
 
 
@@ -127,63 +126,6 @@ cdef void core_fail_with(Core *core, const ErrorInfo *err) noexcept nogil:
     core.call_error = err[0]
     pthread_mutex_unlock(&core.lock)
     core_report_error(core, err)
-
-
-# ------------------------------------------------------------------ files
-
-cdef bint _file_referenced(Core *core, int32_t idx) noexcept nogil:
-    """Under core.lock: the loaded program or the compilation that runs uses entry idx."""
-    cdef int k
-    for k in range(3):
-        if core.compile_files[k] == idx:
-            return True
-        if core.program != NULL and core.program.files[k] == idx:
-            return True
-    return False
-
-
-cdef int32_t core_file_to_idx(Core *core, const char *name) noexcept nogil:
-    """FileToIdx: the entry of `name`, a new one, or (table full) the least recently
-    used entry that no loaded program references, recycled; -1 when none is free."""
-    cdef FileTable *t = &core.files
-    cdef int32_t i, found = -1
-    if name == NULL or name[0] == 0 or strlen(name) >= <size_t>TOOL_CHAIN_MAX_FILE_NAME:
-        return -1
-    if strcmp(name, "__unknown__") == 0: return -1
-    if strcmp(name, "__end__") == 0: return -2
-    if strcmp(name, "__stop__") == 0: return -3
-    if strcmp(name, "__exec__") == 0: return -4
-    pthread_mutex_lock(&core.lock)
-    for i in range(t.n):
-        if strcmp(t.names[i], name) == 0:
-            found = i
-            break
-    if found < 0:
-        if t.n < MAX_FILES:
-            found = t.n
-            t.n += 1
-        else:
-            for i in range(t.n):
-                if not _file_referenced(core, i) and (found < 0 or t.used[i] < t.used[found]):
-                    found = i
-        if found >= 0:
-            strncpy(t.names[found], name, TOOL_CHAIN_MAX_FILE_NAME - 1)
-            t.names[found][TOOL_CHAIN_MAX_FILE_NAME - 1] = 0
-            t.run_times[found] = -1.0
-    if found >= 0:
-        t.clock += 1
-        t.used[found] = t.clock
-    pthread_mutex_unlock(&core.lock)
-    return found
-
-
-cdef const char *core_idx_to_file(Core *core, int32_t idx) noexcept nogil:
-    if idx == -2: return "__end__"
-    if idx == -3: return "__stop__"
-    if idx == -4: return "__exec__"
-    if idx < 0 or idx >= core.files.n:
-        return "__unknown__"
-    return core.files.names[idx]
 
 
 # ------------------------------------------------------------------ the activity

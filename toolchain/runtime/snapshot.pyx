@@ -1,9 +1,12 @@
-# The GetPos view of a core as a seqlock: writers (the worker that moves the
-# position; an ending call once the worker is joined) serialise on write_lock and
-# make `seq` odd while they copy; a reader copies without any lock and retries while
-# a write overlapped. The copies go word by word through relaxed atomics, so the
-# overlap a reader retries is not a data race in the C memory model (ThreadSanitizer
-# agrees).
+# The GetPos view of a core: two slots, each a seqlock. Writers (the worker that
+# moves the position; an ending call once the worker is joined) serialise on
+# write_lock, copy into the slot readers are not directed to, then direct readers to
+# it. A reader copies the current slot without any lock and retries only if a writer
+# reused that slot meanwhile -- which needs a whole publication in between, so a writer
+# preempted in the middle of a copy never holds readers up (on 2 cores a seqlock with
+# one slot made GetPos wait a timeslice). The copies go word by word through relaxed
+# atomics, so the overlap a reader retries is not a data race in the C memory model
+# (ThreadSanitizer agrees).
 from libc.string cimport memset
 
 cdef extern from *:
@@ -27,6 +30,7 @@ cdef extern from *:
         __atomic_thread_fence(__ATOMIC_RELEASE);
     }
     static inline void tc_seq_end(unsigned *seq) { __atomic_store_n(seq, *seq + 1, __ATOMIC_RELEASE); }
+    static inline void tc_seq_store(unsigned *p, unsigned v) { __atomic_store_n(p, v, __ATOMIC_RELEASE); }
     static inline void tc_acquire_fence(void) { __atomic_thread_fence(__ATOMIC_ACQUIRE); }
     /* SnapshotData (SIMPLE_GM_PARAMS 616 + GM_PARAMS_ENHANCED 112 bytes) is copied
        in 8-byte words: tests/test_abi.py checks both sizes. */
@@ -36,31 +40,40 @@ cdef extern from *:
     uint32_t tc_seq_load(uint32_t *seq) nogil
     void tc_seq_begin(uint32_t *seq) nogil
     void tc_seq_end(uint32_t *seq) nogil
+    void tc_seq_store(uint32_t *p, uint32_t v) nogil
     void tc_acquire_fence() nogil
 
 cdef void snapshot_init(Snapshot *snap) noexcept nogil:
     memset(snap, 0, sizeof(Snapshot))
     pthread_mutex_init(&snap.write_lock, NULL)
-    snap.data.pos.m_fileIdx = -1
+    snap.slots[0].data.pos.m_fileIdx = -1
+    snap.slots[1].data.pos.m_fileIdx = -1
 
 
 cdef void snapshot_publish(Snapshot *snap, const SnapshotData *data) noexcept nogil:
+    cdef SnapshotSlot *slot
+    cdef uint32_t next_slot
     pthread_mutex_lock(&snap.write_lock)
-    tc_seq_begin(&snap.seq)
-    tc_snap_store(&snap.data, data, sizeof(SnapshotData))
-    tc_seq_end(&snap.seq)
+    next_slot = 1 - tc_seq_load(&snap.current)
+    slot = &snap.slots[next_slot]
+    tc_seq_begin(&slot.seq)
+    tc_snap_store(&slot.data, data, sizeof(SnapshotData))
+    tc_seq_end(&slot.seq)
+    tc_seq_store(&snap.current, next_slot)
     pthread_mutex_unlock(&snap.write_lock)
 
 
 cdef void snapshot_read(Snapshot *snap, SnapshotData *out) noexcept nogil:
-    """A consistent copy; never waits for a lock (a writer copies < 1 KB)."""
+    """A consistent copy of the last publication; never waits for a lock."""
+    cdef SnapshotSlot *slot
     cdef uint32_t before, after
     while True:
-        before = tc_seq_load(&snap.seq)
+        slot = &snap.slots[tc_seq_load(&snap.current)]
+        before = tc_seq_load(&slot.seq)
         if before & 1:
-            continue
-        tc_snap_load(out, &snap.data, sizeof(SnapshotData))
+            continue                # reused while we looked: `current` has moved on
+        tc_snap_load(out, &slot.data, sizeof(SnapshotData))
         tc_acquire_fence()
-        after = tc_seq_load(&snap.seq)
+        after = tc_seq_load(&slot.seq)
         if before == after:
             return

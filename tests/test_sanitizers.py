@@ -1,0 +1,118 @@
+"""The test suite against sanitized builds of the library (slow; CI runs them through
+the README's test command):
+
+- AddressSanitizer + UndefinedBehaviorSanitizer: every test module but this one;
+- ThreadSanitizer: the runtime and stress tests (test_runtime.py, test_stress.py).
+
+Each library is built once per source state (CMake option SF_TCH_SANITIZE, into
+pytest's cache directory), then a child pytest runs with SF_TCH_LIBRARY naming it and
+the sanitizer's runtime preloaded (the interpreter itself is not instrumented). The
+sanitizers write their reports to files (log_path), so that a report from any process
+of the run, even one whose exit status a test ignores, fails the test."""
+import hashlib
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+import sf_tch
+
+pytestmark = pytest.mark.slow
+
+ROOT = Path(__file__).resolve().parents[1]
+TSAN_SUPPRESSIONS = Path(__file__).resolve().parent / "tsan.supp"    # each one documented there
+
+
+def sources_digest() -> str:
+    digest = hashlib.sha256()
+    files = sorted([*ROOT.glob("toolchain/**/*.pyx"), *ROOT.glob("toolchain/**/*.pxd"),
+                    *ROOT.glob("include/*.h"), ROOT / "CMakeLists.txt"])
+    for path in files:
+        digest.update(str(path.relative_to(ROOT)).encode())
+        digest.update(path.read_bytes())
+    return digest.hexdigest()[:16]
+
+
+def tool(name: str) -> str:
+    """cmake / ninja of the test extra (next to the interpreter), else from PATH."""
+    beside = Path(sys.executable).parent / name
+    return str(beside) if beside.exists() else name
+
+
+def build_library(cache_dir: Path, sanitize: str) -> Path:
+    kind = sanitize.replace(",", "-")
+    build = cache_dir / f"{kind}-{sources_digest()}"
+    library = build / "libSF_TCh.so"
+    if library.exists():
+        return library
+    for stale in cache_dir.glob(f"{kind}-*"):     # builds of older sources
+        shutil.rmtree(stale, ignore_errors=True)
+    build.mkdir(parents=True, exist_ok=True)
+    configure = [tool("cmake"), "-S", str(ROOT), "-B", str(build), "-G", "Ninja",
+                 f"-DCMAKE_MAKE_PROGRAM={tool('ninja')}", f"-DPython_EXECUTABLE={sys.executable}",
+                 "-DCMAKE_BUILD_TYPE=RelWithDebInfo", f"-DSF_TCH_SANITIZE={sanitize}"]
+    # laid out as installed: the package's files beside the library
+    package = Path(sf_tch.__file__).resolve().parent
+    for name in ("data", "include"):
+        if not (build / name).exists():
+            (build / name).symlink_to(package / name, target_is_directory=True)
+    for command in (configure, [tool("cmake"), "--build", str(build)]):
+        proc = subprocess.run(command, capture_output=True, text=True, timeout=900)
+        assert proc.returncode == 0, f"{' '.join(command)}\n{proc.stdout[-4000:]}\n{proc.stderr[-4000:]}"
+    return library
+
+
+def runtime(name: str) -> str:
+    path = subprocess.run(["gcc", f"-print-file-name={name}"], capture_output=True, text=True).stdout.strip()
+    if not os.path.isabs(path):
+        pytest.skip(f"gcc does not know {name}")
+    return path
+
+
+@pytest.fixture(scope="module")
+def cache_dir(request) -> Path:
+    if os.environ.get("SF_TCH_LIBRARY"):
+        pytest.skip("already running against the library that SF_TCH_LIBRARY names")
+    return Path(request.config.cache.mkdir("sanitized-libraries"))
+
+
+def run_suite(library: Path, preload: list[str], options: dict, tests: list[str], reports: Path,
+              time_scale: int, timeout: float):
+    env = dict(os.environ, SF_TCH_LIBRARY=str(library), LD_PRELOAD=" ".join(preload),
+               SF_TCH_TIME_SCALE=str(time_scale), **options)
+    command = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-m", "slow or not slow",
+               "--ignore", str(Path(__file__)), *tests]
+    proc = subprocess.run(command, cwd=ROOT, env=env, capture_output=True, text=True, timeout=timeout)
+    found = sorted(reports.parent.glob(reports.name + "*"))
+    report_text = "\n".join(f"--- {path.name}\n{path.read_text(errors='replace')[:6000]}" for path in found[:5])
+    assert not found, f"{len(found)} sanitizer report(s):\n{report_text}\n--- pytest\n{proc.stdout[-3000:]}"
+    assert proc.returncode == 0, f"pytest under the sanitizer failed:\n{proc.stdout[-8000:]}\n{proc.stderr[-3000:]}"
+    return proc.stdout
+
+
+def test_suite_under_address_and_undefined_behaviour_sanitizers(cache_dir, tmp_path):
+    library = build_library(cache_dir, "address,undefined")
+    reports = tmp_path / "asan"
+    options = {
+        # CPython's own allocations are not freed at exit: leaks are not ours to judge
+        "ASAN_OPTIONS": f"detect_leaks=0:halt_on_error=1:abort_on_error=0:log_path={reports}",
+        "UBSAN_OPTIONS": f"halt_on_error=1:print_stacktrace=1:log_path={reports}",
+    }
+    out = run_suite(library, [runtime("libasan.so"), runtime("libubsan.so")], options, ["tests"], reports,
+                    time_scale=3, timeout=900)
+    assert " passed" in out, out[-2000:]
+
+
+def test_runtime_and_stress_under_thread_sanitizer(cache_dir, tmp_path):
+    library = build_library(cache_dir, "thread")
+    reports = tmp_path / "tsan"
+    # the uninstrumented interpreter's memory accesses are invisible to TSan and its locks
+    # are the intercepted pthread ones: the suppressions are for glibc only
+    options = {"TSAN_OPTIONS": f"halt_on_error=1:second_deadlock_stack=1:suppressions={TSAN_SUPPRESSIONS}"
+                               f":log_path={reports}"}
+    out = run_suite(library, [runtime("libtsan.so")], options,
+                    ["tests/test_runtime.py", "tests/test_stress.py"], reports, time_scale=6, timeout=900)
+    assert " passed" in out, out[-2000:]
