@@ -403,7 +403,7 @@ cdef void _r_classify(Regions *R, const Clearance *C, double r, size_t depth, do
         pt.s[0] = m[0]; pt.s[1] = m[1]; pt.e[0] = m[0]; pt.e[1] = m[1]
         pt.part = R.pc[u.piece].part
         _x_geometry(&pt)
-        u.valid = cl_gap(C, &pt, NULL, r, depth, slack) >= r - 0.5 * slack
+        u.valid = cl_gap(C, &pt, NULL, <size_t>-1, <size_t>-1, r, depth, slack, r - 0.5 * slack) >= r - 0.5 * slack
 
 
 cdef bint _r_link(Regions *R, size_t n_nodes) noexcept nogil:
@@ -559,7 +559,6 @@ cdef int regions_rebuild(CompState *S) noexcept nogil:
     r = fabs(d)
     orient = 1.0 if _r_contour_area(R) > 0 else -1.0
     # the contour of the whole chain for the distances
-    C.grow = r
     C.span = S.chain_last - S.chain_first + 1
     C.closed = True
     C.whole = True
