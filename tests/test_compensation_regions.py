@@ -100,8 +100,7 @@ def test_repro_contours_keep_the_radius(harness, name, mode):
     # the path is closed: it ends where it started
     idx = [k for k, p in enumerate(out) if p["comp"] != 40]
     if mode == 0:
-        assert np.allclose(out[idx[0]]["ce"][:2], out[idx[-1] - 0]["ce"][:2], atol=1e-9) or \
-            np.allclose(out[idx[0]]["ce"][:2], out[idx[-1]]["ce"][:2], atol=1e-6)
+        assert np.allclose(out[idx[0]]["ce"][:2], out[idx[-1]]["ce"][:2], atol=1e-6)
 
 
 def test_repro_warnings_name_the_lines_skipped(harness):
@@ -191,7 +190,9 @@ def _random_contours(count, seed):
 
 
 def _check_random(harness, cases):
-    refused = gouged = 0
+    """Every contour compiles with 0x80000 and keeps the radius; without it each one
+    keeps it or is error 504. Returns how many were refused without 0x80000."""
+    refused = 0
     for pts, r, g, mode in cases:
         m0, els = polygon_elements(pts)
         approach = (m0[0] + 0.3, m0[1] - 60.0)
@@ -209,7 +210,7 @@ def _check_random(harness, cases):
             refused += 1
         else:
             assert clearance(sampled_path(out, np.asarray(m0), step=0.02), contour) > r - TOL, (pts, r, g, mode)
-    return refused, gouged
+    return refused
 
 
 def test_random_stars_small(harness):
