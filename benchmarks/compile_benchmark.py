@@ -119,7 +119,8 @@ def write_program(path: Path, lines: int, seed: int = 1, head: str = "") -> None
         h = round(rnd.uniform(2, 20), 3)
         r = round(rnd.uniform(1, 5), 3)
         a = round(rnd.uniform(3, 30), 3)
-        q = round(rnd.uniform(1, 4), 3)
+        # the notch (a half circle of radius q below the top) stays inside the part
+        q = round(min(rnd.uniform(1, 4), 0.45 * (h + r)), 3)
         b = round(rnd.uniform(1, 10), 3)
         block = [
             f"N{n * 10} G1 X0 Y{h} F{rnd.randint(500, 3000)}",

@@ -155,15 +155,40 @@ def test_search_depth_limits_the_search(harness):
         check_split(harness, m0, els, 3.0, 41, strategy=REMOVE | depth)
 
 
-def test_start_inside_the_loop_is_an_error(harness):
+def check_rebuilt(harness, m0, els, r, g, strategy):
+    """The chain rebuilt from its regions: the tool path keeps r from the contour,
+    lies on shapely's offset and goes round a component of the largest area."""
+    out, err, warn = run(harness, m0, els, r, g, strategy)
+    assert err is None, (err, warn)
+    assert "part skipped" in warn
+    prog = programmed_polyline(m0, els)
+    inside = (signed_area(prog) > 0) == (g == 41)
+    shape = exact_offset(Polygon(prog), m0, els, r, inside)
+    path = tool_path(out, 2, len(out) - 2)
+    path = np.asarray(shapely.segmentize(LineString(path), 0.02).coords)
+    d_contour = shapely.distance(shapely.points(path), LineString(prog))
+    assert float(np.min(d_contour)) > r - TOL, f"gouges by {r - np.min(d_contour)}"
+    d_off = shapely.distance(shapely.points(path), shape.boundary)
+    assert float(np.max(d_off)) < TOL, f"path off the offset by {np.max(d_off)}"
+    comps = list(getattr(shape, "geoms", [shape]))
+    top = max(c.area for c in comps)
+    covered = []
+    for c in comps:
+        ring_pts = np.asarray(shapely.segmentize(c.exterior, 0.05).coords)
+        covered.append((float(np.max(shapely.distance(shapely.points(ring_pts), LineString(path)))), c.area))
+    assert any(d < TOL and area > top - 1e-6 for d, area in covered), covered
+    return out, shape
+
+
+def test_start_inside_the_loop_is_rebuilt(harness):
     # the contour starts on a wall of a notch narrower than the tool: the loop cut at
-    # the notch's mouth would keep the notch; the join of its walls stays: error 500
+    # the notch's mouth would keep the notch; with 0x80000 the chain is rebuilt from
+    # the region outside (the notch bridged), without it the gouge is error 504
     pts = [(1.5, 4), (1.5, -2), (-1.5, -2), (-1.5, 10), (-20, 10), (-20, -10), (20, -10), (20, 10), (1.5, 10)]
     m0 = (1.5, 7.0)
     els = [dict(func=1, e=p) for p in pts] + [dict(func=1, e=m0)]
     for strategy in (REMOVE, REMOVE | 0x10000):
-        out, err, _ = run(harness, m0, els, 2.0, 42, strategy)
-        assert err is not None and err["number"] == 500 and err["line"] == 4
+        check_rebuilt(harness, m0, els, 2.0, 42, strategy)
     out, err, _ = run(harness, m0, els, 2.0, 42, 0)
     assert err is not None and err["number"] == ERR_COMP_CROSSING
 
@@ -184,20 +209,20 @@ def test_a_contour_crossing_itself_is_no_loop(harness):
 
 @pytest.mark.parametrize("reverse", [False, True])
 @pytest.mark.parametrize("r", [2.5, 3.0, 4.0])
-def test_dumbbell_entered_in_the_neck_is_an_error(harness, reverse, r):
+def test_dumbbell_entered_in_the_neck_is_rebuilt(harness, reverse, r):
     # the chain starts in the bar: the loop cuts would keep the bar's offsets, which
-    # lie closer than r to the other side of the bar; error 504 on a bar line
+    # lie closer than r to the other side of the bar; 0x80000 rebuilds the chain round
+    # one of the squares (both as large), without it error 504
     pts = DUMBBELL[2:] + DUMBBELL[:2]       # the first edge is the bar's bottom
     m0, els = polygon_elements(pts)
     g = 41
     if reverse:
         m0, els = reverse_contour(m0, els)
         g = 42
-    out, err, warn = run(harness, m0, els, r, g, REMOVE)
-    assert err is not None and err["number"] == ERR_COMP_CROSSING, (err, warn)
-    # lines: 1 approach, 2 G41 block, 3 .. the contour: the bar is its first or last edge
-    assert err["line"] in (3, len(els) + 2)
-    assert "loop removed" in warn
+    _, shape = check_rebuilt(harness, m0, els, r, g, REMOVE)
+    assert shape.geom_type == "MultiPolygon"
+    out, err, _ = run(harness, m0, els, r, g, 0)
+    assert err is not None and err["number"] == ERR_COMP_CROSSING
 
 
 def test_dumbbell_entered_in_a_wide_neck_is_clean(harness):

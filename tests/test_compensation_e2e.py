@@ -139,16 +139,21 @@ def test_error_on_the_right_line(hmi):
 
 def test_seed_003_example_with_g42(hmi):
     _compiles(hmi)
+    # read relative, the seed's arcs turn almost a full circle each and the next one
+    # starts inside it: a tool of radius 0.5 on the right would cut line 6's arc
     err = hmi.compile(SEED_PROGRAM, r=0.5, abs_mode=0)
+    assert err is not None and err[0] == 504 and err[1] == 5
+    r = 0.01
+    err = hmi.compile(SEED_PROGRAM, r=r, abs_mode=0)
     assert err is None, err
     parts = hmi.run()
     assert [p["comp"] for p in parts if p["func"] == 2] == [42] * 7
-    # the compensated arcs: same centres, radius + 0.5 for G2 with the tool on the right
+    # the compensated arcs: same centres, radius - r for G2 with the tool on the right
     for p in parts:
         if p["func"] == 2:
             r_prog = math.hypot(p["pe"][0] - p["cc"][0], p["pe"][1] - p["cc"][1])
             # (the seed's centres are off by up to 0.005 mm: tolerance[0])
-            assert min(abs(p["cc"][3] - r_prog + 0.5), abs(p["cc"][3] - r_prog - 0.5)) < 0.005
+            assert abs(p["cc"][3] - r_prog + r) < 0.005
             assert math.hypot(p["e"][0] - p["cc"][0], p["e"][1] - p["cc"][1]) == pytest.approx(p["cc"][3])
     for a, b in zip(parts, parts[1:]):
         assert np.allclose(a["e"], b["s"])

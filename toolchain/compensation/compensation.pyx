@@ -20,6 +20,9 @@ from libc.string cimport memcpy, memset, memchr
 from libc.stdio cimport snprintf
 from libc.math cimport fabs, sin, M_PI
 
+include "compensation/clearance.pyx"
+include "compensation/regions.pyx"
+
 cdef enum:
     ROLE_NONE = 0           # not compensated: ce = e
     ROLE_SET = 1            # ce computed here
@@ -67,6 +70,21 @@ ctypedef struct CompState:
     CompWarning warnings[MAX_WARNINGS]
     bint has_followers      # some compensated part has no motion in the plane
     XState xs               # crossings of parts that are not neighbours (crossings.pyx)
+    Clearance cl            # the contour the tool path keeps away from (clearance.pyx)
+    Regions rg              # a chain rebuilt from its regions (regions.pyx)
+    # the chain being read: parts chain_first .. chain_last (its elements), what was
+    # queued before it, and how it started; chain_global: the chain is rebuilt from its
+    # regions at its end (0x80000 after a crossing or gouge the corners could not cut)
+    bint chain_open
+    bint chain_global
+    bint chain_rebuilt      # the chain that just ended was rebuilt
+    size_t chain_first, chain_last
+    int64_t chain_entry     # its entry ramp (a part ending where the chain starts), -1 none
+    bint chain_fixed        # it starts at an uncompensated point (strategy 1)
+    bint chain_exit_fixed   # it ends at an uncompensated point (strategy 1 before G40)
+    size_t chain_ins0       # insertions queued before it
+    int chain_warn0         # warnings kept before it
+    ErrorInfo chain_err     # the error that made it global (reported if the rebuild fails)
     CompCfg host            # the host's strategy (run_config changes it per run)
     size_t region           # next strategy region (run_config)
     size_t next             # first part compensate_feed has not taken yet
@@ -169,6 +187,18 @@ cdef bint _ins_line(CompState *S, size_t after, size_t src, const double *end) n
     S.ins[S.n_ins - 1].src_next = src == after + 1
     S.ins[S.n_ins - 1].no_centre = True
     return True
+
+
+cdef bint _ins_arc(CompState *S, size_t after, const double *end, const double *centre, int func) noexcept nogil:
+    """Queues an arc of the tool radius round `centre` after part `after` (a vertex of
+    a chain rebuilt from its regions)."""
+    cdef CompEl tmp
+    memset(&tmp, 0, sizeof(tmp))
+    tmp.part = after
+    tmp.ins = func
+    tmp.ins_end[0] = end[0]; tmp.ins_end[1] = end[1]
+    tmp.e[0] = centre[0]; tmp.e[1] = centre[1]
+    return _ins_add(S, &tmp)
 
 
 cdef void _discard(CompState *S, size_t part) noexcept nogil:
@@ -298,9 +328,9 @@ cdef int _chain_add(CompState *S, CompEl *b) noexcept nogil:
     return COMPILE_OK if _push(S, b) else _comp_fail(S, ERR_OUT_OF_MEMORY, b.part, 0, 0)
 
 
-cdef int _chain_end(CompState *S, bint fixed_end) noexcept nogil:
-    """Closes the chain: the last element ends on its perpendicular, or (strategy 1,
-    before G40) at its programmed end."""
+cdef int _chain_end_corners(CompState *S, bint fixed_end) noexcept nogil:
+    """Closes the chain of corners: the last element ends on its perpendicular, or
+    (strategy 1, before G40) at its programmed end."""
     cdef CompEl *a
     while S.n_st > 0:
         a = &S.st[S.n_st - 1]
@@ -324,6 +354,107 @@ cdef int _chain_end(CompState *S, bint fixed_end) noexcept nogil:
         return _comp_fail(S, S.xs.err_number, S.xs.err_part, S.xs.err_arg, 0)
     S.entry_part = -1
     return COMPILE_OK
+
+
+cdef void _chain_open(CompState *S, size_t k) noexcept nogil:
+    """Part k is the first element of a chain."""
+    S.chain_open = True
+    S.chain_global = False
+    S.chain_first = k
+    S.chain_last = k
+    S.chain_entry = S.entry_part
+    S.chain_fixed = S.next_fixed
+    S.chain_ins0 = S.n_ins
+    S.chain_warn0 = S.n_warnings
+
+
+cdef int _chain_fallback(CompState *S, int res) noexcept nogil:
+    """A failure of the chain of corners: with 0x80000 a crossing or gouge it could
+    not cut (504, 500) makes the chain global (rebuilt from its regions at its end)."""
+    if res == COMPILE_OK:
+        return res
+    if S.xs.err_number != 0:
+        _comp_fail(S, S.xs.err_number, S.xs.err_part, S.xs.err_arg, 0)
+        S.xs.err_number = 0
+    if not (S.cfg.strategy & CORR_REMOVE_CROSSING) or not S.chain_open or \
+            (S.err.number != ERR_COMP_CROSSING and S.err.number != ERR_COMP_NOT_FOUND):
+        return res
+    memcpy(&S.chain_err, S.err, sizeof(ErrorInfo))
+    S.chain_global = True
+    S.n_st = 0
+    S.xs.n = 0
+    S.xs.base = 0
+    S.xs.n_prov = 0
+    S.xs.head_prov = 0
+    return COMPILE_OK
+
+
+cdef int _chain_rebuild(CompState *S) noexcept nogil:
+    """The global chain from its regions, its path checked; else the error that made
+    it global."""
+    cdef int res = regions_rebuild(S)
+    if res == REGIONS_NOT_APPLICABLE:
+        memcpy(S.err, &S.chain_err, sizeof(ErrorInfo))
+        return COMPILE_ERROR
+    if res != COMPILE_OK:
+        return res
+    S.chain_rebuilt = True
+    if not cl_check_chain(S, S.chain_first, S.chain_last, S.chain_ins0, False, False):
+        res = _comp_fail(S, S.xs.err_number, S.xs.err_part, S.xs.err_arg, 0)
+        S.xs.err_number = 0
+    return res
+
+
+cdef int _chain_end(CompState *S, bint fixed_end, bint exit_fixed) noexcept nogil:
+    """Closes the chain (fixed_end: its last line ends at its programmed end;
+    exit_fixed: strategy 1 before G40), checks that its path keeps the tool radius
+    from the contour, and rebuilds it from its regions when it does not (0x80000)."""
+    cdef int res = COMPILE_OK
+    S.chain_rebuilt = False
+    S.chain_exit_fixed = exit_fixed
+    if not S.chain_global:
+        res = _chain_end_corners(S, fixed_end)
+        if res == COMPILE_OK and S.chain_open and \
+                not cl_check_chain(S, S.chain_first, S.chain_last, S.chain_ins0, S.chain_fixed, fixed_end):
+            res = COMPILE_ERROR
+        res = _chain_fallback(S, res)
+    if res == COMPILE_OK and S.chain_global:
+        res = _chain_rebuild(S)
+    S.chain_open = False
+    S.chain_global = False
+    S.n_st = 0
+    S.entry_part = -1
+    return res
+
+
+cdef bint comp_part_element(const CompState *S, size_t k, CompEl *el) noexcept nogil:
+    """The offset element of part k when it is a line or an arc that moves in the plane
+    (not a rapid); a removed arc counts (its radius is read from its centre)."""
+    cdef const Part *p = &S.prog.parts[k]
+    cdef const double *s
+    cdef double ps[2]
+    cdef double pe[2]
+    cdef double pc[2]
+    cdef double sweep
+    if p.kind != PART_MOTION or p.func == 0:
+        return False
+    s = part_start_xyz(S.prog, k)
+    ps[0] = s[S.first]; ps[1] = s[S.second]
+    pe[0] = p.e[S.first]; pe[1] = p.e[S.second]
+    if p.func == 2 or p.func == 3:
+        pc[0] = p.cc[S.first]; pc[1] = p.cc[S.second]
+        if distance2d(ps[0] - pc[0], ps[1] - pc[1]) <= 1e-9:
+            return False
+        # sweep in the arc's direction, a full circle when start = end (as arc_sweep)
+        sweep = _turn(ps[0] - pc[0], ps[1] - pc[1], pe[0] - pc[0], pe[1] - pc[1])
+        if p.func == 3 and sweep <= 1e-12:
+            sweep += 2.0 * M_PI
+        elif p.func == 2 and sweep >= -1e-12:
+            sweep -= 2.0 * M_PI
+        return el_init(el, k, EL_ARC, 1 if p.func == 3 else -1, _comp_distance(S, p), ps, pe, pc, sweep)
+    if (pe[0] - ps[0]) * (pe[0] - ps[0]) + (pe[1] - ps[1]) * (pe[1] - ps[1]) <= 1e-18:
+        return False
+    return el_init(el, k, EL_LINE, 0, _comp_distance(S, p), ps, pe, pc, 0.0)
 
 
 cdef bint _in_plane_motion(const CompState *S, size_t k, bint *is_arc) noexcept nogil:
@@ -356,6 +487,8 @@ cdef int _run_begin(CompState *S, size_t i) noexcept nogil:
     S.entry_arc = False
     S.idle = 0
     S.in_run = True
+    S.chain_open = False
+    S.chain_global = False
     return COMPILE_OK
 
 
@@ -366,11 +499,6 @@ cdef int _run_part(CompState *S, size_t k) noexcept nogil:
     cdef Part *p = &prog.parts[k]
     cdef CompEl el
     cdef bint is_arc
-    cdef const double *s
-    cdef double ps[2]
-    cdef double pe[2]
-    cdef double pc[2]
-    cdef double sweep
     cdef int res
     if p.plane != S.plane:
         return _comp_fail(S, ERR_COMP_PLANE_CHANGE, k, 0, 0)
@@ -401,7 +529,7 @@ cdef int _run_part(CompState *S, size_t k) noexcept nogil:
         return COMPILE_OK
     if p.func == 0:
         # a rapid leaves the contour on the perpendicular and re-enters it like G41
-        res = _chain_end(S, False)
+        res = _chain_end(S, False, False)
         if res != COMPILE_OK:
             return res
         S.role[k] = ROLE_SET
@@ -411,18 +539,14 @@ cdef int _run_part(CompState *S, size_t k) noexcept nogil:
             S.next_fixed = False
             S.entry_part = k
         return COMPILE_OK
-    s = part_start_xyz(prog, k)
-    ps[0] = s[S.first]; ps[1] = s[S.second]
-    pe[0] = p.e[S.first]; pe[1] = p.e[S.second]
+    if not comp_part_element(S, k, &el):
+        return COMPILE_OK           # an arc about its own start: nothing to offset
+    if not S.chain_open:
+        _chain_open(S, k)
+    S.chain_last = k
+    if S.chain_global:
+        return COMPILE_OK           # rebuilt from the regions at the chain's end
     if is_arc:
-        pc[0] = p.cc[S.first]; pc[1] = p.cc[S.second]
-        # sweep in the arc's direction, a full circle when start = end (as arc_sweep)
-        sweep = _turn(ps[0] - pc[0], ps[1] - pc[1], pe[0] - pc[0], pe[1] - pc[1])
-        if p.func == 3 and sweep <= 1e-12:
-            sweep += 2.0 * M_PI
-        elif p.func == 2 and sweep >= -1e-12:
-            sweep -= 2.0 * M_PI
-        el_init(&el, k, EL_ARC, 1 if p.func == 3 else -1, _comp_distance(S, p), ps, pe, pc, sweep)
         if el.ro <= 1e-9 * el.R:
             if el.ro < -1e-9 * el.R:
                 if not (S.cfg.strategy & CORR_DROP_NEGATIVE_ARCS):
@@ -443,10 +567,9 @@ cdef int _run_part(CompState *S, size_t k) noexcept nogil:
             S.entry_part = -1
             if not _flush(S, 0) or not _ins_line(S, k - 1, k, el.os):
                 return _comp_fail(S, ERR_OUT_OF_MEMORY, k, 0, 0)
+            S.chain_fixed = False
             _comp_warn(S, k, "compensation switched on before an arc: line to its perpendicular inserted")
-    else:
-        el_init(&el, k, EL_LINE, 0, _comp_distance(S, p), ps, pe, pc, 0.0)
-    return _chain_add(S, &el)
+    return _chain_fallback(S, _chain_add(S, &el))
 
 
 cdef int _run_end(CompState *S, size_t j, bint g40) noexcept nogil:
@@ -455,20 +578,21 @@ cdef int _run_end(CompState *S, size_t j, bint g40) noexcept nogil:
     cdef size_t k
     cdef double pe[2]
     cdef int res
+    cdef bint exit_fixed = S.cfg.mode == 1 and g40
     S.in_run = False
-    if S.cfg.mode == 1 and g40 and S.n_st > 0 and S.st[S.n_st - 1].kind == EL_LINE:
-        res = _chain_end(S, True)
-    elif S.cfg.mode == 1 and g40 and S.n_st > 0:
+    if exit_fixed and not S.chain_global and S.n_st > 0 and S.st[S.n_st - 1].kind == EL_LINE:
+        res = _chain_end(S, True, True)
+    elif exit_fixed and not S.chain_global and S.n_st > 0:
         # the last move before G40 is an arc: it stays compensated, a line leaves it
         k = S.st[S.n_st - 1].part
         pe[0] = S.st[S.n_st - 1].e[0]; pe[1] = S.st[S.n_st - 1].e[1]
-        res = _chain_end(S, False)
-        if res == COMPILE_OK:
+        res = _chain_end(S, False, True)
+        if res == COMPILE_OK and not S.chain_rebuilt:
             if not _ins_line(S, k, k, pe):
                 return _comp_fail(S, ERR_OUT_OF_MEMORY, k, 0, 0)
             _comp_warn(S, k, "compensation switched off after an arc: line to the programmed end inserted")
     else:
-        res = _chain_end(S, False)
+        res = _chain_end(S, False, exit_fixed)
     # G40 only on a linear move: checked on the parts from j on (compensate_feed)
     S.exit_check = g40
     S.exit_from = j
@@ -710,6 +834,8 @@ cdef int compensate_end(CompState *S) noexcept nogil:
 
 cdef void compensate_free(CompState *S) noexcept nogil:
     cross_free(&S.xs)
+    cl_free(&S.cl)
+    regions_free(&S.rg)
     free(S.role)
     free(S.st)
     free(S.ins)

@@ -17,9 +17,9 @@
 # Not loops: a crossing where the programmed elements cross too (the contour itself
 # crosses, the tool has to), and the crossing of the last part of a closed contour with
 # the first one (a start at an inner corner: the entry and exit rules).
-# At the chain's end the pieces next to a cut must keep the tool radius from the
-# contour (_x_check_cuts): a cut that kept the wrong side (a chain started inside a
-# neck narrower than the tool) is error 504 instead of a gouging path.
+# At the chain's end its whole path is checked against the contour (clearance.pyx): a
+# cut that kept the wrong side (a chain started inside a neck narrower than the tool)
+# is error 504, or the chain is rebuilt from its regions (0x80000, regions.pyx).
 from libc.stdlib cimport malloc, realloc, free
 from libc.string cimport memmove, memcpy, memset
 from libc.math cimport fabs, sqrt, atan2, M_PI
@@ -33,8 +33,6 @@ cdef enum:
     X_WRITE = 1             # cross_write: let _write_el write the element
     X_DONE = 2              # ... the element is already written (removed)
     X_FAIL = 0
-    CLEAR_SPAN = 4096       # parts either side a piece next to a loop cut is checked against
-    CLEAR_BLOCK = 64        # parts per box of that check
 
 ctypedef struct XPiece:
     double s[2]
@@ -55,7 +53,6 @@ ctypedef struct XPiece:
     unsigned char first     # the body of the chain's first element
     unsigned char prov      # a G1 join that has to end up inside a removed loop
     unsigned char gprog     # bodies: the programmed element (gs .. gsweep) follows
-    unsigned char cut       # a loop was cut at one of its ends (checked at the chain's end)
 
 ctypedef struct XState:
     XPiece *pc
@@ -423,183 +420,6 @@ cdef bint _x_cut(CompState *S, size_t qi, const double *at, size_t b_part, bint 
     return True
 
 
-cdef double _x_dist(const XPiece *g, double x, double y) noexcept nogil:
-    """Distance of a point from piece g (a line segment or an arc with its sweep)."""
-    cdef double dx, dy, L2, t, rho
-    if g.kind == EL_LINE:
-        dx = g.e[0] - g.s[0]; dy = g.e[1] - g.s[1]
-        L2 = dx * dx + dy * dy
-        t = ((x - g.s[0]) * dx + (y - g.s[1]) * dy) / L2 if L2 > 0 else 0.0
-        t = 0.0 if t < 0 else (1.0 if t > 1 else t)
-        return distance2d(x - g.s[0] - t * dx, y - g.s[1] - t * dy)
-    rho = distance2d(x - g.c[0], y - g.c[1])
-    if rho > 0 and _x_angle(g, x, y) <= g.sweep:
-        return fabs(rho - g.r)
-    dx = distance2d(x - g.s[0], y - g.s[1])
-    dy = distance2d(x - g.e[0], y - g.e[1])
-    return dx if dx < dy else dy
-
-
-cdef int _x_toward(const XPiece *t, double x, double y, double *pts) noexcept nogil:
-    """Points of piece t nearest to the point (x, y) and, for arcs, farthest from it on
-    its circle (0 to 2 candidates, in pts)."""
-    cdef double dx, dy, L2, u, rho
-    cdef int n = 0, k
-    if t.kind == EL_LINE:
-        dx = t.e[0] - t.s[0]; dy = t.e[1] - t.s[1]
-        L2 = dx * dx + dy * dy
-        u = ((x - t.s[0]) * dx + (y - t.s[1]) * dy) / L2 if L2 > 0 else 0.0
-        u = 0.0 if u < 0 else (1.0 if u > 1 else u)
-        pts[0] = t.s[0] + u * dx; pts[1] = t.s[1] + u * dy
-        return 1
-    rho = distance2d(x - t.c[0], y - t.c[1])
-    if rho <= 0:
-        return 0
-    for k in range(2):
-        u = 1.0 - 2.0 * k
-        pts[2 * n] = t.c[0] + u * t.r * (x - t.c[0]) / rho
-        pts[2 * n + 1] = t.c[1] + u * t.r * (y - t.c[1]) / rho
-        if _x_angle(t, pts[2 * n], pts[2 * n + 1]) <= t.sweep:
-            n += 1
-    return n
-
-
-cdef double _x_gap(const XPiece *t, const XPiece *g, double slack) noexcept nogil:
-    """Smallest distance between pieces t and g: 0 when they cross, else the least over
-    the points where it can occur (ends, feet of the other's ends and centre, the
-    points of an arc facing a line or the other circle)."""
-    cdef double pts[4]
-    cdef double cand[24]
-    cdef double best, d, pos, nx, ny, L
-    cdef int m, k, n = 0
-    m = _x_meet(t, g, slack, pts)
-    for k in range(m):
-        if _x_on(t, pts[2 * k], pts[2 * k + 1], 0.0, &pos) and _x_on(g, pts[2 * k], pts[2 * k + 1], 0.0, &pos):
-            return 0.0
-    cand[0] = t.s[0]; cand[1] = t.s[1]; cand[2] = t.e[0]; cand[3] = t.e[1]
-    n = 2
-    n += _x_toward(t, g.s[0], g.s[1], &cand[2 * n])
-    n += _x_toward(t, g.e[0], g.e[1], &cand[2 * n])
-    if g.kind == EL_ARC:
-        n += _x_toward(t, g.c[0], g.c[1], &cand[2 * n])
-    elif t.kind == EL_ARC:
-        # the points of t's circle along g's normal through its centre
-        L = distance2d(g.e[0] - g.s[0], g.e[1] - g.s[1])
-        if L > 0:
-            nx = -(g.e[1] - g.s[1]) / L; ny = (g.e[0] - g.s[0]) / L
-            n += _x_toward(t, t.c[0] + nx, t.c[1] + ny, &cand[2 * n])
-    best = 1e300
-    for k in range(n):
-        d = _x_dist(g, cand[2 * k], cand[2 * k + 1])
-        if d < best:
-            best = d
-    return best
-
-
-cdef bint _x_programmed(const CompState *S, size_t k, XPiece *g) noexcept nogil:
-    """The programmed contour piece of part k (False: none, e.g. a rapid) with a
-    conservative box (an arc's whole circle); the sweep is left for _x_clear."""
-    cdef const Part *p = &S.prog.parts[k]
-    cdef const double *st
-    cdef bint is_arc
-    if p.func == 0 or not _in_plane_motion(S, k, &is_arc):
-        return False
-    st = part_start_xyz(S.prog, k)
-    g.part = k
-    g.s[0] = st[S.first]; g.s[1] = st[S.second]
-    g.e[0] = p.e[S.first]; g.e[1] = p.e[S.second]
-    if p.func == 2 or p.func == 3:
-        g.kind = EL_ARC
-        g.dir = 1 if p.func == 3 else -1
-        g.c[0] = p.cc[S.first]; g.c[1] = p.cc[S.second]
-        g.r = distance2d(g.s[0] - g.c[0], g.s[1] - g.c[1])
-        if g.r <= 0:
-            return False
-        g.box[0] = g.c[0] - g.r; g.box[1] = g.c[1] - g.r; g.box[2] = g.c[0] + g.r; g.box[3] = g.c[1] + g.r
-    else:
-        g.kind = EL_LINE
-        g.sweep = 0.0
-        _x_geometry(g)
-    return True
-
-
-cdef bint _x_clear(CompState *S, const XPiece *t, size_t lo, size_t hi, const double *blocks) noexcept nogil:
-    """At the chain's end, for a piece next to a loop cut: it keeps the tool radius from
-    the programmed contour of parts lo..hi (the search window; at most CLEAR_SPAN parts
-    either side of its own). `blocks`: boxes of the parts by CLEAR_BLOCK from lo.
-    Otherwise the cuts kept the wrong side (a chain starting inside a neck narrower
-    than the tool): error 504 on t's line. False with S.xs.err_* filled."""
-    cdef XState *X = &S.xs
-    cdef XPiece g
-    cdef double r = fabs(_comp_distance(S, &S.prog.parts[t.part]))
-    cdef double turn
-    cdef double box[4]
-    cdef size_t k, b, first, last, k_end
-    box[0] = t.box[0] - r; box[1] = t.box[1] - r; box[2] = t.box[2] + r; box[3] = t.box[3] + r
-    first = t.part - CLEAR_SPAN if t.part > lo + CLEAR_SPAN else lo
-    last = hi if hi < t.part + CLEAR_SPAN else t.part + CLEAR_SPAN
-    memset(&g, 0, sizeof(g))
-    k = first
-    while k <= last:
-        b = (k - lo) / CLEAR_BLOCK
-        k_end = lo + (b + 1) * CLEAR_BLOCK
-        if k_end > last + 1:
-            k_end = last + 1
-        if not _box_hit(&blocks[4 * b], box, 0.0):
-            k = k_end
-            continue
-        while k < k_end:
-            if _x_programmed(S, k, &g) and _box_hit(g.box, box, 0.0):
-                if g.kind == EL_ARC:
-                    turn = g.dir * _turn(g.s[0] - g.c[0], g.s[1] - g.c[1], g.e[0] - g.c[0], g.e[1] - g.c[1])
-                    g.sweep = turn if turn > 1e-12 else turn + 2.0 * M_PI
-                    _x_geometry(&g)
-                if _box_hit(g.box, box, 0.0) and _x_gap(t, &g, S.cfg.slack) < r - S.cfg.slack:
-                    X.err_number = ERR_COMP_CROSSING
-                    X.err_part = t.part
-                    X.err_arg = r
-                    return False
-            k += 1
-    return True
-
-
-cdef bint _x_check_cuts(CompState *S) noexcept nogil:
-    """Every piece of the window next to a loop cut keeps the tool radius (_x_clear);
-    False with S.xs.err_* filled (an out-of-memory error included)."""
-    cdef XState *X = &S.xs
-    cdef XPiece g
-    cdef double *blocks
-    cdef double *bx
-    cdef size_t k, lo, hi, nb
-    cdef bint ok = True
-    for k in range(X.base, X.n):
-        if X.pc[k].cut:
-            break
-    else:
-        return True
-    lo = X.pc[X.base].part
-    hi = X.pc[X.n - 1].part
-    nb = (hi - lo) / CLEAR_BLOCK + 1
-    blocks = <double *>malloc(4 * nb * sizeof(double))
-    if blocks == NULL:
-        X.err_number = ERR_OUT_OF_MEMORY
-        X.err_part = hi
-        return False
-    for k in range(nb):
-        bx = &blocks[4 * k]
-        bx[0] = 1e300; bx[1] = 1e300; bx[2] = -1e300; bx[3] = -1e300
-    memset(&g, 0, sizeof(g))
-    for k in range(lo, hi + 1):
-        if _x_programmed(S, k, &g):
-            _box_union(&blocks[4 * ((k - lo) / CLEAR_BLOCK)], g.box)
-    for k in range(X.base, X.n):
-        if X.pc[k].cut and not _x_clear(S, &X.pc[k], lo, hi, blocks):
-            ok = False
-            break
-    free(blocks)
-    return ok
-
-
 cdef int _x_crossing(CompState *S, XPiece *pp, size_t b_part, bint closing, double *at,
                      int64_t *qi) noexcept nogil:
     """Searches a crossing of piece pp; X_WRITE when none, X_DONE when one is to be
@@ -641,7 +461,6 @@ cdef int cross_write(CompState *S, CompEl *el) noexcept nogil:
     pb.rec = 0
     pb.ins = False
     pb.prov = False
-    pb.cut = False
     pb.kind = el.kind
     pb.dir = el.dir
     pb.first = el.first
@@ -673,8 +492,6 @@ cdef int cross_write(CompState *S, CompEl *el) noexcept nogil:
         if pb.kind == EL_ARC:
             pb.sweep = 0.0
         _x_geometry(&pb)
-        X.pc[qi].cut = True
-        pb.cut = True
     if res == X_FAIL:
         return X_FAIL
     if not _x_add(X, &pb, S.cfg.depth):
@@ -688,7 +505,6 @@ cdef int cross_write(CompState *S, CompEl *el) noexcept nogil:
     pi.ins = True
     pi.first = False
     pi.prov = False
-    pi.cut = False
     pi.gprog = False
     pi.sweep = -1.0                     # a corner: computed when the search needs it
     pi.kind = EL_LINE if el.ins == INS_G1 else EL_ARC
@@ -715,7 +531,6 @@ cdef int cross_write(CompState *S, CompEl *el) noexcept nogil:
     _comp_warn(S, el.part, "loop removed from the path (offsets of distant parts cross)")
     X.n -= 1                            # el's own piece
     _x_cut(S, <size_t>qi, at, el.part, True)
-    X.pc[qi].cut = True
     if distance2d(at[0] - pi.e[0], at[1] - pi.e[1]) >= S.cfg.slack:
         if not _ins_add(S, el):
             return X_FAIL
@@ -726,7 +541,6 @@ cdef int cross_write(CompState *S, CompEl *el) noexcept nogil:
         pi.s[0] = at[0]; pi.s[1] = at[1]
         pi.sweep = 0.0
         _x_geometry(&pi)
-        pi.cut = True
         if not _x_add(X, &pi, S.cfg.depth):
             return X_FAIL
     return X_DONE
@@ -769,8 +583,6 @@ cdef bint cross_chain_end(CompState *S) noexcept nogil:
             X.err_number = ERR_COMP_NOT_FOUND
             X.err_part = X.pc[k].part
             return False
-    if not _x_check_cuts(S):
-        return False
     X.n = 0
     X.base = 0
     return True

@@ -1,0 +1,223 @@
+"""Contours with features smaller than the tool: offsets that vanish, inside offsets
+that split, spikes whose offsets cross far from their neighbours. With 0x80000 the
+chain is rebuilt from the regions the tool fits in (the largest one is kept); without
+it a gouge is error 504. Shapely is the oracle: the distance of the sampled tool path
+from the contour, the exact offset region (test_compensation_geometry.exact_offset)
+and its components."""
+import math
+import os
+import random
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+shapely = pytest.importorskip("shapely")
+from shapely.geometry import LineString, Polygon  # noqa: E402
+
+from comp_helpers import contour_parts, polygon_elements, programmed_polyline, tool_path  # noqa: E402
+from test_compensation_geometry import comp, exact_offset, harness, signed_area  # noqa: E402,F401
+
+TOL = 1e-3
+REMOVE = 0x80000
+JOIN_G1 = 0x20000
+ERR_COMP_CROSSING = 504
+REPRO = Path(__file__).resolve().parent / "comp_repro"     # ../shared/repro/comp_*.nc
+REPRO_FILES = ["comp_spike_entry", "comp_zigzag", "comp_gouge_notch"]
+
+
+def read_contour(name):
+    """The repro program as harness parts (G0/G1 X Y, G40/G41 as written) and its
+    contour: the points of the compensated moves after the G41 block."""
+    text = (REPRO / f"{name}.nc").read_text()
+    parts, comp_, g, x, y = [], 40, 1, 0.0, 0.0
+    for line, words in enumerate((w.split() for w in text.splitlines()), 1):
+        moved = False
+        for w in words:
+            if w in ("G0", "G1"):
+                g = int(w[1:])
+            elif w in ("G40", "G41", "G42"):
+                comp_ = int(w[1:])
+            elif w[0] in "XY":
+                x, y = (float(w[1:]), y) if w[0] == "X" else (x, float(w[1:]))
+                moved = True
+        if moved:
+            parts.append(dict(func=g, e=(x, y, 0), comp=comp_, line=line))
+    first = next(i for i, p in enumerate(parts) if p["comp"] != 40)
+    last = max(i for i, p in enumerate(parts) if p["comp"] != 40)
+    pts = [parts[first]["e"][:2]] + [p["e"][:2] for p in parts[first + 1:last + 1]]
+    return parts, np.array(pts), text
+
+
+def sampled_path(out, start_point, step=0.01):
+    """The tool path between the G41/G42 block and the G40 move, without the ramps
+    of strategy 1 (the moves from / to the programmed start point)."""
+    idx = [k for k, p in enumerate(out) if p["comp"] != 40]
+    pieces = []
+    for k in range(idx[0] + 1, idx[-1] + 1):
+        s, e = np.asarray(out[k - 1]["ce"][:2]), np.asarray(out[k]["ce"][:2])
+        if np.hypot(*(s - start_point)) < 1e-6 or np.hypot(*(e - start_point)) < 1e-6:
+            continue
+        seg = tool_path(out, k, k, step=step)
+        seg = seg[np.r_[True, np.any(np.abs(np.diff(seg, axis=0)) > 0, axis=1)]]
+        if len(seg) > 1:
+            pieces.append(np.asarray(shapely.segmentize(LineString(seg), step).coords))
+    return np.vstack(pieces)
+
+
+def clearance(path, contour_pts):
+    return float(np.min(shapely.distance(shapely.points(path), LineString(contour_pts))))
+
+
+def offset_region(contour_pts, r, g):
+    """Shapely's exact offset of the closed polygonal contour on the side of g."""
+    ccw = signed_area(contour_pts) > 0
+    inside = ccw == (g == 41)
+    m0 = tuple(contour_pts[0])
+    els = [dict(func=1, e=tuple(p)) for p in contour_pts[1:]]
+    return exact_offset(Polygon(contour_pts).buffer(0), m0, els, r, inside), inside
+
+
+@pytest.mark.parametrize("mode", [0, 1])
+@pytest.mark.parametrize("name", REPRO_FILES)
+def test_repro_contours_keep_the_radius(harness, name, mode):
+    r = 0.15
+    parts, pts, _ = read_contour(name)
+    out, err, warn = comp(harness, parts, r=r, strategy=0xA0600 | mode, start=(0, 0, 0))
+    assert err is None, err
+    path = sampled_path(out, pts[0])
+    # every sampled point keeps the radius from the whole contour
+    assert clearance(path, pts) > r - TOL
+    shape, inside = offset_region(pts, r, 41)
+    # on the border of shapely's offset region, round the largest of its components
+    assert float(np.max(shapely.distance(shapely.points(path), shape.boundary))) < 2 * TOL
+    comps = list(getattr(shape, "geoms", [shape]))
+    largest = max(comps, key=lambda c: c.area) if inside else shape
+    ring = largest.exterior if inside else max((g.exterior for g in comps), key=lambda e: Polygon(e).area)
+    ring_pts = np.asarray(shapely.segmentize(ring, 0.01).coords)
+    covered = shapely.distance(shapely.points(ring_pts), LineString(path))
+    assert float(np.max(covered)) < 0.01, "part of the region's border not cut"
+    # the path is closed: it ends where it started
+    idx = [k for k, p in enumerate(out) if p["comp"] != 40]
+    if mode == 0:
+        assert np.allclose(out[idx[0]]["ce"][:2], out[idx[-1]]["ce"][:2], atol=1e-6)
+
+
+def test_repro_warnings_name_the_lines_skipped(harness):
+    parts, _, _ = read_contour("comp_zigzag")
+    _, err, warn = comp(harness, parts, r=0.15, strategy=0xA0600, start=(0, 0, 0))
+    assert err is None
+    skipped = sorted(int(w.split("line ")[1].split(":")[0]) for w in warn.splitlines() if "skipped" in w)
+    # shapely: the small region (0.1 mm2) lies at the zigzag of lines 8-10
+    assert skipped and set(skipped) <= set(range(7, 12))
+    parts, _, _ = read_contour("comp_spike_entry")
+    _, err, warn = comp(harness, parts, r=0.15, strategy=0xA0600, start=(0, 0, 0))
+    assert err is None and "line 7: part skipped" in warn     # the 0.1 mm first edge
+
+
+def test_zigzag_split_regions_match_shapely(harness):
+    parts, pts, _ = read_contour("comp_zigzag")
+    shape, inside = offset_region(pts, 0.15, 41)
+    assert inside and shape.geom_type == "MultiPolygon"
+    areas = sorted(g.area for g in shape.geoms)
+    assert areas[-1] > 700 and areas[0] < 1
+
+
+@pytest.mark.parametrize("name", REPRO_FILES)
+def test_repro_contours_without_0x80000_never_gouge(harness, name):
+    r = 0.15
+    parts, pts, _ = read_contour(name)
+    for mode in (0, 1):
+        out, err, _ = comp(harness, parts, r=r, strategy=0x20600 | mode, start=(0, 0, 0))
+        if err is not None:
+            assert err["number"] == ERR_COMP_CROSSING
+        else:
+            assert clearance(sampled_path(out, pts[0]), pts) > r - TOL
+    if name == "comp_gouge_notch":
+        _, err, _ = comp(harness, parts, r=r, strategy=0x20600, start=(0, 0, 0))
+        assert err["number"] == ERR_COMP_CROSSING and err["line"] == 12
+
+
+def test_repro_contours_compile_through_the_library(tmp_path):
+    from test_compensation_e2e import Hmi
+    hmi = Hmi(tmp_path)
+    try:
+        for name in REPRO_FILES:
+            text = (REPRO / f"{name}.nc").read_text()
+            for strategy in (0xA0600, 0xA0601):
+                assert hmi.compile(text, r=0.15, strategy=strategy) is None, (name, hex(strategy))
+        err = hmi.compile((REPRO / "comp_gouge_notch.nc").read_text(), r=0.15, strategy=0x20600)
+        assert err is not None and err[0] == ERR_COMP_CROSSING and err[1] == 12
+    finally:
+        hmi.close()
+
+
+def random_star(rng, r):
+    """A star polygon round the origin with jittered radii (spikes, zigzags, necks)
+    and some edges as short as 0.05 mm; every vertex at least 3 r from the centre, so
+    the tool fits inside."""
+    n = rng.randint(8, 40)
+    r_min = 3 * r
+    r_max = r_min + rng.uniform(2, 20)
+    pts = []
+    for i in range(n):
+        a = 2 * math.pi * (i + rng.uniform(-0.3, 0.3)) / n
+        rho = rng.uniform(r_min, r_max)
+        pts.append((rho * math.cos(a), rho * math.sin(a)))
+        if rng.random() < 0.3:
+            # a short edge: the next vertex 0.05 .. 0.5 mm away, a little further round
+            L = rng.uniform(0.05, 0.5)
+            t = rng.uniform(0, 2 * math.pi)
+            q = (pts[-1][0] + L * math.cos(t), pts[-1][1] + L * math.sin(t))
+            aq = math.atan2(q[1], q[0])
+            if math.hypot(*q) >= r_min and 0 < (aq - a) % (2 * math.pi) < math.pi / n:
+                pts.append(q)
+    if signed_area(np.array(pts)) < 0 or not Polygon(pts).is_valid:
+        return None
+    return pts
+
+
+def _random_contours(count, seed):
+    rng = random.Random(seed)
+    cases = []
+    while len(cases) < count:
+        r = rng.uniform(0.1, 2.0)
+        pts = random_star(rng, r)
+        if pts is None:
+            continue
+        cases.append((pts, r, rng.choice((41, 42)), rng.choice((0, 1))))
+    return cases
+
+
+def _check_random(harness, cases):
+    """Every contour compiles with 0x80000 and keeps the radius; without it each one
+    keeps it or is error 504. Returns how many were refused without 0x80000."""
+    refused = 0
+    for pts, r, g, mode in cases:
+        m0, els = polygon_elements(pts)
+        approach = (m0[0] + 0.3, m0[1] - 60.0)
+        parts = contour_parts(els, g, m0, approach)
+        contour = programmed_polyline(m0, els)
+        out, err, _ = comp(harness, parts, r=r, strategy=REMOVE | JOIN_G1 | 0x600 | mode,
+                           start=(approach[0], approach[1], 0))
+        assert err is None, (err, pts, r, g, mode)
+        path = sampled_path(out, np.asarray(m0), step=0.02)
+        assert clearance(path, contour) > r - TOL, (pts, r, g, mode)
+        out, err, _ = comp(harness, parts, r=r, strategy=JOIN_G1 | 0x600 | mode,
+                           start=(approach[0], approach[1], 0))
+        if err is not None:
+            assert err["number"] == ERR_COMP_CROSSING, (err, pts, r, g, mode)
+            refused += 1
+        else:
+            assert clearance(sampled_path(out, np.asarray(m0), step=0.02), contour) > r - TOL, (pts, r, g, mode)
+    return refused
+
+
+def test_random_stars_small(harness):
+    _check_random(harness, _random_contours(40, 14))
+
+
+@pytest.mark.slow
+def test_random_stars(harness):
+    scale = int(os.environ.get("SF_TCH_SLOW_SCALE", "1"))
+    _check_random(harness, _random_contours(2000 * scale, 1400 + scale))
