@@ -209,3 +209,25 @@ def test_progress_bar_only_for_long_work_and_cleared(capsys):
     err = capsys.readouterr().err
     assert err == ("\rcompiling x [" + "#" * 12 + " " * 18 + "]  40 %" + "\rcompiling x [" + "#" * 30 + "] 100 %"
                    + "\r\033[K")
+
+
+def test_iso_option_reads_iso_g_code(tmp_path):
+    """--iso: G21 and `G4 P` (ISO) compile; without it `G4 P` is the P-word error."""
+    iso = tmp_path / "iso.nc"
+    iso.write_text("%\nO1000\nG21 G90\nG1 X10 Y0 F600\nG4 P0.5\nG1 X20\nM30\n%\n")
+    plain = sf_tch_cli("compile", str(iso), "--json")
+    assert plain.returncode == 1 and '"number": 110' in plain.stdout
+    proc = sf_tch_cli("compile", str(iso), "--iso", "--json")
+    assert proc.returncode == 0, proc.stderr
+    summary = json.loads(proc.stdout)
+    assert summary["errors"] == [] and summary["toolpath"]["cut_length"] == pytest.approx(20.0)
+
+
+def test_look_ahead_option(tmp_path):
+    """--look-ahead: a deeper window plans dense short segments faster."""
+    dense = tmp_path / "dense.nc"
+    dense.write_text("G1 X0 F6000\n" + "".join(f"G1 X{0.1 * (k + 1):.6f}\n" for k in range(500)))
+    times = [json.loads(sf_tch_cli("simulate", str(dense), "--look-ahead", n, "--json").stdout)["run_time"]
+             for n in ("0", "-1")]
+    assert times[0] > times[1] > 0
+    assert_usage_error(sf_tch_cli("compile", str(dense), "--look-ahead", "-2"), "look-ahead|-1")

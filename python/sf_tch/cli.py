@@ -8,7 +8,8 @@
     sf-tch --version
 
 Options of the commands that compile: --radius MM, --strategy BITS, --ini FILE,
---core N, --relative, --json (one JSON document on stdout instead of text).
+--core N, --relative, --iso (the ISO compatibility mode, docs/compiler.md), --look-ahead N,
+--json (one JSON document on stdout instead of text).
 
 Exit codes: 0 success; 1 the program has errors (compile or run); 2 bad usage (bad
 arguments, a missing or unreadable file, no library); 130 interrupted (Ctrl-C);
@@ -62,6 +63,16 @@ def _core(text: str) -> int:
     return value
 
 
+def _look_ahead(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number of parts: {text!r}") from None
+    if value < -1:
+        raise argparse.ArgumentTypeError(f"must be -1 (unlimited), 0 (the vendor's 8) or more parts, not {value}")
+    return value
+
+
 def _strategy(text: str) -> int:
     try:
         value = int(text, 0)
@@ -111,7 +122,7 @@ def _compile(args, path: str) -> Program:
     params = {"absMode": 0} if args.relative else None
     try:
         job = start_compile(path, radius=args.radius, strategy=args.strategy, ini=args.ini, params=params,
-                            core=args.core, progress=bar)
+                            core=args.core, progress=bar, iso=args.iso, look_ahead=args.look_ahead)
         try:
             return job.result()
         except BaseException:
@@ -266,6 +277,10 @@ def parser() -> argparse.ArgumentParser:
         p.add_argument("--ini", default=None, help="vendor INI file (default: the bundled offline one)")
         p.add_argument("--core", type=_core, default=None, help="core 0..2 (default: the first free)")
         p.add_argument("--relative", action="store_true", help="absMode 0 (relative coordinates)")
+        p.add_argument("--iso", action="store_true",
+                       help="ISO compatibility mode: G20/G21, G4 P seconds, G18 as ISO, G43 H a tool length, ...")
+        p.add_argument("--look-ahead", type=_look_ahead, default=None, metavar="N",
+                       help="parts the feed planner looks ahead: 0 the vendor's 8 (default), -1 unlimited")
         p.add_argument("--json", action="store_true", help="one JSON document on stdout")
         return p
 

@@ -17,6 +17,7 @@ from typing import Callable, Iterator, Sequence
 
 import numpy as np
 
+from . import abi
 from .core import Core, RunResult, attach_column
 from .enums import Callback, ErrorNumber, OutputTab, Regime
 from .errors import CncError, Diagnostic
@@ -134,7 +135,8 @@ class CompileJob:
 def start_compile(source: Source, radius: float | None = None, strategy: int | None = None,
                   ini: str | os.PathLike | None = None, params: dict | None = None, core: int | None = None,
                   name: str | None = None, progress: Callable[[int], object] | None = None,
-                  cancel=None, start: Sequence[float] | None = None, look_ahead: int | None = None) -> CompileJob:
+                  cancel=None, start: Sequence[float] | None = None, look_ahead: int | None = None,
+                  iso: bool = False) -> CompileJob:
     """Starts compiling and returns the running :class:`CompileJob`; the arguments
     are those of :func:`compile`."""
     if radius is not None and not radius >= 0:
@@ -146,6 +148,8 @@ def start_compile(source: Source, radius: float | None = None, strategy: int | N
     try:
         fields = dict(params or {})
         fields.setdefault("calcTime", 1)
+        if iso:
+            fields["rezerva1"] = fields.get("rezerva1", handle.params.rezerva1) | abi.GCODE_REZERVA1_ISO_COMPAT
         if strategy is not None:
             fields["correctionStrategy"] = strategy
         handle.update_params(**fields)
@@ -156,7 +160,7 @@ def start_compile(source: Source, radius: float | None = None, strategy: int | N
         if look_ahead is not None:
             handle.set_look_ahead(look_ahead)
         arguments = {"source": source, "radius": radius, "strategy": strategy, "ini": ini, "params": params,
-                     "name": name, "start": start, "look_ahead": look_ahead}
+                     "name": name, "start": start, "look_ahead": look_ahead, "iso": iso}
         return CompileJob(handle, text, path, name, progress, cancel, arguments)
     except BaseException:
         handle.close()
@@ -166,7 +170,8 @@ def start_compile(source: Source, radius: float | None = None, strategy: int | N
 def compile(source: Source, radius: float | None = None, strategy: int | None = None,
             ini: str | os.PathLike | None = None, params: dict | None = None, core: int | None = None,
             name: str | None = None, progress: Callable[[int], object] | None = None,
-            cancel=None, start: Sequence[float] | None = None, look_ahead: int | None = None) -> Program:
+            cancel=None, start: Sequence[float] | None = None, look_ahead: int | None = None,
+            iso: bool = False) -> Program:
     """Compiles G-code and returns the :class:`Program`; errors of the G-code are in
     ``program.errors`` (``program.check()`` raises the first).
 
@@ -179,13 +184,15 @@ def compile(source: Source, radius: float | None = None, strategy: int | None = 
     - ``core``: the core (0..2), default the first free one; ``start``: the machine
       position (x y z ... in axis order, up to 10) the program starts from, default
       where the core's machine stands (set by ResetCNC, or 0);
+    - ``iso``: the ISO compatibility mode (G20/G21, ``G4 P`` seconds, G18 as ISO, G43 H
+      as a tool length, ... docs/compiler.md), off by default;
     - ``look_ahead``: parts the feed planner looks ahead (0 the vendor's 8, -1
       unlimited; default what the core has, see ToolChainCore_SetLookAhead);
     - ``progress``: called with the percent from the library's thread; ``cancel``:
       an object with ``is_set()`` (threading.Event) that interrupts when set.
     Raises FileNotFoundError / IsADirectoryError for a bad path, ValueError for a
     negative radius, :class:`Cancelled` when cancelled."""
-    job = start_compile(source, radius, strategy, ini, params, core, name, progress, cancel, start, look_ahead)
+    job = start_compile(source, radius, strategy, ini, params, core, name, progress, cancel, start, look_ahead, iso)
     try:
         return job.result()
     except BaseException:
