@@ -8,6 +8,7 @@ Each test runs in a fresh subprocess (runtime_host.script): a defect may crash t
 process or hang it, and is then reported as a failure with every thread's stack."""
 import pytest
 
+from compiler_host import SEED_PROGRAM
 from runtime_host import run_script
 
 
@@ -425,24 +426,7 @@ def test_file_names_are_recycled_and_keep_their_run_time(run):
 
 # ------------------------------------------------------------------ where a run starts
 
-SEED_RELATIVE = """G00 X60.6051 Y40.7723
-G42
-M51
-G02 X0 Y-2.5202 I3.0336 J-1.2601
-G02 X0.922 Y-1.5646 I6.0604 J2.5173
-G02 X1.079 Y-1.0269 I4.2143 J3.3479
-G02 X2.2624 Y-1.3678 I9.8772 J13.7817
-G02 X1.9856 Y-0.8109 I6.1778 J12.2908
-G02 X3.015 Y-0.7892 I8.8515 J27.6632
-G02 X6.2889 Y0 I3.1444 J33.011
-M50
-G40
-G00 X-28.9085 Y30.4365
-G42
-M51
-G40
-M2
-"""
+SEED_RELATIVE = SEED_PROGRAM       # seed 003's example: relative coordinates (absMode 0)
 
 
 def test_a_simulation_never_moves_the_machine(run):
