@@ -449,6 +449,7 @@ cdef void *_compile_body(void *arg) noexcept nogil:
     if err != NULL and extent != NULL:
         result = _compile_job(core, job, &build, extent, err)
         if result == COMPILE_OK:
+            program_builder_trim(&build)
             loaded = loaded_program_new(&build.prog, extent, job.files)     # the program alone
             if loaded == NULL:
                 result = COMPILE_ERROR

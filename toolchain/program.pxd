@@ -121,7 +121,8 @@ ctypedef struct Program:
 # compiler, the compensation's merge, insert_arcs, the planner's insertions) grow them
 # through the builder, which keeps what only the compilation needs. Once compiled,
 # the core publishes `prog` alone (runtime/programs.pyx loaded_program_new takes it
-# over); its arrays keep the spare room past their n_* that they had.
+# over), the parts and addresses trimmed to their n_* (program_builder_trim); the
+# small arrays keep their spare room.
 ctypedef struct ProgramBuilder:
     Program prog
     size_t cap_parts, cap_pars, cap_zeros, cap_rotations    # allocated items of each array
