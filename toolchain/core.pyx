@@ -346,7 +346,7 @@ cdef void _compile_warn(void *ctx, const ErrorInfo *warning) noexcept nogil:
     core_warning(<Core *>ctx, warning)
 
 
-cdef int _compile_and_compensate(Core *core, CompileInput *inp, Program *prog, ErrorInfo *err) noexcept nogil:
+cdef int _compile_and_compensate(Core *core, CompileInput *inp, ProgramBuilder *build, ErrorInfo *err) noexcept nogil:
     """The compiler, and the compensation's pass beside it in a thread of its own
     (pipeline.pyx), then the compensation's merge: COMPILE_OK, or the compiler's
     failure, else the compensation's (err filled)."""
@@ -357,17 +357,17 @@ cdef int _compile_and_compensate(Core *core, CompileInput *inp, Program *prog, E
     if comp_err == NULL:
         set_error(err, ERR_OUT_OF_MEMORY, inp.file_idx, 0, NULL, 0)
         return COMPILE_ERROR
-    compensate_begin(&comp, prog, &inp.params, comp_err, _compile_output, _compile_warn, core)
-    follow_init(&follow, prog, compensate_feed, &comp)
-    prog.follow = &follow
-    result = compile_program(inp, prog, err)
-    if result == COMPILE_OK and prog.compensated:
-        follow_finish(&follow, prog.n_parts)        # the pass takes the rest and ends
+    compensate_begin(&comp, build, &inp.params, comp_err, _compile_output, _compile_warn, core)
+    follow_init(&follow, build, compensate_feed, &comp)
+    build.follow = &follow
+    result = compile_program(inp, build, err)
+    if result == COMPILE_OK and build.prog.compensated:
+        follow_finish(&follow, build.prog.n_parts)  # the pass takes the rest and ends
     else:
         follow_abandon(&follow)
-    prog.follow = NULL
+    build.follow = NULL
     follow_destroy(&follow)
-    if result == COMPILE_OK and prog.compensated:
+    if result == COMPILE_OK and build.prog.compensated:
         result = compensate_end(&comp)
         if result != COMPILE_OK:
             err[0] = comp_err[0]
@@ -377,7 +377,7 @@ cdef int _compile_and_compensate(Core *core, CompileInput *inp, Program *prog, E
     return result
 
 
-cdef int _compile_job(Core *core, Job *job, Program *prog, GCODE_INFO *extent, ErrorInfo *err) noexcept nogil:
+cdef int _compile_job(Core *core, Job *job, ProgramBuilder *build, GCODE_INFO *extent, ErrorInfo *err) noexcept nogil:
     """Reads (if need be), compiles, compensates, inserts arcs and measures the
     program of `job`; no lock is held but for copying the core's settings."""
     cdef CompileInput *inp
@@ -418,16 +418,16 @@ cdef int _compile_job(Core *core, Job *job, Program *prog, GCODE_INFO *extent, E
     snprintf(text, sizeof(text), "Compiling %s", job.name)
     core_status_text(core, text, job.files[0], 0)
     core_progress(core, 0)
-    result = _compile_and_compensate(core, inp, prog, err)
+    result = _compile_and_compensate(core, inp, build, err)
     if result == COMPILE_OK:
-        result = insert_arcs(prog, &inp.params, err)
-    if result == COMPILE_OK and plan_program(prog, &inp.params, machine_bits, inp.plan_window) != COMPILE_OK:
+        result = insert_arcs(build, &inp.params, err)
+    if result == COMPILE_OK and plan_program(build, &inp.params, machine_bits, inp.plan_window) != COMPILE_OK:
         result = COMPILE_ERROR
         set_error(err, ERR_OUT_OF_MEMORY, job.files[0], 0, NULL, 0)
     if result == COMPILE_OK and TC_ATOMIC_LOAD(&core.cancel):
         result = COMPILE_CANCELLED          # ended while it finished: nothing is published
     if result == COMPILE_OK:
-        program_extent(prog, extent)
+        program_extent(&build.prog, extent)
     elif result == COMPILE_CANCELLED:
         set_error(err, ERR_CANCELLED, job.files[0], 0, NULL, 0)
     free(inp)
@@ -437,7 +437,7 @@ cdef int _compile_job(Core *core, Job *job, Program *prog, GCODE_INFO *extent, E
 cdef void *_compile_body(void *arg) noexcept nogil:
     cdef Job *job = <Job *>arg
     cdef Core *core = job.core
-    cdef Program prog
+    cdef ProgramBuilder build
     cdef ErrorInfo *err = <ErrorInfo *>calloc(1, sizeof(ErrorInfo))
     cdef GCODE_INFO *extent = <GCODE_INFO *>calloc(1, sizeof(GCODE_INFO))
     cdef LoadedProgram *loaded = NULL
@@ -445,16 +445,17 @@ cdef void *_compile_body(void *arg) noexcept nogil:
     cdef int result = COMPILE_ERROR
     cdef char text[400]
     worker_thread_mark(core)
-    program_init(&prog)
+    program_builder_init(&build)
     if err != NULL and extent != NULL:
-        result = _compile_job(core, job, &prog, extent, err)
+        result = _compile_job(core, job, &build, extent, err)
         if result == COMPILE_OK:
-            loaded = loaded_program_new(&prog, extent, job.files)
+            program_builder_trim(&build)
+            loaded = loaded_program_new(&build.prog, extent, job.files)     # the program alone
             if loaded == NULL:
                 result = COMPILE_ERROR
                 set_error(err, ERR_OUT_OF_MEMORY, job.files[0], 0, NULL, 0)
     if result != COMPILE_OK and err != NULL:
-        err.n_lines = <int32_t>prog.n_lines     # lines of the main file, counted before compiling
+        err.n_lines = <int32_t>build.prog.n_lines   # lines of the main file, counted before compiling
     pthread_mutex_lock(&core.lock)
     old = core.program
     core.program = loaded
@@ -468,7 +469,7 @@ cdef void *_compile_body(void *arg) noexcept nogil:
         else:
             set_error(&core.error, ERR_OUT_OF_MEMORY, job.files[0], 0, NULL, 0)
     pthread_mutex_unlock(&core.lock)
-    program_free(&prog)                 # what a failed compilation left
+    program_builder_free(&build)        # what a failed compilation left
     loaded_program_release(old)
     if loaded != NULL:
         snprintf(text, sizeof(text), "Compiled %s: %lu parts", job.name, <unsigned long>loaded.prog.n_parts)

@@ -22,9 +22,9 @@ cdef enum:
     PREFAULT_CHUNK = 16384  # parts (2.4 MB) readied at a time between batches
 
 
-cdef void follow_init(Follow *F, Program *prog, consume_fn consume, void *ctx) noexcept nogil:
+cdef void follow_init(Follow *F, ProgramBuilder *build, consume_fn consume, void *ctx) noexcept nogil:
     memset(F, 0, sizeof(Follow))
-    F.prog = prog
+    F.build = build
     F.consume = consume
     F.ctx = ctx
     F.result = COMPILE_OK
@@ -65,11 +65,11 @@ cdef void *_follow_body(void *arg) noexcept nogil:
                 break
             if last:
                 break
-        elif F.prog.prefaulted < ready:
+        elif F.build.prefaulted < ready:
             upto = F.published                  # the compiler is at least there
             F.busy = True
             pthread_mutex_unlock(&F.lock)
-            if not program_prefault(F.prog, upto, PREFAULT_CHUNK, ready):
+            if not program_prefault(F.build, upto, PREFAULT_CHUNK, ready):
                 ready = 0                       # nothing more to do (or not supported)
             pthread_mutex_lock(&F.lock)
             F.busy = False

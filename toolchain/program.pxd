@@ -91,19 +91,19 @@ cdef struct Follow                  # below: the stage beside the compiler
 
 ctypedef struct Program:
     Part *parts
-    size_t n_parts, cap_parts
+    size_t n_parts
     float *pars             # addresses of all parts, packed in letter order per part
-    size_t n_pars, cap_pars
+    size_t n_pars
     P10DOUBLE *zeros        # zero offsets referenced by Part.zero_idx (zeros[0] = none)
-    size_t n_zeros, cap_zeros
+    size_t n_zeros
     double *rotations       # G168 rotations, 12 doubles each (centre x y z, 3x3 matrix by rows); entry 0 unused
-    size_t n_rotations, cap_rotations
+    size_t n_rotations
     StrategyRegion *strategy_regions        # in part order
-    size_t n_strategy_regions, cap_strategy_regions
+    size_t n_strategy_regions
     char *texts             # NUL-terminated PRINT texts
-    size_t n_texts, cap_texts
+    size_t n_texts
     double *axes            # positions of the axes c b u v w a o, 7 doubles per entry (Part.axes_idx):
-    size_t n_axes, cap_axes # a new entry only when one of them moves, so most programs have one
+    size_t n_axes           # a new entry only when one of them moves, so most programs have one
     double start[10]        # machine position before the first part
     int32_t main_file_idx
     uint32_t n_lines        # lines of the main file
@@ -112,12 +112,24 @@ ctypedef struct Program:
                                 # machine position a run starts from (the axis not yet named
                                 # absolutely: G91 moves, or not named at all); INT32_MAX: every part
     ArcRegion *arc_regions  # G167 changes, in part order (compensation/insert_arcs.pyx)
-    size_t n_arc_regions, cap_arc_regions
+    size_t n_arc_regions
+    PlanRegion *plan_regions    # G900 / M-5 changes, in part order (compiler; planner/)
+    size_t n_plan_regions
+    PartPlan *plan          # one per part once planned (planner/plan_program), else NULL
+
+# A Program while it is being compiled: the stages that add to its arrays (the
+# compiler, the compensation's merge, insert_arcs, the planner's insertions) grow them
+# through the builder, which keeps what only the compilation needs. Once compiled,
+# the core publishes `prog` alone (runtime/programs.pyx loaded_program_new takes it
+# over), the parts and addresses trimmed to their n_* (program_builder_trim); the
+# small arrays keep their spare room.
+ctypedef struct ProgramBuilder:
+    Program prog
+    size_t cap_parts, cap_pars, cap_zeros, cap_rotations    # allocated items of each array
+    size_t cap_strategy_regions, cap_texts, cap_axes        # (axes, rotations: doubles)
+    size_t cap_arc_regions, cap_plan_regions
     Follow *follow          # while a stage reads the parts beside the compiler, else NULL
     size_t prefaulted       # parts [0, prefaulted) of the capacity are faulted in (program_prefault)
-    PlanRegion *plan_regions    # G900 / M-5 changes, in part order (compiler; planner/)
-    size_t n_plan_regions, cap_plan_regions
-    PartPlan *plan          # one per part once planned (planner/plan_program), else NULL
 
 # A stage that reads the parts while the compiler still writes them, in a thread of
 # its own (pipeline.pyx; the compensation): the compiler hands over the parts as they
@@ -128,7 +140,7 @@ ctypedef int (*consume_fn)(void *ctx, size_t upto, bint last, size_t *more) noex
 cdef struct Follow:
     consume_fn consume      # takes parts [previous upto, upto); last: the program is complete;
     void *ctx               # more: parts it will insert later (their memory is readied too)
-    Program *prog
+    ProgramBuilder *build
     pthread_mutex_t lock
     pthread_cond_t cond
     pthread_t thread

@@ -26,6 +26,37 @@ cdef void program_free(Program *prog) noexcept nogil:
     program_init(prog)
 
 
+cdef void program_builder_init(ProgramBuilder *build) noexcept nogil:
+    memset(build, 0, sizeof(ProgramBuilder))
+    program_init(&build.prog)
+
+
+cdef void program_builder_free(ProgramBuilder *build) noexcept nogil:
+    """Frees what a compilation left in the builder (nothing once its program is published)."""
+    program_free(&build.prog)
+    program_builder_init(build)
+
+
+cdef void program_builder_trim(ProgramBuilder *build) noexcept nogil:
+    """Gives back the spare room of the two large arrays (parts, addresses) before the
+    program is published: their reserve (reserve_parts) and the memory the thread
+    beside the compiler faulted in ahead (up to PREFAULT_AHEAD parts). A shrink copies
+    nothing in glibc (the tail is split off or unmapped): about 0.1 ms on a million
+    parts. When realloc refuses, the spare room stays."""
+    cdef Program *prog = &build.prog
+    cdef void *p
+    if prog.n_parts > 0 and build.cap_parts > prog.n_parts:
+        p = realloc(prog.parts, prog.n_parts * sizeof(Part))
+        if p != NULL:
+            prog.parts = <Part *>p
+            build.cap_parts = prog.n_parts
+    if prog.n_pars > 0 and build.cap_pars > prog.n_pars:
+        p = realloc(prog.pars, prog.n_pars * sizeof(float))
+        if p != NULL:
+            prog.pars = <float *>p
+            build.cap_pars = prog.n_pars
+
+
 cdef bint _grow(void **buf, size_t *cap, size_t need, size_t item) noexcept nogil:
     # Ensures room for `need` items (doubling); False when memory is exhausted.
     cdef size_t new_cap
@@ -51,23 +82,24 @@ cdef inline void _part_defaults(Part *p) noexcept nogil:
     p.comp = 40
 
 
-cdef bint program_grow_shared(Program *prog, void **buf, size_t *cap, size_t need,
+cdef bint program_grow_shared(ProgramBuilder *build, void **buf, size_t *cap, size_t need,
                               size_t item) noexcept nogil:
-    """_grow for an array that a stage beside the compiler reads (Program.follow):
+    """_grow for an array that a stage beside the compiler reads (ProgramBuilder.follow):
     the array moves only while that stage waits between batches."""
     cdef bint ok
     if need <= cap[0]:
         return True
-    follow_pause(prog.follow)
+    follow_pause(build.follow)
     ok = _grow(buf, cap, need, item)
-    follow_resume(prog.follow)
+    follow_resume(build.follow)
     return ok
 
 
-cdef Part *program_add_part(Program *prog) noexcept nogil:
+cdef Part *program_add_part(ProgramBuilder *build) noexcept nogil:
     """Appends a zeroed part (zero_idx 0, file -1); NULL when out of memory."""
+    cdef Program *prog = &build.prog
     cdef Part *p
-    if not program_grow_shared(prog, <void **>&prog.parts, &prog.cap_parts, prog.n_parts + 1, sizeof(Part)):
+    if not program_grow_shared(build, <void **>&prog.parts, &build.cap_parts, prog.n_parts + 1, sizeof(Part)):
         return NULL
     p = &prog.parts[prog.n_parts]
     prog.n_parts += 1
@@ -75,13 +107,14 @@ cdef Part *program_add_part(Program *prog) noexcept nogil:
     return p
 
 
-cdef bint program_merge(Program *prog, size_t n_ins, void *ctx, inserted_after_fn after_of,
+cdef bint program_merge(ProgramBuilder *build, size_t n_ins, void *ctx, inserted_after_fn after_of,
                         make_inserted_fn make, settle_parts_fn settle) noexcept nogil:
     """Inserts n_ins parts (in part order: after_of non-decreasing) in one backward pass
     over the grown array: every part moves up by the insertions before it, whole runs
     at a time (a Part holds doubles: its size is a multiple of 8). `settle` (may be
     NULL) sees every part once, the runs from the last down. False when memory is
     exhausted (the program unchanged)."""
+    cdef Program *prog = &build.prog
     cdef size_t n = prog.n_parts, total = prog.n_parts + n_ins
     cdef size_t k, w, r, after, run, next_w
     cdef Part *parts
@@ -94,7 +127,7 @@ cdef bint program_merge(Program *prog, size_t n_ins, void *ctx, inserted_after_f
     if parts == NULL:
         return False
     prog.parts = parts
-    prog.cap_parts = total
+    build.cap_parts = total
     # parts [0, k) have not moved yet; part k now lives at next_w (total: there is no
     # part after the last one). Every group but the first moves a run of at least its
     # own part.
@@ -129,21 +162,22 @@ cdef bint program_merge(Program *prog, size_t n_ins, void *ctx, inserted_after_f
 cdef int32_t g_no_populate      # the kernel refused MADV_POPULATE_WRITE (before 5.14): a hint less
 
 
-cdef bint program_prefault(Program *prog, size_t first, size_t count, size_t limit) noexcept nogil:
+cdef bint program_prefault(ProgramBuilder *build, size_t first, size_t count, size_t limit) noexcept nogil:
     """Faults in (zeroes) the memory of up to `count` parts from `first` on, or from
     where the last call stopped if that is further, below part `limit` and the
     capacity, without touching their contents: the thread beside the compiler does
     this ahead of it, so the compiler and the merge write into memory that is there.
     Only a hint; False when there is nothing left to do (or the kernel cannot)."""
+    cdef Program *prog = &build.prog
     cdef size_t end
     cdef size_t lo, hi
-    if first < prog.prefaulted:
-        first = prog.prefaulted
+    if first < build.prefaulted:
+        first = build.prefaulted
     end = first + count
     if end > limit:
         end = limit
-    if end > prog.cap_parts:
-        end = prog.cap_parts
+    if end > build.cap_parts:
+        end = build.cap_parts
     if first >= end or TC_ATOMIC_LOAD(&g_no_populate):
         return False
     lo = (<size_t>&prog.parts[first] + 0xFFF) & ~(<size_t>0xFFF)
@@ -151,18 +185,19 @@ cdef bint program_prefault(Program *prog, size_t first, size_t count, size_t lim
     if lo < hi and madvise(<void *>lo, hi - lo, MADV_POPULATE_WRITE) != 0:
         TC_ATOMIC_STORE(&g_no_populate, 1)
         return False
-    prog.prefaulted = end
+    build.prefaulted = end
     return True
 
 
-cdef bint program_set_pars(Program *prog, Part *part, const float *values, uint32_t mask) noexcept nogil:
+cdef bint program_set_pars(ProgramBuilder *build, Part *part, const float *values, uint32_t mask) noexcept nogil:
     """Stores the addresses of `mask` (values indexed by letter - 'A') for the part."""
+    cdef Program *prog = &build.prog
     cdef int letter, n = 0
     cdef size_t part_pos = part - prog.parts
     for letter in range(26):
         if mask & (1u << letter):
             n += 1
-    if not _grow(<void **>&prog.pars, &prog.cap_pars, prog.n_pars + n, sizeof(float)):
+    if not _grow(<void **>&prog.pars, &build.cap_pars, prog.n_pars + n, sizeof(float)):
         return False
     part = &prog.parts[part_pos]
     part.pars_off = <uint32_t>prog.n_pars
@@ -174,11 +209,12 @@ cdef bint program_set_pars(Program *prog, Part *part, const float *values, uint3
     return True
 
 
-cdef int program_add_zero(Program *prog, const double *offset) noexcept nogil:
+cdef int program_add_zero(ProgramBuilder *build, const double *offset) noexcept nogil:
     """Index of a zero offset (reusing the last one when equal); -1 out of memory."""
+    cdef Program *prog = &build.prog
     cdef int i
     if prog.n_zeros == 0:
-        if not _grow(<void **>&prog.zeros, &prog.cap_zeros, 1, sizeof(P10DOUBLE)):
+        if not _grow(<void **>&prog.zeros, &build.cap_zeros, 1, sizeof(P10DOUBLE)):
             return -1
         memset(&prog.zeros[0], 0, sizeof(P10DOUBLE))
         prog.n_zeros = 1
@@ -186,15 +222,16 @@ cdef int program_add_zero(Program *prog, const double *offset) noexcept nogil:
         return <int>prog.n_zeros - 1
     if prog.n_zeros >= 65535:
         return -1
-    if not _grow(<void **>&prog.zeros, &prog.cap_zeros, prog.n_zeros + 1, sizeof(P10DOUBLE)):
+    if not _grow(<void **>&prog.zeros, &build.cap_zeros, prog.n_zeros + 1, sizeof(P10DOUBLE)):
         return -1
     memcpy(&prog.zeros[prog.n_zeros], offset, sizeof(P10DOUBLE))
     prog.n_zeros += 1
     return <int>prog.n_zeros - 1
 
 
-cdef int program_add_rotation(Program *prog, const double *centre, const double *matrix) noexcept nogil:
+cdef int program_add_rotation(ProgramBuilder *build, const double *centre, const double *matrix) noexcept nogil:
     """Index (>= 1) of a G168 rotation (reusing the last one when equal); -1 out of memory."""
+    cdef Program *prog = &build.prog
     cdef double *r
     if prog.n_rotations == 0:
         prog.n_rotations = 1                # entry 0: not rotated
@@ -204,7 +241,7 @@ cdef int program_add_rotation(Program *prog, const double *centre, const double 
             return <int>prog.n_rotations - 1
     if prog.n_rotations >= 65535:
         return -1
-    if not _grow(<void **>&prog.rotations, &prog.cap_rotations, 12 * (prog.n_rotations + 1), sizeof(double)):
+    if not _grow(<void **>&prog.rotations, &build.cap_rotations, 12 * (prog.n_rotations + 1), sizeof(double)):
         return -1
     r = prog.rotations + 12 * prog.n_rotations
     memcpy(r, centre, 3 * sizeof(double))
@@ -213,10 +250,11 @@ cdef int program_add_rotation(Program *prog, const double *centre, const double 
     return <int>prog.n_rotations - 1
 
 
-cdef int64_t program_add_text(Program *prog, const char *text, size_t n) noexcept nogil:
+cdef int64_t program_add_text(ProgramBuilder *build, const char *text, size_t n) noexcept nogil:
     """Stores a NUL-terminated copy of text[0:n]; its offset, -1 out of memory."""
+    cdef Program *prog = &build.prog
     cdef size_t off = prog.n_texts
-    if not _grow(<void **>&prog.texts, &prog.cap_texts, prog.n_texts + n + 1, 1):
+    if not _grow(<void **>&prog.texts, &build.cap_texts, prog.n_texts + n + 1, 1):
         return -1
     memcpy(&prog.texts[off], text, n)
     prog.texts[off + n] = 0
@@ -224,10 +262,11 @@ cdef int64_t program_add_text(Program *prog, const char *text, size_t n) noexcep
     return <int64_t>off
 
 
-cdef bint program_set_end(Program *prog, Part *p, const double *end) noexcept nogil:
+cdef bint program_set_end(ProgramBuilder *build, Part *p, const double *end) noexcept nogil:
     """Sets the programmed end of part p (all ten axes): x y z in the part, the other
     seven as an entry of Program.axes (the last one again when they did not move).
     False when memory is exhausted."""
+    cdef Program *prog = &build.prog
     cdef double *last
     p.e[0] = end[0]; p.e[1] = end[1]; p.e[2] = end[2]
     if prog.n_axes > 0:
@@ -235,7 +274,7 @@ cdef bint program_set_end(Program *prog, Part *p, const double *end) noexcept no
         if memcmp(last, end + 3, 7 * sizeof(double)) == 0:
             p.axes_idx = <uint32_t>(prog.n_axes - 1)
             return True
-    if not _grow(<void **>&prog.axes, &prog.cap_axes, 7 * (prog.n_axes + 1), sizeof(double)):
+    if not _grow(<void **>&prog.axes, &build.cap_axes, 7 * (prog.n_axes + 1), sizeof(double)):
         return False
     memcpy(&prog.axes[7 * prog.n_axes], end + 3, 7 * sizeof(double))
     p.axes_idx = <uint32_t>prog.n_axes

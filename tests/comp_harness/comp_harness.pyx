@@ -28,7 +28,8 @@ cdef void _collect(void *ctx, int tab, const char *text) noexcept nogil:
 def compensate(list parts, start, long long strategy=0, corrections=(), tolerances=()):
     """parts: dicts with kind (1 motion, 2 M), func, e (3..10 values), cc, radius,
     comp (40/41/42), slot, plane, line. Returns (parts, error, warnings)."""
-    cdef Program prog
+    cdef ProgramBuilder build
+    cdef Program *prog = &build.prog
     cdef GCODE_PARAMETERS params
     cdef ErrorInfo err
     cdef Part *p
@@ -36,7 +37,7 @@ def compensate(list parts, start, long long strategy=0, corrections=(), toleranc
     cdef int k, rc
     cdef char *warn = <char *>calloc(65536, 1)
     cdef timespec t0, t1
-    program_init(&prog)
+    program_builder_init(&build)
     memset(&params, 0, sizeof(params))
     memset(&err, 0, sizeof(err))
     params.correctionStrategy = <uint32_t>strategy
@@ -47,14 +48,14 @@ def compensate(list parts, start, long long strategy=0, corrections=(), toleranc
     for k, v in enumerate(start):
         prog.start[k] = v
     for idx, d in enumerate(parts):
-        p = program_add_part(&prog)
+        p = program_add_part(&build)
         p.kind = d.get("kind", 1)
         p.func = d.get("func", 1)
         e = list(d.get("e", ())) if d.get("e") is not None else []
-        part_start(&prog, idx, end)         # unset axes stay where the previous part ended
+        part_start(prog, idx, end)         # unset axes stay where the previous part ended
         for k in range(min(len(e), 10)):
             end[k] = e[k]
-        program_set_end(&prog, p, end)
+        program_set_end(&build, p, end)
         for k in range(3):
             p.ce[k] = p.e[k]
         cc = d.get("cc", (0, 0, 0))
@@ -72,14 +73,14 @@ def compensate(list parts, start, long long strategy=0, corrections=(), toleranc
             prog.compensated = True
     global _seconds
     clock_gettime(CLOCK_MONOTONIC, &t0)
-    rc = compensate_program(&prog, &params, &err, _collect, NULL, warn)
+    rc = compensate_program(&build, &params, &err, _collect, NULL, warn)
     clock_gettime(CLOCK_MONOTONIC, &t1)
     _seconds = (t1.tv_sec - t0.tv_sec) + 1e-9 * (t1.tv_nsec - t0.tv_nsec)
     out = []
     if rc == COMPILE_OK:
         for k in range(<int>prog.n_parts):
             p = &prog.parts[k]
-            part_end(&prog, p, end)
+            part_end(prog, p, end)
             out.append(dict(kind=p.kind, func=p.func, line=p.line, gcode_index=p.gcode_index,
                             flags=p.flags, comp=p.comp, plane=p.plane,
                             e=[end[i] for i in range(10)], ce=[p.ce[i] for i in range(3)],
@@ -90,7 +91,7 @@ def compensate(list parts, start, long long strategy=0, corrections=(), toleranc
         error = dict(number=err.number, line=err.line, text=err.text.decode("latin-1"))
     warnings = warn[:strlen(warn)].decode("latin-1")
     free(warn)
-    program_free(&prog)
+    program_builder_free(&build)
     return out, error, warnings
 
 

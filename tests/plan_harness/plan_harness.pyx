@@ -25,7 +25,8 @@ def plan_text(text, params=None, long long window=0, unsigned int enhanced=0, bi
     func, line, length, v_in, v_peak, v_out, time (detail), else one dict n_parts,
     run_time, plan_bytes, regions (planning regions); timing: CPU seconds of the compile (with the arcs) and of the planning."""
     cdef CompileInput *inp = <CompileInput *>calloc(1, sizeof(CompileInput))
-    cdef Program prog
+    cdef ProgramBuilder build
+    cdef Program *prog = &build.prog
     cdef ErrorInfo err
     cdef int rc
     cdef int32_t cancel = 0
@@ -34,7 +35,7 @@ def plan_text(text, params=None, long long window=0, unsigned int enhanced=0, bi
     cdef double run_time = 0.0
     cdef bytes src = text.encode("latin-1")
     cdef bytes pb
-    program_init(&prog)
+    program_builder_init(&build)
     memset(&err, 0, sizeof(err))
     if params is None:
         default_gcode_parameters(&inp.params)
@@ -53,13 +54,13 @@ def plan_text(text, params=None, long long window=0, unsigned int enhanced=0, bi
     inp.cancel = &cancel
     inp.plan_window = window
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t0)
-    rc = compile_program(inp, &prog, &err)
+    rc = compile_program(inp, &build, &err)
     if rc == COMPILE_OK:
-        rc = insert_arcs(&prog, &inp.params, &err)
+        rc = insert_arcs(&build, &inp.params, &err)
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t1)
     timing = dict(compile=(t1.tv_sec - t0.tv_sec) + 1e-9 * (t1.tv_nsec - t0.tv_nsec), plan=0.0)
     if rc == COMPILE_OK:
-        rc = plan_program(&prog, &inp.params, enhanced, window)
+        rc = plan_program(&build, &inp.params, enhanced, window)
         clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t2)
         timing["plan"] = (t2.tv_sec - t1.tv_sec) + 1e-9 * (t2.tv_nsec - t1.tv_nsec)
     out = []
@@ -71,11 +72,11 @@ def plan_text(text, params=None, long long window=0, unsigned int enhanced=0, bi
     elif rc == COMPILE_OK:
         for k in range(prog.n_parts):
             out.append(dict(kind=prog.parts[k].kind, func=prog.parts[k].func, line=prog.parts[k].line,
-                            length=part_length(&prog, k), v_in=plan_entry_speed(&prog, k),
+                            length=part_length(prog, k), v_in=plan_entry_speed(prog, k),
                             v_peak=prog.plan[k].v_peak, v_out=prog.plan[k].v_exit,
-                            time=prog.plan[k].time, calc_feed=plan_calc_feed(&prog, k)))
+                            time=prog.plan[k].time, calc_feed=plan_calc_feed(prog, k)))
     error = None if rc == COMPILE_OK else (err.number, err.line, err.text.decode("latin-1"))
-    program_free(&prog)
+    program_builder_free(&build)
     free(inp)
     return out, error, timing
 

@@ -51,7 +51,8 @@ ctypedef struct CompWarning:
     int32_t file_idx
 
 ctypedef struct CompState:
-    Program *prog
+    ProgramBuilder *build   # the merge grows its parts
+    Program *prog           # &build.prog
     const GCODE_PARAMETERS *params
     ErrorInfo *err
     output_fn output
@@ -734,17 +735,18 @@ cdef int _merge(CompState *S) noexcept nogil:
         return COMPILE_OK
     if S.has_followers:
         settle = _settle
-    if not program_merge(S.prog, S.n_ins, S, _ins_after, _ins_make, settle):
+    if not program_merge(S.build, S.n_ins, S, _ins_after, _ins_make, settle):
         return _comp_fail(S, ERR_OUT_OF_MEMORY, 0, 0, 0)
     return COMPILE_OK
 
 
-cdef void compensate_begin(CompState *S, Program *prog, const GCODE_PARAMETERS *params, ErrorInfo *err,
+cdef void compensate_begin(CompState *S, ProgramBuilder *build, const GCODE_PARAMETERS *params, ErrorInfo *err,
                            output_fn output, warn_fn warn, void *ctx) noexcept nogil:
-    """Prepares the pass over `prog`; compensate_end gives its warnings to `output`
+    """Prepares the pass over build.prog; compensate_end gives its warnings to `output`
     (text) and `warn` (numbered, WARN_COMP)."""
     memset(S, 0, sizeof(CompState))
-    S.prog = prog
+    S.build = build
+    S.prog = &build.prog
     S.params = params
     S.err = err
     S.output = output
@@ -844,13 +846,13 @@ cdef void compensate_free(CompState *S) noexcept nogil:
     S.ins = NULL
 
 
-cdef int compensate_program(Program *prog, const GCODE_PARAMETERS *params, ErrorInfo *err,
+cdef int compensate_program(ProgramBuilder *build, const GCODE_PARAMETERS *params, ErrorInfo *err,
                             output_fn output, warn_fn warn, void *ctx) noexcept nogil:
     """The whole pass on a complete program in the caller's thread: Part.ce,
     Part.radius and the inserted parts of every part with comp 41/42; COMPILE_OK or
     COMPILE_ERROR with err filled."""
     cdef CompState S
     cdef size_t more
-    compensate_begin(&S, prog, params, err, output, warn, ctx)
-    compensate_feed(&S, prog.n_parts, True, &more)
+    compensate_begin(&S, build, params, err, output, warn, ctx)
+    compensate_feed(&S, build.prog.n_parts, True, &more)
     return compensate_end(&S)

@@ -27,13 +27,14 @@ ctypedef struct ArcIns:
     int16_t plane
 
 
-cdef bint program_add_arc_region(Program *prog, size_t first, bint on, int32_t plane,
+cdef bint program_add_arc_region(ProgramBuilder *build, size_t first, bint on, int32_t plane,
                                  double tol_max, double tol_min, double max_angle) noexcept nogil:
     """Records a G167 (compiler): settings in force from programmed part `first` on."""
+    cdef Program *prog = &build.prog
     cdef ArcRegion *r
     if prog.n_arc_regions > 0 and prog.arc_regions[prog.n_arc_regions - 1].first == first:
         prog.n_arc_regions -= 1          # several G167 before the same part: the last one counts
-    if not _grow(<void **>&prog.arc_regions, &prog.cap_arc_regions, prog.n_arc_regions + 1, sizeof(ArcRegion)):
+    if not _grow(<void **>&prog.arc_regions, &build.cap_arc_regions, prog.n_arc_regions + 1, sizeof(ArcRegion)):
         return False
     r = &prog.arc_regions[prog.n_arc_regions]
     prog.n_arc_regions += 1
@@ -69,8 +70,9 @@ cdef bint _ia_in_plane_line(const Program *prog, size_t k, int a, int b) noexcep
     return distance2d(e[a] - s[a], e[b] - s[b]) > 1e-9
 
 
-cdef int insert_arcs(Program *prog, const GCODE_PARAMETERS *params, ErrorInfo *err) noexcept nogil:
+cdef int insert_arcs(ProgramBuilder *build, const GCODE_PARAMETERS *params, ErrorInfo *err) noexcept nogil:
     """Inserts the automatic arcs; COMPILE_OK or COMPILE_ERROR (out of memory)."""
+    cdef Program *prog = &build.prog
     cdef size_t k, n, region = 0, programmed = 0, n_ins = 0, cap_ins = 0
     cdef bint on, any_on, cur_ok, merged
     cdef int32_t plane
@@ -178,7 +180,7 @@ cdef int insert_arcs(Program *prog, const GCODE_PARAMETERS *params, ErrorInfo *e
         prev_start[0] = s1[0]; prev_start[1] = s1[1]
     if n_ins == 0:
         return COMPILE_OK
-    merged = program_merge(prog, n_ins, ins, _ia_after, _ia_make, NULL)
+    merged = program_merge(build, n_ins, ins, _ia_after, _ia_make, NULL)
     free(ins)
     if not merged:
         set_error(err, ERR_OUT_OF_MEMORY, prog.main_file_idx, 0, NULL, 0)

@@ -3,17 +3,18 @@
 from libc.math cimport sin, M_PI
 
 
-cdef bint program_add_strategy_region(Program *prog, size_t first, bint on, double corner_distance,
+cdef bint program_add_strategy_region(ProgramBuilder *build, size_t first, bint on, double corner_distance,
                                       double depth, bint drop_arcs) noexcept nogil:
     """Records a G172 (on) / G173 (off) that applies from part `first` on; False =
     no memory. Several before the same part: the last one counts. The compensation
     may be reading the regions beside the compiler: it waits meanwhile."""
+    cdef Program *prog = &build.prog
     cdef StrategyRegion *r
     cdef bint ok
-    follow_pause(prog.follow)
+    follow_pause(build.follow)
     if prog.n_strategy_regions > 0 and prog.strategy_regions[prog.n_strategy_regions - 1].first == first:
         prog.n_strategy_regions -= 1
-    ok = _grow(<void **>&prog.strategy_regions, &prog.cap_strategy_regions, prog.n_strategy_regions + 1,
+    ok = _grow(<void **>&prog.strategy_regions, &build.cap_strategy_regions, prog.n_strategy_regions + 1,
                sizeof(StrategyRegion))
     if ok:
         r = &prog.strategy_regions[prog.n_strategy_regions]
@@ -23,7 +24,7 @@ cdef bint program_add_strategy_region(Program *prog, size_t first, bint on, doub
         r.corner_distance = corner_distance if corner_distance > 0 else 0.0
         r.depth = depth if depth > 0 else 0.0
         r.drop_arcs = drop_arcs
-    follow_resume(prog.follow)
+    follow_resume(build.follow)
     return ok
 
 

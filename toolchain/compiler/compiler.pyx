@@ -358,7 +358,7 @@ cdef int cp_g900(CState *st, const LineWords *lw, int col) noexcept nogil:
 
 cdef bint cp_plan_region(CState *st) noexcept nogil:
     """The planning settings from the next part on (G900, M-5), for the planner."""
-    return program_add_plan_region(st.prog, st.prog.n_parts, &st.params, st.g900_ignore_angle,
+    return program_add_plan_region(st.build, st.prog.n_parts, &st.params, st.g900_ignore_angle,
                                    st.g900_ignore_feed, st.limits_off, st.g900_stop_mode, st.g900_arc_table)
 
 
@@ -404,7 +404,7 @@ cdef int cp_g167(CState *st, const LineWords *lw) noexcept nogil:
     st.g167[3] = val(lw, b'Q') if has(lw, b'Q') else <double>st.params.insertArcPlane
     if has(lw, b'Q') and not (to_int(st.g167[3]) == 0 or plane_axes(to_int(st.g167[3]), &ga, &gb, &gc)):
         return cerr_num(st, ERR_BAD_PLANE, st.g167[3])
-    if not program_add_arc_region(st.prog, st.prog.n_parts, st.g167_on, to_int(st.g167[3]),
+    if not program_add_arc_region(st.build, st.prog.n_parts, st.g167_on, to_int(st.g167[3]),
                                   st.g167[0], st.g167[1], st.g167[2]):
         return cerr(st, ERR_OUT_OF_MEMORY)
     return 0
@@ -662,7 +662,7 @@ cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
             cp_reframe(st)
         elif g == 172 or g == 173:
             consumed |= bit_of(b'R') | bit_of(b'C') | bit_of(b'D')
-            if not program_add_strategy_region(st.prog, st.prog.n_parts, g == 172,
+            if not program_add_strategy_region(st.build, st.prog.n_parts, g == 172,
                                                val(lw, b'R') if has(lw, b'R') else 0.0,
                                                val(lw, b'C') if has(lw, b'C') else 0.0,
                                                has(lw, b'D') and val(lw, b'D') != 0.0):
@@ -882,7 +882,7 @@ cdef int cp_run(CState *st, Unit *u, bint main) noexcept nogil:
         if (st.blocks & 1023) == 0:
             if st.inp.cancel != NULL and TC_ATOMIC_LOAD(st.inp.cancel) != 0:
                 return COMPILE_CANCELLED
-            follow_publish(st.prog.follow, st.prog.n_parts)         # between lines: all final
+            follow_publish(st.build.follow, st.prog.n_parts)         # between lines: all final
             if st.blocks > st.block_limit:
                 st.line = line
                 cerr_num(st, ERR_BLOCK_LIMIT, <double>(st.block_limit))
@@ -930,10 +930,11 @@ cdef int cp_run(CState *st, Unit *u, bint main) noexcept nogil:
     return COMPILE_OK
 
 
-cdef void cp_init(CState *st, const CompileInput *inp, Program *prog, ErrorInfo *err) noexcept nogil:
+cdef void cp_init(CState *st, const CompileInput *inp, ProgramBuilder *build, ErrorInfo *err) noexcept nogil:
     cdef int a
     st.inp = inp
-    st.prog = prog
+    st.build = build
+    st.prog = &build.prog
     st.err = err
     st.params = inp.params
     memcpy(st.P, inp.user_params, sizeof(st.P))
@@ -951,21 +952,22 @@ cdef void cp_init(CState *st, const CompileInput *inp, Program *prog, ErrorInfo 
     st.g900_arc_table = -1          # the host's arcFeedTable until G900 S13
 
 
-cdef void reserve_parts(Program *prog, uint32_t lines) noexcept nogil:
+cdef void reserve_parts(ProgramBuilder *build, uint32_t lines) noexcept nogil:
     """Reserves room for about one part per line up front (one allocation instead of
     a doubling series), and half as many again for the parts the compensation may
     insert at corners (address space only until written: the array need not move),
     and asks for transparent huge pages: on large programs most of the compile time
     is otherwise spent faulting in fresh 4 KiB pages. Only a hint; the arrays still
     grow on demand."""
+    cdef Program *prog = &build.prog
     cdef size_t n = <size_t>lines + 64
     cdef size_t start, end
     if lines < 100000:
         return
-    if _grow(<void **>&prog.parts, &prog.cap_parts, n + n // 2, sizeof(Part)):
-        _advise_huge(prog.parts, prog.cap_parts * sizeof(Part))
-    if _grow(<void **>&prog.pars, &prog.cap_pars, n * 4, sizeof(float)):
-        _advise_huge(prog.pars, prog.cap_pars * sizeof(float))
+    if _grow(<void **>&prog.parts, &build.cap_parts, n + n // 2, sizeof(Part)):
+        _advise_huge(prog.parts, build.cap_parts * sizeof(Part))
+    if _grow(<void **>&prog.pars, &build.cap_pars, n * 4, sizeof(float)):
+        _advise_huge(prog.pars, build.cap_pars * sizeof(float))
 
 
 cdef void _advise_huge(void *buf, size_t size) noexcept nogil:
@@ -977,9 +979,10 @@ cdef void _advise_huge(void *buf, size_t size) noexcept nogil:
     madvise(<void *>start, end - start, MADV_HUGEPAGE)
 
 
-cdef int compile_program(const CompileInput *inp, Program *prog, ErrorInfo *err) noexcept nogil:
-    """Compiles inp.text (prefix, main, postfix) into prog; COMPILE_OK, or COMPILE_ERROR
+cdef int compile_program(const CompileInput *inp, ProgramBuilder *build, ErrorInfo *err) noexcept nogil:
+    """Compiles inp.text (prefix, main, postfix) into build.prog; COMPILE_OK, or COMPILE_ERROR
     with err filled, or COMPILE_CANCELLED when inp.cancel was set."""
+    cdef Program *prog = &build.prog
     cdef CState *st = <CState *>calloc(1, sizeof(CState))
     cdef Unit units[3]
     cdef int i, result = COMPILE_OK
@@ -1002,8 +1005,8 @@ cdef int compile_program(const CompileInput *inp, Program *prog, ErrorInfo *err)
     prog.n_lines = count_lines(units[1].text, units[1].len)
     prog.compensated = False
     lines = prog.n_lines + count_lines(units[0].text, units[0].len) + count_lines(units[2].text, units[2].len)
-    cp_init(st, inp, prog, err)
-    reserve_parts(prog, prog.n_lines)
+    cp_init(st, inp, build, err)
+    reserve_parts(build, prog.n_lines)
     st.unit = &units[1]
     st.block_limit = (inp.max_blocks if inp.max_blocks > 0 else DEFAULT_MAX_BLOCKS) + <int64_t>lines
     if not update_zero(st):

@@ -12,13 +12,13 @@ cdef Part *em_part(CState *st, int kind, int func, const double *end) noexcept n
     if prog.n_parts >= MAX_PARTS:
         cerr_num(st, ERR_PART_LIMIT, MAX_PARTS)
         return NULL
-    p = program_add_part(prog)
+    p = program_add_part(st.build)
     if p == NULL:
         cerr(st, ERR_OUT_OF_MEMORY)
         return NULL
     p.kind = kind
     p.func = func
-    if not program_set_end(prog, p, end):
+    if not program_set_end(st.build, p, end):
         cerr(st, ERR_OUT_OF_MEMORY)
         return NULL
     p.ce[0] = end[0]; p.ce[1] = end[1]; p.ce[2] = end[2]
@@ -66,7 +66,7 @@ cdef int em_pars(CState *st, const LineWords *lw, int g, int m) noexcept nogil:
         mask |= 1u << 12
     if mask == 0:
         return 0
-    if not _grow(<void **>&prog.pars, &prog.cap_pars, prog.n_pars + <size_t>SF_POPCOUNT(mask), sizeof(float)):
+    if not _grow(<void **>&prog.pars, &st.build.cap_pars, prog.n_pars + <size_t>SF_POPCOUNT(mask), sizeof(float)):
         return cerr(st, ERR_OUT_OF_MEMORY)
     p.pars_off = <uint32_t>prog.n_pars
     p.pars_mask = mask
@@ -276,7 +276,7 @@ cdef int em_mfunc(CState *st, const LineWords *lw, int m, bint continuous) noexc
 
 
 cdef int em_print(CState *st, const LineWords *lw, int m, const char *text, int n) noexcept nogil:
-    cdef int64_t off = program_add_text(st.prog, text, <size_t>n)
+    cdef int64_t off = program_add_text(st.build, text, <size_t>n)
     cdef Part *p
     if off < 0:
         return cerr(st, ERR_OUT_OF_MEMORY)

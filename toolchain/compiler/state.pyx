@@ -94,7 +94,8 @@ ctypedef struct LineWords:
 
 ctypedef struct CState:
     const CompileInput *inp
-    Program *prog
+    ProgramBuilder *build   # grows the program's arrays
+    Program *prog           # &build.prog
     ErrorInfo *err
     GCODE_PARAMETERS params                 # working copy (G900 changes it)
     GCODE_PARAMETERS pstack[PARAM_STACK_DEPTH]
@@ -379,7 +380,7 @@ cdef bint update_zero(CState *st) noexcept nogil:
     update_identity(st)
     for a in range(10):
         total[a] = st.zero[a] + st.shift[a]
-    idx = program_add_zero(st.prog, total)
+    idx = program_add_zero(st.build, total)
     if idx < 0:
         return False
     st.zero_idx = idx
@@ -410,7 +411,7 @@ cdef bint set_rotation(CState *st, double cx, double cy, double cz, double ax, d
     st.rot_m[8] = t * az * az + c
     st.rot_c[0] = cx; st.rot_c[1] = cy; st.rot_c[2] = cz
     st.rot_on = True
-    st.rot_idx = program_add_rotation(st.prog, st.rot_c, st.rot_m)
+    st.rot_idx = program_add_rotation(st.build, st.rot_c, st.rot_m)
     if st.rot_idx < 0:
         st.rot_idx = 0
         return False

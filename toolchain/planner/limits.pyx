@@ -39,11 +39,12 @@ cdef bint _same_settings(const PlanRegion *a, const PlanRegion *b) noexcept nogi
                   sizeof(PlanRegion) - sizeof(size_t)) == 0
 
 
-cdef bint program_add_plan_region(Program *prog, size_t first, const GCODE_PARAMETERS *p,
+cdef bint program_add_plan_region(ProgramBuilder *build, size_t first, const GCODE_PARAMETERS *p,
                                   uint32_t ignore_angle, uint32_t ignore_feed, uint32_t limits_off,
                                   int32_t stop_mode, int32_t arc_table) noexcept nogil:
     """Records the planning settings in force from programmed part `first` on (the
     compiler, after G900 or M-5); False when out of memory."""
+    cdef Program *prog = &build.prog
     cdef PlanRegion made
     memset(&made, 0, sizeof(PlanRegion))   # the tail padding too: regions compare with memcmp
     plan_settings_from_params(&made, p)
@@ -57,7 +58,7 @@ cdef bint program_add_plan_region(Program *prog, size_t first, const GCODE_PARAM
         prog.n_plan_regions -= 1         # several changes before the same part: the last one counts
     if prog.n_plan_regions > 0 and _same_settings(&prog.plan_regions[prog.n_plan_regions - 1], &made):
         return True                      # nothing changed (a G900 in a loop): no new region
-    if not _grow(<void **>&prog.plan_regions, &prog.cap_plan_regions, prog.n_plan_regions + 1,
+    if not _grow(<void **>&prog.plan_regions, &build.cap_plan_regions, prog.n_plan_regions + 1,
                  sizeof(PlanRegion)):
         return False
     memcpy(&prog.plan_regions[prog.n_plan_regions], &made, sizeof(PlanRegion))

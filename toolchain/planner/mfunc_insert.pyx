@@ -100,9 +100,10 @@ cdef bint mfunc_insert_wanted(const GCODE_PARAMETERS *params) noexcept nogil:
     return False
 
 
-cdef int mfunc_insert(Program *prog, const GCODE_PARAMETERS *params) noexcept nogil:
+cdef int mfunc_insert(ProgramBuilder *build, const GCODE_PARAMETERS *params) noexcept nogil:
     """Inserts the table's M functions where prog.plan slows down; COMPILE_OK, or
     COMPILE_ERROR when out of memory. The caller plans again afterwards."""
+    cdef Program *prog = &build.prog
     cdef MfuncInsertions ins
     cdef const INTERNAL_MFUNC_INSERT_TABLE *t = params.mFuncInsertTable
     cdef const Part *p
@@ -136,6 +137,6 @@ cdef int mfunc_insert(Program *prog, const GCODE_PARAMETERS *params) noexcept no
                                      t[MFI_AFTER_SLOW_DOWN].mFunc)
     if ok and ins.n > 0:
         qsort(ins.items, ins.n, sizeof(MfuncInsertion), _mfi_compare)
-        ok = program_merge(prog, ins.n, &ins, _mfi_after_of, _mfi_make, NULL)
+        ok = program_merge(build, ins.n, &ins, _mfi_after_of, _mfi_make, NULL)
     free(ins.items)
     return COMPILE_OK if ok else COMPILE_ERROR

@@ -163,17 +163,17 @@ cdef PlanNode *_ring_grow(PlanNode *ring, size_t cap, size_t first, size_t end) 
     return grown
 
 
-cdef int plan_program(Program *prog, const GCODE_PARAMETERS *params, uint32_t enhanced,
+cdef int plan_program(ProgramBuilder *build, const GCODE_PARAMETERS *params, uint32_t enhanced,
                       int64_t window) noexcept nogil:
-    """Plans every part into prog.plan (replaced). window: parts the look-ahead sees
+    """Plans every part into build.prog.plan (replaced). window: parts the look-ahead sees
     (0 the vendor's 8, < 0 unlimited). With mFuncInsertTable on, inserts its M functions
     where the plan slows down and plans again (they count in the window).
     COMPILE_OK, or COMPILE_ERROR when out of memory."""
-    cdef int result = _plan_once(prog, params, enhanced, window)
+    cdef int result = _plan_once(&build.prog, params, enhanced, window)
     if result == COMPILE_OK and mfunc_insert_wanted(params):
-        result = mfunc_insert(prog, params)
+        result = mfunc_insert(build, params)
         if result == COMPILE_OK:
-            result = _plan_once(prog, params, enhanced, window)
+            result = _plan_once(&build.prog, params, enhanced, window)
     return result
 
 
