@@ -8,8 +8,9 @@ Compares four descriptions of the library's binary interface:
 - the built library (``ToolChainCore_GetStructuresSize`` and its exported symbols);
 - the sizes table of ``ABI.md`` (:data:`SPEC_SIZES`, the spec's numbers).
 
-``run()`` returns the list of differences (empty: conformant); ``python -m abi_check``
-also prints a table and exits non-zero on any difference.
+``run()`` returns the list of differences (empty: conformant); ``python -m sf_tch.abi_check``
+(installed with the package; ``python -m abi_check`` in a source checkout) also prints a
+table and exits non-zero on any difference.
 """
 import ctypes
 import os
@@ -143,13 +144,24 @@ def ctype_name(t) -> str:
 
 # ------------------------------------------------------------------ C probe
 
+NO_COMPILER = "no C compiler found ($CC, cc or gcc on PATH): the C probe cannot measure the header"
+
+
+def find_compiler() -> str | None:
+    """Full path of the C compiler: $CC (a name on PATH or a path), else cc, else gcc."""
+    cc = os.environ.get("CC")
+    if cc:
+        return shutil.which(cc)      # a $CC that does not exist is no compiler, not a fallback
+    return shutil.which("cc") or shutil.which("gcc")
+
+
 def probe(header: str, structs: dict[str, list[Field]], cc: str | None = None) -> dict:
     """Compiles and runs a C program that prints sizeof/_Alignof of every struct and
     offsetof/sizeof of every field, against `header`. Returns
     {struct: {"size": n, "align": n, "fields": {name: (offset, size, align)}}}."""
-    cc = cc or os.environ.get("CC") or shutil.which("cc") or shutil.which("gcc")
+    cc = cc or find_compiler()
     if not cc:
-        raise RuntimeError("no C compiler (cc) found")
+        raise RuntimeError(NO_COMPILER)
     header = Path(header).resolve()
     lines = [f'#include "{header.name}"', "#include <stdio.h>", "#include <stddef.h>",
              "int main(void) {"]

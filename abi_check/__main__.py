@@ -1,12 +1,13 @@
-"""python -m abi_check [--header PATH] [--library PATH] [--diff-only]"""
+"""python -m sf_tch.abi_check (python -m abi_check in a source checkout)
+[--header PATH] [--library PATH] [--diff-only]"""
 import argparse
 import sys
 
-from . import check, default_header, format_report
+from . import NO_COMPILER, check, default_header, find_compiler, format_report
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m abi_check",
+    parser = argparse.ArgumentParser(prog=f"python -m {__package__}",
                                      description="Compare tgm_cnc.h, the ctypes mirror sf_tch.abi, "
                                                  "libSF_TCh.so and the sizes of ABI.md.")
     parser.add_argument("--header", help="C header (default: the installed sf_tch/include/tgm_cnc.h, "
@@ -14,6 +15,9 @@ def main(argv=None) -> int:
     parser.add_argument("--library", help="shared library (default: sf_tch.library_path())")
     parser.add_argument("--diff-only", action="store_true", help="print only differences and the summary")
     args = parser.parse_args(argv)
+    if find_compiler() is None:
+        # first, before the table: the reason every layout below is unmeasured
+        print(f"{__package__}: {NO_COMPILER}; install one (e.g. gcc) or set CC", flush=True)
     report = check(args.header or default_header(), args.library)
     print(format_report(report, args.diff_only))
     return 1 if report.differences else 0

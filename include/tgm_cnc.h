@@ -728,6 +728,24 @@ TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GetToolpath(uint32_t intI
  * Returns 0; -1 for parts < -1; -2 bad core. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_SetLookAhead(uint32_t intIdx, int32_t parts);
 
+/*
+ * Log hook (extension)
+ */
+
+/* Receives each line the log writes (ToolChain_LogANSI and the library's own lines of
+ * the sources enabled by ToolChainCore_SetLogValue), whatever the outputs of the mask:
+ * source is the line's LOG_* source bit (0 for ToolChain_LogANSI), text the line
+ * without time stamp or newline, valid during the call only. Called on the thread that
+ * logs (the host's, or a worker's), one call at a time. */
+typedef void (*TC_LogHook)(intptr_t userData, uint32_t source, TGM_LPCSTR text);
+
+/* Sets (fn, a TC_LogHook, non-NULL) or removes (fn NULL) the log hook; userData is
+ * passed back as its first argument. Returns once no call of the previous hook runs:
+ * the host may free it then. Lines logged by the hook itself do not reach it again; the
+ * hook must not wait for the library's threads (DestroyCNC, ResetCNC, a blocking stop).
+ * Returns 0; -1 when called from inside the hook (nothing changed). */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChain_SetLogHook(intptr_t userData, void *fn);
+
 /* ------------------------------------------------------------------ layout checks */
 #if defined(__x86_64__) || defined(_M_X64)
 #  if defined(__cplusplus)

@@ -14,16 +14,10 @@ import os
 import subprocess
 import sys
 import textwrap
-from pathlib import Path
 
 import pytest
 
 from sf_tch import abi, library, library_path
-
-try:
-    import abi_check  # noqa: F401  (installed next to sf_tch)
-except ImportError:        # running against a source checkout
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 
 def _run_python(code: str, env: dict | None = None, timeout: float = 60, check: bool = True,

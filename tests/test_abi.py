@@ -1,13 +1,18 @@
 """The binary layouts: header, ctypes mirror, library and ABI.md agree (abi_check), the
-offsets of ABI.md hold field by field, and abi_check does catch a wrong mirror."""
+offsets of ABI.md hold field by field, and abi_check does catch a wrong mirror. abi_check
+is installed as sf_tch.abi_check and runs as ``python -m abi_check`` in the source tree."""
 import ctypes
+import os
 import re
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
 
-import abi_check
-from sf_tch import abi, header_path
+from sf_tch import abi, abi_check, header_path
+
+ROOT = Path(__file__).resolve().parents[1]
 
 # ABI.md, the spec's numbers (field -> offset).
 SPEC_DLL_INIT_STRUCT = {"CNC_Dll_Dir": 0, "Macros_Dir": 8, "Comm_Int2_Dir": 16, "Local_Core_Mode": 24}
@@ -71,9 +76,41 @@ def test_spec_sizes_cover_every_structure():
 
 
 def test_command_line_exits_zero(run_python):
-    proc = run_python("import sys, abi_check.__main__ as m; sys.exit(m.main(['--diff-only']))", check=False)
+    proc = run_python("import sys, sf_tch.abi_check.__main__ as m; sys.exit(m.main(['--diff-only']))", check=False)
     assert proc.returncode == 0, proc.stdout + proc.stderr
     assert "0 difference(s)" in proc.stdout
+
+
+def _module(name: str, cwd, env: dict | None = None) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", name, "--diff-only"], capture_output=True, text=True,
+                          cwd=cwd, env=env, timeout=120)
+
+
+def test_installed_under_the_package_only(tmp_path):
+    """Outside the source tree: sf_tch.abi_check runs, no top-level abi_check is installed."""
+    proc = _module("sf_tch.abi_check", tmp_path)
+    assert proc.returncode == 0 and "0 difference(s)" in proc.stdout, proc.stdout + proc.stderr
+    assert Path(abi_check.__file__).parent.parent == Path(abi.__file__).parent
+    proc = _module("abi_check", tmp_path)
+    assert proc.returncode == 1 and "No module named abi_check" in proc.stderr, proc.stdout + proc.stderr
+
+
+def test_source_checkout_module():
+    proc = _module("abi_check", ROOT)
+    assert proc.returncode == 0 and "0 difference(s)" in proc.stdout, proc.stdout + proc.stderr
+
+
+@pytest.mark.parametrize("cc", [None, "/nonexistent/cc"])
+def test_without_a_c_compiler_the_first_line_says_so(tmp_path, cc):
+    env = {k: v for k, v in os.environ.items() if k != "CC"}
+    env["PATH"] = str(tmp_path)          # an empty directory: no cc, no gcc
+    if cc:
+        env["CC"] = cc
+    for name, cwd in (("sf_tch.abi_check", tmp_path), ("abi_check", ROOT)):
+        proc = _module(name, cwd, env)
+        first = proc.stdout.splitlines()[0] if proc.stdout else ""
+        assert first.startswith(f"{name}: no C compiler found"), proc.stdout + proc.stderr
+        assert proc.returncode == 1 and "Traceback" not in proc.stderr, proc.stdout + proc.stderr
 
 
 SPEC_TABLES = {
@@ -219,7 +256,7 @@ def test_command_line_fails_on_a_difference(tmp_path, run_python):
     header = tmp_path / "tgm_cnc.h"
     text = Path(header_path()).read_text()
     header.write_text(re.sub(r"int32_t(\s+)nLines;", r"int32_t\1nLinesRenamed;", text))
-    proc = run_python(f"import sys, abi_check.__main__ as m; sys.exit(m.main(['--header', {str(header)!r}]))",
+    proc = run_python(f"import sys, sf_tch.abi_check.__main__ as m; sys.exit(m.main(['--header', {str(header)!r}]))",
                       check=False)
     assert proc.returncode == 1, proc.stdout + proc.stderr
     assert "CALLBACK_INFO" in proc.stdout and "DIFF" in proc.stdout

@@ -538,6 +538,10 @@ cdef public void ToolChain_FlushLogFile() noexcept nogil:
     log_flush()
 
 
+cdef public int32_t ToolChain_SetLogHook(intptr_t userData, void *fn) noexcept nogil:
+    return log_set_hook(userData, fn)
+
+
 cdef public int32_t ToolChainCore_SetLookAhead(uint32_t intIdx, int32_t parts) noexcept nogil:
     cdef Core *core = core_get(intIdx)
     if core == NULL:

@@ -12,11 +12,25 @@ cdef extern from "tgm_cnc.h":
     uint32_t LOG_DEBUG, LOG_VERBOSE, LOG_WORKER, LOG_TOOLCHAIN, LOG_DRIVER, LOG_COMPILER
     uint32_t LOG_EXECUTOR, LOG_MATH
 
+ctypedef void (*LogHook)(intptr_t, uint32_t, const char *) noexcept nogil
+
+cdef extern from *:
+    """
+    /* set while this thread runs the log hook: its own lines do not reach the hook again */
+    static __thread int tc_in_log_hook;
+    """
+    int tc_in_log_hook
+
 cdef uint32_t g_log_mask          # zero: nothing is logged until SetLogValue
 cdef pthread_mutex_t g_log_lock   # zero-initialised == PTHREAD_MUTEX_INITIALIZER (glibc)
 cdef FILE *g_log_file
 cdef char g_log_dir[1024]         # empty: $SF_TCH_LOG_DIR or the current directory
 cdef char g_log_path[1100]
+# The host's hook (ToolChain_SetLogHook): its own mutex, so that a slow hook never holds
+# the file's writers, and setting it waits for a call in flight.
+cdef pthread_mutex_t g_hook_lock
+cdef LogHook g_hook
+cdef intptr_t g_hook_user
 
 
 cdef void log_set_dir(const char *directory) noexcept nogil:
@@ -77,6 +91,31 @@ cdef void log_line(uint32_t source, const char *text) noexcept nogil:
     if g_log_mask & (LOG_TO_CONSOLE | LOG_TO_TGM):
         fprintf(stderr, "SF_TCh %s %s\n", stamp, text)
     pthread_mutex_unlock(&g_log_lock)
+    log_to_hook(source, text)
+
+
+cdef void log_to_hook(uint32_t source, const char *text) noexcept nogil:
+    global tc_in_log_hook
+    if tc_in_log_hook:
+        return
+    pthread_mutex_lock(&g_hook_lock)
+    if g_hook != NULL:
+        tc_in_log_hook = 1
+        g_hook(g_hook_user, source, text)
+        tc_in_log_hook = 0
+    pthread_mutex_unlock(&g_hook_lock)
+
+
+cdef int32_t log_set_hook(intptr_t user, void *fn) noexcept nogil:
+    """ToolChain_SetLogHook: -1 from inside the hook (its thread holds g_hook_lock)."""
+    global g_hook, g_hook_user
+    if tc_in_log_hook:
+        return -1
+    pthread_mutex_lock(&g_hook_lock)
+    g_hook = <LogHook>fn
+    g_hook_user = user
+    pthread_mutex_unlock(&g_hook_lock)
+    return 0
 
 
 cdef void log_flush() noexcept nogil:

@@ -9,7 +9,8 @@ this package ships it and adds a Pythonic layer over ``ctypes``:
 - :mod:`sf_tch.enums` -- statuses, regimes, callbacks, error numbers, part kinds;
 - :func:`library_path` -- where the library is, for ``ctypes.CDLL``;
 - :mod:`sf_tch.abi` -- the ctypes mirror of every structure of the header;
-- :mod:`sf_tch.library` -- the library loaded once, with typed prototypes.
+- :mod:`sf_tch.library` -- the library loaded once, with typed prototypes;
+- :func:`forward_library_log` -- the library's log lines to a :mod:`logging` logger.
 """
 import os
 from importlib import metadata
@@ -80,11 +81,12 @@ from .errors import (Cancelled, CncError, Diagnostic, LibraryNotFoundError, NoFr
 from .core import Core, RunResult, default_ini, sample_program  # noqa: E402
 from .program import CompileJob, Program, compile, start_compile  # noqa: E402
 from .toolpath import TOOLPATH_DTYPE, Run, Toolpath  # noqa: E402
+from .logs import LibraryLog, LogSource, forward_library_log  # noqa: E402
 
 __all__ = [
     "__version__", "library_path", "header_path", "compile", "start_compile", "CompileJob", "Program",
     "Core", "RunResult", "Toolpath", "Run", "TOOLPATH_DTYPE", "Diagnostic", "SfTchError", "CncError",
     "Cancelled", "LibraryNotFoundError", "NoFreeCoreError", "Callback", "Compensation", "ErrorNumber",
     "GFunction", "MFunction", "PartKind", "Plane", "Regime", "ReturnCode", "Status", "ToolpathFlag",
-    "default_ini", "sample_program",
+    "default_ini", "sample_program", "forward_library_log", "LibraryLog", "LogSource",
 ]

@@ -311,6 +311,8 @@ DriverGFunc = ctypes.CFUNCTYPE(c_int32, c_ssize_t, ctypes.POINTER(SIMPLE_GM_PARA
 DriverMFunc = ctypes.CFUNCTYPE(c_int32, c_ssize_t, ctypes.POINTER(SIMPLE_GM_PARAMS))
 DriverEnd = ctypes.CFUNCTYPE(c_int32, c_ssize_t)
 MathWarning = ctypes.CFUNCTYPE(c_int32, c_ssize_t, ctypes.POINTER(CALLBACK_INFO))
+# ToolChain_SetLogHook's function (extension): (userData, LOG_* source, text).
+LogHook = ctypes.CFUNCTYPE(None, c_ssize_t, c_uint32, c_char_p)
 
 _P = ctypes.POINTER
 # Every exported function: (name, restype, argtypes). The loader applies them.
@@ -360,12 +362,14 @@ FUNCTIONS = (
     ("ToolChainCore_GetToolpath", c_int32,
      (c_uint32, _P(TC_TOOLPATH_RECORD), c_uint64, c_uint64, _P(c_uint64))),
     ("ToolChainCore_SetLookAhead", c_int32, (c_uint32, c_int32)),
+    ("ToolChain_SetLogHook", c_int32, (c_ssize_t, c_void_p)),
 )
 
 
 # Beyond the vendor's list (ABI.md): the structures and functions this library adds.
 EXTENSION_STRUCTURES = ("TC_TOOLPATH_RECORD",)
-EXTENSION_FUNCTIONS = ("ToolChainCore_GetLastCallError", "ToolChainCore_GetToolpath", "ToolChainCore_SetLookAhead")
+EXTENSION_FUNCTIONS = ("ToolChainCore_GetLastCallError", "ToolChainCore_GetToolpath", "ToolChainCore_SetLookAhead",
+                       "ToolChain_SetLogHook")
 
 
 # Readable repr() and to_dict() of every structure (added to the classes above,
