@@ -84,8 +84,6 @@ ctypedef struct Core:
     bint joining                # a thread is joining it (the others wait on `changed`)
     uint64_t activity           # number of the current (or last) activity
     int32_t deferred_end        # EndKind asked from inside a callback: applied by the worker at its end
-    int32_t run_regime
-    char *add_code              # StartCNCEx addCode of the current run
     # configuration
     GCODE_PARAMETERS params
     MACHINE_PARAMETERS machine
@@ -99,11 +97,8 @@ ctypedef struct Core:
     Callback callbacks[24]
     int32_t in_flight[24]       # calls of each slot running now, on any thread
     FileTable files
-    # the compilation's input (owned by the compile worker while it runs)
-    char *source
-    size_t source_len
+    # the file table entries the running compilation uses (never recycled meanwhile)
     int32_t compile_files[3]    # main, prefix, postfix entries of the compilation that runs
-    char source_name[252]
     # results
     LoadedProgram *program      # NULL: nothing compiled (or the compilation failed)
     ErrorInfo error             # error of the last activity (GetLastError)

@@ -40,8 +40,7 @@ cdef bint check_limits(Core *core, const MACHINE_PARAMETERS *machine, const SIMP
 
 
 cdef void _count_part(SnapshotData *view, const Program *prog, size_t i, const SIMPLE_GM_PARAMS *gm,
-                      double length, double run_time, const GCODE_PARAMETERS *params,
-                      int32_t *last_motion) noexcept nogil:
+                      double length, double run_time, int32_t *last_motion) noexcept nogil:
     """GetPos after part i: position, counters and lengths (the run's own copy,
     published after each part)."""
     cdef const Part *p = &prog.parts[i]
@@ -193,7 +192,7 @@ cdef void *_run_body(void *arg) noexcept nogil:
             if testing and p.kind == PART_MOTION:
                 check_limits(core, machine, &gm, p, first_error)
             _deliver(core, prog, i, &gm)
-            _count_part(view, prog, i, &gm, length, run_time, params, &last_motion)
+            _count_part(view, prog, i, &gm, length, run_time, &last_motion)
             view.enh.m_relFeed = TC_ATOMIC_LOAD_D(&core.rel_feed)
             snapshot_publish(&core.snap, view)
             percent = <uint32_t>((i + 1) * 100 // n)
