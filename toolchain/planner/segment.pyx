@@ -1,7 +1,9 @@
 # Segment geometry of one compiled part as the tool runs it (compensated path):
-# unit tangents at its ends and how much of the path speed each axis takes at most
-# over the whole part. The planner's limits and junctions read it.
+# unit tangents at its ends, the point at a path length, and how much of the path
+# speed each axis takes at most over the whole part. The planner's limits and
+# junctions read it; the machine (machine/) moves along it.
 from libc.math cimport atan2, sqrt, fabs, sin, cos, ceil, M_PI
+from libc.string cimport memcpy
 
 
 ctypedef struct Segment:
@@ -63,6 +65,55 @@ cdef void segment_of_part(const Program *prog, size_t i, Segment *g) noexcept no
             rest += d * d
     g.lead = sqrt(rest) / fabs(g.sweep)
     g.length = fabs(g.sweep) * sqrt(g.radius * g.radius + g.lead * g.lead)
+
+
+cdef void segment_of_gm(const SIMPLE_GM_PARAMS *gm, Segment *g) noexcept nogil:
+    """The geometry of a motion part as a run places it (placed_part_to_gm): ten axes
+    from m_calcS to m_calcE; an arc round m_cc with the tool path's radius in m_cc.c."""
+    cdef const double *s = <const double *>&gm.m_calcS
+    cdef const double *e = <const double *>&gm.m_calcE
+    cdef const double *c = <const double *>&gm.m_cc
+    cdef double rest = 0.0, d
+    cdef int k
+    g.n_axes = 10
+    memcpy(g.start, s, sizeof(g.start))
+    memcpy(g.end, e, sizeof(g.end))
+    g.arc = ((gm.m_func == 2 or gm.m_func == 3) and gm.m_cc.c > 0
+             and plane_axes(<int16_t>(gm.m_planeTool & 0xFFFF), &g.first, &g.second, &g.normal))
+    if not g.arc:
+        g.length = segment_length(s, e)
+        return
+    g.radius = gm.m_cc.c
+    g.centre[0] = c[g.first]
+    g.centre[1] = c[g.second]
+    g.sweep = _arc_turn(s[g.first] - g.centre[0], s[g.second] - g.centre[1],
+                        e[g.first] - g.centre[0], e[g.second] - g.centre[1], gm.m_func == 3)
+    for k in range(10):
+        if k != g.first and k != g.second:
+            d = e[k] - s[k]
+            rest += d * d
+    g.lead = sqrt(rest) / fabs(g.sweep)
+    g.length = fabs(g.sweep) * sqrt(g.radius * g.radius + g.lead * g.lead)
+
+
+cdef void segment_point_at(const Segment *g, double s, double *out) noexcept nogil:
+    """The point (axes [0, n_axes)) at path length s from the start, s clamped to
+    [0, length]: the start and the end exactly at the two ends."""
+    cdef double u, theta
+    cdef int k
+    if s <= 0.0 or g.length <= 0.0:
+        memcpy(out, g.start, g.n_axes * sizeof(double))
+        return
+    if s >= g.length:
+        memcpy(out, g.end, g.n_axes * sizeof(double))
+        return
+    u = s / g.length
+    for k in range(g.n_axes):
+        out[k] = g.start[k] + (g.end[k] - g.start[k]) * u
+    if g.arc:
+        theta = atan2(g.start[g.second] - g.centre[1], g.start[g.first] - g.centre[0]) + u * g.sweep
+        out[g.first] = g.centre[0] + g.radius * cos(theta)
+        out[g.second] = g.centre[1] + g.radius * sin(theta)
 
 
 cdef void segment_tangent(const Segment *g, double u, double *t) noexcept nogil:
