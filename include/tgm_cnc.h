@@ -729,6 +729,23 @@ TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GetToolpath(uint32_t intI
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_SetLookAhead(uint32_t intIdx, int32_t parts);
 
 /*
+ * Offline machine (extension)
+ */
+
+/* Speed of the offline machine (Local_Core_Mode 2) against real time: 1 real time, 10
+ * ten times faster (for tests and fast dry runs), 0.5 half as fast; (0, 1e6]. Takes
+ * effect at once, also during a run. Also the INI key [Offline] TimeScale.
+ * Returns 0; -1 for a value outside (0, 1e6] or not finite; -2 bad core. */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_SetTimeScale(uint32_t intIdx, double scale);
+
+/* Confirms the waiting M function the offline machine stands at, when DriverMFunc
+ * (1003) answered TC_MFUNC_LATER instead of 0 (the PLC confirms later), or the one
+ * ToolChainCore_MFunc signalled. Any thread, also inside a callback.
+ * Returns 0; -1 when no M function waits for a confirmation; -2 bad core. */
+#define TC_MFUNC_LATER 2
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_ConfirmMFunc(uint32_t intIdx);
+
+/*
  * Log hook (extension)
  */
 

@@ -454,10 +454,6 @@ NOT_IMPLEMENTED = {
     "GoToPositionEx": lambda lib: lib.ToolChainCore_GoToPositionEx(0, byref(abi.SIMPLE_GM_PARAMS())),
     "MFunc": lambda lib: lib.ToolChainCore_MFunc(0, byref(abi.SIMPLE_GM_PARAMS()), 0),
     "LoadCNCCalcPlugIn": lambda lib: lib.ToolChainCore_LoadCNCCalcPlugIn(b"kinematics.so", 0, 0),
-    "StartCNCEx 30": lambda lib: lib.ToolChainCore_StartCNCEx(0, 30, None),
-    "StartCNCEx 31": lambda lib: lib.ToolChainCore_StartCNCEx(0, 31, None),
-    "StartCNCEx 32": lambda lib: lib.ToolChainCore_StartCNCEx(0, 32, None),
-    "StartCNCEx 33": lambda lib: lib.ToolChainCore_StartCNCEx(0, 33, None),
 }
 
 

@@ -106,6 +106,10 @@ ctypedef struct Core:
     GCODE_INFO size_info        # of `program` at the current start position
     # the machine
     double position[10]         # machine position: where the next run and compilation start
+    double pending_position[10] # ResetCNC's coordinates, applied once the activity it ends is over
+    uint32_t n_pending
+    void *offline               # the offline machine (machine/machine.pyx Machine), made on first run
+    double time_scale           # atomic (TC_ATOMIC_*_D): the offline machine runs this many times real time
     double rel_feed             # atomic (TC_ATOMIC_*_D)
     uint32_t breakpoint_line
     int32_t breakpoint_file

@@ -51,6 +51,7 @@ cdef void _init_cores() noexcept nogil:
         pthread_cond_init(&core.changed, NULL)
         default_gcode_parameters(&core.params)
         core.rel_feed = 1.0
+        core.time_scale = 1.0
         core.breakpoint_file = -1
         core.compile_files[0] = core.compile_files[1] = core.compile_files[2] = -1
         snapshot_init(&core.snap)
@@ -182,6 +183,11 @@ cdef LoadedProgram *_apply_end_locked(Core *core, int32_t kind) noexcept nogil:
         core.program = NULL
         memset(&core.size_info, 0, sizeof(GCODE_INFO))
         after = status_after(core_status(core), _end_command(kind), False)
+    if kind == END_RESET and core.n_pending > 0:
+        memcpy(core.position, core.pending_position, core.n_pending * sizeof(double))
+    core.n_pending = 0
+    if kind != END_OUT_OF_TRAJECTORY:
+        machine_forget(core)
     if kind == END_DESTROY or kind == END_RESET:
         _publish_position(core, core.position)
     if after != TC_KEEP and after != TC_REFUSED:
@@ -228,8 +234,9 @@ cdef int32_t core_end(Core *core, int32_t kind, const char *what, uint32_t n_coo
         if tc_worker_core == <void *>core:
             return core_fail(core, ERR_REENTRANT, what)
         return core_refuse(core, what, status)
-    if n_coords > 0:
-        memcpy(core.position, coords, n_coords * sizeof(double))
+    if n_coords > 0:                # applied after the activity (its worker stores where it stopped)
+        memcpy(core.pending_position, coords, n_coords * sizeof(double))
+        core.n_pending = n_coords
     if status > 0 and core.has_worker and on_worker_thread():
         if kind == END_DESTROY or core.deferred_end == END_NONE:
             core.deferred_end = kind
@@ -261,7 +268,7 @@ cdef int32_t core_begin(Core *core, int32_t command, const char *what,
         after = status_after(status, command, core.program != NULL)
         if after == TC_REFUSED:
             break
-        if (command == CMD_SIMULATE or command == CMD_TEST) and core.program == NULL:
+        if (command == CMD_SIMULATE or command == CMD_TEST or _machine_run(command)) and core.program == NULL:
             err = ERR_NOTHING_COMPILED
             break
         if not core.has_worker:
@@ -273,6 +280,10 @@ cdef int32_t core_begin(Core *core, int32_t command, const char *what,
         if err != 0:
             return core_fail(core, err, NULL)
         return core_refuse(core, what, status)
+    if (_machine_run(command) or command == CMD_GOTO) and not machine_prepare(core, command):
+        pthread_mutex_unlock(&core.lock)
+        job_free(job)
+        return core_fail(core, ERR_OUT_OF_MEMORY, NULL)
     core.activity += 1
     TC_ATOMIC_STORE(&core.cancel, 0)
     TC_ATOMIC_STORE(&core.stop, 0)
@@ -291,6 +302,11 @@ cdef int32_t core_begin(Core *core, int32_t command, const char *what,
     core.has_worker = True
     pthread_mutex_unlock(&core.lock)
     return TOOL_CHAIN_SUCCESS
+
+
+cdef inline bint _machine_run(int32_t command) noexcept nogil:
+    return (command == CMD_FORWARD or command == CMD_FORWARD_NO_M or command == CMD_BACKWARD
+            or command == CMD_FORWARD_SKIP_M or command == CMD_CONNECT)
 
 
 cdef void core_finish(Core *core, int32_t event) noexcept nogil:

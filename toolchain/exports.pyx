@@ -554,6 +554,25 @@ cdef public int32_t ToolChainCore_SetLookAhead(uint32_t intIdx, int32_t parts) n
     return TOOL_CHAIN_SUCCESS
 
 
+# ------------------------------------------------------------------ offline machine (extension)
+
+cdef public int32_t ToolChainCore_SetTimeScale(uint32_t intIdx, double scale) noexcept nogil:
+    cdef Core *core = core_get(intIdx)
+    if core == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX
+    if not (0.0 < scale <= 1e6):
+        return TOOL_CHAIN_ERROR
+    TC_ATOMIC_STORE_D(&core.time_scale, scale)
+    return TOOL_CHAIN_SUCCESS
+
+
+cdef public int32_t ToolChainCore_ConfirmMFunc(uint32_t intIdx) noexcept nogil:
+    cdef Core *core = core_get(intIdx)
+    if core == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX
+    return machine_confirm_m(core)
+
+
 # ------------------------------------------------------------------ toolpath (extension)
 
 cdef public int32_t ToolChainCore_GetToolpath(uint32_t intIdx, TC_TOOLPATH_RECORD *out, uint64_t capacity,

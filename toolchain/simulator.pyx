@@ -222,7 +222,7 @@ cdef int32_t core_start_run(Core *core, int32_t regime, const char *add_code) no
     """StartCNCEx: simulation (10) and test (20) of the compiled program."""
     cdef Job *job
     if regime == RUN_FORWARD or regime == RUN_FORWARD_NO_M or regime == RUN_BACKWARD or regime == RUN_FORWARD_SKIP_FIRST_M:
-        return core_fail(core, ERR_NOT_IMPLEMENTED, "StartCNCEx of the offline machine (regimes 30-33)")
+        return core_start_machine(core, regime, add_code)
     if regime != RUN_SIMULATION and regime != RUN_TEST:
         return core_fail(core, ERR_BAD_REGIME, NULL)
     job = job_new()

@@ -363,13 +363,15 @@ FUNCTIONS = (
      (c_uint32, _P(TC_TOOLPATH_RECORD), c_uint64, c_uint64, _P(c_uint64))),
     ("ToolChainCore_SetLookAhead", c_int32, (c_uint32, c_int32)),
     ("ToolChain_SetLogHook", c_int32, (c_ssize_t, c_void_p)),
+    ("ToolChainCore_SetTimeScale", c_int32, (c_uint32, c_double)),
+    ("ToolChainCore_ConfirmMFunc", c_int32, (c_uint32,)),
 )
 
 
 # Beyond the vendor's list (ABI.md): the structures and functions this library adds.
 EXTENSION_STRUCTURES = ("TC_TOOLPATH_RECORD",)
 EXTENSION_FUNCTIONS = ("ToolChainCore_GetLastCallError", "ToolChainCore_GetToolpath", "ToolChainCore_SetLookAhead",
-                       "ToolChain_SetLogHook")
+                       "ToolChain_SetLogHook", "ToolChainCore_SetTimeScale", "ToolChainCore_ConfirmMFunc")
 
 
 # Readable repr() and to_dict() of every structure (added to the classes above,

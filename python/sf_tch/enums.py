@@ -115,6 +115,8 @@ class ErrorNumber(enum.IntEnum):
     INI_VALUE = 16  # INI file '%s' line %d: %s
     REENTRANT = 20  # %s is not allowed inside a callback of the core's running activity
     BAD_REGIME = 21  # StartCNCEx: unknown regime
+    NO_M_PENDING = 22  # No M function waits for a confirmation
+    M_PENDING = 23  # M%d still waits for its confirmation (ToolChainCore_ConfirmMFunc)
     UNKNOWN_WORD = 100  # Unknown word '%s' at column %d
     BAD_NUMBER = 101  # Bad number '%s' at column %d
     MISSING_VALUE = 102  # Address %s at column %d without a value

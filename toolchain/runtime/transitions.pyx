@@ -16,8 +16,15 @@ cdef enum Command:
     CMD_LOAD_INI = 9            # LoadFromIni
     CMD_SET_PREFIX = 10         # GCodePrefixPostfix
     EV_DONE = 11                # the worker finished its activity
-    EV_STOPPED = 12             # the worker stopped on StopCNCEx
-    N_COMMANDS = 13
+    EV_STOPPED = 12             # the worker stopped on StopCNCEx (the machine: also a breakpoint)
+    CMD_FORWARD = 13            # StartCNCEx 30 (also needs a compiled program)
+    CMD_FORWARD_NO_M = 14       # StartCNCEx 31
+    CMD_BACKWARD = 15           # StartCNCEx 32
+    CMD_FORWARD_SKIP_M = 16     # StartCNCEx 33
+    CMD_GOTO = 17               # GoToPosition / GoToPositionEx
+    CMD_CONNECT = 18            # ConnectCNCEx_Plane
+    EV_M0 = 19                  # the machine stopped at M0
+    N_COMMANDS = 20
 
 cdef extern from *:
     """
@@ -32,41 +39,41 @@ cdef extern from *:
     static const int32_t tc_status_values[TC_N_STATUSES] = {
         0, -2, 1, -1, 10, -10, -11, 20, -20, -21, -30, -31, -32, -33,
         30, 31, 32, 33, 40, 41, 50, -50, 60, 70, 80, 90};
-    /*                     COMPILE SIM TEST STOP RESET DESTROY DROP  OUT  PARAMS INI PREFIX DONE STOPPED */
-    static const int32_t tc_transitions[TC_N_STATUSES][13] = {
-    /*   0 */            {  1,    10,  20,  R,   S,    0,      R,    R,   K,     K,  K,     R,   R   },
-    /*  -2 */            {  1,    10,  20,  R,   S,    0,      0,  -50,   K,     K,  K,     R,   R   },
-    /*   1 */            {  R,    R,   R,   R,   S,    0,      R,    R,   R,     R,  R,    -1,   R   },
-    /*  -1 */            {  1,    10,  20,  R,   S,    0,      0,  -50,   K,     K,  K,     R,   R   },
-    /*  10 */            {  R,    R,   R,   K,   S,    0,      R,    R,   R,     R,  K,   -10, -11   },
-    /* -10 */            {  1,    10,  20,  R,   S,    0,      0,  -50,   K,     K,  K,     R,   R   },
-    /* -11 */            {  1,    10,  20,  R,   S,    0,      0,  -50,   K,     K,  K,     R,   R   },
-    /*  20 */            {  R,    R,   R,   K,   S,    0,      R,    R,   R,     R,  K,   -20, -21   },
-    /* -20 */            {  1,    10,  20,  R,   S,    0,      0,  -50,   K,     K,  K,     R,   R   },
-    /* -21 */            {  1,    10,  20,  R,   S,    0,      0,  -50,   K,     K,  K,     R,   R   },
-    /* -30 */            {  1,    10,  20,  R,   S,    0,      0,  -50,   K,     K,  K,     R,   R   },
-    /* -31 */            {  1,    10,  20,  R,   S,    0,      0,  -50,   K,     K,  K,     R,   R   },
-    /* -32 */            {  1,    10,  20,  R,   S,    0,      0,  -50,   K,     K,  K,     R,   R   },
-    /* -33 */            {  1,    10,  20,  R,   S,    0,      0,  -50,   K,     K,  K,     R,   R   },
-    /*  30 */            {  R,    R,   R,   R,   S,    0,      R,    R,   R,     R,  K,     R,   R   },
-    /*  31 */            {  R,    R,   R,   R,   S,    0,      R,    R,   R,     R,  K,     R,   R   },
-    /*  32 */            {  R,    R,   R,   R,   S,    0,      R,    R,   R,     R,  K,     R,   R   },
-    /*  33 */            {  R,    R,   R,   R,   S,    0,      R,    R,   R,     R,  K,     R,   R   },
-    /*  40 */            {  R,    R,   R,   R,   S,    0,      R,    R,   R,     R,  K,     R,   R   },
-    /*  41 */            {  R,    R,   R,   R,   S,    0,      R,    R,   R,     R,  K,     R,   R   },
-    /*  50 */            {  R,    R,   R,   R,   S,    0,      R,    R,   R,     R,  K,     R,   R   },
-    /* -50 */            {  1,    10,  20,  R,   S,    0,      0,  -50,   K,     K,  K,     R,   R   },
-    /*  60 */            {  R,    R,   R,   R,   S,    0,      R,    R,   R,     R,  K,     R,   R   },
-    /*  70 */            {  R,    R,   R,   R,   S,    0,      R,    R,   R,     R,  K,     R,   R   },
-    /*  80 */            {  R,    R,   R,   R,   S,    0,      R,    R,   R,     R,  K,     R,   R   },
-    /*  90 */            {  R,    R,   R,   R,   S,    0,      R,    R,   R,     R,  K,     R,   R   }};
+    /*                     COMPILE SIM TEST STOP RESET DESTROY DROP  OUT  PARAMS INI PREFIX DONE STOPPED FWD FWD_NO_M BACK FWD_SKIP_M GOTO CONNECT M0 */
+    static const int32_t tc_transitions[TC_N_STATUSES][20] = {
+    /*    0 */            {    1,   10,   20,    R,    S,    0,    R,    R,    K,    K,    K,    R,    R,    R,    R,    R,    R,   50,    R,    R },
+    /*   -2 */            {    1,   10,   20,    R,    S,    0,    0,  -50,    K,    K,    K,    R,    R,    R,    R,    R,    R,    R,    R,    R },
+    /*    1 */            {    R,    R,    R,    R,    S,    0,    R,    R,    R,    R,    R,   -1,    R,    R,    R,    R,    R,    R,    R,    R },
+    /*   -1 */            {    1,   10,   20,    R,    S,    0,    0,  -50,    K,    K,    K,    R,    R,   30,   31,    R,   33,   50,    R,    R },
+    /*   10 */            {    R,    R,    R,    K,    S,    0,    R,    R,    R,    R,    K,  -10,  -11,    R,    R,    R,    R,    R,    R,    R },
+    /*  -10 */            {    1,   10,   20,    R,    S,    0,    0,  -50,    K,    K,    K,    R,    R,   30,   31,    R,   33,   50,    R,    R },
+    /*  -11 */            {    1,   10,   20,    R,    S,    0,    0,  -50,    K,    K,    K,    R,    R,   30,   31,    R,   33,   50,    R,    R },
+    /*   20 */            {    R,    R,    R,    K,    S,    0,    R,    R,    R,    R,    K,  -20,  -21,    R,    R,    R,    R,    R,    R,    R },
+    /*  -20 */            {    1,   10,   20,    R,    S,    0,    0,  -50,    K,    K,    K,    R,    R,   30,   31,    R,   33,   50,    R,    R },
+    /*  -21 */            {    1,   10,   20,    R,    S,    0,    0,  -50,    K,    K,    K,    R,    R,   30,   31,    R,   33,   50,    R,    R },
+    /*  -30 */            {    1,   10,   20,    R,    S,    0,    0,  -50,    K,    K,    K,    R,    R,   30,   31,    R,   33,   50,   40,    R },
+    /*  -31 */            {    1,   10,   20,    R,    S,    0,    0,  -50,    K,    K,    K,    R,    R,   30,   31,   32,   33,   50,   40,    R },
+    /*  -32 */            {    1,   10,   20,    R,    S,    0,    0,  -50,    K,    K,    K,    R,    R,    R,    R,   32,    R,   50,   40,    R },
+    /*  -33 */            {    1,   10,   20,    R,    S,    0,    0,  -50,    K,    K,    K,    R,    R,   30,   31,   32,   33,   50,   40,    R },
+    /*   30 */            {    R,    R,    R,    K,    S,    0,    R,    R,    R,    R,    K,  -32,  -31,    R,    R,    R,    R,    R,    R,  -33 },
+    /*   31 */            {    R,    R,    R,    K,    S,    0,    R,    R,    R,    R,    K,  -32,  -31,    R,    R,    R,    R,    R,    R,    R },
+    /*   32 */            {    R,    R,    R,    K,    S,    0,    R,    R,    R,    R,    K,  -30,  -31,    R,    R,    R,    R,    R,    R,    R },
+    /*   33 */            {    R,    R,    R,    K,    S,    0,    R,    R,    R,    R,    K,  -32,  -31,    R,    R,    R,    R,    R,    R,  -33 },
+    /*   40 */            {    R,    R,    R,    K,    S,    0,    R,    R,    R,    R,    K,  -31,  -31,    R,    R,    R,    R,    R,    R,    R },
+    /*   41 */            {    R,    R,    R,    K,    S,    0,    R,    R,    R,    R,    K,  -31,  -31,    R,    R,    R,    R,    R,    R,    R },
+    /*   50 */            {    R,    R,    R,    K,    S,    0,    R,    R,    R,    R,    K,  -50,  -50,    R,    R,    R,    R,    R,    R,    R },
+    /*  -50 */            {    1,   10,   20,    R,    S,    0,    0,  -50,    K,    K,    K,    R,    R,    R,    R,    R,    R,   50,   40,    R },
+    /*   60 */            {    R,    R,    R,    R,    S,    0,    R,    R,    R,    R,    K,    R,    R,    R,    R,    R,    R,    R,    R,    R },
+    /*   70 */            {    R,    R,    R,    R,    S,    0,    R,    R,    R,    R,    K,    R,    R,    R,    R,    R,    R,    R,    R,    R },
+    /*   80 */            {    R,    R,    R,    R,    S,    0,    R,    R,    R,    R,    K,    R,    R,    R,    R,    R,    R,    R,    R,    R },
+    /*   90 */            {    R,    R,    R,    R,    S,    0,    R,    R,    R,    R,    K,    R,    R,    R,    R,    R,    R,    R,    R,    R }};
     #undef R
     #undef K
     #undef S
     """
     int32_t TC_REFUSED, TC_KEEP, TC_AT_START, TC_N_STATUSES
     const int32_t tc_status_values[]
-    const int32_t tc_transitions[][13]
+    const int32_t tc_transitions[][20]
 
 
 cdef int32_t _status_row(int32_t status) noexcept nogil:

@@ -1,0 +1,666 @@
+# The offline machine of one core (Local_Core_Mode 2): StartCNCEx 30-33, StopCNCEx,
+# the M-function handshake, the override, breakpoints, manual moves, live GetPos.
+#
+# A run is one activity of the core (core.pyx) with two threads:
+#   - the activity's worker is the machine's *feeder and notifier*: it turns parts
+#     into look-ahead entries (placed geometry, limits, the plan's speeds, the
+#     breakpoint question), and it makes every driver callback (DriverInitialize,
+#     DriverGFunc as a part begins, DriverMFunc, PRINT, DriverEnd);
+#   - the *pacer* wakes every millisecond on CLOCK_MONOTONIC, runs the 100 us steps
+#     of motion.pyx that the elapsed time (times the core's time scale) calls for,
+#     hands what happened to the notifier and publishes GetPos once.
+# Neither waits for the other: the ring of entries and the event queue are the only
+# things they share. The machine's place on the path (part, distance, the parts it
+# ran, for backward) outlives the run, so the next StartCNCEx continues there.
+from libc.stdlib cimport malloc, calloc, realloc, free
+from libc.string cimport memset, memcpy, strdup
+from posix.time cimport clock_gettime, nanosleep, timespec, CLOCK_MONOTONIC
+
+cdef enum:
+    EVENT_QUEUE = 1024          # events between the pacer and the notifier
+    HISTORY_DEPTH = 100000      # motion parts a backward run can retrace
+    PART_NONE = -1              # an entry that is no part of the program (a manual move)
+    MFUNC_LATER = 2             # DriverMFunc's answer: the host confirms with ToolChainCore_ConfirmMFunc
+
+ctypedef struct MachineEvent:
+    int32_t kind                # ME_ENTRY, ME_MFUNC, ME_PRINT
+    size_t part
+
+ctypedef struct Machine:
+    Motion motion
+    pthread_t pacer
+    int32_t pacer_done          # atomic: the pacer has left its loop
+    int32_t regime              # of the run (30 31 32 33), CMD_GOTO's 50
+    # where the machine is on the program (outlives the runs)
+    LoadedProgram *program      # the program the place refers to (a reference); NULL: none
+    Placement placement         # where that program runs (the machine position of its first start)
+    int64_t cur_motion          # the motion part it runs or ran last (PART_NONE: none)
+    char *stop_code             # StopCNCEx addCode, sent once the machine stands (core.lock)
+    size_t part                 # the part it is in (n_parts: after the last)
+    double part_s               # path length done along that part
+    bint began                  # the part's start was reported (DriverGFunc)
+    size_t *history             # motion parts it ran before `part`, oldest first
+    size_t n_history
+    bint history_lost           # older ones were dropped (HISTORY_DEPTH)
+    double cut_len, rapid_len, run_time
+    # the M-function handshake
+    int32_t m_waiting           # atomic: the M number the machine waits for (0 none)
+    int32_t m_pending           # atomic: a DriverMFunc answered "later": ConfirmMFunc ends it
+    # pacer -> notifier
+    pthread_mutex_t lock
+    MachineEvent events[1024]
+    size_t ev_first, ev_n
+
+
+cdef Machine *machine_of(Core *core) noexcept nogil:
+    """The core's machine, made on first use (with core.lock held)."""
+    cdef Machine *m = <Machine *>core.offline
+    if m == NULL:
+        m = <Machine *>calloc(1, sizeof(Machine))
+        if m == NULL:
+            return NULL
+        pthread_mutex_init(&m.lock, NULL)
+        m.cur_motion = PART_NONE
+        core.offline = m
+    return m
+
+
+cdef void machine_forget(Core *core) noexcept nogil:
+    """With core.lock held and no activity: the machine's place is dropped (ResetCNC,
+    a new program, DestroyCNC); the next forward run starts at the program's start."""
+    cdef Machine *m = <Machine *>core.offline
+    if m == NULL:
+        return
+    loaded_program_release(m.program)
+    m.cur_motion = PART_NONE
+    m.program = NULL
+    m.part = 0
+    m.part_s = 0.0
+    m.began = False
+    m.n_history = 0
+    m.history_lost = False
+    m.cut_len = m.rapid_len = m.run_time = 0.0
+    TC_ATOMIC_STORE(&m.m_waiting, 0)
+    TC_ATOMIC_STORE(&m.m_pending, 0)
+
+
+cdef void _history_push(Machine *m, size_t part) noexcept nogil:
+    cdef size_t *grown
+    cdef size_t cap
+    if m.n_history == HISTORY_DEPTH:
+        memmove_sizes(m.history, m.history + HISTORY_DEPTH // 10, HISTORY_DEPTH - HISTORY_DEPTH // 10)
+        m.n_history -= HISTORY_DEPTH // 10
+        m.history_lost = True
+    cap = 1024
+    while cap < m.n_history + 1:
+        cap *= 2
+    if m.history == NULL or (m.n_history & (m.n_history - 1)) == 0 and m.n_history >= 1024:
+        grown = <size_t *>realloc(m.history, max(cap, 2 * m.n_history) * sizeof(size_t))
+        if grown == NULL:
+            m.history_lost = True
+            return
+        m.history = grown
+    m.history[m.n_history] = part
+    m.n_history += 1
+
+
+cdef extern from "<string.h>":
+    void *memmove(void *dst, const void *src, size_t n) nogil
+
+cdef inline void memmove_sizes(size_t *dst, const size_t *src, size_t n) noexcept nogil:
+    memmove(dst, src, n * sizeof(size_t))
+
+
+# ------------------------------------------------------------------ entries
+
+ctypedef struct Feeder:         # what the notifier thread reads parts with
+    Core *core
+    Machine *m
+    const Program *prog
+    GCODE_PARAMETERS *params
+    PlanCursor cursor
+    uint32_t enhanced
+    int32_t regime
+    size_t next                 # forward: next part; backward: entries made so far
+    bint any_motion             # regime 33: a motion part was fed
+    uint32_t last_line          # the breakpoint question is asked once per line
+    int32_t last_file
+    bint first
+    bint back_current           # backward: the machine stands inside a motion part
+
+
+cdef bint _is_breakpoint(Feeder *f, const Part *p) noexcept nogil:
+    """The run stops before the first part of a line the host marked (SetBreakpoint,
+    the IsBreakpoint callback) -- never before the part it starts at."""
+    cdef Callback cb
+    cdef bint hit
+    if f.first or (p.line == f.last_line and p.file_idx == f.last_file):
+        return False
+    f.last_line = p.line
+    f.last_file = p.file_idx
+    pthread_mutex_lock(&f.core.lock)
+    hit = f.core.breakpoint_line != 0 and p.line == f.core.breakpoint_line and p.file_idx == f.core.breakpoint_file
+    pthread_mutex_unlock(&f.core.lock)
+    if not hit and callback_enter(f.core, SLOT_IS_BREAKPOINT, &cb):
+        hit = (<TC_IsBreakpoint>cb.fn)(cb.user, p.line, p.file_idx) == 1
+        callback_leave(f.core, SLOT_IS_BREAKPOINT)
+    return hit
+
+
+cdef void _entry_identity(Entry *e, const Part *p, size_t part) noexcept nogil:
+    e.part = part
+    e.kind = p.kind
+    e.func = p.func
+    e.line = p.line
+    e.file_idx = p.file_idx
+    e.gcode_index = p.gcode_index
+    e.feed = p.feed
+    e.rapid = p.kind == PART_MOTION and p.func == 0
+    e.waits = False
+    e.m0 = False
+    e.break_before = False
+    e.dwell = 0.0
+    e.s_from = e.s_to = 0.0
+    e.vmax = e.exit_cap = 0.0
+    e.acc = e.dec = 1e12
+    e.ramp = RAMP_TRAPEZOID
+
+
+cdef bint _forward_entry(Feeder *f, Entry *e) noexcept nogil:
+    """The next part as a forward entry; False when the program ends. Parts the
+    regime leaves out are skipped."""
+    cdef const Program *prog = f.prog
+    cdef const Part *p
+    cdef SIMPLE_GM_PARAMS gm
+    cdef PartLimits lim
+    cdef const PlanRegion *s
+    cdef const GCODE_FEED *cls
+    cdef size_t k
+    while f.next < prog.n_parts:
+        k = f.next
+        f.next += 1
+        p = &prog.parts[k]
+        if p.kind == PART_MFUNC and (f.regime == RUN_FORWARD_NO_M
+                                     or (f.regime == RUN_FORWARD_SKIP_FIRST_M and not f.any_motion)):
+            continue
+        _entry_identity(e, p, k)
+        e.break_before = _is_breakpoint(f, p)
+        f.first = False
+        if p.kind == PART_MFUNC:
+            e.m0 = p.func == 0
+            e.waits = not (p.flags & FLAG_CONTINUOUS_M) and p.func != 0
+        elif p.kind == PART_DWELL:
+            e.dwell = p.value
+            e.waits = True
+        elif p.kind == PART_MOTION:
+            f.any_motion = True
+            placed_part_to_gm(prog, k, &f.m.placement, &gm)
+            segment_of_gm(&gm, &e.seg)
+            e.s_from = 0.0
+            e.s_to = e.seg.length
+            s = cursor_settings(&f.cursor, k)
+            part_limits(&e.seg, p, f.params, s, f.cursor.axes_limited, f.enhanced, &lim)
+            e.acc = lim.acc
+            e.dec = lim.dec
+            e.ramp = lim.ramp
+            e.vmax = prog.plan[k].v_peak if prog.plan != NULL else lim.vmax
+            e.exit_cap = prog.plan[k].v_exit if prog.plan != NULL else 0.0
+            if f.regime == RUN_FORWARD_NO_M:
+                cls = &f.params.motion[4]
+                if cls.feed > 0.0:
+                    e.vmax = min(lim.vmax, cls.feed / 60.0)
+                    e.exit_cap = min(e.exit_cap, e.vmax)
+                _class_ramps(e, cls)
+            if not (e.vmax > 0.0):
+                e.vmax = 1.0 / 60.0
+        return True
+    return False
+
+
+cdef void _class_ramps(Entry *e, const GCODE_FEED *cls) noexcept nogil:
+    """Accelerations and ramp of a motion class (motion[2] backward, [4] no M, [5] manual)."""
+    if 0.0 < cls.acc < 1e12:
+        e.acc = cls.acc
+    if 0.0 < cls.dec < 1e12:
+        e.dec = cls.dec
+    e.ramp = RAMP_SINE if cls.rampType == RAMP_SINE else RAMP_TRAPEZOID
+
+
+cdef bint _backward_entry(Feeder *f, Entry *e) noexcept nogil:
+    """The next part back along the executed path; False when what the machine
+    remembers ends. With `back_current`, entry 0 is the rest of the part it stands in."""
+    cdef Machine *m = f.m
+    cdef const Program *prog = f.prog
+    cdef const GCODE_FEED *cls = &f.params.motion[2]
+    cdef SIMPLE_GM_PARAMS gm
+    cdef size_t k, back
+    cdef double from_s = -1.0
+    if f.back_current and f.next == 0:
+        k = m.part
+        from_s = m.part_s
+    else:
+        back = f.next - (1 if f.back_current else 0)
+        if back >= m.n_history:
+            return False
+        k = m.history[m.n_history - 1 - back]
+    f.next += 1
+    _entry_identity(e, &prog.parts[k], k)
+    placed_part_to_gm(prog, k, &m.placement, &gm)
+    segment_of_gm(&gm, &e.seg)
+    e.s_from = from_s if from_s >= 0.0 else e.seg.length
+    e.s_to = 0.0
+    e.vmax = cls.feed / 60.0 if cls.feed > 0.0 else 1.0 / 60.0
+    if prog.plan != NULL and prog.plan[k].v_peak > 0.0:
+        e.vmax = min(e.vmax, prog.plan[k].v_peak)
+    e.exit_cap = min(plan_entry_speed(prog, k), e.vmax)
+    _class_ramps(e, cls)
+    return True
+
+
+cdef void _feed(Feeder *f) noexcept nogil:
+    """Writes entries while the ring has room."""
+    cdef Motion *mo = &f.m.motion
+    cdef uint64_t produced = mo.produced
+    cdef bint more = True
+    if TC_ATOMIC_LOAD(&mo.fed_all):
+        return
+    while produced - TC_LOAD_U64(&mo.consumed) < LOOK_RING:
+        if f.regime == RUN_BACKWARD:
+            more = _backward_entry(f, &mo.ring[produced % LOOK_RING])
+        else:
+            more = _forward_entry(f, &mo.ring[produced % LOOK_RING])
+        if not more:
+            TC_ATOMIC_STORE(&mo.fed_all, 1)
+            return
+        produced += 1
+        TC_STORE_U64(&mo.produced, produced)
+
+
+# ------------------------------------------------------------------ the pacer
+
+cdef inline double _now() noexcept nogil:
+    cdef timespec ts
+    clock_gettime(CLOCK_MONOTONIC, &ts)
+    return <double>ts.tv_sec + <double>ts.tv_nsec * 1e-9
+
+
+cdef void _publish(Core *core, Machine *m) noexcept nogil:
+    """GetPos from the machine's state (the pacer's thread)."""
+    cdef Motion *mo = &m.motion
+    cdef SnapshotData view
+    cdef Entry *e
+    cdef float *cells = <float *>&view.pos.m_pars
+    cdef int k
+    memset(&view, 0, sizeof(view))
+    for k in range(26):
+        cells[k] = INVALID_VALUE_F
+    view.pos.m_fileIdx = -1
+    memcpy(&view.pos.m_calcS, mo.position, sizeof(P10DOUBLE))
+    view.pos.m_calcE = view.pos.m_calcS
+    for k in range(10):
+        cells[_AXIS_CELLS[k]] = <float>mo.position[k]
+    if mo.count > 0:
+        e = motion_entry(mo, 0)
+        view.pos.m_func = e.func if e.kind != PART_MFUNC else e.func + 10000
+        view.pos.m_editorLine = e.line
+        view.pos.m_fileIdx = e.file_idx
+        view.pos.m_gCodeIndex = e.gcode_index
+        if e.kind == PART_MOTION:
+            view.pos.m_pars.G = <float>e.func
+            view.enh.m_actPartLen = entry_length(e)
+            view.enh.m_actPartRemain = entry_length(e) - mo.d
+            view.enh.m_setFeed = e.feed
+            view.enh.m_calcFeed = e.vmax * 60.0
+        elif e.kind == PART_MFUNC and mo.state == MS_WAIT_M:
+            view.pos.m_pars.M = <float>e.func
+        if e.file_idx == m.program.prog.main_file_idx:
+            view.enh.m_MasterEditorLine = e.line
+    view.pos.m_pars.N = <float>mo.cut_len
+    view.pos.m_pars.T = <float>mo.rapid_len
+    view.pos.m_pars.P = <float>(100.0 * min(mo.count, m.motion.window) / m.motion.window) if m.motion.window > 0 else 0.0
+    view.enh.m_actFeed = mo.v * 60.0 * (mo.ovr if mo.ovr_timing else 1.0)
+    view.enh.m_relFeed = mo.ovr
+    view.enh.m_actWorkPartsLen = mo.cut_len
+    view.enh.m_actG00PartsLen = mo.rapid_len
+    view.enh.m_actPartsLen = mo.cut_len + mo.rapid_len
+    view.enh.m_MasterFileIdx = <uint32_t>m.program.prog.main_file_idx
+    view.enh.m_statusCNC = core_status(core)
+    view.enh.m_cncRunTime = mo.run_time
+    snapshot_publish(&core.snap, &view)
+
+
+cdef extern from *:
+    """
+    /* m_pars cells of the ten axes X Y Z C B U V W A O (letter - 'A') */
+    static const int tc_axis_cells[10] = {23, 24, 25, 2, 1, 20, 21, 22, 0, 14};
+    """
+    const int *_AXIS_CELLS "tc_axis_cells"
+
+
+cdef void *_pacer_body(void *arg) noexcept nogil:
+    cdef Core *core = <Core *>arg
+    cdef Machine *m = <Machine *>core.offline
+    cdef Motion *mo = &m.motion
+    cdef double last = _now(), now, budget = 0.0, scale
+    cdef double dt = STEP_US * 1e-6
+    cdef timespec nap
+    cdef int events, k
+    cdef bint halted = False
+    nap.tv_sec = 0
+    nap.tv_nsec = 1000000
+    while not halted and not TC_ATOMIC_LOAD(&core.cancel):
+        now = _now()
+        scale = TC_ATOMIC_LOAD_D(&core.time_scale)
+        budget += (now - last) * scale
+        last = now
+        if budget > 1.0 * scale:            # the thread was held up: the machine does not jump
+            budget = 1.0 * scale
+        mo.ovr_target = TC_ATOMIC_LOAD_D(&core.rel_feed)
+        if TC_ATOMIC_LOAD(&core.stop):
+            motion_stop(mo)
+        while budget >= dt and mo.state < MS_STOPPED:
+            if mo.n_log > LOG_SIZE - 8:
+                _hand_over(m)
+                if mo.n_log > LOG_SIZE - 8:
+                    break               # the notifier is behind: the step waits for it
+            events = motion_step(mo, dt)
+            budget -= dt
+            if events & ME_HALT:
+                halted = True
+                break
+            if TC_ATOMIC_LOAD(&core.stop):
+                motion_stop(mo)
+        halted = halted or mo.state >= MS_STOPPED
+        _hand_over(m)
+        if mo.state == MS_WAIT_M:
+            TC_ATOMIC_STORE(&m.m_waiting, motion_entry(mo, 0).func)
+        else:
+            TC_ATOMIC_STORE(&m.m_waiting, 0)
+        _publish(core, m)
+        if not halted:
+            nanosleep(&nap, NULL)
+    TC_ATOMIC_STORE(&m.pacer_done, 1)
+    return NULL
+
+
+cdef void _hand_over(Machine *m) noexcept nogil:
+    """The step's log into the notifier's queue (as much as fits)."""
+    cdef Motion *mo = &m.motion
+    cdef int32_t k = 0, n = mo.n_log
+    pthread_mutex_lock(&m.lock)
+    while k < n and m.ev_n < EVENT_QUEUE:
+        m.events[(m.ev_first + m.ev_n) % EVENT_QUEUE].kind = mo.log_kind[k]
+        m.events[(m.ev_first + m.ev_n) % EVENT_QUEUE].part = mo.log_part[k]
+        m.ev_n += 1
+        k += 1
+    pthread_mutex_unlock(&m.lock)
+    if k > 0:
+        memmove(mo.log_kind, mo.log_kind + k, (n - k) * sizeof(int32_t))
+        memmove(mo.log_part, mo.log_part + k, (n - k) * sizeof(size_t))
+        mo.n_log = n - k
+
+
+# ------------------------------------------------------------------ the notifier
+
+cdef void _notify(Feeder *f, const MachineEvent *ev) noexcept nogil:
+    """One event as the vendor's driver gets it."""
+    cdef Core *core = f.core
+    cdef Machine *m = f.m
+    cdef const Part *p
+    cdef SIMPLE_GM_PARAMS gm
+    cdef Callback cb
+    cdef int32_t answer = 0
+    if ev.part >= f.prog.n_parts:
+        return
+    p = &f.prog.parts[ev.part]
+    if ev.kind == ME_PRINT:
+        core_output(core, 2, f.prog.texts + p.aux)
+        return
+    placed_part_to_gm(f.prog, ev.part, &m.placement, &gm)
+    if ev.kind == ME_ENTRY:
+        if p.kind == PART_MOTION or p.kind == PART_DWELL:
+            if callback_enter(core, SLOT_DRIVER_G_FUNC, &cb):
+                (<TC_DriverGFunc>cb.fn)(cb.user, &gm)
+                callback_leave(core, SLOT_DRIVER_G_FUNC)
+        return
+    # an M function: a waiting one is confirmed by DriverMFunc's 0, or later by ConfirmMFunc
+    if callback_enter(core, SLOT_DRIVER_M_FUNC, &cb):
+        answer = (<TC_DriverMFunc>cb.fn)(cb.user, &gm)
+        callback_leave(core, SLOT_DRIVER_M_FUNC)
+    if p.flags & FLAG_CONTINUOUS_M or p.func == 0:
+        return
+    if answer == MFUNC_LATER:
+        TC_ATOMIC_STORE(&m.m_pending, p.func)
+    else:
+        TC_ATOMIC_STORE(&m.motion.confirmed, 1)
+
+
+cdef bint _next_event(Machine *m, MachineEvent *ev) noexcept nogil:
+    cdef bint got = False
+    pthread_mutex_lock(&m.lock)
+    if m.ev_n > 0:
+        ev[0] = m.events[m.ev_first]
+        m.ev_first = (m.ev_first + 1) % EVENT_QUEUE
+        m.ev_n -= 1
+        got = True
+    pthread_mutex_unlock(&m.lock)
+    return got
+
+
+cdef int32_t _finish_event(Machine *m, int32_t regime) noexcept nogil:
+    """The transition-table event the halted motion ends the run with."""
+    cdef int32_t state = m.motion.state
+    if state == MS_M0:
+        return EV_M0
+    if state == MS_END:
+        if regime == RUN_BACKWARD and m.history_lost:
+            return EV_STOPPED       # the remembered path ended before the program's start
+        return EV_DONE
+    return EV_STOPPED
+
+
+cdef void _keep_place(Machine *m, const Feeder *f) noexcept nogil:
+    """After the run: where the machine is on the program, and what it ran before."""
+    cdef Motion *mo = &m.motion
+    cdef const Program *prog = f.prog
+    cdef Entry *e
+    cdef size_t removed
+    if f.regime == RUN_BACKWARD:
+        # entries [0, consumed) were retraced; the current one, if any, is the part it is in now
+        removed = <size_t>mo.consumed + (1 if mo.count > 0 else 0)
+        removed -= 1 if f.back_current and removed > 0 else 0
+        m.n_history -= min(removed, m.n_history)
+        if mo.count > 0:
+            e = motion_entry(mo, 0)
+            m.part = e.part
+            m.part_s = e.s_from - mo.d
+            m.began = True
+        elif not m.history_lost:
+            m.part = 0                  # back at the start: a run begins with the program again
+            m.part_s = 0.0
+            m.began = False
+        elif mo.consumed > 0:
+            m.part = mo.ring[(mo.consumed - 1) % LOOK_RING].part
+            m.part_s = 0.0
+            m.began = False
+        m.cur_motion = m.part if m.began else PART_NONE
+        return
+    if mo.count > 0:
+        e = motion_entry(mo, 0)
+        m.part = e.part
+        m.part_s = mo.d
+        m.began = mo.started
+    elif not mo.complete:               # it stands where the feeder is to go on
+        m.part = f.next
+        m.part_s = 0.0
+        m.began = False
+    else:
+        m.part = prog.n_parts
+        m.part_s = 0.0
+        m.began = False
+        if m.cur_motion != PART_NONE:       # the last part is run: backward retraces it too
+            _history_push(m, <size_t>m.cur_motion)
+            m.cur_motion = PART_NONE
+
+
+cdef void _drain(Feeder *f) noexcept nogil:
+    """Delivers every queued event; a motion part that begins pushes the one before
+    it into the history."""
+    cdef MachineEvent ev
+    cdef Machine *m = f.m
+    while _next_event(m, &ev):
+        if (ev.kind == ME_ENTRY and f.regime != RUN_BACKWARD and ev.part < f.prog.n_parts
+                and f.prog.parts[ev.part].kind == PART_MOTION):
+            if m.cur_motion != PART_NONE:
+                _history_push(m, <size_t>m.cur_motion)
+            m.cur_motion = <int64_t>ev.part
+        _notify(f, &ev)
+
+
+cdef void *_machine_body(void *arg) noexcept nogil:
+    cdef Job *job = <Job *>arg
+    cdef Core *core = job.core
+    cdef Machine *m
+    cdef Motion *mo
+    cdef Feeder f
+    cdef Callback cb
+    cdef double start[10]
+    cdef int32_t finish = EV_STOPPED
+    cdef char *stop_code = NULL
+    cdef bint pacer_started = False
+    cdef timespec nap
+    nap.tv_sec = 0
+    nap.tv_nsec = 250000
+    worker_thread_mark(core)
+    memset(&f, 0, sizeof(f))
+    f.params = <GCODE_PARAMETERS *>malloc(sizeof(GCODE_PARAMETERS))
+    pthread_mutex_lock(&core.lock)
+    m = <Machine *>core.offline           # machine_prepare made it and its place
+    if f.params != NULL:
+        f.params[0] = core.params
+    f.enhanced = <uint32_t>core.machine.enhancedInterpolatorParameters
+    memcpy(start, m.motion.position, sizeof(start))
+    pthread_mutex_unlock(&core.lock)
+    mo = &m.motion
+    f.core = core
+    f.m = m
+    f.prog = &m.program.prog
+    f.regime = job.regime
+    f.first = True
+    if f.params == NULL:
+        pthread_mutex_lock(&core.lock)
+        set_error(&core.error, ERR_OUT_OF_MEMORY, -1, 0, NULL, 0)
+        pthread_mutex_unlock(&core.lock)
+    else:
+        cursor_init(&f.cursor, f.prog, f.params)
+        f.next = m.part
+        f.any_motion = False
+        f.back_current = (m.part < f.prog.n_parts and m.part_s > 0.0
+                          and f.prog.parts[m.part].kind == PART_MOTION)
+        if f.regime != RUN_BACKWARD:
+            cursor_settings(&f.cursor, m.part if m.part < f.prog.n_parts else 0)
+        motion_reset(mo, start)
+        mo.window = <size_t>(core.plan_window if core.plan_window > 0 else
+                             (LOOK_RING if core.plan_window < 0 else VENDOR_WINDOW))
+        mo.d = m.part_s if f.regime != RUN_BACKWARD else 0.0
+        mo.started = m.began and f.regime != RUN_BACKWARD
+        mo.ovr = TC_ATOMIC_LOAD_D(&core.rel_feed) if TC_ATOMIC_LOAD_D(&core.rel_feed) > 0 else 1.0
+        mo.ovr_inc = f.params.overrideInc if 0.0 < f.params.overrideInc <= 0.1 else 0.001
+        mo.ovr_timing = (f.params.interpolatorConfig0 & 1) != 0
+        mo.ovr_off_in_rapids = f.params.disableG0FeedOverride == 1
+        mo.stop_dec = f.params.motion[6].dec if 0.0 < f.params.motion[6].dec < 1e12 else 1e12
+        mo.stop_ramp = RAMP_SINE if f.params.motion[6].rampType == RAMP_SINE else RAMP_TRAPEZOID
+        mo.cut_len = m.cut_len
+        mo.rapid_len = m.rapid_len
+        mo.run_time = m.run_time
+        _feed(&f)
+        if callback_enter(core, SLOT_DRIVER_INITIALIZE, &cb):
+            (<TC_DriverInitialize>cb.fn)(cb.user, start, 10, job.regime)
+            callback_leave(core, SLOT_DRIVER_INITIALIZE)
+        if f.regime != RUN_FORWARD_NO_M and f.regime != RUN_BACKWARD:
+            _send_add_code(core, job.add_code, start)
+        TC_ATOMIC_STORE(&m.pacer_done, 0)
+        pacer_started = pthread_create(&m.pacer, NULL, _pacer_body, core) == 0
+        if not pacer_started:
+            pthread_mutex_lock(&core.lock)
+            set_error(&core.error, ERR_OUT_OF_MEMORY, -1, 0, NULL, 0)
+            pthread_mutex_unlock(&core.lock)
+        while pacer_started and not TC_ATOMIC_LOAD(&m.pacer_done):
+            _feed(&f)
+            _drain(&f)
+            nanosleep(&nap, NULL)
+        if pacer_started:
+            pthread_join(m.pacer, NULL)
+        _drain(&f)
+        finish = _finish_event(m, f.regime)
+        pthread_mutex_lock(&core.lock)
+        _keep_place(m, &f)
+        m.cut_len = mo.cut_len
+        m.rapid_len = mo.rapid_len
+        m.run_time = mo.run_time
+        memcpy(core.position, mo.position, sizeof(core.position))
+        stop_code = m.stop_code
+        m.stop_code = NULL
+        pthread_mutex_unlock(&core.lock)
+        if (finish == EV_STOPPED and stop_code != NULL and not TC_ATOMIC_LOAD(&core.cancel)
+                and f.regime != RUN_FORWARD_NO_M and f.regime != RUN_BACKWARD):
+            _send_add_code(core, stop_code, mo.position)
+        free(stop_code)
+        if callback_enter(core, SLOT_DRIVER_END, &cb):
+            (<TC_DriverEnd>cb.fn)(cb.user)
+            callback_leave(core, SLOT_DRIVER_END)
+    free(f.params)
+    job_free(job)
+    core_finish(core, finish)
+    return NULL
+
+
+cdef int32_t core_start_machine(Core *core, int32_t regime, const char *add_code) noexcept nogil:
+    """StartCNCEx 30-33: a run of the offline machine from where it stands on the
+    program (its start after ResetCNC or a new compilation)."""
+    cdef Job *job
+    cdef Machine *m
+    cdef int32_t command
+    if regime == RUN_FORWARD: command = CMD_FORWARD
+    elif regime == RUN_FORWARD_NO_M: command = CMD_FORWARD_NO_M
+    elif regime == RUN_BACKWARD: command = CMD_BACKWARD
+    else: command = CMD_FORWARD_SKIP_M
+    job = job_new()
+    if job == NULL:
+        return core_fail(core, ERR_OUT_OF_MEMORY, NULL)
+    job.regime = regime
+    if add_code != NULL:
+        job.add_code = strdup(add_code)
+    return core_begin(core, command, "StartCNCEx", _machine_body, job)
+
+
+cdef bint machine_prepare(Core *core, int32_t command) noexcept nogil:
+    """With core.lock held, before a run starts (core_begin): the machine exists and
+    its place refers to the core's program (a new program: its start)."""
+    cdef Machine *m = machine_of(core)
+    if m == NULL:
+        return False
+    if m.program != core.program:
+        machine_forget(core)
+        m.program = loaded_program_ref(core.program)
+    if m.program != NULL and m.part == 0 and m.part_s == 0.0 and m.n_history == 0:
+        placement_init(&m.placement, &m.program.prog, core.position)    # a run from the start
+    memcpy(m.motion.position, core.position, sizeof(core.position))
+    TC_ATOMIC_STORE(&m.m_waiting, 0)
+    return True
+
+
+# ------------------------------------------------------------------ M functions
+
+cdef int32_t machine_confirm_m(Core *core) noexcept nogil:
+    """ToolChainCore_ConfirmMFunc: ends the M function that waits for the host."""
+    cdef Machine *m
+    cdef int32_t pending
+    pthread_mutex_lock(&core.lock)
+    m = <Machine *>core.offline         # never freed once made
+    pthread_mutex_unlock(&core.lock)
+    pending = TC_ATOMIC_LOAD(&m.m_pending) if m != NULL else 0
+    if pending == 0 or not TC_ATOMIC_CAS(&m.m_pending, &pending, 0):
+        return core_fail(core, ERR_NO_M_PENDING, NULL)
+    TC_ATOMIC_STORE(&m.motion.confirmed, 1)
+    return TOOL_CHAIN_SUCCESS
