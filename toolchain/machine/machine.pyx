@@ -49,6 +49,8 @@ ctypedef struct Machine:
     int32_t m_pending           # atomic: a DriverMFunc answered "later": ConfirmMFunc ends it
     # pacer -> notifier
     pthread_mutex_t lock
+    pthread_cond_t wake         # the notifier sleeps on it until the pacer has news
+    bint news                   # events queued, entries consumed or the pacer done (lock)
     MachineEvent events[1024]
     size_t ev_first, ev_n
 
@@ -61,6 +63,7 @@ cdef Machine *machine_of(Core *core) noexcept nogil:
         if m == NULL:
             return NULL
         pthread_mutex_init(&m.lock, NULL)
+        pthread_cond_init(&m.wake, NULL)
         m.cur_motion = PART_NONE
         core.offline = m
     return m
@@ -347,6 +350,7 @@ cdef void *_pacer_body(void *arg) noexcept nogil:
     cdef timespec nap
     cdef int events, k
     cdef bint halted = False
+    cdef uint64_t consumed = mo.consumed
     nap.tv_sec = 0
     nap.tv_nsec = 1000000
     while not halted and not TC_ATOMIC_LOAD(&core.cancel):
@@ -361,7 +365,7 @@ cdef void *_pacer_body(void *arg) noexcept nogil:
             motion_stop(mo)
         while budget >= dt and mo.state < MS_STOPPED:
             if mo.n_log > LOG_SIZE - 8:
-                _hand_over(m)
+                _hand_over(m, True)
                 if mo.n_log > LOG_SIZE - 8:
                     break               # the notifier is behind: the step waits for it
             events = motion_step(mo, dt)
@@ -372,7 +376,8 @@ cdef void *_pacer_body(void *arg) noexcept nogil:
             if TC_ATOMIC_LOAD(&core.stop):
                 motion_stop(mo)
         halted = halted or mo.state >= MS_STOPPED
-        _hand_over(m)
+        _hand_over(m, mo.consumed != consumed or halted)
+        consumed = mo.consumed
         if mo.state == MS_WAIT_M:
             TC_ATOMIC_STORE(&m.m_waiting, motion_entry(mo, 0).func)
         else:
@@ -381,19 +386,25 @@ cdef void *_pacer_body(void *arg) noexcept nogil:
         if not halted:
             nanosleep(&nap, NULL)
     TC_ATOMIC_STORE(&m.pacer_done, 1)
+    _hand_over(m, True)
     return NULL
 
 
-cdef void _hand_over(Machine *m) noexcept nogil:
-    """The step's log into the notifier's queue (as much as fits)."""
+cdef void _hand_over(Machine *m, bint wake) noexcept nogil:
+    """The step's log into the notifier's queue (as much as fits); wakes the
+    notifier when there is news for it (events, or room in the ring: `wake`)."""
     cdef Motion *mo = &m.motion
     cdef int32_t k = 0, n = mo.n_log
+    if n == 0 and not wake:
+        return
     pthread_mutex_lock(&m.lock)
     while k < n and m.ev_n < EVENT_QUEUE:
         m.events[(m.ev_first + m.ev_n) % EVENT_QUEUE].kind = mo.log_kind[k]
         m.events[(m.ev_first + m.ev_n) % EVENT_QUEUE].part = mo.log_part[k]
         m.ev_n += 1
         k += 1
+    m.news = True
+    pthread_cond_broadcast(&m.wake)
     pthread_mutex_unlock(&m.lock)
     if k > 0:
         memmove(mo.log_kind, mo.log_kind + k, (n - k) * sizeof(int32_t))
@@ -617,10 +628,8 @@ cdef void *_machine_body(void *arg) noexcept nogil:
 cdef int32_t _pace(Core *core, Machine *m, Feeder *f) noexcept nogil:
     """Runs the pacer until the motion halts, feeding and notifying meanwhile;
     the transition-table event it ended with."""
-    cdef timespec nap
     cdef bint started
-    nap.tv_sec = 0
-    nap.tv_nsec = 250000
+    m.news = False
     TC_ATOMIC_STORE(&m.pacer_done, 0)
     started = pthread_create(&m.pacer, NULL, _pacer_body, core) == 0
     if not started:
@@ -632,7 +641,11 @@ cdef int32_t _pace(Core *core, Machine *m, Feeder *f) noexcept nogil:
         if f.prog != NULL:
             _feed(f)
         _drain(f)
-        nanosleep(&nap, NULL)
+        pthread_mutex_lock(&m.lock)
+        while not m.news:
+            pthread_cond_wait(&m.wake, &m.lock)
+        m.news = False
+        pthread_mutex_unlock(&m.lock)
     pthread_join(m.pacer, NULL)
     _drain(f)
     return _finish_event(m, f.regime)
