@@ -32,6 +32,8 @@ ctypedef struct Job:
     char *postfix
     char name[252]
     char *add_code              # runs: StartCNCEx addCode (owned, may be NULL)
+    SIMPLE_GM_PARAMS dest       # manual moves: line (m_func 1) or arc (2, 3) to m_calcE, as GoToPositionEx
+    uint32_t n_dest             # ... of which the first n_dest axes move (GoToPosition)
 
 
 cdef Core g_cores[3]

@@ -21,7 +21,7 @@ cdef enum ErrorNumber:
     ERR_REENTRANT = 20              # %s is not allowed inside a callback of the core's running activity
     ERR_BAD_REGIME = 21             # StartCNCEx: unknown regime
     ERR_NO_M_PENDING = 22           # No M function waits for a confirmation
-    ERR_M_PENDING = 23              # M%d still waits for its confirmation (ToolChainCore_ConfirmMFunc)
+    ERR_M_PENDING = 23              # An M function still waits for its confirmation (ToolChainCore_ConfirmMFunc)
     # lexical (100..199)
     ERR_UNKNOWN_WORD = 100          # Unknown word '%s' at column %d
     ERR_BAD_NUMBER = 101            # Bad number '%s' at column %d

@@ -18,7 +18,7 @@ cdef const char *error_format(int32_t number) noexcept nogil:
     if number == ERR_REENTRANT: return "%s is not allowed inside a callback of the core's running activity"
     if number == ERR_BAD_REGIME: return "StartCNCEx: unknown regime"
     if number == ERR_NO_M_PENDING: return "No M function waits for a confirmation"
-    if number == ERR_M_PENDING: return "M%d still waits for its confirmation (ToolChainCore_ConfirmMFunc)"
+    if number == ERR_M_PENDING: return "An M function still waits for its confirmation (ToolChainCore_ConfirmMFunc)"
     if number == ERR_NOT_IMPLEMENTED: return "%s is not implemented yet"
     if number == ERR_INI_FIRST: return "Callback %d needs LoadFromIni first"
     if number == ERR_FILE_TOO_LARGE: return "File '%s' is larger than 1 GiB"

@@ -42,6 +42,7 @@ cdef public int32_t ToolChainCore_LoadFromIni(uint32_t intIdx, TGM_LPCTSTR iniFi
     # for the file); store under the lock only when every value is good
     settings.params = core.params
     settings.plan_window = core.plan_window
+    settings.time_scale = TC_ATOMIC_LOAD_D(&core.time_scale)
     memcpy(settings.driver, core.driver, sizeof(settings.driver))
     pthread_mutex_unlock(&core.lock)
     settings.path = iniFile
@@ -57,6 +58,7 @@ cdef public int32_t ToolChainCore_LoadFromIni(uint32_t intIdx, TGM_LPCTSTR iniFi
     pthread_mutex_lock(&core.lock)
     core.params = settings.params
     core.plan_window = settings.plan_window
+    TC_ATOMIC_STORE_D(&core.time_scale, settings.time_scale)
     memcpy(core.driver, settings.driver, sizeof(core.driver))
     core.ini_loaded = True
     pthread_mutex_unlock(&core.lock)
@@ -376,6 +378,8 @@ cdef public int32_t ToolChainCore_StopCNCEx(uint32_t intIdx, TGM_LPCSTR addCode)
     status = core_status(core)
     if status_after(status, CMD_STOP, False) == TC_REFUSED:
         return core_refuse(core, "StopCNCEx", status)
+    if addCode != NULL and addCode[0] != 0:
+        machine_keep_stop_code(core, addCode)
     TC_ATOMIC_STORE(&core.stop, 1)
     return TOOL_CHAIN_SUCCESS
 
@@ -399,27 +403,35 @@ cdef public int32_t ToolChainCore_ConnectCNCEx_Plane(uint32_t intIdx, uint32_t n
 
 
 cdef public int32_t ToolChainCore_GoToPosition(uint32_t intIdx, uint32_t nCoords, const double *coords) noexcept nogil:
-    if core_get(intIdx) == NULL:
+    cdef Core *core = core_get(intIdx)
+    cdef SIMPLE_GM_PARAMS dest
+    if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
-    if nCoords > 10 or (nCoords > 0 and coords == NULL):
+    if nCoords > 10 or (nCoords > 0 and coords == NULL) or not coordinates_finite(coords, nCoords):
         return TOOL_CHAIN_ERROR
-    return not_implemented(intIdx, "GoToPosition")
+    memset(&dest, 0, sizeof(dest))
+    dest.m_func = 1
+    return core_goto(core, &dest, nCoords, coords)
 
 
 cdef public int32_t ToolChainCore_GoToPositionEx(uint32_t intIdx, const SIMPLE_GM_PARAMS *dest) noexcept nogil:
-    if core_get(intIdx) == NULL:
+    cdef Core *core = core_get(intIdx)
+    if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
-    if dest == NULL:
+    if dest == NULL or dest.m_func < 1 or dest.m_func > 3:
         return TOOL_CHAIN_ERROR
-    return not_implemented(intIdx, "GoToPositionEx")
+    if not coordinates_finite(<const double *>&dest.m_calcE, 10) or not coordinates_finite(<const double *>&dest.m_cc, 10):
+        return TOOL_CHAIN_ERROR
+    return core_goto(core, dest, 10, <const double *>&dest.m_calcE)
 
 
 cdef public int32_t ToolChainCore_MFunc(uint32_t intIdx, const SIMPLE_GM_PARAMS *fun, int32_t bDirectToPLC) noexcept nogil:
-    if core_get(intIdx) == NULL:
+    cdef Core *core = core_get(intIdx)
+    if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
     if fun == NULL:
         return TOOL_CHAIN_ERROR
-    return not_implemented(intIdx, "MFunc")
+    return machine_send_m(core, fun)
 
 
 cdef public int32_t ToolChainCore_SetRelFeed(uint32_t intIdx, double relFeed) noexcept nogil:

@@ -221,6 +221,7 @@ ctypedef struct IniSettings:
     GCODE_PARAMETERS params
     char driver[256]
     int64_t plan_window     # [GCodeParameters] lookAheadParts (the core's, see SetLookAhead)
+    double time_scale       # [Offline] TimeScale (the core's, see SetTimeScale)
     const char *path
     ErrorInfo *err
 
@@ -303,7 +304,12 @@ cdef int32_t ini_apply_setting(void *ctx, const char *section, const char *key, 
     cdef char text[400]
     cdef int known
     cdef long window
-    if strcasecmp(section, "CNC") == 0 and strcasecmp(key, "Driver") == 0:
+    cdef double scale
+    if strcasecmp(section, "Offline") == 0 and strcasecmp(key, "TimeScale") == 0:
+        if not c_parse_double(value, &scale) or not (0.0 < scale <= 1e6):
+            return _ini_fail(s, line, "[Offline] TimeScale: the offline machine's speed against real time, in (0, 1e6]")
+        s.time_scale = scale
+    elif strcasecmp(section, "CNC") == 0 and strcasecmp(key, "Driver") == 0:
         strncpy(s.driver, value, sizeof(s.driver) - 1)
         s.driver[sizeof(s.driver) - 1] = 0
     elif strcasecmp(section, "GCodeParameters") == 0 and strcasecmp(key, "lookAheadParts") == 0:

@@ -3,6 +3,7 @@
     sf-tch demo [FILE]            compile, compensate and simulate (default: the bundled sample)
     sf-tch compile FILE           summary, warnings, errors as file:line:col: error N: text
     sf-tch simulate FILE          compile and run the simulation (or --test: machine limits)
+    sf-tch run FILE               run it on the offline machine: position, line, feed, progress
     sf-tch plot FILE -o OUT       draw it (PNG, SVG or PDF, from OUT's suffix)
     sf-tch info                   version, library, cores, structure sizes
     sf-tch --version
@@ -70,6 +71,16 @@ def _look_ahead(text: str) -> int:
         raise argparse.ArgumentTypeError(f"not a number of parts: {text!r}") from None
     if value < -1:
         raise argparse.ArgumentTypeError(f"must be -1 (unlimited), 0 (the vendor's 8) or more parts, not {value}")
+    return value
+
+
+def _time_scale(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if not 0.0 < value <= 1e6:
+        raise argparse.ArgumentTypeError(f"{value:g} is outside (0, 1e6]")
     return value
 
 
@@ -209,6 +220,53 @@ def cmd_simulate(args) -> int:
         return EXIT_PROGRAM_ERRORS if error else EXIT_OK
 
 
+def cmd_run(args) -> int:
+    """``sf-tch run``: the offline machine runs the program (StartCNCEx 30) at
+    --time-scale times real time; a status line while it moves, Ctrl-C stops it on
+    the path (a second Ctrl-C ends the run at once)."""
+    with _compile(args, args.program) as program:
+        if not program.ok:
+            return _report(program, args)
+        core = program.core
+        total = max(program.toolpath.to_dict()["cut_length"] + program.toolpath.to_dict()["rapid_length"], 1e-9)
+        core.set_time_scale(args.time_scale)
+        core.reset()
+        core.start(Regime.FORWARD)
+        live = sys.stderr.isatty() and not args.json
+        try:
+            while core.status > 0:
+                pos, enh = core.position()
+                if live:
+                    done = 100.0 * enh.m_actPartsLen / total
+                    sys.stderr.write(f"\r{done:5.1f} %  line {pos.m_editorLine:<6} X {pos.m_calcS.x:9.3f} "
+                                     f"Y {pos.m_calcS.y:9.3f} Z {pos.m_calcS.z:8.3f}  F {enh.m_actFeed:8.1f}  "
+                                     f"t {enh.m_cncRunTime:7.2f} s ")
+                    sys.stderr.flush()
+                time.sleep(0.1)
+        except KeyboardInterrupt:
+            core.stop()
+            core.wait()
+        if live:
+            sys.stderr.write("\n")
+        status = core.status
+        pos, enh = core.position()
+        error = core.last_error()
+        run = {"status": int(status), "status_name": getattr(status, "name", str(status)),
+               "run_time": enh.m_cncRunTime, "cut_length": enh.m_actWorkPartsLen,
+               "rapid_length": enh.m_actG00PartsLen, "error": error.to_dict() if error else None,
+               "position": [pos.m_calcS.x, pos.m_calcS.y, pos.m_calcS.z]}
+        if args.json:
+            print(json.dumps({**program.to_dict(), "run": run}, indent=2))
+        else:
+            for line in _summary(program):
+                print(line)
+            print(f"run:           status {run['status']} ({run['status_name']})")
+            print(f"machine time:  {run['run_time']:.2f} s (planned {program.run_time:.2f} s)")
+            if error:
+                print(str(error), file=sys.stderr)
+        return EXIT_PROGRAM_ERRORS if error else EXIT_OK
+
+
 def cmd_plot(args) -> int:
     """``sf-tch plot``: draw the program into a PNG, SVG or PDF file."""
     from .plot import save_plot
@@ -290,6 +348,10 @@ def parser() -> argparse.ArgumentParser:
     simulate = compiling("simulate", "compile a program and run the simulation")
     simulate.add_argument("--test", action="store_true", help="the test regime: check the machine limits")
     simulate.set_defaults(run=cmd_simulate)
+    run = compiling("run", "run a program on the offline machine, showing position, line, feed, progress")
+    run.add_argument("--time-scale", type=_time_scale, default=1.0, metavar="N",
+                     help="run N times faster than real time (default 1)")
+    run.set_defaults(run=cmd_run)
     plot = compiling("plot", "draw a program: programmed and compensated path, rapids dashed")
     plot.add_argument("-o", "--output", required=True, help="picture file: .png, .svg or .pdf")
     plot.add_argument("--step", type=_radius, default=0.2, help="longest arc chord, mm (default 0.2)")

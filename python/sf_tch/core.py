@@ -414,6 +414,47 @@ class Core:
             raise error
         return status
 
+    # -- the offline machine (regimes 30-33) ----------------------------------
+    def start(self, regime: Regime = Regime.FORWARD, add_code: str | None = None) -> None:
+        """StartCNCEx without waiting: the offline machine runs (30 forward, 31 without
+        M functions, 32 backward, 33 skipping the first M functions) from where it
+        stands -- the program's start after :meth:`reset`, the stop point after
+        :meth:`stop`. Poll :attr:`status` and :meth:`position`, or :meth:`wait`."""
+        self._check(self.lib.ToolChainCore_StartCNCEx(self.index, regime, add_code.encode() if add_code else None))
+
+    def stop(self, add_code: str | None = None) -> None:
+        """StopCNCEx: a controlled stop on the path (motion[6].dec); the status reads
+        -31 once the machine stands (:meth:`wait`)."""
+        self._check(self.lib.ToolChainCore_StopCNCEx(self.index, add_code.encode() if add_code else None))
+
+    def set_time_scale(self, scale: float) -> None:
+        """How many times faster than real time the offline machine runs (0, 1e6]."""
+        self._check(self.lib.ToolChainCore_SetTimeScale(self.index, float(scale)))
+
+    def set_override(self, relative_feed: float) -> None:
+        """SetRelFeed: the feed override 0.001..2.0, approached by overrideInc per 100 us."""
+        self._check(self.lib.ToolChainCore_SetRelFeed(self.index, float(relative_feed)))
+
+    def set_breakpoint(self, line: int, file_index: int | None = None) -> None:
+        """SetBreakpoint: the machine stops (-31) before the first part of that line
+        (file: the main program's by default); line 0 clears it."""
+        if file_index is None:
+            _, enh = self.position()
+            file_index = enh.m_MasterFileIdx
+        self._check(self.lib.ToolChainCore_SetBreakpoint(self.index, line, file_index))
+
+    def confirm_m(self) -> None:
+        """ConfirmMFunc: ends the waiting M function DriverMFunc answered with
+        TC_MFUNC_LATER (2)."""
+        self._check(self.lib.ToolChainCore_ConfirmMFunc(self.index))
+
+    def go_to(self, coords) -> None:
+        """GoToPosition: a manual linear move (motion[5]) to the first len(coords)
+        axes; status 50, then -50 (out of the trajectory)."""
+        values = list(coords)
+        array = (ctypes.c_double * max(1, len(values)))(*values)
+        self._check(self.lib.ToolChainCore_GoToPosition(self.index, len(values), array))
+
     def simulate(self, regime: Regime = Regime.SIMULATION, add_code: str | None = None) -> RunResult:
         """:meth:`run`, collecting every part handed to the driver callbacks, in order,
         each copied once into a numpy array (one Python call per part: for large

@@ -116,7 +116,7 @@ class ErrorNumber(enum.IntEnum):
     REENTRANT = 20  # %s is not allowed inside a callback of the core's running activity
     BAD_REGIME = 21  # StartCNCEx: unknown regime
     NO_M_PENDING = 22  # No M function waits for a confirmation
-    M_PENDING = 23  # M%d still waits for its confirmation (ToolChainCore_ConfirmMFunc)
+    M_PENDING = 23  # An M function still waits for its confirmation (ToolChainCore_ConfirmMFunc)
     UNKNOWN_WORD = 100  # Unknown word '%s' at column %d
     BAD_NUMBER = 101  # Bad number '%s' at column %d
     MISSING_VALUE = 102  # Address %s at column %d without a value

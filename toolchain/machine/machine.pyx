@@ -21,6 +21,7 @@ cdef enum:
     HISTORY_DEPTH = 100000      # motion parts a backward run can retrace
     PART_NONE = -1              # an entry that is no part of the program (a manual move)
     MFUNC_LATER = 2             # DriverMFunc's answer: the host confirms with ToolChainCore_ConfirmMFunc
+    RUN_MANUAL = 50             # the regime of a manual move (GoToPosition), as its status
 
 ctypedef struct MachineEvent:
     int32_t kind                # ME_ENTRY, ME_MFUNC, ME_PRINT
@@ -48,6 +49,8 @@ ctypedef struct Machine:
     int32_t m_pending           # atomic: a DriverMFunc answered "later": ConfirmMFunc ends it
     # pacer -> notifier
     pthread_mutex_t lock
+    pthread_cond_t wake         # the notifier sleeps on it until the pacer has news
+    bint news                   # events queued, entries consumed or the pacer done (lock)
     MachineEvent events[1024]
     size_t ev_first, ev_n
 
@@ -60,6 +63,7 @@ cdef Machine *machine_of(Core *core) noexcept nogil:
         if m == NULL:
             return NULL
         pthread_mutex_init(&m.lock, NULL)
+        pthread_cond_init(&m.wake, NULL)
         m.cur_motion = PART_NONE
         core.offline = m
     return m
@@ -313,7 +317,7 @@ cdef void _publish(Core *core, Machine *m) noexcept nogil:
             view.enh.m_calcFeed = e.vmax * 60.0
         elif e.kind == PART_MFUNC and mo.state == MS_WAIT_M:
             view.pos.m_pars.M = <float>e.func
-        if e.file_idx == m.program.prog.main_file_idx:
+        if m.program != NULL and e.file_idx == m.program.prog.main_file_idx:
             view.enh.m_MasterEditorLine = e.line
     view.pos.m_pars.N = <float>mo.cut_len
     view.pos.m_pars.T = <float>mo.rapid_len
@@ -323,7 +327,7 @@ cdef void _publish(Core *core, Machine *m) noexcept nogil:
     view.enh.m_actWorkPartsLen = mo.cut_len
     view.enh.m_actG00PartsLen = mo.rapid_len
     view.enh.m_actPartsLen = mo.cut_len + mo.rapid_len
-    view.enh.m_MasterFileIdx = <uint32_t>m.program.prog.main_file_idx
+    view.enh.m_MasterFileIdx = <uint32_t>(m.program.prog.main_file_idx if m.program != NULL else -1)
     view.enh.m_statusCNC = core_status(core)
     view.enh.m_cncRunTime = mo.run_time
     snapshot_publish(&core.snap, &view)
@@ -346,6 +350,7 @@ cdef void *_pacer_body(void *arg) noexcept nogil:
     cdef timespec nap
     cdef int events, k
     cdef bint halted = False
+    cdef uint64_t consumed = mo.consumed
     nap.tv_sec = 0
     nap.tv_nsec = 1000000
     while not halted and not TC_ATOMIC_LOAD(&core.cancel):
@@ -360,7 +365,7 @@ cdef void *_pacer_body(void *arg) noexcept nogil:
             motion_stop(mo)
         while budget >= dt and mo.state < MS_STOPPED:
             if mo.n_log > LOG_SIZE - 8:
-                _hand_over(m)
+                _hand_over(m, True)
                 if mo.n_log > LOG_SIZE - 8:
                     break               # the notifier is behind: the step waits for it
             events = motion_step(mo, dt)
@@ -371,7 +376,8 @@ cdef void *_pacer_body(void *arg) noexcept nogil:
             if TC_ATOMIC_LOAD(&core.stop):
                 motion_stop(mo)
         halted = halted or mo.state >= MS_STOPPED
-        _hand_over(m)
+        _hand_over(m, mo.consumed != consumed or halted)
+        consumed = mo.consumed
         if mo.state == MS_WAIT_M:
             TC_ATOMIC_STORE(&m.m_waiting, motion_entry(mo, 0).func)
         else:
@@ -380,19 +386,25 @@ cdef void *_pacer_body(void *arg) noexcept nogil:
         if not halted:
             nanosleep(&nap, NULL)
     TC_ATOMIC_STORE(&m.pacer_done, 1)
+    _hand_over(m, True)
     return NULL
 
 
-cdef void _hand_over(Machine *m) noexcept nogil:
-    """The step's log into the notifier's queue (as much as fits)."""
+cdef void _hand_over(Machine *m, bint wake) noexcept nogil:
+    """The step's log into the notifier's queue (as much as fits); wakes the
+    notifier when there is news for it (events, or room in the ring: `wake`)."""
     cdef Motion *mo = &m.motion
     cdef int32_t k = 0, n = mo.n_log
+    if n == 0 and not wake:
+        return
     pthread_mutex_lock(&m.lock)
     while k < n and m.ev_n < EVENT_QUEUE:
         m.events[(m.ev_first + m.ev_n) % EVENT_QUEUE].kind = mo.log_kind[k]
         m.events[(m.ev_first + m.ev_n) % EVENT_QUEUE].part = mo.log_part[k]
         m.ev_n += 1
         k += 1
+    m.news = True
+    pthread_cond_broadcast(&m.wake)
     pthread_mutex_unlock(&m.lock)
     if k > 0:
         memmove(mo.log_kind, mo.log_kind + k, (n - k) * sizeof(int32_t))
@@ -410,7 +422,7 @@ cdef void _notify(Feeder *f, const MachineEvent *ev) noexcept nogil:
     cdef SIMPLE_GM_PARAMS gm
     cdef Callback cb
     cdef int32_t answer = 0
-    if ev.part >= f.prog.n_parts:
+    if f.prog == NULL or ev.part >= f.prog.n_parts:
         return
     p = &f.prog.parts[ev.part]
     if ev.kind == ME_PRINT:
@@ -430,7 +442,7 @@ cdef void _notify(Feeder *f, const MachineEvent *ev) noexcept nogil:
     if p.flags & FLAG_CONTINUOUS_M or p.func == 0:
         return
     if answer == MFUNC_LATER:
-        TC_ATOMIC_STORE(&m.m_pending, p.func)
+        TC_ATOMIC_STORE(&m.m_pending, p.func if p.func != 0 else -1)
     else:
         TC_ATOMIC_STORE(&m.motion.confirmed, 1)
 
@@ -465,6 +477,7 @@ cdef void _keep_place(Machine *m, const Feeder *f) noexcept nogil:
     cdef const Program *prog = f.prog
     cdef Entry *e
     cdef size_t removed
+    cdef bint inside
     if f.regime == RUN_BACKWARD:
         # entries [0, consumed) were retraced; the current one, if any, is the part it is in now
         removed = <size_t>mo.consumed + (1 if mo.count > 0 else 0)
@@ -498,9 +511,10 @@ cdef void _keep_place(Machine *m, const Feeder *f) noexcept nogil:
         m.part = prog.n_parts
         m.part_s = 0.0
         m.began = False
-        if m.cur_motion != PART_NONE:       # the last part is run: backward retraces it too
-            _history_push(m, <size_t>m.cur_motion)
-            m.cur_motion = PART_NONE
+    inside = mo.count > 0 and m.began and motion_entry(mo, 0).kind == PART_MOTION
+    if not inside and m.cur_motion != PART_NONE:
+        _history_push(m, <size_t>m.cur_motion)      # it stands after the part it ran last
+        m.cur_motion = PART_NONE
 
 
 cdef void _drain(Feeder *f) noexcept nogil:
@@ -509,7 +523,7 @@ cdef void _drain(Feeder *f) noexcept nogil:
     cdef MachineEvent ev
     cdef Machine *m = f.m
     while _next_event(m, &ev):
-        if (ev.kind == ME_ENTRY and f.regime != RUN_BACKWARD and ev.part < f.prog.n_parts
+        if (ev.kind == ME_ENTRY and f.regime != RUN_BACKWARD and f.prog != NULL and ev.part < f.prog.n_parts
                 and f.prog.parts[ev.part].kind == PART_MOTION):
             if m.cur_motion != PART_NONE:
                 _history_push(m, <size_t>m.cur_motion)
@@ -527,10 +541,6 @@ cdef void *_machine_body(void *arg) noexcept nogil:
     cdef double start[10]
     cdef int32_t finish = EV_STOPPED
     cdef char *stop_code = NULL
-    cdef bint pacer_started = False
-    cdef timespec nap
-    nap.tv_sec = 0
-    nap.tv_nsec = 250000
     worker_thread_mark(core)
     memset(&f, 0, sizeof(f))
     f.params = <GCODE_PARAMETERS *>malloc(sizeof(GCODE_PARAMETERS))
@@ -544,16 +554,29 @@ cdef void *_machine_body(void *arg) noexcept nogil:
     mo = &m.motion
     f.core = core
     f.m = m
-    f.prog = &m.program.prog
+    f.prog = &m.program.prog if m.program != NULL and job.regime != RUN_MANUAL else NULL
     f.regime = job.regime
     f.first = True
     if f.params == NULL:
         pthread_mutex_lock(&core.lock)
         set_error(&core.error, ERR_OUT_OF_MEMORY, -1, 0, NULL, 0)
         pthread_mutex_unlock(&core.lock)
+    elif f.regime == RUN_MANUAL:
+        motion_reset(mo, start)
+        _manual_entry(mo, &job.dest, job.n_dest, f.params)
+        mo.window = 1
+        mo.ovr = 1.0
+        mo.ovr_target = 1.0
+        mo.ovr_inc = 0.001
+        mo.stop_dec = f.params.motion[6].dec if 0.0 < f.params.motion[6].dec < 1e12 else 1e12
+        mo.stop_ramp = RAMP_SINE if f.params.motion[6].rampType == RAMP_SINE else RAMP_TRAPEZOID
+        finish = _pace(core, m, &f)
+        pthread_mutex_lock(&core.lock)
+        memcpy(core.position, mo.position, sizeof(core.position))
+        pthread_mutex_unlock(&core.lock)
     else:
         cursor_init(&f.cursor, f.prog, f.params)
-        f.next = m.part
+        f.next = m.part if f.regime != RUN_BACKWARD else 0
         f.any_motion = False
         f.back_current = (m.part < f.prog.n_parts and m.part_s > 0.0
                           and f.prog.parts[m.part].kind == PART_MOTION)
@@ -579,20 +602,7 @@ cdef void *_machine_body(void *arg) noexcept nogil:
             callback_leave(core, SLOT_DRIVER_INITIALIZE)
         if f.regime != RUN_FORWARD_NO_M and f.regime != RUN_BACKWARD:
             _send_add_code(core, job.add_code, start)
-        TC_ATOMIC_STORE(&m.pacer_done, 0)
-        pacer_started = pthread_create(&m.pacer, NULL, _pacer_body, core) == 0
-        if not pacer_started:
-            pthread_mutex_lock(&core.lock)
-            set_error(&core.error, ERR_OUT_OF_MEMORY, -1, 0, NULL, 0)
-            pthread_mutex_unlock(&core.lock)
-        while pacer_started and not TC_ATOMIC_LOAD(&m.pacer_done):
-            _feed(&f)
-            _drain(&f)
-            nanosleep(&nap, NULL)
-        if pacer_started:
-            pthread_join(m.pacer, NULL)
-        _drain(&f)
-        finish = _finish_event(m, f.regime)
+        finish = _pace(core, m, &f)
         pthread_mutex_lock(&core.lock)
         _keep_place(m, &f)
         m.cut_len = mo.cut_len
@@ -613,6 +623,123 @@ cdef void *_machine_body(void *arg) noexcept nogil:
     job_free(job)
     core_finish(core, finish)
     return NULL
+
+
+cdef int32_t _pace(Core *core, Machine *m, Feeder *f) noexcept nogil:
+    """Runs the pacer until the motion halts, feeding and notifying meanwhile;
+    the transition-table event it ended with."""
+    cdef bint started
+    m.news = False
+    TC_ATOMIC_STORE(&m.pacer_done, 0)
+    started = pthread_create(&m.pacer, NULL, _pacer_body, core) == 0
+    if not started:
+        pthread_mutex_lock(&core.lock)
+        set_error(&core.error, ERR_OUT_OF_MEMORY, -1, 0, NULL, 0)
+        pthread_mutex_unlock(&core.lock)
+        return EV_STOPPED
+    while not TC_ATOMIC_LOAD(&m.pacer_done):
+        if f.prog != NULL:
+            _feed(f)
+        _drain(f)
+        pthread_mutex_lock(&m.lock)
+        while not m.news:
+            pthread_cond_wait(&m.wake, &m.lock)
+        m.news = False
+        pthread_mutex_unlock(&m.lock)
+    pthread_join(m.pacer, NULL)
+    _drain(f)
+    return _finish_event(m, f.regime)
+
+
+cdef void _manual_entry(Motion *mo, const SIMPLE_GM_PARAMS *dest, uint32_t n_dest,
+                        const GCODE_PARAMETERS *params) noexcept nogil:
+    """The one entry of a manual move from where the machine stands: a line to the
+    first n_dest axes of dest.m_calcE (the others stay), or an arc round dest.m_cc in
+    the plane of m_planeTool's low 16 bits; the feed of m_cc.a, else motion[5]'s."""
+    cdef Entry *e = &mo.ring[0]
+    cdef SIMPLE_GM_PARAMS gm
+    cdef double *end = <double *>&gm.m_calcE
+    cdef const double *centre = <const double *>&dest.m_cc
+    cdef int first, second, normal
+    cdef int16_t plane = <int16_t>(dest.m_planeTool & 0xFFFF)
+    cdef double feed
+    memset(&gm, 0, sizeof(gm))
+    memcpy(&gm.m_calcS, mo.position, sizeof(P10DOUBLE))
+    memcpy(end, mo.position, sizeof(P10DOUBLE))
+    memcpy(end, &dest.m_calcE, n_dest * sizeof(double))
+    gm.m_func = dest.m_func
+    if dest.m_func == 2 or dest.m_func == 3:
+        if plane == 0:
+            plane = 17
+        gm.m_planeTool = plane
+        gm.m_cc = dest.m_cc
+        if plane_axes(plane, &first, &second, &normal):
+            gm.m_cc.c = distance2d(mo.position[first] - centre[first], mo.position[second] - centre[second])
+    memset(e, 0, sizeof(Entry))
+    e.part = <size_t>PART_NONE
+    e.kind = PART_MOTION
+    e.func = dest.m_func
+    e.file_idx = -1
+    segment_of_gm(&gm, &e.seg)
+    e.s_from = 0.0
+    e.s_to = e.seg.length
+    feed = dest.m_cc.a if dest.m_cc.a > 0.0 else params.motion[5].feed
+    e.vmax = feed / 60.0 if feed > 0.0 else 1.0 / 60.0
+    e.feed = feed
+    e.acc = e.dec = 1e12
+    _class_ramps(e, &params.motion[5])
+    TC_STORE_U64(&mo.produced, 1)
+    TC_ATOMIC_STORE(&mo.fed_all, 1)
+
+
+cdef int32_t core_goto(Core *core, const SIMPLE_GM_PARAMS *dest, uint32_t n_dest, const double *coords) noexcept nogil:
+    """GoToPosition / GoToPositionEx: a manual move; 50, then -50."""
+    cdef Job *job = job_new()
+    if job == NULL:
+        return core_fail(core, ERR_OUT_OF_MEMORY, NULL)
+    job.regime = RUN_MANUAL
+    job.dest = dest[0]
+    memcpy(&job.dest.m_calcE, coords, n_dest * sizeof(double))
+    job.n_dest = n_dest
+    return core_begin(core, CMD_GOTO, "GoToPosition", _machine_body, job)
+
+
+cdef void machine_keep_stop_code(Core *core, const char *code) noexcept nogil:
+    """StopCNCEx's addCode, sent by the run once the machine stands."""
+    cdef Machine *m
+    cdef char *copy = strdup(code)
+    pthread_mutex_lock(&core.lock)
+    m = <Machine *>core.offline
+    if m != NULL:
+        free(m.stop_code)
+        m.stop_code = copy
+        copy = NULL
+    pthread_mutex_unlock(&core.lock)
+    free(copy)
+
+
+cdef int32_t machine_send_m(Core *core, const SIMPLE_GM_PARAMS *fun) noexcept nogil:
+    """ToolChainCore_MFunc: an M function to the machine (DriverMFunc) while it
+    stands; answered TC_MFUNC_LATER, it is pending until ToolChainCore_ConfirmMFunc."""
+    cdef int32_t status = core_status(core)
+    cdef Machine *m
+    cdef Callback cb
+    cdef int32_t answer = 0
+    if status > 0:
+        return core_refuse(core, "MFunc", status)
+    pthread_mutex_lock(&core.lock)
+    m = machine_of(core)
+    pthread_mutex_unlock(&core.lock)
+    if m == NULL:
+        return core_fail(core, ERR_OUT_OF_MEMORY, NULL)
+    if TC_ATOMIC_LOAD(&m.m_pending) != 0:
+        return core_fail(core, ERR_M_PENDING, NULL)
+    if callback_enter(core, SLOT_DRIVER_M_FUNC, &cb):
+        answer = (<TC_DriverMFunc>cb.fn)(cb.user, fun)
+        callback_leave(core, SLOT_DRIVER_M_FUNC)
+    if answer == MFUNC_LATER:
+        TC_ATOMIC_STORE(&m.m_pending, fun.m_func if fun.m_func != 0 else -1)
+    return TOOL_CHAIN_SUCCESS
 
 
 cdef int32_t core_start_machine(Core *core, int32_t regime, const char *add_code) noexcept nogil:
