@@ -289,21 +289,12 @@ def test_continue_after_a_stop_reaches_the_same_end(mh, stop_times):
     assert entries == sorted(entries)
 
 
-# The run's setup (machine.pyx _machine_body) starts a backward feeder with
-# `f.next = m.part`, the forward part index, where _backward_entry counts the entries
-# it made from 0: stopped in part k > 0, the backward run skips the rest of part k and
-# k - 1 parts of the history, and the position jumps there in one step.
-BACKWARD_SKIPS = pytest.mark.xfail(strict=True, reason="backward feeder starts at f.next = m.part, not 0: "
-                                   "stopped after the first part, it jumps over the parts it should retrace")
-
-
-@pytest.mark.parametrize("stop_at", [0.5, pytest.param(1.7, marks=BACKWARD_SKIPS),
-                                     pytest.param(3.0, marks=BACKWARD_SKIPS), pytest.param(4.3, marks=BACKWARD_SKIPS)],
-                         ids=["first_line", "first_arc", "second_arc", "last"])
+@pytest.mark.parametrize("stop_at", [0.5, 1.7, 3.0, 4.3, 60.0],
+                         ids=["first_line", "first_arc", "second_arc", "last", "from_the_end"])
 def test_backward_retraces_the_executed_path_to_the_start(mh, stop_at):
     records = load(mh, ARCS, motion=[None, None, (1500.0, 400.0, 400.0, 1)])
     forward = mh.run(0, 30, stop_at=stop_at)
-    assert forward["finish"] == "stopped"
+    assert forward["finish"] == ("done" if stop_at > 30 else "stopped")
     f_motion = [p for p in dict.fromkeys(forward["entries"]) if records[p].kind == abi.TC_TOOLPATH_MOTION]
     back = mh.run(0, 32)
     assert back["finish"] == "done"                        # -30: back at the program's start
@@ -323,7 +314,6 @@ def test_backward_retraces_the_executed_path_to_the_start(mh, stop_at):
     assert math.dist(again["steps"][-1][5:8], tuple(records[-1].tool_end)) <= EPS
 
 
-@BACKWARD_SKIPS
 def test_backward_then_forward_is_one_continuous_path(mh):
     """Forward, stopped, back for a while, stopped again, forward to the end: the
     machine never jumps (no step longer than the fastest feed allows) and stays on

@@ -136,7 +136,7 @@ def run(int core_idx, int regime, double stop_at=-1.0, overrides=(), double max_
     f.regime = regime
     f.first = True
     cursor_init(&f.cursor, f.prog, f.params)
-    f.next = m.part
+    f.next = m.part if regime != RUN_BACKWARD else 0
     f.any_motion = False
     f.back_current = (m.part < f.prog.n_parts and m.part_s > 0.0
                       and f.prog.parts[m.part].kind == PART_MOTION)
@@ -172,7 +172,7 @@ def run(int core_idx, int regime, double stop_at=-1.0, overrides=(), double max_
         for k in range(mo.n_log):
             if mo.log_kind[k] == ME_ENTRY:
                 entries.append(mo.log_part[k])
-        _hand_over(m)
+        _hand_over(m, True)
         _drain(&f)
         e = motion_entry(mo, 0) if mo.count > 0 else NULL
         steps.append((t, <long long>e.part if e != NULL else -1, mo.d, mo.v, mo.ovr,
