@@ -306,7 +306,7 @@ def test_backward_retraces_the_executed_path_to_the_start(mh, stop_at):
     b_parts = list(dict.fromkeys(s[1] for s in samples))
     assert b_parts == f_motion[::-1]
     forward_len = forward["steps"][-1][9]
-    assert back["steps"][-1][9] - forward_len == pytest.approx(forward_len, abs=1e-9)
+    assert back["steps"][-1][9] - forward_len == pytest.approx(forward_len, abs=1e-6)
     assert math.dist(back["steps"][-1][5:8], tuple(records[0].start)) <= EPS
     # forward again from the start: the whole program
     again = mh.run(0, 30)
