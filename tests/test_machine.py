@@ -362,3 +362,463 @@ def test_a_breakpoint_stops_before_its_line_and_the_next_start_passes(mh):
         assert math.dist(rest["steps"][-1][5:8], tuple(records[-1].tool_end)) <= EPS
     finally:
         mh.set_breakpoint(0, 0)
+
+
+# ------------------------------------------------------------------ through the API
+
+INI = library_path().replace("libSF_TCh.so", "data/SF_TCh.ini").encode()
+FWD, FWD_NO_M, BACK, FWD_SKIP_M = 30, 31, 32, 33
+
+
+@pytest.fixture
+def api(fresh_core):
+    """Every core fresh, its INI loaded (driver callbacks allowed), known motion
+    classes: F as programmed, 500 mm/s^2 trapezoid ramps, stop dec 1000 mm/s^2;
+    the time scale back to real time afterwards."""
+    lib = fresh_core
+    for core in range(abi.TOOL_CHAIN_MAX_CORES):
+        assert lib.ToolChainCore_LoadFromIni(core, INI, None) == 0
+        set_params(lib, core)
+    yield lib
+    for core in range(abi.TOOL_CHAIN_MAX_CORES):
+        lib.ToolChainCore_DestroyCNC(core)
+        assert lib.ToolChainCore_SetTimeScale(core, 1.0) == 0
+        lib.ToolChainCore_SetBreakpoint(core, 0, 0)
+
+
+def set_params(lib, core, **fields):
+    p = abi.GCODE_PARAMETERS()
+    assert lib.ToolChainCore_GetGCodeParameters(core, ctypes.byref(p)) == 0
+    p.calcTime = 1
+    for k in range(1, 6):
+        p.motion[k].acc = p.motion[k].dec = 500.0
+        p.motion[k].rampType = 1
+    p.motion[0].feed, p.motion[0].acc, p.motion[0].dec = 10000.0, 500.0, 500.0
+    p.motion[6].dec, p.motion[6].rampType = 1000.0, 1
+    for name, value in fields.items():
+        setattr(p, name, value)
+    assert lib.ToolChainCore_SetGCodeParameters(core, ctypes.byref(p)) == 0
+
+
+def wait(lib, core, accept, timeout=20.0):
+    deadline = time.monotonic() + timeout
+    while not accept(lib.ToolChainCore_StatusCNC(core)):
+        assert time.monotonic() < deadline, f"core {core}: status stuck at {lib.ToolChainCore_StatusCNC(core)}"
+        time.sleep(0.0005)
+    return lib.ToolChainCore_StatusCNC(core)
+
+
+def compile_on(lib, core, text, origin=True):
+    """Compiles text from the origin (ResetCNC 0); -1 and no error, else the test fails."""
+    if origin:
+        assert lib.ToolChainCore_ResetCNC(core, 0, 10, (ctypes.c_double * 10)()) == 0
+    assert lib.ToolChainCore_CompileFromMemory(core, b"m.nc", text.encode()) == 0
+    assert wait(lib, core, lambda s: s != 1) == -1
+    info = abi.CALLBACK_INFO()
+    assert lib.ToolChainCore_GetLastError(core, ctypes.byref(info)) == 0, info.m_fullError
+
+
+def records_of(lib, core):
+    total = ctypes.c_uint64()
+    assert lib.ToolChainCore_GetToolpath(core, None, 0, 0, ctypes.byref(total)) == 0
+    out = (abi.TC_TOOLPATH_RECORD * total.value)()
+    assert lib.ToolChainCore_GetToolpath(core, out, total.value, 0, ctypes.byref(total)) == 0
+    return list(out)
+
+
+def run_time_of(lib, core):
+    """GetGCodeRunTime after a simulation (10) of the compiled program; -10 after it."""
+    assert lib.ToolChainCore_StartCNCEx(core, 10, None) == 0
+    assert wait(lib, core, lambda s: s != 10) == -10
+    seconds = lib.ToolChainCore_GetGCodeRunTime(core, lib.ToolChainCore_FileToIdx(core, b"m.nc"))
+    assert seconds > 0
+    return seconds
+
+
+def get_pos(lib, core):
+    pos, enh = abi.SIMPLE_GM_PARAMS(), abi.GM_PARAMS_ENHANCED()
+    assert lib.ToolChainCore_GetPos(core, 0, ctypes.byref(pos), ctypes.byref(enh)) == 0
+    return pos, enh
+
+
+def xyz(pos):
+    return (pos.m_calcS.x, pos.m_calcS.y, pos.m_calcS.z)
+
+
+def start(lib, core, regime=FWD, add_code=None):
+    rc = lib.ToolChainCore_StartCNCEx(core, regime, add_code)
+    assert rc == 0, f"StartCNCEx({regime}) -> {rc} in status {lib.ToolChainCore_StatusCNC(core)}"
+
+
+def poll_run(lib, core, running=(30, 31, 32, 33), timeout=20.0):
+    """GetPos samples (pos, enh) while the core runs; the final status."""
+    samples = []
+    deadline = time.monotonic() + timeout
+    while lib.ToolChainCore_StatusCNC(core) in running:
+        assert time.monotonic() < deadline, "the run does not end"
+        samples.append(get_pos(lib, core))
+        time.sleep(0.0005)
+    return samples, lib.ToolChainCore_StatusCNC(core)
+
+
+class Driver:
+    """Driver callbacks recording (what, data, native thread id); `m_answer(m)` gives
+    DriverMFunc's answer. Keeps the ctypes thunks alive."""
+
+    def __init__(self, lib, core, m_answer=lambda m: 0):
+        self.lib, self.core, self.m_answer = lib, core, m_answer
+        self.calls = []
+        self.fns = {
+            abi.CB_DRIVER_INITIALIZE: abi.DriverInitialize(
+                lambda user, params, n, mode: self._record("init", mode)),
+            abi.CB_DRIVER_G_FUNC: abi.DriverGFunc(
+                lambda user, part: self._record("G", (part.contents.m_editorLine, part.contents.m_func))),
+            abi.CB_DRIVER_M_FUNC: abi.DriverMFunc(self._m),
+            abi.CB_DRIVER_END: abi.DriverEnd(lambda user: self._record("end", None)),
+        }
+        for number, fn in self.fns.items():
+            assert lib.ToolChainCore_SetCallBack(core, number, 0, ctypes.cast(fn, ctypes.c_void_p)) == 0
+
+    def _record(self, what, data):
+        self.calls.append((what, data, threading.get_native_id()))
+        return 0
+
+    def _m(self, user, part):
+        m = part.contents.m_func
+        self._record("M", m)
+        return self.m_answer(m)
+
+    def what(self, kind=None):
+        return [(w, d) for w, d, _ in self.calls if kind is None or w == kind]
+
+
+def on_path(records, p):
+    """Distance of p from the nearest motion part's tool path."""
+    return min(distance_to_part(records, k, p) for k, r in enumerate(records)
+               if r.kind == abi.TC_TOOLPATH_MOTION)
+
+
+def test_a_forward_run_shows_itself_in_GetPos_and_ends_at_minus_32(api):
+    lib = api
+    compile_on(lib, 0, ARCS)
+    records = records_of(lib, 0)
+    driver = Driver(lib, 0)
+    assert lib.ToolChainCore_SetTimeScale(0, 20.0) == 0
+    start(lib, 0)
+    samples, status = poll_run(lib, 0)
+    assert status == -32
+    assert len(samples) > 50
+    calls, threads = driver.what(), {t for _, _, t in driver.calls}
+    lines, times = [], []
+    for pos, enh in samples:
+        p = xyz(pos)
+        assert on_path(records, p) <= EPS, p
+        assert (pos.m_pars.X, pos.m_pars.Y, pos.m_pars.Z) == pytest.approx(p, abs=1e-3)   # floats
+        assert 0.0 <= enh.m_actFeed <= 3000.0 * (1 + 1e-9)
+        assert 0.0 <= enh.m_actPartRemain <= enh.m_actPartLen + 1e-9
+        if pos.m_editorLine:
+            lines.append(pos.m_editorLine)
+        times.append(enh.m_cncRunTime)
+    assert lines == sorted(lines) and set(lines) >= {1, 2, 4, 6, 7}
+    assert times == sorted(times)
+    # at the end: the program's end, its lengths and its run time
+    pos, enh = get_pos(lib, 0)
+    assert math.dist(xyz(pos), tuple(records[-1].tool_end)) <= EPS
+    assert enh.m_cncRunTime == pytest.approx(run_time_of(lib, 0), rel=0.005)
+    cut = sum(r.length for r in records if r.kind == abi.TC_TOOLPATH_MOTION and r.number != 0)
+    assert enh.m_actWorkPartsLen == pytest.approx(cut, abs=1e-6)
+    assert enh.m_actG00PartsLen == pytest.approx(0.0, abs=1e-9)
+    # the driver: initialised for regime 30, every motion part and the M in order, the end;
+    # all from one thread that is not the host's
+    assert calls[0] == ("init", 30) and calls[-1] == ("end", None)
+    assert [d for w, d in calls if w in ("G", "M")] == [(1, 1), (2, 3), 5, (4, 2), (5, 4), (6, 1), (7, 1)]
+    assert len(threads) == 1 and threading.get_native_id() not in threads
+
+
+def test_stop_then_continue_reaches_the_same_end(api):
+    lib = api
+    compile_on(lib, 0, LINES)
+    records = records_of(lib, 0)
+    assert lib.ToolChainCore_SetTimeScale(0, 5.0) == 0
+    stops = []
+    for _ in range(3):
+        start(lib, 0)
+        time.sleep(0.05)
+        if lib.ToolChainCore_StopCNCEx(0, None) == 0:
+            status = wait(lib, 0, lambda s: s != 30)
+            assert status in (-31, -32)
+            pos, enh = get_pos(lib, 0)
+            assert on_path(records, xyz(pos)) <= EPS
+            assert enh.m_actFeed == 0.0
+            stops.append(xyz(pos))
+    assert len(stops) >= 2 and len(set(stops)) == len(stops)      # it moved between the stops
+    while lib.ToolChainCore_StatusCNC(0) != -32:
+        start(lib, 0)
+        wait(lib, 0, lambda s: s != 30)
+    pos, enh = get_pos(lib, 0)
+    assert math.dist(xyz(pos), (0.0, 50.0, 0.0)) <= EPS
+    assert enh.m_actWorkPartsLen == pytest.approx(250.0, abs=1e-6)
+    # at the end: forward is refused, StopCNCEx too (nothing moves)
+    assert lib.ToolChainCore_StartCNCEx(0, FWD, None) == -1
+    assert lib.ToolChainCore_StopCNCEx(0, None) == -1
+
+
+def test_stop_distance_through_the_api(api):
+    """StopCNCEx at cruise: the machine stands v^2 / 2 dec further on (v = 100 mm/s,
+    dec = 1000 mm/s^2: 5 mm; the stop is taken within the pacer's millisecond)."""
+    lib = api
+    compile_on(lib, 0, "G1 X1000 F6000\n")
+    assert lib.ToolChainCore_SetTimeScale(0, 1.0) == 0
+    start(lib, 0)
+    time.sleep(0.5)
+    before, enh = get_pos(lib, 0)
+    assert enh.m_actFeed == pytest.approx(6000.0)
+    assert lib.ToolChainCore_StopCNCEx(0, None) == 0
+    after_call, _ = get_pos(lib, 0)
+    assert wait(lib, 0, lambda s: s != 30) == -31
+    stood, _ = get_pos(lib, 0)
+    # between the snapshot before the call and the one after, the machine may have
+    # run on at 100 mm/s for the pacer's period (and the host's scheduling)
+    travelled = stood.m_calcS.x - before.m_calcS.x
+    assert 5.0 - 1e-6 <= travelled
+    assert stood.m_calcS.x - after_call.m_calcS.x <= 5.0 + 100.0 * 2e-3
+
+
+def test_stop_add_code_goes_to_the_driver_once_it_stands(api):
+    lib = api
+    compile_on(lib, 0, "G1 X1000 F6000\n")
+    seen = []
+    driver = Driver(lib, 0, m_answer=lambda m: seen.append((m, xyz(get_pos(lib, 0)[0]))) or 0)
+    assert lib.ToolChainCore_SetTimeScale(0, 2.0) == 0
+    start(lib, 0)
+    time.sleep(0.1)
+    assert lib.ToolChainCore_StopCNCEx(0, b"M8 M9") == 0
+    assert wait(lib, 0, lambda s: s != 30) == -31
+    stood = xyz(get_pos(lib, 0)[0])
+    assert [m for m, _ in seen] == [8, 9]
+    assert all(p == stood for _, p in seen)
+    assert driver.what()[-1] == ("end", None)
+
+
+def test_start_add_code_goes_first_and_regime_33_skips_the_leading_m(api):
+    lib = api
+    text = "M7\nM1010\nG1 X10 F6000\nM8\nG1 X20\n"
+    compile_on(lib, 0, text)
+    assert lib.ToolChainCore_SetTimeScale(0, 50.0) == 0
+    driver = Driver(lib, 0)
+    start(lib, 0, FWD, b"M9")
+    assert poll_run(lib, 0)[1] == -32
+    assert driver.what("M") == [("M", 9), ("M", 7), ("M", 1010), ("M", 8)]
+    compile_on(lib, 0, text)
+    driver = Driver(lib, 0)
+    start(lib, 0, FWD_SKIP_M, b"M9")
+    assert poll_run(lib, 0)[1] == -32
+    assert driver.what("M") == [("M", 9), ("M", 8)]
+    assert driver.what()[0] == ("init", 33)
+
+
+def test_regime_31_sends_no_m_and_runs_at_the_feed_of_motion_4(api):
+    """20 mm at motion[4]'s 1200 mm/min (20 mm/s), 500 mm/s^2: 1 s + 0.04 s."""
+    lib = api
+    p = abi.GCODE_PARAMETERS()
+    lib.ToolChainCore_GetGCodeParameters(0, ctypes.byref(p))
+    p.motion[4].feed = 1200.0
+    assert lib.ToolChainCore_SetGCodeParameters(0, ctypes.byref(p)) == 0
+    assert lib.ToolChainCore_SetTimeScale(0, 20.0) == 0
+    compile_on(lib, 0, "G1 X10 F6000\nG1 X20\n")
+    start(lib, 0, FWD_NO_M)
+    samples, status = poll_run(lib, 0)
+    assert status == -32
+    assert all(enh.m_actFeed <= 1200.0 * (1 + 1e-9) for _, enh in samples)
+    assert get_pos(lib, 0)[1].m_cncRunTime == pytest.approx(1.04, rel=0.005)
+    # neither the program's M functions nor addCode reach the driver
+    compile_on(lib, 0, "G1 X10 F6000\nM8\nG1 X20\n")
+    driver = Driver(lib, 0)
+    start(lib, 0, FWD_NO_M, b"M9")
+    assert poll_run(lib, 0)[1] == -32
+    assert driver.what("M") == []
+    assert driver.what()[0] == ("init", 31)
+
+
+def test_a_continuous_m_is_signalled_without_stopping(api):
+    """G1 X10 / G1 X20 M1005 at 100 mm/s: one move of 20 mm, 0.2 s + 0.2 s ramps."""
+    lib = api
+    compile_on(lib, 0, "G1 X10 F6000\nG1 X20 M1005\n")
+    driver = Driver(lib, 0)
+    assert lib.ToolChainCore_SetTimeScale(0, 10.0) == 0
+    start(lib, 0)
+    assert poll_run(lib, 0)[1] == -32
+    assert driver.what("M") == [("M", 1005)]
+    assert get_pos(lib, 0)[1].m_cncRunTime == pytest.approx(0.4, rel=0.005)
+
+
+def test_a_waiting_m_confirmed_by_the_driver_at_once(api):
+    """M7 answered 0: the machine stops there (two moves of 10 mm from rest to rest at
+    500 mm/s^2, 100 mm/s never reached: 2 x 2 sqrt(10 / 500) s)."""
+    lib = api
+    compile_on(lib, 0, "G1 X10 F6000\nM7\nG1 X20\n")
+    driver = Driver(lib, 0)
+    assert lib.ToolChainCore_SetTimeScale(0, 10.0) == 0
+    start(lib, 0)
+    assert poll_run(lib, 0)[1] == -32
+    assert driver.what("M") == [("M", 7)]
+    assert get_pos(lib, 0)[1].m_cncRunTime == pytest.approx(4 * math.sqrt(0.02), rel=0.005)
+    assert lib.ToolChainCore_ConfirmMFunc(0) == -1              # nothing waits
+
+
+def test_a_waiting_m_confirmed_later_with_ConfirmMFunc(api):
+    lib = api
+    compile_on(lib, 0, "G1 X10 F6000\nM7\nG1 X20\n")
+    driver = Driver(lib, 0, m_answer=lambda m: abi.TC_MFUNC_LATER if hasattr(abi, "TC_MFUNC_LATER") else 2)
+    assert lib.ToolChainCore_SetTimeScale(0, 100.0) == 0
+    start(lib, 0)
+    deadline = time.monotonic() + 10
+    while driver.what("M") == []:
+        assert time.monotonic() < deadline
+        time.sleep(0.001)
+    time.sleep(0.1)                                             # 10 s of machine time: it waits
+    held = []
+    for _ in range(5):
+        pos, enh = get_pos(lib, 0)
+        held.append((xyz(pos), pos.m_func, pos.m_pars.M, enh.m_actFeed))
+        time.sleep(0.01)
+    assert lib.ToolChainCore_StatusCNC(0) == 30
+    assert all(h == ((10.0, 0.0, 0.0), 10007, 7.0, 0.0) for h in held), held
+    # MFunc is refused while the machine runs
+    fun = abi.SIMPLE_GM_PARAMS()
+    fun.m_func = 8
+    assert lib.ToolChainCore_MFunc(0, ctypes.byref(fun), 0) == -1
+    assert lib.ToolChainCore_ConfirmMFunc(0) == 0
+    assert lib.ToolChainCore_ConfirmMFunc(0) == -1              # already confirmed
+    assert poll_run(lib, 0)[1] == -32
+    assert math.dist(xyz(get_pos(lib, 0)[0]), (20.0, 0.0, 0.0)) <= EPS
+
+
+def test_MFunc_while_stopped_and_its_pending_confirmation(api):
+    lib = api
+    compile_on(lib, 0, "G1 X10 F6000\n")
+    answers = [2, 0]
+    driver = Driver(lib, 0, m_answer=lambda m: answers.pop(0))
+    fun = abi.SIMPLE_GM_PARAMS()
+    fun.m_func = 8
+    assert lib.ToolChainCore_MFunc(0, ctypes.byref(fun), 0) == 0       # answered "later"
+    assert lib.ToolChainCore_MFunc(0, ctypes.byref(fun), 0) == -1      # the previous one is pending
+    assert lib.ToolChainCore_ConfirmMFunc(0) == 0
+    assert lib.ToolChainCore_MFunc(0, ctypes.byref(fun), 0) == 0
+    assert lib.ToolChainCore_ConfirmMFunc(0) == -1
+    assert driver.what("M") == [("M", 8), ("M", 8)]
+    assert lib.ToolChainCore_MFunc(0, None, 0) == -1
+
+
+def test_M0_pauses_at_minus_33_and_a_start_goes_on(api):
+    lib = api
+    compile_on(lib, 0, "G1 X10 F6000\nM0\nG1 X20\n")
+    driver = Driver(lib, 0)
+    assert lib.ToolChainCore_SetTimeScale(0, 20.0) == 0
+    start(lib, 0)
+    assert poll_run(lib, 0)[1] == -33
+    assert math.dist(xyz(get_pos(lib, 0)[0]), (10.0, 0.0, 0.0)) <= EPS
+    assert driver.what("M") == [("M", 0)]
+    start(lib, 0)
+    assert poll_run(lib, 0)[1] == -32
+    assert math.dist(xyz(get_pos(lib, 0)[0]), (20.0, 0.0, 0.0)) <= EPS
+
+
+def test_a_dwell_waits_its_time(api):
+    lib = api
+    compile_on(lib, 0, "G1 X10 F6000\nG4 H0.5\nG1 X20\n")
+    expected = run_time_of(lib, 0)
+    assert expected == pytest.approx(4 * math.sqrt(0.02) + 0.5, rel=1e-6)
+    assert lib.ToolChainCore_SetTimeScale(0, 20.0) == 0
+    start(lib, 0)
+    assert poll_run(lib, 0)[1] == -32
+    assert get_pos(lib, 0)[1].m_cncRunTime == pytest.approx(expected, rel=0.005)
+
+
+def test_SetBreakpoint_stops_before_its_line_and_the_next_start_passes(api):
+    lib = api
+    compile_on(lib, 0, LINES)
+    assert lib.ToolChainCore_SetTimeScale(0, 20.0) == 0
+    main = lib.ToolChainCore_FileToIdx(0, b"m.nc")
+    assert lib.ToolChainCore_SetBreakpoint(0, 3, main) == 0
+    start(lib, 0)
+    assert poll_run(lib, 0)[1] == -31
+    pos, _ = get_pos(lib, 0)
+    assert math.dist(xyz(pos), (100.0, 50.0, 0.0)) <= EPS
+    start(lib, 0)
+    assert poll_run(lib, 0)[1] == -32
+    assert math.dist(xyz(get_pos(lib, 0)[0]), (0.0, 50.0, 0.0)) <= EPS
+    # a breakpoint of another file never stops this one
+    assert lib.ToolChainCore_SetBreakpoint(0, 3, main + 1) == 0
+    assert lib.ToolChainCore_ResetCNC(0, 1, 0, None) == 0
+    start(lib, 0)
+    assert poll_run(lib, 0)[1] == -32
+
+
+IsBreakpoint = ctypes.CFUNCTYPE(ctypes.c_int32, ctypes.c_ssize_t, ctypes.c_uint32, ctypes.c_int32)
+
+
+def test_the_IsBreakpoint_callback_is_asked_per_line_and_stops_before_it(api):
+    lib = api
+    compile_on(lib, 0, "G1 X10 F6000\nG1 X20\nG1 X30\nG1 X40\n")
+    asked = []
+    fn = IsBreakpoint(lambda user, line, file_idx: asked.append((line, file_idx)) or int(line in (2, 4)))
+    assert lib.ToolChainCore_SetCallBack(0, abi.CB_IS_BREAKPOINT, 0, ctypes.cast(fn, ctypes.c_void_p)) == 0
+    assert lib.ToolChainCore_SetTimeScale(0, 20.0) == 0
+    main = lib.ToolChainCore_FileToIdx(0, b"m.nc")
+    ends, per_run = [], []
+    for _ in range(3):
+        start(lib, 0)
+        ends.append((poll_run(lib, 0)[1], xyz(get_pos(lib, 0)[0])))
+        per_run.append([line for line, idx in asked if idx == main])
+        asked.clear()
+    assert ends == [(-31, (10.0, 0.0, 0.0)), (-31, (30.0, 0.0, 0.0)), (-32, (40.0, 0.0, 0.0))]
+    # asked once for every line ahead, never for the one a run starts at
+    assert per_run == [[2, 3, 4], [3, 4], []]
+
+
+@pytest.mark.xfail(strict=True, reason="GetPos overwrites enh.m_relFeed with the set override "
+                   "(core.rel_feed, exports.pyx) instead of the machine's actual one")
+def test_GetPos_m_relFeed_follows_the_override_ramp(api):
+    """overrideInc 1e-5 per 100 us: 1.0 -> 0.5 takes 5 s of machine time."""
+    lib = api
+    set_params(lib, 0, overrideInc=1e-5)
+    compile_on(lib, 0, "G1 X2000 F6000\n")
+    assert lib.ToolChainCore_SetTimeScale(0, 10.0) == 0
+    start(lib, 0)
+    time.sleep(0.05)
+    assert lib.ToolChainCore_SetRelFeed(0, 0.5) == 0
+    ramp = []
+    for _ in range(40):
+        pos, enh = get_pos(lib, 0)
+        ramp.append((enh.m_cncRunTime, enh.m_relFeed))
+        time.sleep(0.01)
+    moving = [(t, r) for t, r in ramp if 0.5 < r < 1.0]
+    assert len(moving) >= 10
+    for (t0, r0), (t1, r1) in zip(moving, moving[1:]):
+        assert (r0 - r1) == pytest.approx(1e-5 * (t1 - t0) / 1e-4, abs=2e-5)
+
+
+def test_the_override_ramp_shows_in_the_actual_feed(api):
+    """overrideInc 1e-5 per 100 us (feed-cap override): m_actFeed goes from 6000 to
+    3000 mm/min no faster than the ramp allows, and settles at 3000."""
+    lib = api
+    set_params(lib, 0, overrideInc=1e-5)
+    compile_on(lib, 0, "G1 X2000 F6000\n")
+    assert lib.ToolChainCore_SetTimeScale(0, 10.0) == 0
+    start(lib, 0)
+    time.sleep(0.05)
+    assert get_pos(lib, 0)[1].m_actFeed == pytest.approx(6000.0)
+    assert lib.ToolChainCore_SetRelFeed(0, 0.5) == 0
+    t_set = get_pos(lib, 0)[1].m_cncRunTime
+    feeds = []
+    for _ in range(80):
+        pos, enh = get_pos(lib, 0)
+        feeds.append((enh.m_cncRunTime - t_set, enh.m_actFeed))
+        time.sleep(0.01)
+    # the override falls by 0.1 per second of machine time: the feed by 600 mm/min/s at most
+    for t, f in feeds:
+        assert f >= 6000.0 * (1.0 - 0.1 * (t + 0.01)) - 1e-6, (t, f)
+    assert feeds[-1][1] == pytest.approx(3000.0)
+    assert lib.ToolChainCore_StopCNCEx(0, None) == 0
+    assert wait(lib, 0, lambda s: s != 30) == -31
