@@ -822,3 +822,179 @@ def test_the_override_ramp_shows_in_the_actual_feed(api):
     assert feeds[-1][1] == pytest.approx(3000.0)
     assert lib.ToolChainCore_StopCNCEx(0, None) == 0
     assert wait(lib, 0, lambda s: s != 30) == -31
+
+
+def continuous_on_path(samples, records, fastest):
+    """Every GetPos sample on the path, and no jump: between two samples the machine
+    moved at most the fastest feed times the machine time between them."""
+    for (p0, e0), (p1, e1) in zip(samples, samples[1:]):
+        assert on_path(records, xyz(p1)) <= EPS, xyz(p1)
+        dt = e1.m_cncRunTime - e0.m_cncRunTime
+        assert math.dist(xyz(p0), xyz(p1)) <= fastest * dt + EPS, (xyz(p0), xyz(p1), dt)
+
+
+@pytest.mark.parametrize("stop_after", [0.01, 0.12, None], ids=["first_part", "later_part", "from_the_end"])
+def test_backward_retraces_to_the_start_through_the_api(api, stop_after):
+    lib = api
+    set_params(lib, 0)
+    p = abi.GCODE_PARAMETERS()
+    lib.ToolChainCore_GetGCodeParameters(0, ctypes.byref(p))
+    p.motion[2].feed = 1500.0
+    assert lib.ToolChainCore_SetGCodeParameters(0, ctypes.byref(p)) == 0
+    compile_on(lib, 0, ARCS)
+    records = records_of(lib, 0)
+    assert lib.ToolChainCore_SetTimeScale(0, 30.0) == 0
+    start(lib, 0)
+    if stop_after is None:
+        samples, status = poll_run(lib, 0)
+        assert status == -32
+    else:
+        time.sleep(stop_after)
+        assert lib.ToolChainCore_StopCNCEx(0, None) == 0
+        samples, status = poll_run(lib, 0)
+        assert status == -31
+    samples = [get_pos(lib, 0)]
+    driver = Driver(lib, 0)
+    start(lib, 0, BACK, b"M9")
+    more, status = poll_run(lib, 0)
+    samples += more + [get_pos(lib, 0)]
+    assert status == -30
+    continuous_on_path(samples, records, 3000.0 / 60.0)
+    assert all(enh.m_actFeed <= 1500.0 * (1 + 1e-9) for _, enh in samples)
+    assert math.dist(xyz(samples[-1][0]), (0.0, 0.0, 0.0)) <= EPS
+    assert driver.what("M") == [] and driver.what()[0] == ("init", 32)
+    # backward again: nothing left to retrace (-30 is not a status it starts from)
+    assert lib.ToolChainCore_StartCNCEx(0, BACK, None) == -1
+    # and forward from the start runs the whole program
+    start(lib, 0)
+    assert poll_run(lib, 0)[1] == -32
+    assert math.dist(xyz(get_pos(lib, 0)[0]), tuple(records[-1].tool_end)) <= EPS
+
+
+@pytest.mark.slow
+def test_backward_ends_at_minus_31_where_the_remembered_path_ends(api):
+    """105,000 parts of 1 mm along X run forward; backward retraces what the machine
+    remembers and stops -31 there. docs/machine.md says 100,000 motion parts; the
+    history drops its oldest tenth when full, so it holds 90,000 to 100,000 (~15 s)."""
+    lib = api
+    n = 105_000
+    p = abi.GCODE_PARAMETERS()
+    lib.ToolChainCore_GetGCodeParameters(0, ctypes.byref(p))
+    for k in range(6):
+        p.motion[k].acc = p.motion[k].dec = 50000.0
+    p.motion[2].feed = 60000.0
+    assert lib.ToolChainCore_SetGCodeParameters(0, ctypes.byref(p)) == 0
+    compile_on(lib, 0, "F60000\n" + "".join(f"G1 X{i}\n" for i in range(1, n + 1)))
+    assert lib.ToolChainCore_SetTimeScale(0, 1e4) == 0
+    start(lib, 0)
+    assert poll_run(lib, 0, timeout=60)[1] == -32
+    assert get_pos(lib, 0)[0].m_calcS.x == pytest.approx(n)
+    start(lib, 0, BACK)
+    assert poll_run(lib, 0, timeout=60)[1] == -31
+    retraced = n - get_pos(lib, 0)[0].m_calcS.x
+    assert 90_000 <= retraced <= 100_000
+    assert retraced == pytest.approx(round(retraced), abs=1e-6)       # at a part's end
+    # forward from there reaches the end again
+    start(lib, 0)
+    assert poll_run(lib, 0, timeout=60)[1] == -32
+    assert get_pos(lib, 0)[0].m_calcS.x == pytest.approx(n)
+
+
+def test_three_cores_run_at_once_each_on_its_own_path(api):
+    lib = api
+    programs = {0: (LINES, 0.0, 25.0), 1: (ARCS, 0.0, 40.0), 2: (SQUARE_G42, 2.0, 10.0)}
+    records = {}
+    for core, (text, radius, scale) in programs.items():
+        p = abi.GCODE_PARAMETERS()
+        lib.ToolChainCore_GetGCodeParameters(core, ctypes.byref(p))
+        for k in range(8):
+            p.correction[k].size = radius
+        assert lib.ToolChainCore_SetGCodeParameters(core, ctypes.byref(p)) == 0
+        compile_on(lib, core, text)
+        records[core] = records_of(lib, core)
+        assert lib.ToolChainCore_SetTimeScale(core, scale) == 0
+    for core in programs:
+        start(lib, core)
+    samples = {core: [] for core in programs}
+    deadline = time.monotonic() + 30
+    while any(lib.ToolChainCore_StatusCNC(core) == 30 for core in programs):
+        assert time.monotonic() < deadline
+        for core in programs:
+            samples[core].append(get_pos(lib, core))
+        time.sleep(0.001)
+    for core in programs:
+        assert lib.ToolChainCore_StatusCNC(core) == -32
+        samples[core].append(get_pos(lib, core))
+        assert len(samples[core]) > 20
+        fastest = max(r.feed for r in records[core] if r.kind == abi.TC_TOOLPATH_MOTION) / 60.0
+        continuous_on_path(samples[core], records[core], fastest)
+        end, enh = get_pos(lib, core)
+        assert math.dist(xyz(end), tuple(records[core][-1].tool_end)) <= EPS
+        assert enh.m_cncRunTime == pytest.approx(run_time_of(lib, core), rel=0.005)
+
+
+def test_GoToPosition_moves_at_motion_5_then_stands_out_of_the_trajectory(api):
+    """A line to (18, 24) at motion[5]'s 1200 mm/min, then -50."""
+    lib = api
+    p = abi.GCODE_PARAMETERS()
+    lib.ToolChainCore_GetGCodeParameters(0, ctypes.byref(p))
+    p.motion[5].feed = 1200.0
+    assert lib.ToolChainCore_SetGCodeParameters(0, ctypes.byref(p)) == 0
+    compile_on(lib, 0, LINES)
+    assert lib.ToolChainCore_SetTimeScale(0, 20.0) == 0
+    target = (ctypes.c_double * 3)(18.0, 24.0, 0.0)
+    assert lib.ToolChainCore_GoToPosition(0, 3, target) == 0
+    samples, status = poll_run(lib, 0, running=(50,))
+    assert status == -50
+    for pos, enh in samples:
+        x, y, z = xyz(pos)
+        assert abs(x * 24.0 - y * 18.0) <= 1e-6 and enh.m_actFeed <= 1200.0 * (1 + 1e-9)
+    pos, enh = get_pos(lib, 0)
+    assert xyz(pos) == pytest.approx((18.0, 24.0, 0.0), abs=1e-9)
+    # out of the trajectory: no forward run until ResetCNC marks the start again
+    assert lib.ToolChainCore_StartCNCEx(0, FWD, None) == -1
+    assert lib.ToolChainCore_ResetCNC(0, 1, 0, None) == 0
+    assert lib.ToolChainCore_StatusCNC(0) == -30
+
+
+@pytest.mark.xfail(strict=True, reason="a manual move's GetPos m_cncRunTime starts from the motion's run "
+                   "time of the core's last run (machine.pyx _machine_body, RUN_MANUAL: mo.run_time is "
+                   "never set), also after DestroyCNC")
+def test_GoToPosition_run_time_is_the_moves_own_after_DestroyCNC(api):
+    """After a run and DestroyCNC, a manual line of 30 mm at 20 mm/s (500 mm/s^2):
+    GetPos shows 1.5 s + 0.04 s."""
+    lib = api
+    compile_on(lib, 0, "G1 X100 F6000\n")
+    assert lib.ToolChainCore_SetTimeScale(0, 20.0) == 0
+    start(lib, 0)
+    assert poll_run(lib, 0)[1] == -32
+    assert get_pos(lib, 0)[1].m_cncRunTime > 1.0
+    assert lib.ToolChainCore_DestroyCNC(0) == 0
+    set_params(lib, 0, calcTime=1)
+    p = abi.GCODE_PARAMETERS()
+    lib.ToolChainCore_GetGCodeParameters(0, ctypes.byref(p))
+    p.motion[5].feed = 1200.0
+    assert lib.ToolChainCore_SetGCodeParameters(0, ctypes.byref(p)) == 0
+    assert lib.ToolChainCore_ResetCNC(0, 0, 10, (ctypes.c_double * 10)()) == 0
+    assert lib.ToolChainCore_GoToPosition(0, 2, (ctypes.c_double * 2)(18.0, 24.0)) == 0
+    assert poll_run(lib, 0, running=(50,))[1] == -50
+    assert get_pos(lib, 0)[1].m_cncRunTime == pytest.approx(1.54, rel=0.005)
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, reason="at a large time scale the pacer spends its whole budget (up to 1 s "
+                   "of real time times the scale) in 100 us steps while the motion is starved or waits for "
+                   "an M function, without handing over to the feeder or seeing DestroyCNC: at 1e6 the "
+                   "machine stands ~50 s each time the ring runs empty")
+def test_the_largest_time_scale_runs_a_program_of_many_parts(run_python):
+    """200 parts of 1 mm at SetTimeScale 1e6 (documented range (0, 1e6]): 0.2 s of
+    machine time should end at once; the subprocess is given 5 s."""
+    import runtime_host
+    out = runtime_host.run_script(run_python, """
+        load_ini(lib, 0)
+        compile_wait(lib, 0, b"F6000\\n" + b"".join(b"G1 X%d\\n" % i for i in range(1, 201)))
+        assert lib.ToolChainCore_SetTimeScale(0, 1e6) == 0
+        assert lib.ToolChainCore_StartCNCEx(0, 30, None) == 0
+        print(wait_status(lib, 0, lambda s: s != 30, timeout=60))
+    """, seconds=5, what="a run at time scale 1e6")
+    assert out.split() == ["-32"]
