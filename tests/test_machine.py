@@ -998,3 +998,125 @@ def test_the_largest_time_scale_runs_a_program_of_many_parts(run_python):
         print(wait_status(lib, 0, lambda s: s != 30, timeout=60))
     """, seconds=5, what="a run at time scale 1e6")
     assert out.split() == ["-32"]
+
+
+# ------------------------------------------------------------------ endings at random moments
+
+RANDOM_ENDINGS = """
+import random
+rng = random.Random(SEED)
+PROGRAMS = [
+    b"G1 X40 F6000\\nM7\\nG1 Y40\\nG4 H0.2\\nG1 X0\\nM0\\nG1 Y0\\n",
+    b"F3000\\n" + b"".join(b"G1 X%d Y%d\\n" % (i % 7, i % 5) for i in range(300)),
+    b"G0 X10 Y10\\nG42 G1 X20 F3000\\nG3 X20 Y30 I0 J10\\nG1 X10\\nG40 G1 X0 Y0\\nM1005\\nM8\\n",
+]
+later = {0: False, 1: False, 2: False}
+polled = {"bad": 0, "calls": 0}
+running = threading.Event()
+running.set()
+
+def poll():
+    pos, enh = abi.SIMPLE_GM_PARAMS(), abi.GM_PARAMS_ENHANCED()
+    while running.is_set():
+        for core in range(3):
+            polled["calls"] += 1
+            if lib.ToolChainCore_GetPos(core, 0, ctypes.byref(pos), ctypes.byref(enh)) != 0:
+                polled["bad"] += 1
+            status = lib.ToolChainCore_StatusCNC(core)
+            if status not in (0, 1, -1, -30, -31, -32, -33, 30, 31, 32, 33):
+                polled["bad"] += 1
+                polled[status] = polled.get(status, 0) + 1
+        time.sleep(0.0002)
+
+def make_m(core):
+    def answer(user, part):
+        roll = rng.random()
+        if roll < 0.05:
+            lib.ToolChainCore_DestroyCNC(core)         # applied once the callback returns
+        elif roll < 0.1:
+            lib.ToolChainCore_ResetCNC(core, 1, 0, None)
+        return 2 if later[core] else 0
+    return abi.DriverMFunc(answer)
+
+thunks = []
+for core in range(3):
+    load_ini(lib, core)
+    thunks.append(make_m(core))
+    set_callback(lib, core, abi.CB_DRIVER_M_FUNC, thunks[-1])
+base = thread_count()
+poller = threading.Thread(target=poll)
+poller.start()
+ends = {}
+deadline = time.monotonic() + SECONDS
+while time.monotonic() < deadline:
+    core = rng.randrange(3)
+    status = lib.ToolChainCore_StatusCNC(core)
+    if status <= 0:
+        if status in (0, -50) or rng.random() < 0.2:
+            lib.ToolChainCore_ResetCNC(core, 0, 10, (ctypes.c_double * 10)())
+            compile_wait(lib, core, rng.choice(PROGRAMS))
+        lib.ToolChainCore_SetTimeScale(core, rng.choice([2.0, 20.0, 200.0]))
+        later[core] = rng.random() < 0.5
+        regimes = [30, 31, 33] + ([32] if lib.ToolChainCore_StatusCNC(core) in (-31, -32, -33) else [])
+        if lib.ToolChainCore_StatusCNC(core) == -32:
+            regimes = [32]
+        regime = rng.choice(regimes)
+        rc = lib.ToolChainCore_StartCNCEx(core, regime, rng.choice([None, b"M9"]))
+        assert rc == 0, (core, regime, lib.ToolChainCore_StatusCNC(core))
+    time.sleep(rng.uniform(0, 0.01))
+    action = rng.choice(["reset", "destroy", "stop", "confirm", "none"])
+    if action == "reset":
+        assert lib.ToolChainCore_ResetCNC(core, 1, 0, None) == 0
+        after = lib.ToolChainCore_StatusCNC(core)
+        assert after in (-30, 0), after                  # 0: a callback destroyed it meanwhile
+    elif action == "destroy":
+        assert lib.ToolChainCore_DestroyCNC(core) == 0
+        assert lib.ToolChainCore_StatusCNC(core) == 0
+    elif action == "stop":
+        if lib.ToolChainCore_StopCNCEx(core, rng.choice([None, b"M8"])) == 0:
+            lib.ToolChainCore_ConfirmMFunc(core)
+            after = wait_status(lib, core, lambda s: s <= 0)
+            assert after in (-30, -31, -32, -33, 0), after
+    elif action == "confirm":
+        lib.ToolChainCore_ConfirmMFunc(core)
+    ends[action] = ends.get(action, 0) + 1
+for core in range(3):
+    assert lib.ToolChainCore_DestroyCNC(core) == 0
+    assert lib.ToolChainCore_StatusCNC(core) == 0
+running.clear()
+poller.join()
+assert_threads_back(base, "before the runs")
+assert polled["bad"] == 0 and polled["calls"] > 0, polled
+# every core still runs a program to its end
+for core in range(3):
+    set_callback(lib, core, abi.CB_DRIVER_M_FUNC, None)
+    compile_wait(lib, core, b"G1 X5 F6000\\nM7\\nG1 X10\\n")
+    lib.ToolChainCore_SetTimeScale(core, 50.0)
+    assert lib.ToolChainCore_StartCNCEx(core, 30, None) == 0
+for core in range(3):
+    assert wait_status(lib, core, lambda s: s != 30) == -32
+    lib.ToolChainCore_DestroyCNC(core)
+assert_threads_back(base, "before the runs")
+print(sorted(ends.items()))
+"""
+
+
+def random_endings(run_python, seconds):
+    seed = int(os.environ.get("SF_TCH_STORM_SEED") or random.randrange(1 << 30))
+    import runtime_host
+    body = f"SEED = {seed}\nSECONDS = {seconds}\n" + RANDOM_ENDINGS
+    out = runtime_host.run_script(run_python, body, seconds + 60, f"machine endings (seed {seed})")
+    assert "('destroy'" in out and "('reset'" in out, out
+
+
+def test_DestroyCNC_and_ResetCNC_at_random_moments(run_python):
+    """Three cores run forward, backward, wait for M functions, dwell, pause at M0,
+    while the host resets, destroys, stops and confirms at random moments (and the
+    M callback destroys or resets its core): every call returns, the statuses are
+    API.md's, GetPos never fails, no thread is left, and every core runs again."""
+    random_endings(run_python, 3)
+
+
+@pytest.mark.slow
+def test_DestroyCNC_and_ResetCNC_at_random_moments_long(run_python):
+    random_endings(run_python, 10 * SLOW_SCALE)
