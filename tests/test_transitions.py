@@ -1,5 +1,5 @@
 """The status machine (toolchain/runtime/transitions.pyx) checked as a table against
-API.md: every status a core can reach today, every command, the status that follows
+API.md: every status a core can reach today (the offline machine's too), every command, the status that follows
 or the refusal. The expected table is written from API.md's text, not read from the
 library; each cell is driven through the exported functions. A running status is
 held by a callback that waits on a gate; an ending command opens the gate from a
@@ -15,6 +15,8 @@ from sf_tch import abi, library_path
 CORE = 2
 GOOD = b"G1 X10 Y0 F1000\nG1 X10 Y10\nG1 X0 Y10\n"
 BAD = b"G2 X10 Y0\n"                  # an arc without a centre: the compilation fails
+PAUSED = b"G1 X10 Y0 F1000\nM0\nG1 X10 Y10\n"   # the offline machine pauses at M0 (-33)
+FAST, REAL = 1000.0, 1.0               # time scales of the offline machine
 INI = library_path().replace("libSF_TCh.so", "data/SF_TCh.ini").encode()
 REFUSED = "refused"
 
@@ -56,16 +58,30 @@ def compile_(lib, code=GOOD):
 def reach(lib, gate, status):
     """Drives the core to `status` (a running status is held by the gate)."""
     lib.ToolChainCore_DestroyCNC(CORE)
+    assert lib.ToolChainCore_SetTimeScale(CORE, FAST) == 0
     if status == 0:
         return
     if status == 1:
         gate.hold("compile")
         assert lib.ToolChainCore_CompileFromMemory(CORE, b"t.nc", GOOD) == 0
         return
-    compile_(lib, BAD if status == "-1 failed" else GOOD)
+    compile_(lib, BAD if status == "-1 failed" else PAUSED if status == -33 else GOOD)
     if status in (-1, "-1 failed"):
         return
-    if status == -30:
+    if status in (30, -31, -32, -33):
+        # the offline machine: 30 held by the gate (its notifier waits in DriverGFunc
+        # while the machine moves on in real time), -31 stopped at once in real time
+        if status in (30, -31):
+            assert lib.ToolChainCore_SetTimeScale(CORE, REAL) == 0
+        if status == 30:
+            gate.hold("run")
+        assert lib.ToolChainCore_StartCNCEx(CORE, 30, None) == 0
+        if status == -31:
+            assert lib.ToolChainCore_StopCNCEx(CORE, None) == 0
+        if status != 30:
+            wait_status(lib, lambda s: s <= 0)
+            assert lib.ToolChainCore_SetTimeScale(CORE, FAST) == 0
+    elif status == -30:
         assert lib.ToolChainCore_ResetCNC(CORE, 1, 0, None) == 0
     elif status == -50:
         assert lib.ToolChainCore_ResetStatusCNC(CORE, 1) == 0
@@ -101,26 +117,38 @@ COMMANDS = {
     "params": (lambda lib: lib.ToolChainCore_SetGCodeParameters(CORE, params(lib)), False),
     "ini": (lambda lib: lib.ToolChainCore_LoadFromIni(CORE, INI, None), False),
     "prefix": (lambda lib: lib.ToolChainCore_GCodePrefixPostfix(CORE, None, None), False),
+    "fwd": (lambda lib: lib.ToolChainCore_StartCNCEx(CORE, 30, None), False),
+    "no_m": (lambda lib: lib.ToolChainCore_StartCNCEx(CORE, 31, None), False),
+    "back": (lambda lib: lib.ToolChainCore_StartCNCEx(CORE, 32, None), False),
+    "skip_m": (lambda lib: lib.ToolChainCore_StartCNCEx(CORE, 33, None), False),
 }
 
-# API.md: what follows each command in each status (1 / 10 / 20 are held running;
-# "stop" in a run: the run ends stopped once the gate opens; a started compilation
-# or run is awaited)
+# API.md: what follows each command in each status (1 / 10 / 20 / 30 are held
+# running; "stop" in a run: the run ends stopped once the gate opens; a started
+# compilation or run is awaited). The machine's regimes (StartCNCEx 30-33): forward
+# from a compiled program or a stop (-1, -10, -11, -20, -21, -30, -31, -33) to the
+# program's end (-32); backward only along a path run before (-31, -32, -33), back to
+# the program's start (-30); nothing without a program, out of the trajectory (-50)
+# or at the end (-32, forward).
 R = REFUSED
 EXPECTED = {
-    #            compile sim  test stop reset destroy drop out  params ini prefix
-    0:          (-1,     R,   R,   R,   0,    0,      R,   R,   0,     0,  0),
-    1:          (R,      R,   R,   R,   -1,   0,      R,   R,   R,     R,  R),
-    -1:         (-1,     -10, -20, R,   -30,  0,      0,   -50, -1,    -1, -1),
-    "-1 failed": (-1,    R,   R,   R,   -1,   0,      0,   -50, -1,    -1, -1),
-    10:         (R,      R,   R,   -11, -30,  0,      R,   R,   R,     R,  10),
-    -10:        (-1,     -10, -20, R,   -30,  0,      0,   -50, -10,   -10, -10),
-    -11:        (-1,     -10, -20, R,   -30,  0,      0,   -50, -11,   -11, -11),
-    20:         (R,      R,   R,   -21, -30,  0,      R,   R,   R,     R,  20),
-    -20:        (-1,     -10, -20, R,   -30,  0,      0,   -50, -20,   -20, -20),
-    -21:        (-1,     -10, -20, R,   -30,  0,      0,   -50, -21,   -21, -21),
-    -30:        (-1,     -10, -20, R,   -30,  0,      0,   -50, -30,   -30, -30),
-    -50:        (-1,     -10, -20, R,   -30,  0,      0,   -50, -50,   -50, -50),
+    #            compile sim  test stop reset destroy drop out  params ini prefix fwd  no_m back skip_m
+    0:          (-1,     R,   R,   R,   0,    0,      R,   R,   0,     0,  0,     R,   R,   R,   R),
+    1:          (R,      R,   R,   R,   -1,   0,      R,   R,   R,     R,  R,     R,   R,   R,   R),
+    -1:         (-1,     -10, -20, R,   -30,  0,      0,   -50, -1,    -1, -1,    -32, -32, R,   -32),
+    "-1 failed": (-1,    R,   R,   R,   -1,   0,      0,   -50, -1,    -1, -1,    R,   R,   R,   R),
+    10:         (R,      R,   R,   -11, -30,  0,      R,   R,   R,     R,  10,    R,   R,   R,   R),
+    -10:        (-1,     -10, -20, R,   -30,  0,      0,   -50, -10,   -10, -10,  -32, -32, R,   -32),
+    -11:        (-1,     -10, -20, R,   -30,  0,      0,   -50, -11,   -11, -11,  -32, -32, R,   -32),
+    20:         (R,      R,   R,   -21, -30,  0,      R,   R,   R,     R,  20,    R,   R,   R,   R),
+    -20:        (-1,     -10, -20, R,   -30,  0,      0,   -50, -20,   -20, -20,  -32, -32, R,   -32),
+    -21:        (-1,     -10, -20, R,   -30,  0,      0,   -50, -21,   -21, -21,  -32, -32, R,   -32),
+    -30:        (-1,     -10, -20, R,   -30,  0,      0,   -50, -30,   -30, -30,  -32, -32, R,   -32),
+    -50:        (-1,     -10, -20, R,   -30,  0,      0,   -50, -50,   -50, -50,  R,   R,   R,   R),
+    30:         (R,      R,   R,   -31, -30,  0,      R,   R,   R,     R,  30,    R,   R,   R,   R),
+    -31:        (-1,     -10, -20, R,   -30,  0,      0,   -50, -31,   -31, -31,  -32, -32, -30, -32),
+    -32:        (-1,     -10, -20, R,   -30,  0,      0,   -50, -32,   -32, -32,  R,   R,   -30, R),
+    -33:        (-1,     -10, -20, R,   -30,  0,      0,   -50, -33,   -33, -33,  -32, -32, -30, -32),
 }
 
 
@@ -148,10 +176,10 @@ def test_status_table(fresh_core, status):
                 assert rc == 0, cell
                 if name == "stop":
                     gate.open()
-                if lib.ToolChainCore_StatusCNC(CORE) > 0 and not (name == "prefix" and status in (10, 20)):
+                if lib.ToolChainCore_StatusCNC(CORE) > 0 and not (name == "prefix" and status in (10, 20, 30)):
                     gate.open()
                     wait_status(lib, lambda s: s <= 0)
-                if status in (10, 20) and name == "prefix":
+                if status in (10, 20, 30) and name == "prefix":
                     assert lib.ToolChainCore_StatusCNC(CORE) == expected, cell
                     continue
                 assert lib.ToolChainCore_StatusCNC(CORE) == expected, cell
@@ -160,6 +188,7 @@ def test_status_table(fresh_core, status):
     finally:
         gate.open()
         lib.ToolChainCore_DestroyCNC(CORE)
+        lib.ToolChainCore_SetTimeScale(CORE, REAL)
 
 
 def test_a_refused_call_keeps_the_compile_error_and_names_the_status(fresh_core):
