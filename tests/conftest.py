@@ -75,6 +75,8 @@ def reset_core(lib, idx: int, defaults) -> None:
     assert lib.ToolChainCore_GCodePrefixPostfix(idx, None, None) == 0
     assert lib.ToolChainCore_SetRelFeed(idx, 1.0) == 0
     assert lib.ToolChainCore_SetLookAhead(idx, 0) == 0
+    assert lib.ToolChainCore_SetTimeScale(idx, 1.0) == 0
+    assert lib.ToolChainCore_SetBreakpoint(idx, 0, -1) == 0
     for number in abi.CALLBACK_NUMBERS:
         assert lib.ToolChainCore_SetCallBack(idx, number, 0, None) == 0
 

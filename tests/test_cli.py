@@ -231,3 +231,20 @@ def test_look_ahead_option(tmp_path):
              for n in ("0", "-1")]
     assert times[0] > times[1] > 0
     assert_usage_error(sf_tch_cli("compile", str(dense), "--look-ahead", "-2"), "look-ahead|-1")
+
+
+def test_run_moves_the_offline_machine_to_the_end(square):
+    # the square: 40 mm at 600 mm/min with ramps; 100 times real time
+    proc = sf_tch_cli("run", str(square), "--time-scale", "100", "--json")
+    assert proc.returncode == 0, proc.stderr
+    run = json.loads(proc.stdout)["run"]
+    assert run["status"] == -32 and run["status_name"] == "AT_END"
+    assert run["cut_length"] == pytest.approx(40.0, abs=1e-6)
+    assert run["position"] == pytest.approx([0.0, 0.0, 0.0], abs=1e-9)
+    # every side at 10 mm/s with its ramps: at least the 4 s of cruising, the plan's time
+    planned = json.loads(proc.stdout)["run_time"]
+    assert run["run_time"] == pytest.approx(planned, rel=0.005) and run["run_time"] >= 4.0
+
+
+def test_run_rejects_a_bad_time_scale(square):
+    assert_usage_error(sf_tch_cli("run", str(square), "--time-scale", "0"), r"outside \(0, 1e6\]")

@@ -450,9 +450,6 @@ def test_reset_status_after_compilation(run_python):
 
 NOT_IMPLEMENTED = {
     "ConnectCNCEx_Plane": lambda lib: lib.ToolChainCore_ConnectCNCEx_Plane(0, 0, 0, None, None, 0, 0, 0),
-    "GoToPosition": lambda lib: lib.ToolChainCore_GoToPosition(0, 0, None),
-    "GoToPositionEx": lambda lib: lib.ToolChainCore_GoToPositionEx(0, byref(abi.SIMPLE_GM_PARAMS())),
-    "MFunc": lambda lib: lib.ToolChainCore_MFunc(0, byref(abi.SIMPLE_GM_PARAMS()), 0),
     "LoadCNCCalcPlugIn": lambda lib: lib.ToolChainCore_LoadCNCCalcPlugIn(b"kinematics.so", 0, 0),
 }
 

@@ -1,5 +1,5 @@
-"""A bounded concurrency storm on the three cores (issue 9): a host thread per core
-compiles and simulates in a loop while other threads call every ending, starting,
+"""A bounded concurrency storm on the three cores (issues 9 and 11): a host thread per core
+compiles, simulates and runs the offline machine (forward, backward) in a loop while other threads call every ending, starting,
 setting and polling function at random, and the driver callbacks call back into the
 library (StopCNCEx, DestroyCNC, ResetCNC, GetPos, a refused StartCNCEx). Afterwards
 every core gives the known result of known programs, and no thread is left.
@@ -29,6 +29,7 @@ calls = {{}}
 failures = []
 for core in CORES:
     load_ini(lib, core)
+    assert lib.ToolChainCore_SetTimeScale(core, 1e5) == 0     # the offline machine's runs end quickly
 defaults = abi.GCODE_PARAMETERS()
 assert lib.ToolChainCore_GetGCodeParameters(0, ctypes.byref(defaults)) == 0
 base_threads = thread_count()
@@ -85,6 +86,9 @@ for core in CORES:
     set_callback(lib, core, abi.CB_DRIVER_G_FUNC, g_callback, user=core)
 
 
+RUNNING = (10, 20, 30, 31, 32, 33, 40, 41, 50)
+
+
 def wait_not(core, statuses, limit):
     # an activity of this program's size never takes seconds: a status stuck is a hang
     deadline = time.monotonic() + limit
@@ -100,11 +104,14 @@ def worker_host(core):
         if lib.ToolChainCore_CompileFromMemory(core, b"storm%d.nc" % rng.randrange(100), code) == 0:
             count("compile ok")
         wait_not(core, (1,), 20 * {time_scale!r})
-        regime = rng.choice((10, 20))
+        regime = rng.choice((10, 20, 30, 31, 33))
         lib.ToolChainCore_ResetCNC(core, 1, 0, None)
         if lib.ToolChainCore_StartCNCEx(core, regime, None) == 0:
             count("run ok")
-        wait_not(core, (10, 20), 20 * {time_scale!r})
+        wait_not(core, RUNNING, 20 * {time_scale!r})
+        if rng.random() < 0.3 and lib.ToolChainCore_StartCNCEx(core, 32, None) == 0:
+            count("backward ok")
+        wait_not(core, RUNNING, 20 * {time_scale!r})
 
 
 def chaos(index):
@@ -118,7 +125,13 @@ def chaos(index):
         "ResetStatusCNC": lambda c: lib.ToolChainCore_ResetStatusCNC(c, rng.choice((0, 1))),
         "DestroyCNC": lambda c: lib.ToolChainCore_DestroyCNC(c),
         "CompileFromMemory": lambda c: lib.ToolChainCore_CompileFromMemory(c, b"chaos.nc", rng.choice(PROGRAMS)),
-        "StartCNCEx": lambda c: lib.ToolChainCore_StartCNCEx(c, rng.choice((10, 20)), None),
+        "StartCNCEx": lambda c: lib.ToolChainCore_StartCNCEx(c, rng.choice((10, 20, 30, 31, 32, 33)), b"M3"),
+        "StopCNCEx M": lambda c: lib.ToolChainCore_StopCNCEx(c, b"M5"),
+        "ConfirmMFunc": lambda c: lib.ToolChainCore_ConfirmMFunc(c),
+        "MFunc": lambda c: lib.ToolChainCore_MFunc(c, ctypes.byref(abi.SIMPLE_GM_PARAMS(m_func=8)), 0),
+        "GoToPosition": lambda c: lib.ToolChainCore_GoToPosition(c, 2, coords),
+        "SetBreakpoint": lambda c: lib.ToolChainCore_SetBreakpoint(c, rng.randrange(0, 60), rng.randrange(-1, 3)),
+        "SetTimeScale": lambda c: lib.ToolChainCore_SetTimeScale(c, rng.choice((1e3, 1e5))),
         "SetGCodeParameters": lambda c: (setattr(params.motion[1], "feed", rng.uniform(100, 9000)),
                                          lib.ToolChainCore_SetGCodeParameters(c, ctypes.byref(params))),
         "SetCallBack": lambda c: set_callback(lib, c, abi.CB_DRIVER_G_FUNC, rng.choice((g_callback, None)), user=c),

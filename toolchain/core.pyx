@@ -34,6 +34,12 @@ ctypedef struct Job:
     char *add_code              # runs: StartCNCEx addCode (owned, may be NULL)
     SIMPLE_GM_PARAMS dest       # manual moves: line (m_func 1) or arc (2, 3) to m_calcE, as GoToPositionEx
     uint32_t n_dest             # ... of which the first n_dest axes move (GoToPosition)
+    uint32_t n_type             # connections: ConnectCNCEx_Plane's arguments
+    double coords[11]
+    uint32_t n_coords
+    uint32_t axes_calc, axes_connect
+    int32_t state_after
+    int32_t status_before       # ... and the status it was called in
 
 
 cdef Core g_cores[3]
@@ -315,6 +321,16 @@ cdef void core_finish(Core *core, int32_t event) noexcept nogil:
     """The worker's last step: an end asked from inside a callback, else the status
     of `event` (EV_DONE, EV_STOPPED) unless an ending call cancelled the activity
     (that call sets the status once it has joined the worker)."""
+    _finish(core, event, TC_KEEP)
+
+
+cdef void core_finish_to(Core *core, int32_t status) noexcept nogil:
+    """core_finish for an activity that gave up before it changed anything: the
+    status it began in comes back."""
+    _finish(core, -1, status)
+
+
+cdef void _finish(Core *core, int32_t event, int32_t status) noexcept nogil:
     cdef LoadedProgram *dropped = NULL
     cdef int32_t kind, after
     pthread_mutex_lock(&core.lock)
@@ -324,7 +340,7 @@ cdef void core_finish(Core *core, int32_t event) noexcept nogil:
     if kind != END_NONE:
         dropped = _apply_end_locked(core, kind)
     elif not TC_ATOMIC_LOAD(&core.cancel):
-        after = status_after(core_status(core), event, core.program != NULL)
+        after = status if status != TC_KEEP else status_after(core_status(core), event, core.program != NULL)
         if after != TC_KEEP and after != TC_REFUSED:
             core_set_status(core, after)
     pthread_mutex_unlock(&core.lock)

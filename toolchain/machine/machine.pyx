@@ -14,6 +14,7 @@
 # ran, for backward) outlives the run, so the next StartCNCEx continues there.
 from libc.stdlib cimport malloc, calloc, realloc, free
 from libc.string cimport memset, memcpy, strdup
+from libc.math cimport fabs
 from posix.time cimport clock_gettime, nanosleep, timespec, CLOCK_MONOTONIC
 
 cdef enum:
@@ -168,6 +169,24 @@ cdef void _entry_identity(Entry *e, const Part *p, size_t part) noexcept nogil:
     e.vmax = e.exit_cap = 0.0
     e.acc = e.dec = 1e12
     e.ramp = RAMP_TRAPEZOID
+    e.dyn_extra = 0.0
+
+
+cdef void _dynamic_correction(Entry *e, const Part *p, const GCODE_PARAMETERS *params) noexcept nogil:
+    """dynamicG41/G42Correction_mm and _percent (of the tool radius in use) of a
+    compensated motion part: how far the machine moves the tool further out at rest
+    (motion.pyx entry_point; none at the part's full speed)."""
+    cdef double mm, percent, radius
+    cdef int normal
+    if p.comp != 41 and p.comp != 42:
+        return
+    mm = params.dynamicG41Correction_mm if p.comp == 41 else params.dynamicG42Correction_mm
+    percent = params.dynamicG41Correction_percent if p.comp == 41 else params.dynamicG42Correction_percent
+    radius = fabs(params.correction[p.comp_slot & 7].size)
+    e.dyn_extra = mm + percent * 0.01 * radius
+    if not plane_axes(p.plane, &e.dyn_first, &e.dyn_second, &normal) or not (e.dyn_extra == e.dyn_extra):
+        e.dyn_extra = 0.0
+    e.dyn_side = 1 if p.comp == 41 else -1
 
 
 cdef bint _forward_entry(Feeder *f, Entry *e) noexcept nogil:
@@ -217,6 +236,7 @@ cdef bint _forward_entry(Feeder *f, Entry *e) noexcept nogil:
                 _class_ramps(e, cls)
             if not (e.vmax > 0.0):
                 e.vmax = 1.0 / 60.0
+            _dynamic_correction(e, p, f.params)
         return True
     return False
 
@@ -258,6 +278,7 @@ cdef bint _backward_entry(Feeder *f, Entry *e) noexcept nogil:
         e.vmax = min(e.vmax, prog.plan[k].v_peak)
     e.exit_cap = min(plan_entry_speed(prog, k), e.vmax)
     _class_ramps(e, cls)
+    _dynamic_correction(e, &prog.parts[k], f.params)
     return True
 
 
@@ -531,94 +552,122 @@ cdef void _drain(Feeder *f) noexcept nogil:
         _notify(f, &ev)
 
 
-cdef void *_machine_body(void *arg) noexcept nogil:
-    cdef Job *job = <Job *>arg
+cdef void _motion_setup(Core *core, Motion *mo, const GCODE_PARAMETERS *params, const double *start) noexcept nogil:
+    """An empty motion at `start` with the run's settings (override, stop)."""
+    motion_reset(mo, start)
+    mo.window = <size_t>(core.plan_window if core.plan_window > 0 else
+                         (LOOK_RING if core.plan_window < 0 else VENDOR_WINDOW))
+    mo.ovr = TC_ATOMIC_LOAD_D(&core.rel_feed) if TC_ATOMIC_LOAD_D(&core.rel_feed) > 0 else 1.0
+    mo.ovr_inc = params.overrideInc if 0.0 < params.overrideInc <= 0.1 else 0.001
+    mo.ovr_timing = (params.interpolatorConfig0 & 1) != 0
+    mo.ovr_off_in_rapids = params.disableG0FeedOverride == 1
+    mo.stop_dec = params.motion[6].dec if 0.0 < params.motion[6].dec < 1e12 else 1e12
+    mo.stop_ramp = RAMP_SINE if params.motion[6].rampType == RAMP_SINE else RAMP_TRAPEZOID
+
+
+cdef int32_t _manual_move(Core *core, Machine *m, Feeder *f, const SIMPLE_GM_PARAMS *dest,
+                          uint32_t n_dest) noexcept nogil:
+    """A move off the program (GoToPosition, the way to a connection point) at
+    motion[5], without override; the machine position follows it."""
+    cdef Motion *mo = &m.motion
+    cdef int32_t finish
+    cdef double start[10]
+    memcpy(start, mo.position, sizeof(start))
+    _motion_setup(core, mo, f.params, start)
+    mo.window = 1
+    mo.ovr = 1.0
+    _manual_entry(mo, dest, n_dest, f.params)
+    f.regime = RUN_MANUAL
+    finish = _pace(core, m, f)
+    pthread_mutex_lock(&core.lock)
+    memcpy(core.position, mo.position, sizeof(core.position))
+    pthread_mutex_unlock(&core.lock)
+    return finish
+
+
+cdef int32_t _program_run(Core *core, Machine *m, Feeder *f, int32_t regime, const char *add_code) noexcept nogil:
+    """A run along the program (regimes 30-33) from the machine's place; the place
+    and the machine position follow it."""
+    cdef Motion *mo = &m.motion
+    cdef const Program *prog = &m.program.prog
+    cdef Callback cb
+    cdef int32_t finish
+    cdef char *stop_code
+    cdef double start[10]
+    memcpy(start, mo.position, sizeof(start))
+    f.prog = prog
+    f.regime = regime
+    f.first = True
+    f.any_motion = False
+    cursor_init(&f.cursor, prog, f.params)
+    f.next = m.part if regime != RUN_BACKWARD else 0
+    f.back_current = m.part < prog.n_parts and m.part_s > 0.0 and prog.parts[m.part].kind == PART_MOTION
+    if regime != RUN_BACKWARD:
+        cursor_settings(&f.cursor, m.part if m.part < prog.n_parts else 0)
+    _motion_setup(core, mo, f.params, start)
+    mo.d = m.part_s if regime != RUN_BACKWARD else 0.0
+    mo.started = m.began and regime != RUN_BACKWARD
+    mo.cut_len = m.cut_len
+    mo.rapid_len = m.rapid_len
+    mo.run_time = m.run_time
+    _feed(f)
+    if callback_enter(core, SLOT_DRIVER_INITIALIZE, &cb):
+        (<TC_DriverInitialize>cb.fn)(cb.user, start, 10, regime)
+        callback_leave(core, SLOT_DRIVER_INITIALIZE)
+    if regime != RUN_FORWARD_NO_M and regime != RUN_BACKWARD:
+        _send_add_code(core, add_code, start)
+    finish = _pace(core, m, f)
+    pthread_mutex_lock(&core.lock)
+    _keep_place(m, f)
+    m.cut_len = mo.cut_len
+    m.rapid_len = mo.rapid_len
+    m.run_time = mo.run_time
+    memcpy(core.position, mo.position, sizeof(core.position))
+    stop_code = m.stop_code
+    m.stop_code = NULL
+    pthread_mutex_unlock(&core.lock)
+    if (finish == EV_STOPPED and stop_code != NULL and not TC_ATOMIC_LOAD(&core.cancel)
+            and regime != RUN_FORWARD_NO_M and regime != RUN_BACKWARD):
+        _send_add_code(core, stop_code, mo.position)
+    free(stop_code)
+    if callback_enter(core, SLOT_DRIVER_END, &cb):
+        (<TC_DriverEnd>cb.fn)(cb.user)
+        callback_leave(core, SLOT_DRIVER_END)
+    return finish
+
+
+cdef Machine *_worker_begin(Job *job, Feeder *f) noexcept nogil:
+    """The start of a run's worker: the feeder with a copy of the core's settings;
+    NULL (the run's error set) when out of memory."""
     cdef Core *core = job.core
     cdef Machine *m
-    cdef Motion *mo
-    cdef Feeder f
-    cdef Callback cb
-    cdef double start[10]
-    cdef int32_t finish = EV_STOPPED
-    cdef char *stop_code = NULL
     worker_thread_mark(core)
-    memset(&f, 0, sizeof(f))
+    memset(f, 0, sizeof(Feeder))
     f.params = <GCODE_PARAMETERS *>malloc(sizeof(GCODE_PARAMETERS))
     pthread_mutex_lock(&core.lock)
     m = <Machine *>core.offline           # machine_prepare made it and its place
     if f.params != NULL:
         f.params[0] = core.params
+    else:
+        set_error(&core.error, ERR_OUT_OF_MEMORY, -1, 0, NULL, 0)
     f.enhanced = <uint32_t>core.machine.enhancedInterpolatorParameters
-    memcpy(start, m.motion.position, sizeof(start))
     pthread_mutex_unlock(&core.lock)
-    mo = &m.motion
     f.core = core
     f.m = m
-    f.prog = &m.program.prog if m.program != NULL and job.regime != RUN_MANUAL else NULL
-    f.regime = job.regime
-    f.first = True
-    if f.params == NULL:
-        pthread_mutex_lock(&core.lock)
-        set_error(&core.error, ERR_OUT_OF_MEMORY, -1, 0, NULL, 0)
-        pthread_mutex_unlock(&core.lock)
-    elif f.regime == RUN_MANUAL:
-        motion_reset(mo, start)
-        _manual_entry(mo, &job.dest, job.n_dest, f.params)
-        mo.window = 1
-        mo.ovr = 1.0
-        mo.ovr_target = 1.0
-        mo.ovr_inc = 0.001
-        mo.stop_dec = f.params.motion[6].dec if 0.0 < f.params.motion[6].dec < 1e12 else 1e12
-        mo.stop_ramp = RAMP_SINE if f.params.motion[6].rampType == RAMP_SINE else RAMP_TRAPEZOID
-        finish = _pace(core, m, &f)
-        pthread_mutex_lock(&core.lock)
-        memcpy(core.position, mo.position, sizeof(core.position))
-        pthread_mutex_unlock(&core.lock)
-    else:
-        cursor_init(&f.cursor, f.prog, f.params)
-        f.next = m.part if f.regime != RUN_BACKWARD else 0
-        f.any_motion = False
-        f.back_current = (m.part < f.prog.n_parts and m.part_s > 0.0
-                          and f.prog.parts[m.part].kind == PART_MOTION)
-        if f.regime != RUN_BACKWARD:
-            cursor_settings(&f.cursor, m.part if m.part < f.prog.n_parts else 0)
-        motion_reset(mo, start)
-        mo.window = <size_t>(core.plan_window if core.plan_window > 0 else
-                             (LOOK_RING if core.plan_window < 0 else VENDOR_WINDOW))
-        mo.d = m.part_s if f.regime != RUN_BACKWARD else 0.0
-        mo.started = m.began and f.regime != RUN_BACKWARD
-        mo.ovr = TC_ATOMIC_LOAD_D(&core.rel_feed) if TC_ATOMIC_LOAD_D(&core.rel_feed) > 0 else 1.0
-        mo.ovr_inc = f.params.overrideInc if 0.0 < f.params.overrideInc <= 0.1 else 0.001
-        mo.ovr_timing = (f.params.interpolatorConfig0 & 1) != 0
-        mo.ovr_off_in_rapids = f.params.disableG0FeedOverride == 1
-        mo.stop_dec = f.params.motion[6].dec if 0.0 < f.params.motion[6].dec < 1e12 else 1e12
-        mo.stop_ramp = RAMP_SINE if f.params.motion[6].rampType == RAMP_SINE else RAMP_TRAPEZOID
-        mo.cut_len = m.cut_len
-        mo.rapid_len = m.rapid_len
-        mo.run_time = m.run_time
-        _feed(&f)
-        if callback_enter(core, SLOT_DRIVER_INITIALIZE, &cb):
-            (<TC_DriverInitialize>cb.fn)(cb.user, start, 10, job.regime)
-            callback_leave(core, SLOT_DRIVER_INITIALIZE)
-        if f.regime != RUN_FORWARD_NO_M and f.regime != RUN_BACKWARD:
-            _send_add_code(core, job.add_code, start)
-        finish = _pace(core, m, &f)
-        pthread_mutex_lock(&core.lock)
-        _keep_place(m, &f)
-        m.cut_len = mo.cut_len
-        m.rapid_len = mo.rapid_len
-        m.run_time = mo.run_time
-        memcpy(core.position, mo.position, sizeof(core.position))
-        stop_code = m.stop_code
-        m.stop_code = NULL
-        pthread_mutex_unlock(&core.lock)
-        if (finish == EV_STOPPED and stop_code != NULL and not TC_ATOMIC_LOAD(&core.cancel)
-                and f.regime != RUN_FORWARD_NO_M and f.regime != RUN_BACKWARD):
-            _send_add_code(core, stop_code, mo.position)
-        free(stop_code)
-        if callback_enter(core, SLOT_DRIVER_END, &cb):
-            (<TC_DriverEnd>cb.fn)(cb.user)
-            callback_leave(core, SLOT_DRIVER_END)
+    return m if f.params != NULL else NULL
+
+
+cdef void *_machine_body(void *arg) noexcept nogil:
+    cdef Job *job = <Job *>arg
+    cdef Core *core = job.core
+    cdef Feeder f
+    cdef Machine *m = _worker_begin(job, &f)
+    cdef int32_t finish = EV_STOPPED
+    if m != NULL:
+        if job.regime == RUN_MANUAL:
+            finish = _manual_move(core, m, &f, &job.dest, job.n_dest)
+        else:
+            finish = _program_run(core, m, &f, job.regime, job.add_code)
     free(f.params)
     job_free(job)
     core_finish(core, finish)

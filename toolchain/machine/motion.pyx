@@ -58,6 +58,9 @@ ctypedef struct Entry:
     double exit_cap             # mm/s at its end (the plan's junction speed)
     double acc, dec             # peak accelerations of its ramps
     int32_t ramp
+    double dyn_extra            # the dynamic G41/G42 correction at rest, mm (0: none)
+    int32_t dyn_side            # +1 G41 (the tool left of its way), -1 G42
+    int dyn_first, dyn_second   # the plane's axes
 
 
 ctypedef struct Run:            # the profile of the current entry from where it was planned
@@ -117,11 +120,23 @@ cdef inline double entry_length(const Entry *e) noexcept nogil:
     return fabs(e.s_to - e.s_from)
 
 
-cdef void entry_point(const Entry *e, double d, double *out) noexcept nogil:
-    """The point d along the traverse."""
+cdef void entry_point(const Entry *e, double d, double v, double *out) noexcept nogil:
+    """The point d along the traverse, at path speed v: the dynamic G41/G42
+    correction moves it sideways by dyn_extra (1 - v / vmax), towards the side the
+    tool is compensated to: all of it at rest, none at the entry's full speed."""
+    cdef double s, extra
+    cdef double t[10]
     if e.kind != PART_MOTION:
         return
-    segment_point_at(&e.seg, e.s_from + d if e.s_to >= e.s_from else e.s_from - d, out)
+    s = e.s_from + d if e.s_to >= e.s_from else e.s_from - d
+    segment_point_at(&e.seg, s, out)
+    if e.dyn_extra == 0.0 or e.seg.length <= 0.0:
+        return
+    extra = e.dyn_extra * (1.0 - min(v / e.vmax, 1.0)) if e.vmax > 0.0 else e.dyn_extra
+    segment_tangent(&e.seg, s / e.seg.length, t)
+    # the way's own direction (not the traverse's): a backward run keeps the side
+    out[e.dyn_first] -= e.dyn_side * extra * t[e.dyn_second]
+    out[e.dyn_second] += e.dyn_side * extra * t[e.dyn_first]
 
 
 cdef void run_plan(Run *r, double length, double v_in, double cap, double out_cap,
@@ -491,7 +506,7 @@ cdef int motion_step(Motion *m, double dt) noexcept nogil:
             m.rapid_len += m.d - before
         else:
             m.cut_len += m.d - before
-        entry_point(e, m.d, m.position)
+        entry_point(e, m.d, m.v, m.position)
         if m.run_t >= total:
             if m.stopping and m.stop_entry == 0:
                 m.stopping = False

@@ -1,0 +1,158 @@
+# ConnectCNCEx_Plane: the offline machine goes back onto its trajectory. One
+# activity of the core: status 40 while the place is searched (connect_search.pyx,
+# the ConnectPointCalc callbacks 1004-1006), 41 while the machine moves there in a
+# straight line at motion[5] (the axes of axesForConnect), then -31 on the trajectory
+# (stateAfter 2: -50), or, for the types that continue (10 11 12 40 41 42 44), on into
+# a forward run from there (status 30). The search failing leaves the status where it
+# was, the error in GetLastError.
+
+cdef inline bint _connect_continues(uint32_t n_type) noexcept nogil:
+    return n_type in (10, 11, 12, 40, 41, 42, 44)
+
+
+cdef int _connect_search(Core *core, Machine *m, const GCODE_PARAMETERS *params, const Job *job,
+                         int32_t status_before, const double *point, ConnectHit *hit,
+                         ErrorInfo *err) noexcept nogil:
+    """The place the connection goes to, by the type's rule (connect_search.pyx)."""
+    cdef const Program *prog = &m.program.prog
+    cdef const Placement *pl = &m.placement
+    cdef ConnectIndex ix
+    cdef uint32_t t = job.n_type
+    cdef int rc
+    if t == 0 or t == 10 or t == 40:
+        rc = connect_index_build(&ix, prog, pl, job.axes_calc, err)
+        if rc == CONNECT_FOUND:
+            rc = connect_nearest(&ix, point, params.maxConnectionDistance, 0, prog.n_parts, hit, err)
+        connect_index_free(&ix)
+        return rc
+    if t == 1 or t == 11 or t == 41:
+        return connect_line(prog, pl, job.coords, job.n_coords, False, hit, err)
+    if t == 2 or t == 12 or t == 42:
+        return connect_line(prog, pl, job.coords, job.n_coords, True, hit, err)
+    if t == 30 or t == 32:
+        return connect_gindex(prog, pl, job.coords, job.n_coords, t == 32, hit, err)
+    if t == 31 or t == 44:
+        return connect_gindex_nearest(prog, pl, job.coords, job.n_coords, point, job.axes_calc,
+                                      params.maxConnectionDistance, hit, err)
+    if t == 20 or t == 21:
+        return connect_mfunc(prog, pl, job.coords, job.n_coords, t == 21,
+                             <int64_t>m.part if m.part < prog.n_parts else -1, status_before, hit, err)
+    if t == 46:
+        return connect_exact_point(prog, pl, job.coords, job.n_coords, job.axes_calc,
+                                   params.tolerance[0] if params.tolerance[0] > 0.0 else 1e-3, hit, err)
+    set_error_text(err, ERR_CONNECT_BAD_ARGUMENT, -1, 0, "nType")
+    return CONNECT_BAD_ARGUMENT
+
+
+cdef void _connect_callbacks(Core *core, Machine *m, const Job *job, ConnectHit *hit) noexcept nogil:
+    """ConnectPointCalcStart (1004), ConnectPointCalc (1005, for the part found: it
+    may move the point) and ConnectPointCalcEnd (1006): 1 = use the changed point."""
+    cdef Callback cb
+    cdef SIMPLE_GM_PARAMS gm
+    cdef P10DOUBLE point
+    cdef double sq = hit.distance * hit.distance
+    placed_part_to_gm(&m.program.prog, hit.part, &m.placement, &gm)
+    memcpy(&point, hit.point, sizeof(point))
+    if callback_enter(core, SLOT_CONNECT_POINT_CALC, &cb):
+        if (<TC_ConnectPointCalc>cb.fn)(cb.user, &gm, &sq, &point) == 1:
+            memcpy(hit.point, &point, sizeof(point))
+        callback_leave(core, SLOT_CONNECT_POINT_CALC)
+    if callback_enter(core, SLOT_CONNECT_POINT_CALC_END, &cb):
+        if (<TC_ConnectPointCalcEnd>cb.fn)(cb.user, &gm, &point) == 1:
+            memcpy(hit.point, &point, sizeof(point))
+        callback_leave(core, SLOT_CONNECT_POINT_CALC_END)
+
+
+cdef void _connect_place(Machine *m, const ConnectHit *hit) noexcept nogil:
+    """The machine's place after the connection: inside the part found, the motion
+    parts before it remembered for backward runs."""
+    cdef const Program *prog = &m.program.prog
+    cdef size_t k, first
+    m.part = hit.part
+    m.part_s = hit.s
+    m.began = hit.s > 0.0
+    m.n_history = 0
+    first = hit.part - HISTORY_DEPTH if hit.part > HISTORY_DEPTH else 0
+    m.history_lost = first > 0
+    for k in range(first, hit.part):
+        if prog.parts[k].kind == PART_MOTION:
+            _history_push(m, k)
+    m.cur_motion = <int64_t>hit.part if m.began and prog.parts[hit.part].kind == PART_MOTION else PART_NONE
+
+
+cdef void *_connect_body(void *arg) noexcept nogil:
+    cdef Job *job = <Job *>arg
+    cdef Core *core = job.core
+    cdef Feeder f
+    cdef Machine *m = _worker_begin(job, &f)
+    cdef ConnectHit hit
+    cdef ErrorInfo *err = <ErrorInfo *>calloc(1, sizeof(ErrorInfo))
+    cdef SIMPLE_GM_PARAMS dest
+    cdef Callback cb
+    cdef double point[10]
+    cdef uint32_t moving, k
+    cdef int32_t finish = EV_STOPPED, restore = TC_KEEP
+    cdef int rc
+    if m != NULL and err != NULL:
+        memcpy(point, m.motion.position, sizeof(point))
+        memcpy(point, job.coords, min(job.n_coords, 10) * sizeof(double))
+        if callback_enter(core, SLOT_CONNECT_POINT_CALC_START, &cb):
+            (<TC_ConnectPointCalcStart>cb.fn)(cb.user, job.n_type, job.n_coords, job.coords, job.axes_calc)
+            callback_leave(core, SLOT_CONNECT_POINT_CALC_START)
+        rc = _connect_search(core, m, f.params, job, job.status_before, point, &hit, err)
+        if rc != CONNECT_FOUND:
+            pthread_mutex_lock(&core.lock)
+            core.error = err[0]
+            pthread_mutex_unlock(&core.lock)
+            core_report_error(core, err)
+            restore = job.status_before
+        elif not TC_ATOMIC_LOAD(&core.cancel):
+            _connect_callbacks(core, m, job, &hit)
+            # the straight way there: the axes of axesForConnect (0: the first nCoords)
+            moving = job.axes_connect if job.axes_connect != 0 else (1u << min(job.n_coords, 10)) - 1
+            memset(&dest, 0, sizeof(dest))
+            dest.m_func = 1
+            memcpy(&dest.m_calcE, m.motion.position, sizeof(P10DOUBLE))
+            for k in range(10):
+                if (moving >> k) & 1:
+                    (<double *>&dest.m_calcE)[k] = hit.point[k]
+            core_set_status(core, CNC_STATUS_CONNECT_MOVING)
+            finish = _manual_move(core, m, &f, &dest, 10)
+            if finish == EV_DONE:
+                pthread_mutex_lock(&core.lock)
+                _connect_place(m, &hit)
+                pthread_mutex_unlock(&core.lock)
+                _send_add_code(core, job.add_code, m.motion.position)
+                if job.state_after == 2:
+                    finish = EV_STOPPED         # reported out of the trajectory (-50)
+                elif _connect_continues(job.n_type) and not TC_ATOMIC_LOAD(&core.cancel):
+                    core_set_status(core, CNC_STATUS_FORWARD)
+                    finish = _program_run(core, m, &f, RUN_FORWARD, NULL)
+    free(err)
+    free(f.params)
+    job_free(job)
+    if restore != TC_KEEP:
+        core_finish_to(core, restore)
+    else:
+        core_finish(core, finish)
+    return NULL
+
+
+cdef int32_t core_connect(Core *core, uint32_t n_type, uint32_t n_coords, const double *coords,
+                          const char *add_code, uint32_t axes_calc, uint32_t axes_connect,
+                          int32_t state_after) noexcept nogil:
+    """ConnectCNCEx_Plane: 40, 41, then -31 (or a forward run)."""
+    cdef Job *job = job_new()
+    if job == NULL:
+        return core_fail(core, ERR_OUT_OF_MEMORY, NULL)
+    job.n_type = n_type
+    job.n_coords = n_coords
+    if n_coords > 0:
+        memcpy(job.coords, coords, n_coords * sizeof(double))
+    job.axes_calc = axes_calc
+    job.axes_connect = axes_connect
+    job.state_after = state_after
+    job.status_before = core_status(core)
+    if add_code != NULL:
+        job.add_code = strdup(add_code)
+    return core_begin(core, CMD_CONNECT, "ConnectCNCEx_Plane", _connect_body, job)
