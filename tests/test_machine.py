@@ -194,6 +194,31 @@ def test_speed_never_above_the_plan_nor_the_feed(mh, text, radius):
         prev_len, prev_v = length, v
 
 
+def test_a_feeder_that_lags_never_makes_the_machine_jump_or_brake_hard(mh):
+    """The ring (64 entries, ~0.5 s of chords) refilled only every second: the
+    machine runs the ring empty, brakes to rest at its end within the deceleration,
+    waits, goes on; on the path throughout, and it takes longer than with a feeder
+    that keeps up."""
+    records = load(mh, circle_chords())
+    keeping_up = mh.run(0, 30)
+    mh.forget(0)
+    load(mh, circle_chords())
+    run = mh.run(0, 30, feed_every=10000)
+    assert run["finish"] == "done"
+    states = [s[8] for s in run["steps"]]
+    assert states.count("starved") > 100
+    prev_v = 0.0
+    for t, k, d, v, ovr, x, y, z, state, length in run["steps"]:
+        assert abs(v - prev_v) <= 500.0 * DT * (1 + 1e-9) + 1e-9, (t, v, prev_v)
+        if state == "starved":
+            assert v <= 1e-6, (t, v)           # at rest at the ring's end
+        prev_v = v
+    for t, k, d, v, xyz in motion_steps(run, records):
+        assert distance_to_part(records, k, xyz) <= EPS
+    assert run["steps"][-1][9] == pytest.approx(keeping_up["steps"][-1][9], abs=1e-6)
+    assert run["run_time"] > keeping_up["run_time"] + 0.1
+
+
 def test_a_single_line_takes_its_closed_form_time(mh):
     """100 mm at 100 mm/s with 500 mm/s^2 up and down: 1 s + 2 x 0.1 s / 2 x 2 = 1.2 s."""
     load(mh, "G1 X100 F6000\n")

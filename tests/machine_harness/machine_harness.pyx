@@ -5,8 +5,8 @@
 # points that compile a program on one of this module's own cores and run the offline
 # machine over it synchronously: the feeder, motion_step and the notifier's
 # bookkeeping called in turn on one thread, one 100 us step at a time, every step
-# recorded. The run's setup and end follow _machine_body (machine/machine.pyx) step
-# for step, minus its threads, callbacks and sleeps.
+# recorded. The run's setup and end follow _program_run (machine/machine.pyx) step
+# for step, with _pace's threads and sleeps replaced by this loop.
 include "libSF_TCh.pyx"
 
 import time as _time
@@ -132,27 +132,20 @@ def run(int core_idx, int regime, double stop_at=-1.0, overrides=(), double max_
     mo = &m.motion
     f.core = core
     f.m = m
+    # as _program_run (machine.pyx) sets the feeder and the motion up
     f.prog = &m.program.prog
     f.regime = regime
     f.first = True
+    f.any_motion = False
     cursor_init(&f.cursor, f.prog, f.params)
     f.next = m.part if regime != RUN_BACKWARD else 0
-    f.any_motion = False
     f.back_current = (m.part < f.prog.n_parts and m.part_s > 0.0
                       and f.prog.parts[m.part].kind == PART_MOTION)
     if regime != RUN_BACKWARD:
         cursor_settings(&f.cursor, m.part if m.part < f.prog.n_parts else 0)
-    motion_reset(mo, start)
-    mo.window = <size_t>(core.plan_window if core.plan_window > 0 else
-                         (LOOK_RING if core.plan_window < 0 else VENDOR_WINDOW))
+    _motion_setup(core, mo, f.params, start)
     mo.d = m.part_s if regime != RUN_BACKWARD else 0.0
     mo.started = m.began and regime != RUN_BACKWARD
-    mo.ovr = TC_ATOMIC_LOAD_D(&core.rel_feed)
-    mo.ovr_inc = params.overrideInc if 0.0 < params.overrideInc <= 0.1 else 0.001
-    mo.ovr_timing = (params.interpolatorConfig0 & 1) != 0
-    mo.ovr_off_in_rapids = params.disableG0FeedOverride == 1
-    mo.stop_dec = params.motion[6].dec if 0.0 < params.motion[6].dec < 1e12 else 1e12
-    mo.stop_ramp = RAMP_SINE if params.motion[6].rampType == RAMP_SINE else RAMP_TRAPEZOID
     mo.cut_len = m.cut_len
     mo.rapid_len = m.rapid_len
     mo.run_time = m.run_time
