@@ -900,7 +900,7 @@ def test_backward_retraces_to_the_start_through_the_api(api, stop_after):
 def test_backward_ends_at_minus_31_where_the_remembered_path_ends(api):
     """105,000 parts of 1 mm along X run forward; backward retraces what the machine
     remembers and stops -31 there. docs/machine.md says 100,000 motion parts; the
-    history drops its oldest tenth when full, so it holds 90,000 to 100,000 (~15 s)."""
+    history drops its oldest tenth when full, so it holds 90,000 to 100,000."""
     lib = api
     n = 105_000
     p = abi.GCODE_PARAMETERS()
@@ -910,18 +910,18 @@ def test_backward_ends_at_minus_31_where_the_remembered_path_ends(api):
     p.motion[2].feed = 60000.0
     assert lib.ToolChainCore_SetGCodeParameters(0, ctypes.byref(p)) == 0
     compile_on(lib, 0, "F60000\n" + "".join(f"G1 X{i}\n" for i in range(1, n + 1)))
-    assert lib.ToolChainCore_SetTimeScale(0, 1e4) == 0
+    assert lib.ToolChainCore_SetTimeScale(0, 1e3) == 0
     start(lib, 0)
-    assert poll_run(lib, 0, timeout=60)[1] == -32
+    assert poll_run(lib, 0, timeout=300)[1] == -32
     assert get_pos(lib, 0)[0].m_calcS.x == pytest.approx(n)
     start(lib, 0, BACK)
-    assert poll_run(lib, 0, timeout=60)[1] == -31
+    assert poll_run(lib, 0, timeout=300)[1] == -31
     retraced = n - get_pos(lib, 0)[0].m_calcS.x
     assert 90_000 <= retraced <= 100_000
     assert retraced == pytest.approx(round(retraced), abs=1e-6)       # at a part's end
     # forward from there reaches the end again
     start(lib, 0)
-    assert poll_run(lib, 0, timeout=60)[1] == -32
+    assert poll_run(lib, 0, timeout=300)[1] == -32
     assert get_pos(lib, 0)[0].m_calcS.x == pytest.approx(n)
 
 
