@@ -399,16 +399,16 @@ FWD, FWD_NO_M, BACK, FWD_SKIP_M = 30, 31, 32, 33
 def api(fresh_core):
     """Every core fresh, its INI loaded (driver callbacks allowed), known motion
     classes: F as programmed, 500 mm/s^2 trapezoid ramps, stop dec 1000 mm/s^2;
-    the time scale back to real time afterwards."""
+    afterwards the machine back at the origin (runs move it, and it outlives
+    DestroyCNC: later tests compile from it)."""
     lib = fresh_core
     for core in range(abi.TOOL_CHAIN_MAX_CORES):
         assert lib.ToolChainCore_LoadFromIni(core, INI, None) == 0
         set_params(lib, core)
     yield lib
     for core in range(abi.TOOL_CHAIN_MAX_CORES):
-        lib.ToolChainCore_DestroyCNC(core)
-        assert lib.ToolChainCore_SetTimeScale(core, 1.0) == 0
-        lib.ToolChainCore_SetBreakpoint(core, 0, 0)
+        assert lib.ToolChainCore_ResetCNC(core, 0, 10, (ctypes.c_double * 10)()) == 0
+        assert lib.ToolChainCore_DestroyCNC(core) == 0
 
 
 def set_params(lib, core, **fields):
