@@ -252,15 +252,18 @@ def speed_at(steps, t0):
     return [s[3] for s in steps if s[0] <= t0 + 1e-12][-1]
 
 
-@pytest.mark.parametrize("text, stop_at, dec", [
-    ("G1 X500 F6000\n", 2.0, 1000.0),                       # cruising at 100 mm/s: 5 mm
-    ("G1 X500 F6000\n", 0.1, 1000.0),                       # accelerating, at 50 mm/s: 1.25 mm
-    ("G1 X500 F6000\n", 2.0, 250.0),                        # 20 mm
-    ("G1 X250 F6000\nG1 X500\n", 2.48, 1000.0),             # across the junction of two parts
-    ("G1 X100 F6000\nG1 X100 Y100\n", 0.9, 1000.0),         # before a corner: it slows anyway
-], ids=["cruise", "accelerating", "soft", "across_parts", "before_corner"])
-def test_a_stop_ends_after_v2_over_2d(mh, text, stop_at, dec):
-    records = load(mh, text, motion=[None] * 6 + [(1000.0, 500.0, dec, 1)])
+@pytest.mark.parametrize("text, stop_at, dec, ramp", [
+    ("G1 X500 F6000\n", 2.0, 1000.0, 1),                    # cruising at 100 mm/s: 5 mm
+    ("G1 X500 F6000\n", 0.1, 1000.0, 1),                    # accelerating, at 50 mm/s: 1.25 mm
+    ("G1 X500 F6000\n", 2.0, 250.0, 1),                     # 20 mm
+    ("G1 X500 F6000\n", 2.0, 1000.0, 2),                    # sine: pi v^2 / 4d = 7.85 mm
+    ("G1 X250 F6000\nG1 X500\n", 2.48, 1000.0, 1),          # across the junction of two parts
+    ("G1 X100 F6000\nG1 X100 Y100\n", 0.9, 1000.0, 1),      # before a corner: it slows anyway
+], ids=["cruise", "accelerating", "soft", "sine", "across_parts", "before_corner"])
+def test_a_stop_ends_after_v2_over_2d(mh, text, stop_at, dec, ramp):
+    """A trapezoid ramp brakes at d: v^2 / 2d. A sine ramp whose deceleration peaks at
+    d, v(t) = v (1 + cos(pi t / T)) / 2, has T = pi v / 2d and covers v T / 2."""
+    records = load(mh, text, motion=[None] * 6 + [(1000.0, 500.0, dec, ramp)])
     run = mh.run(0, 30, stop_at=stop_at)
     steps = run["steps"]
     assert run["finish"] == "stopped" and run["state"] == "stopped"
@@ -268,7 +271,7 @@ def test_a_stop_ends_after_v2_over_2d(mh, text, stop_at, dec):
     assert v > 10.0
     # the path the machine would take with no stop: the stop can only be shorter
     # where the path itself slows down (a corner), never longer
-    expected = v * v / (2 * dec)
+    expected = v * v / (2 * dec) if ramp == 1 else math.pi * v * v / (4 * dec)
     covered = travelled_since(steps, run["stop_time"])
     if "Y100" in text:
         assert covered <= expected + v * DT
@@ -370,6 +373,23 @@ def test_the_override_moves_by_overrideInc_per_step(mh, timing):
     steps = run["steps"]
     k = int(1.3 / DT)
     assert (steps[k + 100][9] - steps[k][9]) / (100 * DT) == pytest.approx(50.0, rel=1e-6)
+
+
+@pytest.mark.parametrize("off_in_rapids", [0, 1])
+def test_disableG0FeedOverride_keeps_rapids_at_full_speed(mh, off_in_rapids):
+    """Override 0.5 from the start: the rapid (motion[0].feed 6000 mm/min here) at half
+    or full speed; in the cut the override returns to 0.5 by overrideInc per step and
+    the speed stays under the feed times the override of the moment."""
+    load(mh, "G0 X200\nG1 X400 F3000\n", disableG0FeedOverride=off_in_rapids,
+         motion=[(6000.0, 500.0, 500.0, 1)])
+    run = mh.run(0, 30, overrides=[(0.0, 0.5)])
+    assert run["finish"] == "done"
+    rapid = [s for s in run["steps"] if s[1] == 0]
+    cut = [s for s in run["steps"] if s[1] == 1]
+    assert max(s[3] for s in rapid) == pytest.approx(100.0 if off_in_rapids else 50.0, rel=1e-6)
+    assert {s[4] for s in rapid[1000:]} == {1.0 if off_in_rapids else 0.5}
+    assert all(v <= 50.0 * ovr + 1e-6 for t, k, d, v, ovr, *rest in cut)
+    assert max(s[3] for s in cut[1000:]) == pytest.approx(25.0, rel=1e-6)
 
 
 def test_a_breakpoint_stops_before_its_line_and_the_next_start_passes(mh):
