@@ -375,6 +375,25 @@ def test_the_override_moves_by_overrideInc_per_step(mh, timing):
     assert (steps[k + 100][9] - steps[k][9]) / (100 * DT) == pytest.approx(50.0, rel=1e-6)
 
 
+@pytest.mark.parametrize("timing, expected", [(0, 100 / 50 + 50 / 500), (1, 2 * (100 / 100 + 100 / 500))],
+                         ids=["feed_cap", "time_scale"])
+def test_a_constant_override_by_interpolatorConfig0(mh, timing, expected):
+    """100 mm at F6000, 500 mm/s^2, override 0.5 throughout. Bit 0 clear: the feed is
+    capped at 50 mm/s, the ramps keep 500 mm/s^2: L / v + v / a. Bit 0 set: the whole
+    profile runs at half speed in time, ramps included: twice 1.2 s."""
+    load(mh, "G1 X100 F6000\n", interpolatorConfig0=timing)
+    mh.set_rel_feed(0, 0.5)
+    try:
+        run = mh.run(0, 30)
+    finally:
+        mh.set_rel_feed(0, 1.0)
+    assert run["finish"] == "done"
+    assert run["run_time"] == pytest.approx(expected, abs=2 * DT)
+    steps = run["steps"]
+    top = max((b[9] - a[9]) / DT for a, b in zip(steps, steps[1:]))
+    assert top == pytest.approx(50.0, rel=1e-6)
+
+
 @pytest.mark.parametrize("off_in_rapids", [0, 1])
 def test_disableG0FeedOverride_keeps_rapids_at_full_speed(mh, off_in_rapids):
     """Override 0.5 from the start: the rapid (motion[0].feed 6000 mm/min here) at half
@@ -660,6 +679,26 @@ def test_start_add_code_goes_first_and_regime_33_skips_the_leading_m(api):
     assert poll_run(lib, 0)[1] == -32
     assert driver.what("M") == [("M", 9), ("M", 8)]
     assert driver.what()[0] == ("init", 33)
+
+
+def test_regime_33_skips_the_m_it_stands_before(api):
+    """Stopped by a breakpoint before line 2 (a waiting M7), StartCNCEx 33 goes on
+    without it; 30 from the same place sends it."""
+    lib = api
+    text = "G1 X10 F6000\nM7\nG1 X20\nM8\nG1 X30\n"
+    main = None
+    for regime, expected in ((FWD_SKIP_M, [8]), (FWD, [7, 8])):
+        compile_on(lib, 0, text)
+        main = lib.ToolChainCore_FileToIdx(0, b"m.nc")
+        assert lib.ToolChainCore_SetTimeScale(0, 20.0) == 0
+        assert lib.ToolChainCore_SetBreakpoint(0, 2, main) == 0
+        start(lib, 0)
+        assert poll_run(lib, 0)[1] == -31
+        assert math.dist(xyz(get_pos(lib, 0)[0]), (10.0, 0.0, 0.0)) <= EPS
+        driver = Driver(lib, 0)
+        start(lib, 0, regime)
+        assert poll_run(lib, 0)[1] == -32
+        assert [d for w, d in driver.what("M")] == expected
 
 
 def test_regime_31_sends_no_m_and_runs_at_the_feed_of_motion_4(api):

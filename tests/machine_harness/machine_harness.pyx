@@ -85,6 +85,11 @@ def set_breakpoint(int core_idx, unsigned int line):
     ToolChainCore_SetBreakpoint(core_idx, line, 0)
 
 
+def set_rel_feed(int core_idx, double rel_feed):
+    """SetRelFeed: a run starts with this override (no ramp to it)."""
+    ToolChainCore_SetRelFeed(core_idx, rel_feed)
+
+
 def forget(int core_idx):
     """ResetCNC to the origin: the machine's place on the program is dropped (its start)."""
     cdef double origin[10]
