@@ -641,11 +641,11 @@ def test_stop_distance_through_the_api(api):
     after_call, _ = get_pos(lib, 0)
     assert wait(lib, 0, lambda s: s != 30) == -31
     stood, _ = get_pos(lib, 0)
-    # between the snapshot before the call and the one after, the machine may have
-    # run on at 100 mm/s for the pacer's period (and the host's scheduling)
+    # it braked from where it was when the pacer saw the stop, at or after `before`
     travelled = stood.m_calcS.x - before.m_calcS.x
     assert 5.0 - 1e-6 <= travelled
-    assert stood.m_calcS.x - after_call.m_calcS.x <= 5.0 + 100.0 * 2e-3
+    # (an upper bound with room for a host thread held up for 50 ms between two calls)
+    assert stood.m_calcS.x - after_call.m_calcS.x <= 5.0 + 100.0 * 0.05
 
 
 def test_stop_add_code_goes_to_the_driver_once_it_stands(api):
@@ -884,8 +884,9 @@ def test_GetPos_m_relFeed_follows_the_override_ramp(api):
 
 
 def test_the_override_ramp_shows_in_the_actual_feed(api):
-    """overrideInc 1e-5 per 100 us (feed-cap override): m_actFeed goes from 6000 to
-    3000 mm/min no faster than the ramp allows, and settles at 3000."""
+    """overrideInc 1e-5 per 100 us (feed-cap override): the override falls by 0.1 per
+    second of machine time, so m_actFeed goes from 6000 to 3000 mm/min at exactly
+    600 mm/min per second (the ramps' 500 mm/s^2 follow it easily), then stays."""
     lib = api
     set_params(lib, 0, overrideInc=1e-5)
     compile_on(lib, 0, "G1 X2000 F6000\n")
@@ -894,19 +895,21 @@ def test_the_override_ramp_shows_in_the_actual_feed(api):
     time.sleep(0.05)
     assert get_pos(lib, 0)[1].m_actFeed == pytest.approx(6000.0)
     assert lib.ToolChainCore_SetRelFeed(0, 0.5) == 0
-    t_set = get_pos(lib, 0)[1].m_cncRunTime
     feeds = []
-    for _ in range(80):
+    deadline = time.monotonic() + 20
+    while not feeds or feeds[-1][1] > 3000.0:
+        assert time.monotonic() < deadline
         pos, enh = get_pos(lib, 0)
-        feeds.append((enh.m_cncRunTime - t_set, enh.m_actFeed))
+        feeds.append((enh.m_cncRunTime, enh.m_actFeed))
         time.sleep(0.01)
-    # the override falls by 0.1 per second of machine time: the feed by 600 mm/min/s at most
-    for t, f in feeds:
-        assert f >= 6000.0 * (1.0 - 0.1 * (t + 0.01)) - 1e-6, (t, f)
-    assert feeds[-1][1] == pytest.approx(3000.0)
+    ramp = [(t, f) for t, f in feeds if 3001.0 < f < 5999.0]
+    assert len(ramp) >= 5
+    for (t0, f0), (t1, f1) in zip(ramp, ramp[1:]):
+        assert f0 - f1 == pytest.approx(600.0 * (t1 - t0), abs=0.2), (t0, f0, t1, f1)
+    time.sleep(0.05)
+    assert get_pos(lib, 0)[1].m_actFeed == pytest.approx(3000.0)
     assert lib.ToolChainCore_StopCNCEx(0, None) == 0
     assert wait(lib, 0, lambda s: s != 30) == -31
-
 
 def continuous_on_path(samples, records, fastest):
     """Every GetPos sample on the path, and no jump: between two samples the machine
