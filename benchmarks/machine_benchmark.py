@@ -1,6 +1,11 @@
 """The offline machine's cost while three cores run at real time.
 
     python benchmarks/machine_benchmark.py [--seconds 10] [--period-us 1000]
+    python benchmarks/machine_benchmark.py --fast 20000
+
+The second form: one core runs a generated program of --fast parts (lines and arcs
+at 6000 mm/min) at time scale 1e6 and prints how many times faster than real time it
+ran and its machine time against the plan's (GetGCodeRunTime).
 
 Each of the three cores compiles a generated cutting program (lines and arcs at
 3000 mm/min, longer than the measurement) and runs it on the offline machine
@@ -46,11 +51,47 @@ def library_cpu_seconds() -> float:
     return ticks / os.sysconf("SC_CLK_TCK")
 
 
+def fast_run(parts: int) -> int:
+    lib = library.load()
+    prog = "G0 X0 Y0\n" + "".join(f"G1 X{(i * 37) % 900}.5 Y{(i * 53) % 600}.25 F6000\n"
+                                   f"G2 X{(i * 37) % 900 + 10}.5 Y{(i * 53) % 600}.25 I5 J0\n"
+                                   for i in range(parts // 2))
+    p = abi.GCODE_PARAMETERS()
+    lib.ToolChainCore_GetGCodeParameters(0, ctypes.byref(p))
+    p.calcTime = 1
+    assert lib.ToolChainCore_SetGCodeParameters(0, ctypes.byref(p)) == 0
+    assert lib.ToolChainCore_CompileFromMemory(0, b"fast.nc", prog.encode()) == 0
+    while lib.ToolChainCore_StatusCNC(0) == 1:
+        time.sleep(0.01)
+    assert lib.ToolChainCore_StartCNCEx(0, 10, None) == 0
+    while lib.ToolChainCore_StatusCNC(0) == 10:
+        time.sleep(0.01)
+    planned = lib.ToolChainCore_GetGCodeRunTime(0, lib.ToolChainCore_FileToIdx(0, b"fast.nc"))
+    assert lib.ToolChainCore_ResetCNC(0, 1, 0, None) == 0
+    assert lib.ToolChainCore_SetTimeScale(0, 1e6) == 0
+    wall0, cpu0 = time.monotonic(), time.process_time()
+    assert lib.ToolChainCore_StartCNCEx(0, 30, None) == 0
+    while lib.ToolChainCore_StatusCNC(0) > 0:
+        time.sleep(0.005)
+    wall, cpu = time.monotonic() - wall0, time.process_time() - cpu0
+    enh = abi.GM_PARAMS_ENHANCED()
+    lib.ToolChainCore_GetPos(0, 0, None, ctypes.byref(enh))
+    print(f"{parts} parts: status {lib.ToolChainCore_StatusCNC(0)}, machine time {enh.m_cncRunTime:.3f} s, "
+          f"planned {planned:.3f} s; {wall:.2f} s wall ({enh.m_cncRunTime / wall:.0f} x real time), "
+          f"{cpu:.2f} s CPU of the process")
+    lib.ToolChainCore_DestroyCNC(0)
+    return 0 if abs(enh.m_cncRunTime - planned) <= 0.005 * planned else 1
+
+
 def main() -> int:
     ap = argparse.ArgumentParser()
     ap.add_argument("--seconds", type=float, default=10.0)
     ap.add_argument("--period-us", type=float, default=1000.0)
+    ap.add_argument("--fast", type=int, default=0, metavar="PARTS",
+                    help="instead: run PARTS parts at time scale 1e6")
     args = ap.parse_args()
+    if args.fast:
+        return fast_run(args.fast)
 
     lib = library.load()
     ini = Path(tempfile.mkdtemp()) / "cores.ini"

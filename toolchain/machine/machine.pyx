@@ -369,9 +369,9 @@ cdef void *_pacer_body(void *arg) noexcept nogil:
     cdef double last = _now(), now, budget = 0.0, scale
     cdef double dt = STEP_US * 1e-6
     cdef timespec nap
-    cdef int events, k
+    cdef int events
     cdef bint halted = False
-    cdef uint64_t consumed = mo.consumed
+    cdef uint64_t told = mo.consumed     # entries done when the notifier was last woken
     nap.tv_sec = 0
     nap.tv_nsec = 1000000
     while not halted and not TC_ATOMIC_LOAD(&core.cancel):
@@ -385,10 +385,16 @@ cdef void *_pacer_body(void *arg) noexcept nogil:
         if TC_ATOMIC_LOAD(&core.stop):
             motion_stop(mo)
         while budget >= dt and mo.state < MS_STOPPED:
+            motion_sync(mo)
+            if mo.consumed - told >= LOOK_RING // 4:
+                _hand_over(m, True)         # room in the ring: the feeder refills it
+                told = mo.consumed
+            if not motion_window_full(mo) and mo.state != MS_WAIT_M:
+                break                       # time waits for the feeder (the plan needs its window)
             if mo.n_log > LOG_SIZE - 8:
                 _hand_over(m, True)
                 if mo.n_log > LOG_SIZE - 8:
-                    break               # the notifier is behind: the step waits for it
+                    break                   # the notifier is behind: the step waits for it
             events = motion_step(mo, dt)
             budget -= dt
             if events & ME_HALT:
@@ -397,8 +403,9 @@ cdef void *_pacer_body(void *arg) noexcept nogil:
             if TC_ATOMIC_LOAD(&core.stop):
                 motion_stop(mo)
         halted = halted or mo.state >= MS_STOPPED
-        _hand_over(m, mo.consumed != consumed or halted)
-        consumed = mo.consumed
+        motion_locate(mo)
+        _hand_over(m, mo.consumed != told or halted)
+        told = mo.consumed
         if mo.state == MS_WAIT_M:
             TC_ATOMIC_STORE(&m.m_waiting, motion_entry(mo, 0).func)
         else:
@@ -406,6 +413,7 @@ cdef void *_pacer_body(void *arg) noexcept nogil:
         _publish(core, m)
         if not halted:
             nanosleep(&nap, NULL)
+    motion_locate(mo)
     TC_ATOMIC_STORE(&m.pacer_done, 1)
     _hand_over(m, True)
     return NULL
@@ -557,6 +565,8 @@ cdef void _motion_setup(Core *core, Motion *mo, const GCODE_PARAMETERS *params, 
     motion_reset(mo, start)
     mo.window = <size_t>(core.plan_window if core.plan_window > 0 else
                          (LOOK_RING if core.plan_window < 0 else VENDOR_WINDOW))
+    if mo.window > LOOK_RING - LOOK_RING // 4 - 1:
+        mo.window = LOOK_RING - LOOK_RING // 4 - 1  # the ring holds it and the feeder's slack
     mo.ovr = TC_ATOMIC_LOAD_D(&core.rel_feed) if TC_ATOMIC_LOAD_D(&core.rel_feed) > 0 else 1.0
     mo.ovr_inc = params.overrideInc if 0.0 < params.overrideInc <= 0.1 else 0.001
     mo.ovr_timing = (params.interpolatorConfig0 & 1) != 0

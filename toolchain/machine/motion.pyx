@@ -456,9 +456,24 @@ cdef void _move_override(Motion *m, double dt) noexcept nogil:
         m.replan = True
 
 
+cdef void motion_locate(Motion *m) noexcept nogil:
+    """m.position where the machine is now (inside the current motion entry)."""
+    cdef Entry *e
+    if m.count > 0 and m.d > 0.0:
+        e = motion_entry(m, 0)
+        if e.kind == PART_MOTION:
+            entry_point(e, m.d, m.v, m.position)
+
+
+cdef inline bint motion_window_full(const Motion *m) noexcept nogil:
+    """The ring holds the whole window after the current entry (or the run's end)."""
+    return m.complete or m.count > m.window
+
+
 cdef int motion_step(Motion *m, double dt) noexcept nogil:
     """Moves the machine dt seconds. Returns the events (MotionEvent bits); the
-    position, speed and lengths are current afterwards."""
+    speed and lengths are current afterwards, the position once motion_locate has
+    been called (it costs trigonometry on arcs: once per tick, not per step)."""
     cdef int events = 0
     cdef Entry *e
     cdef double tau, total, d, v, before
@@ -506,8 +521,8 @@ cdef int motion_step(Motion *m, double dt) noexcept nogil:
             m.rapid_len += m.d - before
         else:
             m.cut_len += m.d - before
-        entry_point(e, m.d, m.v, m.position)
         if m.run_t >= total:
+            entry_point(e, m.d, m.v, m.position)    # the entry's slot is the feeder's once it ends
             if m.stopping and m.stop_entry == 0:
                 m.stopping = False
                 m.state = MS_STOPPED
