@@ -165,6 +165,7 @@ def run(int core_idx, int regime, double stop_at=-1.0, overrides=(), double max_
         if n_steps % feed_every == 0:
             _feed(&f)
         events = motion_step(mo, dt)
+        motion_locate(mo)               # the pacer does it once per tick; here after every step
         n_steps += 1
         t = n_steps * dt
         for k in range(mo.n_log):
