@@ -433,6 +433,7 @@ def test_a_breakpoint_stops_before_its_line_and_the_next_start_passes(mh):
 
 INI = library_path().replace("libSF_TCh.so", "data/SF_TCh.ini").encode()
 FWD, FWD_NO_M, BACK, FWD_SKIP_M = 30, 31, 32, 33
+MFUNC_LATER = 2                             # TC_MFUNC_LATER of the header: "the host confirms later"
 
 
 @pytest.fixture
@@ -687,7 +688,6 @@ def test_regime_33_skips_the_m_it_stands_before(api):
     without it; 30 from the same place sends it."""
     lib = api
     text = "G1 X10 F6000\nM7\nG1 X20\nM8\nG1 X30\n"
-    main = None
     for regime, expected in ((FWD_SKIP_M, [8]), (FWD, [7, 8])):
         compile_on(lib, 0, text)
         main = lib.ToolChainCore_FileToIdx(0, b"m.nc")
@@ -754,7 +754,7 @@ def test_a_waiting_m_confirmed_by_the_driver_at_once(api):
 def test_a_waiting_m_confirmed_later_with_ConfirmMFunc(api):
     lib = api
     compile_on(lib, 0, "G1 X10 F6000\nM7\nG1 X20\n")
-    driver = Driver(lib, 0, m_answer=lambda m: abi.TC_MFUNC_LATER if hasattr(abi, "TC_MFUNC_LATER") else 2)
+    driver = Driver(lib, 0, m_answer=lambda m: MFUNC_LATER)
     assert lib.ToolChainCore_SetTimeScale(0, 100.0) == 0
     start(lib, 0)
     deadline = time.monotonic() + 10
