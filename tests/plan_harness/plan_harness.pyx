@@ -19,11 +19,14 @@ def default_params():
     return (<char *>&p)[:sizeof(GCODE_PARAMETERS)]
 
 
-def plan_text(text, params=None, long long window=0, unsigned int enhanced=0, bint detail=True):
+def plan_text(text, params=None, long long window=0, unsigned int enhanced=0, bint detail=True,
+              long long split_near=-1):
     """Compiles `text` (str) with GCODE_PARAMETERS `params` (bytes, else the defaults),
     inserts the G167 arcs, plans. Returns (parts, error, timing): parts: dicts kind,
     func, line, length, v_in, v_peak, v_out, time (detail), else one dict n_parts,
-    run_time, plan_bytes, regions (planning regions); timing: CPU seconds of the compile (with the arcs) and of the planning."""
+    run_time, plan_bytes, regions (planning regions); timing: CPU seconds of the compile (with the arcs) and of the planning.
+    split_near >= 0: planned in two threads as the library does beside the extent
+    (pipeline.pyx plan_in_two), split at plan_split_at(split_near); timing["split"]."""
     cdef CompileInput *inp = <CompileInput *>calloc(1, sizeof(CompileInput))
     cdef ProgramBuilder build
     cdef Program *prog = &build.prog
@@ -32,6 +35,8 @@ def plan_text(text, params=None, long long window=0, unsigned int enhanced=0, bi
     cdef int32_t cancel = 0
     cdef size_t k
     cdef timespec t0, t1, t2
+    cdef GCODE_INFO extent
+    cdef size_t split = 0
     cdef double run_time = 0.0
     cdef bytes src = text.encode("latin-1")
     cdef bytes pb
@@ -60,7 +65,12 @@ def plan_text(text, params=None, long long window=0, unsigned int enhanced=0, bi
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t1)
     timing = dict(compile=(t1.tv_sec - t0.tv_sec) + 1e-9 * (t1.tv_nsec - t0.tv_nsec), plan=0.0)
     if rc == COMPILE_OK:
-        rc = plan_program(&build, &inp.params, enhanced, window)
+        if split_near < 0:
+            rc = plan_program(&build, &inp.params, enhanced, window)
+        else:
+            split = plan_split_at(prog, <size_t>split_near)
+            rc = plan_in_two(prog, &inp.params, enhanced, window, split, &extent)
+            timing["split"] = split
         clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t2)
         timing["plan"] = (t2.tv_sec - t1.tv_sec) + 1e-9 * (t2.tv_nsec - t1.tv_nsec)
     out = []

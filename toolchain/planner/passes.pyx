@@ -18,6 +18,7 @@ from libc.string cimport memcpy
 cdef enum:
     VENDOR_WINDOW = 8           # the current part + 7 more
     RING_START = 256            # nodes; a deeper window grows the ring as far as it reaches
+    PLAN_SPLIT_SEARCH = 65536   # parts plan_split_at looks through
 
 
 ctypedef struct PlanNode:       # a motion part with length, as the passes see it
@@ -248,9 +249,53 @@ cdef int plan_program(ProgramBuilder *build, const GCODE_PARAMETERS *params, uin
 
 cdef int _plan_once(Program *prog, const GCODE_PARAMETERS *params, uint32_t enhanced,
                     int64_t window) noexcept nogil:
-    cdef size_t n = prog.n_parts, depth, cap = 1, i = 0, made = 0, planned_made = 0, filled = 0
+    if not plan_alloc(prog):
+        return COMPILE_ERROR
+    if plan_range(prog, params, enhanced, window, 0, prog.n_parts) != COMPILE_OK:
+        plan_drop(prog)
+        return COMPILE_ERROR
+    return COMPILE_OK
+
+
+cdef bint plan_alloc(Program *prog) noexcept nogil:
+    """A new, unfilled plan for every part in prog.plan (the old one freed);
+    False when out of memory."""
+    free(prog.plan)
+    prog.plan = NULL
+    if prog.n_parts == 0:
+        return True
+    prog.plan = <PartPlan *>malloc(prog.n_parts * sizeof(PartPlan))
+    return prog.plan != NULL
+
+
+cdef void plan_drop(Program *prog) noexcept nogil:
+    free(prog.plan)
+    prog.plan = NULL
+
+
+cdef size_t plan_split_at(const Program *prog, size_t near) noexcept nogil:
+    """A part at or after `near` (within PLAN_SPLIT_SEARCH parts) where the machine
+    stands, so that the parts before it and from it on plan alone (plan_range); 0
+    when there is none."""
+    cdef size_t k, last = near + PLAN_SPLIT_SEARCH
+    if last > prog.n_parts:
+        last = prog.n_parts
+    for k in range(near if near > 0 else 1, last):
+        if prog.parts[k].kind != PART_MOTION and part_stops_motion(&prog.parts[k]):
+            return k
+    return 0
+
+
+cdef int plan_range(const Program *prog, const GCODE_PARAMETERS *params, uint32_t enhanced,
+                    int64_t window, size_t first, size_t end) noexcept nogil:
+    """Plans parts [first, end) into prog.plan (plan_alloc): the whole program, or the
+    parts before or from a part plan_split_at gave. The machine stands at such a part
+    (every motion before it ends at rest, the next one starts from rest), so the window
+    may end there: the plan is the same as the whole program's. Two ranges may be
+    planned at once. COMPILE_OK, or COMPILE_ERROR when out of memory."""
+    cdef size_t n = prog.n_parts, depth, cap = 1, i = 0, made = 0, planned_made = 0, filled = first
     cdef size_t mask, window_end
-    cdef PartPlan *plan
+    cdef PartPlan *plan = prog.plan
     cdef PlanNode *ring
     cdef PlanNode *nd
     cdef PlanNode *nj
@@ -258,9 +303,7 @@ cdef int _plan_once(Program *prog, const GCODE_PARAMETERS *params, uint32_t enha
     cdef Reciprocals recip
     cdef double v_prev = 0.0, v2
     cdef size_t j
-    free(prog.plan)
-    prog.plan = NULL
-    if n == 0:
+    if end <= first:
         return COMPILE_OK
     if window == 0:
         depth = VENDOR_WINDOW
@@ -271,17 +314,16 @@ cdef int _plan_once(Program *prog, const GCODE_PARAMETERS *params, uint32_t enha
     while cap < depth and cap < RING_START:     # a power of two: node k at k & mask
         cap *= 2
     mask = cap - 1
-    plan = <PartPlan *>malloc(n * sizeof(PartPlan))
     ring = <PlanNode *>malloc(cap * sizeof(PlanNode))   # nodes i.. (at most depth of them)
-    if plan == NULL or ring == NULL:
-        free(plan)
-        free(ring)
+    if ring == NULL:
         return COMPILE_ERROR
     src.prog = prog
     src.params = params
     src.enhanced = enhanced
     cursor_init(&src.cursor, prog, params)
-    src.scan = 0
+    if first > 0:
+        cursor_settings(&src.cursor, first - 1)     # the regions before the range
+    src.scan = first
     src.have_prev = False
     src.stop_pending = False
     src.prev_rapid = False
@@ -293,7 +335,7 @@ cdef int _plan_once(Program *prog, const GCODE_PARAMETERS *params, uint32_t enha
     recip.dec = 0.0
     recip.vmax = 0.0
     while True:
-        while made <= i and src.scan < n:
+        while made <= i and src.scan < end:
             if _next_node(&src, &ring[made & mask]):
                 made += 1
         if made <= i:
@@ -301,12 +343,11 @@ cdef int _plan_once(Program *prog, const GCODE_PARAMETERS *params, uint32_t enha
         nd = &ring[i & mask]
         # the window: parts up to node i's part + depth, or up to a barrier (the same limits)
         window_end = nd.part + depth
-        while (src.scan < n and src.scan < window_end
+        while (src.scan < end and src.scan < window_end
                and not (made > i + 1 and ring[(made - 1) & mask].barrier)):
             if made - i == cap:
                 ring = _ring_grow(ring, cap, i, made)
                 if ring == NULL:
-                    free(plan)
                     return COMPILE_ERROR
                 cap *= 2
                 mask = cap - 1
@@ -332,9 +373,8 @@ cdef int _plan_once(Program *prog, const GCODE_PARAMETERS *params, uint32_t enha
         v_prev = plan[nd.part].v_exit
         filled = nd.part + 1
         i += 1
-    _plan_passing(prog, filled, n, v_prev, plan)
+    _plan_passing(prog, filled, end, v_prev, plan)
     free(ring)
-    prog.plan = plan
     return COMPILE_OK
 
 
