@@ -5,6 +5,8 @@ piece, for every split point of random contours with waiting M functions and dwe
 every window depth and with the angle slow-down, axis limits and sine ramps."""
 import random
 
+import pytest
+
 from test_planner import harness_module, params
 from test_planner_random import random_program
 
@@ -42,3 +44,25 @@ def test_no_stop_no_split():
     whole, _, _ = ph.plan_text(text, None, 0, 0)
     parts, _, timing = ph.plan_text(text, None, 0, 0, True, 50)
     assert timing["split"] == 0 and parts == whole
+
+
+def test_library_plans_a_large_program_beside_its_extent():
+    """A program large enough for the library to plan it in two threads (pipeline.pyx
+    PLAN_BESIDE_MIN parts, a waiting M function to split at) runs as long as the
+    harness's plan in one piece says."""
+    import sf_tch
+    from test_planner import total
+    ph = harness_module()
+    rng = random.Random(5)
+    lines = ["G1 X0 Y0 F3000"]
+    for k in range(6000):
+        lines.append(f"G1 X{rng.uniform(0, 40):.3f} Y{rng.uniform(0, 40):.3f}")
+        if k % 97 == 0:
+            lines.append("M50")
+    text = "\n".join(lines) + "\n"
+    parts, error, timing = ph.plan_text(text, None, 0, 0, True, len(lines) * 3 // 8)
+    assert error is None and timing["split"] > 0
+    expected = total(ph.plan_text(text, None, 0, 0)[0])
+    with sf_tch.compile(text, look_ahead=0) as program:
+        program.simulate()
+        assert program.run_time == pytest.approx(expected, rel=1e-12)
