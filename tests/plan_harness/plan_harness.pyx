@@ -10,6 +10,7 @@ from posix.time cimport clock_gettime, timespec
 
 cdef extern from "<time.h>" nogil:
     enum: CLOCK_THREAD_CPUTIME_ID
+    enum: CLOCK_MONOTONIC
 
 
 def default_params():
@@ -26,7 +27,10 @@ def plan_text(text, params=None, long long window=0, unsigned int enhanced=0, bi
     func, line, length, v_in, v_peak, v_out, time (detail), else one dict n_parts,
     run_time, plan_bytes, regions (planning regions); timing: CPU seconds of the compile (with the arcs) and of the planning.
     split_near >= 0: planned in two threads as the library does beside the extent
-    (pipeline.pyx plan_in_two), split at plan_split_at(split_near); timing["split"]."""
+    (pipeline.pyx plan_in_two), split at plan_split_at(split_near); timing["split"], and
+    wall seconds of the extent alone ("extent") and of the extent with the plan beside
+    it ("beside"); split_near < -1: the same wall times with the plan in one piece
+    before the extent, in this thread (as the library plans small programs)."""
     cdef CompileInput *inp = <CompileInput *>calloc(1, sizeof(CompileInput))
     cdef ProgramBuilder build
     cdef Program *prog = &build.prog
@@ -65,11 +69,26 @@ def plan_text(text, params=None, long long window=0, unsigned int enhanced=0, bi
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t1)
     timing = dict(compile=(t1.tv_sec - t0.tv_sec) + 1e-9 * (t1.tv_nsec - t0.tv_nsec), plan=0.0)
     if rc == COMPILE_OK:
-        if split_near < 0:
+        if split_near == -1:
             rc = plan_program(&build, &inp.params, enhanced, window)
-        else:
+        elif split_near < -1:                # one piece, then the extent, wall times as below
+            clock_gettime(CLOCK_MONOTONIC, &t1)
+            program_extent(prog, &extent)
+            clock_gettime(CLOCK_MONOTONIC, &t2)
+            timing["extent"] = (t2.tv_sec - t1.tv_sec) + 1e-9 * (t2.tv_nsec - t1.tv_nsec)
+            rc = plan_program(&build, &inp.params, enhanced, window)
+            program_extent(prog, &extent)
+            clock_gettime(CLOCK_MONOTONIC, &t1)
+            timing["beside"] = (t1.tv_sec - t2.tv_sec) + 1e-9 * (t1.tv_nsec - t2.tv_nsec)
+        else:                           # wall times: the extent alone, then with the plan beside it
+            clock_gettime(CLOCK_MONOTONIC, &t1)
+            program_extent(prog, &extent)
+            clock_gettime(CLOCK_MONOTONIC, &t2)
+            timing["extent"] = (t2.tv_sec - t1.tv_sec) + 1e-9 * (t2.tv_nsec - t1.tv_nsec)
             split = plan_split_at(prog, <size_t>split_near)
             rc = plan_in_two(prog, &inp.params, enhanced, window, split, &extent)
+            clock_gettime(CLOCK_MONOTONIC, &t1)
+            timing["beside"] = (t1.tv_sec - t2.tv_sec) + 1e-9 * (t1.tv_nsec - t2.tv_nsec)
             timing["split"] = split
         clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t2)
         timing["plan"] = (t2.tv_sec - t1.tv_sec) + 1e-9 * (t2.tv_nsec - t1.tv_nsec)
