@@ -134,3 +134,45 @@ def arc_factor(table, double radius, int state=-1):
         p.arcFeedTable[i].m_r = r
         p.arcFeedTable[i].m_relFeed = f
     return arc_feed_factor(&p, state, radius)
+
+
+def segment_points(text, size_t part, distances, params=None):
+    """Compiles `text` (absolute coordinates unless params say otherwise) and returns
+    (length, [point (10 axes) at each path length of `distances`]) of motion part
+    `part` (planner/segment.pyx segment_of_part, segment_point_at)."""
+    cdef CompileInput *inp = <CompileInput *>calloc(1, sizeof(CompileInput))
+    cdef ProgramBuilder build
+    cdef ErrorInfo err
+    cdef int32_t cancel = 0
+    cdef Segment g
+    cdef double out[10]
+    cdef bytes src = text.encode("latin-1")
+    cdef bytes pb
+    program_builder_init(&build)
+    memset(&err, 0, sizeof(err))
+    if params is None:
+        default_gcode_parameters(&inp.params)
+    else:
+        pb = bytes(params)
+        memcpy(&inp.params, <const char *>pb, sizeof(GCODE_PARAMETERS))
+    inp.text = src
+    inp.length = len(src)
+    inp.prefix_idx = -1
+    inp.postfix_idx = -1
+    inp.plc = TGM_Data
+    inp.cancel = &cancel
+    rc = compile_program(inp, &build, &err)
+    free(inp)
+    if rc != COMPILE_OK or part >= build.prog.n_parts:
+        program_builder_free(&build)
+        raise ValueError(err.text.decode("latin-1") or "no such part")
+    segment_of_part(&build.prog, part, &g)
+    points = []
+    for s in distances:
+        for k in range(10):
+            out[k] = 0.0
+        segment_point_at(&g, s, out)
+        points.append([out[k] for k in range(g.n_axes)])
+    length = g.length
+    program_builder_free(&build)
+    return length, points
