@@ -10,7 +10,9 @@
 #             the next part's backward limit.
 # The backward limits are recomputed only when the window's end moves (an
 # unlimited window: once), and only back to the first that does not change: at most
-# O(parts x window), O(parts) where the junctions' limits bind.
+# O(parts x window), O(parts) where the junctions' limits bind. The sweep may start
+# and end at a part where the machine stands (plan_range): two ranges plan at once
+# (pipeline.pyx) and give the same plan.
 from libc.stdlib cimport malloc, free
 from libc.math cimport sqrt
 from libc.string cimport memcpy
