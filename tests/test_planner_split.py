@@ -46,10 +46,10 @@ def test_no_stop_no_split():
     assert timing["split"] == 0 and parts == whole
 
 
-def test_library_plans_a_large_program_beside_its_extent():
+def test_library_plans_a_large_program_beside_its_extent(fresh_core):
     """A program large enough for the library to plan it in two threads (pipeline.pyx
     PLAN_BESIDE_MIN parts, a waiting M function to split at) runs as long as the
-    harness's plan in one piece says."""
+    harness's plan in one piece says (fresh cores: the default parameters; from 0)."""
     import sf_tch
     from test_planner import total
     ph = harness_module()
@@ -63,6 +63,6 @@ def test_library_plans_a_large_program_beside_its_extent():
     parts, error, timing = ph.plan_text(text, None, 0, 0, True, len(lines) * 3 // 8)
     assert error is None and timing["split"] > 0
     expected = total(ph.plan_text(text, None, 0, 0)[0])
-    with sf_tch.compile(text, look_ahead=0) as program:
+    with sf_tch.compile(text, look_ahead=0, start=[0.0] * 10) as program:
         program.simulate()
         assert program.run_time == pytest.approx(expected, rel=1e-12)
