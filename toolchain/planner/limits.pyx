@@ -87,8 +87,8 @@ ctypedef struct PlanCursor:     # the settings of each part, parts visited in or
     const Program *prog
     PlanRegion cur
     size_t region           # next region to apply
-    size_t programmed       # programmed parts before next_part (counted while regions remain)
-    size_t next_part        # parts before it are counted
+    size_t programmed       # programmed parts before next_part
+    size_t next_part        # the parts before it are counted (only while a region remains to apply)
     bint axes_limited       # some axis limit of cur is on
     double cos_start        # cosine of cur.startAngle (2 when every angle slows down)
 
