@@ -20,6 +20,31 @@ def default_params():
     return (<char *>&p)[:sizeof(GCODE_PARAMETERS)]
 
 
+cdef CompileInput *_input_for(bytes src, params, int32_t *cancel) except NULL:
+    """A CompileInput (calloc; the caller frees it) for the text `src` with
+    GCODE_PARAMETERS `params` (bytes, else the defaults)."""
+    cdef CompileInput *inp
+    cdef bytes pb
+    if params is not None and len(bytes(params)) != sizeof(GCODE_PARAMETERS):
+        raise ValueError("params: wrong size")
+    inp = <CompileInput *>calloc(1, sizeof(CompileInput))
+    if inp == NULL:
+        raise MemoryError()
+    if params is None:
+        default_gcode_parameters(&inp.params)
+    else:
+        pb = bytes(params)
+        memcpy(&inp.params, <const char *>pb, sizeof(GCODE_PARAMETERS))
+    inp.text = src
+    inp.length = len(src)
+    inp.file_idx = 0
+    inp.prefix_idx = -1
+    inp.postfix_idx = -1
+    inp.plc = TGM_Data
+    inp.cancel = cancel
+    return inp
+
+
 def plan_text(text, params=None, long long window=0, unsigned int enhanced=0, bint detail=True,
               long long split_near=-1):
     """Compiles `text` (str) with GCODE_PARAMETERS `params` (bytes, else the defaults),
@@ -31,36 +56,20 @@ def plan_text(text, params=None, long long window=0, unsigned int enhanced=0, bi
     wall seconds of the extent alone ("extent") and of the extent with the plan beside
     it ("beside"); split_near < -1: the same wall times with the plan in one piece
     before the extent, in this thread (as the library plans small programs)."""
-    cdef CompileInput *inp = <CompileInput *>calloc(1, sizeof(CompileInput))
+    cdef int32_t cancel = 0
+    cdef bytes src = text.encode("latin-1")
+    cdef CompileInput *inp = _input_for(src, params, &cancel)
     cdef ProgramBuilder build
     cdef Program *prog = &build.prog
     cdef ErrorInfo err
     cdef int rc
-    cdef int32_t cancel = 0
     cdef size_t k
     cdef timespec t0, t1, t2
     cdef GCODE_INFO extent
     cdef size_t split = 0
     cdef double run_time = 0.0
-    cdef bytes src = text.encode("latin-1")
-    cdef bytes pb
     program_builder_init(&build)
     memset(&err, 0, sizeof(err))
-    if params is None:
-        default_gcode_parameters(&inp.params)
-    else:
-        pb = bytes(params)
-        if len(pb) != sizeof(GCODE_PARAMETERS):
-            free(inp)
-            raise ValueError("params: wrong size")
-        memcpy(&inp.params, <const char *>pb, sizeof(GCODE_PARAMETERS))
-    inp.text = src
-    inp.length = len(src)
-    inp.file_idx = 0
-    inp.prefix_idx = -1
-    inp.postfix_idx = -1
-    inp.plc = TGM_Data
-    inp.cancel = &cancel
     inp.plan_window = window
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t0)
     rc = compile_program(inp, &build, &err)
@@ -140,27 +149,15 @@ def segment_points(text, size_t part, distances, params=None):
     """Compiles `text` (absolute coordinates unless params say otherwise) and returns
     (length, [point (10 axes) at each path length of `distances`]) of motion part
     `part` (planner/segment.pyx segment_of_part, segment_point_at)."""
-    cdef CompileInput *inp = <CompileInput *>calloc(1, sizeof(CompileInput))
+    cdef int32_t cancel = 0
+    cdef bytes src = text.encode("latin-1")
+    cdef CompileInput *inp = _input_for(src, params, &cancel)
     cdef ProgramBuilder build
     cdef ErrorInfo err
-    cdef int32_t cancel = 0
     cdef Segment g
     cdef double out[10]
-    cdef bytes src = text.encode("latin-1")
-    cdef bytes pb
     program_builder_init(&build)
     memset(&err, 0, sizeof(err))
-    if params is None:
-        default_gcode_parameters(&inp.params)
-    else:
-        pb = bytes(params)
-        memcpy(&inp.params, <const char *>pb, sizeof(GCODE_PARAMETERS))
-    inp.text = src
-    inp.length = len(src)
-    inp.prefix_idx = -1
-    inp.postfix_idx = -1
-    inp.plc = TGM_Data
-    inp.cancel = &cancel
     rc = compile_program(inp, &build, &err)
     free(inp)
     if rc != COMPILE_OK or part >= build.prog.n_parts:
