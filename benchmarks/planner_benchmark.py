@@ -14,7 +14,10 @@ to compile and plan, here with -O3 like the library) and
    --lines lines) --runs times in this process and prints the best compile time
    (compiler + G167 arcs), the best planning time (CPU time of the thread), their
    ratio, and the plan's memory per part: the default window, the same with the
-   angle slow-down on (tangents at every junction), an unlimited window.
+   angle slow-down on (tangents at every junction), an unlimited window;
+3. plans it as the library does, in two ranges with one in a thread of its own beside
+   the extent (pipeline.pyx plan_in_two), and prints the wall time of the extent alone
+   and with the plan beside it: what planning adds to the compile.
 """
 import argparse
 import math
@@ -81,6 +84,20 @@ def main() -> None:
               f"(+{100 * min(plan_s) / min(compile_s):.1f} %), median {sorted(plan_s)[len(plan_s) // 2] * 1e3:.0f} ms; "
               f"plan {summary['plan_bytes'] / summary['n_parts']:.0f} bytes/part; "
               f"run time {summary['run_time']:.1f} s")
+    # as the library plans it: in two ranges, one in a thread beside the extent (pipeline.pyx)
+    compile_s, extent_s, beside_s = [], [], []
+    for _ in range(args.runs):
+        summary, error, timing = ph.plan_text(text, bytes(relative), 0, 0, False, summary["n_parts"] // 8 * 3)
+        assert error is None, error
+        compile_s.append(timing["compile"])
+        extent_s.append(timing["extent"])
+        beside_s.append(timing["beside"])
+    added = [b - e for b, e in zip(beside_s, extent_s)]
+    print(f"{args.lines} lines, window 8 (vendor), planned beside the extent (split at part {timing['split']}): "
+          f"the extent alone best {min(extent_s) * 1e3:.0f} ms, with the plan beside it best "
+          f"{min(beside_s) * 1e3:.0f} ms (median {sorted(beside_s)[len(beside_s) // 2] * 1e3:.0f} ms): "
+          f"planning adds {sorted(added)[len(added) // 2] * 1e3:.0f} ms (median; "
+          f"+{100 * sorted(added)[len(added) // 2] / min(compile_s):.1f} % of the best compile)")
 
 
 if __name__ == "__main__":

@@ -455,14 +455,13 @@ cdef int _compile_job(Core *core, Job *job, ProgramBuilder *build, GCODE_INFO *e
     result = _compile_and_compensate(core, inp, build, err)
     if result == COMPILE_OK:
         result = insert_arcs(build, &inp.params, err)
-    if result == COMPILE_OK and plan_program(build, &inp.params, machine_bits, inp.plan_window) != COMPILE_OK:
+    if result == COMPILE_OK and plan_beside_extent(build, &inp.params, machine_bits, inp.plan_window,
+                                                   extent) != COMPILE_OK:
         result = COMPILE_ERROR
         set_error(err, ERR_OUT_OF_MEMORY, job.files[0], 0, NULL, 0)
     if result == COMPILE_OK and TC_ATOMIC_LOAD(&core.cancel):
         result = COMPILE_CANCELLED          # ended while it finished: nothing is published
-    if result == COMPILE_OK:
-        program_extent(&build.prog, extent)
-    elif result == COMPILE_CANCELLED:
+    if result == COMPILE_CANCELLED:
         set_error(err, ERR_CANCELLED, job.files[0], 0, NULL, 0)
     free(inp)
     return result

@@ -488,7 +488,8 @@ cdef public int32_t ToolChainCore_GetPos(uint32_t intIdx, int32_t reserved, SIMP
     if enh != NULL:
         enh[0] = view.enh
         enh.m_statusCNC = core_status(core)
-        enh.m_relFeed = TC_ATOMIC_LOAD_D(&core.rel_feed)
+        if not machine_moving(enh.m_statusCNC):     # the machine's own: the override of the moment
+            enh.m_relFeed = TC_ATOMIC_LOAD_D(&core.rel_feed)
     return TOOL_CHAIN_SUCCESS
 
 

@@ -146,3 +146,74 @@ cdef void follow_abandon(Follow *F) noexcept nogil:
     pthread_mutex_unlock(&F.lock)
     pthread_join(F.thread, NULL)
     F.started = False
+
+
+# The finished program's plan (planner/) and its extent (extent.pyx) side by side:
+# both only read the parts. A thread of its own plans the program from a part where
+# the machine stands (plan_split_at) on, while this thread measures the extent and
+# then plans the parts before that part; the plan is the same as in one piece. The
+# split is taken near 3/8 of the parts: the extent's pass costs about a quarter of the
+# planner's per part, so both threads end about together. Small programs, and
+# programs whose plan inserts M functions (mFuncInsertTable), plan in one piece in
+# this thread, as does everything when no thread can be had.
+cdef enum:
+    PLAN_BESIDE_MIN = 4096      # parts: fewer are not worth a thread
+
+
+ctypedef struct PlanJob:
+    Program *prog
+    const GCODE_PARAMETERS *params
+    uint32_t enhanced
+    int64_t window
+    size_t first
+    int result
+
+
+cdef void *_plan_body(void *arg) noexcept nogil:
+    cdef PlanJob *job = <PlanJob *>arg
+    job.result = plan_range(job.prog, job.params, job.enhanced, job.window, job.first, job.prog.n_parts)
+    return NULL
+
+
+cdef int plan_beside_extent(ProgramBuilder *build, const GCODE_PARAMETERS *params, uint32_t enhanced,
+                            int64_t window, GCODE_INFO *extent) noexcept nogil:
+    """plan_program's result; the extent is measured either way (after the plan's
+    insertions when it makes some)."""
+    cdef Program *prog = &build.prog
+    cdef int result
+    if prog.n_parts < PLAN_BESIDE_MIN or mfunc_insert_wanted(params):
+        result = plan_program(build, params, enhanced, window)
+        program_extent(prog, extent)
+        return result
+    return plan_in_two(prog, params, enhanced, window, plan_split_at(prog, prog.n_parts / 8 * 3), extent)
+
+
+cdef int plan_in_two(Program *prog, const GCODE_PARAMETERS *params, uint32_t enhanced, int64_t window,
+                     size_t split, GCODE_INFO *extent) noexcept nogil:
+    """Parts [split, n) planned in a thread of its own (all of them when split is 0)
+    while this one measures the extent and plans [0, split). COMPILE_OK, or
+    COMPILE_ERROR when out of memory (no plan)."""
+    cdef PlanJob job
+    cdef pthread_t thread
+    cdef bint started
+    cdef int result
+    if not plan_alloc(prog):
+        program_extent(prog, extent)
+        return COMPILE_ERROR
+    job.prog = prog
+    job.params = params
+    job.enhanced = enhanced
+    job.window = window
+    job.first = split
+    job.result = COMPILE_ERROR
+    started = pthread_create(&thread, NULL, _plan_body, &job) == 0
+    program_extent(prog, extent)
+    result = plan_range(prog, params, enhanced, window, 0, split)
+    if started:
+        pthread_join(thread, NULL)
+    else:
+        _plan_body(&job)
+    if result != COMPILE_OK or job.result != COMPILE_OK:
+        plan_drop(prog)
+        return COMPILE_ERROR
+    return COMPILE_OK

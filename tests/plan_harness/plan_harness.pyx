@@ -10,6 +10,7 @@ from posix.time cimport clock_gettime, timespec
 
 cdef extern from "<time.h>" nogil:
     enum: CLOCK_THREAD_CPUTIME_ID
+    enum: CLOCK_MONOTONIC
 
 
 def default_params():
@@ -19,31 +20,20 @@ def default_params():
     return (<char *>&p)[:sizeof(GCODE_PARAMETERS)]
 
 
-def plan_text(text, params=None, long long window=0, unsigned int enhanced=0, bint detail=True):
-    """Compiles `text` (str) with GCODE_PARAMETERS `params` (bytes, else the defaults),
-    inserts the G167 arcs, plans. Returns (parts, error, timing): parts: dicts kind,
-    func, line, length, v_in, v_peak, v_out, time (detail), else one dict n_parts,
-    run_time, plan_bytes, regions (planning regions); timing: CPU seconds of the compile (with the arcs) and of the planning."""
-    cdef CompileInput *inp = <CompileInput *>calloc(1, sizeof(CompileInput))
-    cdef ProgramBuilder build
-    cdef Program *prog = &build.prog
-    cdef ErrorInfo err
-    cdef int rc
-    cdef int32_t cancel = 0
-    cdef size_t k
-    cdef timespec t0, t1, t2
-    cdef double run_time = 0.0
-    cdef bytes src = text.encode("latin-1")
+cdef CompileInput *_input_for(bytes src, params, int32_t *cancel) except NULL:
+    """A CompileInput (calloc; the caller frees it) for the text `src` with
+    GCODE_PARAMETERS `params` (bytes, else the defaults)."""
+    cdef CompileInput *inp
     cdef bytes pb
-    program_builder_init(&build)
-    memset(&err, 0, sizeof(err))
+    if params is not None and len(bytes(params)) != sizeof(GCODE_PARAMETERS):
+        raise ValueError("params: wrong size")
+    inp = <CompileInput *>calloc(1, sizeof(CompileInput))
+    if inp == NULL:
+        raise MemoryError()
     if params is None:
         default_gcode_parameters(&inp.params)
     else:
         pb = bytes(params)
-        if len(pb) != sizeof(GCODE_PARAMETERS):
-            free(inp)
-            raise ValueError("params: wrong size")
         memcpy(&inp.params, <const char *>pb, sizeof(GCODE_PARAMETERS))
     inp.text = src
     inp.length = len(src)
@@ -51,7 +41,35 @@ def plan_text(text, params=None, long long window=0, unsigned int enhanced=0, bi
     inp.prefix_idx = -1
     inp.postfix_idx = -1
     inp.plc = TGM_Data
-    inp.cancel = &cancel
+    inp.cancel = cancel
+    return inp
+
+
+def plan_text(text, params=None, long long window=0, unsigned int enhanced=0, bint detail=True,
+              long long split_near=-1):
+    """Compiles `text` (str) with GCODE_PARAMETERS `params` (bytes, else the defaults),
+    inserts the G167 arcs, plans. Returns (parts, error, timing): parts: dicts kind,
+    func, line, length, v_in, v_peak, v_out, time (detail), else one dict n_parts,
+    run_time, plan_bytes, regions (planning regions); timing: CPU seconds of the compile (with the arcs) and of the planning.
+    split_near >= 0: planned in two threads as the library does beside the extent
+    (pipeline.pyx plan_in_two), split at plan_split_at(split_near); timing["split"], and
+    wall seconds of the extent alone ("extent") and of the extent with the plan beside
+    it ("beside"); split_near < -1: the same wall times with the plan in one piece
+    before the extent, in this thread (as the library plans small programs)."""
+    cdef int32_t cancel = 0
+    cdef bytes src = text.encode("latin-1")
+    cdef CompileInput *inp = _input_for(src, params, &cancel)
+    cdef ProgramBuilder build
+    cdef Program *prog = &build.prog
+    cdef ErrorInfo err
+    cdef int rc
+    cdef size_t k
+    cdef timespec t0, t1, t2
+    cdef GCODE_INFO extent
+    cdef size_t split = 0
+    cdef double run_time = 0.0
+    program_builder_init(&build)
+    memset(&err, 0, sizeof(err))
     inp.plan_window = window
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t0)
     rc = compile_program(inp, &build, &err)
@@ -60,7 +78,27 @@ def plan_text(text, params=None, long long window=0, unsigned int enhanced=0, bi
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t1)
     timing = dict(compile=(t1.tv_sec - t0.tv_sec) + 1e-9 * (t1.tv_nsec - t0.tv_nsec), plan=0.0)
     if rc == COMPILE_OK:
-        rc = plan_program(&build, &inp.params, enhanced, window)
+        if split_near == -1:
+            rc = plan_program(&build, &inp.params, enhanced, window)
+        elif split_near < -1:                # one piece, then the extent, wall times as below
+            clock_gettime(CLOCK_MONOTONIC, &t1)
+            program_extent(prog, &extent)
+            clock_gettime(CLOCK_MONOTONIC, &t2)
+            timing["extent"] = (t2.tv_sec - t1.tv_sec) + 1e-9 * (t2.tv_nsec - t1.tv_nsec)
+            rc = plan_program(&build, &inp.params, enhanced, window)
+            program_extent(prog, &extent)
+            clock_gettime(CLOCK_MONOTONIC, &t1)
+            timing["beside"] = (t1.tv_sec - t2.tv_sec) + 1e-9 * (t1.tv_nsec - t2.tv_nsec)
+        else:                           # wall times: the extent alone, then with the plan beside it
+            clock_gettime(CLOCK_MONOTONIC, &t1)
+            program_extent(prog, &extent)
+            clock_gettime(CLOCK_MONOTONIC, &t2)
+            timing["extent"] = (t2.tv_sec - t1.tv_sec) + 1e-9 * (t2.tv_nsec - t1.tv_nsec)
+            split = plan_split_at(prog, <size_t>split_near)
+            rc = plan_in_two(prog, &inp.params, enhanced, window, split, &extent)
+            clock_gettime(CLOCK_MONOTONIC, &t1)
+            timing["beside"] = (t1.tv_sec - t2.tv_sec) + 1e-9 * (t1.tv_nsec - t2.tv_nsec)
+            timing["split"] = split
         clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t2)
         timing["plan"] = (t2.tv_sec - t1.tv_sec) + 1e-9 * (t2.tv_nsec - t1.tv_nsec)
     out = []
@@ -105,3 +143,33 @@ def arc_factor(table, double radius, int state=-1):
         p.arcFeedTable[i].m_r = r
         p.arcFeedTable[i].m_relFeed = f
     return arc_feed_factor(&p, state, radius)
+
+
+def segment_points(text, size_t part, distances, params=None):
+    """Compiles `text` (absolute coordinates unless params say otherwise) and returns
+    (length, [point (10 axes) at each path length of `distances`]) of motion part
+    `part` (planner/segment.pyx segment_of_part, segment_point_at)."""
+    cdef int32_t cancel = 0
+    cdef bytes src = text.encode("latin-1")
+    cdef CompileInput *inp = _input_for(src, params, &cancel)
+    cdef ProgramBuilder build
+    cdef ErrorInfo err
+    cdef Segment g
+    cdef double out[10]
+    program_builder_init(&build)
+    memset(&err, 0, sizeof(err))
+    rc = compile_program(inp, &build, &err)
+    free(inp)
+    if rc != COMPILE_OK or part >= build.prog.n_parts:
+        program_builder_free(&build)
+        raise ValueError(err.text.decode("latin-1") or "no such part")
+    segment_of_part(&build.prog, part, &g)
+    points = []
+    for s in distances:
+        for k in range(10):
+            out[k] = 0.0
+        segment_point_at(&g, s, out)
+        points.append([out[k] for k in range(g.n_axes)])
+    length = g.length
+    program_builder_free(&build)
+    return length, points

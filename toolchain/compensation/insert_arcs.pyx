@@ -56,18 +56,15 @@ cdef inline void _ia_point(const Part *p, int a, int b, double *out) noexcept no
 cdef bint _ia_in_plane_line(const Program *prog, size_t k, int a, int b) noexcept nogil:
     """Part k is a G1 that moves only in the plane (a, b), by more than nothing."""
     cdef const Part *p = &prog.parts[k]
-    cdef double s[10]
-    cdef double e[10]
+    cdef Segment g
     cdef int i
     if p.kind != PART_MOTION or p.func != 1:
         return False
-    part_calc_start(prog, k, s)
-    part_end(prog, p, e)
-    e[0] = p.ce[0]; e[1] = p.ce[1]; e[2] = p.ce[2]
-    for i in range(10):
-        if i != a and i != b and fabs(e[i] - s[i]) > 1e-9:
+    segment_of_part(prog, k, &g)        # planner/segment.pyx
+    for i in range(g.n_axes):
+        if i != a and i != b and fabs(g.end[i] - g.start[i]) > 1e-9:
             return False
-    return distance2d(e[a] - s[a], e[b] - s[b]) > 1e-9
+    return distance2d(g.end[a] - g.start[a], g.end[b] - g.start[b]) > 1e-9
 
 
 cdef int insert_arcs(ProgramBuilder *build, const GCODE_PARAMETERS *params, ErrorInfo *err) noexcept nogil:

@@ -23,7 +23,7 @@
 # does not apply), vertex arcs and far side lines become inserted parts, elements
 # without a piece are removed (warning 600 on their lines).
 from libc.stdlib cimport malloc, realloc, free, qsort
-from libc.math cimport fabs, sin, cos, atan2, sqrt, M_PI
+from libc.math cimport fabs, sin, atan2, M_PI
 
 ctypedef struct RSplit:
     size_t piece
@@ -60,7 +60,7 @@ cdef inline double _r_len(const XPiece *q) noexcept nogil:
 
 cdef void _r_point(const XPiece *q, double t, double *out) noexcept nogil:
     """The point at distance t along piece q."""
-    cdef double L, a
+    cdef double L
     if q.kind == EL_LINE:
         L = distance2d(q.e[0] - q.s[0], q.e[1] - q.s[1])
         if L <= 0:
@@ -69,9 +69,7 @@ cdef void _r_point(const XPiece *q, double t, double *out) noexcept nogil:
         out[0] = q.s[0] + (q.e[0] - q.s[0]) * t / L
         out[1] = q.s[1] + (q.e[1] - q.s[1]) * t / L
         return
-    a = atan2(q.s[1] - q.c[1], q.s[0] - q.c[0]) + q.dir * t / q.r
-    out[0] = q.c[0] + q.r * cos(a)
-    out[1] = q.c[1] + q.r * sin(a)
+    arc_point_at(q.c, q.r, q.s[0], q.s[1], q.dir * t / q.r, out)     # planner/segment.pyx
 
 
 ctypedef struct Regions:

@@ -56,6 +56,12 @@ ctypedef struct Machine:
     size_t ev_first, ev_n
 
 
+cdef inline bint machine_moving(int32_t status) noexcept nogil:
+    """The offline machine moves in this status (its thread publishes GetPos)."""
+    return (30 <= status <= 33 or status == CNC_STATUS_CONNECT_CALCULATING
+            or status == CNC_STATUS_CONNECT_MOVING or status == CNC_STATUS_MANUAL_MOVE)
+
+
 cdef Machine *machine_of(Core *core) noexcept nogil:
     """The core's machine, made on first use (with core.lock held)."""
     cdef Machine *m = <Machine *>core.offline
@@ -399,6 +405,10 @@ cdef void *_pacer_body(void *arg) noexcept nogil:
             budget -= dt
             if events & ME_HALT:
                 halted = True
+                break
+            if mo.state == MS_WAIT_M:       # it stands until the host confirms: no steps to run
+                _hand_over(m, True)
+                budget = 0.0
                 break
             if TC_ATOMIC_LOAD(&core.stop):
                 motion_stop(mo)

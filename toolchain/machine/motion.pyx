@@ -311,6 +311,7 @@ cdef void motion_reset(Motion *m, const double *position) noexcept nogil:
     m.stopping = False
     m.ovr = 1.0
     m.ovr_target = 1.0
+    m.cut_len = m.rapid_len = m.run_time = 0.0
     for k in range(10):
         m.position[k] = position[k]
 

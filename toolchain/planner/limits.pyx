@@ -87,8 +87,8 @@ ctypedef struct PlanCursor:     # the settings of each part, parts visited in or
     const Program *prog
     PlanRegion cur
     size_t region           # next region to apply
-    size_t programmed       # programmed parts before the next part
-    size_t next_part
+    size_t programmed       # programmed parts before next_part
+    size_t next_part        # the parts before it are counted (only while a region remains to apply)
     bint axes_limited       # some axis limit of cur is on
     double cos_start        # cosine of cur.startAngle (2 when every angle slows down)
 
@@ -106,6 +106,8 @@ cdef void cursor_init(PlanCursor *c, const Program *prog, const GCODE_PARAMETERS
 cdef const PlanRegion *cursor_settings(PlanCursor *c, size_t part) noexcept nogil:
     """The settings part `part` runs with; parts in increasing order."""
     cdef const Program *prog = c.prog
+    if c.region == prog.n_plan_regions:    # nothing left to apply: no need to count
+        return &c.cur
     while c.next_part <= part:
         if not (prog.parts[c.next_part].flags & FLAG_INSERTED):
             while c.region < prog.n_plan_regions and prog.plan_regions[c.region].first <= c.programmed:

@@ -10,13 +10,17 @@
 #             the next part's backward limit.
 # The backward limits are recomputed only when the window's end moves (an
 # unlimited window: once), and only back to the first that does not change: at most
-# O(parts x window), O(parts) where the junctions' limits bind.
+# O(parts x window), O(parts) where the junctions' limits bind. The sweep may start
+# and end at a part where the machine stands (plan_range): two ranges plan at once
+# (pipeline.pyx) and give the same plan.
 from libc.stdlib cimport malloc, free
 from libc.math cimport sqrt
+from libc.string cimport memcpy
 
 cdef enum:
     VENDOR_WINDOW = 8           # the current part + 7 more
     RING_START = 256            # nodes; a deeper window grows the ring as far as it reaches
+    PLAN_SPLIT_SEARCH = 65536   # parts plan_split_at looks through
 
 
 ctypedef struct PlanNode:       # a motion part with length, as the passes see it
@@ -43,41 +47,107 @@ ctypedef struct NodeSource:     # makes the nodes, parts in order
     size_t prev_part            # the last node's part
     bint prev_tangent_known     # prev_tangent holds its end tangent
     double prev_tangent[10]
+    size_t class_region         # cursor.region the values below were taken at
+    bint plain_lines            # no axis limit, no axis ignored for the feed: a line's limits are
+                                # its feed and its motion class (part_limits' result, cheaper)
+    double class_acc[2]         # equivalent accelerations of the classes' ramps, [0] rapid, [1] cut
+    double class_dec[2]
+
+
+cdef void _take_classes(NodeSource *src, const PlanRegion *s) noexcept nogil:
+    """The values every plain line of the settings s shares (as part_limits takes them)."""
+    cdef const GCODE_FEED *cls
+    cdef int32_t ramp
+    cdef int c
+    src.class_region = src.cursor.region
+    src.plain_lines = (not src.cursor.axes_limited
+                       and (s.ignore_feed | ((src.enhanced >> ENH_FEED_SHIFT) & AXIS_MASK)) == 0)
+    for c in range(2):
+        cls = &s.motion[c]
+        ramp = RAMP_SINE if cls.rampType == RAMP_SINE else RAMP_TRAPEZOID
+        src.class_acc[c] = ramp_equivalent_acc(cls.acc if 0.0 < cls.acc < 1e12 else 1e12, ramp)
+        src.class_dec[c] = ramp_equivalent_acc(cls.dec if 0.0 < cls.dec < 1e12 else 1e12, ramp)
+
+
+cdef bint _general_node(NodeSource *src, size_t k, const PlanRegion *s, bint want_tangent,
+                        PlanNode *node, double *t_start, double *t_end) noexcept nogil:
+    """Length and limits of a motion part that is not a plain line (segment_of_part,
+    part_limits), its end tangents when want_tangent; False when it has no length."""
+    cdef Segment g
+    cdef PartLimits lim
+    segment_of_part(src.prog, k, &g)
+    if g.length <= 1e-9:
+        return False
+    part_limits(&g, &src.prog.parts[k], src.params, s, src.cursor.axes_limited, src.enhanced, &lim)
+    node.length = g.length
+    node.vmax = lim.vmax
+    node.acc = ramp_equivalent_acc(lim.acc, lim.ramp)
+    node.dec = ramp_equivalent_acc(lim.dec, lim.ramp)
+    if want_tangent:
+        segment_tangent(&g, 0.0, t_start)
+        segment_tangent(&g, 1.0, t_end)
+    return True
+
+
+cdef void _end_tangent(const Program *prog, size_t k, double *t) noexcept nogil:
+    cdef Segment g
+    segment_of_part(prog, k, &g)
+    segment_tangent(&g, 1.0, t)
 
 
 cdef bint _next_node(NodeSource *src, PlanNode *node) noexcept nogil:
     """Reads part `scan`; True when it is a node (filled in)."""
     cdef size_t k = src.scan
     cdef const Part *p = &src.prog.parts[k]
+    cdef const Part *prev
     cdef const PlanRegion *s = cursor_settings(&src.cursor, k)
-    cdef Segment g, prev_g
-    cdef PartLimits lim
     cdef double t0[10]
-    cdef double jin, cosine
+    cdef double t1[10]
+    cdef double jin, cosine, vmax, d0, d1, d2, inv
+    cdef bint rapid, want_tangent, plain
+    cdef int c
     src.scan += 1
     if p.kind != PART_MOTION:
         if part_stops_motion(p):
             src.stop_pending = True
         return False
-    segment_of_part(src.prog, k, &g)
-    if g.length <= 1e-9:
-        return False                    # no motion: the speed passes through
-    part_limits(&g, p, src.params, s, src.cursor.axes_limited, src.enhanced, &lim)
+    if src.class_region != src.cursor.region:
+        _take_classes(src, s)
+    want_tangent = s.startAngle < 180.0         # below 180 some angle slows down
+    rapid = p.func == 0
+    plain = (src.plain_lines and p.func != 2 and p.func != 3 and k > 0
+             and src.prog.parts[k - 1].axes_idx == p.axes_idx)
+    if plain:                                   # a line over x y z
+        prev = &src.prog.parts[k - 1]
+        d0 = p.ce[0] - prev.ce[0]
+        d1 = p.ce[1] - prev.ce[1]
+        d2 = p.ce[2] - prev.ce[2]
+        node.length = sqrt(d0 * d0 + d1 * d1 + d2 * d2)     # segment_of_part's
+        if node.length <= 1e-9:
+            return False                        # no motion: the speed passes through
+        vmax = part_feed(p, src.params) / 60.0  # part_limits' limits of a plain line
+        node.vmax = vmax if vmax > 0.0 else 1.0 / 60.0
+        c = 0 if rapid else 1
+        node.acc = src.class_acc[c]
+        node.dec = src.class_dec[c]
+        if want_tangent:                        # segment_tangent's unit vector
+            inv = 1.0 / node.length
+            t0[0] = d0 * inv
+            t0[1] = d1 * inv
+            t0[2] = d2 * inv
+            for c in range(3, 10):
+                t0[c] = 0.0
+    elif not _general_node(src, k, s, want_tangent, node, t0, t1):
+        return False
     node.part = k
-    node.length = g.length
-    node.vmax = lim.vmax
-    node.acc = ramp_equivalent_acc(lim.acc, lim.ramp)
-    node.dec = ramp_equivalent_acc(lim.dec, lim.ramp)
-    if not src.have_prev or src.stop_pending or junction_stops(src.prev_rapid, lim.rapid, s, src.params):
+    if not src.have_prev or src.stop_pending or junction_stops(src.prev_rapid, rapid, s, src.params):
         jin = 0.0
-    elif s.startAngle >= 180.0:         # no angle is larger: the slow-down is off
-        jin = min(src.prev_vmax, lim.vmax)
+    elif not want_tangent:
+        jin = min(src.prev_vmax, node.vmax)
     else:
         if not src.prev_tangent_known:  # the slow-down came on at this junction
-            segment_of_part(src.prog, src.prev_part, &prev_g)
-            segment_tangent(&prev_g, 1.0, src.prev_tangent)
-        segment_tangent(&g, 0.0, t0)
-        jin = min(src.prev_vmax, lim.vmax)
+            _end_tangent(src.prog, src.prev_part, src.prev_tangent)
+        jin = min(src.prev_vmax, node.vmax)
         cosine = junction_cosine(src.prev_tangent, t0,
                                  s.ignore_angle | ((src.enhanced >> ENH_ANGLE_SHIFT) & AXIS_MASK))
         if not (cosine >= src.cursor.cos_start):      # beyond startAngle (acos only there)
@@ -87,12 +157,14 @@ cdef bint _next_node(NodeSource *src, PlanNode *node) noexcept nogil:
     node.brake2 = 2.0 * node.dec * node.length
     node.entry2 = -1.0                  # not computed yet
     node.barrier = node.jin2 <= node.brake2
-    src.prev_tangent_known = s.startAngle < 180.0    # the next junction likely needs it
-    if src.prev_tangent_known:
-        segment_tangent(&g, 1.0, src.prev_tangent)
+    src.prev_tangent_known = want_tangent    # the next junction likely needs it
+    if want_tangent and plain:          # a line ends as it starts
+        memcpy(src.prev_tangent, t0, sizeof(t0))
+    elif want_tangent:
+        memcpy(src.prev_tangent, t1, sizeof(t1))
     src.prev_part = k
-    src.prev_vmax = lim.vmax
-    src.prev_rapid = lim.rapid
+    src.prev_vmax = node.vmax
+    src.prev_rapid = rapid
     src.have_prev = True
     src.stop_pending = False
     return True
@@ -152,13 +224,13 @@ cdef void _plan_passing(const Program *prog, size_t first, size_t end, double v,
 
 
 cdef PlanNode *_ring_grow(PlanNode *ring, size_t cap, size_t first, size_t end) noexcept nogil:
-    """The ring of nodes [first, end) (node k at k % cap) with twice the room; NULL
-    (ring freed) when out of memory."""
+    """The ring of nodes [first, end) (node k at k & (cap - 1), cap a power of two)
+    with twice the room; NULL (ring freed) when out of memory."""
     cdef PlanNode *grown = <PlanNode *>malloc(2 * cap * sizeof(PlanNode))
     cdef size_t k
     if grown != NULL:
         for k in range(first, end):
-            grown[k % (2 * cap)] = ring[k % cap]
+            grown[k & (2 * cap - 1)] = ring[k & (cap - 1)]
     free(ring)
     return grown
 
@@ -179,8 +251,53 @@ cdef int plan_program(ProgramBuilder *build, const GCODE_PARAMETERS *params, uin
 
 cdef int _plan_once(Program *prog, const GCODE_PARAMETERS *params, uint32_t enhanced,
                     int64_t window) noexcept nogil:
-    cdef size_t n = prog.n_parts, depth, cap, i = 0, made = 0, planned_made = 0, filled = 0
-    cdef PartPlan *plan
+    if not plan_alloc(prog):
+        return COMPILE_ERROR
+    if plan_range(prog, params, enhanced, window, 0, prog.n_parts) != COMPILE_OK:
+        plan_drop(prog)
+        return COMPILE_ERROR
+    return COMPILE_OK
+
+
+cdef bint plan_alloc(Program *prog) noexcept nogil:
+    """A new, unfilled plan for every part in prog.plan (the old one freed);
+    False when out of memory."""
+    free(prog.plan)
+    prog.plan = NULL
+    if prog.n_parts == 0:
+        return True
+    prog.plan = <PartPlan *>malloc(prog.n_parts * sizeof(PartPlan))
+    return prog.plan != NULL
+
+
+cdef void plan_drop(Program *prog) noexcept nogil:
+    free(prog.plan)
+    prog.plan = NULL
+
+
+cdef size_t plan_split_at(const Program *prog, size_t near) noexcept nogil:
+    """A part at or after `near` (within PLAN_SPLIT_SEARCH parts) where the machine
+    stands, so that the parts before it and from it on plan alone (plan_range); 0
+    when there is none."""
+    cdef size_t k, last = near + PLAN_SPLIT_SEARCH
+    if last > prog.n_parts:
+        last = prog.n_parts
+    for k in range(near if near > 0 else 1, last):
+        if prog.parts[k].kind != PART_MOTION and part_stops_motion(&prog.parts[k]):
+            return k
+    return 0
+
+
+cdef int plan_range(const Program *prog, const GCODE_PARAMETERS *params, uint32_t enhanced,
+                    int64_t window, size_t first, size_t end) noexcept nogil:
+    """Plans parts [first, end) into prog.plan (plan_alloc): the whole program, or the
+    parts before or from a part plan_split_at gave. The machine stands at such a part
+    (every motion before it ends at rest, the next one starts from rest), so the window
+    may end there: the plan is the same as the whole program's. Two ranges may be
+    planned at once. COMPILE_OK, or COMPILE_ERROR when out of memory."""
+    cdef size_t n = prog.n_parts, depth, cap = 1, i = 0, made = 0, planned_made = 0, filled = first
+    cdef size_t mask, window_end
+    cdef PartPlan *plan = prog.plan
     cdef PlanNode *ring
     cdef PlanNode *nd
     cdef PlanNode *nj
@@ -188,9 +305,7 @@ cdef int _plan_once(Program *prog, const GCODE_PARAMETERS *params, uint32_t enha
     cdef Reciprocals recip
     cdef double v_prev = 0.0, v2
     cdef size_t j
-    free(prog.plan)
-    prog.plan = NULL
-    if n == 0:
+    if end <= first:
         return COMPILE_OK
     if window == 0:
         depth = VENDOR_WINDOW
@@ -198,45 +313,49 @@ cdef int _plan_once(Program *prog, const GCODE_PARAMETERS *params, uint32_t enha
         depth = n
     else:
         depth = <size_t>window
-    cap = depth if depth < RING_START else RING_START
-    plan = <PartPlan *>malloc(n * sizeof(PartPlan))
-    ring = <PlanNode *>malloc(cap * sizeof(PlanNode))   # nodes i.. (at most depth of them), k at k % cap
-    if plan == NULL or ring == NULL:
-        free(plan)
-        free(ring)
+    while cap < depth and cap < RING_START:     # a power of two: node k at k & mask
+        cap *= 2
+    mask = cap - 1
+    ring = <PlanNode *>malloc(cap * sizeof(PlanNode))   # nodes i.. (at most depth of them)
+    if ring == NULL:
         return COMPILE_ERROR
     src.prog = prog
     src.params = params
     src.enhanced = enhanced
     cursor_init(&src.cursor, prog, params)
-    src.scan = 0
+    if first > 0:
+        cursor_settings(&src.cursor, first - 1)     # the regions before the range
+    src.scan = first
     src.have_prev = False
     src.stop_pending = False
     src.prev_rapid = False
     src.prev_vmax = 0.0
     src.prev_part = 0
     src.prev_tangent_known = False
+    _take_classes(&src, &src.cursor.cur)
     recip.acc = 0.0                     # none yet: every value differs from 0
     recip.dec = 0.0
     recip.vmax = 0.0
     while True:
-        while made <= i and src.scan < n:
-            if _next_node(&src, &ring[made % cap]):
+        while made <= i and src.scan < end:
+            if _next_node(&src, &ring[made & mask]):
                 made += 1
         if made <= i:
             break
+        nd = &ring[i & mask]
         # the window: parts up to node i's part + depth, or up to a barrier (the same limits)
-        while (src.scan < n and src.scan < ring[i % cap].part + depth
-               and not (made > i + 1 and ring[(made - 1) % cap].barrier)):
+        window_end = nd.part + depth
+        while (src.scan < end and src.scan < window_end
+               and not (made > i + 1 and ring[(made - 1) & mask].barrier)):
             if made - i == cap:
                 ring = _ring_grow(ring, cap, i, made)
                 if ring == NULL:
-                    free(plan)
                     return COMPILE_ERROR
                 cap *= 2
-            if _next_node(&src, &ring[made % cap]):
+                mask = cap - 1
+                nd = &ring[i & mask]
+            if _next_node(&src, &ring[made & mask]):
                 made += 1
-        nd = &ring[i % cap]
         if made != planned_made:        # the window's end moved: backward pass over the window
             # squared speeds; the limits only grow with the window, and where one did not
             # change, none before it does
@@ -244,20 +363,20 @@ cdef int _plan_once(Program *prog, const GCODE_PARAMETERS *params, uint32_t enha
             j = made
             while j > i + 1:
                 j -= 1
-                nj = &ring[j % cap]
+                nj = &ring[j & mask]
                 v2 = min(nj.jin2, v2 + nj.brake2)
                 if v2 == nj.entry2:
                     break
                 nj.entry2 = v2
             planned_made = made
-        _plan_passing(prog, filled, nd.part, v_prev, plan)
-        _plan_node(nd, v_prev, &ring[(i + 1) % cap] if i + 1 < made else NULL, &recip, &plan[nd.part])
+        if filled < nd.part:
+            _plan_passing(prog, filled, nd.part, v_prev, plan)
+        _plan_node(nd, v_prev, &ring[(i + 1) & mask] if i + 1 < made else NULL, &recip, &plan[nd.part])
         v_prev = plan[nd.part].v_exit
         filled = nd.part + 1
         i += 1
-    _plan_passing(prog, filled, n, v_prev, plan)
+    _plan_passing(prog, filled, end, v_prev, plan)
     free(ring)
-    prog.plan = plan
     return COMPILE_OK
 
 

@@ -31,12 +31,34 @@ cdef inline double _arc_turn(double sa, double sb, double ea, double eb, bint cc
     return d
 
 
+cdef void _segment_shape(Segment *g, double radius, double centre_a, double centre_b, bint ccw) noexcept nogil:
+    """Length of g from its start and end over n_axes; for an arc (g.arc, its plane
+    axes set) also its radius, centre (in the plane), sweep and lead."""
+    cdef double rest = 0.0, d
+    cdef int k
+    if not g.arc:
+        for k in range(g.n_axes):
+            d = g.end[k] - g.start[k]
+            rest += d * d
+        g.length = sqrt(rest)
+        return
+    g.radius = radius
+    g.centre[0] = centre_a
+    g.centre[1] = centre_b
+    g.sweep = _arc_turn(g.start[g.first] - centre_a, g.start[g.second] - centre_b,
+                        g.end[g.first] - centre_a, g.end[g.second] - centre_b, ccw)
+    for k in range(g.n_axes):
+        if k != g.first and k != g.second:
+            d = g.end[k] - g.start[k]
+            rest += d * d
+    g.lead = sqrt(rest) / fabs(g.sweep)
+    g.length = fabs(g.sweep) * sqrt(radius * radius + g.lead * g.lead)
+
+
 cdef void segment_of_part(const Program *prog, size_t i, Segment *g) noexcept nogil:
     """The geometry of motion part i (its length as part_length measures it)."""
     cdef const Part *p = &prog.parts[i]
     cdef const Part *prev
-    cdef double rest = 0.0, d
-    cdef int k
     if i > 0 and prog.parts[i - 1].axes_idx == p.axes_idx:
         prev = &prog.parts[i - 1]       # the seven other axes stand: x y z alone
         g.n_axes = 3
@@ -48,58 +70,41 @@ cdef void segment_of_part(const Program *prog, size_t i, Segment *g) noexcept no
     g.end[0] = p.ce[0]; g.end[1] = p.ce[1]; g.end[2] = p.ce[2]
     g.arc = ((p.func == 2 or p.func == 3) and p.radius > 0
              and plane_axes(p.plane, &g.first, &g.second, &g.normal))
-    if not g.arc:
-        for k in range(g.n_axes):
-            d = g.end[k] - g.start[k]
-            rest += d * d
-        g.length = sqrt(rest)
-        return
-    g.radius = p.radius
-    g.centre[0] = p.cc[g.first]
-    g.centre[1] = p.cc[g.second]
-    g.sweep = _arc_turn(g.start[g.first] - g.centre[0], g.start[g.second] - g.centre[1],
-                        g.end[g.first] - g.centre[0], g.end[g.second] - g.centre[1], p.func == 3)
-    for k in range(g.n_axes):
-        if k != g.first and k != g.second:
-            d = g.end[k] - g.start[k]
-            rest += d * d
-    g.lead = sqrt(rest) / fabs(g.sweep)
-    g.length = fabs(g.sweep) * sqrt(g.radius * g.radius + g.lead * g.lead)
+    if g.arc:
+        _segment_shape(g, p.radius, p.cc[g.first], p.cc[g.second], p.func == 3)
+    else:
+        _segment_shape(g, 0.0, 0.0, 0.0, False)
 
 
 cdef void segment_of_gm(const SIMPLE_GM_PARAMS *gm, Segment *g) noexcept nogil:
     """The geometry of a motion part as a run places it (placed_part_to_gm): ten axes
     from m_calcS to m_calcE; an arc round m_cc with the tool path's radius in m_cc.c."""
-    cdef const double *s = <const double *>&gm.m_calcS
-    cdef const double *e = <const double *>&gm.m_calcE
     cdef const double *c = <const double *>&gm.m_cc
-    cdef double rest = 0.0, d
-    cdef int k
     g.n_axes = 10
-    memcpy(g.start, s, sizeof(g.start))
-    memcpy(g.end, e, sizeof(g.end))
+    memcpy(g.start, <const double *>&gm.m_calcS, sizeof(g.start))
+    memcpy(g.end, <const double *>&gm.m_calcE, sizeof(g.end))
     g.arc = ((gm.m_func == 2 or gm.m_func == 3) and gm.m_cc.c > 0
              and plane_axes(<int16_t>(gm.m_planeTool & 0xFFFF), &g.first, &g.second, &g.normal))
-    if not g.arc:
-        g.length = segment_length(s, e)
-        return
-    g.radius = gm.m_cc.c
-    g.centre[0] = c[g.first]
-    g.centre[1] = c[g.second]
-    g.sweep = _arc_turn(s[g.first] - g.centre[0], s[g.second] - g.centre[1],
-                        e[g.first] - g.centre[0], e[g.second] - g.centre[1], gm.m_func == 3)
-    for k in range(10):
-        if k != g.first and k != g.second:
-            d = e[k] - s[k]
-            rest += d * d
-    g.lead = sqrt(rest) / fabs(g.sweep)
-    g.length = fabs(g.sweep) * sqrt(g.radius * g.radius + g.lead * g.lead)
+    if g.arc:
+        _segment_shape(g, gm.m_cc.c, c[g.first], c[g.second], gm.m_func == 3)
+    else:
+        _segment_shape(g, 0.0, 0.0, 0.0, False)
+
+
+cdef inline void arc_point_at(const double *centre, double radius, double start_a, double start_b,
+                              double turn, double *out) noexcept nogil:
+    """The point of the circle (centre, radius) `turn` radians (+ = counter-clockwise)
+    on from the point (start_a, start_b) of it, in the plane."""
+    cdef double theta = atan2(start_b - centre[1], start_a - centre[0]) + turn
+    out[0] = centre[0] + radius * cos(theta)
+    out[1] = centre[1] + radius * sin(theta)
 
 
 cdef void segment_point_at(const Segment *g, double s, double *out) noexcept nogil:
     """The point (axes [0, n_axes)) at path length s from the start, s clamped to
     [0, length]: the start and the end exactly at the two ends."""
-    cdef double u, theta
+    cdef double u
+    cdef double plane[2]
     cdef int k
     if s <= 0.0 or g.length <= 0.0:
         memcpy(out, g.start, g.n_axes * sizeof(double))
@@ -111,9 +116,22 @@ cdef void segment_point_at(const Segment *g, double s, double *out) noexcept nog
     for k in range(g.n_axes):
         out[k] = g.start[k] + (g.end[k] - g.start[k]) * u
     if g.arc:
-        theta = atan2(g.start[g.second] - g.centre[1], g.start[g.first] - g.centre[0]) + u * g.sweep
-        out[g.first] = g.centre[0] + g.radius * cos(theta)
-        out[g.second] = g.centre[1] + g.radius * sin(theta)
+        arc_point_at(g.centre, g.radius, g.start[g.first], g.start[g.second], u * g.sweep, plane)
+        out[g.first] = plane[0]
+        out[g.second] = plane[1]
+
+
+cdef inline bint _zero_still_axes(const Segment *g, double *per_axis) noexcept nogil:
+    """Zeros per_axis (ten axes) where g does not move: beyond n_axes, or all of them
+    when g has no length (True then)."""
+    cdef int k
+    if g.length <= 0.0:
+        for k in range(10):
+            per_axis[k] = 0.0
+        return True
+    for k in range(g.n_axes, 10):
+        per_axis[k] = 0.0
+    return False
 
 
 cdef void segment_tangent(const Segment *g, double u, double *t) noexcept nogil:
@@ -121,12 +139,8 @@ cdef void segment_tangent(const Segment *g, double u, double *t) noexcept nogil:
     zeros for a part without length."""
     cdef double theta, sgn, norm, turn, radial_a, radial_b, rho, inv
     cdef int k
-    if g.length <= 0.0:
-        for k in range(10):
-            t[k] = 0.0
+    if _zero_still_axes(g, t):
         return
-    for k in range(g.n_axes, 10):
-        t[k] = 0.0
     if not g.arc:
         inv = 1.0 / g.length
         for k in range(g.n_axes):
@@ -161,12 +175,8 @@ cdef void segment_axis_reach(const Segment *g, double *reach) noexcept nogil:
     share of the path speed (and tangential acceleration) axis k takes at most."""
     cdef double lo, hi, norm, turn, angle0
     cdef int k
-    if g.length <= 0.0:
-        for k in range(10):
-            reach[k] = 0.0
+    if _zero_still_axes(g, reach):
         return
-    for k in range(g.n_axes, 10):
-        reach[k] = 0.0
     if not g.arc:
         for k in range(g.n_axes):
             reach[k] = fabs(g.end[k] - g.start[k]) / g.length
