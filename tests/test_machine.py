@@ -862,10 +862,9 @@ def test_the_IsBreakpoint_callback_is_asked_per_line_and_stops_before_it(api):
     assert per_run == [[2, 3, 4], [3, 4], []]
 
 
-@pytest.mark.xfail(strict=True, reason="GetPos overwrites enh.m_relFeed with the set override "
-                   "(core.rel_feed, exports.pyx) instead of the machine's actual one")
 def test_GetPos_m_relFeed_follows_the_override_ramp(api):
-    """overrideInc 1e-5 per 100 us: 1.0 -> 0.5 takes 5 s of machine time."""
+    """overrideInc 1e-5 per 100 us: 1.0 -> 0.5 takes 5 s of machine time, and GetPos
+    shows the override of the moment, not the one set."""
     lib = api
     set_params(lib, 0, overrideInc=1e-5)
     compile_on(lib, 0, "G1 X2000 F6000\n")
@@ -1045,12 +1044,9 @@ def test_GoToPosition_moves_at_motion_5_then_stands_out_of_the_trajectory(api):
     assert lib.ToolChainCore_StatusCNC(0) == -30
 
 
-@pytest.mark.xfail(strict=True, reason="a manual move's GetPos m_cncRunTime starts from the motion's run "
-                   "time of the core's last run (machine.pyx _machine_body, RUN_MANUAL: mo.run_time is "
-                   "never set), also after DestroyCNC")
 def test_GoToPosition_run_time_is_the_moves_own_after_DestroyCNC(api):
     """After a run and DestroyCNC, a manual line of 30 mm at 20 mm/s (500 mm/s^2):
-    GetPos shows 1.5 s + 0.04 s."""
+    GetPos shows its own time, 1.5 s + 0.04 s, not the run's before it."""
     lib = api
     compile_on(lib, 0, "G1 X100 F6000\n")
     assert lib.ToolChainCore_SetTimeScale(0, 20.0) == 0
@@ -1084,13 +1080,10 @@ def test_the_largest_time_scale_runs_a_program_of_many_parts(run_python):
     assert out.split() == ["-32"]
 
 
-@pytest.mark.xfail(strict=True, reason="at a large time scale the pacer spends its whole budget (the "
-                   "elapsed time times the scale, up to the scale in seconds) in 100 us steps while the "
-                   "machine waits for an M function, and the next M function's event stays in the step's "
-                   "log until the budget is spent: at 1e6 about 7 s per waiting M function")
 def test_the_largest_time_scale_runs_waiting_m_functions_at_once(run_python):
     """Five waiting M functions between moves of 1 mm at SetTimeScale 1e6, each
-    confirmed at once by DriverMFunc: the run should end at once (5 s given)."""
+    confirmed at once by DriverMFunc: the run ends at once (5 s given; the pacer
+    does not spend its budget while the machine waits for a confirmation)."""
     import runtime_host
     out = runtime_host.run_script(run_python, """
         load_ini(lib, 0)
