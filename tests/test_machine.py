@@ -1217,3 +1217,53 @@ def test_DestroyCNC_and_ResetCNC_at_random_moments(run_python):
 @pytest.mark.slow
 def test_DestroyCNC_and_ResetCNC_at_random_moments_long(run_python):
     random_endings(run_python, 10 * SLOW_SCALE)
+
+
+def brute_force_nearest(records, p, samples=20000):
+    """The nearest point of the motion parts' tool paths to p: every part sampled
+    (arcs at `samples` points, lines projected exactly); (distance, point)."""
+    best = (math.inf, None)
+    for k, r in enumerate(records):
+        if r.kind != abi.TC_TOOLPATH_MOTION or r.length <= 0:
+            continue
+        if r.number in (0, 1):
+            a, b = tool_start(records, k), tuple(r.tool_end)
+            ab = [b[i] - a[i] for i in range(3)]
+            f = max(0.0, min(1.0, sum((p[i] - a[i]) * ab[i] for i in range(3)) / sum(c * c for c in ab)))
+            q = tuple(a[i] + f * ab[i] for i in range(3))
+            best = min(best, (math.dist(p, q), q))
+        else:
+            for i in range(samples + 1):
+                q = point_at(records, k, r.length * i / samples)
+                best = min(best, (math.dist(p, q), q))
+    return best
+
+
+@pytest.mark.xfail(strict=True, reason="ConnectCNCEx_Plane still answers 'not implemented' on main "
+                   "(exports.pyx; machine/connect.pyx waits for its search)")
+@pytest.mark.parametrize("away", [(60.0, 45.0, 0.0), (-7.0, 33.0, 2.0), (30.0, 100.0, -1.0)])
+def test_connect_type_0_goes_to_the_brute_force_nearest_point(api, away):
+    """GoTo away from the path (-50), ConnectCNCEx_Plane type 0 with the machine's
+    position: 40, 41, then -31 on the nearest point of the trajectory; a forward run
+    from there reaches the program's end."""
+    lib = api
+    compile_on(lib, 0, ARCS)
+    records = records_of(lib, 0)
+    assert lib.ToolChainCore_SetTimeScale(0, 50.0) == 0
+    assert lib.ToolChainCore_GoToPosition(0, 3, (ctypes.c_double * 3)(*away)) == 0
+    assert poll_run(lib, 0, running=(50,))[1] == -50
+    here = (ctypes.c_double * 10)(*away)
+    assert lib.ToolChainCore_ConnectCNCEx_Plane(0, 0, 3, here, None, 0, 0x3FF, 0) == 0
+    seen = set()
+    while lib.ToolChainCore_StatusCNC(0) in (40, 41):
+        seen.add(lib.ToolChainCore_StatusCNC(0))
+        time.sleep(0.0005)
+    assert lib.ToolChainCore_StatusCNC(0) == -31 and 41 in seen
+    there = xyz(get_pos(lib, 0)[0])
+    distance, nearest = brute_force_nearest(records, away)
+    assert on_path(records, there) <= EPS
+    assert math.dist(away, there) == pytest.approx(distance, abs=1e-6)
+    assert math.dist(there, nearest) <= 1e-3
+    start(lib, 0)
+    assert poll_run(lib, 0)[1] == -32
+    assert math.dist(xyz(get_pos(lib, 0)[0]), tuple(records[-1].tool_end)) <= EPS
