@@ -143,20 +143,45 @@ cdef inline uint32_t _cs_mask(uint32_t axes) noexcept nogil:
 
 cdef void connect_segment(const Program *prog, const Placement *pl, size_t i,
                           Segment *g) noexcept nogil:
-    """Geometry of motion part i as the run places it, all ten axes (segment_of_gm of
-    placed_part_to_gm; a run from the compile's start takes it from the part directly)."""
+    """Geometry of motion part i as the run places it, all ten axes: segment_of_gm of
+    placed_part_to_gm. A part whose start and end both follow the run's start in an
+    axis, or both keep their place, is only translated (placement.pyx): its geometry
+    is the part's own (segment_of_part) moved by the placement, without building the
+    API's record; only the parts where an axis starts to be named (reshaped) take the
+    record's way."""
     cdef SIMPLE_GM_PARAMS gm
+    cdef const Part *p = &prog.parts[i]
+    cdef const Part *prev = &prog.parts[i - 1] if i > 0 else NULL
+    cdef double shift[10]
+    cdef bint s_moves, e_moves
     cdef const double *other
+    cdef int k
     if pl.moved:
-        placed_part_to_gm(prog, i, pl, &gm)
-        segment_of_gm(&gm, g)
-        return
+        for k in range(10):
+            shift[k] = 0.0
+            if pl.delta[k] == 0.0:
+                continue
+            s_moves = prev == NULL or follows_start(prog, prev, k)
+            e_moves = follows_start(prog, p, k)
+            if s_moves != e_moves:
+                placed_part_to_gm(prog, i, pl, &gm)
+                segment_of_gm(&gm, g)
+                return
+            if e_moves:
+                shift[k] = pl.delta[k]
     segment_of_part(prog, i, g)
     if g.n_axes == 3:               # the seven other axes stand where the part before left them
-        other = &prog.axes[7 * prog.parts[i].axes_idx]
+        other = &prog.axes[7 * p.axes_idx]
         memcpy(&g.start[3], other, 7 * sizeof(double))
         memcpy(&g.end[3], other, 7 * sizeof(double))
         g.n_axes = 10
+    if pl.moved:
+        for k in range(10):
+            g.start[k] += shift[k]
+            g.end[k] += shift[k]
+        if g.arc:
+            g.centre[0] += shift[g.first]
+            g.centre[1] += shift[g.second]
 
 
 cdef void _cs_part_position(const Program *prog, const Placement *pl, size_t i,
