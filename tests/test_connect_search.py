@@ -321,6 +321,46 @@ def test_max_connection_distance_against_the_oracle(ch, seed):
                 check_hit(hit, geos, q, mask, oracle.nearest(q, mask, limit))
 
 
+@pytest.mark.parametrize("seed", range(3))
+def test_the_index_answers_as_every_part_does(ch, seed):
+    """connect_nearest (the index) and connect_nearest_each (every part in order)
+    evaluate a part alike: on large random programs of lines, arcs and helices their
+    answers are the same to the last bit, for every mask, limit and range."""
+    rng = np.random.default_rng(20 + seed)
+    text, geo_list = random_program(rng, 1500)
+    c = ch.compile(text)
+    geos = motion_geometry(c, geo_list)
+    n = c.n_parts
+    for mask in MASKS:
+        assert c.build_index(mask)[0] == FOUND
+        for q in queries(rng, geos, 6):
+            for limit, first, end in ((0.0, 0, n), (2.0, 0, n), (0.0, n // 3, n // 2)):
+                by_index = c.nearest(q, limit, first, end)
+                assert by_index == c.nearest_each(q, mask, limit, first, end)
+                assert by_index[0] == FOUND
+
+
+def test_a_hook_sees_every_candidate_and_may_change_it(ch):
+    """The harness's hook: part 1 (G1 Z0) to distance 0 and x = -1; every other part
+    1 mm farther, used on even parts only."""
+    c = ch.compile(LOOKUP)
+    q = [40.0, 0.0] + [0.0] * 8
+    rc, plain, _ = c.nearest_each(q, 0x3)
+    assert plain["part"] != 1 and plain["distance"] == pytest.approx(0.0)
+    rc, hooked, _ = c.nearest_each(q, 0x3, hook=True)
+    assert (hooked["part"], hooked["distance"], hooked["point"][0]) == (1, 0.0, -1.0)
+    rc, hooked, _ = c.nearest_each(q, 0x3, 0.0, 2, c.n_parts, hook=True)   # without part 1
+    by_part = {}
+    for i, p in enumerate(c.parts()):
+        if p["kind"] == 1 and i >= 2:
+            d = c.nearest_each(q, 0x3, 0.0, i, i + 1)[1]["distance"]
+            by_part[i] = d + 1.0 if i % 2 == 0 else d       # odd: the change is not used
+    assert hooked["distance"] == pytest.approx(min(by_part.values()))
+    assert hooked["part"] == min(by_part, key=lambda i: (by_part[i], i))
+    assert c.nearest_each(q, 0x400)[0] == BAD_ARGUMENT
+    assert c.nearest_each(q, 0x3, 0.0, 2, 3)[0] == NOT_FOUND          # an M function only
+
+
 def test_a_part_range_restricts_the_search(ch):
     rng = np.random.default_rng(3)
     text, geo_list = random_program(rng, 60)

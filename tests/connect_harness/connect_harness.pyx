@@ -132,6 +132,19 @@ cdef class Compiled:
         rc = connect_nearest(&self.ix, q, max_distance, first, end, &hit, &err)
         return _result(rc, &hit, &err)
 
+    def nearest_each(self, point, unsigned int axes, double max_distance=0.0, size_t first=0,
+                     size_t end=<size_t>-1, bint hook=False):
+        """(result, hit, error) of connect_nearest_each; hook: one that moves every
+        part's candidate 1 mm farther, but part 1's to 0."""
+        cdef double q[10]
+        cdef ConnectHit hit
+        cdef ErrorInfo err
+        cdef connect_part_fn fn = _test_hook if hook else <connect_part_fn>NULL
+        _fill(q, point, 10)
+        return _result(connect_nearest_each(&self.build.prog, &self.pl, axes, q, max_distance, first,
+                                            end, fn, NULL, &hit, &err),
+                       &hit, &err)
+
     def nearest_seconds(self, points, double max_distance=0.0):
         """(wall, CPU) seconds of connect_nearest for each point of `points` (rows of
         ten): the wall time includes the thread's preemption, the CPU time not."""
@@ -192,6 +205,15 @@ cdef class Compiled:
         _fill(c, coords, 16)
         return _result(connect_exact_point(&self.build.prog, &self.pl, c, len(coords), axes,
                                            tolerance, &hit, &err), &hit, &err)
+
+
+cdef bint _test_hook(void *ctx, size_t part, double *d2, double *point) noexcept nogil:
+    if part == 1:
+        d2[0] = 0.0
+        point[0] = -1.0
+        return True
+    d2[0] = (sqrt(d2[0]) + 1.0) ** 2
+    return part % 2 == 0            # odd parts: the change is not used
 
 
 cdef _result(int rc, const ConnectHit *hit, const ErrorInfo *err):

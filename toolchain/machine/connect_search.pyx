@@ -12,6 +12,9 @@
 #   connect_index_build(ix, prog, pl, axes, err)          index of the motion parts
 #   connect_index_free(ix)
 #   connect_nearest(ix, point, max_distance, first, end, hit, err)      nType 0 10 40
+#   connect_nearest_each(prog, pl, axes, point, max_distance, first, end, hook, ctx,
+#                        hit, err)        the same without an index, every part offered
+#                                         to `hook` (the ConnectPointCalc callback)
 #   connect_gindex_nearest(prog, pl, coords, n_coords, point, axes, max_distance, hit, err)
 #                                                                       nType 31 44
 #   connect_line(prog, pl, coords, n_coords, at_end, hit, err)   1 2 11 12 41 42
@@ -446,6 +449,49 @@ cdef inline double _cs_limit_d2(double max_distance) noexcept nogil:
     if max_distance > 0.0 and isfinite(max_distance):
         return max_distance * max_distance
     return INFINITY
+
+
+# ---- every part, in program order -------------------------------------------------------
+
+# A look at each part's candidate: `d2` (squared distance) and `point` (ten axes) may
+# be changed; True = use the changed values (ConnectPointCalc, callback 1005).
+ctypedef bint (*connect_part_fn)(void *ctx, size_t part, double *d2, double *point) noexcept nogil
+
+
+cdef int connect_nearest_each(const Program *prog, const Placement *pl, uint32_t axes,
+                              const double *point, double max_distance, size_t first, size_t end,
+                              connect_part_fn hook, void *ctx, ConnectHit *hit,
+                              ErrorInfo *err) noexcept nogil:
+    """connect_nearest without an index: every motion part of [first, end) in program
+    order, each candidate offered to `hook` (may be NULL) before it is compared --
+    O(n), for a host whose ConnectPointCalc may change any part's distance. The hit
+    takes a changed point; its s stays the part's own nearest point's."""
+    cdef Segment g
+    cdef ConnectHit candidate
+    cdef double max_d2 = _cs_limit_d2(max_distance), d2
+    cdef bint found = False
+    cdef size_t i
+    if axes & ~(<uint32_t>CONNECT_ALL_AXES):
+        return _cs_bad(err, "axesForCalc", axes, "bits above 0x3FF")
+    axes = _cs_mask(axes)
+    if not _cs_finite_point(point, axes, err):
+        return CONNECT_BAD_ARGUMENT
+    if end > prog.n_parts:
+        end = prog.n_parts
+    i = first
+    while i < end:
+        if prog.parts[i].kind == PART_MOTION:
+            _cs_hit_nearest(prog, pl, i, axes, point, max_d2, &candidate)
+            d2 = candidate.distance * candidate.distance
+            if hook != NULL and hook(ctx, i, &d2, candidate.point):
+                candidate.distance = sqrt(d2) if d2 > 0.0 else 0.0
+            if not found or candidate.distance < hit.distance:
+                hit[0] = candidate
+                found = True
+        i += 1
+    if not found:
+        return _cs_no_motion(err, first, end, prog.n_parts)
+    return CONNECT_FOUND
 
 
 # ---- the index -------------------------------------------------------------------------
