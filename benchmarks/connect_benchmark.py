@@ -14,7 +14,8 @@ compile_benchmark.py, --lines lines, written relative) and
    box, half within 1 mm of a random part's end; prints the CPU time of the thread
    per query (p50, p99, max) and the largest wall time (the CPU's and the time the
    thread waited for a core);
-3. times the lookups that scan the program (line, G-code index, M occurrence).
+3. times the lookups that scan the program (line, G-code index, M occurrence) and
+   the nearest point without the index (every part evaluated).
 Builds and lookups in wall time (CLOCK_MONOTONIC) on a machine shared with others:
 the best of the runs is the cost, the median shows the noise.
 """
@@ -95,6 +96,8 @@ def main() -> None:
         ("G-code index that does not exist (binary search, then a scan)", lambda: program.gindex([1])),
         ("M51, n = 0 (the last: a scan back from the end)", lambda: program.mfunc([0, 51])),
         ("M51, n = 1000000 (not found: a scan of every part)", lambda: program.mfunc([1000000, 51])),
+        ("nearest without the index (connect_nearest_each, every part, X Y)",
+         lambda: program.nearest_each(points[0], 0x3)),
     )
     for label, call in lookups:
         best = float("inf")
