@@ -9,19 +9,19 @@
 # `err` (err may be NULL). `axes` is axesForCalc (bit k = axis k in X Y Z C B U V W
 # A O order, 0 = all ten); distances are measured in those axes only.
 #
-#   connect_index_build(ix, prog, pl, axes, err)          index of the motion parts
+#   connect_index_build(ix, prog, pl, axes, err)     index of the motion parts
 #   connect_index_free(ix)
-#   connect_nearest(ix, point, max_distance, first, end, hit, err)      nType 0 10 40
+#   connect_nearest(ix, point, max_distance, first, end, hit, err)    nType 0 10 40
 #   connect_nearest_each(prog, pl, axes, point, max_distance, first, end, hook, ctx,
-#                        hit, err)        the same without an index, every part offered
-#                                         to `hook` (the ConnectPointCalc callback)
-#   connect_gindex_nearest(prog, pl, coords, n_coords, point, axes, max_distance, hit, err)
-#                                                                       nType 31 44
-#   connect_line(prog, pl, coords, n_coords, at_end, hit, err)   1 2 11 12 41 42
-#   connect_gindex(prog, pl, coords, n_coords, at_end, hit, err)        30 32
+#                        hit, err)    the same without an index, each part's candidate
+#                                     offered to `hook` (ConnectPointCalc, 1005)
+#   connect_line(prog, pl, coords, n_coords, at_end, hit, err)       1 2 11 12 41 42
 #   connect_mfunc(prog, pl, coords, n_coords, relative, current, status, hit, err)
-#                                                                       20 21
-#   connect_exact_point(prog, pl, coords, n_coords, axes, tolerance, hit, err)  46
+#                                                                     20 21
+#   connect_gindex(prog, pl, coords, n_coords, at_end, hit, err)     30 32
+#   connect_gindex_nearest(prog, pl, coords, n_coords, point, axes, max_distance,
+#                          hit, err)                                  31 44
+#   connect_exact_point(prog, pl, coords, n_coords, axes, tolerance, hit, err)   46
 #
 # maxConnectionDistance (ABI.md, the vendor's text): a part farther than it from the
 # point counts by its two end points only, so a far point connects to a vertex of
@@ -34,7 +34,7 @@ from libc.string cimport memcpy, memset
 cdef enum:
     CONNECT_ALL_AXES = 0x3FF
     CONNECT_LEAF_PARTS = 4      # parts per leaf of the index
-    CONNECT_STACK = 128         # > twice the depth of any index (2**33 nodes)
+    CONNECT_STACK = 128         # the walk holds at most depth + 1 nodes (< 40 for 2**33 parts)
 
 cdef enum ConnectResult:
     CONNECT_FOUND = 0
