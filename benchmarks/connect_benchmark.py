@@ -8,12 +8,13 @@ entry points to toolchain/machine/connect_search.pyx, here with -O3 like the
 library), compiles the compile benchmark's cutting program (benchmarks/
 compile_benchmark.py, --lines lines, written relative) and
 1. builds the index --runs times for the axes X Y (0x3) and X Y Z (0x7), run from
-   the compile's start, and for X Y run from another start (every part placed
-   through placed_part_to_gm): best and median wall time;
+   the compile's start, and for X Y run from another start (every part moved by the
+   placement): best and median wall time;
 2. asks --queries nearest points (X Y and X Y Z): half uniform over the program's
    box, half within 1 mm of a random part's end; prints the CPU time of the thread
    per query (p50, p99, max) and the largest wall time (the CPU's and the time the
-   thread waited for a core);
+   thread waited for a core); in X Y also restricted to the first half of the parts
+   (what a machine has executed);
 3. times the lookups that scan the program (line, G-code index, M occurrence) and
    the nearest point without the index (every part evaluated).
 Builds and lookups in wall time (CLOCK_MONOTONIC) on a machine shared with others:
@@ -70,8 +71,9 @@ def main() -> None:
     points[half:, :3] = picks + rng.uniform(-1, 1, picks.shape)
     print(f"box of the program: {np.round(lo, 1).tolist()} .. {np.round(hi, 1).tolist()} mm")
 
-    for label, axes, start in (("X Y", 0x3, None), ("X Y Z", 0x7, None),
-                               ("X Y, run from another start", 0x3, [100.0, -50.0, 5.0])):
+    for label, axes, start, end in (("X Y", 0x3, None, n_parts), ("X Y Z", 0x7, None, n_parts),
+                                    ("X Y, run from another start", 0x3, [100.0, -50.0, 5.0], n_parts),
+                                    ("X Y, the first half of the parts only", 0x3, None, n_parts // 2)):
         program.place(start if start is not None else [0.0] * 10)
         builds = []
         for _ in range(args.runs):
@@ -81,7 +83,7 @@ def main() -> None:
         query_points = points.copy()
         if start is not None:
             query_points[:, :3] += start
-        wall, cpu = (np.array(t) * 1e3 for t in program.nearest_seconds(query_points))
+        wall, cpu = (np.array(t) * 1e3 for t in program.nearest_seconds(query_points, 0.0, 0, end))
         print(f"{label}: index build best {ms(min(builds))} (median {ms(statistics.median(builds))}), "
               f"{program.index_bytes() / 2**20:.1f} MB; nearest ({len(cpu)} queries) CPU p50 "
               f"{np.percentile(cpu, 50):.3f} ms, p99 {np.percentile(cpu, 99):.3f} ms, max {cpu.max():.3f} ms; "

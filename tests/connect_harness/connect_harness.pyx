@@ -145,9 +145,10 @@ cdef class Compiled:
                                             end, fn, NULL, &hit, &err),
                        &hit, &err)
 
-    def nearest_seconds(self, points, double max_distance=0.0):
+    def nearest_seconds(self, points, double max_distance=0.0, size_t first=0, size_t end=<size_t>-1):
         """(wall, CPU) seconds of connect_nearest for each point of `points` (rows of
-        ten): the wall time includes the thread's preemption, the CPU time not."""
+        ten) in parts [first, end): the wall time includes the thread's preemption,
+        the CPU time not."""
         cdef double q[10]
         cdef ConnectHit hit
         cdef timespec w0, w1, c0, c1
@@ -157,7 +158,7 @@ cdef class Compiled:
             with nogil:
                 clock_gettime(CLOCK_MONOTONIC, &w0)
                 clock_gettime(CLOCK_THREAD_CPUTIME_ID, &c0)
-                connect_nearest(&self.ix, q, max_distance, 0, <size_t>-1, &hit, NULL)
+                connect_nearest(&self.ix, q, max_distance, first, end, &hit, NULL)
                 clock_gettime(CLOCK_THREAD_CPUTIME_ID, &c1)
                 clock_gettime(CLOCK_MONOTONIC, &w1)
             wall.append(_seconds(&w0, &w1))
