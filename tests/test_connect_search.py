@@ -617,3 +617,21 @@ def test_axes_that_never_move_stay_out_of_the_boxes(ch):
     assert c.build_index(0x8)[0] == FOUND and c.index_dims() == []
     rc, hit, _ = c.nearest([50, 50, 0, 4] + [0] * 6)    # every point as far: the first part's start
     assert (hit["part"], hit["s"], hit["distance"]) == (0, 0.0, 4.0)
+
+
+def test_the_search_follows_the_compensated_path(ch):
+    """G41 with a 1 mm tool round a 10 mm square run counter-clockwise, entered from
+    its centre: the tool centre runs 1 mm inside; a point 2.5 mm above the bottom
+    edge is 1.5 mm from the tool's path (2.5 mm from the programmed one)."""
+    p = abi.GCODE_PARAMETERS.from_buffer_copy(ch.default_params())
+    for slot in range(8):
+        p.correction[slot].size = 1.0
+    c = ch.compile("G0 X5 Y5\nG41\nG1 X5 Y0 F100\nG1 X10 Y0\nG1 X10 Y10\nG1 X0 Y10\nG1 X0 Y0\n"
+                   "G1 X5 Y0\nG40\nG1 X5 Y5\n", bytes(p))
+    assert c.build_index(0x3)[0] == FOUND
+    rc, hit, _ = c.nearest([7.0, 2.5] + [0.0] * 8)
+    assert hit["distance"] == pytest.approx(1.5, abs=1e-9)
+    assert hit["point"][:2] == pytest.approx([7.0, 1.0], abs=1e-9)
+    assert c.parts()[hit["part"]]["line"] == 4
+    rc, hit, _ = c.line([5], at_end=True)                  # the end of the right edge: a corner inside
+    assert hit["point"][:2] == pytest.approx([9.0, 9.0], abs=1e-9)
