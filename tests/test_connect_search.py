@@ -482,7 +482,7 @@ def test_a_line_connects_to_its_first_part_or_the_end_of_its_run(ch):
     assert c.line([3, 7])[0] == NOT_FOUND                  # another file
     for bad in ([2.5], [math.nan], [0], [3, 0.5], []):
         rc, _, err = c.line(bad)
-        assert rc == BAD_ARGUMENT and err[0] == ErrorNumber.CONNECT_ARGUMENT, bad
+        assert rc == BAD_ARGUMENT and err[0] == ErrorNumber.CONNECT_BAD_ARGUMENT, bad
 
 
 def test_a_g_code_index_gives_its_part(ch):
@@ -598,6 +598,8 @@ def test_errors_of_the_index_and_of_a_program_without_motion(ch):
     assert c.build_index(0x3)[0] == FOUND
     assert c.nearest([0] * 10, 0.0, 5, 5)[0] == NOT_FOUND
     assert c.nearest([0] * 10, 0.0, 2, 3)[0] == NOT_FOUND           # an M function only
+    assert ch.bad_argument("nType", 7, "no such connect type") == (
+        BAD_ARGUMENT, (ErrorNumber.CONNECT_BAD_ARGUMENT, -1, 0, "ConnectCNCEx_Plane: nType = 7: no such connect type"))
     rc, _, err = c.nearest([0, math.inf] + [0] * 8)
     assert rc == BAD_ARGUMENT and err[3] == "ConnectCNCEx_Plane: coords[1] = inf: not a finite number"
     assert c.nearest([0, 0, math.nan] + [0] * 7)[0] == FOUND       # Z is not asked

@@ -78,7 +78,7 @@ cdef enum ErrorNumber:
     WARN_ZERO_WITH_MOVE = 613       # G%g at column %d with axis words sets the zero offset ...
     WARN_ISO_IGNORED = 620          # '%s' at column %d ignored (ISO compatibility mode)
     # the connection search of ConnectCNCEx_Plane (700..719; machine/connect_search.pyx)
-    ERR_CONNECT_ARGUMENT = 700      # ConnectCNCEx_Plane: %s = %g: %s
+    ERR_CONNECT_BAD_ARGUMENT = 700      # ConnectCNCEx_Plane: %s = %g: %s
     ERR_CONNECT_NO_LINE = 701       # ConnectCNCEx_Plane: no part at line %d of file %d
     ERR_CONNECT_NO_GINDEX = 702     # ConnectCNCEx_Plane: no part with G-code index %d
     ERR_CONNECT_NO_MFUNC = 703      # ConnectCNCEx_Plane: occurrence n = %d of M%d not found ...

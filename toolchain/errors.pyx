@@ -73,7 +73,7 @@ cdef const char *error_format(int32_t number) noexcept nogil:
     if number == ERR_COMP_NEGATIVE_ARC: return "Arc radius %g smaller than the tool radius %g"
     if number == ERR_COMP_CROSSING: return "Equidistants cross: the tool (radius %g) does not fit the contour"
     if number == ERR_COMP_LOOKAHEAD: return "More than %d blocks without motion in the compensation plane"
-    if number == ERR_CONNECT_ARGUMENT: return "ConnectCNCEx_Plane: %s = %g: %s"
+    if number == ERR_CONNECT_BAD_ARGUMENT: return "ConnectCNCEx_Plane: %s = %g: %s"
     if number == ERR_CONNECT_NO_LINE: return "ConnectCNCEx_Plane: no part at line %d of file %d"
     if number == ERR_CONNECT_NO_GINDEX: return "ConnectCNCEx_Plane: no part with G-code index %d"
     if number == ERR_CONNECT_NO_MFUNC:

@@ -223,6 +223,14 @@ cdef _result(int rc, const ConnectHit *hit, const ErrorInfo *err):
     return rc, (_hit(hit) if found else None), (None if rc == CONNECT_FOUND else _error(err))
 
 
+def bad_argument(name, double value, why):
+    """(result, error) of connect_bad_argument."""
+    cdef ErrorInfo err
+    cdef bytes n = name.encode(), w = why.encode()
+    rc = connect_bad_argument(&err, n, value, w)
+    return rc, _error(&err)
+
+
 def compile(text, params=None, start=None):
     """Compiles `text` (str) from `start` (ten axes, default zeros) with
     GCODE_PARAMETERS `params` (bytes, else the defaults): compiler, compensation,

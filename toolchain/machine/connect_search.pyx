@@ -22,6 +22,7 @@
 #   connect_gindex_nearest(prog, pl, coords, n_coords, point, axes, max_distance,
 #                          hit, err)                                  31 44
 #   connect_exact_point(prog, pl, coords, n_coords, axes, tolerance, hit, err)   46
+#   connect_bad_argument(err, name, value, why)   error 700 for an argument the caller checks
 #
 # maxConnectionDistance (ABI.md, the vendor's text): a part farther than it from the
 # point counts by its two end points only, so a far point connects to a vertex of
@@ -74,7 +75,9 @@ ctypedef struct ConnectIndex:
 
 # ---- errors ------------------------------------------------------------------------
 
-cdef int _cs_bad(ErrorInfo *err, const char *name, double value, const char *why) noexcept nogil:
+cdef int connect_bad_argument(ErrorInfo *err, const char *name, double value, const char *why) noexcept nogil:
+    """Error 700 naming the argument, its value and why (e.g. "nType", 7, "no such
+    connect type"); returns CONNECT_BAD_ARGUMENT."""
     cdef ErrArg a[3]
     if err != NULL:
         a[0].num = 0.0
@@ -83,14 +86,14 @@ cdef int _cs_bad(ErrorInfo *err, const char *name, double value, const char *why
         a[1].text = NULL
         a[2].num = 0.0
         a[2].text = why
-        set_error(err, ERR_CONNECT_ARGUMENT, -1, 0, a, 3)
+        set_error(err, ERR_CONNECT_BAD_ARGUMENT, -1, 0, a, 3)
     return CONNECT_BAD_ARGUMENT
 
 
 cdef int _cs_bad_coord(ErrorInfo *err, int k, double value, const char *why) noexcept nogil:
     cdef char name[16]
     c_snprintf(name, sizeof(name), "coords[%d]", k)
-    return _cs_bad(err, name, value, why)
+    return connect_bad_argument(err, name, value, why)
 
 
 cdef int _cs_numbers_error(ErrorInfo *err, int32_t number, int32_t file_idx, int32_t line,
@@ -472,7 +475,7 @@ cdef int connect_nearest_each(const Program *prog, const Placement *pl, uint32_t
     cdef bint found = False
     cdef size_t i
     if axes & ~(<uint32_t>CONNECT_ALL_AXES):
-        return _cs_bad(err, "axesForCalc", axes, "bits above 0x3FF")
+        return connect_bad_argument(err, "axesForCalc", axes, "bits above 0x3FF")
     axes = _cs_mask(axes)
     if not _cs_finite_point(point, axes, err):
         return CONNECT_BAD_ARGUMENT
@@ -679,7 +682,7 @@ cdef int connect_index_build(ConnectIndex *ix, const Program *prog, const Placem
     cdef uint32_t lo_part, hi_part
     memset(ix, 0, sizeof(ConnectIndex))
     if axes & ~(<uint32_t>CONNECT_ALL_AXES):
-        return _cs_bad(err, "axesForCalc", axes, "bits above 0x3FF")
+        return connect_bad_argument(err, "axesForCalc", axes, "bits above 0x3FF")
     ix.prog = prog
     ix.pl = pl[0]
     ix.axes = _cs_mask(axes)
@@ -901,7 +904,7 @@ cdef int connect_gindex(const Program *prog, const Placement *pl, const double *
     cdef int64_t part
     cdef int rc
     if n_coords < 1:
-        return _cs_bad(err, "nCoords", n_coords, "a G-code index needs coords[0]")
+        return connect_bad_argument(err, "nCoords", n_coords, "a G-code index needs coords[0]")
     rc = _cs_find_gindex(prog, coords, 0, &part, err)
     if rc != CONNECT_FOUND:
         return rc
@@ -917,9 +920,9 @@ cdef int connect_gindex_nearest(const Program *prog, const Placement *pl, const 
     cdef int64_t part
     cdef int rc
     if n_coords < 1:
-        return _cs_bad(err, "nCoords", n_coords, "a G-code index needs coords[0]")
+        return connect_bad_argument(err, "nCoords", n_coords, "a G-code index needs coords[0]")
     if axes & ~(<uint32_t>CONNECT_ALL_AXES):
-        return _cs_bad(err, "axesForCalc", axes, "bits above 0x3FF")
+        return connect_bad_argument(err, "axesForCalc", axes, "bits above 0x3FF")
     axes = _cs_mask(axes)
     if not _cs_finite_point(point, axes, err):
         return CONNECT_BAD_ARGUMENT
@@ -940,11 +943,11 @@ cdef int connect_exact_point(const Program *prog, const Placement *pl, const dou
     cdef int rc
     cdef const Part *p
     if n_coords < 11:
-        return _cs_bad(err, "nCoords", n_coords, "nType 46 needs 11 coordinates")
+        return connect_bad_argument(err, "nCoords", n_coords, "nType 46 needs 11 coordinates")
     if axes & ~(<uint32_t>CONNECT_ALL_AXES):
-        return _cs_bad(err, "axesForCalc", axes, "bits above 0x3FF")
+        return connect_bad_argument(err, "axesForCalc", axes, "bits above 0x3FF")
     if not (tolerance >= 0.0) or not isfinite(tolerance):
-        return _cs_bad(err, "tolerance", tolerance, "must be finite and >= 0")
+        return connect_bad_argument(err, "tolerance", tolerance, "must be finite and >= 0")
     axes = _cs_mask(axes)
     if not _cs_finite_point(coords, axes, err):
         return CONNECT_BAD_ARGUMENT
@@ -967,7 +970,7 @@ cdef int connect_line(const Program *prog, const Placement *pl, const double *co
     cdef int64_t line, file_idx
     cdef size_t i, n = prog.n_parts
     if n_coords < 1:
-        return _cs_bad(err, "nCoords", n_coords, "a line needs coords[0]")
+        return connect_bad_argument(err, "nCoords", n_coords, "a line needs coords[0]")
     if not _cs_whole(coords, 0, 1.0, 4294967295.0, &line, err):
         return CONNECT_BAD_ARGUMENT
     if n_coords >= 2:
@@ -1003,7 +1006,7 @@ cdef int connect_mfunc(const Program *prog, const Placement *pl, const double *c
     cdef int64_t step
     cdef const Part *p
     if n_coords < 2:
-        return _cs_bad(err, "nCoords", n_coords, "nType 20 and 21 need n and M")
+        return connect_bad_argument(err, "nCoords", n_coords, "nType 20 and 21 need n and M")
     if not _cs_whole(coords, 0, -2147483648.0, 2147483647.0, &n, err):
         return CONNECT_BAD_ARGUMENT
     if not _cs_whole(coords, 1, -2147483648.0, 2147483647.0, &mfunc, err):
