@@ -11,7 +11,7 @@
 # elements grown by the tool radius: a piece is compared with the few elements near
 # it, O(n) on ordinary contours.
 from libc.stdlib cimport realloc, free
-from libc.string cimport memmove
+from libc.string cimport memmove, memcpy
 from libc.math cimport fabs, sqrt, M_PI
 
 cdef enum:
@@ -38,6 +38,7 @@ ctypedef struct Clearance:
     size_t span             # parts of the chain
     bint closed             # distances in parts wrap round the closed chain (regions.pyx)
     size_t *cand            # elements whose boxes meet the batch's box
+    double *cbox            # ... their boxes, side by side (the inner loop reads only these)
     size_t n_cand, cap_cand
     ClPiece batch[CL_BATCH] # pieces queued by _cl_queue
     size_t n_batch
@@ -382,13 +383,13 @@ cdef bint _cl_cross(const XPiece *a, const XPiece *b) noexcept nogil:
     return False
 
 
-cdef inline double _cl_element_gap(const Clearance *C, const XPiece *t, const XPiece *g, const double *box,
+cdef inline double _cl_element_gap(const Clearance *C, const XPiece *t, const XPiece *g,
                                    const XPiece *own, size_t skip_a, size_t skip_b, size_t depth,
                                    double stop) noexcept nogil:
-    """Piece t's distance from element g where it counts and is below `stop` (else
-    `stop`); box: t's box grown by the radius (see cl_gap)."""
-    if not _box_hit(g.box, box, 0.0) or g.part == skip_a or g.part == skip_b \
-            or not _cl_in_window(C, g.part, t.part, depth) or _cl_far(t, g, stop):
+    """Piece t's distance from element g, whose box meets t's grown by the radius,
+    where it counts and is below `stop` (else `stop`; see cl_gap)."""
+    if g.part == skip_a or g.part == skip_b or not _cl_in_window(C, g.part, t.part, depth) \
+            or _cl_far(t, g, stop):
         return stop
     if own != NULL and _box_hit(g.box, own.box, 0.0) and _cl_cross(own, g):
         return stop
@@ -416,7 +417,9 @@ cdef double cl_gap(const Clearance *C, XPiece *t, const XPiece *own, size_t skip
             if not _box_hit(&C.g1[4 * j], box, 0.0):
                 continue
             for k in range(j * CL_G1, min((j + 1) * CL_G1, C.n)):
-                d = _cl_element_gap(C, t, &C.el[k], box, own, skip_a, skip_b, depth, stop)
+                if not _box_hit(C.el[k].box, box, 0.0):
+                    continue
+                d = _cl_element_gap(C, t, &C.el[k], own, skip_a, skip_b, depth, stop)
                 if d < stop:
                     return d
     return r
@@ -426,6 +429,7 @@ cdef bint _cl_collect(Clearance *C, const double *box) noexcept nogil:
     """C.cand: the elements whose boxes meet `box`, in order (False: no memory)."""
     cdef size_t i, j, k, n1, n2, cap, n = 0
     cdef size_t *cand
+    cdef double *cbox
     n1 = (C.n + CL_G1 - 1) / CL_G1
     n2 = (n1 + CL_G1 - 1) / CL_G1
     for i in range(n2):
@@ -440,10 +444,15 @@ cdef bint _cl_collect(Clearance *C, const double *box) noexcept nogil:
                 if cand == NULL:
                     return False
                 C.cand = cand
+                cbox = <double *>realloc(C.cbox, 4 * cap * sizeof(double))
+                if cbox == NULL:
+                    return False
+                C.cbox = cbox
                 C.cap_cand = cap
             for k in range(j * CL_G1, min((j + 1) * CL_G1, C.n)):
                 if _box_hit(C.el[k].box, box, 0.0):
                     C.cand[n] = k
+                    memcpy(&C.cbox[4 * n], C.el[k].box, 4 * sizeof(double))
                     n += 1
     C.n_cand = n
     return True
@@ -455,6 +464,8 @@ cdef int64_t _cl_flush(Clearance *C, size_t depth) noexcept nogil:
     the whole batch (the pieces of neighbouring parts meet the same few elements)."""
     cdef double box[4]
     cdef double bb[4]
+    cdef double x0, y0, x1, y1
+    cdef const double *cb
     cdef ClPiece *q
     cdef size_t b, m, n = C.n_batch
     C.n_batch = 0
@@ -469,9 +480,11 @@ cdef int64_t _cl_flush(Clearance *C, size_t depth) noexcept nogil:
         return -2
     for b in range(n):
         q = &C.batch[b]
-        bb[0] = q.t.box[0] - q.r; bb[1] = q.t.box[1] - q.r; bb[2] = q.t.box[2] + q.r; bb[3] = q.t.box[3] + q.r
+        x0 = q.t.box[0] - q.r; y0 = q.t.box[1] - q.r; x1 = q.t.box[2] + q.r; y1 = q.t.box[3] + q.r
         for m in range(C.n_cand):
-            if _cl_element_gap(C, &q.t, &C.el[C.cand[m]], bb, q.own, q.skip_a, q.skip_b, depth, q.stop) < q.stop:
+            cb = &C.cbox[4 * m]
+            if cb[0] <= x1 and x0 <= cb[2] and cb[1] <= y1 and y0 <= cb[3] and \
+                    _cl_element_gap(C, &q.t, &C.el[C.cand[m]], q.own, q.skip_a, q.skip_b, depth, q.stop) < q.stop:
                 return <int64_t>b
     return -1
 
@@ -672,8 +685,10 @@ cdef void cl_free(Clearance *C) noexcept nogil:
     free(C.el)
     free(C.off)
     free(C.cand)
+    free(C.cbox)
     C.off = NULL
     C.cand = NULL
+    C.cbox = NULL
     free(C.g1)
     free(C.g2)
     C.el = NULL
