@@ -42,6 +42,13 @@ ctypedef struct Clearance:
     size_t n_cand, cap_cand
     ClPiece batch[CL_BATCH] # pieces queued by _cl_queue
     size_t n_batch
+    bint loose              # an element was not measured because the piece's own crosses it
+    # the chain being checked (cl_chain_open): parts before `next` are done, the tool
+    # stands at `cur`, insertion `rec` is the next one; the block of parts [blo, bhi]
+    size_t first, next, ins0, rec, blo, bhi, ei
+    double cur[2]
+    double allow
+    bint started, in_block, first_piece
 
 
 cdef inline double _cl_sweep(int direction, const double *s, const double *e, const double *c) noexcept nogil:
@@ -385,15 +392,19 @@ cdef bint _cl_cross(const XPiece *a, const XPiece *b) noexcept nogil:
 
 cdef inline double _cl_element_gap(const Clearance *C, const XPiece *t, const XPiece *g,
                                    const XPiece *own, size_t skip_a, size_t skip_b, size_t depth,
-                                   double stop) noexcept nogil:
+                                   double stop, bint *loose) noexcept nogil:
     """Piece t's distance from element g, whose box meets t's grown by the radius,
-    where it counts and is below `stop` (else `stop`; see cl_gap)."""
+    where it counts and is below `stop` (else `stop`; see cl_gap). loose: set when
+    g does not count because t's own element crosses it."""
+    cdef double d
     if g.part == skip_a or g.part == skip_b or not _cl_in_window(C, g.part, t.part, depth) \
             or _cl_far(t, g, stop):
         return stop
-    if own != NULL and _box_hit(g.box, own.box, 0.0) and _cl_cross(own, g):
+    d = _cl_piece_gap(t, g, stop)
+    if d < stop and own != NULL and _box_hit(g.box, own.box, 0.0) and _cl_cross(own, g):
+        loose[0] = True
         return stop
-    return _cl_piece_gap(t, g, stop)
+    return d
 
 
 cdef double cl_gap(const Clearance *C, XPiece *t, const XPiece *own, size_t skip_a, size_t skip_b,
@@ -407,6 +418,7 @@ cdef double cl_gap(const Clearance *C, XPiece *t, const XPiece *own, size_t skip
     cdef double box[4]
     cdef double d
     cdef size_t i, j, k, n1, n2
+    cdef bint loose = False
     box[0] = t.box[0] - r; box[1] = t.box[1] - r; box[2] = t.box[2] + r; box[3] = t.box[3] + r
     n1 = (C.n + CL_G1 - 1) / CL_G1
     n2 = (n1 + CL_G1 - 1) / CL_G1
@@ -419,7 +431,7 @@ cdef double cl_gap(const Clearance *C, XPiece *t, const XPiece *own, size_t skip
             for k in range(j * CL_G1, min((j + 1) * CL_G1, C.n)):
                 if not _box_hit(C.el[k].box, box, 0.0):
                     continue
-                d = _cl_element_gap(C, t, &C.el[k], own, skip_a, skip_b, depth, stop)
+                d = _cl_element_gap(C, t, &C.el[k], own, skip_a, skip_b, depth, stop, &loose)
                 if d < stop:
                     return d
     return r
@@ -484,7 +496,8 @@ cdef int64_t _cl_flush(Clearance *C, size_t depth) noexcept nogil:
         for m in range(C.n_cand):
             cb = &C.cbox[4 * m]
             if cb[0] <= x1 and x0 <= cb[2] and cb[1] <= y1 and y0 <= cb[3] and \
-                    _cl_element_gap(C, &q.t, &C.el[C.cand[m]], q.own, q.skip_a, q.skip_b, depth, q.stop) < q.stop:
+                    _cl_element_gap(C, &q.t, &C.el[C.cand[m]], q.own, q.skip_a, q.skip_b, depth, q.stop,
+                                    &C.loose) < q.stop:
                 return <int64_t>b
     return -1
 
@@ -557,128 +570,184 @@ cdef bint _cl_gouge(CompState *S, int64_t found, size_t k) noexcept nogil:
     return False
 
 
-cdef bint cl_check_chain(CompState *S, size_t first, size_t last, size_t ins0, bint skip_first,
-                         bint skip_last) noexcept nogil:
-    """Checks the final tool path of the chain of parts first..last (its insertions
-    from ins0 on). skip_first / skip_last: the first / last move is a ramp from / to
-    the programmed contour (strategy 1). False with S.xs.err_* filled: 504 on the line
-    of the first piece that gouges (or out of memory).
-    The allowance is tolerance[1], plus tolerance[4] (a removed small arc lets the
-    neighbours meet closer to it) and how far an arc's end lies off its circle (the
-    arc-centre tolerance of the compiler)."""
+cdef void cl_chain_open(CompState *S, size_t first, size_t ins0) noexcept nogil:
+    """A chain starts at part `first` (its insertions from ins0 on): its path is checked
+    by cl_chain_upto while it grows and by cl_chain_close at its end."""
     cdef Clearance *C = &S.cl
-    cdef XState *X = &S.xs
-    cdef Part *p
-    cdef XPiece t
-    cdef double cur[2]
-    cdef double end[2]
-    cdef double c[2]
-    cdef double r, allow = S.cfg.slack + S.cfg.min_arc
-    cdef size_t k, j, rec, blo, bhi, lo, hi, depth = S.cfg.depth
-    cdef size_t last_el = last
-    cdef size_t ei = 0              # the first element of the window whose part is >= k
-    cdef bint first_piece = True, have, skip, is_open, has_own
-    cdef const XPiece *own
-    cdef const double *st
-    cdef size_t na, nb
-    st = part_start_xyz(S.prog, first)
-    p = &S.prog.parts[last]
-    is_open = distance2d(st[S.first] - p.e[S.first], st[S.second] - p.e[S.second]) > 1e-6
-    C.span = last - first + 1
-    C.closed = False
-    C.whole = False
+    C.first = first
+    C.next = first
+    C.ins0 = ins0
+    C.started = False
+    C.in_block = False
+    C.loose = False
     C.n = 0
     C.n_batch = 0
-    # where the tool stands before the chain: the last part before it with a position
-    j = first
+    C.span = 0
+    C.closed = False
+    C.whole = False
+
+
+cdef void _cl_start(CompState *S) noexcept nogil:
+    """Where the tool stands before the chain (the last part before it with a position,
+    after the insertions queued there) and the chain's first insertion."""
+    cdef Clearance *C = &S.cl
+    cdef size_t j = C.first, rec = C.ins0
     while j > 0 and S.role[j - 1] == ROLE_FOLLOW:
         j -= 1
     if j > 0:
         j -= 1
-        cur[0] = S.prog.parts[j].ce[S.first]; cur[1] = S.prog.parts[j].ce[S.second]
+        C.cur[0] = S.prog.parts[j].ce[S.first]; C.cur[1] = S.prog.parts[j].ce[S.second]
     else:
-        cur[0] = S.prog.start[S.first]; cur[1] = S.prog.start[S.second]
-    # the insertions from part j on: the chain's own (from ins0) and any just before
-    rec = ins0
+        C.cur[0] = S.prog.start[S.first]; C.cur[1] = S.prog.start[S.second]
     while rec > 0 and S.ins[rec - 1].after >= j:
         rec -= 1
-    while rec < S.n_ins and S.ins[rec].after < first:
-        cur[0] = S.ins[rec].end[0]; cur[1] = S.ins[rec].end[1]
+    while rec < S.n_ins and S.ins[rec].after < C.first:
+        C.cur[0] = S.ins[rec].end[0]; C.cur[1] = S.ins[rec].end[1]
         rec += 1
-    while last_el > first and (S.role[last_el] != ROLE_SET or not cl_element(S, last_el, &t)):
-        last_el -= 1
-    blo = first
-    bhi = first - 1
+    C.rec = rec
+    C.started = True
+    C.first_piece = True
+
+
+cdef bint _cl_run(CompState *S, size_t upto, size_t end, bint strict, bint skip_first, bint skip_last,
+                  size_t last_el) noexcept nogil:
+    """Queues the pieces of parts C.next..upto for measuring (the window reaches to
+    part `end` at most); a full batch is measured at once. strict: the elements a
+    piece's own element crosses count too (a closed contour). skip_first / skip_last:
+    the chain's first move / the move of part last_el is a ramp (strategy 1). False
+    with S.xs.err_* filled on a gouge or no memory."""
+    cdef Clearance *C = &S.cl
+    cdef XState *X = &S.xs
+    cdef Part *p
+    cdef XPiece t
+    cdef double end_pt[2]
+    cdef double c[2]
+    cdef double r
+    cdef size_t k, j, lo, hi, na, nb, depth = S.cfg.depth
+    cdef bint have, skip, has_own
+    cdef const XPiece *own
+    if not C.started:
+        _cl_start(S)
     memset(&t, 0, sizeof(t))
-    for k in range(first, last + 1):
-        if k > bhi:
+    for k in range(C.next, upto + 1):
+        if not C.in_block or k > C.bhi:
             # the next block of parts and the contour of its window (moved on: the
             # elements both windows share are read once)
-            blo = k
-            bhi = k + CL_BLOCK - 1 if last - k >= CL_BLOCK else last
-            C.whole = blo - first <= depth and last - bhi <= depth
-            lo = blo - depth if blo - first > depth else first
-            hi = bhi + depth if last - bhi > depth else last
             if not _cl_gouge(S, _cl_flush(C, depth), k):
                 return False
+            C.blo = k
+            C.bhi = k + CL_BLOCK - 1 if upto - k >= CL_BLOCK else upto
+            lo = C.blo - depth if C.blo - C.first > depth else C.first
+            hi = C.bhi + depth if end - C.bhi > depth else end
             if not _cl_slide(S, C, lo, hi):
                 X.err_number = ERR_OUT_OF_MEMORY
                 X.err_part = k
                 return False
-            allow = S.cfg.slack + S.cfg.min_arc + C.max_off
-            ei = 0
-        while ei < C.n and C.el[ei].part < k:
-            ei += 1
-        has_own = ei < C.n and C.el[ei].part == k
-        own = &C.el[ei] if has_own else NULL
+            C.in_block = True
+            C.allow = S.cfg.slack + S.cfg.min_arc + C.max_off
+            C.ei = 0
+        while C.ei < C.n and C.el[C.ei].part < k:
+            C.ei += 1
+        has_own = C.ei < C.n and C.el[C.ei].part == k
+        own = &C.el[C.ei] if has_own and not strict else NULL
         p = &S.prog.parts[k]
+        r = fabs(_comp_distance(S, p))
         if S.role[k] == ROLE_SET and p.kind == PART_MOTION and p.func != 0:
-            end[0] = p.ce[S.first]; end[1] = p.ce[S.second]
-            r = fabs(_comp_distance(S, p))
+            end_pt[0] = p.ce[S.first]; end_pt[1] = p.ce[S.second]
             if (p.func == 2 or p.func == 3) and p.radius > 0:
                 c[0] = p.cc[S.first]; c[1] = p.cc[S.second]
-                have = _cl_arc(&t, cur, end, c, p.radius, 1 if p.func == 3 else -1, k, True)
+                have = _cl_arc(&t, C.cur, end_pt, c, p.radius, 1 if p.func == 3 else -1, k, True)
             else:
-                have = distance2d(end[0] - cur[0], end[1] - cur[1]) > 1e-12
+                have = distance2d(end_pt[0] - C.cur[0], end_pt[1] - C.cur[1]) > 1e-12
                 if have:
-                    _cl_line(&t, cur, end, k)
-            skip = (first_piece and skip_first) or (k == last_el and skip_last)
-            first_piece = False
+                    _cl_line(&t, C.cur, end_pt, k)
+            skip = (C.first_piece and skip_first) or (k == last_el and skip_last)
+            C.first_piece = False
             # a line on the offset of a line keeps the radius from it and, past a corner
             # of the chain (an intersection or an arc), from a line next to it
             nb = <size_t>-1
-            if have and not skip and t.kind == EL_LINE and p.func == 1 and ei > 0 \
-                    and S.prog.parts[C.el[ei - 1].part].func == 1:
-                nb = C.el[ei - 1].part
+            if have and not skip and t.kind == EL_LINE and p.func == 1 and C.ei > 0 \
+                    and S.prog.parts[C.el[C.ei - 1].part].func == 1:
+                nb = C.el[C.ei - 1].part
             if have and not skip and \
-                    not _cl_gouge(S, _cl_queue(C, &t, own if is_open else NULL, k, nb, r, r - allow, depth), k):
+                    not _cl_gouge(S, _cl_queue(C, &t, own, k, nb, r, r - C.allow, depth), k):
                 return False
-            cur[0] = end[0]; cur[1] = end[1]
-        while rec < S.n_ins and S.ins[rec].after == k:
-            end[0] = S.ins[rec].end[0]; end[1] = S.ins[rec].end[1]
-            r = fabs(_comp_distance(S, p))
+            C.cur[0] = end_pt[0]; C.cur[1] = end_pt[1]
+        while C.rec < S.n_ins and S.ins[C.rec].after == k:
+            end_pt[0] = S.ins[C.rec].end[0]; end_pt[1] = S.ins[C.rec].end[1]
             have = False
-            if not S.ins[rec].no_centre:
-                if S.ins[rec].func == INS_G1:
-                    have = distance2d(end[0] - cur[0], end[1] - cur[1]) > 1e-12 and not _cl_side_change(S, k, last)
+            if not S.ins[C.rec].no_centre:
+                if S.ins[C.rec].func == INS_G1:
+                    have = distance2d(end_pt[0] - C.cur[0], end_pt[1] - C.cur[1]) > 1e-12 \
+                        and not _cl_side_change(S, k, end)
                     if have:
-                        _cl_line(&t, cur, end, k)
+                        _cl_line(&t, C.cur, end_pt, k)
                 else:
-                    have = _cl_arc(&t, cur, end, S.ins[rec].cc, r, 1 if S.ins[rec].func == INS_G3 else -1, k, False)
+                    have = _cl_arc(&t, C.cur, end_pt, S.ins[C.rec].cc, r, 1 if S.ins[C.rec].func == INS_G3 else -1,
+                                   k, False)
             # an arc round the corner at part k's end keeps the radius from the elements
             # that meet there
             nb = <size_t>-1
             na = <size_t>-1
-            if have and S.ins[rec].func != INS_G1 and S.ins[rec].cc[0] == p.e[S.first] \
-                    and S.ins[rec].cc[1] == p.e[S.second]:
+            if have and S.ins[C.rec].func != INS_G1 and S.ins[C.rec].cc[0] == p.e[S.first] \
+                    and S.ins[C.rec].cc[1] == p.e[S.second]:
                 na = k
-                j = ei + 1 if has_own else ei
+                j = C.ei + 1 if has_own else C.ei
                 nb = C.el[j].part if j < C.n else <size_t>-1
-            if have and not _cl_gouge(S, _cl_queue(C, &t, NULL, na, nb, r, r - allow, depth), k):
+            if have and not _cl_gouge(S, _cl_queue(C, &t, NULL, na, nb, r, r - C.allow, depth), k):
                 return False
-            cur[0] = end[0]; cur[1] = end[1]
-            rec += 1
-    return _cl_gouge(S, _cl_flush(C, depth), last)
+            C.cur[0] = end_pt[0]; C.cur[1] = end_pt[1]
+            C.rec += 1
+    if upto + 1 > C.next:
+        C.next = upto + 1
+    return True
+
+
+cdef bint cl_chain_upto(CompState *S, size_t written) noexcept nogil:
+    """The open elements start at part `written`; the path before it can still be cut
+    by a loop up to the search depth back: the pieces of the parts before the last
+    element of the chain at least that far back are final and checked now (what
+    _cl_side_change reads is final too). False with S.xs.err_* filled."""
+    cdef size_t k, depth = S.cfg.depth
+    if written <= depth + 1 + S.cl.next:
+        return True
+    k = written - depth - 1
+    while k > S.cl.next and S.role[k] != ROLE_SET:
+        k -= 1
+    if k <= S.cl.next:
+        return True
+    return _cl_run(S, k - 1, written - 1, False, S.chain_fixed, False, <size_t>-1)
+
+
+cdef bint cl_chain_close(CompState *S, size_t last, bint skip_first, bint skip_last) noexcept nogil:
+    """Checks the rest of the chain's path, which ends at part `last` (skip_first /
+    skip_last: see _cl_run). A closed contour counts the elements a piece's own
+    element crosses: if an earlier piece left one out, the path is measured again from
+    its start. False with S.xs.err_* filled."""
+    cdef Clearance *C = &S.cl
+    cdef const double *st = part_start_xyz(S.prog, C.first)
+    cdef const Part *p = &S.prog.parts[last]
+    cdef bint is_open = distance2d(st[S.first] - p.e[S.first], st[S.second] - p.e[S.second]) > 1e-6
+    cdef size_t last_el = last
+    cdef XPiece g
+    if not is_open and C.loose:
+        cl_chain_open(S, C.first, C.ins0)
+    while last_el > C.first and (S.role[last_el] != ROLE_SET or not cl_element(S, last_el, &g)):
+        last_el -= 1
+    return _cl_run(S, last, last, not is_open, skip_first, skip_last, last_el) and \
+        _cl_gouge(S, _cl_flush(C, S.cfg.depth), last)
+
+
+cdef bint cl_check_chain(CompState *S, size_t first, size_t last, size_t ins0, bint skip_first,
+                         bint skip_last) noexcept nogil:
+    """Checks the final tool path of the chain of parts first..last (its insertions
+    from ins0 on) at once: cl_chain_open, cl_chain_close. False with S.xs.err_*
+    filled: 504 on the line of the first piece that gouges (or out of memory).
+    The allowance is tolerance[1], plus tolerance[4] (a removed small arc lets the
+    neighbours meet closer to it) and how far an arc's end lies off its circle (the
+    arc-centre tolerance of the compiler)."""
+    cl_chain_open(S, first, ins0)
+    return cl_chain_close(S, last, skip_first, skip_last)
 
 
 cdef void cl_free(Clearance *C) noexcept nogil:
