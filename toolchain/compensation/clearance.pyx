@@ -220,8 +220,11 @@ cdef bint cl_element(const CompState *S, size_t k, XPiece *g) noexcept nogil:
     if p.kind != PART_MOTION or p.func == 0:
         return False
     st = part_start_xyz(S.prog, k)
-    memset(g, 0, sizeof(XPiece))
     g.part = k
+    g.ins = False
+    g.first = False
+    g.prov = False
+    g.gprog = False
     g.s[0] = st[S.first]; g.s[1] = st[S.second]
     g.e[0] = p.e[S.first]; g.e[1] = p.e[S.second]
     if p.func == 2 or p.func == 3:
@@ -236,6 +239,8 @@ cdef bint cl_element(const CompState *S, size_t k, XPiece *g) noexcept nogil:
         if (g.e[0] - g.s[0]) * (g.e[0] - g.s[0]) + (g.e[1] - g.s[1]) * (g.e[1] - g.s[1]) <= 1e-18:
             return False
         g.kind = EL_LINE
+        g.dir = 0
+        g.sweep = 0.0
     _x_geometry(g)
     return True
 
@@ -317,15 +322,13 @@ cdef inline bint _cl_in_window(const Clearance *C, size_t a, size_t b, size_t de
 
 
 cdef inline bint _cl_off_line(const XPiece *q, const XPiece *g, double stop) noexcept nogil:
-    """Line piece q lies wholly on one side of g's line, at least `stop` from it."""
+    """Line piece q lies wholly on one side of g's line, at least `stop` (> 0) from it
+    (cross products against stop x |g|, squared: no root)."""
     cdef double dx = g.e[0] - g.s[0], dy = g.e[1] - g.s[1]
-    cdef double L = distance2d(dx, dy)
-    cdef double a, b
-    if L <= 0:
-        return False
-    a = ((q.s[0] - g.s[0]) * dy - (q.s[1] - g.s[1]) * dx) / L
-    b = ((q.e[0] - g.s[0]) * dy - (q.e[1] - g.s[1]) * dx) / L
-    return (a >= stop and b >= stop) or (a <= -stop and b <= -stop)
+    cdef double lim = stop * stop * (dx * dx + dy * dy)
+    cdef double a = (q.s[0] - g.s[0]) * dy - (q.s[1] - g.s[1]) * dx
+    cdef double b = (q.e[0] - g.s[0]) * dy - (q.e[1] - g.s[1]) * dx
+    return lim > 0 and ((a > 0) == (b > 0)) and a != 0 and b != 0 and a * a >= lim and b * b >= lim
 
 
 cdef inline bint _cl_off_ring(const XPiece *q, const double *c, double R, double stop) noexcept nogil:
@@ -502,12 +505,12 @@ cdef int64_t _cl_flush(Clearance *C, size_t depth) noexcept nogil:
     return -1
 
 
-cdef inline int64_t _cl_queue(Clearance *C, const XPiece *t, const XPiece *own, size_t skip_a, size_t skip_b,
+cdef inline int64_t _cl_queue(Clearance *C, const XPiece *own, size_t skip_a, size_t skip_b,
                               double r, double stop, size_t depth) noexcept nogil:
-    """Queues piece t for _cl_flush (cl_gap's arguments); measures the batch when it
-    is full: _cl_flush's result, -1 while it is not."""
+    """Queues the piece built in the next batch slot (C.batch[C.n_batch].t) for
+    _cl_flush with cl_gap's arguments; measures the batch when it is full:
+    _cl_flush's result, -1 while it is not."""
     cdef ClPiece *q = &C.batch[C.n_batch]
-    q.t = t[0]
     q.own = own
     q.skip_a = skip_a
     q.skip_b = skip_b
@@ -527,8 +530,9 @@ cdef inline void _cl_line(XPiece *t, const double *a, const double *b, size_t pa
 
 cdef inline bint _cl_arc(XPiece *t, const double *a, const double *b, const double *c, double r,
                          int direction, size_t part, bint full) noexcept nogil:
-    """An arc piece from a to b round c in `direction` (a = b: a full circle when
-    `full`, else nothing); False for no piece."""
+    """An arc piece from a to b round c in `direction`; False for no piece. full: a
+    part's arc (a = b: a full circle), with its exact box; else a corner arc (a = b:
+    nothing), with its circle's box."""
     if r <= 1e-12 or (not full and distance2d(b[0] - a[0], b[1] - a[1]) <= 1e-12):
         return False
     t.kind = EL_ARC
@@ -539,7 +543,12 @@ cdef inline bint _cl_arc(XPiece *t, const double *a, const double *b, const doub
     t.r = r
     t.sweep = _cl_sweep(direction, a, b, c)
     t.part = part
-    _x_geometry(t)
+    if full:
+        _x_geometry(t)
+    else:
+        # a corner arc has the tool's radius: its circle's box is close enough (a box
+        # only picks the elements to measure)
+        t.box[0] = c[0] - r; t.box[1] = c[1] - r; t.box[2] = c[0] + r; t.box[3] = c[1] + r
     return True
 
 
@@ -619,7 +628,7 @@ cdef bint _cl_run(CompState *S, size_t upto, size_t end, bint strict, bint skip_
     cdef Clearance *C = &S.cl
     cdef XState *X = &S.xs
     cdef Part *p
-    cdef XPiece t
+    cdef XPiece *t
     cdef double end_pt[2]
     cdef double c[2]
     cdef double r
@@ -628,7 +637,6 @@ cdef bint _cl_run(CompState *S, size_t upto, size_t end, bint strict, bint skip_
     cdef const XPiece *own
     if not C.started:
         _cl_start(S)
-    memset(&t, 0, sizeof(t))
     for k in range(C.next, upto + 1):
         if not C.in_block or k > C.bhi:
             # the next block of parts and the contour of its window (moved on: the
@@ -653,14 +661,15 @@ cdef bint _cl_run(CompState *S, size_t upto, size_t end, bint strict, bint skip_
         p = &S.prog.parts[k]
         r = fabs(_comp_distance(S, p))
         if S.role[k] == ROLE_SET and p.kind == PART_MOTION and p.func != 0:
+            t = &C.batch[C.n_batch].t       # built where the batch keeps it
             end_pt[0] = p.ce[S.first]; end_pt[1] = p.ce[S.second]
             if (p.func == 2 or p.func == 3) and p.radius > 0:
                 c[0] = p.cc[S.first]; c[1] = p.cc[S.second]
-                have = _cl_arc(&t, C.cur, end_pt, c, p.radius, 1 if p.func == 3 else -1, k, True)
+                have = _cl_arc(t, C.cur, end_pt, c, p.radius, 1 if p.func == 3 else -1, k, True)
             else:
                 have = distance2d(end_pt[0] - C.cur[0], end_pt[1] - C.cur[1]) > 1e-12
                 if have:
-                    _cl_line(&t, C.cur, end_pt, k)
+                    _cl_line(t, C.cur, end_pt, k)
             skip = (C.first_piece and skip_first) or (k == last_el and skip_last)
             C.first_piece = False
             # a line on the offset of a line keeps the radius from it and, past a corner
@@ -670,10 +679,11 @@ cdef bint _cl_run(CompState *S, size_t upto, size_t end, bint strict, bint skip_
                     and S.prog.parts[C.el[C.ei - 1].part].func == 1:
                 nb = C.el[C.ei - 1].part
             if have and not skip and \
-                    not _cl_gouge(S, _cl_queue(C, &t, own, k, nb, r, r - C.allow, depth), k):
+                    not _cl_gouge(S, _cl_queue(C, own, k, nb, r, r - C.allow, depth), k):
                 return False
             C.cur[0] = end_pt[0]; C.cur[1] = end_pt[1]
         while C.rec < S.n_ins and S.ins[C.rec].after == k:
+            t = &C.batch[C.n_batch].t
             end_pt[0] = S.ins[C.rec].end[0]; end_pt[1] = S.ins[C.rec].end[1]
             have = False
             if not S.ins[C.rec].no_centre:
@@ -681,9 +691,9 @@ cdef bint _cl_run(CompState *S, size_t upto, size_t end, bint strict, bint skip_
                     have = distance2d(end_pt[0] - C.cur[0], end_pt[1] - C.cur[1]) > 1e-12 \
                         and not _cl_side_change(S, k, end)
                     if have:
-                        _cl_line(&t, C.cur, end_pt, k)
+                        _cl_line(t, C.cur, end_pt, k)
                 else:
-                    have = _cl_arc(&t, C.cur, end_pt, S.ins[C.rec].cc, r, 1 if S.ins[C.rec].func == INS_G3 else -1,
+                    have = _cl_arc(t, C.cur, end_pt, S.ins[C.rec].cc, r, 1 if S.ins[C.rec].func == INS_G3 else -1,
                                    k, False)
             # an arc round the corner at part k's end keeps the radius from the elements
             # that meet there
@@ -694,7 +704,7 @@ cdef bint _cl_run(CompState *S, size_t upto, size_t end, bint strict, bint skip_
                 na = k
                 j = C.ei + 1 if has_own else C.ei
                 nb = C.el[j].part if j < C.n else <size_t>-1
-            if have and not _cl_gouge(S, _cl_queue(C, &t, NULL, na, nb, r, r - C.allow, depth), k):
+            if have and not _cl_gouge(S, _cl_queue(C, NULL, na, nb, r, r - C.allow, depth), k):
                 return False
             C.cur[0] = end_pt[0]; C.cur[1] = end_pt[1]
             C.rec += 1
