@@ -1,15 +1,18 @@
-# Clearance of the tool path (the general gouge check): when a chain ends, every piece
-# of its final tool path (each compensated part's move and each inserted corner part)
-# must keep the tool radius, less tolerance[1], from the programmed contour of the
-# chain within the search window (parts at most `depth` apart, counted round a closed
-# contour). A piece that comes closer gouges: error 504 on its line, or with 0x80000
-# the chain is rebuilt from its regions (regions.pyx).
+# Clearance of the tool path (the general gouge check): every piece of a chain's final
+# tool path (each compensated part's move and each inserted corner part) must keep the
+# tool radius, less tolerance[1], from the programmed contour of the chain within the
+# search window (parts at most `depth` apart, counted round a closed contour). A piece
+# that comes closer gouges: error 504 on its line, or with 0x80000 the chain is rebuilt
+# from its regions (regions.pyx).
 #
 # The path is read back from the parts and the queued insertions, so the check sees
-# exactly what the merge will write. The contour is held CL_BLOCK parts (plus the
-# window either side) at a time in part order, with boxes of CL_G1 and CL_G1 * CL_G1
-# elements grown by the tool radius: a piece is compared with the few elements near
-# it, O(n) on ordinary contours.
+# exactly what the merge will write: while the chain grows, the parts a loop cut can no
+# longer reach (cl_chain_upto, beside the compiler), the rest when it ends
+# (cl_chain_close). The contour is held CL_BLOCK parts (plus the window either side)
+# at a time in part order, moved on with the chain, with boxes of CL_G1 and
+# CL_G1 * CL_G1 elements; CL_BATCH consecutive pieces share one search of the boxes.
+# Cheap proofs (_cl_far) settle most pairs, the rest is measured exactly
+# (_cl_piece_gap): O(n) on ordinary contours.
 from libc.stdlib cimport realloc, free
 from libc.string cimport memmove, memcpy
 from libc.math cimport fabs, sqrt, M_PI
@@ -62,14 +65,9 @@ cdef inline double _cl_sweep(int direction, const double *s, const double *e, co
 
 
 cdef inline bint _cl_within(const XPiece *q, double x, double y) noexcept nogil:
-    """Whether a point on q's line / circle lies on the piece (cross products, no
-    angles: this is the check's inner loop)."""
-    cdef double ax, ay, px, py, bx, by, L2, t
-    if q.kind == EL_LINE:
-        ax = q.e[0] - q.s[0]; ay = q.e[1] - q.s[1]
-        L2 = ax * ax + ay * ay
-        t = (x - q.s[0]) * ax + (y - q.s[1]) * ay
-        return t >= 0 and t <= L2
+    """Whether the direction of point (x, y) from arc piece q's centre lies within the
+    arc (cross products, no angles: this is the check's inner loop)."""
+    cdef double ax, ay, px, py, bx, by
     if q.sweep >= 2.0 * M_PI - 1e-12:
         return True
     ax = q.s[0] - q.c[0]; ay = q.s[1] - q.c[1]
