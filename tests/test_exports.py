@@ -449,7 +449,6 @@ def test_reset_status_after_compilation(run_python):
 
 
 NOT_IMPLEMENTED = {
-    "ConnectCNCEx_Plane": lambda lib: lib.ToolChainCore_ConnectCNCEx_Plane(0, 0, 0, None, None, 0, 0, 0),
     "LoadCNCCalcPlugIn": lambda lib: lib.ToolChainCore_LoadCNCCalcPlugIn(b"kinematics.so", 0, 0),
 }
 

@@ -213,6 +213,21 @@ def test_feeds_by_force_mode_rev_and_rapids(ph):
     assert plan(ph, "S300 F5000 FP0.5\nG33 Z-100 K2\n")[0]["v_peak"] == pytest.approx(10.0, rel=1e-9)
 
 
+def test_constant_cutting_speed_g96(ph):
+    # facing from X40 to X10 at S200 m/min, F0.1 mm/rev: the spindle at r = 10 mm turns
+    # 1000 * 200 / (2 pi 10) rev/min, the feed is 0.1 mm per turn of it
+    n = 1000.0 * 200.0 / (2.0 * math.pi * 10.0)
+    parts = plan(ph, "G0 X40\nG95 G96 S200\nG1 X10 F0.1\nG1 X0.5\nG97\nG1 X40\n")
+    moves = [p for p in parts if p["kind"] == 1][1:]
+    assert moves[0]["v_peak"] == pytest.approx(0.1 * n / 60.0, rel=1e-9)
+    # through the axis: r is held at 1 mm
+    assert moves[1]["v_peak"] == pytest.approx(0.1 * 1000.0 * 200.0 / (2.0 * math.pi) / 60.0, rel=1e-9)
+    # G97: S is the spindle speed again (200 rev/min)
+    assert moves[2]["v_peak"] == pytest.approx(0.1 * 200.0 / 60.0, rel=1e-9)
+    # G96 with a feed per minute changes nothing
+    assert plan(ph, "G0 X40\nG94 G96 S200\nG1 X10 F600\n")[-1]["v_peak"] == pytest.approx(10.0, rel=1e-12)
+
+
 def test_settings_from_the_program_apply_from_their_part_on(ph):
     # acceleration of the forward class changed between the two lines: G4 stops between
     parts = plan(ph, "G1 X100 F6000\nG4 X0\nG900 S30 C100 D100\nG1 X200\n")

@@ -23,6 +23,7 @@ CORES = (0, 1, 2)
 PROGRAMS = [lines_program(n, seed) for n, seed in ((40, 1), (400, 2), (2500, 3))] + [
     b"G1 X10 F1000\\nG2 X20 Y0 I5 J0\\nM8\\nG0 Z5\\nG1 X0 Y0\\nM30\\n",
     b"G1 X1\\nQQ\\n",                                   # a compile error
+    lines_program(3000, 4) + b"M8\\n" + lines_program(3000, 5),   # planned in two threads (a stop to split at)
 ]
 stop = threading.Event()
 calls = {{}}

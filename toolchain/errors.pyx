@@ -75,6 +75,15 @@ cdef const char *error_format(int32_t number) noexcept nogil:
     if number == ERR_COMP_NEGATIVE_ARC: return "Arc radius %g smaller than the tool radius %g"
     if number == ERR_COMP_CROSSING: return "Equidistants cross: the tool (radius %g) does not fit the contour"
     if number == ERR_COMP_LOOKAHEAD: return "More than %d blocks without motion in the compensation plane"
+    if number == ERR_CONNECT_BAD_ARGUMENT: return "ConnectCNCEx_Plane: %s = %g: %s"
+    if number == ERR_CONNECT_NO_LINE: return "ConnectCNCEx_Plane: no part at line %d of file %d"
+    if number == ERR_CONNECT_NO_GINDEX: return "ConnectCNCEx_Plane: no part with G-code index %d"
+    if number == ERR_CONNECT_NO_MFUNC:
+        return "ConnectCNCEx_Plane: occurrence n = %d of M%d not found (%d in that direction)"
+    if number == ERR_CONNECT_OFF_PART:
+        return "ConnectCNCEx_Plane: the point lies %g mm from the part with G-code index %d (tolerance %g mm)"
+    if number == ERR_CONNECT_NO_MOTION:
+        return "ConnectCNCEx_Plane: no motion to connect to in parts %d to %d (the program has %d)"
     if number == WARN_COMP: return "Tool radius compensation: %s"
     if number == WARN_G43_H:
         return ("G43 with H at column %d: TG's G43 switches on tool radius compensation with "

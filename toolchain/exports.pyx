@@ -399,7 +399,9 @@ cdef public int32_t ToolChainCore_ConnectCNCEx_Plane(uint32_t intIdx, uint32_t n
         return TOOL_CHAIN_BAD_INTR_INDEX
     if nCoords > 11 or (nCoords > 0 and coords == NULL) or (stateAfter != 0 and stateAfter != 2):
         return TOOL_CHAIN_ERROR
-    return not_implemented(intIdx, "ConnectCNCEx_Plane")
+    if not coordinates_finite(coords, nCoords):
+        return TOOL_CHAIN_ERROR
+    return core_connect(core_get(intIdx), nType, nCoords, coords, addCode, axesForCalc, axesForConnect, stateAfter)
 
 
 cdef public int32_t ToolChainCore_GoToPosition(uint32_t intIdx, uint32_t nCoords, const double *coords) noexcept nogil:

@@ -24,6 +24,7 @@ cdef enum PartFlags:
     FLAG_INSERTED = 0x02         # inserted by the system (compensation, G167 arcs)
     FLAG_CONTINUOUS_M = 0x04     # M >= 1001: signalled at the start of the next move, no wait
     FLAG_HELIX = 0x08            # arc with off-plane motion
+    FLAG_CSS = 0x10              # G96 with G95: `value` holds the spindle speed (rev/min) S gives there
 
 ctypedef struct Part:
     double e[3]             # programmed end x y z, machine coordinates (program + zero offset); M parts: current position
@@ -31,7 +32,7 @@ ctypedef struct Part:
     double cc[3]            # arc centre x y z (machine coordinates), programmed
     double radius           # arc radius of the tool path (compensated); 0 for lines
     double feed             # F in mm/min (G94) or mm/rev (G95) after forceMode/M99; rapid: motion[0].feed
-    double value            # dwell seconds (G4), thread pitch (G33)
+    double value            # dwell seconds (G4), thread pitch (G33), spindle rev/min under G96 (FLAG_CSS)
     float fp                # FP relative feed (1.0)
     float spindle           # S
     int32_t func            # G number (0 1 2 3 4 33) or M number

@@ -310,6 +310,10 @@ DriverInitialize = ctypes.CFUNCTYPE(c_int32, c_ssize_t, ctypes.POINTER(c_double)
 DriverGFunc = ctypes.CFUNCTYPE(c_int32, c_ssize_t, ctypes.POINTER(SIMPLE_GM_PARAMS))
 DriverMFunc = ctypes.CFUNCTYPE(c_int32, c_ssize_t, ctypes.POINTER(SIMPLE_GM_PARAMS))
 DriverEnd = ctypes.CFUNCTYPE(c_int32, c_ssize_t)
+ConnectPointCalcStart = ctypes.CFUNCTYPE(c_int32, c_ssize_t, c_uint32, c_uint32, ctypes.POINTER(c_double), c_uint32)
+ConnectPointCalc = ctypes.CFUNCTYPE(c_int32, c_ssize_t, ctypes.POINTER(SIMPLE_GM_PARAMS), ctypes.POINTER(c_double),
+                                    ctypes.POINTER(P10DOUBLE))
+ConnectPointCalcEnd = ctypes.CFUNCTYPE(c_int32, c_ssize_t, ctypes.POINTER(SIMPLE_GM_PARAMS), ctypes.POINTER(P10DOUBLE))
 MathWarning = ctypes.CFUNCTYPE(c_int32, c_ssize_t, ctypes.POINTER(CALLBACK_INFO))
 # ToolChain_SetLogHook's function (extension): (userData, LOG_* source, text).
 LogHook = ctypes.CFUNCTYPE(None, c_ssize_t, c_uint32, c_char_p)

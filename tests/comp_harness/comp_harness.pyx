@@ -98,3 +98,28 @@ def compensate(list parts, start, long long strategy=0, corrections=(), toleranc
 def cnc_status_name(int status):
     """The name errors.pyx gives a cnc_status in error texts (test of its table)."""
     return (<bytes>status_name(status)).decode()
+
+
+cdef bint _piece(XPiece *q, tuple spec):
+    """spec: ("line", (sx, sy), (ex, ey)) or ("arc", (sx, sy), (ex, ey), (cx, cy), dir)."""
+    cdef double a[2]
+    cdef double b[2]
+    cdef double c[2]
+    memset(q, 0, sizeof(XPiece))
+    a[0] = spec[1][0]; a[1] = spec[1][1]
+    b[0] = spec[2][0]; b[1] = spec[2][1]
+    if spec[0] == "line":
+        _cl_line(q, a, b, 0)
+        return True
+    c[0] = spec[3][0]; c[1] = spec[3][1]
+    return _cl_arc(q, a, b, c, distance2d(a[0] - c[0], a[1] - c[1]), spec[4], 0, True)
+
+
+def piece_gap(tuple t_spec, tuple g_spec, double stop):
+    """The gouge check's measure of two pieces (clearance.pyx): (far, gap) with far the
+    cheap proof that they are at least `stop` apart and gap the distance where it is
+    below `stop` (else a value >= stop)."""
+    cdef XPiece t, g
+    if not _piece(&t, t_spec) or not _piece(&g, g_spec):
+        raise ValueError("no piece")
+    return bool(_cl_far(&t, &g, stop)), _cl_piece_gap(&t, &g, stop)

@@ -1,34 +1,57 @@
-# Clearance of the tool path (the general gouge check): when a chain ends, every piece
-# of its final tool path (each compensated part's move and each inserted corner part)
-# must keep the tool radius, less tolerance[1], from the programmed contour of the
-# chain within the search window (parts at most `depth` apart, counted round a closed
-# contour). A piece that comes closer gouges: error 504 on its line, or with 0x80000
-# the chain is rebuilt from its regions (regions.pyx).
+# Clearance of the tool path (the general gouge check): every piece of a chain's final
+# tool path (each compensated part's move and each inserted corner part) must keep the
+# tool radius, less tolerance[1], from the programmed contour of the chain within the
+# search window (parts at most `depth` apart, counted round a closed contour). A piece
+# that comes closer gouges: error 504 on its line, or with 0x80000 the chain is rebuilt
+# from its regions (regions.pyx).
 #
 # The path is read back from the parts and the queued insertions, so the check sees
-# exactly what the merge will write. The contour is held CL_BLOCK parts (plus the
-# window either side) at a time in part order, with boxes of CL_G1 and CL_G1 * CL_G1
-# elements grown by the tool radius: a piece is compared with the few elements near
-# it, O(n) on ordinary contours.
+# exactly what the merge will write: while the chain grows, the parts a loop cut can no
+# longer reach (cl_chain_upto, beside the compiler), the rest when it ends
+# (cl_chain_close). The contour is held CL_BLOCK parts (plus the window either side)
+# at a time in part order, moved on with the chain, with boxes of CL_G1 and
+# CL_G1 * CL_G1 elements; CL_BATCH consecutive pieces share one search of the boxes.
+# Cheap proofs (_cl_far) settle most pairs, the rest is measured exactly
+# (_cl_piece_gap): O(n) on ordinary contours.
 from libc.stdlib cimport realloc, free
-from libc.math cimport fabs, M_PI
+from libc.string cimport memmove, memcpy
+from libc.math cimport fabs, sqrt, M_PI
 
 cdef enum:
-    CL_BLOCK = 4096         # parts of the chain whose contour window is held at a time
+    CL_BLOCK = 16384        # parts of the chain whose contour window is held at a time
     CL_G1 = 16              # contour elements per small box; a large box holds CL_G1 small ones
+    CL_BATCH = 16           # pieces of the path that share one search of the boxes
+
+ctypedef struct ClPiece:
+    XPiece t                # a piece of the tool path waiting for its batch's search
+    const XPiece *own       # arguments of cl_gap
+    size_t skip_a, skip_b
+    double r, stop
 
 ctypedef struct Clearance:
     XPiece *el              # the programmed elements of the window, in part order
+    double *off             # ... how far each one's end lies off its circle (arcs; lines 0)
     size_t n, cap
-    double *g1              # boxes of groups of CL_G1 elements, grown by `grow`
+    double *g1              # boxes of groups of CL_G1 elements
     double *g2              # boxes of groups of CL_G1 * CL_G1 elements
     size_t cap_g
-    double grow
-    double off
+    double max_off          # the largest `off` of the window
     size_t lo, hi           # parts the window holds
     bint whole              # ... the whole chain
     size_t span             # parts of the chain
     bint closed             # distances in parts wrap round the closed chain (regions.pyx)
+    size_t *cand            # elements whose boxes meet the batch's box
+    double *cbox            # ... their boxes, side by side (the inner loop reads only these)
+    size_t n_cand, cap_cand
+    ClPiece batch[CL_BATCH] # pieces queued by _cl_queue
+    size_t n_batch
+    bint loose              # an element was not measured because the piece's own crosses it
+    # the chain being checked (cl_chain_open): parts before `next` are done, the tool
+    # stands at `cur`, insertion `rec` is the next one; the block of parts [blo, bhi]
+    size_t first, next, ins0, rec, blo, bhi, ei
+    double cur[2]
+    double allow
+    bint started, in_block, first_piece
 
 
 cdef inline double _cl_sweep(int direction, const double *s, const double *e, const double *c) noexcept nogil:
@@ -42,14 +65,9 @@ cdef inline double _cl_sweep(int direction, const double *s, const double *e, co
 
 
 cdef inline bint _cl_within(const XPiece *q, double x, double y) noexcept nogil:
-    """Whether a point on q's line / circle lies on the piece (cross products, no
-    angles: this is the check's inner loop)."""
-    cdef double ax, ay, px, py, bx, by, L2, t
-    if q.kind == EL_LINE:
-        ax = q.e[0] - q.s[0]; ay = q.e[1] - q.s[1]
-        L2 = ax * ax + ay * ay
-        t = (x - q.s[0]) * ax + (y - q.s[1]) * ay
-        return t >= 0 and t <= L2
+    """Whether the direction of point (x, y) from arc piece q's centre lies within the
+    arc (cross products, no angles: this is the check's inner loop)."""
+    cdef double ax, ay, px, py, bx, by
     if q.sweep >= 2.0 * M_PI - 1e-12:
         return True
     ax = q.s[0] - q.c[0]; ay = q.s[1] - q.c[1]
@@ -61,77 +79,130 @@ cdef inline bint _cl_within(const XPiece *q, double x, double y) noexcept nogil:
     return not (q.dir * (bx * py - by * px) > 0 and q.dir * (px * ay - py * ax) > 0)
 
 
-cdef double _x_dist(const XPiece *g, double x, double y) noexcept nogil:
-    """Distance of a point from piece g (a line segment or an arc with its sweep)."""
-    cdef double dx, dy, L2, t, rho
-    if g.kind == EL_LINE:
-        dx = g.e[0] - g.s[0]; dy = g.e[1] - g.s[1]
-        L2 = dx * dx + dy * dy
-        t = ((x - g.s[0]) * dx + (y - g.s[1]) * dy) / L2 if L2 > 0 else 0.0
-        t = 0.0 if t < 0 else (1.0 if t > 1 else t)
-        return distance2d(x - g.s[0] - t * dx, y - g.s[1] - t * dy)
-    rho = distance2d(x - g.c[0], y - g.c[1])
-    if rho > 0 and _cl_within(g, x, y):
-        return fabs(rho - g.r)
-    dx = distance2d(x - g.s[0], y - g.s[1])
-    dy = distance2d(x - g.e[0], y - g.e[1])
-    return dx if dx < dy else dy
+cdef inline double _cl_seg_d2(const XPiece *q, double x, double y) noexcept nogil:
+    """Squared distance of a point from line piece q."""
+    cdef double dx = q.e[0] - q.s[0], dy = q.e[1] - q.s[1]
+    cdef double L2 = dx * dx + dy * dy
+    cdef double t = ((x - q.s[0]) * dx + (y - q.s[1]) * dy) / L2 if L2 > 0 else 0.0
+    t = 0.0 if t < 0 else (1.0 if t > 1 else t)
+    dx = x - q.s[0] - t * dx
+    dy = y - q.s[1] - t * dy
+    return dx * dx + dy * dy
 
 
-cdef int _x_toward(const XPiece *t, double x, double y, double *pts) noexcept nogil:
-    """Points of piece t nearest to the point (x, y) and, for arcs, farthest from it on
-    its circle (0 to 2 candidates, in pts)."""
-    cdef double dx, dy, L2, u, rho
-    cdef int n = 0, k
-    if t.kind == EL_LINE:
-        dx = t.e[0] - t.s[0]; dy = t.e[1] - t.s[1]
-        L2 = dx * dx + dy * dy
-        u = ((x - t.s[0]) * dx + (y - t.s[1]) * dy) / L2 if L2 > 0 else 0.0
-        u = 0.0 if u < 0 else (1.0 if u > 1 else u)
-        pts[0] = t.s[0] + u * dx; pts[1] = t.s[1] + u * dy
-        return 1
-    rho = distance2d(x - t.c[0], y - t.c[1])
-    if rho <= 0:
-        return 0
+cdef inline double _cl_point_gap(const XPiece *q, double x, double y) noexcept nogil:
+    """Distance of a point from piece q: from an arc, radial where the point faces the
+    arc, else to its nearer end."""
+    cdef double rho, a, b
+    if q.kind == EL_LINE:
+        return sqrt(_cl_seg_d2(q, x, y))
+    rho = distance2d(x - q.c[0], y - q.c[1])
+    if rho > 0 and _cl_within(q, x, y):
+        return fabs(rho - q.r)
+    a = (x - q.s[0]) * (x - q.s[0]) + (y - q.s[1]) * (y - q.s[1])
+    b = (x - q.e[0]) * (x - q.e[0]) + (y - q.e[1]) * (y - q.e[1])
+    return sqrt(a if a < b else b)
+
+
+cdef double _cl_line_arc_inner(const XPiece *ln, const XPiece *a, double stop) noexcept nogil:
+    """Where the least distance of line piece ln and arc piece a lies inside both: 0
+    where they cross, else the distance of the circle's point nearest the line when
+    it lies on the arc and faces the line piece; stop when neither (the ends decide).
+    Inside both, the distance has no minimum elsewhere: past the line the circle's
+    extreme point is a maximum."""
+    cdef double dx = ln.e[0] - ln.s[0], dy = ln.e[1] - ln.s[1]
+    cdef double L2 = dx * dx + dy * dy
+    cdef double u, fx, fy, h, w, v
+    cdef int k
+    if L2 <= 0:
+        return stop
+    u = ((a.c[0] - ln.s[0]) * dx + (a.c[1] - ln.s[1]) * dy) / L2
+    fx = ln.s[0] + u * dx - a.c[0]
+    fy = ln.s[1] + u * dy - a.c[1]
+    h = distance2d(fx, fy)
+    if h >= a.r:
+        if u < 0 or u > 1 or h - a.r >= stop:
+            return stop
+        return h - a.r if _cl_within(a, a.c[0] + a.r * fx / h, a.c[1] + a.r * fy / h) else stop
+    w = sqrt((a.r * a.r - h * h) / L2)
     for k in range(2):
-        u = 1.0 - 2.0 * k
-        pts[2 * n] = t.c[0] + u * t.r * (x - t.c[0]) / rho
-        pts[2 * n + 1] = t.c[1] + u * t.r * (y - t.c[1]) / rho
-        if _cl_within(t, pts[2 * n], pts[2 * n + 1]):
-            n += 1
-    return n
-
-
-cdef double _x_gap(const XPiece *t, const XPiece *g, double slack) noexcept nogil:
-    """Smallest distance between pieces t and g: 0 when they cross, else the least over
-    the points where it can occur (ends, feet of the other's ends and centre, the
-    points of an arc facing a line or the other circle)."""
-    cdef double pts[4]
-    cdef double cand[24]
-    cdef double best, d, pos, nx, ny, L
-    cdef int m, k, n = 0
-    m = _x_meet(t, g, slack, pts)
-    for k in range(m):
-        if _cl_within(t, pts[2 * k], pts[2 * k + 1]) and _cl_within(g, pts[2 * k], pts[2 * k + 1]):
+        v = u - w if k == 0 else u + w
+        if v >= 0 and v <= 1 and _cl_within(a, ln.s[0] + v * dx, ln.s[1] + v * dy):
             return 0.0
-    cand[0] = t.s[0]; cand[1] = t.s[1]; cand[2] = t.e[0]; cand[3] = t.e[1]
-    n = 2
-    n += _x_toward(t, g.s[0], g.s[1], &cand[2 * n])
-    n += _x_toward(t, g.e[0], g.e[1], &cand[2 * n])
-    if g.kind == EL_ARC:
-        n += _x_toward(t, g.c[0], g.c[1], &cand[2 * n])
-    elif t.kind == EL_ARC:
-        # the points of t's circle along g's normal through its centre
-        L = distance2d(g.e[0] - g.s[0], g.e[1] - g.s[1])
-        if L > 0:
-            nx = -(g.e[1] - g.s[1]) / L; ny = (g.e[0] - g.s[0]) / L
-            n += _x_toward(t, t.c[0] + nx, t.c[1] + ny, &cand[2 * n])
-    best = 1e300
-    for k in range(n):
-        d = _x_dist(g, cand[2 * k], cand[2 * k + 1])
-        if d < best:
-            best = d
+    return stop
+
+
+cdef double _cl_arc_arc_inner(const XPiece *p, const XPiece *q, double stop) noexcept nogil:
+    """The same for two arcs: 0 where they cross, else the least distance of their
+    points on the line through both centres that lie on the arcs (where every
+    interior extreme of the distance lies); stop when none is below it."""
+    cdef double dx = q.c[0] - p.c[0], dy = q.c[1] - p.c[1]
+    cdef double D = distance2d(dx, dy)
+    cdef double ux, uy, m, h, x, y, best = stop, d
+    cdef double pp[4]
+    cdef double qq[4]
+    cdef int i, j, n_p = 0, n_q = 0
+    if D <= 1e-12:
+        return stop             # concentric: the ends decide
+    ux = dx / D; uy = dy / D
+    if D <= p.r + q.r and D >= fabs(p.r - q.r):
+        m = (p.r * p.r - q.r * q.r + D * D) / (2.0 * D)
+        h = p.r * p.r - m * m
+        h = sqrt(h) if h > 0 else 0.0
+        for i in range(2):
+            x = p.c[0] + m * ux - (h if i == 0 else -h) * uy
+            y = p.c[1] + m * uy + (h if i == 0 else -h) * ux
+            if _cl_within(p, x, y) and _cl_within(q, x, y):
+                return 0.0
+    for i in range(2):
+        x = p.c[0] + (p.r if i == 0 else -p.r) * ux
+        y = p.c[1] + (p.r if i == 0 else -p.r) * uy
+        if _cl_within(p, x, y):
+            pp[2 * n_p] = x; pp[2 * n_p + 1] = y
+            n_p += 1
+        x = q.c[0] + (q.r if i == 0 else -q.r) * ux
+        y = q.c[1] + (q.r if i == 0 else -q.r) * uy
+        if _cl_within(q, x, y):
+            qq[2 * n_q] = x; qq[2 * n_q + 1] = y
+            n_q += 1
+    for i in range(n_p):
+        for j in range(n_q):
+            d = distance2d(pp[2 * i] - qq[2 * j], pp[2 * i + 1] - qq[2 * j + 1])
+            if d < best:
+                best = d
     return best
+
+
+cdef double _cl_piece_gap(const XPiece *t, const XPiece *g, double stop) noexcept nogil:
+    """The distance of pieces t and g where it is below `stop` (else a value >= stop):
+    the least distance of two lines / arcs lies at an end of one of them, where they
+    cross, or at an interior extreme (_cl_line_arc_inner, _cl_arc_arc_inner); lines
+    have none."""
+    cdef double d, o1, o2, o3, o4
+    d = _cl_point_gap(g, t.s[0], t.s[1])
+    if d < stop:
+        return d
+    d = _cl_point_gap(g, t.e[0], t.e[1])
+    if d < stop:
+        return d
+    d = _cl_point_gap(t, g.s[0], g.s[1])
+    if d < stop:
+        return d
+    d = _cl_point_gap(t, g.e[0], g.e[1])
+    if d < stop:
+        return d
+    if t.kind == EL_LINE and g.kind == EL_LINE:
+        # a crossing strictly inside both (a touch is an end at distance 0, above)
+        o1 = (t.e[0] - t.s[0]) * (g.s[1] - t.s[1]) - (t.e[1] - t.s[1]) * (g.s[0] - t.s[0])
+        o2 = (t.e[0] - t.s[0]) * (g.e[1] - t.s[1]) - (t.e[1] - t.s[1]) * (g.e[0] - t.s[0])
+        o3 = (g.e[0] - g.s[0]) * (t.s[1] - g.s[1]) - (g.e[1] - g.s[1]) * (t.s[0] - g.s[0])
+        o4 = (g.e[0] - g.s[0]) * (t.e[1] - g.s[1]) - (g.e[1] - g.s[1]) * (t.e[0] - g.s[0])
+        return 0.0 if ((o1 < 0) != (o2 < 0)) and ((o3 < 0) != (o4 < 0)) else stop
+    if t.kind == EL_LINE:
+        return _cl_line_arc_inner(t, g, stop)
+    if g.kind == EL_LINE:
+        return _cl_line_arc_inner(g, t, stop)
+    return _cl_arc_arc_inner(t, g, stop)
 
 
 cdef inline void _cl_box_empty(double *b) noexcept nogil:
@@ -147,8 +218,11 @@ cdef bint cl_element(const CompState *S, size_t k, XPiece *g) noexcept nogil:
     if p.kind != PART_MOTION or p.func == 0:
         return False
     st = part_start_xyz(S.prog, k)
-    memset(g, 0, sizeof(XPiece))
     g.part = k
+    g.ins = False
+    g.first = False
+    g.prov = False
+    g.gprog = False
     g.s[0] = st[S.first]; g.s[1] = st[S.second]
     g.e[0] = p.e[S.first]; g.e[1] = p.e[S.second]
     if p.func == 2 or p.func == 3:
@@ -163,42 +237,49 @@ cdef bint cl_element(const CompState *S, size_t k, XPiece *g) noexcept nogil:
         if (g.e[0] - g.s[0]) * (g.e[0] - g.s[0]) + (g.e[1] - g.s[1]) * (g.e[1] - g.s[1]) <= 1e-18:
             return False
         g.kind = EL_LINE
+        g.dir = 0
+        g.sweep = 0.0
     _x_geometry(g)
     return True
 
 
-cdef bint _cl_load(CompState *S, Clearance *C, size_t lo, size_t hi) noexcept nogil:
-    """The contour of parts lo..hi of the chain, with its group boxes grown by the
-    largest tool radius among them (C.grow); C.off: how far an arc's end lies off its
-    circle at most."""
-    cdef XPiece g
+cdef bint _cl_slide(CompState *S, Clearance *C, size_t lo, size_t hi) noexcept nogil:
+    """Moves the window on to the contour of parts lo..hi (lo >= C.lo, hi >= C.hi):
+    the elements it still holds stay, only the new parts are read; then its group
+    boxes (the elements' own boxes: a query box is grown by the piece's radius) and
+    C.max_off."""
     cdef XPiece *el
+    cdef double *d
     cdef double *b
-    cdef double d
-    cdef size_t k, cap, ng
-    C.n = 0
+    cdef size_t k, cap, ng, drop = 0, start = lo
+    if C.n > 0 and lo >= C.lo and lo <= C.hi + 1 and hi >= C.hi:
+        while drop < C.n and C.el[drop].part < lo:
+            drop += 1
+        if drop > 0:
+            memmove(C.el, &C.el[drop], (C.n - drop) * sizeof(XPiece))
+            memmove(C.off, &C.off[drop], (C.n - drop) * sizeof(double))
+            C.n -= drop
+        start = C.hi + 1
+    else:
+        C.n = 0
     C.lo = lo
     C.hi = hi
-    C.grow = 0.0
-    C.off = 0.0
-    for k in range(lo, hi + 1):
-        d = fabs(_comp_distance(S, &S.prog.parts[k]))
-        if d > C.grow:
-            C.grow = d
-        if not cl_element(S, k, &g):
-            continue
-        if g.kind == EL_ARC:
-            d = fabs(distance2d(g.e[0] - g.c[0], g.e[1] - g.c[1]) - g.r)
-            if d > C.off:
-                C.off = d
+    for k in range(start, hi + 1):
         if C.n == C.cap:
             cap = C.cap * 2 if C.cap else 256
             el = <XPiece *>realloc(C.el, cap * sizeof(XPiece))
             if el == NULL:
                 return False
             C.el = el
+            d = <double *>realloc(C.off, cap * sizeof(double))
+            if d == NULL:
+                return False
+            C.off = d
             C.cap = cap
-        C.el[C.n] = g
+        if not cl_element(S, k, &C.el[C.n]):
+            continue
+        el = &C.el[C.n]
+        C.off[C.n] = fabs(distance2d(el.e[0] - el.c[0], el.e[1] - el.c[1]) - el.r) if el.kind == EL_ARC else 0.0
         C.n += 1
     ng = C.n / CL_G1 + 1
     if ng > C.cap_g:
@@ -215,17 +296,20 @@ cdef bint _cl_load(CompState *S, Clearance *C, size_t lo, size_t hi) noexcept no
         _cl_box_empty(&C.g1[4 * k])
     for k in range(ng / CL_G1 + 1):
         _cl_box_empty(&C.g2[4 * k])
+    C.max_off = 0.0
     for k in range(C.n):
         _box_union(&C.g1[4 * (k / CL_G1)], C.el[k].box)
+        if C.off[k] > C.max_off:
+            C.max_off = C.off[k]
     for k in range(ng):
         _box_union(&C.g2[4 * (k / CL_G1)], &C.g1[4 * k])
-    for k in range(ng):
-        b = &C.g1[4 * k]
-        b[0] -= C.grow; b[1] -= C.grow; b[2] += C.grow; b[3] += C.grow
-    for k in range(ng / CL_G1 + 1):
-        b = &C.g2[4 * k]
-        b[0] -= C.grow; b[1] -= C.grow; b[2] += C.grow; b[3] += C.grow
     return True
+
+
+cdef bint _cl_load(CompState *S, Clearance *C, size_t lo, size_t hi) noexcept nogil:
+    """The contour of parts lo..hi alone (see _cl_slide)."""
+    C.n = 0
+    return _cl_slide(S, C, lo, hi)
 
 
 cdef inline bint _cl_in_window(const Clearance *C, size_t a, size_t b, size_t depth) noexcept nogil:
@@ -235,25 +319,14 @@ cdef inline bint _cl_in_window(const Clearance *C, size_t a, size_t b, size_t de
     return d <= depth
 
 
-cdef inline double _cl_seg_dmin(const XPiece *q, double x, double y) noexcept nogil:
-    """Distance of a point from line piece q."""
-    cdef double dx = q.e[0] - q.s[0], dy = q.e[1] - q.s[1]
-    cdef double L2 = dx * dx + dy * dy
-    cdef double t = ((x - q.s[0]) * dx + (y - q.s[1]) * dy) / L2 if L2 > 0 else 0.0
-    t = 0.0 if t < 0 else (1.0 if t > 1 else t)
-    return distance2d(x - q.s[0] - t * dx, y - q.s[1] - t * dy)
-
-
 cdef inline bint _cl_off_line(const XPiece *q, const XPiece *g, double stop) noexcept nogil:
-    """Line piece q lies wholly on one side of g's line, at least `stop` from it."""
+    """Line piece q lies wholly on one side of g's line, at least `stop` (> 0) from it
+    (cross products against stop x |g|, squared: no root)."""
     cdef double dx = g.e[0] - g.s[0], dy = g.e[1] - g.s[1]
-    cdef double L = distance2d(dx, dy)
-    cdef double a, b
-    if L <= 0:
-        return False
-    a = ((q.s[0] - g.s[0]) * dy - (q.s[1] - g.s[1]) * dx) / L
-    b = ((q.e[0] - g.s[0]) * dy - (q.e[1] - g.s[1]) * dx) / L
-    return (a >= stop and b >= stop) or (a <= -stop and b <= -stop)
+    cdef double lim = stop * stop * (dx * dx + dy * dy)
+    cdef double a = (q.s[0] - g.s[0]) * dy - (q.s[1] - g.s[1]) * dx
+    cdef double b = (q.e[0] - g.s[0]) * dy - (q.e[1] - g.s[1]) * dx
+    return lim > 0 and ((a > 0) == (b > 0)) and a != 0 and b != 0 and a * a >= lim and b * b >= lim
 
 
 cdef inline bint _cl_off_ring(const XPiece *q, const double *c, double R, double stop) noexcept nogil:
@@ -262,23 +335,44 @@ cdef inline bint _cl_off_ring(const XPiece *q, const double *c, double R, double
     cdef double d2 = distance2d(q.e[0] - c[0], q.e[1] - c[1])
     if d2 > dmax:
         dmax = d2
-    return dmax <= R - stop or _cl_seg_dmin(q, c[0], c[1]) >= R + stop
+    return dmax <= R - stop or _cl_seg_d2(q, c[0], c[1]) >= (R + stop) * (R + stop)
+
+
+cdef bint _cl_arc_off_line(const XPiece *q, const XPiece *ln, double stop) noexcept nogil:
+    """Arc piece q lies wholly on one side of line piece ln's line, at least `stop`
+    from it: its signed distance from the line is least and greatest at its ends or
+    at the circle's points along the line's normal, where the arc holds them."""
+    cdef double dx = ln.e[0] - ln.s[0], dy = ln.e[1] - ln.s[1]
+    cdef double L = distance2d(dx, dy)
+    cdef double nx, ny, a, b, lo, hi, sc
+    if L <= 0:
+        return False
+    nx = -dy / L; ny = dx / L
+    a = (q.s[0] - ln.s[0]) * nx + (q.s[1] - ln.s[1]) * ny
+    b = (q.e[0] - ln.s[0]) * nx + (q.e[1] - ln.s[1]) * ny
+    lo = a if a < b else b
+    hi = b if a < b else a
+    if lo < stop and hi > -stop:
+        return False                # the ends alone straddle the band
+    sc = (q.c[0] - ln.s[0]) * nx + (q.c[1] - ln.s[1]) * ny
+    if _cl_within(q, q.c[0] + q.r * nx, q.c[1] + q.r * ny):
+        hi = sc + q.r
+    if _cl_within(q, q.c[0] - q.r * nx, q.c[1] - q.r * ny):
+        lo = sc - q.r
+    return lo >= stop or hi <= -stop
 
 
 cdef bint _cl_far(const XPiece *t, const XPiece *g, double stop) noexcept nogil:
-    """A cheap proof that pieces t and g are at least `stop` apart (False: measure)."""
-    cdef double D, sd, L
+    """A cheap proof that pieces t and g are at least `stop` apart (False: measure):
+    one lies beyond the band of `stop` round the other's line, or outside the ring of
+    `stop` round the other's circle."""
+    cdef double D
     if t.kind == EL_LINE and g.kind == EL_LINE:
         return _cl_off_line(t, g, stop) or _cl_off_line(g, t, stop)
     if t.kind == EL_LINE:
-        return _cl_off_ring(t, g.c, g.r, stop)
+        return _cl_off_ring(t, g.c, g.r, stop) or _cl_arc_off_line(g, t, stop)
     if g.kind == EL_LINE:
-        L = distance2d(g.e[0] - g.s[0], g.e[1] - g.s[1])
-        if L > 0:
-            sd = fabs(((t.c[0] - g.s[0]) * (g.e[1] - g.s[1]) - (t.c[1] - g.s[1]) * (g.e[0] - g.s[0])) / L)
-            if sd - t.r >= stop:
-                return True
-        return _cl_off_ring(g, t.c, t.r, stop)
+        return _cl_off_ring(g, t.c, t.r, stop) or _cl_arc_off_line(t, g, stop)
     D = distance2d(t.c[0] - g.c[0], t.c[1] - g.c[1])
     return D >= t.r + g.r + stop or D + t.r <= g.r - stop or D + g.r <= t.r - stop
 
@@ -297,18 +391,35 @@ cdef bint _cl_cross(const XPiece *a, const XPiece *b) noexcept nogil:
     return False
 
 
+cdef inline double _cl_element_gap(const Clearance *C, const XPiece *t, const XPiece *g,
+                                   const XPiece *own, size_t skip_a, size_t skip_b, size_t depth,
+                                   double stop, bint *loose) noexcept nogil:
+    """Piece t's distance from element g, whose box meets t's grown by the radius,
+    where it counts and is below `stop` (else `stop`; see cl_gap). loose: set when
+    g does not count because t's own element crosses it."""
+    cdef double d
+    if g.part == skip_a or g.part == skip_b or not _cl_in_window(C, g.part, t.part, depth) \
+            or _cl_far(t, g, stop):
+        return stop
+    d = _cl_piece_gap(t, g, stop)
+    if d < stop and own != NULL and _box_hit(g.box, own.box, 0.0) and _cl_cross(own, g):
+        loose[0] = True
+        return stop
+    return d
+
+
 cdef double cl_gap(const Clearance *C, XPiece *t, const XPiece *own, size_t skip_a, size_t skip_b,
                    double r, size_t depth, double slack, double stop) noexcept nogil:
-    """The smallest distance from piece t to the contour elements of the window within
-    `depth` parts of t's part, looked at only where it is below r (else r); the first
-    one found below `stop` ends the search. own: t's programmed element when the
-    elements it crosses do not count (an open path crossing itself: the tool crosses
-    there too), else NULL. skip_a, skip_b: parts whose elements t keeps the radius from
-    by construction (not measured; (size_t)-1 none)."""
+    """Whether piece t comes closer than `stop` (<= r) to a contour element of the
+    window within `depth` parts of t's part: the distance to the first element found
+    closer, else r. own: t's programmed element when the elements it crosses do not
+    count (an open path crossing itself: the tool crosses there too), else NULL.
+    skip_a, skip_b: parts whose elements t keeps the radius from by construction (not
+    measured; (size_t)-1 none). slack: unused (the measure is exact)."""
     cdef double box[4]
-    cdef double best = r, d
+    cdef double d
     cdef size_t i, j, k, n1, n2
-    cdef const XPiece *g
+    cdef bint loose = False
     box[0] = t.box[0] - r; box[1] = t.box[1] - r; box[2] = t.box[2] + r; box[3] = t.box[3] + r
     n1 = (C.n + CL_G1 - 1) / CL_G1
     n2 = (n1 + CL_G1 - 1) / CL_G1
@@ -319,44 +430,92 @@ cdef double cl_gap(const Clearance *C, XPiece *t, const XPiece *own, size_t skip
             if not _box_hit(&C.g1[4 * j], box, 0.0):
                 continue
             for k in range(j * CL_G1, min((j + 1) * CL_G1, C.n)):
-                g = &C.el[k]
-                if not _box_hit(g.box, box, 0.0) or not _cl_in_window(C, g.part, t.part, depth) \
-                        or g.part == skip_a or g.part == skip_b:
+                if not _box_hit(C.el[k].box, box, 0.0):
                     continue
-                if own != NULL and _box_hit(g.box, own.box, 0.0) and _cl_cross(own, g):
-                    continue
-                if _cl_far(t, g, stop):
-                    continue
-                d = _x_gap(t, g, slack)
-                if d < best:
-                    best = d
-                    if best < stop:
-                        return best
-    return best
+                d = _cl_element_gap(C, t, &C.el[k], own, skip_a, skip_b, depth, stop, &loose)
+                if d < stop:
+                    return d
+    return r
 
 
-cdef size_t _cl_next_el(const Clearance *C, size_t part) noexcept nogil:
-    """The part of the first contour element of the window after part `part`."""
-    cdef size_t lo = 0, hi = C.n, mid
-    while lo < hi:
-        mid = (lo + hi) / 2
-        if C.el[mid].part <= part:
-            lo = mid + 1
-        else:
-            hi = mid
-    return C.el[lo].part if lo < C.n else <size_t>-1
+cdef bint _cl_collect(Clearance *C, const double *box) noexcept nogil:
+    """C.cand: the elements whose boxes meet `box`, in order (False: no memory)."""
+    cdef size_t i, j, k, n1, n2, cap, n = 0
+    cdef size_t *cand
+    cdef double *cbox
+    n1 = (C.n + CL_G1 - 1) / CL_G1
+    n2 = (n1 + CL_G1 - 1) / CL_G1
+    for i in range(n2):
+        if not _box_hit(&C.g2[4 * i], box, 0.0):
+            continue
+        for j in range(i * CL_G1, min((i + 1) * CL_G1, n1)):
+            if not _box_hit(&C.g1[4 * j], box, 0.0):
+                continue
+            if n + CL_G1 > C.cap_cand:
+                cap = C.cap_cand * 2 if C.cap_cand else 256
+                cand = <size_t *>realloc(C.cand, cap * sizeof(size_t))
+                if cand == NULL:
+                    return False
+                C.cand = cand
+                cbox = <double *>realloc(C.cbox, 4 * cap * sizeof(double))
+                if cbox == NULL:
+                    return False
+                C.cbox = cbox
+                C.cap_cand = cap
+            for k in range(j * CL_G1, min((j + 1) * CL_G1, C.n)):
+                if _box_hit(C.el[k].box, box, 0.0):
+                    C.cand[n] = k
+                    memcpy(&C.cbox[4 * n], C.el[k].box, 4 * sizeof(double))
+                    n += 1
+    C.n_cand = n
+    return True
 
 
-cdef size_t _cl_prev_el(const Clearance *C, size_t part) noexcept nogil:
-    """The part of the last contour element of the window before part `part`."""
-    cdef size_t lo = 0, hi = C.n, mid
-    while lo < hi:
-        mid = (lo + hi) / 2
-        if C.el[mid].part < part:
-            lo = mid + 1
-        else:
-            hi = mid
-    return C.el[lo - 1].part if lo > 0 else <size_t>-1
+cdef int64_t _cl_flush(Clearance *C, size_t depth) noexcept nogil:
+    """Measures the queued pieces in order: the index of the first one that comes
+    closer than its `stop`, -1 none, -2 out of memory. One search of the boxes for
+    the whole batch (the pieces of neighbouring parts meet the same few elements)."""
+    cdef double box[4]
+    cdef double bb[4]
+    cdef double x0, y0, x1, y1
+    cdef const double *cb
+    cdef ClPiece *q
+    cdef size_t b, m, n = C.n_batch
+    C.n_batch = 0
+    if n == 0:
+        return -1
+    _cl_box_empty(box)
+    for b in range(n):
+        q = &C.batch[b]
+        bb[0] = q.t.box[0] - q.r; bb[1] = q.t.box[1] - q.r; bb[2] = q.t.box[2] + q.r; bb[3] = q.t.box[3] + q.r
+        _box_union(box, bb)
+    if not _cl_collect(C, box):
+        return -2
+    for b in range(n):
+        q = &C.batch[b]
+        x0 = q.t.box[0] - q.r; y0 = q.t.box[1] - q.r; x1 = q.t.box[2] + q.r; y1 = q.t.box[3] + q.r
+        for m in range(C.n_cand):
+            cb = &C.cbox[4 * m]
+            if cb[0] <= x1 and x0 <= cb[2] and cb[1] <= y1 and y0 <= cb[3] and \
+                    _cl_element_gap(C, &q.t, &C.el[C.cand[m]], q.own, q.skip_a, q.skip_b, depth, q.stop,
+                                    &C.loose) < q.stop:
+                return <int64_t>b
+    return -1
+
+
+cdef inline int64_t _cl_queue(Clearance *C, const XPiece *own, size_t skip_a, size_t skip_b,
+                              double r, double stop, size_t depth) noexcept nogil:
+    """Queues the piece built in the next batch slot (C.batch[C.n_batch].t) for
+    _cl_flush with cl_gap's arguments; measures the batch when it is full:
+    _cl_flush's result, -1 while it is not."""
+    cdef ClPiece *q = &C.batch[C.n_batch]
+    q.own = own
+    q.skip_a = skip_a
+    q.skip_b = skip_b
+    q.r = r
+    q.stop = stop
+    C.n_batch += 1
+    return _cl_flush(C, depth) if C.n_batch == CL_BATCH else -1
 
 
 cdef inline void _cl_line(XPiece *t, const double *a, const double *b, size_t part) noexcept nogil:
@@ -369,8 +528,9 @@ cdef inline void _cl_line(XPiece *t, const double *a, const double *b, size_t pa
 
 cdef inline bint _cl_arc(XPiece *t, const double *a, const double *b, const double *c, double r,
                          int direction, size_t part, bint full) noexcept nogil:
-    """An arc piece from a to b round c in `direction` (a = b: a full circle when
-    `full`, else nothing); False for no piece."""
+    """An arc piece from a to b round c in `direction`; False for no piece. full: a
+    part's arc (a = b: a full circle), with its exact box; else a corner arc (a = b:
+    nothing), with its circle's box."""
     if r <= 1e-12 or (not full and distance2d(b[0] - a[0], b[1] - a[1]) <= 1e-12):
         return False
     t.kind = EL_ARC
@@ -381,7 +541,12 @@ cdef inline bint _cl_arc(XPiece *t, const double *a, const double *b, const doub
     t.r = r
     t.sweep = _cl_sweep(direction, a, b, c)
     t.part = part
-    _x_geometry(t)
+    if full:
+        _x_geometry(t)
+    else:
+        # a corner arc has the tool's radius: its circle's box is close enough (a box
+        # only picks the elements to measure)
+        t.box[0] = c[0] - r; t.box[1] = c[1] - r; t.box[2] = c[0] + r; t.box[3] = c[1] + r
     return True
 
 
@@ -395,126 +560,212 @@ cdef bint _cl_side_change(const CompState *S, size_t k, size_t last) noexcept no
     return False
 
 
-cdef bint cl_check_chain(CompState *S, size_t first, size_t last, size_t ins0, bint skip_first,
-                         bint skip_last) noexcept nogil:
-    """Checks the final tool path of the chain of parts first..last (its insertions
-    from ins0 on). skip_first / skip_last: the first / last move is a ramp from / to
-    the programmed contour (strategy 1). False with S.xs.err_* filled: 504 on the line
-    of the first piece that gouges (or out of memory).
-    The allowance is tolerance[1], plus tolerance[4] (a removed small arc lets the
-    neighbours meet closer to it) and how far an arc's end lies off its circle (the
-    arc-centre tolerance of the compiler)."""
+cdef bint _cl_gouge(CompState *S, int64_t found, size_t k) noexcept nogil:
+    """The result of _cl_queue / _cl_flush: False with S.xs.err_* filled when a piece
+    gouges (504 on its part's line, the tool radius) or on no memory (at part k)."""
+    cdef const ClPiece *q
+    if found == -1:
+        return True
+    if found == -2:
+        S.xs.err_number = ERR_OUT_OF_MEMORY
+        S.xs.err_part = k
+        return False
+    q = &S.cl.batch[found]
+    S.xs.err_number = ERR_COMP_CROSSING
+    S.xs.err_part = q.t.part
+    S.xs.err_arg = q.r
+    return False
+
+
+cdef void cl_chain_open(CompState *S, size_t first, size_t ins0) noexcept nogil:
+    """A chain starts at part `first` (its insertions from ins0 on): its path is checked
+    by cl_chain_upto while it grows and by cl_chain_close at its end."""
     cdef Clearance *C = &S.cl
-    cdef XState *X = &S.xs
-    cdef Part *p
-    cdef XPiece t
-    cdef double cur[2]
-    cdef double end[2]
-    cdef double c[2]
-    cdef double r, allow = S.cfg.slack + S.cfg.min_arc
-    cdef size_t k, j, rec, blo, bhi, depth = S.cfg.depth
-    cdef size_t last_el = last
-    cdef bint first_piece = True, have, skip, is_open
-    cdef XPiece own
-    cdef const double *st
-    cdef size_t na, nb
-    st = part_start_xyz(S.prog, first)
-    p = &S.prog.parts[last]
-    is_open = distance2d(st[S.first] - p.e[S.first], st[S.second] - p.e[S.second]) > 1e-6
-    C.span = last - first + 1
+    C.first = first
+    C.next = first
+    C.ins0 = ins0
+    C.started = False
+    C.in_block = False
+    C.loose = False
+    C.n = 0
+    C.n_batch = 0
+    C.span = 0
     C.closed = False
     C.whole = False
-    # where the tool stands before the chain: the last part before it with a position
-    j = first
+
+
+cdef void _cl_start(CompState *S) noexcept nogil:
+    """Where the tool stands before the chain (the last part before it with a position,
+    after the insertions queued there) and the chain's first insertion."""
+    cdef Clearance *C = &S.cl
+    cdef size_t j = C.first, rec = C.ins0
     while j > 0 and S.role[j - 1] == ROLE_FOLLOW:
         j -= 1
     if j > 0:
         j -= 1
-        cur[0] = S.prog.parts[j].ce[S.first]; cur[1] = S.prog.parts[j].ce[S.second]
+        C.cur[0] = S.prog.parts[j].ce[S.first]; C.cur[1] = S.prog.parts[j].ce[S.second]
     else:
-        cur[0] = S.prog.start[S.first]; cur[1] = S.prog.start[S.second]
-    # the insertions from part j on: the chain's own (from ins0) and any just before
-    rec = ins0
+        C.cur[0] = S.prog.start[S.first]; C.cur[1] = S.prog.start[S.second]
     while rec > 0 and S.ins[rec - 1].after >= j:
         rec -= 1
-    while rec < S.n_ins and S.ins[rec].after < first:
-        cur[0] = S.ins[rec].end[0]; cur[1] = S.ins[rec].end[1]
+    while rec < S.n_ins and S.ins[rec].after < C.first:
+        C.cur[0] = S.ins[rec].end[0]; C.cur[1] = S.ins[rec].end[1]
         rec += 1
-    while last_el > first and (S.role[last_el] != ROLE_SET or not cl_element(S, last_el, &t)):
-        last_el -= 1
-    blo = first
-    bhi = first - 1
-    memset(&t, 0, sizeof(t))
-    for k in range(first, last + 1):
-        if k > bhi:
-            # the next block of parts and the contour of its window
-            blo = k
-            bhi = k + CL_BLOCK - 1 if last - k >= CL_BLOCK else last
-            C.whole = blo - first <= depth and last - bhi <= depth
-            if not _cl_load(S, C, blo - depth if blo - first > depth else first,
-                            bhi + depth if last - bhi > depth else last):
+    C.rec = rec
+    C.started = True
+    C.first_piece = True
+
+
+cdef bint _cl_run(CompState *S, size_t upto, size_t end, bint strict, bint skip_first, bint skip_last,
+                  size_t last_el) noexcept nogil:
+    """Queues the pieces of parts C.next..upto for measuring (the window reaches to
+    part `end` at most); a full batch is measured at once. strict: the elements a
+    piece's own element crosses count too (a closed contour). skip_first / skip_last:
+    the chain's first move / the move of part last_el is a ramp (strategy 1). False
+    with S.xs.err_* filled on a gouge or no memory."""
+    cdef Clearance *C = &S.cl
+    cdef XState *X = &S.xs
+    cdef Part *p
+    cdef XPiece *t
+    cdef double end_pt[2]
+    cdef double c[2]
+    cdef double r
+    cdef size_t k, j, lo, hi, na, nb, depth = S.cfg.depth
+    cdef bint have, skip, has_own
+    cdef const XPiece *own
+    if not C.started:
+        _cl_start(S)
+    for k in range(C.next, upto + 1):
+        if not C.in_block or k > C.bhi:
+            # the next block of parts and the contour of its window (moved on: the
+            # elements both windows share are read once)
+            if not _cl_gouge(S, _cl_flush(C, depth), k):
+                return False
+            C.blo = k
+            C.bhi = k + CL_BLOCK - 1 if upto - k >= CL_BLOCK else upto
+            lo = C.blo - depth if C.blo - C.first > depth else C.first
+            hi = C.bhi + depth if end - C.bhi > depth else end
+            if not _cl_slide(S, C, lo, hi):
                 X.err_number = ERR_OUT_OF_MEMORY
                 X.err_part = k
                 return False
-            allow = S.cfg.slack + S.cfg.min_arc + C.off
+            C.in_block = True
+            C.allow = S.cfg.slack + S.cfg.min_arc + C.max_off
+            C.ei = 0
+        while C.ei < C.n and C.el[C.ei].part < k:
+            C.ei += 1
+        has_own = C.ei < C.n and C.el[C.ei].part == k
+        own = &C.el[C.ei] if has_own and not strict else NULL
         p = &S.prog.parts[k]
+        r = fabs(_comp_distance(S, p))
         if S.role[k] == ROLE_SET and p.kind == PART_MOTION and p.func != 0:
-            end[0] = p.ce[S.first]; end[1] = p.ce[S.second]
-            r = fabs(_comp_distance(S, p))
+            t = &C.batch[C.n_batch].t       # built where the batch keeps it
+            end_pt[0] = p.ce[S.first]; end_pt[1] = p.ce[S.second]
             if (p.func == 2 or p.func == 3) and p.radius > 0:
                 c[0] = p.cc[S.first]; c[1] = p.cc[S.second]
-                have = _cl_arc(&t, cur, end, c, p.radius, 1 if p.func == 3 else -1, k, True)
+                have = _cl_arc(t, C.cur, end_pt, c, p.radius, 1 if p.func == 3 else -1, k, True)
             else:
-                have = distance2d(end[0] - cur[0], end[1] - cur[1]) > 1e-12
+                have = distance2d(end_pt[0] - C.cur[0], end_pt[1] - C.cur[1]) > 1e-12
                 if have:
-                    _cl_line(&t, cur, end, k)
-            skip = (first_piece and skip_first) or (k == last_el and skip_last)
-            first_piece = False
+                    _cl_line(t, C.cur, end_pt, k)
+            skip = (C.first_piece and skip_first) or (k == last_el and skip_last)
+            C.first_piece = False
             # a line on the offset of a line keeps the radius from it and, past a corner
             # of the chain (an intersection or an arc), from a line next to it
             nb = <size_t>-1
-            if have and not skip and t.kind == EL_LINE and p.func == 1:
-                nb = _cl_prev_el(C, k)
-                if nb != <size_t>-1 and S.prog.parts[nb].func != 1:
-                    nb = <size_t>-1
-            if have and not skip and cl_gap(C, &t, &own if is_open and cl_element(S, k, &own) else NULL,
-                                            k, nb, r, depth, S.cfg.slack, r - allow) < r - allow:
-                X.err_number = ERR_COMP_CROSSING
-                X.err_part = k
-                X.err_arg = r
+            if have and not skip and t.kind == EL_LINE and p.func == 1 and C.ei > 0 \
+                    and S.prog.parts[C.el[C.ei - 1].part].func == 1:
+                nb = C.el[C.ei - 1].part
+            if have and not skip and \
+                    not _cl_gouge(S, _cl_queue(C, own, k, nb, r, r - C.allow, depth), k):
                 return False
-            cur[0] = end[0]; cur[1] = end[1]
-        while rec < S.n_ins and S.ins[rec].after == k:
-            end[0] = S.ins[rec].end[0]; end[1] = S.ins[rec].end[1]
-            r = fabs(_comp_distance(S, p))
+            C.cur[0] = end_pt[0]; C.cur[1] = end_pt[1]
+        while C.rec < S.n_ins and S.ins[C.rec].after == k:
+            t = &C.batch[C.n_batch].t
+            end_pt[0] = S.ins[C.rec].end[0]; end_pt[1] = S.ins[C.rec].end[1]
             have = False
-            if not S.ins[rec].no_centre:
-                if S.ins[rec].func == INS_G1:
-                    have = distance2d(end[0] - cur[0], end[1] - cur[1]) > 1e-12 and not _cl_side_change(S, k, last)
+            if not S.ins[C.rec].no_centre:
+                if S.ins[C.rec].func == INS_G1:
+                    have = distance2d(end_pt[0] - C.cur[0], end_pt[1] - C.cur[1]) > 1e-12 \
+                        and not _cl_side_change(S, k, end)
                     if have:
-                        _cl_line(&t, cur, end, k)
+                        _cl_line(t, C.cur, end_pt, k)
                 else:
-                    have = _cl_arc(&t, cur, end, S.ins[rec].cc, r, 1 if S.ins[rec].func == INS_G3 else -1, k, False)
+                    have = _cl_arc(t, C.cur, end_pt, S.ins[C.rec].cc, r, 1 if S.ins[C.rec].func == INS_G3 else -1,
+                                   k, False)
             # an arc round the corner at part k's end keeps the radius from the elements
             # that meet there
             nb = <size_t>-1
             na = <size_t>-1
-            if have and S.ins[rec].func != INS_G1 and S.ins[rec].cc[0] == p.e[S.first] \
-                    and S.ins[rec].cc[1] == p.e[S.second]:
+            if have and S.ins[C.rec].func != INS_G1 and S.ins[C.rec].cc[0] == p.e[S.first] \
+                    and S.ins[C.rec].cc[1] == p.e[S.second]:
                 na = k
-                nb = _cl_next_el(C, k)
-            if have and cl_gap(C, &t, NULL, na, nb, r, depth, S.cfg.slack, r - allow) < r - allow:
-                X.err_number = ERR_COMP_CROSSING
-                X.err_part = k
-                X.err_arg = r
+                j = C.ei + 1 if has_own else C.ei
+                nb = C.el[j].part if j < C.n else <size_t>-1
+            if have and not _cl_gouge(S, _cl_queue(C, NULL, na, nb, r, r - C.allow, depth), k):
                 return False
-            cur[0] = end[0]; cur[1] = end[1]
-            rec += 1
+            C.cur[0] = end_pt[0]; C.cur[1] = end_pt[1]
+            C.rec += 1
+    if upto + 1 > C.next:
+        C.next = upto + 1
     return True
+
+
+cdef bint cl_chain_upto(CompState *S, size_t written) noexcept nogil:
+    """The open elements start at part `written`; the path before it can still be cut
+    by a loop up to the search depth back: the pieces of the parts before the last
+    element of the chain at least that far back are final and checked now (what
+    _cl_side_change reads is final too). False with S.xs.err_* filled."""
+    cdef size_t k, depth = S.cfg.depth
+    if written <= depth + 1 + S.cl.next:
+        return True
+    k = written - depth - 1
+    while k > S.cl.next and S.role[k] != ROLE_SET:
+        k -= 1
+    if k <= S.cl.next:
+        return True
+    return _cl_run(S, k - 1, written - 1, False, S.chain_fixed, False, <size_t>-1)
+
+
+cdef bint cl_chain_close(CompState *S, size_t last, bint skip_first, bint skip_last) noexcept nogil:
+    """Checks the rest of the chain's path, which ends at part `last` (skip_first /
+    skip_last: see _cl_run). A closed contour counts the elements a piece's own
+    element crosses: if an earlier piece left one out, the path is measured again from
+    its start. False with S.xs.err_* filled."""
+    cdef Clearance *C = &S.cl
+    cdef const double *st = part_start_xyz(S.prog, C.first)
+    cdef const Part *p = &S.prog.parts[last]
+    cdef bint is_open = distance2d(st[S.first] - p.e[S.first], st[S.second] - p.e[S.second]) > 1e-6
+    cdef size_t last_el = last
+    cdef XPiece g
+    if not is_open and C.loose:
+        cl_chain_open(S, C.first, C.ins0)
+    while last_el > C.first and (S.role[last_el] != ROLE_SET or not cl_element(S, last_el, &g)):
+        last_el -= 1
+    return _cl_run(S, last, last, not is_open, skip_first, skip_last, last_el) and \
+        _cl_gouge(S, _cl_flush(C, S.cfg.depth), last)
+
+
+cdef bint cl_check_chain(CompState *S, size_t first, size_t last, size_t ins0, bint skip_first,
+                         bint skip_last) noexcept nogil:
+    """Checks the final tool path of the chain of parts first..last (its insertions
+    from ins0 on) at once: cl_chain_open, cl_chain_close. False with S.xs.err_*
+    filled: 504 on the line of the first piece that gouges (or out of memory).
+    The allowance is tolerance[1], plus tolerance[4] (a removed small arc lets the
+    neighbours meet closer to it) and how far an arc's end lies off its circle (the
+    arc-centre tolerance of the compiler)."""
+    cl_chain_open(S, first, ins0)
+    return cl_chain_close(S, last, skip_first, skip_last)
 
 
 cdef void cl_free(Clearance *C) noexcept nogil:
     free(C.el)
+    free(C.off)
+    free(C.cand)
+    free(C.cbox)
+    C.off = NULL
+    C.cand = NULL
+    C.cbox = NULL
     free(C.g1)
     free(C.g2)
     C.el = NULL

@@ -258,9 +258,11 @@ cdef bint _push(CompState *S, const CompEl *el) noexcept nogil:
         S.cap_st = cap
     S.st[S.n_st] = el[0]
     S.n_st += 1
-    # flushing in batches of 3 x depth keeps the copying of the kept tail small
+    # flushing in batches of 3 x depth keeps the copying of the kept tail small; the
+    # path that can no longer change is checked at once, beside the compiler
     if S.cfg.depth < (<size_t>-1) / 8 and S.n_st > 4 * S.cfg.depth + 2:
-        return _flush(S, S.cfg.depth + 1)
+        return _flush(S, S.cfg.depth + 1) and \
+            (not S.chain_open or S.chain_global or cl_chain_upto(S, S.st[0].part))
     return True
 
 
@@ -367,6 +369,7 @@ cdef void _chain_open(CompState *S, size_t k) noexcept nogil:
     S.chain_fixed = S.next_fixed
     S.chain_ins0 = S.n_ins
     S.chain_warn0 = S.n_warnings
+    cl_chain_open(S, k, S.n_ins)
 
 
 cdef int _chain_fallback(CompState *S, int res) noexcept nogil:
@@ -416,7 +419,7 @@ cdef int _chain_end(CompState *S, bint fixed_end, bint exit_fixed) noexcept nogi
     if not S.chain_global:
         res = _chain_end_corners(S, fixed_end)
         if res == COMPILE_OK and S.chain_open and \
-                not cl_check_chain(S, S.chain_first, S.chain_last, S.chain_ins0, S.chain_fixed, fixed_end):
+                not cl_chain_close(S, S.chain_last, S.chain_fixed, fixed_end):
             res = COMPILE_ERROR
         res = _chain_fallback(S, res)
     if res == COMPILE_OK and S.chain_global:

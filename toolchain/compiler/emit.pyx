@@ -1,7 +1,7 @@
 # Parts: turns the executed words of a line into compact Part records (motion,
 # dwell, M function, print). Geometry is computed in program coordinates and then
 # transformed to machine coordinates (zero offset, G92, mirroring, rotation).
-from libc.math cimport fabs, sqrt
+from libc.math cimport fabs, sqrt, M_PI
 
 
 cdef Part *em_part(CState *st, int kind, int func, const double *end) noexcept nogil:
@@ -101,6 +101,19 @@ cdef void em_feed(CState *st, Part *p, int func) noexcept nogil:
             p.feed = st.def_feed if st.def_feed > 0.0 else st.params.motion[1].feed
     if fm == 1:
         p.fp = 1.0
+
+
+cdef void em_css(Part *p, double x_start, double x_end) noexcept nogil:
+    """G96 with a feed per revolution: S is the cutting speed (m/min), the spindle
+    turns at 1000 S / (2 pi r) rev/min, r the tool's distance from the spindle axis
+    (|X| in the workpiece, the smaller of the part's two ends: the fastest the spindle
+    turns on it; at least 1 mm, so that a cut through the axis stays finite). The
+    dialect names no maximum spindle speed (docs/planner.md)."""
+    cdef double r = min(fabs(x_start), fabs(x_end))
+    if r < 1.0:
+        r = 1.0
+    p.value = 1000.0 * p.spindle / (2.0 * M_PI * r)
+    p.flags |= FLAG_CSS
 
 
 cdef inline bint has(const LineWords *lw, char letter) noexcept nogil:
@@ -236,6 +249,8 @@ cdef int em_motion(CState *st, const LineWords *lw, int func) noexcept nogil:
     if p == NULL:
         return R_ERR
     em_feed(st, p, func)
+    if st.css and (func == 1 or func == 2 or func == 3) and not (p.flags & FLAG_FEED_PER_MIN):
+        em_css(p, st.ppos[0], newp[0])
     if func == 2 or func == 3:
         if em_arc(st, lw, p, &f, st.ppos, newp) != 0:
             return R_ERR

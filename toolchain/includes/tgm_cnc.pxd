@@ -126,6 +126,9 @@ cdef extern from "tgm_cnc.h" nogil:
     ctypedef int32_t (*TC_DriverGFunc)(intptr_t, const SIMPLE_GM_PARAMS *) noexcept nogil
     ctypedef int32_t (*TC_DriverMFunc)(intptr_t, const SIMPLE_GM_PARAMS *) noexcept nogil
     ctypedef int32_t (*TC_DriverEnd)(intptr_t) noexcept nogil
+    ctypedef int32_t (*TC_ConnectPointCalcStart)(intptr_t, uint32_t, uint32_t, const double *, uint32_t) noexcept nogil
+    ctypedef int32_t (*TC_ConnectPointCalc)(intptr_t, const SIMPLE_GM_PARAMS *, double *, P10DOUBLE *) noexcept nogil
+    ctypedef int32_t (*TC_ConnectPointCalcEnd)(intptr_t, SIMPLE_GM_PARAMS *, P10DOUBLE *) noexcept nogil
     ctypedef int32_t (*TC_MathWarning)(intptr_t, CALLBACK_INFO *) noexcept nogil
 
     enum cnc_status:

@@ -10,16 +10,44 @@ cdef inline bint _connect_continues(uint32_t n_type) noexcept nogil:
     return n_type in (10, 11, 12, 40, 41, 42, 44)
 
 
+ctypedef struct _PartCalc:          # what the ConnectPointCalc hook needs
+    Core *core
+    Machine *m
+    Callback cb
+
+
+cdef bint _part_calc(void *ctx, size_t part, double *d2, double *point) noexcept nogil:
+    """ConnectPointCalc (1005) for one part's candidate: 1 = use its changed values."""
+    cdef _PartCalc *pc = <_PartCalc *>ctx
+    cdef SIMPLE_GM_PARAMS gm
+    cdef P10DOUBLE changed
+    placed_part_to_gm(&pc.m.program.prog, part, &pc.m.placement, &gm)
+    memcpy(&changed, point, sizeof(changed))
+    if (<TC_ConnectPointCalc>pc.cb.fn)(pc.cb.user, &gm, d2, &changed) == 1:
+        memcpy(point, &changed, sizeof(changed))
+        return True
+    return False
+
+
 cdef int _connect_search(Core *core, Machine *m, const GCODE_PARAMETERS *params, const Job *job,
-                         int32_t status_before, const double *point, ConnectHit *hit,
-                         ErrorInfo *err) noexcept nogil:
-    """The place the connection goes to, by the type's rule (connect_search.pyx)."""
+                         const double *point, ConnectHit *hit, ErrorInfo *err) noexcept nogil:
+    """The place the connection goes to, by the type's rule (connect_search.pyx). The
+    nearest point of the trajectory offers every part to ConnectPointCalc when the host
+    set it (without the index then: the host may change any part's distance)."""
     cdef const Program *prog = &m.program.prog
     cdef const Placement *pl = &m.placement
     cdef ConnectIndex ix
+    cdef _PartCalc pc
     cdef uint32_t t = job.n_type
     cdef int rc
     if t == 0 or t == 10 or t == 40:
+        pc.core = core
+        pc.m = m
+        if callback_enter(core, SLOT_CONNECT_POINT_CALC, &pc.cb):
+            rc = connect_nearest_each(prog, pl, job.axes_calc, point, params.maxConnectionDistance,
+                                      0, prog.n_parts, _part_calc, &pc, hit, err)
+            callback_leave(core, SLOT_CONNECT_POINT_CALC)
+            return rc
         rc = connect_index_build(&ix, prog, pl, job.axes_calc, err)
         if rc == CONNECT_FOUND:
             rc = connect_nearest(&ix, point, params.maxConnectionDistance, 0, prog.n_parts, hit, err)
@@ -36,31 +64,25 @@ cdef int _connect_search(Core *core, Machine *m, const GCODE_PARAMETERS *params,
                                       params.maxConnectionDistance, hit, err)
     if t == 20 or t == 21:
         return connect_mfunc(prog, pl, job.coords, job.n_coords, t == 21,
-                             <int64_t>m.part if m.part < prog.n_parts else -1, status_before, hit, err)
+                             <int64_t>m.part if m.part < prog.n_parts else -1, job.status_before, hit, err)
     if t == 46:
         return connect_exact_point(prog, pl, job.coords, job.n_coords, job.axes_calc,
-                                   params.tolerance[0] if params.tolerance[0] > 0.0 else 1e-3, hit, err)
-    set_error_text(err, ERR_CONNECT_BAD_ARGUMENT, -1, 0, "nType")
-    return CONNECT_BAD_ARGUMENT
+                                   params.tolerance[6] if params.tolerance[6] > 0.0 else 0.01, hit, err)
+    return connect_bad_argument(err, "nType", t, "no such connect type")
 
 
-cdef void _connect_callbacks(Core *core, Machine *m, const Job *job, ConnectHit *hit) noexcept nogil:
-    """ConnectPointCalcStart (1004), ConnectPointCalc (1005, for the part found: it
-    may move the point) and ConnectPointCalcEnd (1006): 1 = use the changed point."""
+cdef void _connect_end_callback(Core *core, Machine *m, ConnectHit *hit) noexcept nogil:
+    """ConnectPointCalcEnd (1006) with the part found: 1 = use the changed point."""
     cdef Callback cb
     cdef SIMPLE_GM_PARAMS gm
     cdef P10DOUBLE point
-    cdef double sq = hit.distance * hit.distance
+    if not callback_enter(core, SLOT_CONNECT_POINT_CALC_END, &cb):
+        return
     placed_part_to_gm(&m.program.prog, hit.part, &m.placement, &gm)
     memcpy(&point, hit.point, sizeof(point))
-    if callback_enter(core, SLOT_CONNECT_POINT_CALC, &cb):
-        if (<TC_ConnectPointCalc>cb.fn)(cb.user, &gm, &sq, &point) == 1:
-            memcpy(hit.point, &point, sizeof(point))
-        callback_leave(core, SLOT_CONNECT_POINT_CALC)
-    if callback_enter(core, SLOT_CONNECT_POINT_CALC_END, &cb):
-        if (<TC_ConnectPointCalcEnd>cb.fn)(cb.user, &gm, &point) == 1:
-            memcpy(hit.point, &point, sizeof(point))
-        callback_leave(core, SLOT_CONNECT_POINT_CALC_END)
+    if (<TC_ConnectPointCalcEnd>cb.fn)(cb.user, &gm, &point) == 1:
+        memcpy(hit.point, &point, sizeof(point))
+    callback_leave(core, SLOT_CONNECT_POINT_CALC_END)
 
 
 cdef void _connect_place(Machine *m, const ConnectHit *hit) noexcept nogil:
@@ -94,12 +116,13 @@ cdef void *_connect_body(void *arg) noexcept nogil:
     cdef int32_t finish = EV_STOPPED, restore = TC_KEEP
     cdef int rc
     if m != NULL and err != NULL:
-        memcpy(point, m.motion.position, sizeof(point))
-        memcpy(point, job.coords, min(job.n_coords, 10) * sizeof(double))
+        memcpy(point, m.motion.position, sizeof(point))     # 31 / 44: nearest to where it stands
+        if job.n_type == 0 or job.n_type == 10 or job.n_type == 40:
+            memcpy(point, job.coords, min(job.n_coords, 10) * sizeof(double))
         if callback_enter(core, SLOT_CONNECT_POINT_CALC_START, &cb):
             (<TC_ConnectPointCalcStart>cb.fn)(cb.user, job.n_type, job.n_coords, job.coords, job.axes_calc)
             callback_leave(core, SLOT_CONNECT_POINT_CALC_START)
-        rc = _connect_search(core, m, f.params, job, job.status_before, point, &hit, err)
+        rc = _connect_search(core, m, f.params, job, point, &hit, err)
         if rc != CONNECT_FOUND:
             pthread_mutex_lock(&core.lock)
             core.error = err[0]
@@ -107,7 +130,7 @@ cdef void *_connect_body(void *arg) noexcept nogil:
             core_report_error(core, err)
             restore = job.status_before
         elif not TC_ATOMIC_LOAD(&core.cancel):
-            _connect_callbacks(core, m, job, &hit)
+            _connect_end_callback(core, m, &hit)
             # the straight way there: the axes of axesForConnect (0: the first nCoords)
             moving = job.axes_connect if job.axes_connect != 0 else (1u << min(job.n_coords, 10)) - 1
             memset(&dest, 0, sizeof(dest))

@@ -122,14 +122,15 @@ cdef const PlanRegion *cursor_settings(PlanCursor *c, size_t part) noexcept nogi
 
 cdef double part_feed(const Part *p, const GCODE_PARAMETERS *params) noexcept nogil:
     """mm/min: rapids their feed (FF or motion[0], the compiler chose by forceMode);
-    threads (G33) pitch times S; cuts F (or motion[1], M99 as the compiler resolved), per revolution times S, times FP."""
+    threads (G33) pitch times S; cuts F (or motion[1], M99 as the compiler resolved), per revolution times S
+    (G96: the spindle speed S gives at the part, emit.pyx em_css), times FP."""
     cdef double feed = p.feed
     if p.func == 0:
         return feed if feed > 0.0 else params.motion[0].feed
     if p.func == 33 and p.value > 0.0:
         return p.value * p.spindle      # a thread: its pitch per spindle turn, no override
     if not (p.flags & FLAG_FEED_PER_MIN):
-        feed = feed * p.spindle
+        feed = feed * (p.value if p.flags & FLAG_CSS else p.spindle)     # per revolution
     feed = feed * p.fp
     if feed <= 0.0:
         feed = params.motion[1].feed

@@ -1,0 +1,149 @@
+"""The gouge check's measure (compensation/clearance.pyx) against shapely: the distance
+of two pieces (lines and arcs, touching, crossing, nested) and its cheap proof of
+distance, and the check of long chains while they grow (small search depth)."""
+import math
+import random
+
+import numpy as np
+import pytest
+
+shapely = pytest.importorskip("shapely")
+from shapely.geometry import LineString  # noqa: E402
+
+from comp_helpers import contour_parts, polygon_elements, programmed_polyline  # noqa: E402
+from test_compensation_geometry import comp, harness, signed_area  # noqa: E402,F401
+from test_compensation_regions import ERR_COMP_CROSSING, JOIN_G1, REMOVE, TOL, clearance, sampled_path  # noqa: E402
+
+# the oracle's arcs are chords of at most this sagitta
+SAGITTA = 1e-6
+
+
+def sampled(spec):
+    """A piece as a dense polyline (arcs: chords of sagitta <= SAGITTA)."""
+    if spec[0] == "line":
+        return LineString([spec[1], spec[2]])
+    _, s, e, c, direction = spec
+    r = math.hypot(s[0] - c[0], s[1] - c[1])
+    a0 = math.atan2(s[1] - c[1], s[0] - c[0])
+    sweep = (direction * (math.atan2(e[1] - c[1], e[0] - c[0]) - a0)) % (2 * math.pi)
+    if sweep < 1e-12:
+        sweep = 2 * math.pi
+    n = max(8, int(math.ceil(sweep / (2 * math.acos(1 - SAGITTA / r)))))
+    a = a0 + direction * np.linspace(0, sweep, n + 1)
+    pts = np.column_stack([c[0] + r * np.cos(a), c[1] + r * np.sin(a)])
+    pts[0], pts[-1] = s, e
+    return LineString(pts)
+
+
+def random_piece(rng, near=None):
+    """A line or an arc in a 4 mm square (near: starting at that point)."""
+    s = near if near is not None else (rng.uniform(-2, 2), rng.uniform(-2, 2))
+    if rng.random() < 0.4:
+        return ("line", s, (rng.uniform(-2, 2), rng.uniform(-2, 2)))
+    r = rng.uniform(0.1, 2.0)
+    a = rng.uniform(0, 2 * math.pi)
+    c = (s[0] - r * math.cos(a), s[1] - r * math.sin(a))
+    b = a + rng.uniform(0.05, 2 * math.pi - 0.05)
+    return ("arc", s, (c[0] + r * math.cos(b), c[1] + r * math.sin(b)), c, rng.choice((1, -1)))
+
+
+def offset_pair(rng):
+    """A line's offset by r and an arc that starts where the line ends (tangent or at
+    a corner): the pieces of the tool path and the contour the check meets most."""
+    r = rng.uniform(0.1, 1.0)
+    L = rng.uniform(0.2, 3.0)
+    side = rng.choice((1, -1))
+    line = ("line", (-L, side * r), (0.0, side * r))
+    R = rng.uniform(0.05, 3.0)
+    turn = rng.uniform(-math.pi / 2, math.pi / 2)     # the arc's start direction
+    direction = rng.choice((1, -1))
+    tx, ty = math.cos(turn), math.sin(turn)
+    c = (-direction * ty * R, direction * tx * R)       # centre to the left (CCW) or right (CW)
+    a0 = math.atan2(-c[1], -c[0])
+    b = a0 + direction * rng.uniform(0.05, 2 * math.pi - 0.05)
+    arc = ("arc", (0.0, 0.0), (c[0] + R * math.cos(b), c[1] + R * math.sin(b)), c, direction)
+    return (line, arc) if rng.random() < 0.5 else (arc, line), r
+
+
+def _check_pair(harness, t, g, stop):
+    true = sampled(t).distance(sampled(g))
+    far, gap = harness.piece_gap(t, g, stop)
+    tol = 1e-6 + 2 * SAGITTA
+    if far:
+        assert true >= stop - tol, (t, g, stop, true)
+    if gap < stop:
+        assert gap >= true - tol, (t, g, stop, true, gap)
+    else:
+        assert true >= stop - tol, (t, g, stop, true, gap)
+    return gap < stop
+
+
+def test_piece_gap_matches_shapely(harness):
+    rng = random.Random(41)
+    below = 0
+    for _ in range(1500):
+        t = random_piece(rng)
+        g = random_piece(rng, near=t[2] if rng.random() < 0.3 else None)
+        true = sampled(t).distance(sampled(g))
+        # stops on both sides of the true distance, some very close to it
+        for stop in (true * 0.5 + 1e-3, true + 1e-4, true * 1.5 + 1e-3, true - 1e-4):
+            if stop > 0:
+                below += _check_pair(harness, t, g, stop)
+    assert below > 500
+
+
+def test_piece_gap_of_offsets_next_to_arcs(harness):
+    rng = random.Random(42)
+    for _ in range(1000):
+        (t, g), r = offset_pair(rng)
+        for stop in (r - 1e-3, r - 1e-6, 0.5 * r):
+            _check_pair(harness, t, g, stop)
+
+
+def long_star(rng, r):
+    """A star polygon of 60-120 vertices, jittered radii, some short edges (longer
+    than 4 x 10 + 2 elements: its chain is checked while it grows at depth 10)."""
+    n = rng.randint(60, 120)
+    r_min = 3 * r
+    r_max = r_min + rng.uniform(4, 20)
+    pts = []
+    for i in range(n):
+        a = 2 * math.pi * (i + rng.uniform(-0.3, 0.3)) / n
+        rho = rng.uniform(r_min, r_max)
+        pts.append((rho * math.cos(a), rho * math.sin(a)))
+        if rng.random() < 0.3:
+            L = rng.uniform(0.05, 0.5)
+            t = rng.uniform(0, 2 * math.pi)
+            q = (pts[-1][0] + L * math.cos(t), pts[-1][1] + L * math.sin(t))
+            if math.hypot(*q) >= r_min and 0 < (math.atan2(q[1], q[0]) - a) % (2 * math.pi) < math.pi / n:
+                pts.append(q)
+    return pts if signed_area(np.array(pts)) > 0 and shapely.Polygon(pts).is_valid else None
+
+
+@pytest.mark.parametrize("seed", range(2))
+def test_long_chains_checked_while_they_grow(harness, seed):
+    """Search depth 10 (0x100): chains of 60+ elements are checked in steps beside the
+    compiler. With or without 0x80000 each contour keeps the radius from its contour
+    or is error 504 (with so short a depth the regions may not rebuild every one)."""
+    rng = random.Random(140 + seed)
+    done = compiled = 0
+    while done < 25:
+        r = rng.uniform(0.1, 1.0)
+        pts = long_star(rng, r)
+        if pts is None:
+            continue
+        done += 1
+        g, mode = rng.choice((41, 42)), rng.choice((0, 1))
+        m0, els = polygon_elements(pts)
+        approach = (m0[0] + 0.3, m0[1] - 80.0)
+        parts = contour_parts(els, g, m0, approach)
+        contour = programmed_polyline(m0, els)
+        for strategy in (REMOVE | JOIN_G1 | 0x100 | mode, JOIN_G1 | 0x100 | mode):
+            out, err, _ = comp(harness, parts, r=r, strategy=strategy, start=(approach[0], approach[1], 0))
+            if err is not None:
+                assert err["number"] == ERR_COMP_CROSSING, (err, pts, r, g, hex(strategy))
+            else:
+                compiled += 1
+                path = sampled_path(out, np.asarray(m0), step=0.02)
+                assert clearance(path, contour) > r - TOL, (pts, r, g, hex(strategy))
+    assert compiled > done // 2          # not all refused: the paths were measured

@@ -1,0 +1,1039 @@
+# The connection search of ConnectCNCEx_Plane (API.md): the place on a program, as a
+# run places it (placement.pyx), where the machine connects to. Pure and typed, no
+# GIL, no Python objects: the machine calls it from its own thread and does the
+# moving, the statuses and the callbacks. Rules and costs: docs/connect.md.
+#
+# Each search fills a ConnectHit (the part, the path length s from the part's start,
+# the point in all ten axes, the distance in the chosen axes) and returns
+# CONNECT_FOUND, or another ConnectResult with the catalogue's error (700..705) in
+# `err` (err may be NULL). `axes` is axesForCalc (bit k = axis k in X Y Z C B U V W
+# A O order, 0 = all ten); distances are measured in those axes only.
+#
+#   connect_index_build(ix, prog, pl, axes, err)     index of the motion parts
+#   connect_index_free(ix)
+#   connect_nearest(ix, point, max_distance, first, end, hit, err)    nType 0 10 40
+#   connect_nearest_each(prog, pl, axes, point, max_distance, first, end, hook, ctx,
+#                        hit, err)    the same without an index, each part's candidate
+#                                     offered to `hook` (ConnectPointCalc, 1005)
+#   connect_line(prog, pl, coords, n_coords, at_end, hit, err)       1 2 11 12 41 42
+#   connect_mfunc(prog, pl, coords, n_coords, relative, current, status, hit, err)
+#                                                                     20 21
+#   connect_gindex(prog, pl, coords, n_coords, at_end, hit, err)     30 32
+#   connect_gindex_nearest(prog, pl, coords, n_coords, point, axes, max_distance,
+#                          hit, err)                                  31 44
+#   connect_exact_point(prog, pl, coords, n_coords, axes, tolerance, hit, err)   46
+#   connect_bad_argument(err, name, value, why)   error 700 for an argument the caller checks
+#
+# maxConnectionDistance (ABI.md, the vendor's text): a part farther than it from the
+# point counts by its two end points only, so a far point connects to a vertex of
+# the trajectory, never into the middle of a part; <= 0 (or not finite) = no limit.
+from libc.math cimport sqrt, fabs, sin, cos, atan2, acos, fmod, floor, hypot, isfinite, INFINITY, M_PI
+from libc.stdlib cimport malloc, free
+from libc.string cimport memcpy, memset
+
+
+cdef enum:
+    CONNECT_ALL_AXES = 0x3FF
+    CONNECT_LEAF_PARTS = 4      # parts per leaf of the index
+    CONNECT_STACK = 128         # the walk holds at most depth + 1 nodes (< 40 for 2**33 parts)
+
+cdef enum ConnectResult:
+    CONNECT_FOUND = 0
+    CONNECT_NOT_FOUND = -1      # no such line, G-code index or occurrence; no motion in the range
+    CONNECT_OFF_PART = -2       # nType 46: the point lies farther than the tolerance from its part
+    CONNECT_BAD_ARGUMENT = -3
+    CONNECT_NO_MEMORY = -4
+
+ctypedef struct ConnectHit:
+    size_t part                 # index into prog.parts
+    double s                    # path length from the part's start (mm, the compensated path)
+    double length               # the part's length (0 for M functions, dwells, texts)
+    double point[10]            # the point, machine coordinates of the run, all ten axes
+    double distance             # from the asked point in the chosen axes (0 for lookups)
+
+# A bounding-volume hierarchy over the motion parts' boxes in the chosen axes that
+# move: the parts sorted by the Morton code of their box centres, CONNECT_LEAF_PARTS
+# of them to a leaf, and a complete binary tree over the leaves (node 1 the root,
+# node k's children 2k and 2k+1, leaf l at node first_leaf + l). Each node keeps its
+# box and the lowest and highest part index below it, so that a search restricted
+# to a range of parts skips whole subtrees.
+ctypedef struct ConnectIndex:
+    const Program *prog
+    Placement pl
+    uint32_t axes               # axesForCalc, 0x3FF for all
+    int n_dims                  # axes of the boxes: X Y Z of the mask, and the others
+    int dims[10]                # of the mask that the program moves
+    int n_fixed                 # axes of the mask that stand still everywhere: their
+    int fixed[10]               # distance is the same to every part
+    double fixed_at[10]
+    size_t n_items              # motion parts
+    uint32_t *items             # their indexes, in Morton order
+    size_t first_leaf           # a power of two; nodes 1 .. 2 * first_leaf - 1
+    double *boxes               # node k: low corner at boxes[2 * n_dims * k], high after it
+    uint32_t *span              # node k: lowest part index span[2k], highest span[2k + 1]
+
+
+# ---- errors ------------------------------------------------------------------------
+
+cdef int connect_bad_argument(ErrorInfo *err, const char *name, double value, const char *why) noexcept nogil:
+    """Error 700 naming the argument, its value and why (e.g. "nType", 7, "no such
+    connect type"); returns CONNECT_BAD_ARGUMENT."""
+    cdef ErrArg a[3]
+    if err != NULL:
+        a[0].num = 0.0
+        a[0].text = name
+        a[1].num = value
+        a[1].text = NULL
+        a[2].num = 0.0
+        a[2].text = why
+        set_error(err, ERR_CONNECT_BAD_ARGUMENT, -1, 0, a, 3)
+    return CONNECT_BAD_ARGUMENT
+
+
+cdef int _cs_bad_coord(ErrorInfo *err, int k, double value, const char *why) noexcept nogil:
+    cdef char name[16]
+    c_snprintf(name, sizeof(name), "coords[%d]", k)
+    return connect_bad_argument(err, name, value, why)
+
+
+cdef int _cs_numbers_error(ErrorInfo *err, int32_t number, int32_t file_idx, int32_t line,
+                        double a0, double a1, double a2, int n) noexcept nogil:
+    cdef ErrArg a[3]
+    if err != NULL:
+        a[0].num = a0
+        a[0].text = NULL
+        a[1].num = a1
+        a[1].text = NULL
+        a[2].num = a2
+        a[2].text = NULL
+        set_error(err, number, file_idx, line, a, n)
+    return CONNECT_OFF_PART if number == ERR_CONNECT_OFF_PART else CONNECT_NOT_FOUND
+
+
+cdef int _cs_no_motion(ErrorInfo *err, size_t first, size_t end, size_t n_parts) noexcept nogil:
+    return _cs_numbers_error(err, ERR_CONNECT_NO_MOTION, -1, 0, <double>min(first, n_parts),
+                          <double>min(end, n_parts), <double>n_parts, 3)
+
+
+cdef int _cs_no_memory(ErrorInfo *err) noexcept nogil:
+    if err != NULL:
+        set_error(err, ERR_OUT_OF_MEMORY, -1, 0, NULL, 0)
+    return CONNECT_NO_MEMORY
+
+
+cdef bint _cs_whole(const double *coords, int k, double lo, double hi, int64_t *out,
+                 ErrorInfo *err) noexcept nogil:
+    """coords[k] as a whole number in [lo, hi]; else the bad-argument error."""
+    cdef double v = coords[k]
+    if not (v >= lo and v <= hi) or v != floor(v):          # NaN fails too
+        _cs_bad_coord(err, k, v, "not a whole number in range")
+        return False
+    out[0] = <int64_t>v
+    return True
+
+
+cdef bint _cs_finite_point(const double *point, uint32_t axes, ErrorInfo *err) noexcept nogil:
+    cdef int k
+    for k in range(10):
+        if (axes >> k) & 1 and not isfinite(point[k]):
+            _cs_bad_coord(err, k, point[k], "not a finite number")
+            return False
+    return True
+
+
+cdef inline uint32_t _cs_mask(uint32_t axes) noexcept nogil:
+    return CONNECT_ALL_AXES if axes == 0 else axes
+
+
+# ---- the placed geometry of one part -----------------------------------------------------
+
+cdef void connect_segment(const Program *prog, const Placement *pl, size_t i,
+                          Segment *g) noexcept nogil:
+    """Geometry of motion part i as the run places it, all ten axes: segment_of_gm of
+    placed_part_to_gm. A part whose start and end both follow the run's start in an
+    axis, or both keep their place, is only translated (placement.pyx): its geometry
+    is the part's own (segment_of_part) moved by the placement, without building the
+    API's record; only the parts where an axis starts to be named (reshaped) take the
+    record's way."""
+    cdef SIMPLE_GM_PARAMS gm
+    cdef const Part *p = &prog.parts[i]
+    cdef const Part *prev = &prog.parts[i - 1] if i > 0 else NULL
+    cdef double shift[10]
+    cdef bint s_moves, e_moves
+    cdef const double *other
+    cdef int k
+    if pl.moved:
+        for k in range(10):
+            shift[k] = 0.0
+            if pl.delta[k] == 0.0:
+                continue
+            s_moves = prev == NULL or follows_start(prog, prev, k)
+            e_moves = follows_start(prog, p, k)
+            if s_moves != e_moves:
+                placed_part_to_gm(prog, i, pl, &gm)
+                segment_of_gm(&gm, g)
+                return
+            if e_moves:
+                shift[k] = pl.delta[k]
+    segment_of_part(prog, i, g)
+    if g.n_axes == 3:               # the seven other axes stand where the part before left them
+        other = &prog.axes[7 * p.axes_idx]
+        memcpy(&g.start[3], other, 7 * sizeof(double))
+        memcpy(&g.end[3], other, 7 * sizeof(double))
+        g.n_axes = 10
+    if pl.moved:
+        for k in range(10):
+            g.start[k] += shift[k]
+            g.end[k] += shift[k]
+        if g.arc:
+            g.centre[0] += shift[g.first]
+            g.centre[1] += shift[g.second]
+
+
+cdef void _cs_part_position(const Program *prog, const Placement *pl, size_t i,
+                         double *out) noexcept nogil:
+    """Where a part that does not move (M function, dwell, text) stands: the
+    compensated end of the motion before it, as the run places it."""
+    cdef SIMPLE_GM_PARAMS gm
+    if pl.moved:
+        placed_part_to_gm(prog, i, pl, &gm)
+        memcpy(out, &gm.m_calcS, 10 * sizeof(double))
+    else:
+        part_calc_start(prog, i, out)
+
+
+cdef double _cs_d2_at(const Segment *g, double s, uint32_t axes, const double *q,
+                   double *point) noexcept nogil:
+    """Squared distance in the axes of `axes` from q to the point at path length s
+    (written to `point`, ten axes)."""
+    cdef double d2 = 0.0, d
+    cdef int k
+    segment_point_at(g, s, point)
+    for k in range(10):
+        if (axes >> k) & 1:
+            d = point[k] - q[k]
+            d2 += d * d
+    return d2
+
+
+# ---- the nearest point of one part -----------------------------------------------------
+
+cdef double _cs_line_nearest(const Segment *g, uint32_t axes, const double *q) noexcept nogil:
+    """Path length of the point of a line nearest q in the axes: the projection onto
+    the line, clamped to its ends."""
+    cdef double dd = 0.0, dw = 0.0, d
+    cdef int k
+    for k in range(10):
+        if (axes >> k) & 1:
+            d = g.end[k] - g.start[k]
+            dd += d * d
+            dw += d * (q[k] - g.start[k])
+    if dd <= 0.0 or dw <= 0.0:
+        return 0.0
+    if dw >= dd:
+        return g.length
+    return g.length * (dw / dd)
+
+
+# The squared distance from q to an arc (helix) at turn theta in [0, T], T = |sweep|:
+#   f(theta) = P(chi) + L2 theta^2 - 2 b theta + const,   chi = chi0 + sigma theta,
+# where the axes of the mask off the plane move linearly (L2 = sum of their squared
+# rates per radian, b = sum rate * (q - start)) and P is the plane's share:
+#   both plane axes in the mask: P = rho^2 + r^2 - 2 r rho cos(chi)   (rho, angle of q)
+#   one plane axis:              P = (u - r cos(chi))^2               (u = q - centre)
+#   none:                        P = 0
+# f'' is a polynomial of degree <= 2 in cos(chi), so its zeros split [0, T] into
+# pieces where f' is monotonic: each holds at most one minimum, where f' turns from
+# negative to positive; with the two ends they are every candidate.
+ctypedef struct _cs_ArcFn:
+    int plane_axes              # 0, 1 or 2 of the plane's axes in the mask
+    double r, rho, u            # radius; |q - centre| in the plane (2); q - centre (1)
+    double chi0, sigma          # chi at theta = 0, direction
+    double L2, b
+
+
+cdef inline double _cs_arc_df(const _cs_ArcFn *f, double theta) noexcept nogil:
+    cdef double chi = f.chi0 + f.sigma * theta
+    cdef double d = 2.0 * (f.L2 * theta - f.b)
+    if f.plane_axes == 2:
+        d += 2.0 * f.r * f.rho * f.sigma * sin(chi)
+    elif f.plane_axes == 1:
+        d += 2.0 * f.sigma * f.r * sin(chi) * (f.u - f.r * cos(chi))
+    return d
+
+
+cdef inline double _cs_arc_ddf(const _cs_ArcFn *f, double theta) noexcept nogil:
+    cdef double t = cos(f.chi0 + f.sigma * theta)
+    if f.plane_axes == 2:
+        return 2.0 * (f.r * f.rho * t + f.L2)
+    if f.plane_axes == 1:
+        return 2.0 * (f.r * f.r - 2.0 * f.r * f.r * t * t + f.u * f.r * t + f.L2)
+    return 2.0 * f.L2
+
+
+cdef int _cs_add_turns(const _cs_ArcFn *f, double t, double T, double *at, int n) noexcept nogil:
+    """Appends the theta in (0, T) where cos(chi) = t."""
+    cdef double base, theta
+    cdef int sign
+    if not (t > -1.0 and t < 1.0):
+        return n
+    for sign in range(2):
+        base = acos(t) if sign == 0 else -acos(t)
+        theta = fmod(f.sigma * (base - f.chi0), 2.0 * M_PI)
+        if theta < 0.0:
+            theta += 2.0 * M_PI
+        while theta < T and n < 12:
+            if theta > 0.0:
+                at[n] = theta
+                n += 1
+            theta += 2.0 * M_PI
+    return n
+
+
+cdef double _cs_root(const _cs_ArcFn *f, double lo, double hi) noexcept nogil:
+    """The zero of f' in [lo, hi], where f' rises from < 0 to >= 0: Newton steps kept
+    inside the bracket, bisection otherwise."""
+    cdef double x = 0.5 * (lo + hi), fx, ddf, step
+    cdef int it
+    for it in range(100):
+        fx = _cs_arc_df(f, x)
+        if fx == 0.0:
+            return x
+        if fx < 0.0:
+            lo = x
+        else:
+            hi = x
+        ddf = _cs_arc_ddf(f, x)
+        step = x - fx / ddf if ddf > 0.0 else lo - 1.0
+        if not (step > lo and step < hi):
+            step = 0.5 * (lo + hi)
+        if fabs(step - x) <= 1e-15 * (1.0 + fabs(x)) or hi - lo <= 1e-15 * (1.0 + fabs(x)):
+            return step
+        x = step
+    return x
+
+
+cdef double _cs_arc_nearest(const Segment *g, uint32_t axes, const double *q) noexcept nogil:
+    """Path length of the point of an arc (helix) nearest q in the axes (see _cs_ArcFn)."""
+    cdef _cs_ArcFn f
+    cdef double T = fabs(g.sweep)
+    cdef double at[14]
+    cdef double point[10]
+    cdef double rate, beta = 0.0, best_d2, d2, best_theta, x, lo, hi, disc, t
+    cdef bint in_first = (axes >> g.first) & 1, in_second = (axes >> g.second) & 1
+    cdef int n = 0, k, j
+    f.r = g.radius
+    f.sigma = 1.0 if g.sweep > 0.0 else -1.0
+    f.L2 = 0.0
+    f.b = 0.0
+    f.rho = 0.0
+    f.u = 0.0
+    for k in range(10):
+        if k == g.first or k == g.second or not (axes >> k) & 1:
+            continue
+        rate = (g.end[k] - g.start[k]) / T
+        f.L2 += rate * rate
+        f.b += rate * (q[k] - g.start[k])
+    if in_first and in_second:
+        f.plane_axes = 2
+        f.rho = hypot(q[g.first] - g.centre[0], q[g.second] - g.centre[1])
+        beta = atan2(q[g.second] - g.centre[1], q[g.first] - g.centre[0])
+    elif in_first or in_second:
+        f.plane_axes = 1
+        if in_first:
+            f.u = q[g.first] - g.centre[0]
+        else:
+            f.u = q[g.second] - g.centre[1]
+            beta = 0.5 * M_PI          # sin(psi) = cos(psi - pi/2)
+    else:
+        f.plane_axes = 0
+    f.chi0 = atan2(g.start[g.second] - g.centre[1], g.start[g.first] - g.centre[0]) - beta
+    # the pieces where f' is monotonic
+    if f.plane_axes == 2 and f.r * f.rho > 0.0:
+        n = _cs_add_turns(&f, -f.L2 / (f.r * f.rho), T, at, n)
+    elif f.plane_axes == 1 and f.r > 0.0:
+        disc = sqrt(f.u * f.u + 8.0 * (f.r * f.r + f.L2))
+        n = _cs_add_turns(&f, (f.u + disc) / (4.0 * f.r), T, at, n)
+        n = _cs_add_turns(&f, (f.u - disc) / (4.0 * f.r), T, at, n)
+    at[n] = 0.0
+    at[n + 1] = T
+    n += 2
+    for k in range(1, n):               # insertion sort of at most 14
+        x = at[k]
+        j = k - 1
+        while j >= 0 and at[j] > x:
+            at[j + 1] = at[j]
+            j -= 1
+        at[j + 1] = x
+    best_theta = 0.0
+    best_d2 = _cs_d2_at(g, 0.0, axes, q, point)
+    for k in range(n - 1):
+        lo = at[k]
+        hi = at[k + 1]
+        if hi <= lo or not (_cs_arc_df(&f, lo) < 0.0 and _cs_arc_df(&f, hi) >= 0.0):
+            continue
+        x = _cs_root(&f, lo, hi)
+        d2 = _cs_d2_at(g, g.length * (x / T), axes, q, point)
+        if d2 < best_d2:
+            best_d2 = d2
+            best_theta = x
+    if _cs_d2_at(g, g.length, axes, q, point) < best_d2:
+        return g.length
+    return g.length * (best_theta / T)
+
+
+cdef double _cs_part_nearest(const Segment *g, uint32_t axes, const double *q,
+                          double max_d2, double *s) noexcept nogil:
+    """Squared distance from q to the part by the vendor's rule (beyond max_d2 the
+    nearer end counts) and the path length s of that point."""
+    cdef double point[10]
+    cdef double d2, d2_start, d2_end
+    if g.length <= 0.0:
+        s[0] = 0.0
+    elif g.arc:
+        s[0] = _cs_arc_nearest(g, axes, q)
+    else:
+        s[0] = _cs_line_nearest(g, axes, q)
+    d2 = _cs_d2_at(g, s[0], axes, q, point)
+    if d2 <= max_d2:
+        return d2
+    d2_start = _cs_d2_at(g, 0.0, axes, q, point)
+    d2_end = _cs_d2_at(g, g.length, axes, q, point)
+    if d2_end < d2_start:
+        s[0] = g.length
+        return d2_end
+    s[0] = 0.0
+    return d2_start
+
+
+# ---- hits ------------------------------------------------------------------------------
+
+cdef void _cs_hit_at(const Program *prog, const Placement *pl, size_t i, bint at_end,
+                  ConnectHit *hit) noexcept nogil:
+    """The start (end) of part i."""
+    cdef Segment g
+    hit.part = i
+    hit.distance = 0.0
+    if prog.parts[i].kind == PART_MOTION:
+        connect_segment(prog, pl, i, &g)
+        hit.length = g.length
+        hit.s = g.length if at_end else 0.0
+        segment_point_at(&g, hit.s, hit.point)
+    else:
+        hit.length = 0.0
+        hit.s = 0.0
+        _cs_part_position(prog, pl, i, hit.point)
+
+
+cdef void _cs_hit_nearest(const Program *prog, const Placement *pl, size_t i, uint32_t axes,
+                       const double *q, double max_d2, ConnectHit *hit) noexcept nogil:
+    """The point of part i nearest q (by the rule of max_d2)."""
+    cdef Segment g
+    cdef double d2 = 0.0, d
+    cdef int k
+    hit.part = i
+    if prog.parts[i].kind == PART_MOTION:
+        connect_segment(prog, pl, i, &g)
+        _cs_part_nearest(&g, axes, q, max_d2, &hit.s)
+        hit.length = g.length
+        d2 = _cs_d2_at(&g, hit.s, axes, q, hit.point)
+    else:
+        hit.length = 0.0
+        hit.s = 0.0
+        _cs_part_position(prog, pl, i, hit.point)
+        for k in range(10):
+            if (axes >> k) & 1:
+                d = hit.point[k] - q[k]
+                d2 += d * d
+    hit.distance = sqrt(d2)
+
+
+cdef inline double _cs_limit_d2(double max_distance) noexcept nogil:
+    if max_distance > 0.0 and isfinite(max_distance):
+        return max_distance * max_distance
+    return INFINITY
+
+
+# ---- every part, in program order -------------------------------------------------------
+
+# A look at each part's candidate: `d2` (squared distance) and `point` (ten axes) may
+# be changed; True = use the changed values (ConnectPointCalc, callback 1005).
+ctypedef bint (*connect_part_fn)(void *ctx, size_t part, double *d2, double *point) noexcept nogil
+
+
+cdef int connect_nearest_each(const Program *prog, const Placement *pl, uint32_t axes,
+                              const double *point, double max_distance, size_t first, size_t end,
+                              connect_part_fn hook, void *ctx, ConnectHit *hit,
+                              ErrorInfo *err) noexcept nogil:
+    """connect_nearest without an index: every motion part of [first, end) in program
+    order, each candidate offered to `hook` (may be NULL) before it is compared --
+    O(n), for a host whose ConnectPointCalc may change any part's distance. The hit
+    takes a changed point; its s stays the part's own nearest point's."""
+    cdef Segment g
+    cdef ConnectHit candidate
+    cdef double max_d2 = _cs_limit_d2(max_distance), d2
+    cdef bint found = False
+    cdef size_t i
+    if axes & ~(<uint32_t>CONNECT_ALL_AXES):
+        return connect_bad_argument(err, "axesForCalc", axes, "bits above 0x3FF")
+    axes = _cs_mask(axes)
+    if not _cs_finite_point(point, axes, err):
+        return CONNECT_BAD_ARGUMENT
+    if end > prog.n_parts:
+        end = prog.n_parts
+    i = first
+    while i < end:
+        if prog.parts[i].kind == PART_MOTION:
+            _cs_hit_nearest(prog, pl, i, axes, point, max_d2, &candidate)
+            d2 = candidate.distance * candidate.distance
+            if hook != NULL and hook(ctx, i, &d2, candidate.point):
+                candidate.distance = sqrt(d2) if d2 > 0.0 else 0.0
+            if not found or candidate.distance < hit.distance:
+                hit[0] = candidate
+                found = True
+        i += 1
+    if not found:
+        return _cs_no_motion(err, first, end, prog.n_parts)
+    return CONNECT_FOUND
+
+
+# ---- the index -------------------------------------------------------------------------
+
+cdef void _cs_choose_dims(ConnectIndex *ix) noexcept nogil:
+    """X Y Z of the mask always; C..O of the mask when some part may move them: their
+    positions are the program's axis entries (Program.axes), the compile's start,
+    moved by the placement for the parts that follow the run's start."""
+    cdef const Program *prog = ix.prog
+    cdef double lo, hi, v, delta
+    cdef size_t e
+    cdef int k
+    ix.n_dims = 0
+    ix.n_fixed = 0
+    for k in range(10):
+        if not (ix.axes >> k) & 1:
+            continue
+        if k < 3:
+            ix.dims[ix.n_dims] = k
+            ix.n_dims += 1
+            continue
+        delta = ix.pl.delta[k]
+        lo = prog.start[k]
+        hi = lo
+        for e in range(prog.n_axes):
+            v = prog.axes[7 * e + k - 3]
+            lo = min(lo, v)
+            hi = max(hi, v)
+        if delta != 0.0 or lo != hi:
+            ix.dims[ix.n_dims] = k
+            ix.n_dims += 1
+        else:
+            ix.fixed[ix.n_fixed] = k
+            ix.fixed_at[ix.n_fixed] = lo
+            ix.n_fixed += 1
+
+
+cdef inline bint _cs_covers(double angle, double start, double sigma, double turn) noexcept nogil:
+    """The arc from `start` turning `turn` radians in direction sigma passes `angle`."""
+    cdef double d = fmod(sigma * (angle - start), 2.0 * M_PI)
+    if d < 0.0:
+        d += 2.0 * M_PI
+    return d <= turn + 1e-12 or d >= 2.0 * M_PI - 1e-12
+
+
+cdef void _cs_part_box(const Segment *g, const int *dims, int n_dims, double *box) noexcept nogil:
+    """The box (low corner, then high) of a part in the axes dims: its ends, and for an
+    arc's plane axes the circle at the ends' angles and at the quadrants it passes."""
+    cdef double lo, hi, c, a0, a1, sigma, turn, quadrant, v
+    cdef int d, k, q
+    for d in range(n_dims):
+        k = dims[d]
+        lo = min(g.start[k], g.end[k])
+        hi = max(g.start[k], g.end[k])
+        if g.arc and (k == g.first or k == g.second):
+            sigma = 1.0 if g.sweep > 0.0 else -1.0
+            turn = fabs(g.sweep)
+            a0 = atan2(g.start[g.second] - g.centre[1], g.start[g.first] - g.centre[0])
+            a1 = a0 + g.sweep
+            c = g.centre[0] if k == g.first else g.centre[1]
+            # the interior points lie on the circle of the tool path's radius
+            v = c + g.radius * (cos(a0) if k == g.first else sin(a0))
+            lo = min(lo, v)
+            hi = max(hi, v)
+            v = c + g.radius * (cos(a1) if k == g.first else sin(a1))
+            lo = min(lo, v)
+            hi = max(hi, v)
+            for q in range(4):
+                quadrant = 0.5 * M_PI * q
+                if _cs_covers(quadrant, a0, sigma, turn):
+                    v = c + g.radius * (cos(quadrant) if k == g.first else sin(quadrant))
+                    lo = min(lo, v)
+                    hi = max(hi, v)
+        box[d] = lo
+        box[n_dims + d] = hi
+
+
+cdef inline uint64_t _cs_spread3(uint64_t x) noexcept nogil:
+    """10 bits to every third bit of 30."""
+    x &= 0x3FF
+    x = (x | (x << 16)) & 0x030000FF
+    x = (x | (x << 8)) & 0x0300F00F
+    x = (x | (x << 4)) & 0x030C30C3
+    x = (x | (x << 2)) & 0x09249249
+    return x
+
+
+cdef inline uint64_t _cs_spread2(uint64_t x) noexcept nogil:
+    """16 bits to every other bit of 32."""
+    x &= 0xFFFF
+    x = (x | (x << 8)) & 0x00FF00FF
+    x = (x | (x << 4)) & 0x0F0F0F0F
+    x = (x | (x << 2)) & 0x33333333
+    x = (x | (x << 1)) & 0x55555555
+    return x
+
+
+cdef void _cs_radix_sort_high(uint64_t *keys, uint64_t *spare, size_t n) noexcept nogil:
+    """Sorts by the high 32 bits, stable (four passes of 8 bits; the result in keys)."""
+    cdef size_t count[256]
+    cdef size_t r, total, c
+    cdef uint64_t *src = keys
+    cdef uint64_t *dst = spare
+    cdef uint64_t *swap
+    cdef int digit, shift
+    for shift in range(32, 64, 8):
+        memset(count, 0, sizeof(count))
+        for r in range(n):
+            count[(src[r] >> shift) & 0xFF] += 1
+        total = 0
+        for digit in range(256):
+            c = count[digit]
+            count[digit] = total
+            total += c
+        for r in range(n):
+            digit = (src[r] >> shift) & 0xFF
+            dst[count[digit]] = src[r]
+            count[digit] += 1
+        swap = src
+        src = dst
+        dst = swap
+
+
+cdef void _cs_morton_keys(const double *part_box, size_t m, int n_dims, uint64_t *keys) noexcept nogil:
+    """keys[j] = Morton code of the centre of box j (its first three axes) << 32 | j."""
+    cdef int md = min(n_dims, 3), d
+    cdef int bits = 10 if md == 3 else (16 if md == 2 else 31)
+    cdef double lo[3]
+    cdef double scale[3]
+    cdef double hi, c, top = <double>((1u << bits) - 1)
+    cdef uint64_t cell[3]
+    cdef uint64_t code
+    cdef size_t j
+    cdef const double *box
+    for d in range(md):
+        lo[d] = INFINITY
+        hi = -INFINITY
+        for j in range(m):
+            box = &part_box[2 * n_dims * j]
+            c = 0.5 * (box[d] + box[n_dims + d])
+            lo[d] = min(lo[d], c)
+            hi = max(hi, c)
+        scale[d] = top / (hi - lo[d]) if hi > lo[d] else 0.0
+    for j in range(m):
+        box = &part_box[2 * n_dims * j]
+        for d in range(md):
+            c = (0.5 * (box[d] + box[n_dims + d]) - lo[d]) * scale[d]
+            cell[d] = <uint64_t>min(max(c, 0.0), top)
+        if md == 3:
+            code = _cs_spread3(cell[0]) | (_cs_spread3(cell[1]) << 1) | (_cs_spread3(cell[2]) << 2)
+        elif md == 2:
+            code = _cs_spread2(cell[0]) | (_cs_spread2(cell[1]) << 1)
+        elif md == 1:
+            code = cell[0]
+        else:
+            code = 0
+        keys[j] = (code << 32) | j
+
+
+cdef void connect_index_free(ConnectIndex *ix) noexcept nogil:
+    free(ix.items)
+    free(ix.boxes)
+    free(ix.span)
+    ix.items = NULL
+    ix.boxes = NULL
+    ix.span = NULL
+    ix.n_items = 0
+    ix.first_leaf = 0
+
+
+cdef int connect_index_build(ConnectIndex *ix, const Program *prog, const Placement *pl,
+                             uint32_t axes, ErrorInfo *err) noexcept nogil:
+    """Indexes the motion parts of prog run from pl (copied; prog must outlive the
+    index) for distances in `axes`. O(n) plus a radix sort; connect_index_free
+    releases it, also after a failure."""
+    cdef Segment g
+    cdef size_t n = prog.n_parts, m = 0, i, j, r, leaf, node, n_leaves, first_leaf, stop
+    cdef int D, width, d
+    cdef double *part_box = NULL
+    cdef double *box
+    cdef double *child
+    cdef uint64_t *keys = NULL
+    cdef uint64_t *spare = NULL
+    cdef uint32_t *order = NULL
+    cdef uint32_t lo_part, hi_part
+    memset(ix, 0, sizeof(ConnectIndex))
+    if axes & ~(<uint32_t>CONNECT_ALL_AXES):
+        return connect_bad_argument(err, "axesForCalc", axes, "bits above 0x3FF")
+    ix.prog = prog
+    ix.pl = pl[0]
+    ix.axes = _cs_mask(axes)
+    _cs_choose_dims(ix)
+    D = ix.n_dims
+    width = 2 * D
+    for i in range(n):
+        if prog.parts[i].kind == PART_MOTION:
+            m += 1
+    ix.n_items = m
+    if m == 0:
+        return CONNECT_FOUND
+    n_leaves = (m + CONNECT_LEAF_PARTS - 1) // CONNECT_LEAF_PARTS
+    first_leaf = 1
+    while first_leaf < n_leaves:
+        first_leaf <<= 1
+    ix.first_leaf = first_leaf
+    ix.items = <uint32_t *>malloc(m * sizeof(uint32_t))
+    ix.boxes = <double *>malloc((2 * first_leaf * width + 1) * sizeof(double))
+    ix.span = <uint32_t *>malloc(4 * first_leaf * sizeof(uint32_t))
+    order = <uint32_t *>malloc(m * sizeof(uint32_t))
+    keys = <uint64_t *>malloc(m * sizeof(uint64_t))
+    spare = <uint64_t *>malloc(m * sizeof(uint64_t))
+    part_box = <double *>malloc((m * width + 1) * sizeof(double))
+    if (ix.items == NULL or ix.boxes == NULL or ix.span == NULL or order == NULL or keys == NULL
+            or spare == NULL or part_box == NULL):
+        free(order)
+        free(keys)
+        free(spare)
+        free(part_box)
+        connect_index_free(ix)
+        return _cs_no_memory(err)
+    j = 0
+    for i in range(n):
+        if prog.parts[i].kind != PART_MOTION:
+            continue
+        connect_segment(prog, pl, i, &g)
+        _cs_part_box(&g, ix.dims, D, &part_box[width * j])
+        order[j] = <uint32_t>i
+        j += 1
+    _cs_morton_keys(part_box, m, D, keys)
+    _cs_radix_sort_high(keys, spare, m)
+    # leaves: CONNECT_LEAF_PARTS parts each in Morton order; empty ones after them
+    for leaf in range(first_leaf):
+        node = first_leaf + leaf
+        box = &ix.boxes[width * node]
+        for d in range(D):
+            box[d] = INFINITY
+            box[D + d] = -INFINITY
+        lo_part = <uint32_t>-1
+        hi_part = 0
+        stop = min(m, (leaf + 1) * CONNECT_LEAF_PARTS)
+        r = leaf * CONNECT_LEAF_PARTS
+        while r < stop:
+            j = <size_t>(keys[r] & <uint64_t>0xFFFFFFFFu)
+            ix.items[r] = order[j]
+            lo_part = min(lo_part, order[j])
+            hi_part = max(hi_part, order[j])
+            for d in range(D):
+                box[d] = min(box[d], part_box[width * j + d])
+                box[D + d] = max(box[D + d], part_box[width * j + D + d])
+            r += 1
+        ix.span[2 * node] = lo_part
+        ix.span[2 * node + 1] = hi_part
+    node = first_leaf - 1
+    while node >= 1:
+        box = &ix.boxes[width * node]
+        child = &ix.boxes[width * 2 * node]
+        for d in range(D):
+            box[d] = min(child[d], child[width + d])
+            box[D + d] = max(child[D + d], child[width + D + d])
+        ix.span[2 * node] = min(ix.span[4 * node], ix.span[4 * node + 2])
+        ix.span[2 * node + 1] = max(ix.span[4 * node + 1], ix.span[4 * node + 3])
+        node -= 1
+    free(order)
+    free(keys)
+    free(spare)
+    free(part_box)
+    return CONNECT_FOUND
+
+
+cdef inline double _cs_node_d2(const ConnectIndex *ix, size_t node, const double *q,
+                            size_t first, size_t end, double fixed_d2) noexcept nogil:
+    """Squared distance from q to node's box (and the fixed axes); infinite when none
+    of its parts is in [first, end)."""
+    cdef const double *box = &ix.boxes[2 * ix.n_dims * node]
+    cdef double d2 = fixed_d2, t
+    cdef int d
+    if ix.span[2 * node] >= end or ix.span[2 * node + 1] < first:
+        return INFINITY
+    for d in range(ix.n_dims):
+        t = q[ix.dims[d]]
+        if t < box[d]:
+            d2 += (box[d] - t) * (box[d] - t)
+        elif t > box[ix.n_dims + d]:
+            d2 += (t - box[ix.n_dims + d]) * (t - box[ix.n_dims + d])
+    return d2
+
+
+cdef int connect_nearest(const ConnectIndex *ix, const double *point, double max_distance,
+                         size_t first, size_t end, ConnectHit *hit, ErrorInfo *err) noexcept nogil:
+    """nType 0 / 10 / 40: the point of the trajectory nearest `point` (ten axes; the
+    machine fills the axes beyond nCoords with its position) among the motion parts
+    [first, end) (end is clipped to the program), by the rule of max_distance. Ties
+    go to the lower part index, on a part to the smaller s."""
+    cdef const Program *prog = ix.prog
+    cdef size_t stack_node[CONNECT_STACK]
+    cdef double stack_d2[CONNECT_STACK]
+    cdef size_t top = 0, node, left, r, stop, i
+    cdef size_t best_part = <size_t>-1
+    cdef double best_d2 = INFINITY, best_s = 0.0, max_d2 = _cs_limit_d2(max_distance)
+    cdef double fixed_d2 = 0.0, d2, s, d_left, d_right, t
+    cdef Segment g
+    cdef int k
+    if not _cs_finite_point(point, ix.axes, err):
+        return CONNECT_BAD_ARGUMENT
+    if end > prog.n_parts:
+        end = prog.n_parts
+    if ix.n_items == 0 or first >= end:
+        return _cs_no_motion(err, first, end, prog.n_parts)
+    for k in range(ix.n_fixed):
+        t = point[ix.fixed[k]] - ix.fixed_at[k]
+        fixed_d2 += t * t
+    if ix.n_dims == 0:              # every point of every part is as far: the first one
+        i = first
+        while i < end and prog.parts[i].kind != PART_MOTION:
+            i += 1
+        if i < end:
+            best_part = i
+    else:
+        d2 = _cs_node_d2(ix, 1, point, first, end, fixed_d2)
+        if d2 < INFINITY:
+            stack_node[0] = 1
+            stack_d2[0] = d2
+            top = 1
+    while top > 0:
+        top -= 1
+        node = stack_node[top]
+        if stack_d2[top] > best_d2:
+            continue
+        if node >= ix.first_leaf:
+            r = (node - ix.first_leaf) * CONNECT_LEAF_PARTS
+            stop = min(ix.n_items, r + CONNECT_LEAF_PARTS)
+            while r < stop:
+                i = ix.items[r]
+                r += 1
+                if i < first or i >= end:
+                    continue
+                connect_segment(prog, &ix.pl, i, &g)
+                d2 = _cs_part_nearest(&g, ix.axes, point, max_d2, &s)
+                if d2 < best_d2 or (d2 == best_d2 and i < best_part):
+                    best_d2 = d2
+                    best_part = i
+                    best_s = s
+            continue
+        left = 2 * node
+        d_left = _cs_node_d2(ix, left, point, first, end, fixed_d2)
+        d_right = _cs_node_d2(ix, left + 1, point, first, end, fixed_d2)
+        if d_left <= d_right:           # the nearer child on top
+            if d_right <= best_d2:
+                stack_node[top] = left + 1
+                stack_d2[top] = d_right
+                top += 1
+            if d_left <= best_d2:
+                stack_node[top] = left
+                stack_d2[top] = d_left
+                top += 1
+        else:
+            if d_left <= best_d2:
+                stack_node[top] = left
+                stack_d2[top] = d_left
+                top += 1
+            if d_right <= best_d2:
+                stack_node[top] = left + 1
+                stack_d2[top] = d_right
+                top += 1
+    if best_part == <size_t>-1:
+        return _cs_no_motion(err, first, end, prog.n_parts)
+    _cs_hit_nearest(prog, &ix.pl, best_part, ix.axes, point, max_d2, hit)
+    return CONNECT_FOUND
+
+
+# ---- lookups ---------------------------------------------------------------------------
+
+cdef int64_t _cs_part_of_gindex(const Program *prog, int64_t gindex) noexcept nogil:
+    """The part with G-code index gindex, -1 if none: a binary search (the indexes
+    rise), a scan where M-6 S restarted the numbering."""
+    cdef size_t lo = 0, hi = prog.n_parts, mid, i
+    while lo < hi:
+        mid = lo + (hi - lo) // 2
+        if prog.parts[mid].gcode_index < gindex:
+            lo = mid + 1
+        else:
+            hi = mid
+    if lo < prog.n_parts and prog.parts[lo].gcode_index == gindex:
+        return <int64_t>lo
+    for i in range(prog.n_parts):
+        if prog.parts[i].gcode_index == gindex:
+            return <int64_t>i
+    return -1
+
+
+cdef int _cs_find_gindex(const Program *prog, const double *coords, int k, int64_t *part,
+                      ErrorInfo *err) noexcept nogil:
+    """The part with the G-code index coords[k]."""
+    cdef int64_t gindex
+    if not _cs_whole(coords, k, -2147483648.0, 2147483647.0, &gindex, err):
+        return CONNECT_BAD_ARGUMENT
+    part[0] = _cs_part_of_gindex(prog, gindex)
+    if part[0] < 0:
+        return _cs_numbers_error(err, ERR_CONNECT_NO_GINDEX, -1, 0, coords[k], 0.0, 0.0, 1)
+    return CONNECT_FOUND
+
+
+cdef int connect_gindex(const Program *prog, const Placement *pl, const double *coords,
+                        uint32_t n_coords, bint at_end, ConnectHit *hit, ErrorInfo *err) noexcept nogil:
+    """nType 30 / 32: the start (at_end: the end) of the part with G-code index
+    coords[0]."""
+    cdef int64_t part
+    cdef int rc
+    if n_coords < 1:
+        return connect_bad_argument(err, "nCoords", n_coords, "a G-code index needs coords[0]")
+    rc = _cs_find_gindex(prog, coords, 0, &part, err)
+    if rc != CONNECT_FOUND:
+        return rc
+    _cs_hit_at(prog, pl, <size_t>part, at_end, hit)
+    return CONNECT_FOUND
+
+
+cdef int connect_gindex_nearest(const Program *prog, const Placement *pl, const double *coords,
+                                uint32_t n_coords, const double *point, uint32_t axes,
+                                double max_distance, ConnectHit *hit, ErrorInfo *err) noexcept nogil:
+    """nType 31 / 44: the point of the part with G-code index coords[0] nearest
+    `point` (ten axes: the machine's position) in `axes`, by the rule of max_distance."""
+    cdef int64_t part
+    cdef int rc
+    if n_coords < 1:
+        return connect_bad_argument(err, "nCoords", n_coords, "a G-code index needs coords[0]")
+    if axes & ~(<uint32_t>CONNECT_ALL_AXES):
+        return connect_bad_argument(err, "axesForCalc", axes, "bits above 0x3FF")
+    axes = _cs_mask(axes)
+    if not _cs_finite_point(point, axes, err):
+        return CONNECT_BAD_ARGUMENT
+    rc = _cs_find_gindex(prog, coords, 0, &part, err)
+    if rc != CONNECT_FOUND:
+        return rc
+    _cs_hit_nearest(prog, pl, <size_t>part, axes, point, _cs_limit_d2(max_distance), hit)
+    return CONNECT_FOUND
+
+
+cdef int connect_exact_point(const Program *prog, const Placement *pl, const double *coords,
+                             uint32_t n_coords, uint32_t axes, double tolerance,
+                             ConnectHit *hit, ErrorInfo *err) noexcept nogil:
+    """nType 46: coords[0..9] on the part with G-code index coords[10]: the part's
+    point nearest them in `axes`, which must lie within `tolerance` (mm) of them;
+    else CONNECT_OFF_PART with the hit filled (its distance tells how far)."""
+    cdef int64_t part
+    cdef int rc
+    cdef const Part *p
+    if n_coords < 11:
+        return connect_bad_argument(err, "nCoords", n_coords, "nType 46 needs 11 coordinates")
+    if axes & ~(<uint32_t>CONNECT_ALL_AXES):
+        return connect_bad_argument(err, "axesForCalc", axes, "bits above 0x3FF")
+    if not (tolerance >= 0.0) or not isfinite(tolerance):
+        return connect_bad_argument(err, "tolerance", tolerance, "must be finite and >= 0")
+    axes = _cs_mask(axes)
+    if not _cs_finite_point(coords, axes, err):
+        return CONNECT_BAD_ARGUMENT
+    rc = _cs_find_gindex(prog, coords, 10, &part, err)
+    if rc != CONNECT_FOUND:
+        return rc
+    _cs_hit_nearest(prog, pl, <size_t>part, axes, coords, INFINITY, hit)
+    if hit.distance > tolerance:
+        p = &prog.parts[part]
+        return _cs_numbers_error(err, ERR_CONNECT_OFF_PART, p.file_idx, <int32_t>p.line,
+                              hit.distance, coords[10], tolerance, 3)
+    return CONNECT_FOUND
+
+
+cdef int connect_line(const Program *prog, const Placement *pl, const double *coords,
+                      uint32_t n_coords, bint at_end, ConnectHit *hit, ErrorInfo *err) noexcept nogil:
+    """nType 1 / 2 (11 12 41 42): the first part at editor line coords[0] of file
+    coords[1] (the main file without it); at_end: the end of the last part of the run
+    of parts on that line that starts there."""
+    cdef int64_t line, file_idx
+    cdef size_t i, n = prog.n_parts
+    if n_coords < 1:
+        return connect_bad_argument(err, "nCoords", n_coords, "a line needs coords[0]")
+    if not _cs_whole(coords, 0, 1.0, 4294967295.0, &line, err):
+        return CONNECT_BAD_ARGUMENT
+    if n_coords >= 2:
+        if not _cs_whole(coords, 1, -1.0, 32767.0, &file_idx, err):
+            return CONNECT_BAD_ARGUMENT
+    else:
+        file_idx = prog.main_file_idx
+    i = 0
+    while i < n and not (prog.parts[i].line == line and prog.parts[i].file_idx == file_idx):
+        i += 1
+    if i == n:
+        return _cs_numbers_error(err, ERR_CONNECT_NO_LINE, <int32_t>file_idx, <int32_t>line,
+                              <double>line, <double>file_idx, 0.0, 2)
+    if at_end:
+        while i + 1 < n and prog.parts[i + 1].line == line and prog.parts[i + 1].file_idx == file_idx:
+            i += 1
+    _cs_hit_at(prog, pl, i, at_end, hit)
+    return CONNECT_FOUND
+
+
+cdef int connect_mfunc(const Program *prog, const Placement *pl, const double *coords,
+                       uint32_t n_coords, bint relative, int64_t current, int32_t status,
+                       ConnectHit *hit, ErrorInfo *err) noexcept nogil:
+    """nType 20 / 21: occurrence n = coords[0] of M function coords[1] (programmed
+    ones; those the system inserts do not count). n > 0 counts forward: absolute from
+    the program's start (1 = the first), relative from the part after `current`;
+    n <= 0 counts back: absolute from the end (0 = the last), relative from `current`
+    itself (0 = the last one at or before it). current = -1: before the first part.
+    The vendor's rule: at the start (status -30) only n > 0, at the end (-32) only
+    n <= 0. The hit is where the M function stands."""
+    cdef int64_t n, mfunc, seen = 0, need
+    cdef int64_t i, last = <int64_t>prog.n_parts - 1
+    cdef int64_t step
+    cdef const Part *p
+    if n_coords < 2:
+        return connect_bad_argument(err, "nCoords", n_coords, "nType 20 and 21 need n and M")
+    if not _cs_whole(coords, 0, -2147483648.0, 2147483647.0, &n, err):
+        return CONNECT_BAD_ARGUMENT
+    if not _cs_whole(coords, 1, -2147483648.0, 2147483647.0, &mfunc, err):
+        return CONNECT_BAD_ARGUMENT
+    if status == CNC_STATUS_AT_START and n <= 0:
+        return _cs_bad_coord(err, 0, coords[0], "at the start of the trajectory only n > 0")
+    if status == CNC_STATUS_AT_END and n > 0:
+        return _cs_bad_coord(err, 0, coords[0], "at the end of the trajectory only n <= 0")
+    if current < -1:
+        current = -1
+    if current > last:
+        current = last
+    if n > 0:
+        i = current + 1 if relative else 0
+        step = 1
+        need = n
+    else:
+        i = current if relative else last
+        step = -1
+        need = 1 - n
+    while 0 <= i <= last:
+        p = &prog.parts[i]
+        if p.kind == PART_MFUNC and p.func == mfunc and not (p.flags & FLAG_INSERTED):
+            seen += 1
+            if seen == need:
+                _cs_hit_at(prog, pl, <size_t>i, False, hit)
+                return CONNECT_FOUND
+        i += step
+    return _cs_numbers_error(err, ERR_CONNECT_NO_MFUNC, -1, 0, coords[0], <double>mfunc,
+                          <double>seen, 3)
