@@ -77,6 +77,8 @@ def reset_core(lib, idx: int, defaults) -> None:
     assert lib.ToolChainCore_SetLookAhead(idx, 0) == 0
     assert lib.ToolChainCore_SetTimeScale(idx, 1.0) == 0
     assert lib.ToolChainCore_SetBreakpoint(idx, 0, -1) == 0
+    # the machine position survives DestroyCNC: a test that moved it leaves it at the origin
+    assert lib.ToolChainCore_ResetCNC(idx, 0, 10, (ctypes.c_double * 10)()) == 0
     for number in abi.CALLBACK_NUMBERS:
         assert lib.ToolChainCore_SetCallBack(idx, number, 0, None) == 0
 

@@ -115,6 +115,6 @@ def test_runtime_and_stress_under_thread_sanitizer(cache_dir, tmp_path):
     options = {"TSAN_OPTIONS": f"halt_on_error=1:second_deadlock_stack=1:suppressions={TSAN_SUPPRESSIONS}"
                                f":log_path={reports}"}
     out = run_suite(library, [runtime("libtsan.so")], options,
-                    ["tests/test_runtime.py", "tests/test_stress.py", "tests/test_machine_connect.py",
+                    ["tests/test_runtime.py", "tests/test_stress.py", "tests/test_machine.py", "tests/test_machine_connect.py",
                      "tests/test_machine_corrections.py"], reports, time_scale=6, timeout=900)
     assert " passed" in out, out[-2000:]

@@ -631,6 +631,8 @@ cdef int32_t _program_run(Core *core, Machine *m, Feeder *f, int32_t regime, con
     mo.rapid_len = m.rapid_len
     mo.run_time = m.run_time
     _feed(f)
+    motion_sync(mo)
+    _publish(core, m)                   # GetPos shows this run from its start, not the last activity's
     if callback_enter(core, SLOT_DRIVER_INITIALIZE, &cb):
         (<TC_DriverInitialize>cb.fn)(cb.user, start, 10, regime)
         callback_leave(core, SLOT_DRIVER_INITIALIZE)
