@@ -219,11 +219,18 @@ cdef void *_run_body(void *arg) noexcept nogil:
 
 
 cdef int32_t core_start_run(Core *core, int32_t regime, const char *add_code) noexcept nogil:
-    """StartCNCEx: simulation (10) and test (20) of the compiled program."""
+    """StartCNCEx: simulation (10) and test (20) here, 30-33 the offline machine
+    (machine/machine.pyx), each as the core's activity."""
+    cdef int32_t command
+    cdef void *(*body)(void *) noexcept nogil
     cdef Job *job
-    if regime == RUN_FORWARD or regime == RUN_FORWARD_NO_M or regime == RUN_BACKWARD or regime == RUN_FORWARD_SKIP_FIRST_M:
-        return core_start_machine(core, regime, add_code)
-    if regime != RUN_SIMULATION and regime != RUN_TEST:
+    if regime == RUN_SIMULATION or regime == RUN_TEST:
+        command = CMD_SIMULATE if regime == RUN_SIMULATION else CMD_TEST
+        body = _run_body
+    elif regime == RUN_FORWARD or regime == RUN_FORWARD_NO_M or regime == RUN_BACKWARD or regime == RUN_FORWARD_SKIP_FIRST_M:
+        command = machine_command(regime)
+        body = _machine_body
+    else:
         return core_fail(core, ERR_BAD_REGIME, NULL)
     job = job_new()
     if job == NULL:
@@ -231,5 +238,4 @@ cdef int32_t core_start_run(Core *core, int32_t regime, const char *add_code) no
     job.regime = regime
     if add_code != NULL:
         job.add_code = strdup(add_code)
-    return core_begin(core, CMD_SIMULATE if regime == RUN_SIMULATION else CMD_TEST, "StartCNCEx",
-                      _run_body, job)
+    return core_begin(core, command, "StartCNCEx", body, job)

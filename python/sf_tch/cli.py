@@ -192,6 +192,26 @@ def cmd_demo(args) -> int:
         return _report(program, args, lines)
 
 
+def _run_summary(core, status, error) -> dict:
+    """What a run ended with: status, machine time, lengths, the error."""
+    _, enh = core.position()
+    return {"status": int(status), "status_name": getattr(status, "name", str(status)),
+            "run_time": enh.m_cncRunTime, "cut_length": enh.m_actWorkPartsLen,
+            "rapid_length": enh.m_actG00PartsLen, "error": error.to_dict() if error else None}
+
+
+def _report_run(program: Program, args, run: dict, lines: Sequence[str], error) -> int:
+    """Prints a program's run (text or JSON) and its error; the exit code."""
+    if args.json:
+        print(json.dumps({**program.to_dict(), "run": run}, indent=2))
+    else:
+        for line in _summary(program) + list(lines):
+            print(line)
+        if error:
+            print(str(error), file=sys.stderr)
+    return EXIT_PROGRAM_ERRORS if error else EXIT_OK
+
+
 def cmd_simulate(args) -> int:
     """``sf-tch simulate``: compile, run regime 10 (or 20 with --test), report the run."""
     with _compile(args, args.program) as program:
@@ -203,21 +223,11 @@ def cmd_simulate(args) -> int:
         except CncError as exc:
             status, error = program.core.status, exc
         _, enh = program.core.position()
-        run = {"regime": "test" if args.test else "simulation", "status": int(status),
-               "status_name": getattr(status, "name", str(status)), "run_time": enh.m_cncRunTime,
-               "cut_length": enh.m_actWorkPartsLen, "rapid_length": enh.m_actG00PartsLen,
-               "cut_parts": enh.m_nWorkCounter, "rapid_parts": enh.m_nG00Counter, "m_functions": enh.m_nMCounter,
-               "error": error.to_dict() if error else None}
-        if args.json:
-            print(json.dumps({**program.to_dict(), "run": run}, indent=2))
-        else:
-            for line in _summary(program):
-                print(line)
-            print(f"run:           {run['regime']}, status {run['status']} ({run['status_name']})")
-            print(f"run time:      {run['run_time']:.2f} s (estimate)")
-            if error:
-                print(str(error), file=sys.stderr)
-        return EXIT_PROGRAM_ERRORS if error else EXIT_OK
+        run = {"regime": "test" if args.test else "simulation", **_run_summary(program.core, status, error),
+               "cut_parts": enh.m_nWorkCounter, "rapid_parts": enh.m_nG00Counter, "m_functions": enh.m_nMCounter}
+        return _report_run(program, args, run, [f"run:           {run['regime']}, status {run['status']} "
+                                                f"({run['status_name']})",
+                                                f"run time:      {run['run_time']:.2f} s (estimate)"], error)
 
 
 def cmd_run(args) -> int:
@@ -248,23 +258,13 @@ def cmd_run(args) -> int:
             core.wait()
         if live:
             sys.stderr.write("\n")
-        status = core.status
-        pos, enh = core.position()
+        pos, _ = core.position()
         error = core.last_error()
-        run = {"status": int(status), "status_name": getattr(status, "name", str(status)),
-               "run_time": enh.m_cncRunTime, "cut_length": enh.m_actWorkPartsLen,
-               "rapid_length": enh.m_actG00PartsLen, "error": error.to_dict() if error else None,
+        run = {**_run_summary(core, core.status, error),
                "position": [pos.m_calcS.x, pos.m_calcS.y, pos.m_calcS.z]}
-        if args.json:
-            print(json.dumps({**program.to_dict(), "run": run}, indent=2))
-        else:
-            for line in _summary(program):
-                print(line)
-            print(f"run:           status {run['status']} ({run['status_name']})")
-            print(f"machine time:  {run['run_time']:.2f} s (planned {program.run_time:.2f} s)")
-            if error:
-                print(str(error), file=sys.stderr)
-        return EXIT_PROGRAM_ERRORS if error else EXIT_OK
+        return _report_run(program, args, run, [f"run:           status {run['status']} ({run['status_name']})",
+                                                f"machine time:  {run['run_time']:.2f} s "
+                                                f"(planned {program.run_time:.2f} s)"], error)
 
 
 def cmd_plot(args) -> int:

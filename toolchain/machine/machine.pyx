@@ -813,23 +813,15 @@ cdef int32_t machine_send_m(Core *core, const SIMPLE_GM_PARAMS *fun) noexcept no
     return TOOL_CHAIN_SUCCESS
 
 
-cdef int32_t core_start_machine(Core *core, int32_t regime, const char *add_code) noexcept nogil:
-    """StartCNCEx 30-33: a run of the offline machine from where it stands on the
-    program (its start after ResetCNC or a new compilation)."""
-    cdef Job *job
-    cdef Machine *m
-    cdef int32_t command
-    if regime == RUN_FORWARD: command = CMD_FORWARD
-    elif regime == RUN_FORWARD_NO_M: command = CMD_FORWARD_NO_M
-    elif regime == RUN_BACKWARD: command = CMD_BACKWARD
-    else: command = CMD_FORWARD_SKIP_M
-    job = job_new()
-    if job == NULL:
-        return core_fail(core, ERR_OUT_OF_MEMORY, NULL)
-    job.regime = regime
-    if add_code != NULL:
-        job.add_code = strdup(add_code)
-    return core_begin(core, command, "StartCNCEx", _machine_body, job)
+cdef int32_t machine_command(int32_t regime) noexcept nogil:
+    """The transition table's command of StartCNCEx 30-33."""
+    if regime == RUN_FORWARD:
+        return CMD_FORWARD
+    if regime == RUN_FORWARD_NO_M:
+        return CMD_FORWARD_NO_M
+    if regime == RUN_BACKWARD:
+        return CMD_BACKWARD
+    return CMD_FORWARD_SKIP_M
 
 
 cdef bint machine_prepare(Core *core, int32_t command) noexcept nogil:
