@@ -37,7 +37,9 @@ def harness_module():
 
 @pytest.fixture(scope="session")
 def mh():
-    return harness_module()
+    module = harness_module()
+    yield module
+    module.destroy_all()
 
 
 def params(mh, radius=0.0, **fields):

@@ -201,3 +201,11 @@ def place(int core_idx):
     if m == NULL:
         return None
     return (m.part, m.part_s, m.began, [m.history[k] for k in range(m.n_history)])
+
+
+def destroy_all():
+    """DestroyCNC on the module's cores: their finished compile workers are joined (a
+    host ends so; ThreadSanitizer reports a thread nobody joined)."""
+    cdef uint32_t k
+    for k in range(TOOL_CHAIN_MAX_CORES):
+        ToolChainCore_DestroyCNC(k)
