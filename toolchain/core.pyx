@@ -288,7 +288,7 @@ cdef int32_t core_begin(Core *core, int32_t command, const char *what,
         if err != 0:
             return core_fail(core, err, NULL)
         return core_refuse(core, what, status)
-    if (_machine_run(command) or command == CMD_GOTO) and not machine_prepare(core, command):
+    if (_machine_run(command) or command == CMD_GOTO) and not machine_prepare(core):
         pthread_mutex_unlock(&core.lock)
         job_free(job)
         return core_fail(core, ERR_OUT_OF_MEMORY, NULL)

@@ -13,7 +13,7 @@
 # things they share. The machine's place on the path (part, distance, the parts it
 # ran, for backward) outlives the run, so the next StartCNCEx continues there.
 from libc.stdlib cimport malloc, calloc, realloc, free
-from libc.string cimport memset, memcpy, strdup
+from libc.string cimport memset, memcpy, memmove, strdup
 from libc.math cimport fabs
 from posix.time cimport clock_gettime, nanosleep, timespec, CLOCK_MONOTONIC
 
@@ -42,11 +42,10 @@ ctypedef struct Machine:
     double part_s               # path length done along that part
     bint began                  # the part's start was reported (DriverGFunc)
     size_t *history             # motion parts it ran before `part`, oldest first
-    size_t n_history
+    size_t n_history, cap_history
     bint history_lost           # older ones were dropped (HISTORY_DEPTH)
     double cut_len, rapid_len, run_time
     # the M-function handshake
-    int32_t m_waiting           # atomic: the M number the machine waits for (0 none)
     int32_t m_pending           # atomic: a DriverMFunc answered "later": ConfirmMFunc ends it
     # pacer -> notifier
     pthread_mutex_t lock
@@ -91,35 +90,29 @@ cdef void machine_forget(Core *core) noexcept nogil:
     m.n_history = 0
     m.history_lost = False
     m.cut_len = m.rapid_len = m.run_time = 0.0
-    TC_ATOMIC_STORE(&m.m_waiting, 0)
     TC_ATOMIC_STORE(&m.m_pending, 0)
 
 
 cdef void _history_push(Machine *m, size_t part) noexcept nogil:
+    """Remembers a motion part run (for backward runs): when HISTORY_DEPTH are held,
+    the oldest tenth goes at once."""
     cdef size_t *grown
     cdef size_t cap
     if m.n_history == HISTORY_DEPTH:
-        memmove_sizes(m.history, m.history + HISTORY_DEPTH // 10, HISTORY_DEPTH - HISTORY_DEPTH // 10)
+        memmove(m.history, m.history + HISTORY_DEPTH // 10,
+                (HISTORY_DEPTH - HISTORY_DEPTH // 10) * sizeof(size_t))
         m.n_history -= HISTORY_DEPTH // 10
         m.history_lost = True
-    cap = 1024
-    while cap < m.n_history + 1:
-        cap *= 2
-    if m.history == NULL or (m.n_history & (m.n_history - 1)) == 0 and m.n_history >= 1024:
-        grown = <size_t *>realloc(m.history, max(cap, 2 * m.n_history) * sizeof(size_t))
+    if m.n_history == m.cap_history:
+        cap = min(max(2 * m.cap_history, <size_t>1024), <size_t>HISTORY_DEPTH)
+        grown = <size_t *>realloc(m.history, cap * sizeof(size_t))
         if grown == NULL:
             m.history_lost = True
             return
         m.history = grown
+        m.cap_history = cap
     m.history[m.n_history] = part
     m.n_history += 1
-
-
-cdef extern from "<string.h>":
-    void *memmove(void *dst, const void *src, size_t n) nogil
-
-cdef inline void memmove_sizes(size_t *dst, const size_t *src, size_t n) noexcept nogil:
-    memmove(dst, src, n * sizeof(size_t))
 
 
 # ------------------------------------------------------------------ entries
@@ -416,10 +409,6 @@ cdef void *_pacer_body(void *arg) noexcept nogil:
         motion_locate(mo)
         _hand_over(m, mo.consumed != told or halted)
         told = mo.consumed
-        if mo.state == MS_WAIT_M:
-            TC_ATOMIC_STORE(&m.m_waiting, motion_entry(mo, 0).func)
-        else:
-            TC_ATOMIC_STORE(&m.m_waiting, 0)
         _publish(core, m)
         if not halted:
             nanosleep(&nap, NULL)
@@ -824,7 +813,7 @@ cdef int32_t machine_command(int32_t regime) noexcept nogil:
     return CMD_FORWARD_SKIP_M
 
 
-cdef bint machine_prepare(Core *core, int32_t command) noexcept nogil:
+cdef bint machine_prepare(Core *core) noexcept nogil:
     """With core.lock held, before a run starts (core_begin): the machine exists and
     its place refers to the core's program (a new program: its start)."""
     cdef Machine *m = machine_of(core)
@@ -836,7 +825,6 @@ cdef bint machine_prepare(Core *core, int32_t command) noexcept nogil:
     if m.program != NULL and m.part == 0 and m.part_s == 0.0 and m.n_history == 0:
         placement_init(&m.placement, &m.program.prog, core.position)    # a run from the start
     memcpy(m.motion.position, core.position, sizeof(core.position))
-    TC_ATOMIC_STORE(&m.m_waiting, 0)
     return True
 
 
