@@ -190,6 +190,28 @@ def test_library_path_honours_the_environment(run_python, lib_path, tmp_path):
     assert "missing: SF_TCH_LIBRARY=" in out and "no such file" in out and "found: True" in out
 
 
+def test_the_ctypes_layer_loads_without_numpy(run_python):
+    # numpy's OpenBLAS threads spin after its import and slow the library's compile
+    # threads on a two-core panel: the ctypes layer must not bring it in
+    out = run_python("""
+        import sys
+        import sf_tch
+        from sf_tch import abi, library, enums, errors, logs
+        library.load()
+        print("numpy before:", "numpy" in sys.modules)
+        from sf_tch import Core, Toolpath, compile
+        print("numpy after:", "numpy" in sys.modules, Core.__module__, Toolpath.__module__, compile.__module__)
+        print("listed:", all(name in dir(sf_tch) for name in sf_tch.__all__))
+        try:
+            sf_tch.no_such_name
+        except AttributeError as exc:
+            print("missing:", exc)
+    """).stdout
+    assert "numpy before: False" in out
+    assert "numpy after: True sf_tch.core sf_tch.toolpath sf_tch.program" in out
+    assert "listed: True" in out and "missing: module 'sf_tch' has no attribute 'no_such_name'" in out
+
+
 def test_version_is_the_package_metadata():
     assert sf_tch.__version__ == metadata.version("sf-tch")
     assert re.fullmatch(r"\d+\.\d+\.\d+.*", sf_tch.__version__)

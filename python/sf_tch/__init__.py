@@ -78,10 +78,32 @@ from .enums import (Callback, Compensation, ErrorNumber, GFunction, MFunction, P
                     Regime, ReturnCode, Status, ToolpathFlag)
 from .errors import (Cancelled, CncError, Diagnostic, LibraryNotFoundError, NoFreeCoreError,  # noqa: E402
                      SfTchError)
-from .core import Core, RunResult, default_ini, sample_program  # noqa: E402
-from .program import CompileJob, Program, compile, start_compile  # noqa: E402
-from .toolpath import TOOLPATH_DTYPE, Run, Toolpath  # noqa: E402
 from .logs import LibraryLog, LogSource, forward_library_log  # noqa: E402
+
+# The numpy side (Core, Program, Toolpath) is imported on first use: a host that only
+# needs the ctypes layer (sf_tch.abi, sf_tch.library) does not load numpy, whose
+# OpenBLAS threads spin for a while after the import and take a core from the
+# library's compile threads on a two-core panel (README, "Performance").
+_LAZY = {
+    "Core": "core", "RunResult": "core", "default_ini": "core", "sample_program": "core",
+    "CompileJob": "program", "Program": "program", "compile": "program", "start_compile": "program",
+    "TOOLPATH_DTYPE": "toolpath", "Run": "toolpath", "Toolpath": "toolpath",
+}
+
+
+def __getattr__(name: str):
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module 'sf_tch' has no attribute {name!r}")
+    import importlib
+    value = getattr(importlib.import_module(f".{module}", __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_LAZY))
+
 
 __all__ = [
     "__version__", "library_path", "header_path", "compile", "start_compile", "CompileJob", "Program",
