@@ -132,6 +132,9 @@ ctypedef struct ProgramBuilder:
     Follow *follow          # while a stage reads the parts beside the compiler, else NULL
     size_t prefaulted       # parts [0, prefaulted) of the capacity are faulted in (program_prefault)
 
+cdef enum:
+    HUGE_ADVICE_MIN = 4194304   # bytes: arrays from this size on ask for huge pages (program_advise_huge)
+
 # A stage that reads the parts while the compiler still writes them, in a thread of
 # its own (pipeline.pyx; the compensation): the compiler hands over the parts as they
 # become final, and growth of an array the stage reads waits until it is between

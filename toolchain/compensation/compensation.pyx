@@ -162,8 +162,8 @@ cdef bint _ins_add(CompState *S, const CompEl *el) noexcept nogil:
             return False
         S.ins = rec
         S.cap_ins = cap
-        if cap * sizeof(InsRec) >= 4194304:
-            _advise_huge(rec, cap * sizeof(InsRec))
+        if cap * sizeof(InsRec) >= HUGE_ADVICE_MIN:
+            program_advise_huge(rec, cap * sizeof(InsRec))
     rec = &S.ins[S.n_ins]
     S.n_ins += 1
     rec.after = el.part

@@ -961,22 +961,12 @@ cdef void reserve_parts(ProgramBuilder *build, uint32_t lines) noexcept nogil:
     grow on demand."""
     cdef Program *prog = &build.prog
     cdef size_t n = <size_t>lines + 64
-    cdef size_t start, end
     if lines < 100000:
         return
     if _grow(<void **>&prog.parts, &build.cap_parts, n + n // 2, sizeof(Part)):
-        _advise_huge(prog.parts, build.cap_parts * sizeof(Part))
+        program_advise_huge(prog.parts, build.cap_parts * sizeof(Part))
     if _grow(<void **>&prog.pars, &build.cap_pars, n * 4, sizeof(float)):
-        _advise_huge(prog.pars, build.cap_pars * sizeof(float))
-
-
-cdef void _advise_huge(void *buf, size_t size) noexcept nogil:
-    # Every page the buffer touches, not only its 2 MiB-aligned middle: advising part
-    # of the mapping splits it, and realloc's mremap refuses a range over several
-    # mappings (it then copies the whole array, e.g. when compensation inserts parts).
-    cdef size_t start = <size_t>buf & ~(<size_t>0xFFF)
-    cdef size_t end = (<size_t>buf + size + 0xFFF) & ~(<size_t>0xFFF)
-    madvise(<void *>start, end - start, MADV_HUGEPAGE)
+        program_advise_huge(prog.pars, build.cap_pars * sizeof(float))
 
 
 cdef int compile_program(const CompileInput *inp, ProgramBuilder *build, ErrorInfo *err) noexcept nogil:

@@ -267,6 +267,8 @@ cdef bint plan_alloc(Program *prog) noexcept nogil:
     if prog.n_parts == 0:
         return True
     prog.plan = <PartPlan *>malloc(prog.n_parts * sizeof(PartPlan))
+    if prog.plan != NULL and prog.n_parts * sizeof(PartPlan) >= HUGE_ADVICE_MIN:
+        program_advise_huge(prog.plan, prog.n_parts * sizeof(PartPlan))
     return prog.plan != NULL
 
 
