@@ -104,18 +104,20 @@ def test_ramp_closed_forms(ph):
 
 
 @pytest.mark.parametrize("ramp", [1, 2])
-def test_profile_of_planned_parts(ph, ramp):
-    """ramps.pyx rebuilds each planned part: its duration is the plan's time and its
-    sampled speed integrates (midpoint rule) to the part's length."""
+def test_the_machine_runs_each_planned_part_in_its_planned_time(ph, ramp):
+    """The offline machine's profile of each planned part (motion.pyx run_plan, capped
+    by the plan's peak and exit) reaches the plan's peak, lasts the plan's time, and
+    its sampled speed integrates (midpoint rule) to the part's length."""
     text = corner(50.0) + "G1 X300 Y150\nG1 X300.5 Y150\nG1 X301 Y150.3\n"
     parts = plan(ph, text, startAngle=20.0, endAngle=120.0, minAngleFeed=900.0,
                  motion=[None, (6000.0, 400.0, 700.0, ramp)])
     for p in parts:
-        duration, _ = ph.profile(p["length"], p["v_in"], p["v_peak"], p["v_out"], 400.0, ramp, 700.0, ramp, [])
-        assert duration == pytest.approx(p["time"], rel=1e-12)
+        duration, peak, _ = ph.profile(p["length"], p["v_in"], p["v_peak"], p["v_out"], 400.0, 700.0, ramp, [])
+        assert peak == pytest.approx(p["v_peak"], rel=1e-9)
+        assert duration == pytest.approx(p["time"], rel=1e-7)
         n = 20000
-        _, speeds = ph.profile(p["length"], p["v_in"], p["v_peak"], p["v_out"], 400.0, ramp, 700.0, ramp,
-                               [duration * (k + 0.5) / n for k in range(n)])
+        _, _, speeds = ph.profile(p["length"], p["v_in"], p["v_peak"], p["v_out"], 400.0, 700.0, ramp,
+                                  [duration * (k + 0.5) / n for k in range(n)])
         assert sum(speeds) * duration / n == pytest.approx(p["length"], rel=1e-6)
 
 

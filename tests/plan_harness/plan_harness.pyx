@@ -126,13 +126,18 @@ def ramp(double v0, double v1, double acc, int ramp_type, double t=-1.0):
     return ramp_speed_at(v0, v1, acc, ramp_type, t), ramp_distance_at(v0, v1, acc, ramp_type, t)
 
 
-def profile(double length, double v_in, double v_peak, double v_out, double acc, int ramp_acc,
-            double dec, int ramp_dec, times):
-    """(duration, speeds at `times`) of a part's profile (ramps.pyx profile_of)."""
-    cdef Profile pr
-    profile_of(length, v_in, v_peak, v_out, acc, ramp_acc, dec, ramp_dec, &pr)
-    return (pr.t_up + pr.t_cruise + pr.t_down,
-            [profile_speed_at(&pr, acc, ramp_acc, dec, ramp_dec, t) for t in times])
+def profile(double length, double v_in, double v_peak, double v_out, double acc, double dec, int ramp, times):
+    """(duration, peak, speeds at `times`) of the profile the offline machine runs over
+    a part planned (v_in, v_peak, v_out): machine/motion.pyx run_plan capped by the
+    plan's peak and exit, sampled with run_at."""
+    cdef Run r
+    cdef double d, v
+    speeds = []
+    run_plan(&r, length, v_in, v_peak, v_out, acc, dec, ramp)
+    for t in times:
+        run_at(&r, t, &d, &v)
+        speeds.append(v)
+    return run_time_total(&r), r.v_peak, speeds
 
 
 def arc_factor(table, double radius, int state=-1):

@@ -52,36 +52,3 @@ cdef inline double ramp_distance_at(double v0, double v1, double acc, int32_t ra
     if ramp_type == RAMP_SINE:
         return v0 * t + (v1 - v0) * 0.5 * (t - T / M_PI * sin(M_PI * t / T))
     return v0 * t + (v1 - v0) * 0.5 * t * t / T
-
-
-ctypedef struct Profile:      # one part: ramp up, cruise, ramp down
-    double v_in, v_peak, v_out
-    double t_up, t_cruise, t_down
-    double s_up, s_cruise, s_down
-
-
-cdef void profile_of(double length, double v_in, double v_peak, double v_out,
-                     double acc, int32_t ramp_acc, double dec, int32_t ramp_dec,
-                     Profile *pr) noexcept nogil:
-    """The profile of a part from its plan (entry, peak, exit): times and distances of
-    its three phases; the cruise takes what the ramps leave of the length."""
-    pr.v_in = v_in; pr.v_peak = v_peak; pr.v_out = v_out
-    pr.t_up = ramp_time(v_in, v_peak, acc, ramp_acc)
-    pr.t_down = ramp_time(v_peak, v_out, dec, ramp_dec)
-    pr.s_up = 0.5 * (v_in + v_peak) * pr.t_up
-    pr.s_down = 0.5 * (v_peak + v_out) * pr.t_down
-    pr.s_cruise = length - pr.s_up - pr.s_down
-    if pr.s_cruise < 0.0:
-        pr.s_cruise = 0.0
-    pr.t_cruise = pr.s_cruise / v_peak if v_peak > 0.0 else 0.0
-
-
-cdef double profile_speed_at(const Profile *pr, double acc, int32_t ramp_acc, double dec,
-                             int32_t ramp_dec, double t) noexcept nogil:
-    """Speed t seconds into the part."""
-    if t < pr.t_up:
-        return ramp_speed_at(pr.v_in, pr.v_peak, acc, ramp_acc, t)
-    t -= pr.t_up
-    if t < pr.t_cruise:
-        return pr.v_peak
-    return ramp_speed_at(pr.v_peak, pr.v_out, dec, ramp_dec, t - pr.t_cruise)
