@@ -39,7 +39,14 @@ cdef void _widen_arc(GCODE_SIZE *size, const double *s, const double *e, const d
     end, within the angular tolerance of arc_sweep, is a full circle."""
     cdef double sx, sy, ex, ey, cross
     cdef int q, qs, qe, n, k, k0
+    cdef const double *lo = <const double *>&size.m_minimalPos
+    cdef const double *hi = <const double *>&size.m_maximalPos
     if radius <= 0:
+        return
+    # its whole circle inside the extent so far: the arc cannot widen it (most arcs
+    # of a large program)
+    if (cc[first] - radius >= lo[first] and cc[first] + radius <= hi[first]
+            and cc[second] - radius >= lo[second] and cc[second] + radius <= hi[second]):
         return
     sx = s[first] - cc[first]; sy = s[second] - cc[second]
     ex = e[first] - cc[first]; ey = e[second] - cc[second]
