@@ -277,6 +277,65 @@ def test_size_info_holds_every_point_of_random_arcs(seed):
         assert pts[:, 1].max() == pytest.approx(size.m_maximalPos.y, abs=1e-6)
 
 
+def _exact_xy_extent(toolpath, tool):
+    """min and max of x y over every move, arcs by their ends and the axis points
+    (0, 90, 180, 270 degrees) their sweep passes: vectorised closed forms."""
+    import numpy as np
+    motion = toolpath.records["kind"] == sf_tch.PartKind.MOTION
+    rec = toolpath.records[motion]
+    start = (toolpath.tool_start()[motion] if tool else rec["start"])[:, :2]
+    end = rec["tool_end" if tool else "end"][:, :2]
+    points = [start, end]
+    arc = np.isin(rec["number"], (2, 3)) & (rec["plane"] == 17)
+    s, e, c = start[arc], end[arc], rec["centre"][arc][:, :2]
+    r = np.hypot(*(s - c).T)
+    a0 = np.arctan2(*(s - c).T[::-1])
+    sweep = np.arctan2(*(e - c).T[::-1]) - a0
+    ccw = rec["number"][arc] == 3
+    sweep = np.where(ccw, np.mod(sweep, 2 * np.pi), -np.mod(-sweep, 2 * np.pi))
+    sweep[np.abs(sweep) < 1e-12] = 2 * np.pi        # a full circle
+    for k in range(4):
+        ahead = np.mod(k * np.pi / 2 - a0, 2 * np.pi)
+        passed = np.where(ccw, ahead <= sweep, np.mod(-ahead, 2 * np.pi) <= -sweep)
+        direction = np.array([math.cos(k * np.pi / 2), math.sin(k * np.pi / 2)]).round()
+        points.append((c + r[:, None] * direction)[passed])
+    pts = np.concatenate(points)
+    return pts.min(axis=0), pts.max(axis=0)
+
+
+@pytest.mark.parametrize("rotated", [False, True])
+def test_size_info_of_a_large_compensated_program(rotated):
+    """A compensated program large enough that its extent is measured beside the
+    compensation's merge (pipeline.pyx ExtentBeside: ranges of MERGE_WATCH_STEP moved
+    parts), with the outer corners' inserted arcs: the library's extents against the
+    closed forms over its own toolpath; with a G168 rotation both the extents as
+    written and as run."""
+    rng = random.Random(7)
+    lines = ["G0 X0 Y0", "G168 X5 Y5 R30" if rotated else "G0 X0 Y0"]
+    for k in range(5000):
+        x, y, w, h = rng.uniform(-200, 200), rng.uniform(-200, 200), rng.uniform(1, 8), rng.uniform(1, 8)
+        lines += [f"G0 X{x:.3f} Y{y - 1:.3f}", f"G42 G1 X{x:.3f} Y{y:.3f} F3000", f"G1 X{x + w:.3f}",
+                  f"G3 X{x + w:.3f} Y{y + h:.3f} I0 J{h / 2:.3f}", f"G1 X{x:.3f}", f"G1 Y{y:.3f}",
+                  f"G40 G1 X{x:.3f} Y{y - 1:.3f}"]
+    with sf_tch.compile("\n".join(lines) + "\n", radius=0.2, params={"absMode": 1},
+                        start=[0.0] * 10) as program:
+        program.check()
+        assert len(program.toolpath.records) > 2 * 16384        # enough moved parts for the thread
+        info = program.size_info
+        tp = program.toolpath
+        for kind, tool in ((2, False), (3, True)):              # as the machine runs it
+            lo, hi = _exact_xy_extent(tp, tool)
+            size = info.m_size[kind]
+            assert (size.m_minimalPos.x, size.m_minimalPos.y) == pytest.approx(tuple(lo), abs=1e-9)
+            assert (size.m_maximalPos.x, size.m_maximalPos.y) == pytest.approx(tuple(hi), abs=1e-9)
+        last = tp.records[tp.records["kind"] == sf_tch.PartKind.MOTION][-1]
+        assert (info.m_size[3].m_endPos.x, info.m_size[3].m_endPos.y) == pytest.approx(tuple(last["tool_end"][:2]))
+        if rotated:     # as written: the rotation undone, another extent
+            assert info.m_size[0].m_maximalPos.x != pytest.approx(info.m_size[2].m_maximalPos.x, abs=1e-3)
+        else:
+            assert info.m_size[0].m_maximalPos.x == info.m_size[2].m_maximalPos.x
+
+
 def test_test_regime_reports_machine_limit_violations(core):
     machine = abi.MACHINE_PARAMETERS()
     machine.minCoords.x, machine.maxCoords.x = 0.0, 50.0

@@ -2,8 +2,8 @@
 the README's test command):
 
 - AddressSanitizer + UndefinedBehaviorSanitizer: every test module but this one;
-- ThreadSanitizer: the runtime, stress and offline-machine tests (test_runtime.py, test_stress.py,
-  test_machine*.py).
+- ThreadSanitizer: the runtime, stress, pipeline and offline-machine tests (test_runtime.py,
+  test_stress.py, test_pipeline.py: the stages side by side, test_machine*.py).
 
 Each library is built once per source state (CMake option SF_TCH_SANITIZE, into
 pytest's cache directory), then a child pytest runs with SF_TCH_LIBRARY naming it and
@@ -115,6 +115,7 @@ def test_runtime_and_stress_under_thread_sanitizer(cache_dir, tmp_path):
     options = {"TSAN_OPTIONS": f"halt_on_error=1:second_deadlock_stack=1:suppressions={TSAN_SUPPRESSIONS}"
                                f":log_path={reports}"}
     out = run_suite(library, [runtime("libtsan.so")], options,
-                    ["tests/test_runtime.py", "tests/test_stress.py", "tests/test_machine.py", "tests/test_machine_connect.py",
-                     "tests/test_machine_corrections.py"], reports, time_scale=6, timeout=900)
+                    ["tests/test_runtime.py", "tests/test_stress.py", "tests/test_pipeline.py", "tests/test_machine.py",
+                     "tests/test_machine_connect.py", "tests/test_machine_corrections.py"], reports, time_scale=6,
+                    timeout=900)
     assert " passed" in out, out[-2000:]

@@ -380,14 +380,18 @@ cdef void _compile_warn(void *ctx, const ErrorInfo *warning) noexcept nogil:
     core_warning(<Core *>ctx, warning)
 
 
-cdef int _compile_and_compensate(Core *core, CompileInput *inp, ProgramBuilder *build, ErrorInfo *err) noexcept nogil:
+cdef int _compile_and_compensate(Core *core, CompileInput *inp, ProgramBuilder *build, ErrorInfo *err,
+                                 GCODE_INFO *extent, bint *measured) noexcept nogil:
     """The compiler, and the compensation's pass beside it in a thread of its own
-    (pipeline.pyx), then the compensation's merge: COMPILE_OK, or the compiler's
-    failure, else the compensation's (err filled)."""
+    (pipeline.pyx), then the compensation's merge with the extent measured beside it
+    (*measured: `extent` is filled): COMPILE_OK, or the compiler's failure, else the
+    compensation's (err filled)."""
     cdef CompState comp
     cdef Follow follow
+    cdef ExtentBeside beside
     cdef ErrorInfo *comp_err = <ErrorInfo *>calloc(1, sizeof(ErrorInfo))
     cdef int result
+    measured[0] = False
     if comp_err == NULL:
         set_error(err, ERR_OUT_OF_MEMORY, inp.file_idx, 0, NULL, 0)
         return COMPILE_ERROR
@@ -402,7 +406,9 @@ cdef int _compile_and_compensate(Core *core, CompileInput *inp, ProgramBuilder *
     build.follow = NULL
     follow_destroy(&follow)
     if result == COMPILE_OK and build.prog.compensated:
-        result = compensate_end(&comp)
+        extent_beside_begin(&beside, &build.prog)
+        result = compensate_end(&comp, &beside.watch)
+        measured[0] = extent_beside_end(&beside, result == COMPILE_OK, extent)
         if result != COMPILE_OK:
             err[0] = comp_err[0]
     else:
@@ -417,6 +423,8 @@ cdef int _compile_job(Core *core, Job *job, ProgramBuilder *build, GCODE_INFO *e
     cdef CompileInput *inp
     cdef int32_t read_error = 0
     cdef uint32_t machine_bits
+    cdef size_t n_parts
+    cdef bint measured
     cdef int result
     cdef char text[400]
     if job.text == NULL:
@@ -452,11 +460,13 @@ cdef int _compile_job(Core *core, Job *job, ProgramBuilder *build, GCODE_INFO *e
     snprintf(text, sizeof(text), "Compiling %s", job.name)
     core_status_text(core, text, job.files[0], 0)
     core_progress(core, 0)
-    result = _compile_and_compensate(core, inp, build, err)
+    result = _compile_and_compensate(core, inp, build, err, extent, &measured)
+    n_parts = build.prog.n_parts
     if result == COMPILE_OK:
         result = insert_arcs(build, &inp.params, err)
+    measured = measured and build.prog.n_parts == n_parts      # no automatic arcs came in since
     if result == COMPILE_OK and plan_beside_extent(build, &inp.params, machine_bits, inp.plan_window,
-                                                   extent) != COMPILE_OK:
+                                                   extent, measured) != COMPILE_OK:
         result = COMPILE_ERROR
         set_error(err, ERR_OUT_OF_MEMORY, job.files[0], 0, NULL, 0)
     if result == COMPILE_OK and TC_ATOMIC_LOAD(&core.cancel):

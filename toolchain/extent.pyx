@@ -1,7 +1,12 @@
 # The extent of a compiled program (GetGCodeSizeInfo): start, end, minimum and
-# maximum over every motion part, arcs with their true extreme points.
+# maximum over every motion part, arcs with their true extreme points. A pass over a
+# range of parts (extent_range) and the join of ranges, so that the extent may also be
+# measured range by range beside the stage that writes the parts (pipeline.pyx).
 from libc.string cimport memcpy
 from libc.math cimport sqrt
+
+cdef enum:
+    NO_MOTION = -1          # extent_range: no motion part in the range
 
 
 cdef inline void _widen(GCODE_SIZE *size, const double *point, int axes) noexcept nogil:
@@ -91,12 +96,14 @@ cdef inline void _unrotate(const Program *prog, uint16_t rot_idx, double *point)
         point[a] = r[a] + r[3 + a] * q[0] + r[6 + a] * q[1] + r[9 + a] * q[2]
 
 
-cdef void _extent_pair(const Program *prog, GCODE_SIZE *programmed, GCODE_SIZE *tool,
-                       bint rotated) noexcept nogil:
-    """The programmed and the compensated extent in one pass, as the machine runs
-    them (rotated) or as the program is written (G168 undone). The tool path differs
-    from the programmed one only in x y z: its other axes are copied at the end."""
-    cdef size_t i, last = prog.n_parts
+cdef size_t extent_range(const Program *prog, size_t first, size_t end, GCODE_SIZE *programmed,
+                         GCODE_SIZE *tool, bint rotated) noexcept nogil:
+    """Widens the programmed and the compensated extent (x y z; the programmed one all
+    ten axes) by the motion parts of [first, end), as the machine runs them (rotated)
+    or as the program is written (G168 undone); the last motion part among them, or
+    NO_MOTION. Ranges may be measured in any order and their extents joined
+    (extent_join): a part reads only itself and the end of the part before it."""
+    cdef size_t i, last = NO_MOTION
     cdef uint32_t axes_idx = <uint32_t>-1
     cdef const Part *p
     cdef const double *s
@@ -107,15 +114,12 @@ cdef void _extent_pair(const Program *prog, GCODE_SIZE *programmed, GCODE_SIZE *
     cdef double cc_buf[3]
     cdef double cs[3]
     cdef double ce[3]
-    cdef double tool_end[3]
     cdef double other[10]
     cdef double dx, dy
-    cdef int first, second, normal, k
+    cdef int first_axis, second_axis, normal
     cdef bint arc
     cdef uint16_t prev_rot
-    _start_size(programmed, prog.start)
-    _start_size(tool, prog.start)
-    for i in range(prog.n_parts):
+    for i in range(first, end):
         p = &prog.parts[i]
         if p.kind != PART_MOTION:
             continue
@@ -141,18 +145,17 @@ cdef void _extent_pair(const Program *prog, GCODE_SIZE *programmed, GCODE_SIZE *
             other[0] = e[0]; other[1] = e[1]; other[2] = e[2]
             _widen(programmed, other, 10)
         _widen(programmed, e, 3)
-        arc = (p.func == 2 or p.func == 3) and plane_axes(p.plane, &first, &second, &normal)
+        arc = (p.func == 2 or p.func == 3) and plane_axes(p.plane, &first_axis, &second_axis, &normal)
         if arc:
-            dx = s[first] - cc[first]
-            dy = s[second] - cc[second]
-            _widen_arc(programmed, s, e, cc, sqrt(dx * dx + dy * dy), first, second, p.func == 3)
+            dx = s[first_axis] - cc[first_axis]
+            dy = s[second_axis] - cc[second_axis]
+            _widen_arc(programmed, s, e, cc, sqrt(dx * dx + dy * dy), first_axis, second_axis, p.func == 3)
         if not prog.compensated:
             continue
         ce[0] = p.ce[0]; ce[1] = p.ce[1]; ce[2] = p.ce[2]
         if not rotated:
             _unrotate(prog, p.rot_idx, ce)
         _widen(tool, ce, 3)
-        tool_end[0] = ce[0]; tool_end[1] = ce[1]; tool_end[2] = ce[2]
         if arc:
             # the previous part's compensated end
             if i > 0:
@@ -161,8 +164,38 @@ cdef void _extent_pair(const Program *prog, GCODE_SIZE *programmed, GCODE_SIZE *
                     _unrotate(prog, prev_rot, cs)
             else:
                 cs[0] = s[0]; cs[1] = s[1]; cs[2] = s[2]
-            _widen_arc(tool, cs, ce, cc, p.radius, first, second, p.func == 3)
-    if last == prog.n_parts:
+            _widen_arc(tool, cs, ce, cc, p.radius, first_axis, second_axis, p.func == 3)
+    return last
+
+
+cdef void extent_begin(const Program *prog, GCODE_SIZE *programmed, GCODE_SIZE *tool) noexcept nogil:
+    """Both extents at the program's start, before any range widens them."""
+    _start_size(programmed, prog.start)
+    _start_size(tool, prog.start)
+
+
+cdef void extent_join(GCODE_SIZE *into, const GCODE_SIZE *other) noexcept nogil:
+    """The extent of two ranges measured apart (extent_range)."""
+    cdef double *lo = <double *>&into.m_minimalPos
+    cdef double *hi = <double *>&into.m_maximalPos
+    cdef const double *olo = <const double *>&other.m_minimalPos
+    cdef const double *ohi = <const double *>&other.m_maximalPos
+    cdef int k
+    for k in range(10):
+        if olo[k] < lo[k]:
+            lo[k] = olo[k]
+        if ohi[k] > hi[k]:
+            hi[k] = ohi[k]
+
+
+cdef void extent_end(const Program *prog, size_t last, GCODE_SIZE *programmed, GCODE_SIZE *tool,
+                     bint rotated) noexcept nogil:
+    """The end positions (of the last motion part, NO_MOTION: none) once every part
+    was measured. The tool path differs from the programmed one only in x y z: its
+    other axes are the programmed ones."""
+    cdef double tool_end[3]
+    cdef int k
+    if last == NO_MOTION:
         tool[0] = programmed[0]
         return
     part_end(prog, &prog.parts[last], <double *>&programmed.m_endPos)
@@ -171,12 +204,20 @@ cdef void _extent_pair(const Program *prog, GCODE_SIZE *programmed, GCODE_SIZE *
     if not prog.compensated:
         tool[0] = programmed[0]
         return
-    # the axes the compensation leaves alone
+    tool_end[0] = prog.parts[last].ce[0]; tool_end[1] = prog.parts[last].ce[1]; tool_end[2] = prog.parts[last].ce[2]
+    if not rotated:
+        _unrotate(prog, prog.parts[last].rot_idx, tool_end)
     tool.m_endPos = programmed.m_endPos
     for k in range(3, 10):
         (<double *>&tool.m_minimalPos)[k] = (<double *>&programmed.m_minimalPos)[k]
         (<double *>&tool.m_maximalPos)[k] = (<double *>&programmed.m_maximalPos)[k]
     memcpy(&tool.m_endPos, tool_end, sizeof(tool_end))
+
+
+cdef void _extent_pair(const Program *prog, GCODE_SIZE *programmed, GCODE_SIZE *tool,
+                       bint rotated) noexcept nogil:
+    extent_begin(prog, programmed, tool)
+    extent_end(prog, extent_range(prog, 0, prog.n_parts, programmed, tool, rotated), programmed, tool, rotated)
 
 
 cdef void program_extent(const Program *prog, GCODE_INFO *info) noexcept nogil:
@@ -188,4 +229,3 @@ cdef void program_extent(const Program *prog, GCODE_INFO *info) noexcept nogil:
     else:
         info.m_size[0] = info.m_size[2]
         info.m_size[1] = info.m_size[3]
-

@@ -148,6 +148,111 @@ cdef void follow_abandon(Follow *F) noexcept nogil:
     F.started = False
 
 
+# The extent measured beside the compensation's merge (program_merge), which moves
+# the parts from the last one down: a thread measures each range of parts as soon as
+# the merge tells it is final, on the core that has nothing else to do then (the
+# compensation's own thread has ended). Each range starts one part above the lowest
+# final one, whose end is its start; the merge's end makes the rest final. The thread
+# starts with the merge's first word (programs of fewer than MERGE_WATCH_STEP moved
+# parts get none: their extent is measured beside the plan, below).
+ctypedef struct ExtentBeside:
+    const Program *prog
+    MergeWatch watch        # given to program_merge
+    pthread_mutex_t lock
+    pthread_cond_t cond
+    pthread_t thread
+    bint started            # the thread runs (set under `lock` by the merge's thread)
+    size_t final_from       # parts [final_from, total) are final (guarded by `lock`)
+    size_t total
+    bint done               # the merge ended: every part is final
+    bint quit               # the merge failed: stop
+    # the thread's: both extents as the machine runs the program, [1] as it is
+    # written (with G168 rotations only), and the last motion part
+    GCODE_SIZE programmed[2]
+    GCODE_SIZE tool[2]
+    size_t last
+
+
+cdef void *_extent_beside_body(void *arg) noexcept nogil:
+    cdef ExtentBeside *E = <ExtentBeside *>arg
+    cdef const Program *prog = E.prog
+    cdef size_t lo, hi, last
+    cdef bint written = prog.n_rotations > 1
+    pthread_mutex_lock(&E.lock)
+    hi = E.total
+    while True:
+        while not (E.quit or E.done or E.final_from + 1 < hi):
+            pthread_cond_wait(&E.cond, &E.lock)
+        if E.quit:
+            break
+        lo = 0 if E.done else E.final_from + 1
+        pthread_mutex_unlock(&E.lock)
+        last = extent_range(prog, lo, hi, &E.programmed[0], &E.tool[0], True)
+        if written:
+            extent_range(prog, lo, hi, &E.programmed[1], &E.tool[1], False)
+        if E.last == NO_MOTION:
+            E.last = last                   # the ranges come from the top down
+        pthread_mutex_lock(&E.lock)
+        hi = lo
+        if hi == 0:
+            break
+    pthread_mutex_unlock(&E.lock)
+    return NULL
+
+
+cdef void _extent_beside_final(void *ctx, size_t final_from, size_t total) noexcept nogil:
+    cdef ExtentBeside *E = <ExtentBeside *>ctx
+    pthread_mutex_lock(&E.lock)
+    E.final_from = final_from
+    if not E.started:
+        E.total = total
+        E.started = pthread_create(&E.thread, NULL, _extent_beside_body, E) == 0
+    pthread_cond_broadcast(&E.cond)
+    pthread_mutex_unlock(&E.lock)
+
+
+cdef void extent_beside_begin(ExtentBeside *E, const Program *prog) noexcept nogil:
+    memset(E, 0, sizeof(ExtentBeside))
+    E.prog = prog
+    E.last = NO_MOTION
+    E.watch.final = _extent_beside_final
+    E.watch.ctx = E
+    pthread_mutex_init(&E.lock, NULL)
+    pthread_cond_init(&E.cond, NULL)
+    extent_begin(prog, &E.programmed[0], &E.tool[0])
+    extent_begin(prog, &E.programmed[1], &E.tool[1])
+
+
+cdef bint extent_beside_end(ExtentBeside *E, bint merged, GCODE_INFO *extent) noexcept nogil:
+    """After the merge (`merged`: it succeeded): True with `extent` filled when the
+    thread measured the whole program, False when it never started (measure the
+    extent otherwise)."""
+    cdef bint measured
+    pthread_mutex_lock(&E.lock)
+    measured = E.started and merged
+    E.done = measured
+    E.quit = not measured
+    pthread_cond_broadcast(&E.cond)
+    pthread_mutex_unlock(&E.lock)
+    if E.started:
+        pthread_join(E.thread, NULL)
+    pthread_cond_destroy(&E.cond)
+    pthread_mutex_destroy(&E.lock)
+    if not measured:
+        return False
+    extent_end(E.prog, E.last, &E.programmed[0], &E.tool[0], True)
+    extent.m_size[2] = E.programmed[0]
+    extent.m_size[3] = E.tool[0]
+    if E.prog.n_rotations > 1:
+        extent_end(E.prog, E.last, &E.programmed[1], &E.tool[1], False)
+        extent.m_size[0] = E.programmed[1]
+        extent.m_size[1] = E.tool[1]
+    else:
+        extent.m_size[0] = extent.m_size[2]
+        extent.m_size[1] = extent.m_size[3]
+    return True
+
+
 # The finished program's plan (planner/) and its extent (extent.pyx) side by side:
 # both only read the parts. A thread of its own plans the program from a part where
 # the machine stands (plan_split_at) on, while this thread measures the extent and
@@ -176,29 +281,35 @@ cdef void *_plan_body(void *arg) noexcept nogil:
 
 
 cdef int plan_beside_extent(ProgramBuilder *build, const GCODE_PARAMETERS *params, uint32_t enhanced,
-                            int64_t window, GCODE_INFO *extent) noexcept nogil:
+                            int64_t window, GCODE_INFO *extent, bint measured) noexcept nogil:
     """plan_program's result; the extent is measured either way (after the plan's
-    insertions when it makes some)."""
+    insertions when it makes some), unless `measured` says it is already (beside the
+    merge): then the two threads share the plan alone, split near the middle."""
     cdef Program *prog = &build.prog
+    cdef size_t n = prog.n_parts
     cdef int result
     if prog.n_parts < PLAN_BESIDE_MIN or mfunc_insert_wanted(params):
         result = plan_program(build, params, enhanced, window)
-        program_extent(prog, extent)
+        if not measured or prog.n_parts != n:
+            program_extent(prog, extent)
         return result
+    if measured:
+        return plan_in_two(prog, params, enhanced, window, plan_split_at(prog, prog.n_parts / 2), NULL)
     return plan_in_two(prog, params, enhanced, window, plan_split_at(prog, prog.n_parts / 8 * 3), extent)
 
 
 cdef int plan_in_two(Program *prog, const GCODE_PARAMETERS *params, uint32_t enhanced, int64_t window,
                      size_t split, GCODE_INFO *extent) noexcept nogil:
     """Parts [split, n) planned in a thread of its own (all of them when split is 0)
-    while this one measures the extent and plans [0, split). COMPILE_OK, or
-    COMPILE_ERROR when out of memory (no plan)."""
+    while this one measures the extent (unless `extent` is NULL) and plans [0,
+    split). COMPILE_OK, or COMPILE_ERROR when out of memory (no plan)."""
     cdef PlanJob job
     cdef pthread_t thread
     cdef bint started
     cdef int result
     if not plan_alloc(prog):
-        program_extent(prog, extent)
+        if extent != NULL:
+            program_extent(prog, extent)
         return COMPILE_ERROR
     job.prog = prog
     job.params = params
@@ -207,7 +318,8 @@ cdef int plan_in_two(Program *prog, const GCODE_PARAMETERS *params, uint32_t enh
     job.first = split
     job.result = COMPILE_ERROR
     started = pthread_create(&thread, NULL, _plan_body, &job) == 0
-    program_extent(prog, extent)
+    if extent != NULL:
+        program_extent(prog, extent)
     result = plan_range(prog, params, enhanced, window, 0, split)
     if started:
         pthread_join(thread, NULL)

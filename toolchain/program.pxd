@@ -187,6 +187,15 @@ ctypedef void (*make_inserted_fn)(void *ctx, size_t rec, Part *out, const Part *
 ctypedef void (*settle_parts_fn)(void *ctx, size_t first, size_t end, size_t rec) noexcept nogil
 cdef enum:
     NO_INSERTION = -1
+# ... and, optionally, a stage that reads the merged parts beside the merge: told,
+# every MERGE_WATCH_STEP parts or so, that parts [final_from, total) are in their final
+# place (the merge moves them from the last one down).
+ctypedef void (*merge_final_fn)(void *ctx, size_t final_from, size_t total) noexcept nogil
+ctypedef struct MergeWatch:
+    merge_final_fn final
+    void *ctx
+cdef enum:
+    MERGE_WATCH_STEP = 16384
 
 # Hooks a stage may call while it works (all optional: NULL function = none).
 # warn_fn: a numbered warning of the catalogue (errors.pxd WARN_*) with its location.

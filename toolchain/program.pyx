@@ -108,15 +108,16 @@ cdef Part *program_add_part(ProgramBuilder *build) noexcept nogil:
 
 
 cdef bint program_merge(ProgramBuilder *build, size_t n_ins, void *ctx, inserted_after_fn after_of,
-                        make_inserted_fn make, settle_parts_fn settle) noexcept nogil:
+                        make_inserted_fn make, settle_parts_fn settle, const MergeWatch *watch) noexcept nogil:
     """Inserts n_ins parts (in part order: after_of non-decreasing) in one backward pass
     over the grown array: every part moves up by the insertions before it, whole runs
     at a time (a Part holds doubles: its size is a multiple of 8). `settle` (may be
-    NULL) sees every part once, the runs from the last down. False when memory is
-    exhausted (the program unchanged)."""
+    NULL) sees every part once, the runs from the last down; `watch` (may be NULL)
+    hears how far down the parts are final. False when memory is exhausted (the
+    program unchanged)."""
     cdef Program *prog = &build.prog
     cdef size_t n = prog.n_parts, total = prog.n_parts + n_ins
-    cdef size_t k, w, r, after, run, next_w
+    cdef size_t k, w, r, after, run, next_w, told
     cdef Part *parts
     cdef Part made
     if n_ins == 0:
@@ -135,6 +136,7 @@ cdef bint program_merge(ProgramBuilder *build, size_t n_ins, void *ctx, inserted
     k = n
     next_w = total
     r = n_ins
+    told = total
     while r > 0:
         after = after_of(ctx, r - 1)
         run = k - (after + 1)
@@ -152,6 +154,10 @@ cdef bint program_merge(ProgramBuilder *build, size_t n_ins, void *ctx, inserted
             make(ctx, r - 1, &made, &parts[after], &parts[next_w] if next_w < total else NULL)
             tc_stream_up(&parts[w], &made, sizeof(Part) // 8)
             r -= 1
+        if watch != NULL and told - w >= MERGE_WATCH_STEP:
+            tc_stream_fence()                   # the streamed parts are seen by the watcher
+            told = w
+            watch.final(watch.ctx, w, total)
     if settle != NULL:
         settle(ctx, 0, k, <size_t>NO_INSERTION)     # the parts that stay where they are
     tc_stream_fence()

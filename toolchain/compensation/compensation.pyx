@@ -730,15 +730,16 @@ cdef void _settle(void *ctx, size_t first, size_t end, size_t rec) noexcept nogi
         k = _next_follow(S, k + 1, end)
 
 
-cdef int _merge(CompState *S) noexcept nogil:
-    """Step 5: the inserted parts go into the program (program_merge), and on the way
-    the parts without motion in the plane take the compensated position they sit at."""
+cdef int _merge(CompState *S, const MergeWatch *watch) noexcept nogil:
+    """Step 5: the inserted parts go into the program (program_merge; `watch` may
+    read the merged parts beside it), and on the way the parts without motion in the
+    plane take the compensated position they sit at."""
     cdef settle_parts_fn settle = NULL
     if S.n_ins == 0 and not S.has_followers:
         return COMPILE_OK
     if S.has_followers:
         settle = _settle
-    if not program_merge(S.build, S.n_ins, S, _ins_after, _ins_make, settle):
+    if not program_merge(S.build, S.n_ins, S, _ins_after, _ins_make, settle, watch):
         return _comp_fail(S, ERR_OUT_OF_MEMORY, 0, 0, 0)
     return COMPILE_OK
 
@@ -824,14 +825,15 @@ cdef int compensate_feed(void *ctx, size_t upto, bint last, size_t *more) noexce
     return res
 
 
-cdef int compensate_end(CompState *S) noexcept nogil:
-    """Step 5 after compensate_feed took the whole program: the merge; then the
-    warnings. Frees the state; COMPILE_OK or COMPILE_ERROR with err filled."""
+cdef int compensate_end(CompState *S, const MergeWatch *watch) noexcept nogil:
+    """Step 5 after compensate_feed took the whole program: the merge (`watch`: see
+    program_merge, may be NULL); then the warnings. Frees the state; COMPILE_OK or
+    COMPILE_ERROR with err filled."""
     cdef int res = S.result
     if res == COMPILE_OK and not _role_room(S, S.prog.n_parts):
         res = _comp_fail(S, ERR_OUT_OF_MEMORY, 0, 0, 0)
     if res == COMPILE_OK:
-        res = _merge(S)
+        res = _merge(S, watch)
     _comp_deliver(S)
     compensate_free(S)
     return res
@@ -858,4 +860,4 @@ cdef int compensate_program(ProgramBuilder *build, const GCODE_PARAMETERS *param
     cdef size_t more
     compensate_begin(&S, build, params, err, output, warn, ctx)
     compensate_feed(&S, build.prog.n_parts, True, &more)
-    return compensate_end(&S)
+    return compensate_end(&S, NULL)

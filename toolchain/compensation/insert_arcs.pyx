@@ -177,7 +177,7 @@ cdef int insert_arcs(ProgramBuilder *build, const GCODE_PARAMETERS *params, Erro
         prev_start[0] = s1[0]; prev_start[1] = s1[1]
     if n_ins == 0:
         return COMPILE_OK
-    merged = program_merge(build, n_ins, ins, _ia_after, _ia_make, NULL)
+    merged = program_merge(build, n_ins, ins, _ia_after, _ia_make, NULL, NULL)
     free(ins)
     if not merged:
         set_error(err, ERR_OUT_OF_MEMORY, prog.main_file_idx, 0, NULL, 0)

@@ -137,6 +137,6 @@ cdef int mfunc_insert(ProgramBuilder *build, const GCODE_PARAMETERS *params) noe
                                      t[MFI_AFTER_SLOW_DOWN].mFunc)
     if ok and ins.n > 0:
         qsort(ins.items, ins.n, sizeof(MfuncInsertion), _mfi_compare)
-        ok = program_merge(build, ins.n, &ins, _mfi_after_of, _mfi_make, NULL)
+        ok = program_merge(build, ins.n, &ins, _mfi_after_of, _mfi_make, NULL, NULL)
     free(ins.items)
     return COMPILE_OK if ok else COMPILE_ERROR
