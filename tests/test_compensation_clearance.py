@@ -10,7 +10,7 @@ import pytest
 shapely = pytest.importorskip("shapely")
 from shapely.geometry import LineString  # noqa: E402
 
-from comp_helpers import contour_parts, polygon_elements, programmed_polyline  # noqa: E402
+from comp_helpers import contour_parts, polygon_elements, programmed_polyline, star_cases  # noqa: E402
 from test_compensation_geometry import comp, harness, signed_area  # noqa: E402,F401
 from test_compensation_regions import ERR_COMP_CROSSING, JOIN_G1, REMOVE, TOL, clearance, sampled_path  # noqa: E402
 
@@ -120,18 +120,6 @@ def long_star(rng, r):
     return pts if signed_area(np.array(pts)) > 0 and shapely.Polygon(pts).is_valid else None
 
 
-def long_star_cases(seed, count):
-    """(points, r, g, mode) of `count` long stars."""
-    rng = random.Random(seed)
-    cases = []
-    while len(cases) < count:
-        r = rng.uniform(0.1, 1.0)
-        pts = long_star(rng, r)
-        if pts is not None:
-            cases.append((pts, r, rng.choice((41, 42)), rng.choice((0, 1))))
-    return cases
-
-
 def _compensate_star(harness, pts, r, g, strategy):
     m0, els = polygon_elements(pts)
     approach = (m0[0] + 0.3, m0[1] - 80.0)
@@ -146,7 +134,7 @@ def test_long_chains_checked_while_they_grow(harness, seed):
     compiler. With 0x80000 each contour compiles, without it each one keeps the radius
     from its contour or is error 504."""
     compiled = 0
-    cases = long_star_cases(140 + seed, 25)
+    cases = star_cases(25, 140 + seed, long_star, 1.0)
     for pts, r, g, mode in cases:
         for strategy in (REMOVE | JOIN_G1 | 0x100 | mode, JOIN_G1 | 0x100 | mode):
             out, err, _, m0, contour = _compensate_star(harness, pts, r, g, strategy)
@@ -165,7 +153,7 @@ def test_rebuild_sees_the_whole_contour(harness, index):
     pieces of elements 11 to 14 parts apart cross: the rebuild splits and measures its
     pieces against the whole contour (only within the depth, #68's path came 0.06 mm
     too close, #38 and #362 were error 504)."""
-    pts, r, g, mode = long_star_cases(140, index + 1)[index]
+    pts, r, g, mode = star_cases(index + 1, 140, long_star, 1.0)[index]
     out, err, warn, m0, contour = _compensate_star(harness, pts, r, g, REMOVE | JOIN_G1 | 0x100 | mode)
     assert err is None, err
     assert "part skipped" in warn                       # rebuilt

@@ -6,7 +6,6 @@ from the contour, the exact offset region (test_compensation_geometry.exact_offs
 and its components."""
 import math
 import os
-import random
 from pathlib import Path
 
 import numpy as np
@@ -15,7 +14,7 @@ import pytest
 shapely = pytest.importorskip("shapely")
 from shapely.geometry import LineString, Polygon  # noqa: E402
 
-from comp_helpers import contour_parts, polygon_elements, programmed_polyline, tool_path  # noqa: E402
+from comp_helpers import contour_parts, polygon_elements, programmed_polyline, star_cases, tool_path  # noqa: E402
 from test_compensation_geometry import comp, exact_offset, harness, signed_area  # noqa: E402,F401
 
 TOL = 1e-3
@@ -180,15 +179,7 @@ def random_star(rng, r):
 
 
 def _random_contours(count, seed):
-    rng = random.Random(seed)
-    cases = []
-    while len(cases) < count:
-        r = rng.uniform(0.1, 2.0)
-        pts = random_star(rng, r)
-        if pts is None:
-            continue
-        cases.append((pts, r, rng.choice((41, 42)), rng.choice((0, 1))))
-    return cases
+    return star_cases(count, seed, random_star, 2.0)
 
 
 def _check_random(harness, cases, depth):
