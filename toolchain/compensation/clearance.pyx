@@ -8,9 +8,11 @@
 # The path is read back from the parts and the queued insertions, so the check sees
 # exactly what the merge will write: while the chain grows, the parts a loop cut can no
 # longer reach (cl_chain_upto, beside the compiler), the rest when it ends
-# (cl_chain_close). The contour is held CL_BLOCK parts (plus the window either side)
-# at a time in part order, moved on with the chain, with boxes of CL_G1 and
-# CL_G1 * CL_G1 elements; CL_BATCH consecutive pieces share one search of the boxes.
+# (cl_chain_close), and then a closed contour's first parts against its last ones
+# (_cl_seam: neighbours round its start). A rebuilt chain is checked against its
+# whole contour (cl_check_chain). The contour is held CL_BLOCK parts (plus the window
+# either side) at a time in part order, moved on with the chain, with boxes of CL_G1
+# and CL_G1 * CL_G1 elements; CL_BATCH consecutive pieces share one search of the boxes.
 # Cheap proofs (_cl_far) settle most pairs, the rest is measured exactly
 # (_cl_piece_gap): O(n) on ordinary contours.
 from libc.stdlib cimport realloc, free
