@@ -230,6 +230,16 @@ def test_random_stars_round_their_start(harness, index):
     assert _check_random(harness, [case], 0x100) == 1
 
 
+def test_random_star_next_to_a_removed_part(harness):
+    """Strategy 1, every depth: the offsets of lines 4 and 5 cross, both are removed
+    and the corner joins lines 3 and 6; line 6's path comes 0.011 mm closer than r
+    to the removed line 5, which the gouge check used to leave out as the line before
+    6 (kept at the radius only past a corner between them): measured, rebuilt."""
+    case = _random_contours(210, 99)[209]
+    for depth in DEPTHS:
+        assert _check_random(harness, [case], depth) == 1
+
+
 # CCW pocket in the shape of an L; the tool path turns inwards at (0, 0)
 L_POCKET = [(0, 0), (20, 0), (20, 10), (10, 10), (10, 20), (0, 20)]
 

@@ -701,10 +701,11 @@ cdef bint _cl_run(CompState *S, size_t upto, size_t end, bint strict, bint skip_
             skip = (C.first_piece and skip_first) or (k == last_el and skip_last)
             C.first_piece = False
             # a line on the offset of a line keeps the radius from it and, past a corner
-            # of the chain (an intersection or an arc), from a line next to it
+            # of the chain (an intersection or an arc), from a line next to it (not from
+            # a removed one: the corner joined an earlier part)
             nb = <size_t>-1
             if have and not skip and t.kind == EL_LINE and p.func == 1 and C.ei > C.el0 \
-                    and S.prog.parts[C.el[C.ei - 1].part].func == 1:
+                    and S.prog.parts[C.el[C.ei - 1].part].func == 1 and S.role[C.el[C.ei - 1].part] == ROLE_SET:
                 nb = C.el[C.ei - 1].part
             if have and not skip and \
                     not _cl_gouge(S, _cl_queue(C, own, k, nb, r, r - C.allow, depth), k):
@@ -724,14 +725,15 @@ cdef bint _cl_run(CompState *S, size_t upto, size_t end, bint strict, bint skip_
                     have = _cl_arc(t, C.cur, end_pt, S.ins[C.rec].cc, r, 1 if S.ins[C.rec].func == INS_G3 else -1,
                                    k, False)
             # an arc round the corner at part k's end keeps the radius from the elements
-            # that meet there
+            # that meet there (the next one unless it was removed)
             nb = <size_t>-1
             na = <size_t>-1
             if have and S.ins[C.rec].func != INS_G1 and S.ins[C.rec].cc[0] == p.e[S.first] \
                     and S.ins[C.rec].cc[1] == p.e[S.second]:
                 na = k
                 j = C.ei + 1 if has_own else C.ei
-                nb = C.el[j].part if j < C.el_end else <size_t>-1
+                if j < C.el_end and S.role[C.el[j].part] == ROLE_SET:
+                    nb = C.el[j].part
             if have and not _cl_gouge(S, _cl_queue(C, NULL, na, nb, r, r - C.allow, depth), k):
                 return False
             C.cur[0] = end_pt[0]; C.cur[1] = end_pt[1]
