@@ -41,8 +41,8 @@ ctypedef struct Clearance:
     size_t lo, hi           # parts the window holds
     size_t el0, el_end      # the elements of the parts being walked (_cl_seam holds two ranges)
     size_t depth            # the window: parts at most this far apart are measured
-    size_t span             # parts of the chain (_cl_seam)
-    bint seam               # only the pairs round its start that part order leaves out (_cl_seam)
+    size_t span             # parts of the chain
+    bint closed             # distances in parts wrap round the closed chain (_cl_seam)
     size_t *cand            # elements whose boxes meet the batch's box
     double *cbox            # ... their boxes, side by side (the inner loop reads only these)
     size_t n_cand, cap_cand
@@ -270,7 +270,7 @@ cdef bint _cl_slide(CompState *S, Clearance *C, size_t lo, size_t hi) noexcept n
     return True
 
 
-cdef bint _cl_read(CompState *S, Clearance *C, size_t lo, size_t hi) noexcept nogil:
+cdef inline bint _cl_read(CompState *S, Clearance *C, size_t lo, size_t hi) noexcept nogil:
     """Appends the contour elements of parts lo..hi to the window."""
     cdef XPiece *el
     cdef double *d
@@ -295,7 +295,7 @@ cdef bint _cl_read(CompState *S, Clearance *C, size_t lo, size_t hi) noexcept no
     return True
 
 
-cdef bint _cl_boxes(Clearance *C) noexcept nogil:
+cdef inline bint _cl_boxes(Clearance *C) noexcept nogil:
     """The group boxes of the window (the elements' own boxes: a query box is grown by
     the piece's radius) and C.max_off."""
     cdef double *b
@@ -331,11 +331,10 @@ cdef bint _cl_load(CompState *S, Clearance *C, size_t lo, size_t hi) noexcept no
 
 
 cdef inline bint _cl_in_window(const Clearance *C, size_t a, size_t b, size_t depth) noexcept nogil:
-    """Whether parts a and b are at most `depth` apart in part order; C.seam: round
-    the closed chain, where part order says farther."""
+    """Whether parts a and b are at most `depth` apart (C.closed: round the chain)."""
     cdef size_t d = a - b if a > b else b - a
-    if C.seam:
-        return d > depth and C.span - d <= depth
+    if C.closed and C.span - d < d:
+        d = C.span - d
     return d <= depth
 
 
@@ -611,14 +610,14 @@ cdef void cl_chain_open(CompState *S, size_t first, size_t ins0) noexcept nogil:
     C.n_batch = 0
     C.depth = S.cfg.depth
     C.span = 0
-    C.seam = False
+    C.closed = False
 
 
-cdef void _cl_start(CompState *S, size_t at) noexcept nogil:
+cdef inline void _cl_start(CompState *S, size_t at) noexcept nogil:
     """Where the tool stands before part `at` of the chain (the last part before it
     with a position, after the insertions queued there) and the next insertion."""
     cdef Clearance *C = &S.cl
-    cdef size_t j = at, rec = C.ins0, lo, hi, mid
+    cdef size_t j = at, rec = C.ins0
     while j > 0 and S.role[j - 1] == ROLE_FOLLOW:
         j -= 1
     if j > 0:
@@ -628,16 +627,8 @@ cdef void _cl_start(CompState *S, size_t at) noexcept nogil:
         C.cur[0] = S.prog.start[S.first]; C.cur[1] = S.prog.start[S.second]
     while rec > 0 and S.ins[rec - 1].after >= j:
         rec -= 1
-    # inside the chain: the first insertion after part j (the queue is in part order)
-    lo = rec
-    hi = S.n_ins
-    while lo < hi:
-        mid = (lo + hi) / 2
-        if S.ins[mid].after < j:
-            lo = mid + 1
-        else:
-            hi = mid
-    rec = lo
+    while rec < S.n_ins and S.ins[rec].after < j:
+        rec += 1                # inside the chain (_cl_seam): the queue is in part order
     while rec < S.n_ins and S.ins[rec].after < at:
         C.cur[0] = S.ins[rec].end[0]; C.cur[1] = S.ins[rec].end[1]
         rec += 1
@@ -762,8 +753,9 @@ cdef bint cl_chain_upto(CompState *S, size_t written) noexcept nogil:
 cdef bint _cl_seam(CompState *S, size_t last, bint skip_first, bint skip_last, size_t last_el) noexcept nogil:
     """A closed chain longer than the search depth: its first parts and its last ones
     are neighbours round its start, which part order leaves out. The pieces of both
-    ends are measured against the elements of both (only the pairs at most `depth`
-    apart round the start). False with S.xs.err_* filled."""
+    ends are measured against the elements of both, distances counted round the chain
+    (the pairs part order measured already come again: O(depth)). False with
+    S.xs.err_* filled."""
     cdef Clearance *C = &S.cl
     cdef size_t depth = C.depth, first = C.first, head, tail
     cdef bint ok
@@ -782,7 +774,7 @@ cdef bint _cl_seam(CompState *S, size_t last, bint skip_first, bint skip_last, s
         S.xs.err_part = last
         return False
     C.span = last - first + 1
-    C.seam = True
+    C.closed = True
     C.in_block = True           # the window stays (no block moves it)
     C.bhi = last
     C.allow = S.cfg.slack + S.cfg.min_arc + C.max_off
@@ -799,7 +791,7 @@ cdef bint _cl_seam(CompState *S, size_t last, bint skip_first, bint skip_last, s
         C.next = tail
         ok = _cl_run(S, last, last, True, skip_first, skip_last, last_el)
     ok = ok and _cl_gouge(S, _cl_flush(C, depth), last)
-    C.seam = False
+    C.closed = False
     C.n = 0                     # the next window is read afresh
     return ok
 
