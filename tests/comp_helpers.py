@@ -139,6 +139,19 @@ def random_convex(rng, n, radius=30.0):
     return [(radius * math.cos(a), radius * math.sin(a)) for a in angles]
 
 
+def star_cases(count, seed, star, r_max):
+    """(points, r, g, mode) of `count` polygons star(rng, r) (None: drawn again): tool
+    radius r from 0.1 to r_max, G41 or G42, entry strategy 0 or 1."""
+    rng = random.Random(seed)
+    cases = []
+    while len(cases) < count:
+        r = rng.uniform(0.1, r_max)
+        pts = star(rng, r)
+        if pts is not None:
+            cases.append((pts, r, rng.choice((41, 42)), rng.choice((0, 1))))
+    return cases
+
+
 def random_star(rng, n, r_in=18.0, r_out=35.0):
     pts = []
     for i in range(n):

@@ -10,7 +10,7 @@ import pytest
 shapely = pytest.importorskip("shapely")
 from shapely.geometry import LineString  # noqa: E402
 
-from comp_helpers import contour_parts, polygon_elements, programmed_polyline  # noqa: E402
+from comp_helpers import contour_parts, polygon_elements, programmed_polyline, star_cases  # noqa: E402
 from test_compensation_geometry import comp, harness, signed_area  # noqa: E402,F401
 from test_compensation_regions import ERR_COMP_CROSSING, JOIN_G1, REMOVE, TOL, clearance, sampled_path  # noqa: E402
 
@@ -120,30 +120,42 @@ def long_star(rng, r):
     return pts if signed_area(np.array(pts)) > 0 and shapely.Polygon(pts).is_valid else None
 
 
+def _compensate_star(harness, pts, r, g, strategy):
+    m0, els = polygon_elements(pts)
+    approach = (m0[0] + 0.3, m0[1] - 80.0)
+    parts = contour_parts(els, g, m0, approach)
+    out, err, warn = comp(harness, parts, r=r, strategy=strategy, start=(approach[0], approach[1], 0))
+    return out, err, warn, m0, programmed_polyline(m0, els)
+
+
 @pytest.mark.parametrize("seed", range(2))
 def test_long_chains_checked_while_they_grow(harness, seed):
     """Search depth 10 (0x100): chains of 60+ elements are checked in steps beside the
-    compiler. With or without 0x80000 each contour keeps the radius from its contour
-    or is error 504 (with so short a depth the regions may not rebuild every one)."""
-    rng = random.Random(140 + seed)
-    done = compiled = 0
-    while done < 25:
-        r = rng.uniform(0.1, 1.0)
-        pts = long_star(rng, r)
-        if pts is None:
-            continue
-        done += 1
-        g, mode = rng.choice((41, 42)), rng.choice((0, 1))
-        m0, els = polygon_elements(pts)
-        approach = (m0[0] + 0.3, m0[1] - 80.0)
-        parts = contour_parts(els, g, m0, approach)
-        contour = programmed_polyline(m0, els)
+    compiler. With 0x80000 each contour compiles, without it each one keeps the radius
+    from its contour or is error 504."""
+    compiled = 0
+    cases = star_cases(25, 140 + seed, long_star, 1.0)
+    for pts, r, g, mode in cases:
         for strategy in (REMOVE | JOIN_G1 | 0x100 | mode, JOIN_G1 | 0x100 | mode):
-            out, err, _ = comp(harness, parts, r=r, strategy=strategy, start=(approach[0], approach[1], 0))
+            out, err, _, m0, contour = _compensate_star(harness, pts, r, g, strategy)
             if err is not None:
-                assert err["number"] == ERR_COMP_CROSSING, (err, pts, r, g, hex(strategy))
+                assert not strategy & REMOVE and err["number"] == ERR_COMP_CROSSING, (err, pts, r, g, hex(strategy))
             else:
                 compiled += 1
                 path = sampled_path(out, np.asarray(m0), step=0.02)
                 assert clearance(path, contour) > r - TOL, (pts, r, g, hex(strategy))
-    assert compiled > done // 2          # not all refused: the paths were measured
+    assert compiled > len(cases) // 2    # not all refused: the paths were measured
+
+
+@pytest.mark.parametrize("index", [38, 68, 362])
+def test_rebuild_sees_the_whole_contour(harness, index):
+    """Search depth 10, inside offsets of long stars rebuilt from their regions, where
+    pieces of elements 11 to 14 parts apart cross: the rebuild splits and measures its
+    pieces against the whole contour (only within the depth, #68's path came 0.06 mm
+    too close, #38 and #362 were error 504)."""
+    pts, r, g, mode = star_cases(index + 1, 140, long_star, 1.0)[index]
+    out, err, warn, m0, contour = _compensate_star(harness, pts, r, g, REMOVE | JOIN_G1 | 0x100 | mode)
+    assert err is None, err
+    assert "part skipped" in warn                       # rebuilt
+    path = sampled_path(out, np.asarray(m0), step=0.02)
+    assert clearance(path, contour) > r - TOL

@@ -128,31 +128,39 @@ def test_arc_contour_neck(harness):
     assert err["number"] == ERR_COMP_CROSSING
 
 
-def _long_dumbbell():
+def _long_dumbbell(left=False):
     """DUMBBELL with the right square's bottom, right and top edges cut into parts
-    longer than the tool radius."""
+    longer than the tool radius (left: the left square's top and left edges too)."""
     pts = []
     for i, p in enumerate(DUMBBELL):
         q = DUMBBELL[(i + 1) % len(DUMBBELL)]
-        k = 4 if i in (4, 6) else (5 if i == 5 else 1)
+        k = 4 if i in (4, 6) or (left and i in (10, 11)) else (5 if i == 5 else 1)
         pts += [(p[0] + (q[0] - p[0]) * j / k, p[1] + (q[1] - p[1]) * j / k) for j in range(k)]
     return polygon_elements(pts)
 
 
 def test_search_depth_limits_the_search(harness):
-    m0, els = _long_dumbbell()      # the corners of the loop are 15 parts apart
-    # 0x100: 10 parts back, the crossing is not searched: the loop stays in the path
-    # and the tool passes the neck (the programmer chose the depth)
+    # the bar's bottom and top: 16 parts apart in program order, 7 round the start
+    m0, els = _long_dumbbell()
+    # 0x100: 10 parts back, the loop is not searched; the gouge check counts the parts
+    # round the start of the closed contour: error 504, rebuilt with 0x80000
     out, err, warn = run(harness, m0, els, 3.0, 41, 0x100)
-    assert err is None and "loop" not in warn
-    assert max(p["ce"][0] for p in out) > 10
-    out, err, warn = run(harness, m0, els, 3.0, 41, 0x100 | REMOVE)
-    assert err is None and "loop" not in warn
-    # 0x200: 50 parts: found
+    assert err["number"] == ERR_COMP_CROSSING and "loop" not in warn
+    check_rebuilt(harness, m0, els, 3.0, 41, 0x100 | REMOVE)
+    # 0x200: 50 parts: the loop is found
     out, err, _ = run(harness, m0, els, 3.0, 41, 0x200)
     assert err["number"] == ERR_COMP_CROSSING
     for depth in (0x200, 0x700, 0):
         check_split(harness, m0, els, 3.0, 41, strategy=REMOVE | depth)
+    # the left square cut too: 13 parts round the start, more than 10 either way:
+    # neither the loop nor the gouge is searched, the tool passes the neck (the
+    # programmer chose the depth)
+    m0, els = _long_dumbbell(left=True)
+    for strategy in (0x100, 0x100 | REMOVE):
+        out, err, warn = run(harness, m0, els, 3.0, 41, strategy)
+        assert err is None and "loop" not in warn
+        assert max(p["ce"][0] for p in out) > 10
+    check_split(harness, m0, els, 3.0, 41, strategy=REMOVE | 0x200)
 
 
 def check_rebuilt(harness, m0, els, r, g, strategy):

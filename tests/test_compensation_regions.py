@@ -6,7 +6,6 @@ from the contour, the exact offset region (test_compensation_geometry.exact_offs
 and its components."""
 import math
 import os
-import random
 from pathlib import Path
 
 import numpy as np
@@ -15,7 +14,7 @@ import pytest
 shapely = pytest.importorskip("shapely")
 from shapely.geometry import LineString, Polygon  # noqa: E402
 
-from comp_helpers import contour_parts, polygon_elements, programmed_polyline, tool_path  # noqa: E402
+from comp_helpers import contour_parts, polygon_elements, programmed_polyline, star_cases, tool_path  # noqa: E402
 from test_compensation_geometry import comp, exact_offset, harness, signed_area  # noqa: E402,F401
 
 TOL = 1e-3
@@ -24,6 +23,8 @@ JOIN_G1 = 0x20000
 ERR_COMP_CROSSING = 504
 REPRO = Path(__file__).resolve().parent / "comp_repro"     # ../shared/repro/comp_*.nc
 REPRO_FILES = ["comp_spike_entry", "comp_zigzag", "comp_gouge_notch"]
+# search depths (0x700): 10, 50 and 2000 parts
+DEPTHS = [0x100, 0x200, 0x600]
 
 
 def read_contour(name):
@@ -178,18 +179,10 @@ def random_star(rng, r):
 
 
 def _random_contours(count, seed):
-    rng = random.Random(seed)
-    cases = []
-    while len(cases) < count:
-        r = rng.uniform(0.1, 2.0)
-        pts = random_star(rng, r)
-        if pts is None:
-            continue
-        cases.append((pts, r, rng.choice((41, 42)), rng.choice((0, 1))))
-    return cases
+    return star_cases(count, seed, random_star, 2.0)
 
 
-def _check_random(harness, cases):
+def _check_random(harness, cases, depth):
     """Every contour compiles with 0x80000 and keeps the radius; without it each one
     keeps it or is error 504. Returns how many were refused without 0x80000."""
     refused = 0
@@ -198,12 +191,12 @@ def _check_random(harness, cases):
         approach = (m0[0] + 0.3, m0[1] - 60.0)
         parts = contour_parts(els, g, m0, approach)
         contour = programmed_polyline(m0, els)
-        out, err, _ = comp(harness, parts, r=r, strategy=REMOVE | JOIN_G1 | 0x600 | mode,
+        out, err, _ = comp(harness, parts, r=r, strategy=REMOVE | JOIN_G1 | depth | mode,
                            start=(approach[0], approach[1], 0))
         assert err is None, (err, pts, r, g, mode)
         path = sampled_path(out, np.asarray(m0), step=0.02)
         assert clearance(path, contour) > r - TOL, (pts, r, g, mode)
-        out, err, _ = comp(harness, parts, r=r, strategy=JOIN_G1 | 0x600 | mode,
+        out, err, _ = comp(harness, parts, r=r, strategy=JOIN_G1 | depth | mode,
                            start=(approach[0], approach[1], 0))
         if err is not None:
             assert err["number"] == ERR_COMP_CROSSING, (err, pts, r, g, mode)
@@ -213,11 +206,74 @@ def _check_random(harness, cases):
     return refused
 
 
-def test_random_stars_small(harness):
-    _check_random(harness, _random_contours(40, 14))
+@pytest.mark.parametrize("depth", DEPTHS)
+def test_random_stars_small(harness, depth):
+    _check_random(harness, _random_contours(40, 14), depth)
 
 
 @pytest.mark.slow
-def test_random_stars(harness):
+@pytest.mark.parametrize("depth", DEPTHS)
+def test_random_stars(harness, depth):
     scale = int(os.environ.get("SF_TCH_SLOW_SCALE", "1"))
-    _check_random(harness, _random_contours(2000 * scale, 1400 + scale))
+    _check_random(harness, _random_contours(2000 * scale, 1400 + scale), depth)
+
+
+@pytest.mark.parametrize("index", [189, 224])
+def test_random_stars_round_their_start(harness, index):
+    """Strategy 1, depth 10: the corner arc after the first part comes closer than r
+    to the last part but one (13 and 42 elements: farther apart in program order than
+    the depth, 2 round the start). Measured round the start: error 504 without
+    0x80000, rebuilt with it (both were silent gouges when only program order
+    counted)."""
+    case = _random_contours(index + 1, 14)[index]
+    assert case[3] == 1
+    assert _check_random(harness, [case], 0x100) == 1
+
+
+def test_random_star_next_to_a_removed_part(harness):
+    """Strategy 1, every depth: the offsets of lines 4 and 5 cross, both are removed
+    and the corner joins lines 3 and 6; line 6's path comes 0.011 mm closer than r
+    to the removed line 5, which the gouge check used to leave out as the line before
+    6 (kept at the radius only past a corner between them): measured, rebuilt."""
+    case = _random_contours(210, 99)[209]
+    for depth in DEPTHS:
+        assert _check_random(harness, [case], depth) == 1
+
+
+# CCW pocket in the shape of an L; the tool path turns inwards at (0, 0)
+L_POCKET = [(0, 0), (20, 0), (20, 10), (10, 10), (10, 20), (0, 20)]
+
+
+def corner_start_elements(pts, k):
+    """The closed polygon from its first vertex round, every edge cut into k parts."""
+    els = []
+    for i, p in enumerate(pts):
+        q = pts[(i + 1) % len(pts)]
+        els += [dict(func=1, e=(p[0] + (q[0] - p[0]) * j / k, p[1] + (q[1] - p[1]) * j / k))
+                for j in range(1, k + 1)]
+    return els
+
+
+@pytest.mark.parametrize("depth", DEPTHS)
+@pytest.mark.parametrize("k", [1, 4])
+def test_start_at_an_inner_corner(harness, depth, k):
+    """Strategy 0 entered at a corner where the tool path turns inwards: the last part
+    ends on its perpendicular, closer than r to the first part. The first and last
+    parts of a closed contour are neighbours, also when it has more parts (k = 4: 24)
+    than the search depth (10): error 504 on the first part's line at every depth;
+    with 0x80000 the chain is rebuilt round the whole offset and keeps the radius."""
+    r = 1.0
+    m0 = L_POCKET[0]
+    els = corner_start_elements(L_POCKET, k)
+    parts = contour_parts(els, 41, m0, (5.0, 5.0))
+    contour = programmed_polyline(m0, els)
+    _, err, _ = comp(harness, parts, r=r, strategy=JOIN_G1 | depth, start=(5.0, 5.0, 0))
+    assert err is not None and err["number"] == ERR_COMP_CROSSING and err["line"] == 3
+    out, err, _ = comp(harness, parts, r=r, strategy=REMOVE | JOIN_G1 | depth, start=(5.0, 5.0, 0))
+    assert err is None, err
+    path = sampled_path(out, np.asarray(m0))
+    assert clearance(path, contour) > r - TOL
+    shape, inside = offset_region(contour, r, 41)
+    assert inside and shape.geom_type == "Polygon"
+    ring_pts = np.asarray(shapely.segmentize(shape.exterior, 0.01).coords)
+    assert float(np.max(shapely.distance(shapely.points(ring_pts), LineString(path)))) < 0.01

@@ -8,9 +8,11 @@
 # The path is read back from the parts and the queued insertions, so the check sees
 # exactly what the merge will write: while the chain grows, the parts a loop cut can no
 # longer reach (cl_chain_upto, beside the compiler), the rest when it ends
-# (cl_chain_close). The contour is held CL_BLOCK parts (plus the window either side)
-# at a time in part order, moved on with the chain, with boxes of CL_G1 and
-# CL_G1 * CL_G1 elements; CL_BATCH consecutive pieces share one search of the boxes.
+# (cl_chain_close), and then a closed contour's first parts against its last ones
+# (_cl_seam: neighbours round its start). A rebuilt chain is checked against its
+# whole contour (cl_check_chain). The contour is held CL_BLOCK parts (plus the window
+# either side) at a time in part order, moved on with the chain, with boxes of CL_G1
+# and CL_G1 * CL_G1 elements; CL_BATCH consecutive pieces share one search of the boxes.
 # Cheap proofs (_cl_far) settle most pairs, the rest is measured exactly
 # (_cl_piece_gap): O(n) on ordinary contours.
 from libc.stdlib cimport realloc, free
@@ -37,9 +39,10 @@ ctypedef struct Clearance:
     size_t cap_g
     double max_off          # the largest `off` of the window
     size_t lo, hi           # parts the window holds
-    bint whole              # ... the whole chain
+    size_t el0, el_end      # the elements of the parts being walked (_cl_seam holds two ranges)
+    size_t depth            # the window: parts at most this far apart are measured
     size_t span             # parts of the chain
-    bint closed             # distances in parts wrap round the closed chain (regions.pyx)
+    bint closed             # distances in parts wrap round the closed chain (_cl_seam)
     size_t *cand            # elements whose boxes meet the batch's box
     double *cbox            # ... their boxes, side by side (the inner loop reads only these)
     size_t n_cand, cap_cand
@@ -246,12 +249,8 @@ cdef bint cl_element(const CompState *S, size_t k, XPiece *g) noexcept nogil:
 cdef bint _cl_slide(CompState *S, Clearance *C, size_t lo, size_t hi) noexcept nogil:
     """Moves the window on to the contour of parts lo..hi (lo >= C.lo, hi >= C.hi):
     the elements it still holds stay, only the new parts are read; then its group
-    boxes (the elements' own boxes: a query box is grown by the piece's radius) and
-    C.max_off."""
-    cdef XPiece *el
-    cdef double *d
-    cdef double *b
-    cdef size_t k, cap, ng, drop = 0, start = lo
+    boxes (_cl_boxes)."""
+    cdef size_t drop = 0, start = lo
     if C.n > 0 and lo >= C.lo and lo <= C.hi + 1 and hi >= C.hi:
         while drop < C.n and C.el[drop].part < lo:
             drop += 1
@@ -264,7 +263,19 @@ cdef bint _cl_slide(CompState *S, Clearance *C, size_t lo, size_t hi) noexcept n
         C.n = 0
     C.lo = lo
     C.hi = hi
-    for k in range(start, hi + 1):
+    if not _cl_read(S, C, start, hi) or not _cl_boxes(C):
+        return False
+    C.el0 = 0
+    C.el_end = C.n
+    return True
+
+
+cdef inline bint _cl_read(CompState *S, Clearance *C, size_t lo, size_t hi) noexcept nogil:
+    """Appends the contour elements of parts lo..hi to the window."""
+    cdef XPiece *el
+    cdef double *d
+    cdef size_t k, cap
+    for k in range(lo, hi + 1):
         if C.n == C.cap:
             cap = C.cap * 2 if C.cap else 256
             el = <XPiece *>realloc(C.el, cap * sizeof(XPiece))
@@ -281,7 +292,14 @@ cdef bint _cl_slide(CompState *S, Clearance *C, size_t lo, size_t hi) noexcept n
         el = &C.el[C.n]
         C.off[C.n] = fabs(distance2d(el.e[0] - el.c[0], el.e[1] - el.c[1]) - el.r) if el.kind == EL_ARC else 0.0
         C.n += 1
-    ng = C.n / CL_G1 + 1
+    return True
+
+
+cdef inline bint _cl_boxes(Clearance *C) noexcept nogil:
+    """The group boxes of the window (the elements' own boxes: a query box is grown by
+    the piece's radius) and C.max_off."""
+    cdef double *b
+    cdef size_t k, ng = C.n / CL_G1 + 1
     if ng > C.cap_g:
         b = <double *>realloc(C.g1, 4 * ng * sizeof(double))
         if b == NULL:
@@ -313,8 +331,9 @@ cdef bint _cl_load(CompState *S, Clearance *C, size_t lo, size_t hi) noexcept no
 
 
 cdef inline bint _cl_in_window(const Clearance *C, size_t a, size_t b, size_t depth) noexcept nogil:
+    """Whether parts a and b are at most `depth` apart (C.closed: round the chain)."""
     cdef size_t d = a - b if a > b else b - a
-    if C.whole and C.closed and C.span - d < d:
+    if C.closed and C.span - d < d:
         d = C.span - d
     return d <= depth
 
@@ -409,13 +428,13 @@ cdef inline double _cl_element_gap(const Clearance *C, const XPiece *t, const XP
 
 
 cdef double cl_gap(const Clearance *C, XPiece *t, const XPiece *own, size_t skip_a, size_t skip_b,
-                   double r, size_t depth, double slack, double stop) noexcept nogil:
+                   double r, size_t depth, double stop) noexcept nogil:
     """Whether piece t comes closer than `stop` (<= r) to a contour element of the
     window within `depth` parts of t's part: the distance to the first element found
     closer, else r. own: t's programmed element when the elements it crosses do not
     count (an open path crossing itself: the tool crosses there too), else NULL.
     skip_a, skip_b: parts whose elements t keeps the radius from by construction (not
-    measured; (size_t)-1 none). slack: unused (the measure is exact)."""
+    measured; (size_t)-1 none)."""
     cdef double box[4]
     cdef double d
     cdef size_t i, j, k, n1, n2
@@ -589,16 +608,16 @@ cdef void cl_chain_open(CompState *S, size_t first, size_t ins0) noexcept nogil:
     C.loose = False
     C.n = 0
     C.n_batch = 0
+    C.depth = S.cfg.depth
     C.span = 0
     C.closed = False
-    C.whole = False
 
 
-cdef void _cl_start(CompState *S) noexcept nogil:
-    """Where the tool stands before the chain (the last part before it with a position,
-    after the insertions queued there) and the chain's first insertion."""
+cdef inline void _cl_start(CompState *S, size_t at) noexcept nogil:
+    """Where the tool stands before part `at` of the chain (the last part before it
+    with a position, after the insertions queued there) and the next insertion."""
     cdef Clearance *C = &S.cl
-    cdef size_t j = C.first, rec = C.ins0
+    cdef size_t j = at, rec = C.ins0
     while j > 0 and S.role[j - 1] == ROLE_FOLLOW:
         j -= 1
     if j > 0:
@@ -608,12 +627,14 @@ cdef void _cl_start(CompState *S) noexcept nogil:
         C.cur[0] = S.prog.start[S.first]; C.cur[1] = S.prog.start[S.second]
     while rec > 0 and S.ins[rec - 1].after >= j:
         rec -= 1
-    while rec < S.n_ins and S.ins[rec].after < C.first:
+    while rec < S.n_ins and S.ins[rec].after < j:
+        rec += 1                # inside the chain (_cl_seam): the queue is in part order
+    while rec < S.n_ins and S.ins[rec].after < at:
         C.cur[0] = S.ins[rec].end[0]; C.cur[1] = S.ins[rec].end[1]
         rec += 1
     C.rec = rec
     C.started = True
-    C.first_piece = True
+    C.first_piece = at == C.first
 
 
 cdef bint _cl_run(CompState *S, size_t upto, size_t end, bint strict, bint skip_first, bint skip_last,
@@ -630,11 +651,11 @@ cdef bint _cl_run(CompState *S, size_t upto, size_t end, bint strict, bint skip_
     cdef double end_pt[2]
     cdef double c[2]
     cdef double r
-    cdef size_t k, j, lo, hi, na, nb, depth = S.cfg.depth
+    cdef size_t k, j, lo, hi, na, nb, depth = C.depth
     cdef bint have, skip, has_own
     cdef const XPiece *own
     if not C.started:
-        _cl_start(S)
+        _cl_start(S, C.next)
     for k in range(C.next, upto + 1):
         if not C.in_block or k > C.bhi:
             # the next block of parts and the contour of its window (moved on: the
@@ -671,10 +692,11 @@ cdef bint _cl_run(CompState *S, size_t upto, size_t end, bint strict, bint skip_
             skip = (C.first_piece and skip_first) or (k == last_el and skip_last)
             C.first_piece = False
             # a line on the offset of a line keeps the radius from it and, past a corner
-            # of the chain (an intersection or an arc), from a line next to it
+            # of the chain (an intersection or an arc), from a line next to it (not from
+            # a removed one: the corner joined an earlier part)
             nb = <size_t>-1
-            if have and not skip and t.kind == EL_LINE and p.func == 1 and C.ei > 0 \
-                    and S.prog.parts[C.el[C.ei - 1].part].func == 1:
+            if have and not skip and t.kind == EL_LINE and p.func == 1 and C.ei > C.el0 \
+                    and S.prog.parts[C.el[C.ei - 1].part].func == 1 and S.role[C.el[C.ei - 1].part] == ROLE_SET:
                 nb = C.el[C.ei - 1].part
             if have and not skip and \
                     not _cl_gouge(S, _cl_queue(C, own, k, nb, r, r - C.allow, depth), k):
@@ -694,14 +716,15 @@ cdef bint _cl_run(CompState *S, size_t upto, size_t end, bint strict, bint skip_
                     have = _cl_arc(t, C.cur, end_pt, S.ins[C.rec].cc, r, 1 if S.ins[C.rec].func == INS_G3 else -1,
                                    k, False)
             # an arc round the corner at part k's end keeps the radius from the elements
-            # that meet there
+            # that meet there (the next one unless it was removed)
             nb = <size_t>-1
             na = <size_t>-1
             if have and S.ins[C.rec].func != INS_G1 and S.ins[C.rec].cc[0] == p.e[S.first] \
                     and S.ins[C.rec].cc[1] == p.e[S.second]:
                 na = k
                 j = C.ei + 1 if has_own else C.ei
-                nb = C.el[j].part if j < C.n else <size_t>-1
+                if j < C.el_end and S.role[C.el[j].part] == ROLE_SET:
+                    nb = C.el[j].part
             if have and not _cl_gouge(S, _cl_queue(C, NULL, na, nb, r, r - C.allow, depth), k):
                 return False
             C.cur[0] = end_pt[0]; C.cur[1] = end_pt[1]
@@ -727,11 +750,58 @@ cdef bint cl_chain_upto(CompState *S, size_t written) noexcept nogil:
     return _cl_run(S, k - 1, written - 1, False, S.chain_fixed, False, <size_t>-1)
 
 
+cdef bint _cl_seam(CompState *S, size_t last, bint skip_first, bint skip_last, size_t last_el) noexcept nogil:
+    """A closed chain longer than the search depth: its first parts and its last ones
+    are neighbours round its start, which part order leaves out. The pieces of both
+    ends are measured against the elements of both, distances counted round the chain
+    (the pairs part order measured already come again: O(depth)). False with
+    S.xs.err_* filled."""
+    cdef Clearance *C = &S.cl
+    cdef size_t depth = C.depth, first = C.first, head, tail
+    cdef bint ok
+    if depth == 0 or last - first <= depth:
+        return True
+    head = first + depth - 1
+    tail = last - depth + 1
+    if head + 1 >= tail:
+        head = last             # the ends overlap: the chain in one walk
+        tail = last + 1
+    C.n = 0
+    ok = _cl_read(S, C, first, head)
+    C.el_end = C.n
+    if not ok or (tail <= last and not _cl_read(S, C, tail, last)) or not _cl_boxes(C):
+        S.xs.err_number = ERR_OUT_OF_MEMORY
+        S.xs.err_part = last
+        return False
+    C.span = last - first + 1
+    C.closed = True
+    C.in_block = True           # the window stays (no block moves it)
+    C.bhi = last
+    C.allow = S.cfg.slack + S.cfg.min_arc + C.max_off
+    C.el0 = 0
+    C.ei = 0
+    _cl_start(S, first)
+    C.next = first
+    ok = _cl_run(S, head, last, True, skip_first, skip_last, last_el)
+    if ok and tail <= last:
+        C.el0 = C.el_end
+        C.el_end = C.n
+        C.ei = C.el0
+        _cl_start(S, tail)
+        C.next = tail
+        ok = _cl_run(S, last, last, True, skip_first, skip_last, last_el)
+    ok = ok and _cl_gouge(S, _cl_flush(C, depth), last)
+    C.closed = False
+    C.n = 0                     # the next window is read afresh
+    return ok
+
+
 cdef bint cl_chain_close(CompState *S, size_t last, bint skip_first, bint skip_last) noexcept nogil:
     """Checks the rest of the chain's path, which ends at part `last` (skip_first /
     skip_last: see _cl_run). A closed contour counts the elements a piece's own
     element crosses: if an earlier piece left one out, the path is measured again from
-    its start. False with S.xs.err_* filled."""
+    its start; its first and last parts are neighbours (_cl_seam). False with
+    S.xs.err_* filled."""
     cdef Clearance *C = &S.cl
     cdef const double *st = part_start_xyz(S.prog, C.first)
     cdef const Part *p = &S.prog.parts[last]
@@ -742,19 +812,23 @@ cdef bint cl_chain_close(CompState *S, size_t last, bint skip_first, bint skip_l
         cl_chain_open(S, C.first, C.ins0)
     while last_el > C.first and (S.role[last_el] != ROLE_SET or not cl_element(S, last_el, &g)):
         last_el -= 1
-    return _cl_run(S, last, last, not is_open, skip_first, skip_last, last_el) and \
-        _cl_gouge(S, _cl_flush(C, S.cfg.depth), last)
+    if not _cl_run(S, last, last, not is_open, skip_first, skip_last, last_el) or \
+            not _cl_gouge(S, _cl_flush(C, C.depth), last):
+        return False
+    return is_open or _cl_seam(S, last, skip_first, skip_last, last_el)
 
 
 cdef bint cl_check_chain(CompState *S, size_t first, size_t last, size_t ins0, bint skip_first,
-                         bint skip_last) noexcept nogil:
+                         bint skip_last, size_t depth) noexcept nogil:
     """Checks the final tool path of the chain of parts first..last (its insertions
-    from ins0 on) at once: cl_chain_open, cl_chain_close. False with S.xs.err_*
-    filled: 504 on the line of the first piece that gouges (or out of memory).
+    from ins0 on) at once, against the contour of the parts at most `depth` apart:
+    cl_chain_open, cl_chain_close. False with S.xs.err_* filled: 504 on the line of
+    the first piece that gouges (or out of memory).
     The allowance is tolerance[1], plus tolerance[4] (a removed small arc lets the
     neighbours meet closer to it) and how far an arc's end lies off its circle (the
     arc-centre tolerance of the compiler)."""
     cl_chain_open(S, first, ins0)
+    S.cl.depth = depth
     return cl_chain_close(S, last, skip_first, skip_last)
 
 

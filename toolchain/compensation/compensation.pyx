@@ -403,7 +403,9 @@ cdef int _chain_rebuild(CompState *S) noexcept nogil:
     if res != COMPILE_OK:
         return res
     S.chain_rebuilt = True
-    if not cl_check_chain(S, S.chain_first, S.chain_last, S.chain_ins0, False, False):
+    # the rebuilt path keeps the radius from the whole contour, not only within the depth
+    if not cl_check_chain(S, S.chain_first, S.chain_last, S.chain_ins0, False, False,
+                          S.chain_last - S.chain_first):
         res = _comp_fail(S, S.xs.err_number, S.xs.err_part, S.xs.err_arg, 0)
         S.xs.err_number = 0
     return res

@@ -8,9 +8,10 @@
 # of the band within r of the contour: the offsets of every element on both sides
 # (arcs whose offset radius is negative turn round their centre on the other side)
 # and the circles of radius r round the vertices. These pieces are split where they
-# cross each other (within the search window) and at the points where they touch (the
-# ends of the offsets on the vertex circles); a sub-piece whose middle is closer to the
-# contour than r (less half of tolerance[1]) is dropped. Every piece is oriented with
+# cross each other and at the points where they touch (the ends of the offsets on the
+# vertex circles); a sub-piece whose middle is closer to the contour than r (less half
+# of tolerance[1]) is dropped. Both see the whole contour, whatever the search depth:
+# the rebuilt path keeps the radius from all of it. Every piece is oriented with
 # the free side where the tool path has it (left for G41): the tool side offsets along
 # the contour, the far side ones against it, the circles clockwise for G41. What
 # remains are the borders of the free regions, closed loops joined at the nodes. The
@@ -113,12 +114,6 @@ cdef bint _r_piece_room(Regions *R, size_t need) noexcept nogil:
         return False
     R.cap_pc = c1
     return True
-
-
-cdef inline size_t _r_el_gap(const Regions *R, size_t a, size_t b) noexcept nogil:
-    """Elements between a and b round the closed contour."""
-    cdef size_t d = a - b if a > b else b - a
-    return R.n_els - d if R.n_els - d < d else d
 
 
 cdef enum:
@@ -297,10 +292,10 @@ cdef inline bint _r_at_end(const XPiece *q, double x, double y) noexcept nogil:
     return _x_near(q.s, x, y, 1e-7) or _x_near(q.e, x, y, 1e-7)
 
 
-cdef bint _r_crossings(Regions *R, size_t depth, size_t *n_nodes) noexcept nogil:
-    """Splits where pieces cross (pieces of elements at most `depth` apart, not where
-    both end: they touch there at a node already); crossing nodes are numbered after
-    the end nodes (4 per element)."""
+cdef bint _r_crossings(Regions *R, size_t *n_nodes) noexcept nogil:
+    """Splits where pieces cross (any two, whatever the search depth; not where both
+    end: they touch there at a node already); crossing nodes are numbered after the
+    end nodes (4 per element)."""
     cdef size_t i, k, gi, ng, n = R.n_pc
     cdef double pts[4]
     cdef double pi_, pk, Li, Lk
@@ -327,7 +322,7 @@ cdef bint _r_crossings(Regions *R, size_t depth, size_t *n_nodes) noexcept nogil
                 continue
             for k in range(gi * CL_G1 if gi * CL_G1 > i + 1 else i + 1, min((gi + 1) * CL_G1, n)):
                 b = &R.pc[k]
-                if not _box_hit(a.box, b.box, eps) or _r_el_gap(R, R.pel[i], R.pel[k]) > depth:
+                if not _box_hit(a.box, b.box, eps):
                     continue
                 Lk = _r_len(b)
                 m = _x_meet(a, b, eps, pts)
@@ -387,8 +382,8 @@ cdef bint _r_subs(Regions *R) noexcept nogil:
     return True
 
 
-cdef void _r_classify(Regions *R, const Clearance *C, double r, size_t depth, double slack) noexcept nogil:
-    """A sub-piece is kept when its middle keeps the radius from the contour."""
+cdef void _r_classify(Regions *R, const Clearance *C, double r, double slack) noexcept nogil:
+    """A sub-piece is kept when its middle keeps the radius from the whole contour."""
     cdef size_t k
     cdef RSub *u
     cdef XPiece pt
@@ -401,7 +396,7 @@ cdef void _r_classify(Regions *R, const Clearance *C, double r, size_t depth, do
         pt.s[0] = m[0]; pt.s[1] = m[1]; pt.e[0] = m[0]; pt.e[1] = m[1]
         pt.part = R.pc[u.piece].part
         _x_geometry(&pt)
-        u.valid = cl_gap(C, &pt, NULL, <size_t>-1, <size_t>-1, r, depth, slack, r - 0.5 * slack) >= r - 0.5 * slack
+        u.valid = cl_gap(C, &pt, NULL, <size_t>-1, <size_t>-1, r, <size_t>-1, r - 0.5 * slack) >= r - 0.5 * slack
 
 
 cdef bint _r_link(Regions *R, size_t n_nodes) noexcept nogil:
@@ -543,7 +538,6 @@ cdef int regions_rebuild(CompState *S) noexcept nogil:
     cdef Regions *R = &S.rg
     cdef Clearance *C = &S.cl
     cdef size_t n_nodes, n_loop, k, j, start, pc_i, last_part, el_i
-    cdef size_t depth = S.cfg.depth
     cdef int64_t best
     cdef double d, r, orient
     cdef double at[2]
@@ -557,13 +551,10 @@ cdef int regions_rebuild(CompState *S) noexcept nogil:
     r = fabs(d)
     orient = 1.0 if _r_contour_area(R) > 0 else -1.0
     # the contour of the whole chain for the distances
-    C.span = S.chain_last - S.chain_first + 1
-    C.closed = True
-    C.whole = True
     if not _cl_load(S, C, S.chain_first, S.chain_last) or not _r_raw_curve(R, d) \
-            or not _r_crossings(R, depth, &n_nodes) or not _r_subs(R):
+            or not _r_crossings(R, &n_nodes) or not _r_subs(R):
         return _comp_fail(S, ERR_OUT_OF_MEMORY, S.chain_first, 0, 0)
-    _r_classify(R, C, r, depth, S.cfg.slack)
+    _r_classify(R, C, r, S.cfg.slack)
     if not _r_link(R, n_nodes):
         return _comp_fail(S, ERR_OUT_OF_MEMORY, S.chain_first, 0, 0)
     best = _r_best_loop(R, orient, &n_loop)
