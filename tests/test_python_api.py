@@ -64,6 +64,15 @@ def test_errors_carry_file_line_and_column(code, number, column):
     assert error.to_dict()["name"] == number.name
 
 
+def test_iso_mode_is_the_calls_own():
+    # a core keeps its parameters from one user to the next: iso=False means off
+    dwell_p = "G1 X10 F100\nG4 P1\n"
+    with sf_tch.compile(dwell_p, iso=True, core=0) as program:
+        assert program.errors == []                     # ISO: G4 P1 is one second
+    with sf_tch.compile(dwell_p, core=0) as program:
+        assert [e.number for e in program.errors] == [ErrorNumber.P_WORD]
+
+
 def test_warnings_are_collected():
     code = "G0 X0 Y0 Z0\nG41\nG3 X20 Y0 I10 J0 F1000\nG1 Y-10\nG40 X0\nM30\n"
     with sf_tch.compile(code, radius=1.0, name="comp.nc") as program:

@@ -148,8 +148,11 @@ def start_compile(source: Source, radius: float | None = None, strategy: int | N
     try:
         fields = dict(params or {})
         fields.setdefault("calcTime", 1)
-        if iso:
-            fields["rezerva1"] = fields.get("rezerva1", handle.params.rezerva1) | abi.GCODE_REZERVA1_ISO_COMPAT
+        if iso or "rezerva1" not in fields:
+            # the mode is this call's (a core keeps its parameters from one user to the next)
+            base = fields.get("rezerva1", handle.params.rezerva1)
+            iso_bit = abi.GCODE_REZERVA1_ISO_COMPAT
+            fields["rezerva1"] = base | iso_bit if iso else base & ~iso_bit
         if strategy is not None:
             fields["correctionStrategy"] = strategy
         handle.update_params(**fields)
