@@ -14,6 +14,9 @@
 #     caller's thread: the same consumer, the same order;
 #   - while no batch waits, the thread faults in the part memory ahead of the
 #     compiler, as far as the consumer's queued insertions plus PREFAULT_AHEAD parts.
+# After the compiler, in the order they run: the extent measured beside the
+# compensation's merge (ExtentBeside), then the plan in two ranges beside the extent
+# when that was not measured yet (plan_beside_extent).
 from libc.string cimport memset
 
 cdef enum:
