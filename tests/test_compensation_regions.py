@@ -214,8 +214,10 @@ def test_random_stars_small(harness, depth):
 @pytest.mark.slow
 @pytest.mark.parametrize("depth", DEPTHS)
 def test_random_stars(harness, depth):
+    # 2000 at the host's default depth, 1000 at the shorter ones (CI runs this under ASan too)
     scale = int(os.environ.get("SF_TCH_SLOW_SCALE", "1"))
-    _check_random(harness, _random_contours(2000 * scale, 1400 + scale), depth)
+    count = 2000 if depth == DEPTHS[-1] else 1000
+    _check_random(harness, _random_contours(count * scale, 1400 + scale), depth)
 
 
 @pytest.mark.parametrize("index", [189, 224])
