@@ -461,6 +461,11 @@ cdef int _compile_job(Core *core, Job *job, ProgramBuilder *build, GCODE_INFO *e
     core_status_text(core, text, job.files[0], 0)
     core_progress(core, 0)
     result = _compile_and_compensate(core, inp, build, err, extent, &measured)
+    # the source is not read again: its memory is given back before the plan takes as
+    # much (freshly freed memory is cheaper to fault in than new)
+    free(job.text)
+    job.text = NULL
+    inp.text = NULL
     n_parts = build.prog.n_parts
     if result == COMPILE_OK:
         result = insert_arcs(build, &inp.params, err)
