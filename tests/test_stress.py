@@ -24,6 +24,10 @@ PROGRAMS = [lines_program(n, seed) for n, seed in ((40, 1), (400, 2), (2500, 3))
     b"G1 X10 F1000\\nG2 X20 Y0 I5 J0\\nM8\\nG0 Z5\\nG1 X0 Y0\\nM30\\n",
     b"G1 X1\\nQQ\\n",                                   # a compile error
     lines_program(3000, 4) + b"M8\\n" + lines_program(3000, 5),   # planned in two threads (a stop to split at)
+    # compensated (r = 0.3, set below), a square wave of 20,000 parts: the extent is measured
+    # beside the compensation's merge
+    b"G0 X0 Y0\\nG41 G1 X1 Y0 F3000\\n" + b"".join(b"G1 Y2\\nG1 X%d\\nG1 Y0\\nG1 X%d\\n" % (2 * k + 2, 2 * k + 3)
+                                                for k in range(5000)) + b"G40 G1 Y-2\\n",
 ]
 stop = threading.Event()
 calls = {{}}
@@ -31,6 +35,10 @@ failures = []
 for core in CORES:
     load_ini(lib, core)
     assert lib.ToolChainCore_SetTimeScale(core, 1e5) == 0     # the offline machine's runs end quickly
+    tool = abi.GCODE_PARAMETERS()
+    assert lib.ToolChainCore_GetGCodeParameters(core, ctypes.byref(tool)) == 0
+    tool.correction[0].size = 0.3
+    assert lib.ToolChainCore_SetGCodeParameters(core, ctypes.byref(tool)) == 0
 defaults = abi.GCODE_PARAMETERS()
 assert lib.ToolChainCore_GetGCodeParameters(0, ctypes.byref(defaults)) == 0
 base_threads = thread_count()
