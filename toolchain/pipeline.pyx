@@ -156,7 +156,7 @@ cdef void follow_abandon(Follow *F) noexcept nogil:
 # the merge tells it is final, on the core that has nothing else to do then (the
 # compensation's own thread has ended). Each range starts one part above the lowest
 # final one, whose end is its start; the merge's end makes the rest final. The thread
-# starts with the merge's first word (programs of fewer than MERGE_WATCH_STEP moved
+# starts with the merge's first notice (programs of fewer than MERGE_WATCH_STEP moved
 # parts get none: their extent is measured beside the plan, below).
 ctypedef struct ExtentBeside:
     const Program *prog
