@@ -19,7 +19,8 @@ Every compile runs --runs times and the floor as often: the best counts (this sh
 backs fresh memory at very different speeds, so single runs vary up to 3x); the
 median is printed too.
 Targets: compile <= 1.5 x floor, peak RSS < 300 MB; with compensation the compile may
-exceed its target by at most 20 %: <= 1.8 x floor.
+exceed its target by at most 20 %: <= 1.8 x floor. On a VM whose balloon reports free
+pages to the host the figures swing from round to round (benchmarks/fresh_memory.py).
 """
 import argparse
 import json
@@ -32,6 +33,8 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+
+from fresh_memory import balloon_reports_free_pages
 
 FLOOR_C = r"""
 #include <stdio.h>
@@ -202,6 +205,10 @@ def main():
         runs = compile_runs(prog, args.runs)
         best = min(runs, key=lambda r: r["seconds"])
         print(f"program: {args.lines} lines, {size_mb:.1f} MB")
+        if balloon_reports_free_pages():
+            # freed memory goes back to the host: runs that get it cold are slower (README)
+            print("note: this VM's balloon reports free pages to the host; check the rounds with "
+                  "benchmarks/fresh_memory.py")
         print(f"floor (read + strtod every number, C -O2): {floor * 1e3:.1f} ms")
         for r in runs:
             print(f"compile to status -1: {r['seconds'] * 1e3:.1f} ms, peak RSS {r['peak_rss_mb']:.1f} MB "
