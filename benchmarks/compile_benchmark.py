@@ -34,8 +34,6 @@ import tempfile
 import time
 from pathlib import Path
 
-from fresh_memory import balloon_reports_free_pages
-
 FLOOR_C = r"""
 #include <stdio.h>
 #include <stdlib.h>
@@ -205,6 +203,8 @@ def main():
         runs = compile_runs(prog, args.runs)
         best = min(runs, key=lambda r: r["seconds"])
         print(f"program: {args.lines} lines, {size_mb:.1f} MB")
+        sys.path.insert(0, str(Path(__file__).resolve().parent))
+        from fresh_memory import balloon_reports_free_pages
         if balloon_reports_free_pages():
             # freed memory goes back to the host: runs that get it cold are slower (README)
             print("note: this VM's balloon reports free pages to the host; check the rounds with "
