@@ -28,6 +28,8 @@ class Hmi:
         assert self.lib.ToolChainCore_GetGCodeParameters(CORE, ctypes.byref(self.saved)) == 0
 
     def close(self):
+        # DestroyCNC joins the core's last worker thread (a host that exits without it leaves the thread unjoined)
+        assert self.lib.ToolChainCore_DestroyCNC(CORE) == 0
         self.lib.ToolChainCore_SetGCodeParameters(CORE, ctypes.byref(self.saved))
 
     def wait(self, done, timeout=60):
