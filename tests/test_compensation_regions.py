@@ -220,6 +220,17 @@ def test_random_stars(harness, depth):
     _check_random(harness, _random_contours(count * scale, 1400 + scale), depth)
 
 
+@pytest.mark.parametrize("offset", [(1500.0, 0.0), (2999.9, 1499.9), (-20000.0, 7000.0)])
+def test_random_stars_far_from_the_origin(harness, offset):
+    """The same stars on a sheet's far corner (and 20 m away) compile as at the origin:
+    the offsets of an element and its vertex circle touch tangentially, and rounding
+    coordinates of 1500 mm moved their meets 1e-7 .. 1e-6 mm from the joint, which then
+    split the pieces there (9 of 300 stars refused at 1500 mm with 0x80000)."""
+    dx, dy = offset
+    cases = [([(x + dx, y + dy) for x, y in pts], r, g, mode) for pts, r, g, mode in _random_contours(40, 14)]
+    _check_random(harness, cases, 0x100)
+
+
 @pytest.mark.parametrize("index", [189, 224])
 def test_random_stars_round_their_start(harness, index):
     """Strategy 1, depth 10: the corner arc after the first part comes closer than r
@@ -279,3 +290,69 @@ def test_start_at_an_inner_corner(harness, depth, k):
     assert inside and shape.geom_type == "Polygon"
     ring_pts = np.asarray(shapely.segmentize(shape.exterior, 0.01).coords)
     assert float(np.max(shapely.distance(shapely.points(ring_pts), LineString(path)))) < 0.01
+
+
+def star_program(cases, pitch=100.0):
+    """A CAM-like program of the contours side by side in a row, as cutting posts write
+    them: rapid to a pierce point 60 mm below the contour's start, M51, G41/G42 with the
+    lead-in to the start, the contour, G40 with the lead-out, M50. Returns the text and
+    per contour (first contour line, last contour line, points moved by its place)."""
+    lines, contours = ["G90", "G17"], []
+    for k, (pts, r, g, mode) in enumerate(cases):
+        dx = k * pitch
+        m0, els = polygon_elements(pts)
+        pierce = (m0[0] + 0.3 + dx, m0[1] - 60.0)
+        lines += [f"G0 X{pierce[0]:.4f} Y{pierce[1]:.4f}", "M51", f"G{g}",
+                  f"G1 X{m0[0] + dx:.4f} Y{m0[1]:.4f} F2000"]
+        first = len(lines) + 1
+        lines += [f"G1 X{el['e'][0] + dx:.4f} Y{el['e'][1]:.4f}" for el in els]
+        contour = [(m0[0] + dx, m0[1])] + [(el["e"][0] + dx, el["e"][1]) for el in els]
+        contours.append((first, len(lines), np.round(np.array(contour), 4)))
+        lines += ["G40", f"G1 X{pierce[0]:.4f} Y{pierce[1]:.4f}", "M50"]
+    return "\n".join(lines) + "\n", contours
+
+
+def toolpath_clearances(program, contours):
+    """The least distance (shapely) of each contour's tool path from the contour, every
+    move sampled every 5 um; the moves of entry strategy 1 from and to the programmed
+    start point left out (they start and end on the contour by design)."""
+    from sf_tch.toolpath import Toolpath
+    records = program.toolpath.records
+    motion = records[records["kind"] == 1]
+    out = []
+    for first, last, pts in contours:
+        own = np.flatnonzero((motion["line"] >= first) & (motion["line"] <= last))
+        # each move of the tool path as a move of its own: from the previous tool end to its tool end
+        moves = motion[own].copy()
+        moves["start"], moves["end"] = motion["tool_end"][own - 1], moves["tool_end"]
+        keep = (np.hypot(*(moves["start"][:, :2] - pts[0]).T) > 1e-6) \
+            & (np.hypot(*(moves["end"][:, :2] - pts[0]).T) > 1e-6)
+        runs = [Toolpath(moves[k:k + 1]).points(step=0.005)[:, :2] for k in np.flatnonzero(keep)]
+        path = [shapely.segmentize(LineString(run), 0.005).coords for run in runs if np.ptp(run, axis=0).max() > 0]
+        out.append(float(np.min(shapely.distance(shapely.points(np.vstack(path)), LineString(pts)))))
+    return np.array(out)
+
+
+@pytest.mark.parametrize("count", [pytest.param(40, id="40"), pytest.param(400, id="400", marks=pytest.mark.slow)])
+def test_cam_program_of_stars_through_the_library(fresh_core, count):
+    """The issue's CAM-like job through the library: a program of star contours with
+    features smaller than the tool (radius 0.15, both sides, both entry strategies).
+    With 0x80000 the whole job compiles and no contour's tool path comes closer to its
+    contour than the radius; without it the job either compiles without a gouge or
+    stops with error 504 on a line of a contour."""
+    import sf_tch
+    rng_cases = star_cases(count, 77 + count, random_star, 0.15)
+    cases = [(pts, 0.15, g, mode) for pts, _, g, mode in rng_cases]
+    for mode in (0, 1):
+        text, contours = star_program([(p, r, g, mode) for p, r, g, _ in cases])
+        with sf_tch.compile(text, radius=0.15, strategy=0xA0600 | mode) as program:
+            program.check()
+            clear = toolpath_clearances(program, contours)
+        assert clear.min() > 0.15 - TOL, [int(i) for i in np.flatnonzero(clear <= 0.15 - TOL)]
+        with sf_tch.compile(text, radius=0.15, strategy=0x20600 | mode) as program:
+            if program.errors:
+                err = program.errors[0]
+                assert err.number == ERR_COMP_CROSSING, err
+                assert any(first - 1 <= err.line <= last for first, last, _ in contours), err
+            else:
+                assert toolpath_clearances(program, contours).min() > 0.15 - TOL

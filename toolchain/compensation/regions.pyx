@@ -24,7 +24,8 @@
 # does not apply), vertex arcs and far side lines become inserted parts, elements
 # without a piece are removed (warning 600 on their lines).
 from libc.stdlib cimport malloc, realloc, free, qsort
-from libc.math cimport fabs, sin, atan2, M_PI
+from libc.math cimport fabs, fmax, sin, sqrt, atan2, M_PI
+from libc.float cimport DBL_EPSILON
 
 ctypedef struct RSplit:
     size_t piece
@@ -95,6 +96,7 @@ ctypedef struct Regions:
     size_t cap_loop
     double *g1              # boxes of groups of CL_G1 pieces
     size_t cap_g1
+    double end_slack        # a meet this close to a node two pieces share is their touch (_r_end_slack)
 
 
 cdef void regions_free(Regions *R) noexcept nogil:
@@ -288,8 +290,35 @@ cdef bint _r_add_split(Regions *R, size_t piece, double pos, double x, double y,
     return True
 
 
-cdef inline bint _r_at_end(const XPiece *q, double x, double y) noexcept nogil:
-    return _x_near(q.s, x, y, 1e-7) or _x_near(q.e, x, y, 1e-7)
+cdef double _r_end_slack(const Regions *R, double r) noexcept nogil:
+    """Pieces that touch at a joint (an offset's end on its vertex circle) are tangent
+    there: rounding the coordinates by delta (a few eps times the chain's largest
+    coordinate m) moves their meets up to sqrt(2 r delta) from the joint; r = 0.15 mm
+    1500 mm from the origin: about 3e-7 mm. The slack is 16 sqrt(r m eps), at least
+    1e-7 mm."""
+    cdef size_t j
+    cdef double m = 1.0
+    cdef const CompEl *el
+    for j in range(R.n_els):
+        el = &R.els[j]
+        m = fmax(m, fmax(fmax(fabs(el.s[0]), fabs(el.s[1])), fmax(fabs(el.e[0]), fabs(el.e[1]))))
+        if el.kind == EL_ARC:
+            m = fmax(m, fmax(fabs(el.c[0]), fabs(el.c[1])))
+    return fmax(1e-7, 16.0 * sqrt(r * m * DBL_EPSILON))
+
+
+cdef bint _r_touch(const Regions *R, size_t i, size_t k, double x, double y) noexcept nogil:
+    """Whether pieces i and k meet at (x, y) only where they touch: both end there, or
+    (a joint: tangent pieces) they share a node within end_slack of it. A meet this
+    near the ends of pieces that share no node is a crossing."""
+    cdef const XPiece *a = &R.pc[i]
+    cdef const XPiece *b = &R.pc[k]
+    if (_x_near(a.s, x, y, 1e-7) or _x_near(a.e, x, y, 1e-7)) and \
+            (_x_near(b.s, x, y, 1e-7) or _x_near(b.e, x, y, 1e-7)):
+        return True
+    if (R.pn0[i] == R.pn0[k] or R.pn0[i] == R.pn1[k]) and _x_near(a.s, x, y, R.end_slack):
+        return True
+    return (R.pn1[i] == R.pn0[k] or R.pn1[i] == R.pn1[k]) and _x_near(a.e, x, y, R.end_slack)
 
 
 cdef bint _r_crossings(Regions *R, size_t *n_nodes) noexcept nogil:
@@ -330,7 +359,7 @@ cdef bint _r_crossings(Regions *R, size_t *n_nodes) noexcept nogil:
                     if not _x_on(a, pts[2 * h], pts[2 * h + 1], eps, &pi_) or \
                             not _x_on(b, pts[2 * h], pts[2 * h + 1], eps, &pk):
                         continue
-                    if _r_at_end(a, pts[2 * h], pts[2 * h + 1]) and _r_at_end(b, pts[2 * h], pts[2 * h + 1]):
+                    if _r_touch(R, i, k, pts[2 * h], pts[2 * h + 1]):
                         continue
                     pi_ = 0.0 if pi_ < 0 else (Li if pi_ > Li else pi_)
                     pk = 0.0 if pk < 0 else (Lk if pk > Lk else pk)
@@ -549,6 +578,7 @@ cdef int regions_rebuild(CompState *S) noexcept nogil:
     if not _r_chain_elements(S, R, &d):
         return REGIONS_NOT_APPLICABLE
     r = fabs(d)
+    R.end_slack = _r_end_slack(R, r)
     orient = 1.0 if _r_contour_area(R) > 0 else -1.0
     # the contour of the whole chain for the distances
     if not _cl_load(S, C, S.chain_first, S.chain_last) or not _r_raw_curve(R, d) \
