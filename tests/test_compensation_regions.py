@@ -333,7 +333,7 @@ def toolpath_clearances(program, contours):
     return np.array(out)
 
 
-@pytest.mark.parametrize("count", [pytest.param(40, id="40"), pytest.param(400, id="400", marks=pytest.mark.slow)])
+@pytest.mark.parametrize("count", [pytest.param(40, id="40"), pytest.param(200, id="200", marks=pytest.mark.slow)])
 def test_cam_program_of_stars_through_the_library(fresh_core, count):
     """The issue's CAM-like job through the library: a program of star contours with
     features smaller than the tool (radius 0.15, both sides, both entry strategies).
