@@ -1,7 +1,7 @@
 # The extent of a compiled program (GetGCodeSizeInfo): start, end, minimum and
-# maximum over every motion part, arcs with their true extreme points. A pass over a
-# range of parts (extent_range) and the join of ranges, so that the extent may also be
-# measured range by range beside the stage that writes the parts (pipeline.pyx).
+# maximum over every motion part, arcs with their true extreme points. A pass widens
+# the extent by a range of parts (extent_range), so that it may also be measured range
+# by range beside the stage that writes the parts (pipeline.pyx).
 from libc.string cimport memcpy
 from libc.math cimport sqrt
 
@@ -101,8 +101,8 @@ cdef size_t extent_range(const Program *prog, size_t first, size_t end, GCODE_SI
     """Widens the programmed and the compensated extent (x y z; the programmed one all
     ten axes) by the motion parts of [first, end), as the machine runs them (rotated)
     or as the program is written (G168 undone); the last motion part among them, or
-    NO_MOTION. Ranges may be measured in any order and their extents joined
-    (extent_join): a part reads only itself and the end of the part before it."""
+    NO_MOTION. Ranges may be measured in any order: a part reads only itself and the
+    end of the part before it."""
     cdef size_t i, last = NO_MOTION
     cdef uint32_t axes_idx = <uint32_t>-1
     cdef const Part *p
@@ -174,22 +174,8 @@ cdef void extent_begin(const Program *prog, GCODE_SIZE *programmed, GCODE_SIZE *
     _start_size(tool, prog.start)
 
 
-cdef void extent_join(GCODE_SIZE *into, const GCODE_SIZE *other) noexcept nogil:
-    """The extent of two ranges measured apart (extent_range)."""
-    cdef double *lo = <double *>&into.m_minimalPos
-    cdef double *hi = <double *>&into.m_maximalPos
-    cdef const double *olo = <const double *>&other.m_minimalPos
-    cdef const double *ohi = <const double *>&other.m_maximalPos
-    cdef int k
-    for k in range(10):
-        if olo[k] < lo[k]:
-            lo[k] = olo[k]
-        if ohi[k] > hi[k]:
-            hi[k] = ohi[k]
-
-
-cdef void extent_end(const Program *prog, size_t last, GCODE_SIZE *programmed, GCODE_SIZE *tool,
-                     bint rotated) noexcept nogil:
+cdef void _extent_end(const Program *prog, size_t last, GCODE_SIZE *programmed, GCODE_SIZE *tool,
+                      bint rotated) noexcept nogil:
     """The end positions (of the last motion part, NO_MOTION: none) once every part
     was measured. The tool path differs from the programmed one only in x y z: its
     other axes are the programmed ones."""
@@ -214,18 +200,32 @@ cdef void extent_end(const Program *prog, size_t last, GCODE_SIZE *programmed, G
     memcpy(&tool.m_endPos, tool_end, sizeof(tool_end))
 
 
-cdef void _extent_pair(const Program *prog, GCODE_SIZE *programmed, GCODE_SIZE *tool,
-                       bint rotated) noexcept nogil:
-    extent_begin(prog, programmed, tool)
-    extent_end(prog, extent_range(prog, 0, prog.n_parts, programmed, tool, rotated), programmed, tool, rotated)
-
-
-cdef void program_extent(const Program *prog, GCODE_INFO *info) noexcept nogil:
-    """[0] programmed and [1] compensated as the program is written (G168 undone);
-    [2] and [3] the same as the machine runs them. Without rotations [0] = [2]."""
-    _extent_pair(prog, &info.m_size[2], &info.m_size[3], True)
+cdef void extent_finish(const Program *prog, size_t last, GCODE_SIZE *programmed, GCODE_SIZE *tool,
+                        GCODE_INFO *info) noexcept nogil:
+    """GetGCodeSizeInfo's four extents once every part widened programmed[0] / tool[0]
+    (as the machine runs the program) and, with G168 rotations, programmed[1] / tool[1]
+    (as it is written); `last`: the last motion part. [0] programmed and [1]
+    compensated as written, [2] and [3] as run; without rotations [0] = [2]."""
+    _extent_end(prog, last, &programmed[0], &tool[0], True)
+    info.m_size[2] = programmed[0]
+    info.m_size[3] = tool[0]
     if prog.n_rotations > 1:
-        _extent_pair(prog, &info.m_size[0], &info.m_size[1], False)
+        _extent_end(prog, last, &programmed[1], &tool[1], False)
+        info.m_size[0] = programmed[1]
+        info.m_size[1] = tool[1]
     else:
         info.m_size[0] = info.m_size[2]
         info.m_size[1] = info.m_size[3]
+
+
+cdef void program_extent(const Program *prog, GCODE_INFO *info) noexcept nogil:
+    """The extents of the whole program in one pass each (extent_finish)."""
+    cdef GCODE_SIZE programmed[2]
+    cdef GCODE_SIZE tool[2]
+    cdef size_t last
+    extent_begin(prog, &programmed[0], &tool[0])
+    last = extent_range(prog, 0, prog.n_parts, &programmed[0], &tool[0], True)
+    if prog.n_rotations > 1:
+        extent_begin(prog, &programmed[1], &tool[1])
+        extent_range(prog, 0, prog.n_parts, &programmed[1], &tool[1], False)
+    extent_finish(prog, last, programmed, tool, info)

@@ -243,16 +243,7 @@ cdef bint extent_beside_end(ExtentBeside *E, bint merged, GCODE_INFO *extent) no
     pthread_mutex_destroy(&E.lock)
     if not measured:
         return False
-    extent_end(E.prog, E.last, &E.programmed[0], &E.tool[0], True)
-    extent.m_size[2] = E.programmed[0]
-    extent.m_size[3] = E.tool[0]
-    if E.prog.n_rotations > 1:
-        extent_end(E.prog, E.last, &E.programmed[1], &E.tool[1], False)
-        extent.m_size[0] = E.programmed[1]
-        extent.m_size[1] = E.tool[1]
-    else:
-        extent.m_size[0] = extent.m_size[2]
-        extent.m_size[1] = extent.m_size[3]
+    extent_finish(E.prog, E.last, E.programmed, E.tool, extent)
     return True
 
 
