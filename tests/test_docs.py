@@ -55,6 +55,24 @@ def test_every_quoted_repository_path_exists(page):
     assert [q for q in quoted if "*" not in q and not (ROOT / q).exists()] == []
 
 
+@pytest.mark.parametrize("page", PAGES, ids=lambda p: p.relative_to(ROOT).as_posix())
+def test_every_table_row_has_the_cells_of_its_header(page):
+    """A stray '|' inside a cell (write it as '\\|') shifts the rest of the row."""
+    bad, columns, in_code = [], None, False
+    for number, line in enumerate(page.read_text(encoding="utf-8").splitlines(), 1):
+        if line.startswith("```"):
+            in_code = not in_code
+        if in_code or not line.startswith("|"):
+            columns = None
+            continue
+        cells = len(re.split(r"(?<!\\)\|", line.strip())) - 2
+        if columns is None:
+            columns = cells
+        elif cells != columns:
+            bad.append(f"line {number}: {cells} cells, the header has {columns}")
+    assert bad == []
+
+
 def test_every_page_is_reachable_from_the_readme():
     linked = {(ROOT / t).resolve() for t in _links(ROOT / "README.md")}
     assert [p.name for p in PAGES[1:] if p.resolve() not in linked] == []
