@@ -288,7 +288,7 @@ typedef struct MACHINE_PARAMETERS {
     P10DOUBLE backlash;    /* mm */
     P10DOUBLE backlashInc; /* mm per 100 us */
     int32_t   backlashValuesSource;           /* 0 from the INI, 1 from these fields */
-    int32_t   enhancedInterpolatorParameters; /* bit field, see ABI.md */
+    int32_t   enhancedInterpolatorParameters; /* bit field: docs/structures.md */
 } MACHINE_PARAMETERS;
 
 typedef struct MACHINE_STATUS {
@@ -331,7 +331,7 @@ typedef struct AXIS_LIMITS {
     double maxDec;
 } AXIS_LIMITS;
 
-/* G-code properties of a core; defaults in ABI.md and ToolChainCore_GetGCodeParameters. */
+/* G-code properties of a core; meanings and defaults: docs/structures.md. */
 typedef struct GCODE_PARAMETERS {
     int32_t  absMode;            /* 1 absolute (default), 0 relative */
     int32_t  swapG2G3;
@@ -643,7 +643,7 @@ TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_StartCNCEx(uint32_t intId
  * worker sets the status when it has stopped. -1 when nothing runs. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_StopCNCEx(uint32_t intIdx, TGM_LPCSTR addCode);
 
-/* Moves back onto the trajectory (connect_type). See API.md. */
+/* Moves back onto the trajectory (connect_type): docs/api.md, docs/connect.md. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_ConnectCNCEx_Plane(uint32_t intIdx, uint32_t nType, uint32_t nCoords, const double *coords, TGM_LPCSTR addCode, uint32_t axesForCalc, uint32_t axesForConnect, int32_t stateAfter);
 
 /* Manual linear move to absolute coordinates with motion[5]. */
@@ -723,8 +723,8 @@ TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GetToolpath(uint32_t intI
 
 /* Look-ahead of the feed planner in parts, for the core's next compilations: 0 the
  * vendor's window (the current part and 7 more: run times as on a TG Motion machine),
- * n >= 1 that many parts, -1 unlimited (faster on dense short segments; README, "Feed
- * planner"). Also the INI key [GCodeParameters] lookAheadParts. Any thread, any status.
+ * n >= 1 that many parts, -1 unlimited (faster on dense short segments; docs/planner.md).
+ * Also the INI key [GCodeParameters] lookAheadParts. Any thread, any status.
  * Returns 0; -1 for parts < -1; -2 bad core. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_SetLookAhead(uint32_t intIdx, int32_t parts);
 

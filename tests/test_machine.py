@@ -1212,7 +1212,7 @@ def test_DestroyCNC_and_ResetCNC_at_random_moments(run_python):
     """Three cores run forward, backward, wait for M functions, dwell, pause at M0,
     while the host resets, destroys, stops and confirms at random moments (and the
     M callback destroys or resets its core): every call returns, the statuses are
-    API.md's, GetPos never fails, no thread is left, and every core runs again."""
+    the documented ones (docs/api.md), GetPos never fails, no thread is left, and every core runs again."""
     random_endings(run_python, 3)
 
 

@@ -83,7 +83,7 @@ from .logs import LibraryLog, LogSource, forward_library_log  # noqa: E402
 # The numpy side (Core, Program, Toolpath) is imported on first use: a host that only
 # needs the ctypes layer (sf_tch.abi, sf_tch.library) does not load numpy, whose
 # OpenBLAS threads spin for a while after the import and take a core from the
-# library's compile threads on a two-core panel (README, "Performance").
+# library's compile threads on a two-core panel (docs/benchmarks.md, 2026-11-25).
 _LAZY = {
     "Core": "core", "RunResult": "core", "default_ini": "core", "sample_program": "core",
     "CompileJob": "program", "Program": "program", "compile": "program", "start_compile": "program",
