@@ -257,18 +257,9 @@ STRUCTURES_SIZE_ORDER = (
     "MACHINE_STATUS", "MACHINE_PARAMETERS", "DLL_INIT_STRUCT",
 )
 
-# cnc_status
-STATUS_NOTHING_LOADED = 0
-STATUS_COMPILING = 1
-STATUS_COMPILED = -1
-STATUS_SIMULATING = 10
-STATUS_SIMULATION_DONE = -10
-STATUS_SIMULATION_STOPPED = -11
-STATUS_TESTING = 20
-STATUS_TEST_DONE = -20
-STATUS_TEST_STOPPED = -21
-STATUS_AT_START = -30
-STATUS_INVALID = -1234
+# cnc_status: STATUS_<name> for every CNC_STATUS_<name> of the header (generated from it,
+# tools/gen_catalogue.py; sf_tch.Status holds the same values as an IntEnum)
+from ._catalogue import *  # noqa: E402,F401,F403
 
 # run regimes of StartCNCEx
 RUN_SIMULATION = 10
