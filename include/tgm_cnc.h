@@ -70,35 +70,36 @@ typedef const char *TGM_LPCSTR;
 /* File names of this many characters or more are refused. */
 #define TOOL_CHAIN_MAX_FILE_NAME 252
 
-/* Status of a core (ToolChainCore_StatusCNC, GM_PARAMS_ENHANCED.m_statusCNC). */
+/* Status of a core (ToolChainCore_StatusCNC, GM_PARAMS_ENHANCED.m_statusCNC); positive:
+ * something runs. The comment of each value is its name in error texts. */
 enum cnc_status {
-    CNC_STATUS_NOTHING_LOADED      = 0,
-    CNC_STATUS_NOT_CONNECTED       = -2,
-    CNC_STATUS_COMPILING           = 1,
-    CNC_STATUS_COMPILED            = -1,
-    CNC_STATUS_SIMULATING          = 10,
-    CNC_STATUS_SIMULATION_DONE     = -10,
-    CNC_STATUS_SIMULATION_STOPPED  = -11,
-    CNC_STATUS_TESTING             = 20,
-    CNC_STATUS_TEST_DONE           = -20,
-    CNC_STATUS_TEST_STOPPED        = -21,
-    CNC_STATUS_AT_START            = -30,
-    CNC_STATUS_STOPPED             = -31,
-    CNC_STATUS_AT_END              = -32,
-    CNC_STATUS_STOPPED_BY_M0       = -33,
-    CNC_STATUS_FORWARD             = 30,
-    CNC_STATUS_FORWARD_NO_M        = 31,
-    CNC_STATUS_BACKWARD            = 32,
-    CNC_STATUS_FORWARD_SKIP_FIRST_M = 33,
-    CNC_STATUS_CONNECT_CALCULATING = 40,
-    CNC_STATUS_CONNECT_MOVING      = 41,
-    CNC_STATUS_MANUAL_MOVE         = 50,
-    CNC_STATUS_OUT_OF_TRAJECTORY   = -50,
-    CNC_STATUS_INTERNAL_CALC       = 60,
-    CNC_STATUS_SENDING_START_M     = 70,
-    CNC_STATUS_SENDING_STOP_M      = 80,
-    CNC_STATUS_SENDING_CONNECT_M   = 90,
-    CNC_STATUS_INVALID             = -1234
+    CNC_STATUS_NOTHING_LOADED      = 0,   /* nothing loaded */
+    CNC_STATUS_NOT_CONNECTED       = -2,  /* remote device not connected */
+    CNC_STATUS_COMPILING           = 1,   /* compiling */
+    CNC_STATUS_COMPILED            = -1,  /* compilation finished */
+    CNC_STATUS_SIMULATING          = 10,  /* simulating */
+    CNC_STATUS_SIMULATION_DONE     = -10, /* simulation finished */
+    CNC_STATUS_SIMULATION_STOPPED  = -11, /* simulation stopped */
+    CNC_STATUS_TESTING             = 20,  /* test running */
+    CNC_STATUS_TEST_DONE           = -20, /* test finished */
+    CNC_STATUS_TEST_STOPPED        = -21, /* test stopped */
+    CNC_STATUS_AT_START            = -30, /* at the start of the trajectory */
+    CNC_STATUS_STOPPED             = -31, /* stopped on the trajectory */
+    CNC_STATUS_AT_END              = -32, /* end of the trajectory */
+    CNC_STATUS_STOPPED_BY_M0       = -33, /* stopped by M0 */
+    CNC_STATUS_FORWARD             = 30,  /* running forward */
+    CNC_STATUS_FORWARD_NO_M        = 31,  /* running forward without M functions */
+    CNC_STATUS_BACKWARD            = 32,  /* running backward */
+    CNC_STATUS_FORWARD_SKIP_FIRST_M = 33, /* running forward skipping the first M functions */
+    CNC_STATUS_CONNECT_CALCULATING = 40,  /* calculating the connection */
+    CNC_STATUS_CONNECT_MOVING      = 41,  /* moving to the connection point */
+    CNC_STATUS_MANUAL_MOVE         = 50,  /* manual move */
+    CNC_STATUS_OUT_OF_TRAJECTORY   = -50, /* out of the trajectory */
+    CNC_STATUS_INTERNAL_CALC       = 60,  /* internal calculation */
+    CNC_STATUS_SENDING_START_M     = 70,  /* sending start M functions */
+    CNC_STATUS_SENDING_STOP_M      = 80,  /* sending stop M functions */
+    CNC_STATUS_SENDING_CONNECT_M   = 90,  /* sending connect M functions */
+    CNC_STATUS_INVALID             = -1234 /* invalid */
 };
 
 /* Regimes of ToolChainCore_StartCNCEx. */

@@ -168,23 +168,6 @@ def test_enums_compare_with_the_librarys_ints():
     assert set(sf_tch.Callback) == set(abi.CALLBACK_NUMBERS)
     assert sf_tch.PartKind.PRINT == abi.TC_TOOLPATH_PRINT
     assert sf_tch.ToolpathFlag.HELIX == abi.TC_TOOLPATH_HELIX
-    # the error catalogue: every number of docs/errors.md
-    documented = set(int(n) for n in re.findall(r"^\| (\d+) \|", (README.parent / "docs" / "errors.md").read_text(),
-                                                  re.M))
-    assert documented and documented <= set(ErrorNumber)
-
-
-def test_error_numbers_mirror_the_librarys_catalogue():
-    # enums.ErrorNumber is a hand-kept mirror of toolchain/errors.pxd (like sf_tch.abi
-    # of the header): the same numbers, each with the same message format in its comment
-    pxd = (README.parent / "toolchain" / "errors.pxd").read_text()
-    entry = re.compile(r"^\s+\w+ = (\d+)\s+# (.*)$", re.M)
-    pxd = (README.parent / "toolchain" / "errors.pxd").read_text()
-    library = dict(entry.findall(pxd.split("cdef enum ErrorNumber")[1].split("\n\n")[0]))
-    enums = (README.parent / "python" / "sf_tch" / "enums.py").read_text()
-    mirror = dict(entry.findall(enums.split("class ErrorNumber")[1].split("\n\n")[0]))
-    assert {int(n) for n in library} == set(ErrorNumber) == {int(n) for n in mirror}
-    assert {n: text.strip() for n, text in mirror.items()} == {n: text.strip() for n, text in library.items()}
 
 
 def test_every_structure_has_a_readable_repr_and_to_dict():

@@ -4,7 +4,7 @@
 # Test-only Python module: the library's stages (toolchain/libSF_TCh.pyx) plus one
 # entry point that runs compensate_program on parts given from Python, so the
 # compensation geometry can be checked without going through the G-code compiler;
-# also the status names of the error texts (test_inputs).
+# also the status names and the error texts of the catalogue (test_inputs, test_catalogue).
 include "libSF_TCh.pyx"
 
 from libc.string cimport strncat
@@ -96,8 +96,22 @@ def compensate(list parts, start, long long strategy=0, corrections=(), toleranc
 
 
 def cnc_status_name(int status):
-    """The name errors.pyx gives a cnc_status in error texts (test of its table)."""
+    """The name error texts give a cnc_status (test of the catalogue's table)."""
     return (<bytes>status_name(status)).decode()
+
+
+def error_text(int number, tuple args):
+    """set_error's text and '\n'-separated arguments for error `number` with `args`
+    (a str for %s, a number otherwise): test of the catalogue's table."""
+    cdef ErrorInfo err
+    cdef ErrArg a[16]
+    cdef int i
+    texts = [arg.encode() if isinstance(arg, str) else None for arg in args[:16]]
+    for i in range(len(texts)):
+        a[i].text = NULL if texts[i] is None else <const char *>texts[i]
+        a[i].num = 0 if texts[i] is not None else args[i]
+    set_error(&err, number, -1, 0, a, len(texts))
+    return err.text.decode("latin-1"), err.args.decode("latin-1")
 
 
 cdef bint _piece(XPiece *q, tuple spec):
