@@ -14,6 +14,8 @@ from libc.stdint cimport int32_t, int64_t, uint32_t, uint64_t, intptr_t
 from includes.tgm_cnc cimport GCODE_PARAMETERS, MACHINE_PARAMETERS, GCODE_INFO, SIMPLE_GM_PARAMS, GM_PARAMS_ENHANCED
 from includes.system cimport pthread_t, pthread_mutex_t, pthread_cond_t
 from program cimport Program, ErrorInfo
+from tables.tables cimport ToolTable, AxisCorrections
+from smoothing.smoothing cimport SmoothingConfig
 
 cdef enum:
     MAX_FILES = 64          # file names per core (FileToIdx); recycled when full
@@ -94,6 +96,11 @@ ctypedef struct Core:
     bint ini_loaded
     char driver[256]
     int64_t plan_window         # look-ahead of the feed planner in parts (SetLookAhead, INI lookAheadParts)
+    # the machine builder's tables and smoothing (any status; a run or compilation takes a copy
+    # or a reference at its start once they are wired in: docs/tool-table.md, "Integration status")
+    ToolTable tool_table        # LoadToolTable, SetToolCorrection, INI [Corrections] ToolTable
+    AxisCorrections *axis_corrections   # LoadAxisCorrections, INI AxisTable1..8; NULL none (tables.pxd: references)
+    SmoothingConfig smoothing   # SetSmoothing, INI [Smoothing]
     Callback callbacks[24]
     int32_t in_flight[24]       # calls of each slot running now, on any thread
     FileTable files

@@ -11,6 +11,8 @@ from includes.tgm_cnc cimport *
 from includes.system cimport *
 from program cimport *
 from errors cimport *
+from tables.tables cimport *
+from smoothing.smoothing cimport *
 from core cimport *
 
 include "numbers.pyx"
@@ -42,6 +44,7 @@ include "planner/passes.pyx"
 include "machine/connect_search.pyx"
 include "logging.pyx"
 include "files.pyx"
+include "smoothing/smoothing.pyx"
 include "ini.pyx"
 include "parameters.pyx"
 include "runtime/transitions.pyx"
@@ -49,6 +52,8 @@ include "runtime/snapshot.pyx"
 include "runtime/programs.pyx"
 include "runtime/callbacks.pyx"
 include "runtime/file_names.pyx"
+include "tables/tool_table.pyx"
+include "tables/axis_correction.pyx"
 include "core.pyx"
 include "simulator.pyx"
 include "machine/motion.pyx"
