@@ -2,7 +2,8 @@
 # machine parameters (MACHINE_PARAMETERS). Their documented defaults, the bounds
 # every value must keep (SetGCodeParameters, SetMachineParameters and the INI refuse
 # anything else, so no NaN, infinity or absurd size ever reaches the compiler, the
-# compensation or a callback), and the [GCodeParameters] keys of the INI file.
+# compensation or a callback), and the keys of the INI file: [GCodeParameters], [Offline],
+# and the files of [Corrections] and the values of [Smoothing] (tables/, smoothing/).
 from libc.string cimport memset, memcpy, strncpy, strcasecmp, strlen, strcpy, strdup
 from libc.stdlib cimport malloc, free
 
@@ -377,8 +378,9 @@ cdef int32_t _ini_smoothing_key(IniSettings *s, int32_t line, const char *key, c
 
 cdef int32_t ini_apply_setting(void *ctx, const char *section, const char *key, const char *value,
                                int32_t line) noexcept nogil:
-    """ini_visitor of LoadFromIni: [CNC] Driver and [GCodeParameters] keys into the
-    IniSettings; ERR_INI_VALUE (s.err naming the key and the line) for a bad value."""
+    """ini_visitor of LoadFromIni: [CNC] Driver, [GCodeParameters], [Offline],
+    [Corrections] and [Smoothing] keys into the IniSettings; ERR_INI_VALUE (s.err naming
+    the key and the line) for a bad value."""
     cdef IniSettings *s = <IniSettings *>ctx
     cdef GCODE_PARAMETERS candidate
     cdef ErrorInfo why
