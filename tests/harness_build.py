@@ -20,6 +20,7 @@ def build_harness(pyx: Path, tmp: Path, opt: str = "-O1"):
                     str(pyx), "-o", str(c_file)], check=True)
     cc = os.environ.get("CC", "gcc")
     subprocess.run([cc, *opt.split(), "-shared", "-fPIC", "-w", "-I", str(ROOT / "include"),
+                    "-I", str(ROOT / "toolchain" / "includes"),
                     "-I", sysconfig.get_paths()["include"], str(c_file), "-o", str(so),
                     "-lpthread", "-lm"], check=True)
     spec = importlib.util.spec_from_file_location(name, so)

@@ -4,7 +4,7 @@
 # (program.pyx: part_to_gm).
 from libc.stdint cimport int8_t, int16_t, int32_t, uint8_t, uint16_t, uint32_t, int64_t
 from includes.tgm_cnc cimport GCODE_PARAMETERS, GCODE_FEED, AXIS_LIMITS, P10DOUBLE
-from includes.system cimport pthread_t, pthread_mutex_t, pthread_cond_t
+from includes.platform cimport pthread_t, pthread_mutex_t, pthread_cond_t
 
 
 cdef enum:

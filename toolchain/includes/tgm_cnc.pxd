@@ -15,8 +15,10 @@ cdef extern from "tgm_cnc.h" nogil:
     float INVALID_VALUE_F
     uint32_t GCODE_REZERVA1_ISO_COMPAT
 
-    ctypedef const char *TGM_LPCTSTR
-    ctypedef char *TGM_LPTSTR
+    # char on Linux, wchar_t on Windows: opaque here, so that every text of the host
+    # goes through platform.pxd's text_from_host / text_to_host
+    ctypedef const void *TGM_LPCTSTR
+    ctypedef void *TGM_LPTSTR
     ctypedef const char *TGM_LPCSTR
 
     ctypedef struct P10DOUBLE:
