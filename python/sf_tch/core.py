@@ -132,7 +132,10 @@ def sample_program() -> str:
     return str(resources.files("sf_tch") / "data" / "demo.nc")
 
 
-def _text(value: bytes | None) -> str:
+def _text(value: bytes | str | None) -> str:
+    """A text of the library as str: UTF-8 bytes, or already str (TGM_LPCTSTR on Windows)."""
+    if isinstance(value, str):
+        return value
     return (value or b"").decode(errors="replace")
 
 
@@ -152,7 +155,8 @@ class Core:
         self.index = self._claim(index)
         try:
             n = ctypes.c_uint32()
-            rc = self.lib.ToolChainCore_LoadFromIni(self.index, str(ini or default_ini()).encode(), ctypes.byref(n))
+            rc = self.lib.ToolChainCore_LoadFromIni(self.index, abi.host_text(str(ini or default_ini())),
+                                                   ctypes.byref(n))
             if rc != abi.TOOL_CHAIN_SUCCESS:
                 raise self.last_error() or RuntimeError(f"LoadFromIni failed ({rc})")
             self.cores = n.value
@@ -328,11 +332,11 @@ class Core:
 
     def start_compile_text(self, code: str, name: str = "program.nc") -> None:
         """Starts compiling G-code text in the core's thread and returns at once."""
-        self._check(self.lib.ToolChainCore_CompileFromMemory(self.index, name.encode(), code.encode()))
+        self._check(self.lib.ToolChainCore_CompileFromMemory(self.index, abi.host_text(name), code.encode()))
 
     def start_compile_file(self, path) -> None:
         """Starts compiling a file in the core's thread and returns at once."""
-        self._check(self.lib.ToolChainCore_CompileFromFile(self.index, str(path).encode()))
+        self._check(self.lib.ToolChainCore_CompileFromFile(self.index, abi.host_text(str(path))))
 
     def compile_text(self, code: str, name: str = "program.nc") -> None:
         """Compiles G-code text; raises :class:`CncError` on the first error."""
@@ -366,7 +370,7 @@ class Core:
 
     def file_index(self, name: str) -> int:
         """FileToIdx: the index of a file name (a new name gets the next index)."""
-        return self.lib.ToolChainCore_FileToIdx(self.index, name.encode())
+        return self.lib.ToolChainCore_FileToIdx(self.index, abi.host_text(name))
 
     # -- results -------------------------------------------------------------
     def toolpath(self) -> Toolpath:
