@@ -39,7 +39,9 @@ def windows_build(tmp_path_factory) -> Path:
     """The build directory of tools/build_windows.sh: the DLL, and the panel's report
     under Wine in wine-run/report.txt."""
     build = tmp_path_factory.mktemp("windows") / "build"
-    proc = subprocess.run(["bash", str(SCRIPT), str(build)], env={**os.environ, "PYTHON": sys.executable},
+    # cmake and ninja may come with the test extras, beside this Python
+    path = os.pathsep.join([str(Path(sys.executable).parent), os.environ.get("PATH", "")])
+    proc = subprocess.run(["bash", str(SCRIPT), str(build)], env={**os.environ, "PYTHON": sys.executable, "PATH": path},
                           capture_output=True, text=True, timeout=1800)
     if proc.returncode == 77:
         pytest.skip(proc.stderr.strip())
