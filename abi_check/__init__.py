@@ -189,7 +189,8 @@ def probe(header: str, structs: dict[str, list[Field]], cc: str | None = None, r
                                 "-I", str(header.parent), str(src), "-o", str(exe)], capture_output=True, text=True)
         if build.returncode != 0:
             raise RuntimeError(f"probe does not compile against {header}:\n{build.stderr.strip()}")
-        out = subprocess.run([*run, str(exe)], capture_output=True, text=True, check=True).stdout
+        out = subprocess.run([*run, str(exe)], stdin=subprocess.DEVNULL, capture_output=True, text=True,
+                             check=True).stdout
     result = {}
     for line in out.splitlines():
         kind, *rest = line.split()

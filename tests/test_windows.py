@@ -6,9 +6,10 @@ runs on the Linux library and the two reports must agree line by line: the seed
 example (its error, or its parts), the demo's parts, lengths, boxes and run time with
 every callback recorded, a regime-30 run on three cores while three threads poll
 GetPos, and errors with non-ASCII file names and texts (numbers, lines, texts, the
-names IdxToFile gives back). Also: the DLL exports exactly the header's functions and
-TGM_Data and imports only Windows system DLLs, and a layout probe compiled by mingw-w64
-and run under Wine agrees with the Windows ctypes mirror.
+names IdxToFile gives back). Also: numbers in a host with a decimal-comma locale, the
+DLL exports exactly the header's functions and TGM_Data and imports only Windows
+system DLLs, and a layout probe compiled by mingw-w64 and run under Wine agrees with
+the Windows ctypes mirror.
 
 Skipped, saying why, where mingw-w64 or Wine is not installed (.ci/run installs them).
 """
@@ -146,3 +147,12 @@ def test_a_layout_probe_built_by_mingw_agrees_with_the_windows_mirror(windows_bu
     wrong = abi_check.Report()
     abi_check._compare_layouts(wrong, abi_check.default_header(), abi.mirror(windows=False)[0], None, True, cc, run)
     assert any("DLL_INIT_STRUCT.CNC_Dll_Dir: type C wchar_t* ctypes char*" in d for d in wrong.differences)
+
+
+def test_numbers_on_windows_are_read_and_written_in_the_c_locale_whatever_the_hosts(windows_build):
+    """The panel in a German locale (every thread's CRT locale writes a decimal comma):
+    the INI's 1.5, a G-code number too long for the lexer's own conversion (strtod) and
+    an error text with decimals (snprintf) come out as in the C locale."""
+    report = (windows_build / "wine-run" / "decimal-comma.txt").read_text(encoding="utf-8")
+    assert report.startswith("decimal point: ',', INI 1.5: same, long number: same, error text: same"), report
+    assert "Start X = 60.6051 Y = 40.7723" in report

@@ -7,7 +7,8 @@
 #   tools/build_windows.sh [BUILD_DIR]      (default: build-windows)
 #
 # Writes BUILD_DIR/SF_TCh.dll, SF_TCh.lib (import library), SF_TCh.def (exports),
-# panel.exe, and BUILD_DIR/wine-run/report.txt (UTF-8, LF line ends). Needs Debian's
+# panel.exe, and in BUILD_DIR/wine-run/ the panel's reports (UTF-8, LF line ends):
+# report.txt, and decimal-comma.txt of a run in a German locale. Needs Debian's
 # gcc-mingw-w64-x86-64 and wine64 (apt-get install --no-install-recommends
 # gcc-mingw-w64-x86-64 wine64); without them it says so and exits 77. $PYTHON (with
 # Cython) runs Cython, default python3; $WINEPREFIX defaults to BUILD_DIR/wineprefix.
@@ -40,17 +41,26 @@ mkdir -p "$RUN"
 cp "$BUILD/SF_TCh.dll" "$BUILD/panel.exe" "$ROOT/python/sf_tch/data/SF_TCh.ini" "$ROOT/python/sf_tch/data/demo.nc" "$RUN/"
 export WINEPREFIX="${WINEPREFIX:-$BUILD/wineprefix}" WINEDEBUG=-all WINEDLLOVERRIDES="mscoree,mshtml="
 mkdir -p "$WINEPREFIX"
-# the first run creates the prefix (wineboot, some 10 s); its messages are not the panel's
-(cd "$RUN" && timeout 600 "$WINE" panel.exe SF_TCh.dll > report.crlf 2> panel.stderr) || {
-    status=$?
-    echo "build_windows: the panel failed under Wine (exit $status):" >&2
-    cat "$RUN/panel.stderr" >&2
-    exit 1
+
+# run_panel REPORT ARGS...: the panel under Wine, its report with LF line ends
+run_panel() {
+    local report="$1"
+    shift
+    (cd "$RUN" && timeout 600 "$WINE" panel.exe SF_TCh.dll "$@" < /dev/null > "$report.crlf" 2> "$report.stderr") || {
+        status=$?
+        echo "build_windows: the panel failed under Wine (exit $status):" >&2
+        cat "$RUN/$report.stderr" >&2
+        exit 1
+    }
+    tr -d '\r' < "$RUN/$report.crlf" > "$RUN/$report"
+    rm "$RUN/$report.crlf"
 }
+# the first run creates the prefix (wineboot, some 10 s); its messages are not the panel's
+run_panel report.txt
+# the same library in a host whose CRT locale writes a decimal comma, on every thread
+run_panel decimal-comma.txt --decimal-comma German_Germany.1252
 # Wine's server lingers a few seconds after the last program: wait for it to end
 WINESERVER="$(dirname "$WINE")/wineserver"
 [ -x "$WINESERVER" ] || WINESERVER="$(command -v wineserver || true)"
 [ -n "$WINESERVER" ] && "$WINESERVER" -w
-tr -d '\r' < "$RUN/report.crlf" > "$RUN/report.txt"
-rm "$RUN/report.crlf"
 echo "build_windows: $BUILD/SF_TCh.dll; the panel's report under Wine: $RUN/report.txt ($(wc -l < "$RUN/report.txt") lines)"

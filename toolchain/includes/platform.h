@@ -300,31 +300,53 @@ static FILE *tc_fopen(const char *path, const char *mode) {
 }
 
 /* ------------------------------------------------------------------ numbers */
-/* mingw-w64's strtod (David Gay's gdtoa) rounds correctly and always reads a '.'. */
-static double tc_c_strtod(const char *s, char **end) { return __mingw_strtod(s, end); }
+/* mingw-w64's strtod (David Gay's gdtoa: correctly rounded) and C99 vsnprintf read and
+   write the decimal point of the calling thread's CRT locale. In the rare host that
+   changed LC_NUMERIC, the calling thread switches to the C locale around the call (per
+   thread: other threads never see it) and back. */
+typedef struct {
+    int switched;
+    int previous_mode;          /* _configthreadlocale's before */
+    char *previous;             /* this thread's LC_NUMERIC before */
+} tc_c_numbers;
 
-/* mingw-w64's C99 vsnprintf writes the decimal point of the calling thread's CRT
-   locale: in the rare host that changed LC_NUMERIC, this thread switches to the C
-   locale around the call (per thread: other threads never see it) and back. */
-static int tc_c_snprintf(char *buf, size_t size, const char *fmt, ...) {
+static void tc_c_numbers_enter(tc_c_numbers *g) {
     const char *point = localeconv()->decimal_point;
-    int previous_mode = 0;
-    char *previous = NULL;
+    g->switched = !(point[0] == '.' && point[1] == 0);
+    if (!g->switched)
+        return;
+    g->previous_mode = _configthreadlocale(_ENABLE_PER_THREAD_LOCALE);
+    g->previous = _strdup(setlocale(LC_NUMERIC, NULL));
+    setlocale(LC_NUMERIC, "C");
+}
+
+static void tc_c_numbers_leave(tc_c_numbers *g) {
+    if (!g->switched)
+        return;
+    if (g->previous != NULL)
+        setlocale(LC_NUMERIC, g->previous);
+    free(g->previous);
+    _configthreadlocale(g->previous_mode);
+}
+
+static double tc_c_strtod(const char *s, char **end) {
+    tc_c_numbers g;
+    double value;
+    tc_c_numbers_enter(&g);
+    value = __mingw_strtod(s, end);
+    tc_c_numbers_leave(&g);
+    return value;
+}
+
+static int tc_c_snprintf(char *buf, size_t size, const char *fmt, ...) {
+    tc_c_numbers g;
     va_list ap;
     int n;
-    if (!(point[0] == '.' && point[1] == 0)) {
-        previous_mode = _configthreadlocale(_ENABLE_PER_THREAD_LOCALE);
-        previous = _strdup(setlocale(LC_NUMERIC, NULL));
-        setlocale(LC_NUMERIC, "C");
-    }
+    tc_c_numbers_enter(&g);
     va_start(ap, fmt);
     n = __mingw_vsnprintf(buf, size, fmt, ap);
     va_end(ap);
-    if (previous != NULL) {
-        setlocale(LC_NUMERIC, previous);
-        free(previous);
-        _configthreadlocale(previous_mode);
-    }
+    tc_c_numbers_leave(&g);
     return n;
 }
 
