@@ -76,7 +76,8 @@ typedef const char *TGM_LPCSTR;
 #define TOOL_CHAIN_FILE_END     (-2) /* "__end__"     */
 #define TOOL_CHAIN_FILE_STOP    (-3) /* "__stop__"    */
 #define TOOL_CHAIN_FILE_EXEC    (-4) /* "__exec__"    */
-/* File names of this many characters or more are refused. */
+/* File names of this many bytes or more (of UTF-8; on Windows after the conversion from
+ * UTF-16) are refused. */
 #define TOOL_CHAIN_MAX_FILE_NAME 252
 
 /* Status of a core (ToolChainCore_StatusCNC, GM_PARAMS_ENHANCED.m_statusCNC). */

@@ -31,12 +31,13 @@ SCRIPT = ROOT / "tools" / "build_windows.sh"
 PANEL = ROOT / "tests" / "windows" / "panel.c"
 DATA = ROOT / "python" / "sf_tch" / "data"
 OBJDUMP = "x86_64-w64-mingw32-objdump"
+WINE = shutil.which("wine64") or "/usr/lib/wine/wine64"      # Debian's wine64 without its recommends
 # Windows' own DLLs (the C runtime msvcrt.dll or the UCRT's api-ms-win-crt-* sets)
 SYSTEM_DLLS = re.compile(r"(kernel32|msvcrt|ucrtbase|api-ms-win-[\w-]+|advapi32|user32|ntdll)\.dll", re.I)
 
 
 @pytest.fixture(scope="module")
-def windows_build(tmp_path_factory) -> Path:
+def windows_build(tmp_path_factory):
     """The build directory of tools/build_windows.sh: the DLL, and the panel's report
     under Wine in wine-run/report.txt."""
     build = tmp_path_factory.mktemp("windows") / "build"
@@ -47,7 +48,13 @@ def windows_build(tmp_path_factory) -> Path:
     if proc.returncode == 77:
         pytest.skip(proc.stderr.strip())
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
-    return build
+    yield build
+    # the Wine prefix takes some 700 MB: gone once its server has ended
+    prefix = build / "wineprefix"
+    server = Path(WINE).parent / "wineserver"
+    if server.exists():
+        subprocess.run([str(server), "-w"], env={**os.environ, "WINEPREFIX": str(prefix)}, timeout=120)
+    shutil.rmtree(prefix, ignore_errors=True)
 
 
 def linux_report(lib_path: str, tmp: Path) -> str:
@@ -135,9 +142,8 @@ def test_the_dll_imports_only_windows_system_dlls(windows_build):
 
 def test_a_layout_probe_built_by_mingw_agrees_with_the_windows_mirror(windows_build):
     cc = shutil.which("x86_64-w64-mingw32-gcc")
-    wine = shutil.which("wine64") or "/usr/lib/wine/wine64"
     run = ("env", f"WINEPREFIX={windows_build / 'wineprefix'}", "WINEDEBUG=-all", "WINEDLLOVERRIDES=mscoree,mshtml=",
-           wine)
+           WINE)
     report = abi_check.check_layouts(windows=True, cc=cc, run=run)
     assert report.differences == []
     assert sum(1 for r in report.rows if r[1] == "(sizeof)") == len(abi.STRUCTURES)
