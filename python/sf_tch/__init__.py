@@ -13,6 +13,7 @@ this package ships it and adds a Pythonic layer over ``ctypes``:
 - :func:`forward_library_log` -- the library's log lines to a :mod:`logging` logger.
 """
 import os
+import sys
 from importlib import metadata
 from pathlib import Path
 
@@ -21,7 +22,7 @@ try:
 except metadata.PackageNotFoundError:               # imported from a source tree that is not installed
     __version__ = "0+unknown"
 
-LIBRARY_NAME = "libSF_TCh.so"
+LIBRARY_NAME = "SF_TCh.dll" if sys.platform == "win32" else "libSF_TCh.so"   # docs/hosts.md, "Windows"
 LIBRARY_ENV = "SF_TCH_LIBRARY"
 
 _PACKAGE_DIR = Path(__file__).resolve().parent

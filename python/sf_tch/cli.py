@@ -29,7 +29,7 @@ import time
 from typing import Sequence
 
 from . import __version__, abi, library_path
-from .core import sample_program
+from .core import _text, sample_program
 from .enums import Regime
 from .errors import Cancelled, CncError, SfTchError
 from .library import load
@@ -293,7 +293,7 @@ def cmd_info(args) -> int:
     lib.ToolChainCore_GetStructuresSize(0, 9, sizes)
     structures = {name: {"library": sizes[k], "mirror": ctypes.sizeof(abi.STRUCTURES[name])}
                   for k, name in enumerate(abi.STRUCTURES_SIZE_ORDER, start=1)}
-    info = {"version": lib.ToolChainCore_GetVersionString(0).decode(), "package": __version__,
+    info = {"version": _text(lib.ToolChainCore_GetVersionString(0)), "package": __version__,
             "library": library_path(), "cores": abi.TOOL_CHAIN_MAX_CORES, "structures": structures}
     if args.json:
         print(json.dumps(info, indent=2))
