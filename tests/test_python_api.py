@@ -7,6 +7,7 @@ import inspect
 import json
 import logging
 import re
+import sys
 import threading
 import warnings
 from importlib import metadata
@@ -330,11 +331,27 @@ def test_the_package_is_typed():
     assert (Path(sf_tch.__file__).parent / "py.typed").exists()
 
 
-def test_the_readme_python_snippet_runs(run_python):
+def _readme_example(heading: str) -> str:
     text = README.read_text()
-    section = text[text.index("### Using it from Python"):]
-    snippet = re.search(r"```python\n(.*?)```", section, re.S).group(1)
-    run_python(snippet)
+    section = text[text.index(heading):]
+    return re.search(r"```python\n(.*?)```", section, re.S).group(1)
+
+
+def test_the_readme_python_example_runs(run_python, tmp_path):
+    snippet = _readme_example("### Using it from Python")
+    run_python(snippet, cwd=str(tmp_path))
+    assert (tmp_path / "program.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    # in the venv of the README's first command (no matplotlib) it ends saying how to install it
+    bare = tmp_path / "bare"
+    bare.mkdir()
+    out = run_python("import sys\nsys.modules['matplotlib'] = None\n" + snippet, cwd=str(bare)).stdout
+    assert out.splitlines()[-1] == f"plotting needs matplotlib: {sys.executable} -m pip install matplotlib"
+    assert not (bare / "program.png").exists()
+
+
+def test_the_readme_ctypes_example_tells_success_from_failure(run_python, tmp_path):
+    out = run_python(_readme_example("### Using it from an HMI (ctypes only)"), cwd=str(tmp_path)).stdout
+    assert out.splitlines() == ["compiled", "line 2: error 200: Division by zero"]
 
 
 def test_core_simulate_returns_a_sized_result():
