@@ -372,7 +372,7 @@ FUNCTIONS = (
 )
 
 
-# Beyond the vendor's list (ABI.md): the structures and functions this library adds.
+# Beyond the vendor's list: the structures and functions this library adds.
 EXTENSION_STRUCTURES = ("TC_TOOLPATH_RECORD",)
 EXTENSION_FUNCTIONS = ("ToolChainCore_GetLastCallError", "ToolChainCore_GetToolpath", "ToolChainCore_SetLookAhead",
                        "ToolChain_SetLogHook", "ToolChainCore_SetTimeScale", "ToolChainCore_ConfirmMFunc")
