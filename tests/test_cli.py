@@ -124,6 +124,25 @@ def test_plot_writes_png_and_svg(square, tmp_path):
     assert_usage_error(sf_tch_cli("plot", str(square), "-o", str(tmp_path / "out.gif")), r"\.png, \.svg or \.pdf")
 
 
+def test_plot_without_matplotlib_names_the_install_command(square, tmp_path):
+    probe = ("import sys, runpy\nsys.modules['matplotlib'] = None\n"
+             f"sys.argv = ['sf-tch', 'plot', {str(square)!r}, '-o', {str(tmp_path / 'x.png')!r}]\n"
+             "runpy.run_module('sf_tch', run_name='__main__')\n")
+    proc = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, timeout=60)
+    assert_usage_error(proc, "^sf-tch: error: plotting needs matplotlib: " + re.escape(sys.executable)
+                       + r" -m pip install matplotlib$")
+    assert not (tmp_path / "x.png").exists()
+
+
+def test_plot_of_a_large_program_says_it_is_drawing(tmp_path):
+    program = tmp_path / "large.nc"
+    program.write_text("G0 X0 Y0 Z0\n" + "".join(f"G1 X{k % 100} Y{k % 37} F1000\n" for k in range(100_000)))
+    proc = sf_tch_cli("plot", str(program), "-o", str(tmp_path / "large.png"), "--radius", "0")
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stderr == f"drawing 100,001 parts into {tmp_path / 'large.png'} ...\n"
+    assert (tmp_path / "large.png").stat().st_size > 5000
+
+
 def test_version_info_and_help():
     for proc in (sf_tch_cli("--version"), sf_tch_cli("--version", module="sf_tch.cli")):
         assert proc.returncode == 0 and proc.stdout.strip() == f"sf-tch {sf_tch.__version__}"

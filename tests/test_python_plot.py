@@ -3,6 +3,7 @@ paths, dashed rapids, starts, errors) and its extent against the library's size
 info; a PNG that is not empty; a failing program drawn up to its error; the hint
 that installs matplotlib."""
 import builtins
+import math
 import re
 import sys
 
@@ -106,6 +107,21 @@ def test_an_error_inside_a_loop_draws_what_compiles_before_the_loop():
         finally:
             plt.close(fig)
     assert cut.tolist() == [[0, 0], [5, 0]] and "up to line 2" in title
+
+
+def test_arcs_are_drawn_no_finer_than_the_picture_shows():
+    # a drawing 1000 mm wide: a circle of r 50 asked for in 0.01 mm chords is drawn in
+    # chords of 1/2000 of that (0.5 mm), then the line
+    with sf_tch.compile("G0 X0 Y0 Z0\nG2 X0 Y0 I50 J0 F1000\nG1 X1000\nM30\n", start=ORIGIN) as program:
+        fig, ax = plt.subplots()
+        try:
+            program.plot(ax=ax, step=0.01)
+            cut = _drawn_points(ax, "cut")
+        finally:
+            plt.close(fig)
+    circle = cut[:-1]
+    assert len(circle) == 1 + math.ceil(2 * math.pi * 50 / 0.5)
+    assert np.allclose(np.hypot(circle[:, 0] - 50, circle[:, 1]), 50) and cut[-1].tolist() == [1000, 0]
 
 
 def test_plot_hint_names_the_install_command(monkeypatch):

@@ -25,7 +25,6 @@ from __future__ import annotations
 
 import argparse
 import ctypes
-import importlib.util
 import json
 import os
 import sys
@@ -348,10 +347,11 @@ def cmd_plot(args) -> int:
     suffix = os.path.splitext(args.output)[1].lower()
     if suffix not in (".png", ".svg", ".pdf"):
         raise UsageError(f"{args.output}: the picture's name must end in .png, .svg or .pdf")
-    if importlib.util.find_spec("matplotlib") is None:
-        from .plot import install_hint
-        raise UsageError(install_hint())
-    from .plot import save_plot
+    from .plot import install_hint, save_plot
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        raise UsageError(install_hint()) from None
     with _compile(args, args.program) as program:
         parts = program.summary()["parts"]
         if parts >= LARGE_PLOT and not args.json:
