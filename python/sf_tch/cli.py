@@ -33,7 +33,9 @@ import time
 from pathlib import Path
 from typing import TYPE_CHECKING, Sequence
 
-from . import __version__, abi, library_path
+import sf_tch
+
+from . import abi, library_path
 from .enums import Regime
 from .errors import Cancelled, CncError, SfTchError
 from .library import load
@@ -373,13 +375,13 @@ def cmd_info(args) -> int:
     lib.ToolChainCore_GetStructuresSize(0, 9, sizes)
     structures = {name: {"library": sizes[k], "mirror": ctypes.sizeof(abi.STRUCTURES[name])}
                   for k, name in enumerate(abi.STRUCTURES_SIZE_ORDER, start=1)}
-    info = {"version": lib.ToolChainCore_GetVersionString(0).decode(), "package": __version__,
+    info = {"version": lib.ToolChainCore_GetVersionString(0).decode(), "package": sf_tch.__version__,
             "library": library_path(), "cores": abi.TOOL_CHAIN_MAX_CORES, "structures": structures}
     if args.json:
         print(json.dumps(info, indent=2))
         return EXIT_OK
     print(info["version"])
-    print(f"package: sf-tch {__version__}")
+    print(f"package: sf-tch {sf_tch.__version__}")
     print(f"library: {info['library']}")
     print(f"cores:   {info['cores']}")
     print("structures (library / ctypes mirror):")
@@ -390,6 +392,14 @@ def cmd_info(args) -> int:
 
 
 # ------------------------------------------------------------------ parser
+
+class _Version(argparse.Action):
+    """--version: the package's version, read only when asked for."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        print(f"sf-tch {sf_tch.__version__}")
+        parser.exit()
+
 
 class _Parser(argparse.ArgumentParser):
     """argparse raising :class:`UsageError` (main() prints it on one line, or as
@@ -404,7 +414,7 @@ def parser() -> argparse.ArgumentParser:
     top = _Parser(prog="sf-tch", description="Compile, simulate and draw G-code with libSF_TCh.",
                                   epilog="Exit codes: 0 ok, 1 errors in the program, 2 bad usage, "
                                          "130 interrupted, 141 output closed.")
-    top.add_argument("--version", action="version", version=f"sf-tch {__version__}")
+    top.add_argument("--version", action=_Version, nargs=0, help="show the package's version and exit")
     sub = top.add_subparsers(dest="command", required=True, metavar="COMMAND", parser_class=_Parser)
 
     def compiling(name: str, help: str, program_optional: bool = False) -> argparse.ArgumentParser:
