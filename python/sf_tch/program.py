@@ -51,7 +51,7 @@ def _read_source(source: Source, name: str | None) -> tuple[str | None, Path | N
     if path.is_dir():
         raise IsADirectoryError(f"{path}: is a directory, not a G-code file")
     if not path.is_file():
-        raise OSError(f"{path}: not a regular file (a G-code file is read whole; pipe it to 'sf-tch compile -')")
+        raise OSError(f"{path}: not a regular file (G-code is read from a regular file, or given as text)")
     if not os.access(path, os.R_OK):
         raise PermissionError(f"{path}: not readable")
     return None, path, name or str(path)
@@ -211,7 +211,8 @@ def compile(source: Source, radius: float | None = None, strategy: int | None = 
     ``program.errors`` (``program.check()`` raises the first).
 
     - ``source``: a file (path or str without a line break) or G-code text (a str
-      with a line break, or bytes); ``name`` names text in errors;
+      with a line break, or bytes: a one-line program is ``"G1 X10 F1000\\n"``);
+      ``name`` names text in errors;
     - ``radius``: tool radius in mm for every G41..G48 slot (>= 0; G41/G42 choose
       the side); ``strategy``: correctionStrategy bits (CORR_* of tgm_cnc.h);
     - ``ini``: a vendor INI file instead of the bundled one; ``params``: any other
@@ -225,8 +226,9 @@ def compile(source: Source, radius: float | None = None, strategy: int | None = 
       unlimited; default what the core has, see ToolChainCore_SetLookAhead);
     - ``progress``: called with the percent from the library's thread; ``cancel``:
       an object with ``is_set()`` (threading.Event) that interrupts when set.
-    Raises FileNotFoundError / IsADirectoryError for a bad path, ValueError for a
-    negative radius, :class:`Cancelled` when cancelled."""
+    Raises FileNotFoundError / IsADirectoryError / OSError for a bad path (a
+    missing one that looks like G-code says it needs a line break), ValueError for
+    a negative radius, :class:`Cancelled` when cancelled."""
     job = start_compile(source, radius, strategy, ini, params, core, name, progress, cancel, start, look_ahead, iso)
     try:
         return job.result()
