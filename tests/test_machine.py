@@ -19,7 +19,7 @@ from pathlib import Path
 
 import pytest
 
-from sf_tch import abi, library_path
+from sf_tch import abi, default_ini
 
 DT = 1e-4                                   # the machine's step, s
 EPS = 1e-6                                  # mm: sampled positions on the path
@@ -433,7 +433,7 @@ def test_a_breakpoint_stops_before_its_line_and_the_next_start_passes(mh):
 
 # ------------------------------------------------------------------ through the API
 
-INI = library_path().replace("libSF_TCh.so", "data/SF_TCh.ini").encode()
+INI = default_ini().encode()         # the bundled INI, wherever SF_TCH_LIBRARY points
 FWD, FWD_NO_M, BACK, FWD_SKIP_M = 30, 31, 32, 33
 MFUNC_LATER = 2                             # TC_MFUNC_LATER of the header: "the host confirms later"
 

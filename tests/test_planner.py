@@ -509,7 +509,7 @@ def test_look_ahead_through_the_library(ph, tmp_path, fresh_core):
     with sf_tch.compile(text, core=2) as program:
         assert simulated(program) == pytest.approx(expected[-1], rel=1e-12)
     ini = tmp_path / "window.ini"
-    ini.write_text(Path(sf_tch.library_path()).with_name("data").joinpath("SF_TCh.ini").read_text()
+    ini.write_text(Path(sf_tch.default_ini()).read_text()
                    + "\n[GCodeParameters]\nlookAheadParts = 0\n")
     with sf_tch.compile(text, ini=ini, core=2) as program:
         assert simulated(program) == pytest.approx(expected[0], rel=1e-12)
