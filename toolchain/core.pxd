@@ -10,10 +10,6 @@
 #   - one activity (compilation or run) at a time, run by one worker thread; exactly
 #     one thread joins it (`joining`), every caller that ends it waits for the join
 #     on `changed`.
-from libc.stdint cimport int32_t, int64_t, uint32_t, uint64_t, intptr_t
-from includes.tgm_cnc cimport GCODE_PARAMETERS, MACHINE_PARAMETERS, GCODE_INFO, SIMPLE_GM_PARAMS, GM_PARAMS_ENHANCED
-from includes.system cimport pthread_t, pthread_mutex_t, pthread_cond_t
-from program cimport Program, ErrorInfo
 
 cdef enum:
     MAX_FILES = 64          # file names per core (FileToIdx); recycled when full

@@ -2,7 +2,6 @@
 # an error is recorded: set_error formats the text and its '\n'-separated arguments
 # (numbers with a '.' decimal point under any locale: numbers.pyx c_snprintf).
 from libc.string cimport memset, strlen
-from errors cimport *
 
 
 cdef const char *error_format(int32_t number) noexcept nogil:

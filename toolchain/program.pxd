@@ -2,9 +2,6 @@
 # simulator/interpolator. One compact Part per compiled G or M function, kept in a
 # growable C array; SIMPLE_GM_PARAMS (616 bytes) is only built at the API boundary
 # (program.pyx: part_to_gm).
-from libc.stdint cimport int8_t, int16_t, int32_t, uint8_t, uint16_t, uint32_t, int64_t
-from includes.tgm_cnc cimport GCODE_PARAMETERS, GCODE_FEED, AXIS_LIMITS, P10DOUBLE
-from includes.system cimport pthread_t, pthread_mutex_t, pthread_cond_t
 
 
 cdef enum:

@@ -3,7 +3,6 @@
 from libc.stdlib cimport malloc, realloc, free
 from libc.string cimport memset, memcpy, memcmp
 from libc.math cimport sqrt, fabs
-from program cimport *
 from includes.tgm_cnc cimport SIMPLE_GM_PARAMS, P10DOUBLE, P26FLOAT
 
 
@@ -57,7 +56,7 @@ cdef void program_builder_trim(ProgramBuilder *build) noexcept nogil:
             build.cap_pars = prog.n_pars
 
 
-cdef bint _grow(void **buf, size_t *cap, size_t need, size_t item) noexcept nogil:
+cdef bint grow(void **buf, size_t *cap, size_t need, size_t item) noexcept nogil:
     # Ensures room for `need` items (doubling); False when memory is exhausted.
     cdef size_t new_cap
     cdef void *p
@@ -84,13 +83,13 @@ cdef inline void _part_defaults(Part *p) noexcept nogil:
 
 cdef bint program_grow_shared(ProgramBuilder *build, void **buf, size_t *cap, size_t need,
                               size_t item) noexcept nogil:
-    """_grow for an array that a stage beside the compiler reads (ProgramBuilder.follow):
+    """grow for an array that a stage beside the compiler reads (ProgramBuilder.follow):
     the array moves only while that stage waits between batches."""
     cdef bint ok
     if need <= cap[0]:
         return True
     follow_pause(build.follow)
-    ok = _grow(buf, cap, need, item)
+    ok = grow(buf, cap, need, item)
     follow_resume(build.follow)
     return ok
 
@@ -214,7 +213,7 @@ cdef bint program_set_pars(ProgramBuilder *build, Part *part, const float *value
     for letter in range(26):
         if mask & (1u << letter):
             n += 1
-    if not _grow(<void **>&prog.pars, &build.cap_pars, prog.n_pars + n, sizeof(float)):
+    if not grow(<void **>&prog.pars, &build.cap_pars, prog.n_pars + n, sizeof(float)):
         return False
     part = &prog.parts[part_pos]
     part.pars_off = <uint32_t>prog.n_pars
@@ -231,7 +230,7 @@ cdef int program_add_zero(ProgramBuilder *build, const double *offset) noexcept 
     cdef Program *prog = &build.prog
     cdef int i
     if prog.n_zeros == 0:
-        if not _grow(<void **>&prog.zeros, &build.cap_zeros, 1, sizeof(P10DOUBLE)):
+        if not grow(<void **>&prog.zeros, &build.cap_zeros, 1, sizeof(P10DOUBLE)):
             return -1
         memset(&prog.zeros[0], 0, sizeof(P10DOUBLE))
         prog.n_zeros = 1
@@ -239,7 +238,7 @@ cdef int program_add_zero(ProgramBuilder *build, const double *offset) noexcept 
         return <int>prog.n_zeros - 1
     if prog.n_zeros >= 65535:
         return -1
-    if not _grow(<void **>&prog.zeros, &build.cap_zeros, prog.n_zeros + 1, sizeof(P10DOUBLE)):
+    if not grow(<void **>&prog.zeros, &build.cap_zeros, prog.n_zeros + 1, sizeof(P10DOUBLE)):
         return -1
     memcpy(&prog.zeros[prog.n_zeros], offset, sizeof(P10DOUBLE))
     prog.n_zeros += 1
@@ -258,7 +257,7 @@ cdef int program_add_rotation(ProgramBuilder *build, const double *centre, const
             return <int>prog.n_rotations - 1
     if prog.n_rotations >= 65535:
         return -1
-    if not _grow(<void **>&prog.rotations, &build.cap_rotations, 12 * (prog.n_rotations + 1), sizeof(double)):
+    if not grow(<void **>&prog.rotations, &build.cap_rotations, 12 * (prog.n_rotations + 1), sizeof(double)):
         return -1
     r = prog.rotations + 12 * prog.n_rotations
     memcpy(r, centre, 3 * sizeof(double))
@@ -271,7 +270,7 @@ cdef int64_t program_add_text(ProgramBuilder *build, const char *text, size_t n)
     """Stores a NUL-terminated copy of text[0:n]; its offset, -1 out of memory."""
     cdef Program *prog = &build.prog
     cdef size_t off = prog.n_texts
-    if not _grow(<void **>&prog.texts, &build.cap_texts, prog.n_texts + n + 1, 1):
+    if not grow(<void **>&prog.texts, &build.cap_texts, prog.n_texts + n + 1, 1):
         return -1
     memcpy(&prog.texts[off], text, n)
     prog.texts[off + n] = 0
@@ -291,7 +290,7 @@ cdef bint program_set_end(ProgramBuilder *build, Part *p, const double *end) noe
         if memcmp(last, end + 3, 7 * sizeof(double)) == 0:
             p.axes_idx = <uint32_t>(prog.n_axes - 1)
             return True
-    if not _grow(<void **>&prog.axes, &build.cap_axes, 7 * (prog.n_axes + 1), sizeof(double)):
+    if not grow(<void **>&prog.axes, &build.cap_axes, 7 * (prog.n_axes + 1), sizeof(double)):
         return False
     memcpy(&prog.axes[7 * prog.n_axes], end + 3, 7 * sizeof(double))
     p.axes_idx = <uint32_t>prog.n_axes

@@ -5,7 +5,7 @@
 # points that compile a program on one of this module's own cores and run the offline
 # machine over it synchronously: the feeder, motion_step and the notifier's
 # bookkeeping called in turn on one thread, one 100 us step at a time, every step
-# recorded. The run's setup and end follow _program_run (machine/machine.pyx) step
+# recorded. The run's setup and end follow machine_program_run (machine/machine.pyx) step
 # for step, with _pace's threads and sleeps replaced by this loop.
 include "libSF_TCh.pyx"
 
@@ -137,7 +137,7 @@ def run(int core_idx, int regime, double stop_at=-1.0, overrides=(), double max_
     mo = &m.motion
     f.core = core
     f.m = m
-    # as _program_run (machine.pyx) sets the feeder and the motion up
+    # as machine_program_run (machine.pyx) sets the feeder and the motion up
     f.prog = &m.program.prog
     f.regime = regime
     f.first = True

@@ -61,7 +61,7 @@ cdef inline double _cl_sweep(int direction, const double *s, const double *e, co
     """A stand-in for the sweep of an arc from s to e round c, in (0, 2pi]: monotone in
     the true one and equal to it at every quarter turn (what the boxes and _cl_within
     compare it with), without trigonometry; a full circle when s = e."""
-    cdef double d = _x_pseudo(e[0] - c[0], direction * (e[1] - c[1])) - _x_pseudo(s[0] - c[0], direction * (s[1] - c[1]))
+    cdef double d = x_pseudo(e[0] - c[0], direction * (e[1] - c[1])) - x_pseudo(s[0] - c[0], direction * (s[1] - c[1]))
     if d <= 0:
         d += 4.0
     return d * (0.5 * M_PI)
@@ -208,7 +208,7 @@ cdef double _cl_piece_gap(const XPiece *t, const XPiece *g, double stop) noexcep
     return _cl_arc_arc_inner(t, g, stop)
 
 
-cdef inline void _cl_box_empty(double *b) noexcept nogil:
+cdef inline void cl_box_empty(double *b) noexcept nogil:
     b[0] = 1e300; b[1] = 1e300; b[2] = -1e300; b[3] = -1e300
 
 
@@ -242,7 +242,7 @@ cdef bint cl_element(const CompState *S, size_t k, XPiece *g) noexcept nogil:
         g.kind = EL_LINE
         g.dir = 0
         g.sweep = 0.0
-    _x_geometry(g)
+    x_geometry(g)
     return True
 
 
@@ -311,20 +311,20 @@ cdef inline bint _cl_boxes(Clearance *C) noexcept nogil:
         C.g2 = b
         C.cap_g = ng
     for k in range(ng):
-        _cl_box_empty(&C.g1[4 * k])
+        cl_box_empty(&C.g1[4 * k])
     for k in range(ng / CL_G1 + 1):
-        _cl_box_empty(&C.g2[4 * k])
+        cl_box_empty(&C.g2[4 * k])
     C.max_off = 0.0
     for k in range(C.n):
-        _box_union(&C.g1[4 * (k / CL_G1)], C.el[k].box)
+        box_union(&C.g1[4 * (k / CL_G1)], C.el[k].box)
         if C.off[k] > C.max_off:
             C.max_off = C.off[k]
     for k in range(ng):
-        _box_union(&C.g2[4 * (k / CL_G1)], &C.g1[4 * k])
+        box_union(&C.g2[4 * (k / CL_G1)], &C.g1[4 * k])
     return True
 
 
-cdef bint _cl_load(CompState *S, Clearance *C, size_t lo, size_t hi) noexcept nogil:
+cdef bint cl_load(CompState *S, Clearance *C, size_t lo, size_t hi) noexcept nogil:
     """The contour of parts lo..hi alone (see _cl_slide)."""
     C.n = 0
     return _cl_slide(S, C, lo, hi)
@@ -401,11 +401,11 @@ cdef bint _cl_cross(const XPiece *a, const XPiece *b) noexcept nogil:
     cdef double pts[4]
     cdef double pos
     cdef int m, k
-    m = _x_meet(a, b, 0.0, pts)
+    m = x_meet(a, b, 0.0, pts)
     for k in range(m):
-        if _x_on(a, pts[2 * k], pts[2 * k + 1], 0.0, &pos) and _x_on(b, pts[2 * k], pts[2 * k + 1], 0.0, &pos) \
-                and not ((_x_near(a.s, pts[2 * k], pts[2 * k + 1], 1e-9) or _x_near(a.e, pts[2 * k], pts[2 * k + 1], 1e-9))
-                         and (_x_near(b.s, pts[2 * k], pts[2 * k + 1], 1e-9) or _x_near(b.e, pts[2 * k], pts[2 * k + 1], 1e-9))):
+        if x_on(a, pts[2 * k], pts[2 * k + 1], 0.0, &pos) and x_on(b, pts[2 * k], pts[2 * k + 1], 0.0, &pos) \
+                and not ((x_near(a.s, pts[2 * k], pts[2 * k + 1], 1e-9) or x_near(a.e, pts[2 * k], pts[2 * k + 1], 1e-9))
+                         and (x_near(b.s, pts[2 * k], pts[2 * k + 1], 1e-9) or x_near(b.e, pts[2 * k], pts[2 * k + 1], 1e-9))):
             return True
     return False
 
@@ -421,7 +421,7 @@ cdef inline double _cl_element_gap(const Clearance *C, const XPiece *t, const XP
             or _cl_far(t, g, stop):
         return stop
     d = _cl_piece_gap(t, g, stop)
-    if d < stop and own != NULL and _box_hit(g.box, own.box, 0.0) and _cl_cross(own, g):
+    if d < stop and own != NULL and box_hit(g.box, own.box, 0.0) and _cl_cross(own, g):
         loose[0] = True
         return stop
     return d
@@ -443,13 +443,13 @@ cdef double cl_gap(const Clearance *C, XPiece *t, const XPiece *own, size_t skip
     n1 = (C.n + CL_G1 - 1) / CL_G1
     n2 = (n1 + CL_G1 - 1) / CL_G1
     for i in range(n2):
-        if not _box_hit(&C.g2[4 * i], box, 0.0):
+        if not box_hit(&C.g2[4 * i], box, 0.0):
             continue
         for j in range(i * CL_G1, min((i + 1) * CL_G1, n1)):
-            if not _box_hit(&C.g1[4 * j], box, 0.0):
+            if not box_hit(&C.g1[4 * j], box, 0.0):
                 continue
             for k in range(j * CL_G1, min((j + 1) * CL_G1, C.n)):
-                if not _box_hit(C.el[k].box, box, 0.0):
+                if not box_hit(C.el[k].box, box, 0.0):
                     continue
                 d = _cl_element_gap(C, t, &C.el[k], own, skip_a, skip_b, depth, stop, &loose)
                 if d < stop:
@@ -465,10 +465,10 @@ cdef bint _cl_collect(Clearance *C, const double *box) noexcept nogil:
     n1 = (C.n + CL_G1 - 1) / CL_G1
     n2 = (n1 + CL_G1 - 1) / CL_G1
     for i in range(n2):
-        if not _box_hit(&C.g2[4 * i], box, 0.0):
+        if not box_hit(&C.g2[4 * i], box, 0.0):
             continue
         for j in range(i * CL_G1, min((i + 1) * CL_G1, n1)):
-            if not _box_hit(&C.g1[4 * j], box, 0.0):
+            if not box_hit(&C.g1[4 * j], box, 0.0):
                 continue
             if n + CL_G1 > C.cap_cand:
                 cap = C.cap_cand * 2 if C.cap_cand else 256
@@ -482,7 +482,7 @@ cdef bint _cl_collect(Clearance *C, const double *box) noexcept nogil:
                 C.cbox = cbox
                 C.cap_cand = cap
             for k in range(j * CL_G1, min((j + 1) * CL_G1, C.n)):
-                if _box_hit(C.el[k].box, box, 0.0):
+                if box_hit(C.el[k].box, box, 0.0):
                     C.cand[n] = k
                     memcpy(&C.cbox[4 * n], C.el[k].box, 4 * sizeof(double))
                     n += 1
@@ -503,11 +503,11 @@ cdef int64_t _cl_flush(Clearance *C, size_t depth) noexcept nogil:
     C.n_batch = 0
     if n == 0:
         return -1
-    _cl_box_empty(box)
+    cl_box_empty(box)
     for b in range(n):
         q = &C.batch[b]
         bb[0] = q.t.box[0] - q.r; bb[1] = q.t.box[1] - q.r; bb[2] = q.t.box[2] + q.r; bb[3] = q.t.box[3] + q.r
-        _box_union(box, bb)
+        box_union(box, bb)
     if not _cl_collect(C, box):
         return -2
     for b in range(n):
@@ -542,7 +542,7 @@ cdef inline void _cl_line(XPiece *t, const double *a, const double *b, size_t pa
     t.s[0] = a[0]; t.s[1] = a[1]
     t.e[0] = b[0]; t.e[1] = b[1]
     t.part = part
-    _x_geometry(t)
+    x_geometry(t)
 
 
 cdef inline bint _cl_arc(XPiece *t, const double *a, const double *b, const double *c, double r,
@@ -561,7 +561,7 @@ cdef inline bint _cl_arc(XPiece *t, const double *a, const double *b, const doub
     t.sweep = _cl_sweep(direction, a, b, c)
     t.part = part
     if full:
-        _x_geometry(t)
+        x_geometry(t)
     else:
         # a corner arc has the tool's radius: its circle's box is close enough (a box
         # only picks the elements to measure)
@@ -575,7 +575,7 @@ cdef bint _cl_side_change(const CompState *S, size_t k, size_t last) noexcept no
     cdef size_t m
     for m in range(k + 1, last + 1):
         if S.role[m] == ROLE_SET:
-            return _comp_distance(S, &S.prog.parts[m]) != _comp_distance(S, &S.prog.parts[k])
+            return comp_distance(S, &S.prog.parts[m]) != comp_distance(S, &S.prog.parts[k])
     return False
 
 
@@ -678,7 +678,7 @@ cdef bint _cl_run(CompState *S, size_t upto, size_t end, bint strict, bint skip_
         has_own = C.ei < C.n and C.el[C.ei].part == k
         own = &C.el[C.ei] if has_own and not strict else NULL
         p = &S.prog.parts[k]
-        r = fabs(_comp_distance(S, p))
+        r = fabs(comp_distance(S, p))
         if S.role[k] == ROLE_SET and p.kind == PART_MOTION and p.func != 0:
             t = &C.batch[C.n_batch].t       # built where the batch keeps it
             end_pt[0] = p.ce[S.first]; end_pt[1] = p.ce[S.second]

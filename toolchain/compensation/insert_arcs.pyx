@@ -34,7 +34,7 @@ cdef bint program_add_arc_region(ProgramBuilder *build, size_t first, bint on, i
     cdef ArcRegion *r
     if prog.n_arc_regions > 0 and prog.arc_regions[prog.n_arc_regions - 1].first == first:
         prog.n_arc_regions -= 1          # several G167 before the same part: the last one counts
-    if not _grow(<void **>&prog.arc_regions, &build.cap_arc_regions, prog.n_arc_regions + 1, sizeof(ArcRegion)):
+    if not grow(<void **>&prog.arc_regions, &build.cap_arc_regions, prog.n_arc_regions + 1, sizeof(ArcRegion)):
         return False
     r = &prog.arc_regions[prog.n_arc_regions]
     prog.n_arc_regions += 1

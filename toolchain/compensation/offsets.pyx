@@ -189,13 +189,13 @@ cdef bint el_intersect(const CompEl *a, const CompEl *b, const double *ref, doub
     return _circle_circle(a.c, a.ro, b.c, b.ro, slack, ref, out)
 
 
-cdef inline double _turn(double ax, double ay, double bx, double by) noexcept nogil:
+cdef inline double vector_turn(double ax, double ay, double bx, double by) noexcept nogil:
     # signed angle from vector a to vector b, in (-pi, pi]
     return atan2(ax * by - ay * bx, ax * bx + ay * by)
 
 
 cdef inline double _turn_small(double ax, double ay, double bx, double by) noexcept nogil:
-    # _turn for the usual case of b on (or next to) the ray of a: an end not trimmed
+    # vector_turn for the usual case of b on (or next to) the ray of a: an end not trimmed
     # lies on its perpendicular, the angle is rounding noise and atan(t) = t - t^3/3
     # is t to far below 1e-24 for |t| <= 1e-8
     cdef double y = ax * by - ay * bx

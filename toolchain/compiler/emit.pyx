@@ -66,7 +66,7 @@ cdef int em_pars(CState *st, const LineWords *lw, int g, int m) noexcept nogil:
         mask |= 1u << 12
     if mask == 0:
         return 0
-    if not _grow(<void **>&prog.pars, &st.build.cap_pars, prog.n_pars + <size_t>SF_POPCOUNT(mask), sizeof(float)):
+    if not grow(<void **>&prog.pars, &st.build.cap_pars, prog.n_pars + <size_t>SF_POPCOUNT(mask), sizeof(float)):
         return cerr(st, ERR_OUT_OF_MEMORY)
     p.pars_off = <uint32_t>prog.n_pars
     p.pars_mask = mask

@@ -245,14 +245,14 @@ cdef double _cs_line_nearest(const Segment *g, uint32_t axes, const double *q) n
 # f'' is a polynomial of degree <= 2 in cos(chi), so its zeros split [0, T] into
 # pieces where f' is monotonic: each holds at most one minimum, where f' turns from
 # negative to positive; with the two ends they are every candidate.
-ctypedef struct _cs_ArcFn:
+ctypedef struct ArcDistanceFn:
     int plane_axes              # 0, 1 or 2 of the plane's axes in the mask
     double r, rho, u            # radius; |q - centre| in the plane (2); q - centre (1)
     double chi0, sigma          # chi at theta = 0, direction
     double L2, b
 
 
-cdef inline double _cs_arc_df(const _cs_ArcFn *f, double theta) noexcept nogil:
+cdef inline double _cs_arc_df(const ArcDistanceFn *f, double theta) noexcept nogil:
     cdef double chi = f.chi0 + f.sigma * theta
     cdef double d = 2.0 * (f.L2 * theta - f.b)
     if f.plane_axes == 2:
@@ -262,7 +262,7 @@ cdef inline double _cs_arc_df(const _cs_ArcFn *f, double theta) noexcept nogil:
     return d
 
 
-cdef inline double _cs_arc_ddf(const _cs_ArcFn *f, double theta) noexcept nogil:
+cdef inline double _cs_arc_ddf(const ArcDistanceFn *f, double theta) noexcept nogil:
     cdef double t = cos(f.chi0 + f.sigma * theta)
     if f.plane_axes == 2:
         return 2.0 * (f.r * f.rho * t + f.L2)
@@ -271,7 +271,7 @@ cdef inline double _cs_arc_ddf(const _cs_ArcFn *f, double theta) noexcept nogil:
     return 2.0 * f.L2
 
 
-cdef int _cs_add_turns(const _cs_ArcFn *f, double t, double T, double *at, int n) noexcept nogil:
+cdef int _cs_add_turns(const ArcDistanceFn *f, double t, double T, double *at, int n) noexcept nogil:
     """Appends the theta in (0, T) where cos(chi) = t."""
     cdef double base, theta
     cdef int sign
@@ -290,7 +290,7 @@ cdef int _cs_add_turns(const _cs_ArcFn *f, double t, double T, double *at, int n
     return n
 
 
-cdef double _cs_root(const _cs_ArcFn *f, double lo, double hi) noexcept nogil:
+cdef double _cs_root(const ArcDistanceFn *f, double lo, double hi) noexcept nogil:
     """The zero of f' in [lo, hi], where f' rises from < 0 to >= 0: Newton steps kept
     inside the bracket, bisection otherwise."""
     cdef double x = 0.5 * (lo + hi), fx, ddf, step
@@ -314,8 +314,8 @@ cdef double _cs_root(const _cs_ArcFn *f, double lo, double hi) noexcept nogil:
 
 
 cdef double _cs_arc_nearest(const Segment *g, uint32_t axes, const double *q) noexcept nogil:
-    """Path length of the point of an arc (helix) nearest q in the axes (see _cs_ArcFn)."""
-    cdef _cs_ArcFn f
+    """Path length of the point of an arc (helix) nearest q in the axes (see ArcDistanceFn)."""
+    cdef ArcDistanceFn f
     cdef double T = fabs(g.sweep)
     cdef double at[14]
     cdef double point[10]

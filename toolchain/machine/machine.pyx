@@ -93,7 +93,7 @@ cdef void machine_forget(Core *core) noexcept nogil:
     TC_ATOMIC_STORE(&m.m_pending, 0)
 
 
-cdef void _history_push(Machine *m, size_t part) noexcept nogil:
+cdef void machine_history_push(Machine *m, size_t part) noexcept nogil:
     """Remembers a motion part run (for backward runs): when HISTORY_DEPTH are held,
     the oldest tenth goes at once."""
     cdef size_t *grown
@@ -541,7 +541,7 @@ cdef void _keep_place(Machine *m, const Feeder *f) noexcept nogil:
         m.began = False
     inside = mo.count > 0 and m.began and motion_entry(mo, 0).kind == PART_MOTION
     if not inside and m.cur_motion != PART_NONE:
-        _history_push(m, <size_t>m.cur_motion)      # it stands after the part it ran last
+        machine_history_push(m, <size_t>m.cur_motion)      # it stands after the part it ran last
         m.cur_motion = PART_NONE
 
 
@@ -554,7 +554,7 @@ cdef void _drain(Feeder *f) noexcept nogil:
         if (ev.kind == ME_ENTRY and f.regime != RUN_BACKWARD and f.prog != NULL and ev.part < f.prog.n_parts
                 and f.prog.parts[ev.part].kind == PART_MOTION):
             if m.cur_motion != PART_NONE:
-                _history_push(m, <size_t>m.cur_motion)
+                machine_history_push(m, <size_t>m.cur_motion)
             m.cur_motion = <int64_t>ev.part
         _notify(f, &ev)
 
@@ -574,7 +574,7 @@ cdef void _motion_setup(Core *core, Motion *mo, const GCODE_PARAMETERS *params, 
     mo.stop_ramp = RAMP_SINE if params.motion[6].rampType == RAMP_SINE else RAMP_TRAPEZOID
 
 
-cdef int32_t _manual_move(Core *core, Machine *m, Feeder *f, const SIMPLE_GM_PARAMS *dest,
+cdef int32_t machine_manual_move(Core *core, Machine *m, Feeder *f, const SIMPLE_GM_PARAMS *dest,
                           uint32_t n_dest) noexcept nogil:
     """A move off the program (GoToPosition, the way to a connection point) at
     motion[5], without override; the machine position follows it."""
@@ -594,7 +594,7 @@ cdef int32_t _manual_move(Core *core, Machine *m, Feeder *f, const SIMPLE_GM_PAR
     return finish
 
 
-cdef int32_t _program_run(Core *core, Machine *m, Feeder *f, int32_t regime, const char *add_code) noexcept nogil:
+cdef int32_t machine_program_run(Core *core, Machine *m, Feeder *f, int32_t regime, const char *add_code) noexcept nogil:
     """A run along the program (regimes 30-33) from the machine's place; the place
     and the machine position follow it."""
     cdef Motion *mo = &m.motion
@@ -626,7 +626,7 @@ cdef int32_t _program_run(Core *core, Machine *m, Feeder *f, int32_t regime, con
         (<TC_DriverInitialize>cb.fn)(cb.user, start, 10, regime)
         callback_leave(core, SLOT_DRIVER_INITIALIZE)
     if regime != RUN_FORWARD_NO_M and regime != RUN_BACKWARD:
-        _send_add_code(core, add_code, start)
+        send_add_code(core, add_code, start)
     finish = _pace(core, m, f)
     pthread_mutex_lock(&core.lock)
     _keep_place(m, f)
@@ -639,7 +639,7 @@ cdef int32_t _program_run(Core *core, Machine *m, Feeder *f, int32_t regime, con
     pthread_mutex_unlock(&core.lock)
     if (finish == EV_STOPPED and stop_code != NULL and not TC_ATOMIC_LOAD(&core.cancel)
             and regime != RUN_FORWARD_NO_M and regime != RUN_BACKWARD):
-        _send_add_code(core, stop_code, mo.position)
+        send_add_code(core, stop_code, mo.position)
     free(stop_code)
     if callback_enter(core, SLOT_DRIVER_END, &cb):
         (<TC_DriverEnd>cb.fn)(cb.user)
@@ -647,7 +647,7 @@ cdef int32_t _program_run(Core *core, Machine *m, Feeder *f, int32_t regime, con
     return finish
 
 
-cdef Machine *_worker_begin(Job *job, Feeder *f) noexcept nogil:
+cdef Machine *machine_worker_begin(Job *job, Feeder *f) noexcept nogil:
     """The start of a run's worker: the feeder with a copy of the core's settings;
     NULL (the run's error set) when out of memory."""
     cdef Core *core = job.core
@@ -668,17 +668,17 @@ cdef Machine *_worker_begin(Job *job, Feeder *f) noexcept nogil:
     return m if f.params != NULL else NULL
 
 
-cdef void *_machine_body(void *arg) noexcept nogil:
+cdef void *machine_body(void *arg) noexcept nogil:
     cdef Job *job = <Job *>arg
     cdef Core *core = job.core
     cdef Feeder f
-    cdef Machine *m = _worker_begin(job, &f)
+    cdef Machine *m = machine_worker_begin(job, &f)
     cdef int32_t finish = EV_STOPPED
     if m != NULL:
         if job.regime == RUN_MANUAL:
-            finish = _manual_move(core, m, &f, &job.dest, job.n_dest)
+            finish = machine_manual_move(core, m, &f, &job.dest, job.n_dest)
         else:
-            finish = _program_run(core, m, &f, job.regime, job.add_code)
+            finish = machine_program_run(core, m, &f, job.regime, job.add_code)
     free(f.params)
     job_free(job)
     core_finish(core, finish)
@@ -761,7 +761,7 @@ cdef int32_t core_goto(Core *core, const SIMPLE_GM_PARAMS *dest, uint32_t n_dest
     job.dest = dest[0]
     memcpy(&job.dest.m_calcE, coords, n_dest * sizeof(double))
     job.n_dest = n_dest
-    return core_begin(core, CMD_GOTO, "GoToPosition", _machine_body, job)
+    return core_begin(core, CMD_GOTO, "GoToPosition", machine_body, job)
 
 
 cdef void machine_keep_stop_code(Core *core, const char *code) noexcept nogil:

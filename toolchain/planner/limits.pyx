@@ -58,7 +58,7 @@ cdef bint program_add_plan_region(ProgramBuilder *build, size_t first, const GCO
         prog.n_plan_regions -= 1         # several changes before the same part: the last one counts
     if prog.n_plan_regions > 0 and _same_settings(&prog.plan_regions[prog.n_plan_regions - 1], &made):
         return True                      # nothing changed (a G900 in a loop): no new region
-    if not _grow(<void **>&prog.plan_regions, &build.cap_plan_regions, prog.n_plan_regions + 1,
+    if not grow(<void **>&prog.plan_regions, &build.cap_plan_regions, prog.n_plan_regions + 1,
                  sizeof(PlanRegion)):
         return False
     memcpy(&prog.plan_regions[prog.n_plan_regions], &made, sizeof(PlanRegion))
