@@ -1,5 +1,8 @@
-# The error catalogue: numbers are stable, part of the documented behaviour
-# (docs/errors.md lists them); the English formats live in errors.pyx.
+# Face of errors.pyx: the error catalogue and the one way an error is recorded.
+# Numbers are stable, part of the documented behaviour (docs/errors.md lists them);
+# the English formats live in errors.pyx. Owns ErrorInfo (one error with its
+# location and texts). Every stage that fails calls set_error; the core and the
+# exports read the errors out.
 cdef enum ErrorNumber:
     # configuration and host input (1..99)
     ERR_FILE_OPEN = 1               # Cannot open file '%s'
@@ -86,3 +89,37 @@ cdef enum ErrorNumber:
     ERR_CONNECT_NO_MFUNC = 703      # ConnectCNCEx_Plane: occurrence n = %d of M%d not found ...
     ERR_CONNECT_OFF_PART = 704      # ConnectCNCEx_Plane: the point lies %g mm from the part ...
     ERR_CONNECT_NO_MOTION = 705     # ConnectCNCEx_Plane: no motion to connect to in parts ...
+
+
+# One error: number of the catalogue (errors.pyx), location and the formatted texts.
+cdef enum:
+    ERROR_TEXT_BYTES = 1024
+    ERROR_ARGS_BYTES = 512
+
+ctypedef struct ErrorInfo:
+    int32_t number          # 0 = no error
+    int32_t file_idx
+    int32_t line            # 1-based, 0 unknown
+    int32_t n_lines
+    char text[1024]         # full English text
+    char args[512]          # arguments separated by '\n'
+
+# One argument of an error format: a number, or a string when text is not NULL.
+ctypedef struct ErrArg:
+    double num
+    const char *text
+
+
+# ---- what other stages call
+# an error of the catalogue with its arguments formatted into err (file index, line:
+# where), shorthands for one text or one number; "<what> not allowed in status ..."
+# and a status's name; no error
+cdef void set_error(ErrorInfo *err, int32_t number, int32_t file_idx, int32_t line,
+                    const ErrArg *args, int n_args) noexcept nogil
+cdef void set_error_text(ErrorInfo *err, int32_t number, int32_t file_idx, int32_t line,
+                         const char *text) noexcept nogil
+cdef void set_error_num(ErrorInfo *err, int32_t number, int32_t file_idx, int32_t line,
+                        double value) noexcept nogil
+cdef void set_error_status(ErrorInfo *err, const char *what, int32_t status) noexcept nogil
+cdef const char *status_name(int32_t status) noexcept nogil
+cdef void clear_error(ErrorInfo *err) noexcept nogil

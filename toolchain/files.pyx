@@ -9,10 +9,6 @@ from posix.fcntl cimport open as posix_open, O_RDONLY, O_NONBLOCK, O_CLOEXEC, O_
 from posix.unistd cimport read as posix_read, close as posix_close
 from posix.stat cimport struct_stat, fstat, S_ISREG
 
-cdef enum:
-    MAX_FILE_BYTES = 1 << 30        # 1 GiB: larger files are refused (ERR_FILE_TOO_LARGE)
-    FILE_READ_CHUNK = 1 << 16       # growth step for files whose size fstat does not tell
-
 
 cdef int file_open_regular(const char *path, size_t *size, int32_t *error) noexcept nogil:
     """A read-only descriptor of the regular file `path` and its size now; -1 with

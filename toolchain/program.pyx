@@ -298,20 +298,6 @@ cdef bint program_set_end(ProgramBuilder *build, Part *p, const double *end) noe
     return True
 
 
-cdef inline void part_end(const Program *prog, const Part *p, double *out) noexcept nogil:
-    """Programmed end of part p, all ten axes."""
-    out[0] = p.e[0]; out[1] = p.e[1]; out[2] = p.e[2]
-    memcpy(out + 3, &prog.axes[7 * p.axes_idx], 7 * sizeof(double))
-
-
-cdef inline const double *part_start_xyz(const Program *prog, size_t i) noexcept nogil:
-    """x y z of the programmed start of part i: the previous part's end, or the
-    program start."""
-    if i > 0:
-        return prog.parts[i - 1].e
-    return prog.start
-
-
 cdef inline void part_start(const Program *prog, size_t i, double *out) noexcept nogil:
     """Programmed start of part i, all ten axes."""
     if i > 0:

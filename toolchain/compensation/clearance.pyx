@@ -19,43 +19,6 @@ from libc.stdlib cimport realloc, free
 from libc.string cimport memmove, memcpy
 from libc.math cimport fabs, sqrt, M_PI
 
-cdef enum:
-    CL_BLOCK = 16384        # parts of the chain whose contour window is held at a time
-    CL_G1 = 16              # contour elements per small box; a large box holds CL_G1 small ones
-    CL_BATCH = 16           # pieces of the path that share one search of the boxes
-
-ctypedef struct ClPiece:
-    XPiece t                # a piece of the tool path waiting for its batch's search
-    const XPiece *own       # arguments of cl_gap
-    size_t skip_a, skip_b
-    double r, stop
-
-ctypedef struct Clearance:
-    XPiece *el              # the programmed elements of the window, in part order
-    double *off             # ... how far each one's end lies off its circle (arcs; lines 0)
-    size_t n, cap
-    double *g1              # boxes of groups of CL_G1 elements
-    double *g2              # boxes of groups of CL_G1 * CL_G1 elements
-    size_t cap_g
-    double max_off          # the largest `off` of the window
-    size_t lo, hi           # parts the window holds
-    size_t el0, el_end      # the elements of the parts being walked (_cl_seam holds two ranges)
-    size_t depth            # the window: parts at most this far apart are measured
-    size_t span             # parts of the chain
-    bint closed             # distances in parts wrap round the closed chain (_cl_seam)
-    size_t *cand            # elements whose boxes meet the batch's box
-    double *cbox            # ... their boxes, side by side (the inner loop reads only these)
-    size_t n_cand, cap_cand
-    ClPiece batch[CL_BATCH] # pieces queued by _cl_queue
-    size_t n_batch
-    bint loose              # an element was not measured because the piece's own crosses it
-    # the chain being checked (cl_chain_open): parts before `next` are done, the tool
-    # stands at `cur`, insertion `rec` is the next one; the block of parts [blo, bhi]
-    size_t first, next, ins0, rec, blo, bhi, ei
-    double cur[2]
-    double allow
-    bint started, in_block, first_piece
-
 
 cdef inline double _cl_sweep(int direction, const double *s, const double *e, const double *c) noexcept nogil:
     """A stand-in for the sweep of an arc from s to e round c, in (0, 2pi]: monotone in

@@ -27,45 +27,6 @@ from libc.math cimport fabs, sqrt, atan2, M_PI
 cdef extern from *:
     int __builtin_ctzll(unsigned long long) nogil
 
-cdef enum:
-    XLEV = 6                # levels of groups: 4 << 2L pieces (4 .. 4096)
-    XTOP = 4096             # pieces of a top-level group
-    X_WRITE = 1             # cross_write: let _write_el write the element
-    X_DONE = 2              # ... the element is already written (removed)
-    X_FAIL = 0
-
-ctypedef struct XPiece:
-    double s[2]
-    double e[2]
-    double c[2]
-    double r                # arc radius
-    double sweep            # arc sweep in dir, (0, 2pi]; < 0: not computed yet (_x_sweep)
-    double box[4]           # xmin ymin xmax ymax
-    double gs[2]            # bodies: the programmed start, end, radius and |sweep|
-    double ge[2]
-    double gR, gsweep
-    size_t part             # part whose path this is (window of the search depth)
-    size_t after            # inserted pieces: the part the InsRec follows
-    size_t rec              # inserted pieces: index of the InsRec in CompState.ins
-    signed char kind        # EL_LINE / EL_ARC
-    signed char dir         # arcs: +1 CCW, -1 CW
-    unsigned char ins       # an inserted corner piece
-    unsigned char first     # the body of the chain's first element
-    unsigned char prov      # a G1 join that has to end up inside a removed loop
-    unsigned char gprog     # bodies: the programmed element (gs .. gsweep) follows
-
-ctypedef struct XState:
-    XPiece *pc
-    size_t n, cap, base     # pieces [base, n) are searched
-    double *g[6]            # boxes of the groups of each level (XLEV)
-    size_t last_part        # part of the chain's last element (set when the chain ends)
-    double start[2]         # programmed start of the chain's first element
-    size_t *prov            # parts whose corner cross_join joined by a G1 (FIFO)
-    size_t n_prov, head_prov, cap_prov
-    int32_t err_number      # error found while writing (reported by compensate_feed)
-    size_t err_part
-    double err_arg
-
 
 cdef inline bint box_hit(const double *a, const double *b, double t) noexcept nogil:
     return a[0] <= b[2] + t and b[0] <= a[2] + t and a[1] <= b[3] + t and b[1] <= a[3] + t

@@ -18,15 +18,6 @@ from libc.string cimport memcpy, memset
 from libc.math cimport fabs, atan2, cos, tan, M_PI
 
 
-ctypedef struct ArcIns:
-    size_t after            # inserted right after this part (the shortened first line)
-    double end[2]           # tangent point on the second line (plane coordinates)
-    double cc[2]            # centre
-    double radius
-    int32_t func            # 2 CW, 3 CCW
-    int16_t plane
-
-
 cdef bint program_add_arc_region(ProgramBuilder *build, size_t first, bint on, int32_t plane,
                                  double tol_max, double tol_min, double max_angle) noexcept nogil:
     """Records a G167 (compiler): settings in force from programmed part `first` on."""

@@ -27,22 +27,6 @@ from libc.stdlib cimport malloc, realloc, free, qsort
 from libc.math cimport fabs, fmax, sin, sqrt, atan2, M_PI
 from libc.float cimport DBL_EPSILON
 
-ctypedef struct RSplit:
-    size_t piece
-    double pos              # distance along the piece from its start
-    double x, y
-    size_t node
-
-ctypedef struct RSub:
-    size_t piece
-    double t0, t1
-    double p0[2]
-    double p1[2]
-    size_t n0, n1           # nodes at its ends
-    int64_t next            # the sub-piece the kept loop goes on with, -1 none
-    uint8_t valid
-    uint32_t seen           # the walk that reached it (_r_best_loop), 0 none
-
 
 cdef int _r_split_cmp(const void *a, const void *b) noexcept nogil:
     cdef const RSplit *x = <const RSplit *>a
@@ -74,31 +58,6 @@ cdef void _r_point(const XPiece *q, double t, double *out) noexcept nogil:
     arc_point_at(q.c, q.r, q.s[0], q.s[1], q.dir * t / q.r, out)     # planner/segment.pyx
 
 
-ctypedef struct Regions:
-    CompEl *els             # the chain's elements, in order
-    size_t n_els, cap_els
-    XPiece *pc              # the pieces of the band's border
-    size_t *pel             # element of each piece (a vertex circle: the element before it)
-    uint8_t *pconn          # PIECE_*
-    size_t *pn0             # nodes at the start and end of each piece
-    size_t *pn1
-    size_t n_pc, cap_pc
-    size_t *alias           # nodes of touching ends: the node that stands for them
-    size_t cap_alias
-    size_t *out_start       # sub-pieces leaving each node: out_list[out_start[v] .. out_start[v + 1])
-    size_t *out_list
-    size_t cap_out_start, cap_out_list
-    RSplit *sp
-    size_t n_sp, cap_sp
-    RSub *sub
-    size_t n_sub, cap_sub
-    size_t *loop            # sub-pieces of the loop kept, in order
-    size_t cap_loop
-    double *g1              # boxes of groups of CL_G1 pieces
-    size_t cap_g1
-    double end_slack        # a meet this close to a node two pieces share is their touch (_r_end_slack)
-
-
 cdef void regions_free(Regions *R) noexcept nogil:
     free(R.els); free(R.pc); free(R.pel); free(R.pconn); free(R.pn0); free(R.pn1); free(R.sp)
     free(R.sub); free(R.alias); free(R.out_start); free(R.out_list); free(R.loop); free(R.g1)
@@ -116,12 +75,6 @@ cdef bint _r_piece_room(Regions *R, size_t need) noexcept nogil:
         return False
     R.cap_pc = c1
     return True
-
-
-cdef enum:
-    PIECE_TOOL = 0          # an element's offset on the tool side
-    PIECE_FAR = 1           # ... on the other side, against the contour's direction
-    PIECE_VERTEX = 2        # an arc of a vertex circle
 
 
 cdef size_t _r_node(const Regions *R, size_t v) noexcept nogil:
@@ -554,10 +507,6 @@ cdef double _r_contour_area(const Regions *R) noexcept nogil:
             al = el.dir * el.sweep
             a += el.R * el.R * (al - sin(al))
     return a
-
-
-cdef enum:
-    REGIONS_NOT_APPLICABLE = 1  # not closed, several radii, no region, a loop not in program order
 
 
 cdef int regions_rebuild(CompState *S) noexcept nogil:

@@ -213,11 +213,6 @@ cdef int em_arc(CState *st, const LineWords *lw, Part *p, int *func, const doubl
     return 0
 
 
-cdef enum:
-    # X Y Z C B U V W A O as letter bits
-    AXIS_LETTERS = (1 << 23) | (1 << 24) | (1 << 25) | (1 << 2) | (1 << 1) | (1 << 20) | (1 << 21) | (1 << 22) | (1 << 0) | (1 << 14)
-
-
 cdef int em_motion(CState *st, const LineWords *lw, int func) noexcept nogil:
     """G0 G1 G2 G3 G33 to the axis words of the line (modal, absolute or relative)."""
     cdef double newp[10]

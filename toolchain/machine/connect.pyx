@@ -10,12 +10,6 @@ cdef inline bint _connect_continues(uint32_t n_type) noexcept nogil:
     return n_type in (10, 11, 12, 40, 41, 42, 44)
 
 
-ctypedef struct PartCalc:          # what the ConnectPointCalc hook needs
-    Core *core
-    Machine *m
-    Callback cb
-
-
 cdef bint _part_calc(void *ctx, size_t part, double *d2, double *point) noexcept nogil:
     """ConnectPointCalc (1005) for one part's candidate: 1 = use its changed values."""
     cdef PartCalc *pc = <PartCalc *>ctx

@@ -17,49 +17,6 @@ from libc.string cimport memset, memcpy, memmove, strdup
 from libc.math cimport fabs
 from posix.time cimport clock_gettime, nanosleep, timespec, CLOCK_MONOTONIC
 
-cdef enum:
-    EVENT_QUEUE = 1024          # events between the pacer and the notifier
-    HISTORY_DEPTH = 100000      # motion parts a backward run can retrace
-    PART_NONE = -1              # an entry that is no part of the program (a manual move)
-    MFUNC_LATER = 2             # DriverMFunc's answer: the host confirms with ToolChainCore_ConfirmMFunc
-    RUN_MANUAL = 50             # the regime of a manual move (GoToPosition), as its status
-
-ctypedef struct MachineEvent:
-    int32_t kind                # ME_ENTRY, ME_MFUNC, ME_PRINT
-    size_t part
-
-ctypedef struct Machine:
-    Motion motion
-    pthread_t pacer
-    int32_t pacer_done          # atomic: the pacer has left its loop
-    int32_t regime              # of the run (30 31 32 33), CMD_GOTO's 50
-    # where the machine is on the program (outlives the runs)
-    LoadedProgram *program      # the program the place refers to (a reference); NULL: none
-    Placement placement         # where that program runs (the machine position of its first start)
-    int64_t cur_motion          # the motion part it runs or ran last (PART_NONE: none)
-    char *stop_code             # StopCNCEx addCode, sent once the machine stands (core.lock)
-    size_t part                 # the part it is in (n_parts: after the last)
-    double part_s               # path length done along that part
-    bint began                  # the part's start was reported (DriverGFunc)
-    size_t *history             # motion parts it ran before `part`, oldest first
-    size_t n_history, cap_history
-    bint history_lost           # older ones were dropped (HISTORY_DEPTH)
-    double cut_len, rapid_len, run_time
-    # the M-function handshake
-    int32_t m_pending           # atomic: a DriverMFunc answered "later": ConfirmMFunc ends it
-    # pacer -> notifier
-    pthread_mutex_t lock
-    pthread_cond_t wake         # the notifier sleeps on it until the pacer has news
-    bint news                   # events queued, entries consumed or the pacer done (lock)
-    MachineEvent events[1024]
-    size_t ev_first, ev_n
-
-
-cdef inline bint machine_moving(int32_t status) noexcept nogil:
-    """The offline machine moves in this status (its thread publishes GetPos)."""
-    return (30 <= status <= 33 or status == CNC_STATUS_CONNECT_CALCULATING
-            or status == CNC_STATUS_CONNECT_MOVING or status == CNC_STATUS_MANUAL_MOVE)
-
 
 cdef Machine *machine_of(Core *core) noexcept nogil:
     """The core's machine, made on first use (with core.lock held)."""
@@ -116,21 +73,6 @@ cdef void machine_history_push(Machine *m, size_t part) noexcept nogil:
 
 
 # ------------------------------------------------------------------ entries
-
-ctypedef struct Feeder:         # what the notifier thread reads parts with
-    Core *core
-    Machine *m
-    const Program *prog
-    GCODE_PARAMETERS *params
-    PlanCursor cursor
-    uint32_t enhanced
-    int32_t regime
-    size_t next                 # forward: next part; backward: entries made so far
-    bint any_motion             # regime 33: a motion part was fed
-    uint32_t last_line          # the breakpoint question is asked once per line
-    int32_t last_file
-    bint first
-    bint back_current           # backward: the machine stands inside a motion part
 
 
 cdef bint _is_breakpoint(Feeder *f, const Part *p) noexcept nogil:

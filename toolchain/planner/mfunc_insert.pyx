@@ -10,22 +10,6 @@
 # after the first part (an insertion follows a part).
 from libc.stdlib cimport malloc, realloc, free, qsort
 
-cdef enum:
-    MFI_BEFORE_SLOW_DOWN = 0
-    MFI_AFTER_SLOW_DOWN = 1
-    MFI_BEFORE_RAPID = 2
-
-
-ctypedef struct MfuncInsertion:
-    size_t after            # inserted right after this part
-    size_t seq              # found in this order (several after one part keep it)
-    int32_t mfunc
-
-
-ctypedef struct MfuncInsertions:
-    MfuncInsertion *items
-    size_t n, cap
-
 
 cdef bint _mfi_add(MfuncInsertions *ins, size_t after, int32_t mfunc) noexcept nogil:
     cdef MfuncInsertion *grown
