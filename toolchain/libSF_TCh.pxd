@@ -4,6 +4,7 @@ from libc.stdint cimport int8_t, int16_t, int32_t, int64_t, uint8_t, uint16_t, u
 from includes.tgm_cnc cimport *
 from includes.system cimport *
 
+include "arrays.pxd"
 include "numbers.pxd"
 include "errors.pxd"
 include "geometry.pxd"

@@ -12,6 +12,7 @@
 # (docs/architecture.md).
 
 # the data and its tools
+include "arrays.pyx"
 include "numbers.pyx"
 include "errors.pyx"
 include "geometry.pyx"

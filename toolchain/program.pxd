@@ -210,8 +210,6 @@ cdef int64_t program_add_text(ProgramBuilder *build, const char *text, size_t n)
 # a stage inserts parts in one backward pass (the callbacks above); False: out of memory
 cdef bint program_merge(ProgramBuilder *build, size_t n_ins, void *ctx, inserted_after_fn after_of,
                         make_inserted_fn make, settle_parts_fn settle, const MergeWatch *watch) noexcept nogil
-# an array of `item`-byte items with room for `need` (doubling); False: out of memory
-cdef bint grow(void **buf, size_t *cap, size_t need, size_t item) noexcept nogil
 # memory hints for large arrays: huge pages; pages faulted in ahead of their writer
 cdef void program_advise_huge(void *buf, size_t size) noexcept nogil
 cdef bint program_prefault(ProgramBuilder *build, size_t first, size_t count, size_t limit) noexcept nogil

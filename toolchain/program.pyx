@@ -1,6 +1,6 @@
 # The compiled program: growable arrays of parts, their addresses, zero offsets and
 # texts, and the one place a Part becomes a SIMPLE_GM_PARAMS.
-from libc.stdlib cimport malloc, realloc, free
+from libc.stdlib cimport free
 from libc.string cimport memset, memcpy, memcmp
 from libc.math cimport sqrt, fabs
 from includes.tgm_cnc cimport SIMPLE_GM_PARAMS, P10DOUBLE, P26FLOAT
@@ -43,34 +43,12 @@ cdef void program_builder_trim(ProgramBuilder *build) noexcept nogil:
     nothing in glibc (the tail is split off or unmapped): about 0.1 ms on a million
     parts. When realloc refuses, the spare room stays."""
     cdef Program *prog = &build.prog
-    cdef void *p
     if prog.n_parts > 0 and build.cap_parts > prog.n_parts:
-        p = realloc(prog.parts, prog.n_parts * sizeof(Part))
-        if p != NULL:
-            prog.parts = <Part *>p
+        if resize(<void **>&prog.parts, prog.n_parts, sizeof(Part)):
             build.cap_parts = prog.n_parts
     if prog.n_pars > 0 and build.cap_pars > prog.n_pars:
-        p = realloc(prog.pars, prog.n_pars * sizeof(float))
-        if p != NULL:
-            prog.pars = <float *>p
+        if resize(<void **>&prog.pars, prog.n_pars, sizeof(float)):
             build.cap_pars = prog.n_pars
-
-
-cdef bint grow(void **buf, size_t *cap, size_t need, size_t item) noexcept nogil:
-    # Ensures room for `need` items (doubling); False when memory is exhausted.
-    cdef size_t new_cap
-    cdef void *p
-    if need <= cap[0]:
-        return True
-    new_cap = cap[0] * 2 if cap[0] else 256
-    while new_cap < need:
-        new_cap *= 2
-    p = realloc(buf[0], new_cap * item)
-    if p == NULL:
-        return False
-    buf[0] = p
-    cap[0] = new_cap
-    return True
 
 
 cdef inline void _part_defaults(Part *p) noexcept nogil:
@@ -123,10 +101,9 @@ cdef bint program_merge(ProgramBuilder *build, size_t n_ins, void *ctx, inserted
         if settle != NULL:
             settle(ctx, 0, n, <size_t>NO_INSERTION)
         return True
-    parts = <Part *>realloc(prog.parts, total * sizeof(Part))
-    if parts == NULL:
+    if not resize(<void **>&prog.parts, total, sizeof(Part)):
         return False
-    prog.parts = parts
+    parts = prog.parts
     build.cap_parts = total
     # parts [0, k) have not moved yet; part k now lives at next_w (total: there is no
     # part after the last one). Every group but the first moves a run of at least its

@@ -15,7 +15,7 @@
 # and CL_G1 * CL_G1 elements; CL_BATCH consecutive pieces share one search of the boxes.
 # Cheap proofs (_cl_far) settle most pairs, the rest is measured exactly
 # (_cl_piece_gap): O(n) on ordinary contours.
-from libc.stdlib cimport realloc, free
+from libc.stdlib cimport free
 from libc.string cimport memmove, memcpy
 from libc.math cimport fabs, sqrt, M_PI
 
@@ -236,20 +236,15 @@ cdef bint _cl_slide(CompState *S, Clearance *C, size_t lo, size_t hi) noexcept n
 cdef inline bint _cl_read(CompState *S, Clearance *C, size_t lo, size_t hi) noexcept nogil:
     """Appends the contour elements of parts lo..hi to the window."""
     cdef XPiece *el
-    cdef double *d
-    cdef size_t k, cap
+    cdef size_t k, c1, c2
     for k in range(lo, hi + 1):
         if C.n == C.cap:
-            cap = C.cap * 2 if C.cap else 256
-            el = <XPiece *>realloc(C.el, cap * sizeof(XPiece))
-            if el == NULL:
+            # the two arrays grow alike from the same capacity
+            c1 = c2 = C.cap
+            if not grow(<void **>&C.el, &c1, C.n + 1, sizeof(XPiece)) or \
+                    not grow(<void **>&C.off, &c2, C.n + 1, sizeof(double)):
                 return False
-            C.el = el
-            d = <double *>realloc(C.off, cap * sizeof(double))
-            if d == NULL:
-                return False
-            C.off = d
-            C.cap = cap
+            C.cap = c1
         if not cl_element(S, k, &C.el[C.n]):
             continue
         el = &C.el[C.n]
@@ -261,17 +256,11 @@ cdef inline bint _cl_read(CompState *S, Clearance *C, size_t lo, size_t hi) noex
 cdef inline bint _cl_boxes(Clearance *C) noexcept nogil:
     """The group boxes of the window (the elements' own boxes: a query box is grown by
     the piece's radius) and C.max_off."""
-    cdef double *b
     cdef size_t k, ng = C.n / CL_G1 + 1
     if ng > C.cap_g:
-        b = <double *>realloc(C.g1, 4 * ng * sizeof(double))
-        if b == NULL:
+        if not resize(<void **>&C.g1, ng, 4 * sizeof(double)) or \
+                not resize(<void **>&C.g2, ng / CL_G1 + 1, 4 * sizeof(double)):
             return False
-        C.g1 = b
-        b = <double *>realloc(C.g2, 4 * (ng / CL_G1 + 1) * sizeof(double))
-        if b == NULL:
-            return False
-        C.g2 = b
         C.cap_g = ng
     for k in range(ng):
         cl_box_empty(&C.g1[4 * k])
@@ -422,9 +411,7 @@ cdef double cl_gap(const Clearance *C, XPiece *t, const XPiece *own, size_t skip
 
 cdef bint _cl_collect(Clearance *C, const double *box) noexcept nogil:
     """C.cand: the elements whose boxes meet `box`, in order (False: no memory)."""
-    cdef size_t i, j, k, n1, n2, cap, n = 0
-    cdef size_t *cand
-    cdef double *cbox
+    cdef size_t i, j, k, n1, n2, c1, c2, n = 0
     n1 = (C.n + CL_G1 - 1) / CL_G1
     n2 = (n1 + CL_G1 - 1) / CL_G1
     for i in range(n2):
@@ -434,16 +421,11 @@ cdef bint _cl_collect(Clearance *C, const double *box) noexcept nogil:
             if not box_hit(&C.g1[4 * j], box, 0.0):
                 continue
             if n + CL_G1 > C.cap_cand:
-                cap = C.cap_cand * 2 if C.cap_cand else 256
-                cand = <size_t *>realloc(C.cand, cap * sizeof(size_t))
-                if cand == NULL:
+                c1 = c2 = C.cap_cand        # the two arrays grow alike
+                if not grow(<void **>&C.cand, &c1, n + CL_G1, sizeof(size_t)) or \
+                        not grow(<void **>&C.cbox, &c2, n + CL_G1, 4 * sizeof(double)):
                     return False
-                C.cand = cand
-                cbox = <double *>realloc(C.cbox, 4 * cap * sizeof(double))
-                if cbox == NULL:
-                    return False
-                C.cbox = cbox
-                C.cap_cand = cap
+                C.cap_cand = c1
             for k in range(j * CL_G1, min((j + 1) * CL_G1, C.n)):
                 if box_hit(C.el[k].box, box, 0.0):
                     C.cand[n] = k

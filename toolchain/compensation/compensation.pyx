@@ -15,7 +15,7 @@
 #      parts and their corner insertions queued;
 #   5. one merge pass rebuilds the part array with the insertions and gives the parts
 #      without motion in the plane the compensated position they sit at.
-from libc.stdlib cimport malloc, realloc, free, calloc
+from libc.stdlib cimport malloc, free, calloc
 from libc.string cimport memcpy, memset, memchr
 from libc.stdio cimport snprintf
 from libc.math cimport fabs, sin, M_PI
@@ -81,15 +81,8 @@ cdef bint _flush(CompState *S, size_t keep) noexcept nogil:
 
 
 cdef bint _push(CompState *S, const CompEl *el) noexcept nogil:
-    cdef CompEl *st
-    cdef size_t cap
-    if S.n_st == S.cap_st:
-        cap = S.cap_st * 2 if S.cap_st else 64
-        st = <CompEl *>realloc(S.st, cap * sizeof(CompEl))
-        if st == NULL:
-            return False
-        S.st = st
-        S.cap_st = cap
+    if not grow(<void **>&S.st, &S.cap_st, S.n_st + 1, sizeof(CompEl)):
+        return False
     S.st[S.n_st] = el[0]
     S.n_st += 1
     # flushing in batches of 3 x depth keeps the copying of the kept tail small; the
@@ -570,19 +563,12 @@ cdef void compensate_begin(CompState *S, ProgramBuilder *build, const GCODE_PARA
 
 cdef bint _role_room(CompState *S, size_t n) noexcept nogil:
     """S.role covers parts [0, n), new entries ROLE_NONE."""
-    cdef size_t cap
-    cdef uint8_t *role
-    if n <= S.cap_role:
+    cdef size_t old = S.cap_role
+    if n <= old:
         return True
-    cap = S.cap_role * 2 if S.cap_role else 65536
-    while cap < n:
-        cap *= 2
-    role = <uint8_t *>realloc(S.role, cap)
-    if role == NULL:
+    if not grow(<void **>&S.role, &S.cap_role, n, 1):
         return False
-    memset(role + S.cap_role, ROLE_NONE, cap - S.cap_role)
-    S.role = role
-    S.cap_role = cap
+    memset(S.role + old, ROLE_NONE, S.cap_role - old)
     return True
 
 

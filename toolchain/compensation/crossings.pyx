@@ -20,7 +20,7 @@
 # At the chain's end its whole path is checked against the contour (clearance.pyx): a
 # cut that kept the wrong side (a chain started inside a neck narrower than the tool)
 # is error 504, or the chain is rebuilt from its regions (0x80000, regions.pyx).
-from libc.stdlib cimport malloc, realloc, free
+from libc.stdlib cimport malloc, free
 from libc.string cimport memmove, memcpy, memset
 from libc.math cimport fabs, sqrt, atan2, M_PI
 
@@ -287,7 +287,6 @@ cdef void _x_regroup(XState *X, size_t upto) noexcept nogil:
 
 cdef bint _x_add(XState *X, const XPiece *q, size_t depth) noexcept nogil:
     cdef size_t cap, shift, j, size
-    cdef XPiece *pc
     cdef double *g
     cdef int lev
     # the search window: parts at most `depth` back
@@ -307,17 +306,13 @@ cdef bint _x_add(XState *X, const XPiece *q, size_t depth) noexcept nogil:
         X.n -= shift
         X.base -= shift
     if X.n == X.cap:
-        cap = X.cap * 2 if X.cap else 1024
-        pc = <XPiece *>realloc(X.pc, cap * sizeof(XPiece))
-        if pc == NULL:
+        cap = X.cap
+        if not grow(<void **>&X.pc, &cap, X.n + 1, sizeof(XPiece)):
             return False
-        X.pc = pc
-        for lev in range(XLEV):
+        for lev in range(XLEV):     # the group boxes of each level, for that capacity
             size = (<size_t>4) << (2 * lev)
-            g = <double *>realloc(X.g[lev], 4 * (cap / size + 1) * sizeof(double))
-            if g == NULL:
+            if not resize(<void **>&X.g[lev], cap / size + 1, 4 * sizeof(double)):
                 return False
-            X.g[lev] = g
         X.cap = cap
     j = X.n
     X.pc[j] = q[0]
@@ -514,20 +509,13 @@ cdef bint cross_join(CompState *S, const CompEl *a, const CompEl *b) noexcept no
     search must remove it, else error 500 on a's line (at the chain's end or once it
     is farther back than the search depth)."""
     cdef XState *X = &S.xs
-    cdef size_t *prov
-    cdef size_t cap
     if not (S.cfg.strategy & CORR_REMOVE_CROSSING) or distance2d(a.e[0] - b.s[0], a.e[1] - b.s[1]) <= 1e-9:
         return False
     if X.head_prov == X.n_prov:
         X.head_prov = 0
         X.n_prov = 0
-    if X.n_prov == X.cap_prov:
-        cap = X.cap_prov * 2 if X.cap_prov else 16
-        prov = <size_t *>realloc(X.prov, cap * sizeof(size_t))
-        if prov == NULL:
-            return False
-        X.prov = prov
-        X.cap_prov = cap
+    if not grow(<void **>&X.prov, &X.cap_prov, X.n_prov + 1, sizeof(size_t)):
+        return False
     X.prov[X.n_prov] = a.part
     X.n_prov += 1
     return True

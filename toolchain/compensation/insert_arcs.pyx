@@ -13,7 +13,7 @@
 # Runs after the compensation on the path the tool follows (Part.ce; Part.e too when
 # the part is not compensated). One pass, O(n); no pass at all when neither the host
 # (insertArcMode 1) nor any G167 of the program switches insertion on.
-from libc.stdlib cimport realloc, free, malloc
+from libc.stdlib cimport free, malloc
 from libc.string cimport memcpy, memset
 from libc.math cimport fabs, atan2, cos, tan, M_PI
 
@@ -69,7 +69,6 @@ cdef int insert_arcs(ProgramBuilder *build, const GCODE_PARAMETERS *params, Erro
     cdef Part *p
     cdef Part *q
     cdef ArcIns *ins = NULL
-    cdef ArcIns *grown
     cdef ArcIns *x
     cdef double s0[2]
     cdef double s1[2]
@@ -140,14 +139,10 @@ cdef int insert_arcs(ProgramBuilder *build, const GCODE_PARAMETERS *params, Erro
                     rad = tang / tt
                     d = rad * (1.0 - ct) / ct
                 if d >= tol_min - 1e-12 and rad > 1e-9:
-                    if n_ins == cap_ins:
-                        cap_ins = cap_ins * 2 if cap_ins else 64
-                        grown = <ArcIns *>realloc(ins, cap_ins * sizeof(ArcIns))
-                        if grown == NULL:
-                            free(ins)
-                            set_error(err, ERR_OUT_OF_MEMORY, prog.main_file_idx, 0, NULL, 0)
-                            return COMPILE_ERROR
-                        ins = grown
+                    if not grow(<void **>&ins, &cap_ins, n_ins + 1, sizeof(ArcIns)):
+                        free(ins)
+                        set_error(err, ERR_OUT_OF_MEMORY, prog.main_file_idx, 0, NULL, 0)
+                        return COMPILE_ERROR
                     x = &ins[n_ins]
                     n_ins += 1
                     x.after = k - 1

@@ -2,7 +2,6 @@
 # step of the pass does with it: keep a warning, fail, queue an insertion, discard a
 # part from the path, read a part's offset element. Shared by the crossings, the
 # clearance, the regions and the pass itself (compensation.pyx).
-from libc.stdlib cimport realloc
 from libc.string cimport memset
 from libc.math cimport fabs, M_PI
 
@@ -36,16 +35,11 @@ cdef double comp_distance(const CompState *S, const Part *p) noexcept nogil:
 
 cdef bint ins_add(CompState *S, const CompEl *el) noexcept nogil:
     cdef InsRec *rec
-    cdef size_t cap
     if S.n_ins == S.cap_ins:
-        cap = S.cap_ins * 2 if S.cap_ins else 256
-        rec = <InsRec *>realloc(S.ins, cap * sizeof(InsRec))
-        if rec == NULL:
+        if not grow(<void **>&S.ins, &S.cap_ins, S.n_ins + 1, sizeof(InsRec)):
             return False
-        S.ins = rec
-        S.cap_ins = cap
-        if cap * sizeof(InsRec) >= HUGE_ADVICE_MIN:
-            program_advise_huge(rec, cap * sizeof(InsRec))
+        if S.cap_ins * sizeof(InsRec) >= HUGE_ADVICE_MIN:
+            program_advise_huge(S.ins, S.cap_ins * sizeof(InsRec))
     rec = &S.ins[S.n_ins]
     S.n_ins += 1
     rec.after = el.part

@@ -23,7 +23,7 @@
 # has a piece in it; the elements keep their pieces in program order (else the rebuild
 # does not apply), vertex arcs and far side lines become inserted parts, elements
 # without a piece are removed (warning 600 on their lines).
-from libc.stdlib cimport malloc, realloc, free, qsort
+from libc.stdlib cimport malloc, free, qsort
 from libc.math cimport fabs, fmax, sin, sqrt, atan2, M_PI
 from libc.float cimport DBL_EPSILON
 
@@ -65,7 +65,7 @@ cdef void regions_free(Regions *R) noexcept nogil:
 
 
 cdef bint _r_piece_room(Regions *R, size_t need) noexcept nogil:
-    # the three arrays grow alike from the same capacity
+    # the five arrays grow alike from the same capacity
     cdef size_t c1 = R.cap_pc, c2 = R.cap_pc, c3 = R.cap_pc, c4 = R.cap_pc, c5 = R.cap_pc
     if not grow(<void **>&R.pc, &c1, need, sizeof(XPiece)) or \
             not grow(<void **>&R.pel, &c2, need, sizeof(size_t)) or \

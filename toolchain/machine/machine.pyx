@@ -12,7 +12,7 @@
 # Neither waits for the other: the ring of entries and the event queue are the only
 # things they share. The machine's place on the path (part, distance, the parts it
 # ran, for backward) outlives the run, so the next StartCNCEx continues there.
-from libc.stdlib cimport malloc, calloc, realloc, free
+from libc.stdlib cimport malloc, calloc, free
 from libc.string cimport memset, memcpy, memmove, strdup
 from libc.math cimport fabs
 from posix.time cimport clock_gettime, nanosleep, timespec, CLOCK_MONOTONIC
@@ -53,7 +53,6 @@ cdef void machine_forget(Core *core) noexcept nogil:
 cdef void machine_history_push(Machine *m, size_t part) noexcept nogil:
     """Remembers a motion part run (for backward runs): when HISTORY_DEPTH are held,
     the oldest tenth goes at once."""
-    cdef size_t *grown
     cdef size_t cap
     if m.n_history == HISTORY_DEPTH:
         memmove(m.history, m.history + HISTORY_DEPTH // 10,
@@ -62,11 +61,9 @@ cdef void machine_history_push(Machine *m, size_t part) noexcept nogil:
         m.history_lost = True
     if m.n_history == m.cap_history:
         cap = min(max(2 * m.cap_history, <size_t>1024), <size_t>HISTORY_DEPTH)
-        grown = <size_t *>realloc(m.history, cap * sizeof(size_t))
-        if grown == NULL:
+        if not resize(<void **>&m.history, cap, sizeof(size_t)):
             m.history_lost = True
             return
-        m.history = grown
         m.cap_history = cap
     m.history[m.n_history] = part
     m.n_history += 1
