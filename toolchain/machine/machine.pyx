@@ -533,16 +533,11 @@ cdef int32_t machine_manual_move(Core *core, Machine *m, Feeder *f, const SIMPLE
     return finish
 
 
-cdef int32_t machine_program_run(Core *core, Machine *m, Feeder *f, int32_t regime, const char *add_code) noexcept nogil:
-    """A run along the program (regimes 30-33) from the machine's place; the place
-    and the machine position follow it."""
+cdef void _run_setup(Core *core, Machine *m, Feeder *f, int32_t regime, const double *start) noexcept nogil:
+    """The feeder and the motion of a run along the program (regimes 30-33) from the
+    machine's place, the machine at `start`."""
     cdef Motion *mo = &m.motion
     cdef const Program *prog = &m.program.prog
-    cdef Callback cb
-    cdef int32_t finish
-    cdef char *stop_code
-    cdef double start[10]
-    memcpy(start, mo.position, sizeof(start))
     f.prog = prog
     f.regime = regime
     f.first = True
@@ -558,6 +553,28 @@ cdef int32_t machine_program_run(Core *core, Machine *m, Feeder *f, int32_t regi
     mo.cut_len = m.cut_len
     mo.rapid_len = m.rapid_len
     mo.run_time = m.run_time
+
+
+cdef void _run_keep(Core *core, Machine *m, const Feeder *f) noexcept nogil:
+    """With core.lock held, after a run along the program: the machine's place, its
+    lengths and times, and the core's position follow the run."""
+    _keep_place(m, f)
+    m.cut_len = m.motion.cut_len
+    m.rapid_len = m.motion.rapid_len
+    m.run_time = m.motion.run_time
+    memcpy(core.position, m.motion.position, sizeof(core.position))
+
+
+cdef int32_t machine_program_run(Core *core, Machine *m, Feeder *f, int32_t regime, const char *add_code) noexcept nogil:
+    """A run along the program (regimes 30-33) from the machine's place; the place
+    and the machine position follow it."""
+    cdef Motion *mo = &m.motion
+    cdef Callback cb
+    cdef int32_t finish
+    cdef char *stop_code
+    cdef double start[10]
+    memcpy(start, mo.position, sizeof(start))
+    _run_setup(core, m, f, regime, start)
     _feed(f)
     motion_sync(mo)
     _publish(core, m)                   # GetPos shows this run from its start, not the last activity's
@@ -568,11 +585,7 @@ cdef int32_t machine_program_run(Core *core, Machine *m, Feeder *f, int32_t regi
         send_add_code(core, add_code, start)
     finish = _pace(core, m, f)
     pthread_mutex_lock(&core.lock)
-    _keep_place(m, f)
-    m.cut_len = mo.cut_len
-    m.rapid_len = mo.rapid_len
-    m.run_time = mo.run_time
-    memcpy(core.position, mo.position, sizeof(core.position))
+    _run_keep(core, m, f)
     stop_code = m.stop_code
     m.stop_code = NULL
     pthread_mutex_unlock(&core.lock)
