@@ -68,6 +68,11 @@ BASE = {name: textwrap.dedent(text).lstrip() for name, text in {
 }.items()}
 
 
+def test_the_library_keeps_its_structure(capsys):
+    status = check_structure.main([str(ROOT / "toolchain")])
+    assert status == 0, capsys.readouterr().out
+
+
 def test_a_well_formed_tree_passes(tmp_path):
     files = dict(BASE)
     files["stage/second.pyx"] = files["stage/second.pyx"].replace("_helper", "helper")

@@ -75,11 +75,11 @@ def logical_lines(lines: list):
             start = number
         buf.append(line)
         depth += sum(line.count(o) for o in "([{") - sum(line.count(c) for c in ")]}")
-        if depth <= 0 or line.rstrip().endswith("\\"):
-            if depth <= 0:
-                text = " ".join(buf)
-                yield start, len(text) - len(text.lstrip()), text.strip()
-                buf, depth = [], 0
+        if depth > 0 or line.rstrip().endswith("\\"):
+            continue
+        text = " ".join(buf)
+        yield start, len(text) - len(text.lstrip()), text.strip()
+        buf, depth = [], 0
 
 
 def split_top(text: str, sep: str = ",") -> list:
@@ -115,6 +115,12 @@ def declarator_names(decl: str) -> list:
     return names
 
 
+def typedef_name(rest: str) -> str:
+    """The name a ctypedef (without the word) declares: `T name` or `R (*name)(...)`."""
+    m = FUNC_POINTER.search(rest)
+    return m.group(1) if m else declarator_names(rest)[-1]
+
+
 def matching_paren(text: str, open_at: int) -> int:
     depth = 0
     for i in range(open_at, len(text)):
@@ -129,7 +135,7 @@ def matching_paren(text: str, open_at: int) -> int:
 
 class Source:
     """One file of the include tree: what it defines (name -> line, kind), the types it
-    defines, and the global names it uses (name -> first line)."""
+    defines, and the global names it uses (name -> the lines)."""
 
     def __init__(self, path: Path, rel: str, face: bool):
         self.path, self.rel, self.face = path, rel, face
@@ -174,7 +180,7 @@ class Source:
                     self._define(member.group(0), line, "value")
                     self._use(text[member.end():], line)
             elif kind == "extern":
-                self._extern(line, text)
+                self._extern(line, indent, text, block)
             else:
                 self._use(text, line)
 
@@ -188,14 +194,13 @@ class Source:
             return (m.group(1) if m.group(1) != "union" else "struct", set())
         if text.startswith("ctypedef "):
             rest = text[len("ctypedef "):]
-            m = FUNC_POINTER.search(rest)
-            name = m.group(1) if m else declarator_names(rest)[-1]
+            name = typedef_name(rest)
             self.types.append((line, name))
             self._define(name, line, "type")
             self._use(rest, line, hidden={name} | set(self._params(rest)))
             return None
         if text.startswith("cdef extern"):
-            return ("extern", set())
+            return ("extern", {})
         m = re.match(r"(cdef|cpdef|def)\s", text)
         if m:
             return self._declaration(line, text[m.end():], m.group(1))
@@ -248,11 +253,15 @@ class Source:
                 local.add(m.group(1))
         self._use(text, line, hidden=local)
 
-    def _extern(self, line, text):
+    def _extern(self, line, indent, text, block):
+        """A line of a `cdef extern` block: a type, a function or variables; the
+        lines inside one of its types (deeper than its first line) are fields."""
+        top = block[1].setdefault("indent", indent)
+        if indent > top:
+            return
         m = TYPE_BLOCK.match(text)
         if m or text.startswith("ctypedef "):
-            name = m.group(2) if m else (FUNC_POINTER.search(text) or IDENT.findall(text)[-1:] and None)
-            name = name.group(1) if hasattr(name, "group") else name or declarator_names(text[9:])[-1]
+            name = m.group(2) if m else typedef_name(text[len("ctypedef "):])
             self.types.append((line, name))
             self._define(name, line, "type")
             return
