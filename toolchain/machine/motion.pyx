@@ -6,7 +6,7 @@
 # Each entry is one part of the program (or, backward, one part retraced). When an
 # entry begins -- or when what governs its speed changes (override, stop, more
 # look-ahead) -- its speed profile is planned again from the machine's present speed
-# in closed form (ramps.pyx): up to the entry's cap, cruise, down to the highest
+# in closed form (the ramps of planner.pxd): up to the entry's cap, cruise, down to the highest
 # exit that every entry visible after it can still brake from. With the window full
 # and no override, that profile is the compiled plan's own: a run takes
 # GetGCodeRunTime.

@@ -18,9 +18,6 @@ from libc.math cimport sqrt
 from libc.string cimport memcpy
 
 
-                                # part after it changes the limits of the parts before it
-
-
 cdef void _take_classes(NodeSource *src, const PlanRegion *s) noexcept nogil:
     """The values every plain line of the settings s shares (as part_limits takes them)."""
     cdef const GCODE_FEED *cls

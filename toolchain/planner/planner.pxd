@@ -89,12 +89,13 @@ ctypedef struct PlanNode:       # a motion part with length, as the passes see i
     size_t part
     double length
     double vmax
-    double acc, dec             # equivalent constant accelerations of its ramps (ramps.pyx)
+    double acc, dec             # equivalent constant accelerations of its ramps (the ramps above)
     double jin                  # speed limit at its start (0: the machine stands there)
     double jin2                 # its square
     double brake2               # 2 dec length: what braking within it takes off the squared speed
     double entry2               # backward pass: squared highest entry speed that can still stop in the window
     bint barrier                # it can brake from its junction's limit to rest within itself: no
+                                # part after it changes the limits of the parts before it
 
 ctypedef struct NodeSource:     # makes the nodes, parts in order
     const Program *prog
