@@ -2,6 +2,7 @@
 # MACHINE_PARAMETERS): their defaults, the bounds every value keeps, and the INI
 # keys. Owns IniSettings (what LoadFromIni reads into). Called by the exports (Set*,
 # LoadFromIni) and the core (defaults).
+
 ctypedef struct IniSettings:
     # what LoadFromIni reads into, a copy of the core's configuration: the file is
     # read and parsed without the core's lock, and stored only when all of it is good
@@ -13,6 +14,8 @@ ctypedef struct IniSettings:
     ErrorInfo *err
 
 
+# the documented defaults; the bounds of Set*Parameters (err filled when refused),
+# the clamp of overrideInc; finite presets and coordinates; LoadFromIni's visitor
 cdef void default_gcode_parameters(GCODE_PARAMETERS *p) noexcept nogil
 cdef bint check_gcode_parameters(const GCODE_PARAMETERS *p, ErrorInfo *err) noexcept nogil
 cdef bint check_machine_parameters(const MACHINE_PARAMETERS *m, ErrorInfo *err) noexcept nogil
