@@ -1,6 +1,6 @@
 """The offline machine (StartCNCEx 30-33, toolchain/machine/).
 
-Part one drives the pure step through tests/machine_harness (no threads, one 100 us
+Part one drives the pure step through tests/harness (no threads, one 100 us
 step at a time, every step recorded) and checks it against geometry and closed forms:
 positions on the compensated path, speeds under the plan and the programmed feed,
 the stop distance v^2 / 2d, continue and backward, the run time.
@@ -12,10 +12,8 @@ import ctypes
 import math
 import os
 import random
-import tempfile
 import threading
 import time
-from pathlib import Path
 
 import pytest
 
@@ -25,14 +23,9 @@ DT = 1e-4                                   # the machine's step, s
 EPS = 1e-6                                  # mm: sampled positions on the path
 SLOW_SCALE = int(os.environ.get("SF_TCH_SLOW_SCALE", "1"))
 
-_MODULE = []
-
-
 def harness_module():
-    if not _MODULE:
-        from machine_harness import build
-        _MODULE.append(build(Path(tempfile.mkdtemp(prefix="machine_harness"))))
-    return _MODULE[0]
+    import harness
+    return harness.load()
 
 
 @pytest.fixture(scope="session")

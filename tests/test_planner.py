@@ -1,10 +1,9 @@
 """The feed planner (toolchain/planner/): closed forms computed by hand, the junction
 and arc feed tables, centripetal and axis limits, exact stops, the look-ahead window,
 ruckig (test-only) as the time-optimal oracle, and the run time of a simulation.
-The planner runs through tests/plan_harness (compiler + planner, no ctypes)."""
+The planner runs through tests/harness (compiler + planner, no ctypes)."""
 import ctypes
 import math
-import tempfile
 from pathlib import Path
 
 import pytest
@@ -12,14 +11,9 @@ import pytest
 from sf_tch import abi
 from sf_tch.core import Core
 
-_MODULE = []
-
-
 def harness_module():
-    if not _MODULE:
-        from plan_harness import build
-        _MODULE.append(build(Path(tempfile.mkdtemp(prefix="plan_harness"))))
-    return _MODULE[0]
+    import harness
+    return harness.load()
 
 
 @pytest.fixture(scope="session")
