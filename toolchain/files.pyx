@@ -3,11 +3,7 @@
 # device that waits for a carrier, a console), so a file that another process
 # controls cannot hang the caller; the file type is then taken from the open file,
 # not from the name, so nothing can be swapped in between (platform.h, per system).
-from libc.stdlib cimport malloc, realloc, free
-
-cdef enum:
-    MAX_FILE_BYTES = 1 << 30        # 1 GiB: larger files are refused (ERR_FILE_TOO_LARGE)
-    FILE_READ_CHUNK = 1 << 16       # growth step for files whose size the open does not tell
+from libc.stdlib cimport malloc, free
 
 
 cdef bint file_open_regular(const char *path, tc_file *file, size_t *size, int32_t *error) noexcept nogil:
@@ -47,7 +43,6 @@ cdef char *read_whole_file(const char *path, size_t *length, int32_t *error) noe
     cdef size_t capacity, grown_capacity, used = 0
     cdef int64_t n
     cdef char *buf
-    cdef char *grown
     cdef tc_file file
     if not file_open_regular(path, &file, &capacity, error):
         return NULL
@@ -70,13 +65,11 @@ cdef char *read_whole_file(const char *path, size_t *length, int32_t *error) noe
             grown_capacity = capacity + FILE_READ_CHUNK
             if grown_capacity > <size_t>MAX_FILE_BYTES + 2:
                 grown_capacity = <size_t>MAX_FILE_BYTES + 2
-            grown = <char *>realloc(buf, grown_capacity)
-            if grown == NULL:
+            if not resize(<void **>&buf, grown_capacity, 1):
                 free(buf)
                 tc_file_close(file)
                 error[0] = ERR_OUT_OF_MEMORY
                 return NULL
-            buf = grown
             capacity = grown_capacity
         n = tc_file_read(file, buf + used, capacity - 1 - used)
         if n > 0:

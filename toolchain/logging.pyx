@@ -6,12 +6,6 @@ from libc.stdlib cimport getenv
 from libc.string cimport strlen, strncpy
 from libc.time cimport tm, strftime
 
-cdef extern from "tgm_cnc.h":
-    uint32_t LOG_TO_CONSOLE, LOG_TO_FILE, LOG_TO_TGM
-    uint32_t LOG_DEBUG, LOG_VERBOSE, LOG_WORKER, LOG_TOOLCHAIN, LOG_DRIVER, LOG_COMPILER
-    uint32_t LOG_EXECUTOR, LOG_MATH
-
-ctypedef void (*LogHook)(intptr_t, uint32_t, const char *) noexcept nogil
 
 cdef extern from *:
     """
@@ -20,7 +14,6 @@ cdef extern from *:
     """
     int tc_in_log_hook
 
-cdef uint32_t g_log_mask          # zero: nothing is logged until SetLogValue
 cdef pthread_mutex_t g_log_lock   # zero-initialised == PTHREAD_MUTEX_INITIALIZER (glibc, platform.h)
 cdef FILE *g_log_file
 cdef char g_log_dir[1024]         # empty: $SF_TCH_LOG_DIR or the current directory
