@@ -2,10 +2,10 @@
 
 tools/build_windows.sh cross-builds the DLL with mingw-w64 and runs the C panel
 tests/windows/panel.c on it under Wine; here the same panel, built with the system cc,
-runs on the Linux library and the two reports must agree line by line: the seed
-example (its error, or its parts), the demo's parts, lengths, boxes and run time with
-every callback recorded, a regime-30 run on three cores while three threads poll
-GetPos, and errors with non-ASCII file names and texts (numbers, lines, texts, the
+runs on the Linux library and the two reports must agree line by line: the
+interpolator manual's example program (its error, or its parts), the demo's parts,
+lengths, boxes and run time with every callback recorded, a regime-30 run on three
+cores while three threads poll GetPos, and errors with non-ASCII file names and texts (numbers, lines, texts, the
 names IdxToFile gives back). Also: numbers in a host with a decimal-comma locale, the
 DLL exports exactly the header's functions and TGM_Data and imports only Windows
 system DLLs, and a layout probe compiled by mingw-w64 and run under Wine agrees with
@@ -96,7 +96,7 @@ def test_the_panel_gets_on_windows_what_it_gets_on_linux(windows_build, lib_path
     text = "\n".join(windows)
     assert "structure sizes: 8 1112 616 112 32 1280 52 448 32" in text
     assert "log file: yes, has the line: yes" in text
-    assert re.search(r"^error: \d+ line \d+ file příklad_seed\.nc: ", text, re.M)     # absolute: refused
+    assert re.search(r"^error: \d+ line \d+ file příklad_manuálu\.nc: ", text, re.M)     # absolute: refused
     assert re.search(r"^motion parts: \d+, cut [1-9]", text, re.M)                   # relative: simulated
     for core in range(3):
         assert f"core {core}: start 0, status -32" in text                # at the end of the program

@@ -6,10 +6,10 @@
  *
  *     panel LIBRARY          (in a directory holding demo.nc and SF_TCh.ini)
  *
- * The scenarios: the version and the structure sizes; the seed example through
- * compile and simulation (absolute and relative); the demo program simulated with
- * every callback set; a regime-30 run of the offline machine on the three cores at
- * once while three threads poll GetPos; errors with non-ASCII file names and texts
+ * The scenarios: the version and the structure sizes; the interpolator manual's
+ * example program through compile and simulation (absolute and relative); the demo
+ * program simulated with every callback set; a regime-30 run of the offline machine
+ * on the three cores at once while three threads poll GetPos; errors with non-ASCII file names and texts
  * (a missing file, a directory, a G-code error, a program in memory, a bad INI, the
  * file table, the log file in a non-ASCII directory).
  *
@@ -123,7 +123,7 @@ static struct {
 #undef X
 } tc;
 
-/* The seed example program of the vendor's documentation. */
+/* The example program of the vendor's interpolator manual. */
 static const char SEED_PROGRAM[] =
     "G00 X60.6051 Y40.7723\nG42\nM51\nG02 X0 Y-2.5202 I3.0336 J-1.2601\n"
     "G02 X0.922 Y-1.5646 I6.0604 J2.5173\nG02 X1.079 Y-1.0269 I4.2143 J3.3479\n"
@@ -538,7 +538,7 @@ static void log_in_non_ascii_directory(void) {
 
 /* What the library makes of numbers in the locale the host has now: the INI's
  * correction0, the end of a G-code move with a number too long for the lexer's own
- * conversion, and the error text of the seed example (numbers with decimals). */
+ * conversion, and the error text of the manual's example (numbers with decimals). */
 typedef struct {
     double radius, end_x;
     char error[2048];
@@ -558,7 +558,7 @@ static void numbers_now(NumberTexts *out) {
     wait_idle(0);
     if (tc.ToolChainCore_GetGCodeSizeInfo(0, &info) == 0)
         out->end_x = info.m_size[0].m_maximalPos.x;
-    tc.ToolChainCore_CompileFromFile(0, T("příklad_seed.nc"));
+    tc.ToolChainCore_CompileFromFile(0, T("příklad_manuálu.nc"));
     wait_idle(0);
     if (tc.ToolChainCore_GetLastError(0, &error) == 1)
         snprintf(out->error, sizeof out->error, "%s", error.m_fullError);
@@ -568,7 +568,7 @@ static void numbers_now(NumberTexts *out) {
 static int decimal_comma_check(const char *locale_name) {
     NumberTexts c_locale, comma;
     write_file("čárka.ini", "[GCodeParameters]\nabsMode=1\ncorrection0=1.5\n");
-    write_file("příklad_seed.nc", SEED_PROGRAM);
+    write_file("příklad_manuálu.nc", SEED_PROGRAM);
     numbers_now(&c_locale);
     if (setlocale(LC_ALL, locale_name) == NULL) {
         fprintf(stderr, "panel: no locale %s\n", locale_name);
@@ -621,9 +621,9 @@ int main(int argc, char **argv) {
     printf("\n");
 
     log_in_non_ascii_directory();
-    write_file("příklad_seed.nc", SEED_PROGRAM);
-    compile_and_simulate("seed example, absolute (the INI's absMode)", "příklad_seed.nc", -1, -1.0);
-    compile_and_simulate("seed example, relative (absMode 0)", "příklad_seed.nc", 0, -1.0);
+    write_file("příklad_manuálu.nc", SEED_PROGRAM);
+    compile_and_simulate("the manual's example, absolute (the INI's absMode)", "příklad_manuálu.nc", -1, -1.0);
+    compile_and_simulate("the manual's example, relative (absMode 0)", "příklad_manuálu.nc", 0, -1.0);
     compile_and_simulate("demo, tool radius 1, every callback", "demo.nc", -1, 1.0);
     machine_on_three_cores();
     errors_with_non_ascii_names();
