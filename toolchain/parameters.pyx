@@ -230,7 +230,7 @@ cdef int gcode_parameter_from_ini(GCODE_PARAMETERS *p, const char *key, const ch
     the radii correction0..correction7: 1 set, 0 unknown key (ignored), -1 a value
     that is not a number of the field's kind (nothing set)."""
     cdef double d = 0.0
-    cdef long i = 0
+    cdef long long i = 0
     cdef bint is_double = c_parse_double(value, &d)
     cdef bint is_int = c_parse_long(value, -2147483647 - 1, 2147483647, &i)
     if strcasecmp(key, "correctionStrategy") == 0:
@@ -293,7 +293,7 @@ cdef int32_t ini_apply_setting(void *ctx, const char *section, const char *key, 
     cdef ErrorInfo why
     cdef char text[400]
     cdef int known
-    cdef long window
+    cdef long long window
     cdef double scale
     if strcasecmp(section, "Offline") == 0 and strcasecmp(key, "TimeScale") == 0:
         if not c_parse_double(value, &scale) or not (0.0 < scale <= 1e6):
