@@ -1,5 +1,6 @@
 /*
- * tgm_cnc.h -- the C ABI of the SF_TCh CNC module library (libSF_TCh.so).
+ * tgm_cnc.h -- the C ABI of the SF_TCh CNC module library (libSF_TCh.so on Linux,
+ * SF_TCh.dll on Windows x64).
  *
  * This header is the single source of truth for the library's binary interface:
  * the Cython sources declare their structures from it, the C compiler checks every
@@ -7,7 +8,8 @@
  * Python ctypes mirror (sf_tch.abi) with it field by field.
  *
  * Layouts follow the vendor's data-structure description (natural C alignment, no
- * packing pragma). Sizes on Linux x86_64 are asserted at the end of this file.
+ * packing pragma), the same on Linux and Windows x64; the sizes are asserted at the end
+ * of this file.
  *
  * Threading (docs/threading.md): every function may be called from any thread at
  * any moment, also from inside a callback the library is running. Long work
@@ -40,10 +42,17 @@ extern "C" {
 #  define TOOLCHAIN_API __attribute__((visibility("default")))
 #endif
 
-/* File names, directories and returned texts (UTF-16 on Windows; this build is Linux). */
+/* File names, directories, the texts of the callbacks and the texts the library returns:
+ * UTF-16 (wchar_t) on Windows, UTF-8 (char) on Linux. */
+#if defined(_WIN32)
+typedef const wchar_t *TGM_LPCTSTR;
+typedef wchar_t *TGM_LPTSTR;
+#else
 typedef const char *TGM_LPCTSTR;
 typedef char *TGM_LPTSTR;
-/* G-code text and error texts: always narrow. */
+#endif
+/* G-code text, add codes, log lines and CALLBACK_INFO's error texts: always narrow
+ * (UTF-8), on both systems. */
 typedef const char *TGM_LPCSTR;
 
 /* ------------------------------------------------------------------ constants */
@@ -67,7 +76,8 @@ typedef const char *TGM_LPCSTR;
 #define TOOL_CHAIN_FILE_END     (-2) /* "__end__"     */
 #define TOOL_CHAIN_FILE_STOP    (-3) /* "__stop__"    */
 #define TOOL_CHAIN_FILE_EXEC    (-4) /* "__exec__"    */
-/* File names of this many characters or more are refused. */
+/* File names of this many bytes or more (of UTF-8; on Windows after the conversion from
+ * UTF-16) are refused. */
 #define TOOL_CHAIN_MAX_FILE_NAME 252
 
 /* Status of a core (ToolChainCore_StatusCNC, GM_PARAMS_ENHANCED.m_statusCNC); positive:

@@ -1,5 +1,5 @@
 """Tool radius compensation: hand-computed cases for each corner type, each
-strategy bit and each error (compensation stage alone, see tests/comp_harness)."""
+strategy bit and each error (compensation stage alone, see tests/harness)."""
 import math
 
 import pytest

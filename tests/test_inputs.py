@@ -449,8 +449,8 @@ def test_numbers_do_not_follow_a_decimal_comma_locale(run_python, tmp_path, tmp_
 
 def _documented_statuses():
     """Every value of enum cnc_status in the installed header."""
-    from sf_tch import library_path
-    header = (Path(library_path()).parent / "include" / "tgm_cnc.h").read_text()
+    from sf_tch import header_path
+    header = Path(header_path()).read_text()
     body = re.search(r"enum cnc_status\s*\{(.*?)\}", header, re.S).group(1)
     return {m.group(1): int(m.group(2)) for m in re.finditer(r"(CNC_STATUS_\w+)\s*=\s*(-?\d+)", body)}
 

@@ -10,14 +10,14 @@ import time
 
 import pytest
 
-from sf_tch import abi, library_path
+from sf_tch import abi, default_ini
 
 CORE = 2
 GOOD = b"G1 X10 Y0 F1000\nG1 X10 Y10\nG1 X0 Y10\n"
 BAD = b"G2 X10 Y0\n"                  # an arc without a centre: the compilation fails
 PAUSED = b"G1 X10 Y0 F1000\nM0\nG1 X10 Y10\n"   # the offline machine pauses at M0 (-33)
 FAST, REAL = 1000.0, 1.0               # time scales of the offline machine
-INI = library_path().replace("libSF_TCh.so", "data/SF_TCh.ini").encode()
+INI = default_ini().encode()         # the bundled INI, wherever SF_TCH_LIBRARY points
 REFUSED = "refused"
 
 

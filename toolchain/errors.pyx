@@ -2,7 +2,6 @@
 # (error_format, generated into catalogue.pxi from errors.toml) and its '\n'-separated
 # arguments (numbers with a '.' decimal point under any locale: numbers.pyx c_snprintf).
 from libc.string cimport memset, strlen
-from errors cimport *
 
 
 cdef void set_error_status(ErrorInfo *err, const char *what, int32_t status) noexcept nogil:

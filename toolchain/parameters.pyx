@@ -13,7 +13,6 @@ cdef extern from *:
     #define TC_MAX_RATE 1e9         /* mm/min, mm/s^2: feeds, accelerations */
     #define TC_MAX_ANGLE 360.0      /* degrees */
     """
-    double TC_MAX_LENGTH
     double TC_MAX_RATE
     double TC_MAX_ANGLE
 
@@ -217,21 +216,6 @@ cdef bint coordinates_finite(const double *values, uint32_t n) noexcept nogil:
 
 # ------------------------------------------------------------------ INI
 
-ctypedef struct IniSettings:
-    # what LoadFromIni reads into, a copy of the core's configuration: the file is
-    # read and parsed without the core's lock, and stored only when all of it is good
-    GCODE_PARAMETERS params
-    char driver[256]
-    int64_t plan_window     # [GCodeParameters] lookAheadParts (the core's, see SetLookAhead)
-    double time_scale       # [Offline] TimeScale (the core's, see SetTimeScale)
-    SmoothingConfig smoothing   # [Smoothing] keys (the core's, see SetSmoothing)
-    # [Corrections] ToolTable, AxisTable1..8: the files named (malloc'ed; NULL none), read
-    # once the whole INI file is good (ini_settings_free frees them)
-    char *tool_table_file
-    char *axis_table_files[8]
-    const char *path
-    ErrorInfo *err
-
 
 cdef bint strncasecmp_prefix(const char *s, const char *prefix) noexcept nogil:
     cdef size_t i = 0
@@ -247,7 +231,7 @@ cdef int gcode_parameter_from_ini(GCODE_PARAMETERS *p, const char *key, const ch
     the radii correction0..correction7: 1 set, 0 unknown key (ignored), -1 a value
     that is not a number of the field's kind (nothing set)."""
     cdef double d = 0.0
-    cdef long i = 0
+    cdef long long i = 0
     cdef bint is_double = c_parse_double(value, &d)
     cdef bint is_int = c_parse_long(value, -2147483647 - 1, 2147483647, &i)
     if strcasecmp(key, "correctionStrategy") == 0:
@@ -349,7 +333,7 @@ cdef int32_t _ini_smoothing_key(IniSettings *s, int32_t line, const char *key, c
     cdef char text[400]
     cdef int32_t command = SMOOTHING_COMMAND_SPLINE
     cdef int index
-    cdef long whole
+    cdef long long whole
     cdef double number
     if strcasecmp(key, "SplinePoints") == 0: index = 0
     elif strcasecmp(key, "SplineJerk") == 0: index = 1
@@ -386,7 +370,7 @@ cdef int32_t ini_apply_setting(void *ctx, const char *section, const char *key, 
     cdef ErrorInfo why
     cdef char text[400]
     cdef int known
-    cdef long window
+    cdef long long window
     cdef double scale
     if strcasecmp(section, "Corrections") == 0 and strcasecmp(key, "ToolTable") == 0:
         return _ini_file_key(s, line, key, value, &s.tool_table_file)

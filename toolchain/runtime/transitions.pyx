@@ -3,29 +3,6 @@
 # or a refusal. The core asks the table before it acts; tests read it as a table
 # (tests/test_transitions.py).
 
-cdef enum Command:
-    CMD_COMPILE = 0             # CompileFromFile / CompileFromMemory
-    CMD_SIMULATE = 1            # StartCNCEx 10 (also needs a compiled program)
-    CMD_TEST = 2                # StartCNCEx 20 (also needs a compiled program)
-    CMD_STOP = 3                # StopCNCEx: the worker ends with EV_STOPPED
-    CMD_RESET = 4               # ResetCNC
-    CMD_DESTROY = 5             # DestroyCNC
-    CMD_DROP_PROGRAM = 6        # ResetStatusCNC mode 0
-    CMD_OUT_OF_TRAJECTORY = 7   # ResetStatusCNC mode 1
-    CMD_SET_PARAMETERS = 8      # SetGCodeParameters (while stopped on the path: feeds only)
-    CMD_LOAD_INI = 9            # LoadFromIni
-    CMD_SET_PREFIX = 10         # GCodePrefixPostfix
-    EV_DONE = 11                # the worker finished its activity
-    EV_STOPPED = 12             # the worker stopped on StopCNCEx (the machine: also a breakpoint)
-    CMD_FORWARD = 13            # StartCNCEx 30 (also needs a compiled program)
-    CMD_FORWARD_NO_M = 14       # StartCNCEx 31
-    CMD_BACKWARD = 15           # StartCNCEx 32
-    CMD_FORWARD_SKIP_M = 16     # StartCNCEx 33
-    CMD_GOTO = 17               # GoToPosition / GoToPositionEx
-    CMD_CONNECT = 18            # ConnectCNCEx_Plane
-    EV_M0 = 19                  # the machine stopped at M0
-    N_COMMANDS = 20
-
 cdef extern from *:
     """
     /* Entries: a status, or one of these. */
@@ -73,7 +50,6 @@ cdef extern from *:
     #undef K
     #undef S
     """
-    int32_t TC_REFUSED, TC_KEEP, TC_AT_START
     const int32_t tc_transitions[][20]
 
 

@@ -5,9 +5,10 @@
 # output has settled on a standing input.
 #   smoothing.pyx   the configuration in the vendor's units (Command -2 / -1 and
 #                   Command_Parameter[0..3]), the spline, the IIR filter, the predicate
-# Called by the exports and LoadFromIni (configuration, ToolChainCore_SmoothSamples);
-# the offline machine runs its output through it once it is wired in.
-from libc.stdint cimport int32_t, uint32_t, uint64_t
+# Owns SmoothingConfig (the core's: core.pxd; LoadFromIni's: parameters.pxd) and
+# Smoother. Called by the exports and LoadFromIni (configuration,
+# ToolChainCore_SmoothSamples); the offline machine runs its output through it once
+# it is wired in.
 
 cdef enum:
     SMOOTHING_COMMAND_IIR = -1          # the Interpolator's Command register: IIR filter parameters
@@ -46,3 +47,20 @@ ctypedef struct Smoother:
     double held[10]             # the filter's input over the last period
     double position[10]
     double velocity[10]
+
+
+# ---- what other stages call
+
+# the configuration: one register value of command -2 or -1 on its own (the INI's
+# keys), the values of one command together, a command's values set all or nothing;
+# each False with err (ERR_SMOOTHING) saying why
+cdef bint smoothing_check_parameter(int32_t command, int index, double value, ErrorInfo *err) noexcept nogil
+cdef bint smoothing_check(const SmoothingConfig *config, int32_t command, ErrorInfo *err) noexcept nogil
+cdef bint smoothing_set(SmoothingConfig *config, int32_t command, const double *params, ErrorInfo *err) noexcept nogil
+
+# a stream of samples: the filters standing at `start` (False: out of memory), one
+# sample in and the smoothed one out, whether the output has settled, the buffer freed
+cdef bint smoother_init(Smoother *s, const SmoothingConfig *config, double period, const double *start) noexcept nogil
+cdef void smoother_push(Smoother *s, const double *sample, double *out) noexcept nogil
+cdef bint smoother_settled(const Smoother *s) noexcept nogil
+cdef void smoother_free(Smoother *s) noexcept nogil

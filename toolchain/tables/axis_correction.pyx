@@ -74,7 +74,7 @@ cdef bint _value_text(char *why, size_t size, const char *what, double value) no
     return False
 
 
-cdef bint axis_table_parse(const unsigned char *data, size_t length, const char *name, AxisTable *out,
+cdef bint _axis_table_parse(const unsigned char *data, size_t length, const char *name, AxisTable *out,
                            ErrorInfo *err) noexcept nogil:
     """The table of the file bytes [data, data + length) into *out (its values
     malloc'ed, the caller frees them); False with err naming the file and the field
@@ -89,7 +89,8 @@ cdef bint axis_table_parse(const unsigned char *data, size_t length, const char 
     cdef double value
     memset(&t, 0, sizeof(AxisTable))
     if length < AXIS_TABLE_HEADER:
-        c_snprintf(why, sizeof(why), "the file has %lu bytes, the header alone 128", <unsigned long>length)
+        c_snprintf(why, sizeof(why), "the file has %llu bytes, the header alone 128",
+                   <unsigned long long>length)
         return _fail(err, ERR_AXIS_TABLE_HEADER, name, NULL, why)
     while data[n_letters] != 0:             # ended by a NUL byte or an error by byte 4
         axis = _axis_of_letter(data[n_letters])
@@ -221,7 +222,7 @@ cdef bint axis_corrections_read(const char *const *paths, uint32_t n, AxisCorrec
             set_error_text(err, error, -1, 0, paths[k])
             axis_corrections_release(tables)
             return False
-        good = axis_table_parse(<const unsigned char *>data, length, paths[k], &tables.table[k], err)
+        good = _axis_table_parse(<const unsigned char *>data, length, paths[k], &tables.table[k], err)
         free(data)
         if not good:
             axis_corrections_release(tables)

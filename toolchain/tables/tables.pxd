@@ -5,11 +5,11 @@
 #                        and & (lengths of axes 1..4) select, G92 D's writes
 #   axis_correction.pyx  the axis correction tables ACHS3D??.KOR: one axis corrected
 #                        from a grid over up to three basis axes
-# Called by the exports and LoadFromIni (loading, G92 D's write, correcting a
-# position); the compiler (D, &, G92 D) and the offline machine (the corrections of
-# its output) call them once they are wired in (docs/tool-table.md,
-# docs/axis-correction.md, "Integration status").
-from libc.stdint cimport int32_t, uint32_t
+# Owns ToolTable and AxisCorrections (the core holds one of each: core.pxd). Called
+# by the exports and LoadFromIni (loading, G92 D's write, correcting a position); the
+# compiler (D, &, G92 D) and the offline machine (the corrections of its output) call
+# them once they are wired in (docs/tool-table.md, docs/axis-correction.md,
+# "Integration status").
 
 # ------------------------------------------------------------------ tool_table.pyx
 
@@ -51,3 +51,23 @@ ctypedef struct AxisCorrections:
     int32_t refs                # atomic
     int32_t n
     AxisTable table[8]
+
+
+# ---- what other stages call
+
+# the tool table of a file (any name, only a regular file) into *out, written only
+# when the whole file is good (else err names the file and the line); G92 D's write
+# of the values `programmed` (bit k: value k) into one entry, nothing written when
+# one is refused
+cdef bint tool_table_read(const char *path, ToolTable *out, ErrorInfo *err) noexcept nogil
+cdef bint tool_table_set(ToolTable *table, int64_t entry, uint32_t programmed, const double *values,
+                         ErrorInfo *err) noexcept nogil
+
+# the axis tables of n files with one reference (NULL for none), all or nothing (err
+# names the file and the field); one more reference, and one less (the last frees);
+# ten axes' positions with every table's correction added (pure)
+cdef bint axis_corrections_read(const char *const *paths, uint32_t n, AxisCorrections **out,
+                                ErrorInfo *err) noexcept nogil
+cdef AxisCorrections *axis_corrections_ref(AxisCorrections *tables) noexcept nogil
+cdef void axis_corrections_release(AxisCorrections *tables) noexcept nogil
+cdef void axis_correction_apply(const AxisCorrections *tables, const double *pos_in, double *pos_out) noexcept nogil

@@ -155,7 +155,7 @@ cdef bint _parse_entry(const char *s, const char *end, const char *name, int32_t
     return True
 
 
-cdef bint tool_table_parse(const char *text, size_t length, const char *name, ToolTable *out,
+cdef bint _tool_table_parse(const char *text, size_t length, const char *name, ToolTable *out,
                            ErrorInfo *err) noexcept nogil:
     """The table of the file text [text, text + length) (any bytes) into *out, which
     is written only when the whole text is good; False with err naming the file
@@ -214,7 +214,7 @@ cdef bint tool_table_parse(const char *text, size_t length, const char *name, To
 
 
 cdef bint tool_table_read(const char *path, ToolTable *out, ErrorInfo *err) noexcept nogil:
-    """tool_table_parse of the regular file `path` (files.pyx); a file that cannot be
+    """_tool_table_parse of the regular file `path` (files.pyx); a file that cannot be
     read: False with its error (ERR_FILE_OPEN ...) naming it."""
     cdef size_t length
     cdef int32_t error = 0
@@ -223,7 +223,7 @@ cdef bint tool_table_read(const char *path, ToolTable *out, ErrorInfo *err) noex
     if text == NULL:
         set_error_text(err, error, -1, 0, path)
         return False
-    good = tool_table_parse(text, length, path, out, err)
+    good = _tool_table_parse(text, length, path, out, err)
     free(text)
     return good
 
