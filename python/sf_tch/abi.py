@@ -272,6 +272,14 @@ class TC_TOOLPATH_RECORD(ctypes.Structure):
     ]
 
 
+# Correction tables and smoothing (extension): include/tgm_cnc.h documents each.
+TC_TOOL_ENTRIES = 99
+TC_TOOL_RADIUS = 0
+TC_TOOL_VALUES = 5
+TC_SMOOTHING_IIR = -1
+TC_SMOOTHING_SPLINE = -2
+
+
 def _structures(dll_init_struct) -> dict:
     return {
         cls.__name__: cls
@@ -425,6 +433,14 @@ def _functions(tstr, dll_init_struct) -> tuple:
         ("ToolChain_SetLogHook", c_int32, (c_ssize_t, c_void_p)),
         ("ToolChainCore_SetTimeScale", c_int32, (c_uint32, c_double)),
         ("ToolChainCore_ConfirmMFunc", c_int32, (c_uint32,)),
+        ("ToolChainCore_LoadToolTable", c_int32, (c_uint32, tstr)),
+        ("ToolChainCore_GetToolCorrection", c_int32, (c_uint32, c_uint32, _P(c_double))),
+        ("ToolChainCore_SetToolCorrection", c_int32, (c_uint32, c_uint32, c_uint32, _P(c_double))),
+        ("ToolChainCore_LoadAxisCorrections", c_int32, (c_uint32, c_uint32, _P(tstr))),
+        ("ToolChainCore_CorrectPosition", c_int32, (c_uint32, _P(c_double), _P(c_double))),
+        ("ToolChainCore_SetSmoothing", c_int32, (c_uint32, c_int32, _P(c_double))),
+        ("ToolChainCore_GetSmoothing", c_int32, (c_uint32, c_int32, _P(c_double))),
+        ("ToolChainCore_SmoothSamples", c_int32, (c_uint32, _P(c_double), c_uint64, _P(c_double), _P(c_uint64))),
     )
 
 
@@ -442,7 +458,11 @@ def mirror(windows: bool) -> tuple[dict, tuple]:
 # Beyond the vendor's list (docs/api.md, "Extensions"): the structures and functions this library adds.
 EXTENSION_STRUCTURES = ("TC_TOOLPATH_RECORD",)
 EXTENSION_FUNCTIONS = ("ToolChainCore_GetLastCallError", "ToolChainCore_GetToolpath", "ToolChainCore_SetLookAhead",
-                       "ToolChain_SetLogHook", "ToolChainCore_SetTimeScale", "ToolChainCore_ConfirmMFunc")
+                       "ToolChain_SetLogHook", "ToolChainCore_SetTimeScale", "ToolChainCore_ConfirmMFunc",
+                       "ToolChainCore_LoadToolTable", "ToolChainCore_GetToolCorrection",
+                       "ToolChainCore_SetToolCorrection", "ToolChainCore_LoadAxisCorrections",
+                       "ToolChainCore_CorrectPosition", "ToolChainCore_SetSmoothing", "ToolChainCore_GetSmoothing",
+                       "ToolChainCore_SmoothSamples")
 
 
 # Readable repr() and to_dict() of every structure (added to the classes above,

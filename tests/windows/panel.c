@@ -11,7 +11,8 @@
  * program simulated with every callback set; a regime-30 run of the offline machine
  * on the three cores at once while three threads poll GetPos; errors with non-ASCII file names and texts
  * (a missing file, a directory, a G-code error, a program in memory, a bad INI, the
- * file table, the log file in a non-ASCII directory).
+ * file table, the log file in a non-ASCII directory); the correction tables by
+ * non-ASCII names, directly and from an INI file, and the smoothing it sets.
  *
  *     panel LIBRARY --decimal-comma LOCALE
  *
@@ -115,7 +116,9 @@ static void *library_symbol(void *lib, const char *name) { return dlsym(lib, nam
     X(ToolChainCore_GetGCodeSizeInfo) X(ToolChainCore_GetGCodeRunTime)                       \
     X(ToolChainCore_ResetCNC) X(ToolChainCore_StartCNCEx) X(ToolChainCore_GetPos)            \
     X(ToolChainCore_SetCallBack) X(ToolChainCore_SetTimeScale) X(ToolChainCore_SetLogValue)  \
-    X(ToolChain_LogANSI) X(ToolChain_FlushLogFile)
+    X(ToolChain_LogANSI) X(ToolChain_FlushLogFile) X(ToolChainCore_LoadToolTable)            \
+    X(ToolChainCore_GetToolCorrection) X(ToolChainCore_LoadAxisCorrections)                  \
+    X(ToolChainCore_CorrectPosition) X(ToolChainCore_GetSmoothing) X(ToolChainCore_SmoothSamples)
 
 static struct {
 #define X(name) __typeof__(&name) name;
@@ -131,15 +134,16 @@ static const char SEED_PROGRAM[] =
     "G02 X3.015 Y-0.7892 I8.8515 J27.6632\nG02 X6.2889 Y0 I3.1444 J33.011\nM50\nG40\n"
     "G00 X-28.9085 Y30.4365\nG42\nM51\nG40\nM2\n";
 
-static void write_file(const char *name, const char *text) {
+static void write_bytes(const char *name, const void *bytes, size_t n) {
     FILE *f = open_file(name, "wb");
-    if (f == NULL) {
+    if (f == NULL || fwrite(bytes, 1, n, f) != n) {
         fprintf(stderr, "panel: cannot write %s\n", name);
         exit(2);
     }
-    fputs(text, f);
     fclose(f);
 }
+
+static void write_file(const char *name, const char *text) { write_bytes(name, text, strlen(text)); }
 
 /* ------------------------------------------------------------------ recording callbacks */
 /* What the callbacks of one core saw; the worker appends, the panel reads once the run
@@ -516,6 +520,61 @@ static void errors_with_non_ascii_names(void) {
     tc.ToolChainCore_DestroyCNC(0);
 }
 
+/* ------------------------------------------------------------------ correction tables, smoothing */
+/* The tables by non-ASCII names, given to the exports and named by an INI file in a
+ * non-ASCII folder (relative to it); the smoothing the INI sets, over a step. */
+static void tables_by_non_ascii_names(void) {
+    double values[TC_TOOL_VALUES], position[10] = {5.0, 2.0, 1.0}, samples[10 * 400];
+    double params[4];
+    uint64_t settled = 0;
+    /* ACHS3D: Z corrected over X, table 7; X from 0 to 10 mm in 2 points: 0 and 1 mm */
+    unsigned char axis_table[128 + 12 + 8] = {'Z', 'X'};
+    const float definition[2] = {0.0f, 10.0f}, corrections[2] = {0.0f, 1.0f};
+    const uint32_t points = 2;
+    axis_table[127] = 7;
+    memcpy(axis_table + 128, definition, 8);
+    memcpy(axis_table + 136, &points, 4);
+    memcpy(axis_table + 140, corrections, 8);
+    printf("== correction tables and smoothing by non-ASCII names\n");
+    make_dir("korekce_ř");
+    write_file("korekce_ř/nástroje_ž.kor", "Nástroje (komentář)\n$KOR\n01: R=2.5 X=1 Z=-3.25\n02: R=-1 4=0.5\n");
+    write_bytes("korekce_ř/osa_é.kor", axis_table, sizeof axis_table);
+    write_file("korekce_ř/stroj.ini", "[Corrections]\nToolTable=nástroje_ž.kor\nAxisTable1=osa_é.kor\n"
+                                      "[Smoothing]\nIirP=1414213.562\nIirQ=2000000\nIirF=10000\nIirAxes=0x1\n");
+    printf("INI: %d\n", tc.ToolChainCore_LoadFromIni(1, T("korekce_ř/stroj.ini"), NULL));
+    print_error(1, "call error", 1);
+    for (uint32_t entry = 1; entry <= 2; entry++) {
+        tc.ToolChainCore_GetToolCorrection(1, entry, values);
+        printf("D%u: %.9g %.9g %.9g %.9g %.9g\n", entry, values[0], values[1], values[2], values[3], values[4]);
+    }
+    tc.ToolChainCore_CorrectPosition(1, position, position);
+    printf("corrected at X 5: Z %.9g\n", position[2]);
+    tc.ToolChainCore_GetSmoothing(1, TC_SMOOTHING_IIR, params);
+    printf("IIR registers: %.9g %.9g %.9g %.9g\n", params[0], params[1], params[2], params[3]);
+    /* a step of 1 mm on X at the first sample: 400 samples of 100 us */
+    memset(samples, 0, sizeof samples);
+    for (int k = 1; k < 400; k++)
+        samples[10 * k] = 1.0;
+    printf("smooth: %d\n", tc.ToolChainCore_SmoothSamples(1, samples, 400, samples, &settled));
+    printf("X after 1, 10, 100 ms: %.6f %.6f %.6f, settled from sample %llu\n", samples[10 * 10],
+           samples[10 * 100], samples[10 * 399], (unsigned long long)settled);
+
+    const char *tables[] = {"korekce_ř/osa_é.kor"};
+    TGM_LPCTSTR names[1] = {T(tables[0])};
+    printf("load axis table: %d\n", tc.ToolChainCore_LoadAxisCorrections(1, 1, names));
+    printf("missing tool table: %d\n", tc.ToolChainCore_LoadToolTable(1, T("korekce_ř/chybí_ž.kor")));
+    print_error(1, "call error", 1);
+    write_file("korekce_ř/vadná_ü.kor", "$KOR\n01: R=1\n02: Q=3\n");
+    printf("bad tool table: %d\n", tc.ToolChainCore_LoadToolTable(1, T("korekce_ř/vadná_ü.kor")));
+    print_error(1, "call error", 1);
+    names[0] = T("korekce_ř/nástroje_ž.kor");
+    printf("a tool table as axis table: %d\n", tc.ToolChainCore_LoadAxisCorrections(1, 1, names));
+    print_error(1, "call error", 1);
+    tc.ToolChainCore_GetToolCorrection(1, 1, values);
+    printf("D1 kept: %.9g\n", values[0]);
+    tc.ToolChainCore_DestroyCNC(1);
+}
+
 /* The log file goes to Init's directory, a non-ASCII one here. */
 static void log_in_non_ascii_directory(void) {
     char line[256] = "";
@@ -627,6 +686,7 @@ int main(int argc, char **argv) {
     compile_and_simulate("demo, tool radius 1, every callback", "demo.nc", -1, 1.0);
     machine_on_three_cores();
     errors_with_non_ascii_names();
+    tables_by_non_ascii_names();
     fflush(stdout);
     return 0;
 }

@@ -16,6 +16,16 @@ cdef extern from *:
     void TC_ATOMIC_STORE(int32_t *p, int32_t v) nogil
     bint TC_ATOMIC_CAS(int32_t *p, int32_t *expected, int32_t desired) nogil
 
+# ... as reference counts of what threads share read-only (a compiled program, the
+# axis correction tables): the count after the change; the one that reaches 0 frees.
+cdef extern from *:
+    """
+    #define TC_REF_ADD(p) __atomic_add_fetch((p), 1, __ATOMIC_RELAXED)
+    #define TC_REF_SUB(p) __atomic_sub_fetch((p), 1, __ATOMIC_ACQ_REL)
+    """
+    int32_t TC_REF_ADD(int32_t *p) nogil
+    int32_t TC_REF_SUB(int32_t *p) nogil
+
 # ... and on doubles set by one thread and read by others (the feed override).
 cdef extern from *:
     """
