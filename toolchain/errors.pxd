@@ -73,6 +73,7 @@ cdef enum ErrorNumber:
     ERR_COMP_LOOKAHEAD = 505        # More than %d blocks without motion in the compensation plane
     # warnings (600..699): MathWarning callback, not errors
     WARN_COMP = 600                 # Tool radius compensation: %s
+    WARN_COMP_GOUGE = 601           # Equidistant error on line %d: the tool cuts %g mm into the contour
     # compile warnings: the program looks written for ISO G-code (docs/compiler.md)
     WARN_G43_H = 610                # G43 with H at column %d: ...
     WARN_O_AT_START = 611           # O%g at column %d at the start of the program moves the O axis ...

@@ -85,6 +85,7 @@ cdef const char *error_format(int32_t number) noexcept nogil:
     if number == ERR_CONNECT_NO_MOTION:
         return "ConnectCNCEx_Plane: no motion to connect to in parts %d to %d (the program has %d)"
     if number == WARN_COMP: return "Tool radius compensation: %s"
+    if number == WARN_COMP_GOUGE: return "Equidistant error on line %d: the tool cuts %g mm into the contour"
     if number == WARN_G43_H:
         return ("G43 with H at column %d: TG's G43 switches on tool radius compensation with "
                 "correction[2], it is no tool length offset (isoCompat: ignored)")

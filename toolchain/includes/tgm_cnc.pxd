@@ -14,6 +14,7 @@ cdef extern from "tgm_cnc.h" nogil:
     double INVALID_VALUE
     float INVALID_VALUE_F
     uint32_t GCODE_REZERVA1_ISO_COMPAT
+    uint32_t GCODE_REZERVA1_COMP_STRICT
 
     ctypedef const char *TGM_LPCTSTR
     ctypedef char *TGM_LPTSTR
