@@ -1,30 +1,51 @@
 # The exported C functions of include/tgm_cnc.h. Each one checks its arguments
 # (core index, NULL pointers, status), then calls into the core. The C compiler
-# checks every signature here against the header's prototype.
+# checks every signature here against the header's prototype. The host's texts
+# (TGM_LPCTSTR: UTF-16 on Windows) are converted here once, to UTF-8 on the way in
+# (text_from_host) and back on the way out (text_to_host_kept); inside, every text
+# is UTF-8 (platform.pxd).
 from libc.string cimport memset, memcpy, strlen, strdup
 from libc.stdlib cimport free, malloc
 
-# PLC memory of the offline machine (TGM_Data): the G-code's ReadPLC*/WritePLC* and
-# the host (ctypes: (c_ubyte * 524288).in_dll(lib, "TGM_Data")) share it.
-cdef public uint8_t TGM_Data[524288]
+cdef extern from *:
+    """
+    #define TC_VERSION_STRING "SF_TCh 0.1.0 (open drop-in CNC module library, built " __DATE__ " " __TIME__ ")"
+    """
+    const char *TC_VERSION_STRING
 
 
 # ------------------------------------------------------------------ lifecycle
 
 cdef public int32_t ToolChainCore_Init(const DLL_INIT_STRUCT *p) noexcept nogil:
     global g_core_mode
+    cdef char *owned_dll_dir
+    cdef char *owned_macros_dir
+    cdef const char *dll_dir
+    cdef const char *macros_dir
     core_get(0)
     if p == NULL or p.CNC_Dll_Dir == NULL or p.Macros_Dir == NULL or p.Comm_Int2_Dir == NULL:
         return TOOL_CHAIN_ERROR
     if p.Local_Core_Mode < 0 or p.Local_Core_Mode > 2:
         return TOOL_CHAIN_ERROR
-    g_core_mode = p.Local_Core_Mode
-    log_set_dir(p.CNC_Dll_Dir)
-    strncpy(g_macros_dir, p.Macros_Dir, sizeof(g_macros_dir) - 1)
-    return TOOL_CHAIN_SUCCESS
+    dll_dir = text_from_host(p.CNC_Dll_Dir, &owned_dll_dir)
+    macros_dir = text_from_host(p.Macros_Dir, &owned_macros_dir)
+    if dll_dir != NULL and macros_dir != NULL:      # else out of memory
+        g_core_mode = p.Local_Core_Mode
+        log_set_dir(dll_dir)
+        strncpy(g_macros_dir, macros_dir, sizeof(g_macros_dir) - 1)
+    free(owned_dll_dir)
+    free(owned_macros_dir)
+    return TOOL_CHAIN_SUCCESS if dll_dir != NULL and macros_dir != NULL else TOOL_CHAIN_ERROR
 
 
 cdef public int32_t ToolChainCore_LoadFromIni(uint32_t intIdx, TGM_LPCTSTR iniFile, uint32_t *pnMaxCores) noexcept nogil:
+    cdef char *owned
+    cdef int32_t result = _load_from_ini(intIdx, text_from_host(iniFile, &owned), pnMaxCores)
+    free(owned)
+    return result
+
+
+cdef int32_t _load_from_ini(uint32_t intIdx, const char *iniFile, uint32_t *pnMaxCores) noexcept nogil:
     cdef Core *core = core_get(intIdx)
     cdef IniSettings settings
     cdef ErrorInfo err
@@ -76,8 +97,8 @@ cdef public int32_t ToolChainCore_DestroyCNC(uint32_t intIdx) noexcept nogil:
 
 cdef public TGM_LPCTSTR ToolChainCore_GetVersionString(uint32_t intIdx) noexcept nogil:
     if core_get(intIdx) == NULL:
-        return ""
-    return TC_VERSION_STRING
+        return text_to_host_kept("")
+    return text_to_host_kept(TC_VERSION_STRING)
 
 
 cdef public int32_t ToolChainCore_GetStructuresSize(uint32_t intIdx, uint32_t nItems, uint32_t *items) noexcept nogil:
@@ -227,6 +248,13 @@ cdef public int32_t ToolChainCore_GCodePrefixPostfix(uint32_t intIdx, TGM_LPCSTR
 # ------------------------------------------------------------------ compilation
 
 cdef public int32_t ToolChainCore_CompileFromFile(uint32_t intIdx, TGM_LPCTSTR fileName) noexcept nogil:
+    cdef char *owned
+    cdef int32_t result = _compile_from_file(intIdx, text_from_host(fileName, &owned))
+    free(owned)
+    return result
+
+
+cdef int32_t _compile_from_file(uint32_t intIdx, const char *fileName) noexcept nogil:
     cdef Core *core = core_get(intIdx)
     cdef int32_t unreadable
     if core == NULL:
@@ -246,6 +274,13 @@ cdef public int32_t ToolChainCore_CompileFromFile(uint32_t intIdx, TGM_LPCTSTR f
 
 
 cdef public int32_t ToolChainCore_CompileFromMemory(uint32_t intIdx, TGM_LPCTSTR fileName, TGM_LPCSTR code) noexcept nogil:
+    cdef char *owned
+    cdef int32_t result = _compile_from_memory(intIdx, text_from_host(fileName, &owned), code)
+    free(owned)
+    return result
+
+
+cdef int32_t _compile_from_memory(uint32_t intIdx, const char *fileName, const char *code) noexcept nogil:
     cdef Core *core = core_get(intIdx)
     cdef char *source
     if core == NULL:
@@ -290,16 +325,20 @@ cdef public int32_t ToolChain_GetLastError(CALLBACK_INFO *info) noexcept nogil:
 
 cdef public int32_t ToolChainCore_FileToIdx(uint32_t intIdx, TGM_LPCTSTR fileName) noexcept nogil:
     cdef Core *core = core_get(intIdx)
+    cdef char *owned
+    cdef int32_t result
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
-    return core_file_to_idx(core, fileName)
+    result = core_file_to_idx(core, text_from_host(fileName, &owned))
+    free(owned)
+    return result
 
 
 cdef public TGM_LPCTSTR ToolChainCore_IdxToFile(uint32_t intIdx, int32_t fileIdx) noexcept nogil:
     cdef Core *core = core_get(intIdx)
     if core == NULL:
-        return "__unknown__"
-    return core_idx_to_file(core, fileIdx)
+        return text_to_host_kept("__unknown__")
+    return text_to_host_kept(core_idx_to_file(core, fileIdx))
 
 
 cdef public TGM_LPCTSTR ToolChain_IdxToFile(int32_t fileIdx) noexcept nogil:
@@ -498,12 +537,18 @@ cdef public int32_t ToolChainCore_GetPos(uint32_t intIdx, int32_t reserved, SIMP
 cdef public int32_t ToolChainCore_LoadCNCCalcPlugIn(TGM_LPCTSTR fileName, uint32_t flags, int64_t userValue) noexcept nogil:
     # Plug-ins (kinematics) are not supported yet: the documented error code.
     cdef int i
+    cdef char *owned
+    cdef const char *name
+    cdef bint unloading
     if fileName == NULL:
         return TOOL_CHAIN_ERROR
     for i in range(TOOL_CHAIN_MAX_CORES):
         if core_status(core_get(i)) > 0:
             return TOOL_CHAIN_ERROR
-    if fileName[0] == 0:
+    name = text_from_host(fileName, &owned)
+    unloading = name != NULL and name[0] == 0
+    free(owned)
+    if unloading:
         return 1                          # unloading: nothing is loaded
     return not_implemented(0, "LoadCNCCalcPlugIn")     # no core argument: reported on core 0
 

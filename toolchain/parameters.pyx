@@ -215,16 +215,6 @@ cdef bint coordinates_finite(const double *values, uint32_t n) noexcept nogil:
 
 # ------------------------------------------------------------------ INI
 
-ctypedef struct IniSettings:
-    # what LoadFromIni reads into, a copy of the core's configuration: the file is
-    # read and parsed without the core's lock, and stored only when all of it is good
-    GCODE_PARAMETERS params
-    char driver[256]
-    int64_t plan_window     # [GCodeParameters] lookAheadParts (the core's, see SetLookAhead)
-    double time_scale       # [Offline] TimeScale (the core's, see SetTimeScale)
-    const char *path
-    ErrorInfo *err
-
 
 cdef bint strncasecmp_prefix(const char *s, const char *prefix) noexcept nogil:
     cdef size_t i = 0
@@ -240,7 +230,7 @@ cdef int gcode_parameter_from_ini(GCODE_PARAMETERS *p, const char *key, const ch
     the radii correction0..correction7: 1 set, 0 unknown key (ignored), -1 a value
     that is not a number of the field's kind (nothing set)."""
     cdef double d = 0.0
-    cdef long i = 0
+    cdef long long i = 0
     cdef bint is_double = c_parse_double(value, &d)
     cdef bint is_int = c_parse_long(value, -2147483647 - 1, 2147483647, &i)
     if strcasecmp(key, "correctionStrategy") == 0:
@@ -311,7 +301,7 @@ cdef int32_t ini_apply_setting(void *ctx, const char *section, const char *key, 
     cdef ErrorInfo why
     cdef char text[400]
     cdef int known
-    cdef long window
+    cdef long long window
     cdef double scale
     if strcasecmp(section, "Offline") == 0 and strcasecmp(key, "TimeScale") == 0:
         if not c_parse_double(value, &scale) or not (0.0 < scale <= 1e6):
