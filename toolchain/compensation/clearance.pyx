@@ -415,7 +415,7 @@ cdef inline double _cl_element_gap(const Clearance *C, const XPiece *t, const XP
     where it counts and is below `stop` (else `stop`; see cl_gap). loose: set when
     g does not count because t's own element crosses it."""
     cdef double d
-    if g.part == skip_a or g.part == skip_b or _cl_in_window(C, g.part, t.part, depth) == C.far \
+    if g.part == skip_a or g.part == skip_b or _cl_in_window(C, g.part, t.part, depth) == C.only_far \
             or _cl_far(t, g, stop):
         return stop
     d = _cl_piece_gap(t, g, stop)
@@ -657,7 +657,7 @@ cdef void cl_chain_open(CompState *S, size_t first, size_t ins0) noexcept nogil:
     C.depth = S.cfg.depth
     C.span = 0
     C.closed = False
-    C.far = False
+    C.only_far = False
     C.grouping = False
     C.n_gbox = 0
     # groups of at most a quarter of the depth: the parts of a group and of its
@@ -910,7 +910,7 @@ cdef bint _cl_far_check(CompState *S, size_t last, bint closed, bint skip_first,
     group of parts (C.group_shift), the box of its pieces grown by their radius is tested
     against the boxes of the far groups' elements (coarse groups of CL_SUPER first);
     only a group whose box meets one is walked again, against those groups' elements,
-    the near ones not counted (C.far). Nothing on a chain that short. False with
+    the near ones not counted (C.only_far). Nothing on a chain that short. False with
     S.xs.err_* filled."""
     cdef Clearance *C = &S.cl
     cdef size_t first = C.first, span = last - first + 1, n = C.n_gbox, G = (<size_t>1) << C.group_shift
@@ -974,7 +974,7 @@ cdef bint _cl_far_check(CompState *S, size_t last, bint closed, bint skip_first,
             S.xs.err_part = a0
             ok = False
             break
-        C.far = True
+        C.only_far = True
         C.in_block = True       # the window stays (no block moves it)
         C.bhi = last
         C.allow = S.cfg.slack + S.cfg.min_arc + C.max_off
@@ -983,10 +983,10 @@ cdef bint _cl_far_check(CompState *S, size_t last, bint closed, bint skip_first,
         C.next = a0
         ok = _cl_run(S, a1, last, closed, skip_first, skip_last, last_el) and \
             _cl_gouge(S, _cl_flush(C, C.depth), a1)
-        C.far = False
+        C.only_far = False
         if not ok:
             break
-    C.far = False
+    C.only_far = False
     C.closed = False
     C.n = 0                     # the next window is read afresh
     free(cbox)

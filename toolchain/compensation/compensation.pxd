@@ -138,7 +138,7 @@ ctypedef struct Clearance:
     size_t n_batch
     size_t n_measured       # pieces of the batch _cl_flush measures (_cl_scan goes on after a gouge)
     bint loose              # an element was not measured because the piece's own crosses it
-    bint far                # _cl_far_check: only parts farther apart than the depth count
+    bint only_far           # _cl_far_check: only parts farther apart than the depth count
     # per `group` parts of the chain from `first` on: the box of its measured pieces
     # grown by their radius (0..3) and the box of its contour elements (4..7); kept
     # only while `grouping` (a chain long enough for the far check)
