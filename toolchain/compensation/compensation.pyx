@@ -100,7 +100,7 @@ cdef bint _push(CompState *S, const CompEl *el) noexcept nogil:
     # path that can no longer change is checked at once, beside the compiler
     if S.cfg.depth < (<size_t>-1) / 8 and S.n_st > 4 * S.cfg.depth + 2:
         return _flush(S, S.cfg.depth + 1) and \
-            (not S.chain_open or S.chain_global or cl_chain_upto(S, S.st[0].part))
+            (not S.chain_open or S.chain_global or S.chain_radius == 0 or cl_chain_upto(S, S.st[0].part))
     return True
 
 
@@ -212,6 +212,7 @@ cdef void _chain_open(CompState *S, size_t k) noexcept nogil:
     S.chain_entry_arc = S.entry_arc
     S.chain_ins0 = S.n_ins
     S.chain_warn0 = S.n_warnings
+    S.chain_radius = 0.0
     if not S.retrying:
         S.lenient = not S.strict and not (S.cfg.strategy & CORR_REMOVE_CROSSING)
     cl_chain_open(S, k, S.n_ins)
@@ -311,7 +312,7 @@ cdef int _chain_end(CompState *S, bint fixed_end, bint exit_fixed) noexcept nogi
     S.chain_exit_fixed = exit_fixed
     if not S.chain_global:
         res = _chain_end_corners(S, fixed_end)
-        if res == COMPILE_OK and S.chain_open and \
+        if res == COMPILE_OK and S.chain_open and S.chain_radius > 0 and \
                 not cl_chain_close(S, S.chain_last, S.chain_fixed, fixed_end):
             res = COMPILE_ERROR
         res = _chain_fallback(S, res)
@@ -416,6 +417,8 @@ cdef int _run_part(CompState *S, size_t k) noexcept nogil:
     if not S.chain_open:
         _chain_open(S, k)
     S.chain_last = k
+    if fabs(el.d) > S.chain_radius:
+        S.chain_radius = fabs(el.d)
     if S.chain_global:
         return COMPILE_OK           # rebuilt from the regions at the chain's end
     if is_arc:
