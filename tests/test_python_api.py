@@ -42,7 +42,7 @@ def test_compile_a_file_and_the_seed_program(tmp_path):
         assert not program.ok
         error = program.errors[0]
         assert (error.number, error.line, error.file) == (ErrorNumber.ARC_CENTRE, 4, str(path))
-        assert str(error).startswith(f"{path}:4: error 400: Wrongly entered centre")
+        assert str(error).startswith(f"{path}:4:17: error 400: Wrongly entered centre")
         with pytest.raises(sf_tch.CncError) as caught:
             program.check()
         assert caught.value.line == 4 and caught.value.file == str(path)

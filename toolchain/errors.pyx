@@ -38,8 +38,13 @@ cdef const char *error_format(int32_t number) noexcept nogil:
     if number == ERR_P_WORD:
         return "Word '%s' at column %d: P is reserved for parameters P00..P99 (Pnn = value); %s"
     if number == ERR_NOT_TG: return "'%s' at column %d is not TG G-code: %s"
+    if number == ERR_NGC_UNSUPPORTED: return "'%s' at column %d is not supported in the ISO compatibility mode: %s"
     if number == ERR_PARAM_STACK: return "G900 parameter stack %s"
     if number == ERR_NOT_FINITE_RESULT: return "Expression '%s' does not give a finite number"
+    if number == ERR_NGC_UNDEFINED: return "Named parameter '%s' at column %d is not defined"
+    if number == ERR_NGC_UNREADABLE: return "Parameter '%s' at column %d cannot be read: %s"
+    if number == ERR_NGC_PARAMETER: return "Parameter #%g at column %d does not exist (#1..#5601)"
+    if number == ERR_NGC_READ_ONLY: return "Parameter '%s' at column %d is read-only"
     if number == ERR_DIVISION_BY_ZERO: return "Division by zero"
     if number == ERR_BAD_PARAMETER: return "Parameter P%g at column %d does not exist (P00..P99)"
     if number == ERR_BAD_EXPRESSION: return "Syntax error in expression '%s' at column %d"
@@ -56,18 +61,25 @@ cdef const char *error_format(int32_t number) noexcept nogil:
     if number == ERR_BREAK_OUTSIDE_LOOP: return "%s outside a loop"
     if number == ERR_BAD_CONDITION: return "Bad condition '%s' at column %d"
     if number == ERR_PART_LIMIT: return "More than %d parts: program too large"
+    if number == ERR_O_WORD: return "O-word '%s' at column %d: %s"
+    if number == ERR_O_UNDEFINED: return "Subroutine '%s' at column %d is not defined before its call"
     if number == ERR_ARC_CENTRE:
-        return ("Wrongly entered centre of circular interpolation %s\n"
-                "Start %s = %g %s = %g | End %s = %g %s = %g\nDelta (%.7f) > 2*R (%.7f)")
+        return ("Wrongly entered centre of circular interpolation %s at column %d: "
+                "start %s = %g %s = %g, end %s = %g %s = %g, delta (%.7f) > 2*R (%.7f)")
     if number == ERR_ARC_RADII:
-        return ("Wrongly entered centre of circular interpolation %s\n"
-                "Start %s = %g %s = %g | End %s = %g %s = %g\nRadius at start (%.7f) <> radius at end (%.7f)")
+        return ("Wrongly entered centre of circular interpolation %s at column %d: "
+                "start %s = %g %s = %g, end %s = %g %s = %g, radius at start (%.7f) <> radius at end (%.7f)")
     if number == ERR_ARC_RADIUS: return "Arc radius %g too small for chord %g"
     if number == ERR_ARC_NO_CENTRE: return "Arc without centre (I J K or R)"
     if number == ERR_BAD_PLANE: return "Bad plane G%d"
     if number == ERR_BAD_G: return "Unknown G function G%g at column %d"
     if number == ERR_BAD_M: return "Bad M function M%g at column %d"
     if number == ERR_ISO_G: return "G%g at column %d is not TG G-code: %s"
+    if number == ERR_NO_FEED: return "G%g at column %d with feed 0: no F word was given (LinuxCNC refuses it)"
+    if number == ERR_NO_MOTION_MODE:
+        return "Axis word '%s' at column %d without a motion mode (G0 G1 G2 G3 or a canned cycle)"
+    if number == ERR_NGC_G: return "G%g at column %d: %s"
+    if number == ERR_NGC_WORD: return "'%s' at column %d: %s"
     if number == ERR_MACHINE_LIMIT: return "Axis %s position %g outside the machine limits <%g, %g>"
     if number == ERR_COMP_NOT_FOUND: return "Intersection of equidistants not found"
     if number == ERR_COMP_ON_ARC: return "Compensation switched on or off on an arc"
@@ -98,6 +110,18 @@ cdef const char *error_format(int32_t number) noexcept nogil:
     if number == WARN_ZERO_WITH_MOVE:
         return ("G%g at column %d with axis words sets the zero offset to them; the axes do not "
                 "move (isoCompat: G54..G59 keep the offset and the line moves)")
+    if number == WARN_NO_FEED:
+        return ("G%g at column %d at feed 0 (no F word yet, or F0) moves at GCODE_PARAMETERS motion[1].feed; "
+                "LinuxCNC refuses a feed of 0 (isoCompat: error 410)")
+    if number == WARN_BARE_AXES:
+        return ("Axis words at column %d before any G0..G3 move as G1; LinuxCNC refuses axis words "
+                "without a motion mode (isoCompat: error 411)")
+    if number == WARN_DWELL_WITH_MOTION:
+        return ("G4 at column %d with G%g: the line dwells and does not move (isoCompat: "
+                "the dwell, then the move)")
+    if number == WARN_G90_MOVES_G1:
+        return ("G%g at column %d with axis words moves as G1; ISO moves with the modal G%g "
+                "(isoCompat)")
     if number == WARN_ISO_IGNORED: return "'%s' at column %d ignored (ISO compatibility mode)"
     return NULL
 

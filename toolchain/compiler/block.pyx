@@ -2,20 +2,24 @@
 # cp_read_block first reads the G and M functions of the line, in the order written,
 # into modal groups (a Block: what the line says; a later G of the same group
 # replaces an earlier one), then cp_block runs the groups in one fixed order,
-# whatever the order they were written in:
+# whatever the order they were written in (the ISO mode's additions in brackets):
 #
 #    1. parameters      G900 (the working copy of GCODE_PARAMETERS)
 #    2. feed mode       G94 / G95, G96 / G97, G24
 #    3. F S T           modal values, FF, FP
 #    4. plane           G17 G18 G19 G-18
-#    5. units           G21 (TG: nothing; an ISO header); ISO mode: G20 / G21 (iso_units)
+#    5. units           G21 (TG: nothing; an ISO header) [G20 / G21: iso_units]
 #    6. compensation    G40 .. G48
 #    7. coordinates     G53 .. G57, G59 (zero offsets), G168 / G169 (rotation)
+#                       [G54 .. G59.3: the work offsets]
 #    8. path            G167 (automatic arcs), G172 / G173 (compensation strategy)
-#    9. distance mode   G90 / G91
-#   10. shift           G92 / G98 (new coordinates of the current point); ISO G92.1
-#   11. parts           continuous M functions (>= 1001), then the dwell (G4) or the
-#                       motion (G0 G1 G2 G3 G33, modal)
+#    9. distance mode   G90 / G91 [G90.1 / G91.1; G98 / G99 the cycles' retract]
+#   10. shift           G92 / G98 (new coordinates of the current point)
+#                       [G92.1 G92.2 G92.3, G10 L2 / L20, G28.1 / G30.1]
+#   11. parts           continuous M functions (>= 1001) [and every M function but the
+#                       stops M0 M1 M2 M30 M60], then the dwell (G4) or the motion
+#                       (G0 G1 G2 G3 G33, modal) [the dwell, then G28 / G30, a canned
+#                       cycle, G53's move or the motion]
 #   12. M functions     the others, in the order written (M2 / M30 end the program)
 #   13. flow            G25 / G26 / G27 jumps and calls, M17 return
 #
@@ -25,13 +29,6 @@ from libc.string cimport memcpy, memset
 
 
 # ------------------------------------------------------------ G functions
-
-cdef void cp_reframe(CState *st) noexcept nogil:
-    """After a change of zero offset, mirroring or rotation the machine stays where
-    it is: its program coordinates are recomputed."""
-    update_identity(st)
-    to_program(st, st.mpos, st.ppos)
-
 
 cdef int cp_zero(CState *st, const LineWords *lw, int g) noexcept nogil:
     """G53 off, G54..G57 set (absent axes 0), G59 set (absent axes kept)."""
@@ -307,7 +304,7 @@ cdef int cp_read_block(CState *st, LineWords *lw, Block *b) noexcept nogil:
     for i in range(lw.ng):
         if cp_read_g(st, lw, i, b) != 0:
             return R_ERR
-    if lw.has_pword and cp_pword(st, lw, b.dwell) != 0:
+    if lw.has_pword and cp_pword(st, lw, b) != 0:
         return R_ERR
     for i in range(lw.nm):
         if cp_read_m(st, lw, i, b) != 0:
@@ -329,8 +326,13 @@ cdef int _x_parameters(CState *st, const LineWords *lw, const Block *b) noexcept
 
 
 cdef void _x_feed_mode(CState *st, const Block *b) noexcept nogil:
-    """2. G94 / G95 feed per minute / revolution, G96 / G97 constant cutting speed, G24."""
-    if b.feed_mode != 0:
+    """2. G94 / G95 feed per minute / revolution, G96 / G97 constant cutting speed, G24;
+    ISO: G93 inverse time (LinuxCNC wants a new F after it ends)."""
+    if b.feed_mode != 0 and st.ngc != NULL:
+        if b.feed_mode != 93 and st.ngc.inverse_time:
+            st.feed = 0.0
+        st.ngc.inverse_time = b.feed_mode == 93
+    if b.feed_mode == 94 or b.feed_mode == 95:
         st.per_min = b.feed_mode == 94
     if b.css != 0:
         st.css = b.css == 96
@@ -354,8 +356,11 @@ cdef void _x_values(CState *st, const LineWords *lw, const Block *b) noexcept no
 
 
 cdef int _x_coordinates(CState *st, const LineWords *lw, const Block *b) noexcept nogil:
-    """7. Zero offsets, rotation."""
+    """7. Zero offsets, rotation; ISO: the work offsets of G54 .. G59.3."""
     if b.zero != 0 and cp_zero(st, lw, b.zero) != 0:
+        return R_ERR
+    if b.coord != 0 and ngc_select(st, b.coord, g_column(lw, 53.0 + b.coord if b.coord <= 6
+                                                         else 59.0 + (b.coord - 6) / 10.0)) != 0:
         return R_ERR
     if b.rotation == 168:
         return cp_g168(st, lw)
@@ -380,42 +385,88 @@ cdef int _x_path(CState *st, const LineWords *lw, const Block *b) noexcept nogil
 
 
 cdef int _x_shift(CState *st, const LineWords *lw, const Block *b) noexcept nogil:
-    """10. G92 / G98: the current point gets new coordinates; ISO G92.1 clears that."""
-    cdef int a
-    if b.shift != 0 and cp_g92(st, lw) != 0:
+    """10. G92 / G98: the current point gets new coordinates; ISO: G92.1 / G92.2 / G92.3,
+    G10 L2 / L20, G28.1 / G30.1 (storing the position)."""
+    if b.shift != 0:
+        if cp_g92(st, lw) != 0:
+            return R_ERR
+        if st.ngc != NULL:
+            ngc_store_shift(st)
+    if b.shift_reset != 0 and ngc_shift_reset(st, b.shift_reset) != 0:
         return R_ERR
-    if b.clear_shift:
-        for a in range(10):
-            st.shift[a] = 0.0
-        cp_reframe(st)
-        if not update_zero(st):
-            return cerr(st, ERR_OUT_OF_MEMORY)
+    if b.g10 and ngc_g10(st, lw, g_column(lw, 10.0)) != 0:
+        return R_ERR
+    if b.home == 281 or b.home == 282:
+        ngc_home(st, lw, b.home, 1)
     return 0
+
+
+cdef bint _is_cycle(int motion) noexcept nogil:
+    return motion == 73 or motion == 74 or (motion >= 81 and motion <= 89)
+
+
+cdef int _motion_column(const LineWords *lw, const Block *b, uint32_t moving) noexcept nogil:
+    """The column messages about the motion name: its G word, else its first axis word."""
+    if b.motion >= 0:
+        return g_column(lw, b.motion)
+    return axis_column(lw, moving)
 
 
 cdef int _x_parts(CState *st, LineWords *lw, const Block *b) noexcept nogil:
     """11. Continuous M functions, then the dwell or the motion of the line."""
     cdef int i, m, motion = b.motion, r
-    cdef uint32_t axes = axes_mask(), saved
+    cdef uint32_t axes = axes_mask(), saved, moving
     for i in range(lw.nm):
         m = to_int(lw.m[i])
         if m >= 1001 and em_mfunc(st, lw, m, True) != 0:
             return R_ERR
-    if motion >= 0:
-        st.motion = motion
+    if motion >= 0 and not _is_cycle(motion):
+        st.motion_given = True
+        if st.ngc != NULL:
+            st.ngc.cycle_il_set = False     # a series of cycles ends (G98's level is taken anew)
+        st.motion = -1 if motion == 80 else motion
     if b.dwell:
-        return em_dwell(st, lw)
+        if em_dwell(st, lw) != 0:
+            return R_ERR
+        if not st.iso:
+            return 0                        # TG: the line dwells and does not move
+        lw.mask &= ~bit_of(b'H')            # (G4's seconds are no address of the motion)
     if b.g900_col != 0:
         return 0
-    if motion < 0:
+    moving = lw.mask & axes & ~b.consumed
+    if st.iso:
+        if b.home == 28 or b.home == 30:
+            return ngc_home(st, lw, b.home, g_column(lw, b.home))
+        if motion < 0:
+            motion = st.motion              # modal, whatever G90 / G91 the line has
+        if (lw.has_polar_r or lw.has_polar_a) and not (_is_cycle(motion) and not st.absolute):
+            if ngc_polar(st, lw) != 0:      # (a G91 cycle turns by ^ and grows by @ each repeat)
+                return R_ERR
+            moving = lw.mask & axes & ~b.consumed
+        if _is_cycle(motion):
+            if b.motion < 0 and moving == 0 and not (lw.has_polar_r or lw.has_polar_a):
+                return 0                    # a line of the cycle without a position
+            if moving == 0 and not (lw.has_polar_r or lw.has_polar_a):
+                return ngc_usage(st, motion, g_column(lw, motion), "the cycle has no axis words")
+            return ngc_cycle(st, lw, motion, g_column(lw, motion))
+        if motion < 0:
+            if moving == 0:
+                return 0
+            return cerr_at(st, ERR_NO_MOTION_MODE, word_at_column(st, axis_column(lw, moving)),
+                           axis_column(lw, moving))
+        if b.machine and moving:
+            return ngc_machine_move(st, lw, motion, _motion_column(lw, b, moving))
+        if motion == 38:
+            return ngc_probe(st, lw, _motion_column(lw, b, moving))
+    elif motion < 0:
         # TG: G90 / G91 with axis words move like G1
-        motion = 1 if (b.distance != 0 and (lw.mask & axes & ~b.consumed)) else st.motion
+        motion = 1 if (b.distance != 0 and moving) else st.motion
     saved = lw.mask
     # words a G/M function of this line used are not axis moves (G168 also takes I J K R)
     lw.mask &= ~(b.consumed & axes)
     if b.rotation == 168:
         lw.mask &= ~(bit_of(b'I') | bit_of(b'J') | bit_of(b'K') | bit_of(b'R'))
-    r = em_motion(st, lw, motion)
+    r = em_motion(st, lw, motion, _motion_column(lw, b, moving))
     lw.mask = saved
     return r
 
@@ -464,15 +515,42 @@ cdef int _mirror_of(const GCODE_PARAMETERS *pr, int m) noexcept nogil:
     return -1
 
 
-cdef int _x_m_functions(CState *st, const LineWords *lw, bint *ret, bint *end) noexcept nogil:
-    """12. The M functions below 1001, in the order written; ret: M17 was among them,
-    end: M2 / M30."""
+cdef enum:
+    M_ALL = 0
+    M_BEFORE = 1
+    M_STOPS = 2
+
+
+cdef bint _is_stop(const GCODE_PARAMETERS *pr, int m) noexcept nogil:
+    """M0 M1 M60 and the program ends: LinuxCNC runs them after the motion of their line."""
+    return m == 0 or m == 1 or m == 60 or _is_m(pr, m, pr.M02_programEnd1) or _is_m(pr, m, pr.M30_programEnd2)
+
+
+cdef void _ngc_m_state(CState *st, int m) noexcept nogil:
+    """ISO mode: the spindle and coolant state LinuxCNC's cycles and parameters read."""
+    cdef const GCODE_PARAMETERS *pr = &st.params
+    if _is_m(pr, m, pr.M03_startSpindleCW): st.ngc.spindle = 3
+    elif _is_m(pr, m, pr.M04_startSpindleCCW): st.ngc.spindle = 4
+    elif _is_m(pr, m, pr.M05_stopSpindle): st.ngc.spindle = 0
+    elif _is_m(pr, m, pr.M07_coolOn): st.ngc.mist = True
+    elif _is_m(pr, m, pr.M08_oilOn): st.ngc.flood = True
+    elif _is_m(pr, m, pr.M09_coolOilOff):
+        st.ngc.mist = False
+        st.ngc.flood = False
+
+
+cdef int _x_m_functions(CState *st, const LineWords *lw, int which, bint *ret, bint *end) noexcept nogil:
+    """12. The M functions below 1001, in the order written; which: M_ALL, or in the ISO
+    mode M_BEFORE (all but the stops, before the motion) / M_STOPS (after it). ret: M17
+    was among them, end: M2 / M30."""
     cdef const GCODE_PARAMETERS *pr = &st.params
     cdef int i, m, mirror
     for i in range(lw.nm):
         m = to_int(lw.m[i])
-        if m >= 1001:
+        if m >= 1001 or (which == M_BEFORE and _is_stop(pr, m)) or (which == M_STOPS and not _is_stop(pr, m)):
             continue
+        if st.ngc != NULL:
+            _ngc_m_state(st, m)
         mirror = _mirror_of(pr, m)
         if m == -5:
             _limits_off(st, lw)
@@ -532,16 +610,24 @@ cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
         st.iso_header = True
     if b.comp != 0:
         cp_comp(st, b.comp)
+        if st.iso and st.comp != 40 and st.params.correction[st.comp_slot].size == 0.0:
+            st.comp = 40                # ISO: a radius of 0 compensates nothing (LinuxCNC's tool 0)
     if _x_coordinates(st, lw, &b) != 0 or _x_path(st, lw, &b) != 0:
         return R_ERR
     if b.distance != 0:
         st.absolute = b.distance == 90
         st.iso_header = st.iso_header or (b.distance == 90 and st.prog.n_parts == 0)
+    if b.ijk != 0:
+        st.ngc.ijk_absolute = b.ijk == 901
+    if b.retract != 0:
+        st.ngc.retract = b.retract
     if _x_shift(st, lw, &b) != 0:
         return R_ERR
     if not st.iso:
         cp_dialect_warnings(st, lw, &b)
-    if _x_parts(st, lw, &b) != 0 or _x_m_functions(st, lw, &ret, &end) != 0:
+    elif _x_m_functions(st, lw, M_BEFORE, &ret, &end) != 0:
+        return R_ERR
+    if _x_parts(st, lw, &b) != 0 or _x_m_functions(st, lw, M_STOPS if st.iso else M_ALL, &ret, &end) != 0:
         return R_ERR
     if end:
         return R_END

@@ -10,12 +10,17 @@ from libc.math cimport floor
 # ------------------------------------------------------------- one line
 
 cdef int cp_line(CState *st, const char *p, const char *eol) noexcept nogil:
-    """One line: blank, '%', label, a flow statement, or address words."""
+    """One line: blank, '%', label, a flow statement (ISO mode: an O-word statement), or
+    address words."""
     cdef int n, a
     cdef const char *q
     p = lx_skip_ws(p, eol)
     if p >= eol or p[0] == b'%':
         return R_NEXT
+    if st.ngc != NULL and (p[0] == b'O' or p[0] == b'o' or p[0] == b'N' or p[0] == b'n'):
+        n = ow_statement(st, p, eol)
+        if n != R_NOT_O:
+            return n
     n = lx_ident_run(p, eol)
     if n > 0:
         q = lx_skip_ws(p + n, eol)
@@ -63,6 +68,8 @@ cdef int cp_line(CState *st, const char *p, const char *eol) noexcept nogil:
                                 st.lw.text, st.lw.text_len)
     if cp_words(st, p, eol, &st.lw) != 0:
         return R_ERR
+    if st.ngc != NULL and st.ngc.n_settings > 0 and ngc_settings_apply(st) != 0:
+        return R_ERR
     return cp_block(st, &st.lw)
 
 
@@ -95,6 +102,7 @@ cdef int cp_run(CState *st, Unit *u, bint main) noexcept nogil:
     st.unit = u
     st.n_frames = 0
     st.n_calls = 0
+    pos = lx_bom(text, u.len)
     while pos < u.len:
         st.blocks += 1
         if (st.blocks & 1023) == 0:
@@ -145,6 +153,8 @@ cdef int cp_run(CState *st, Unit *u, bint main) noexcept nogil:
         else:
             cerr_text(st, ERR_MISSING_END, "IF")
         return COMPILE_ERROR
+    if ow_unclosed(st) != 0:
+        return COMPILE_ERROR
     return COMPILE_OK
 
 
@@ -166,6 +176,9 @@ cdef void cp_init(CState *st, const CompileInput *inp, ProgramBuilder *build, Er
     st.comp = 40
     st.last_percent = -1
     st.iso = (<uint32_t>inp.params.rezerva1 & GCODE_REZERVA1_ISO_COMPAT) != 0
+    if st.iso:
+        st.ngc = ngc_new()          # NULL: no memory, compile_program reports it
+        st.motion = -1              # LinuxCNC starts in G80: axis words alone do not move
     st.unit_scale = 1.0
     st.g900_arc_table = -1          # the host's arcFeedTable until G900 S13
 
@@ -217,7 +230,7 @@ cdef int compile_program(const CompileInput *inp, ProgramBuilder *build, ErrorIn
     reserve_parts(build, prog.n_lines)
     st.unit = &units[1]
     st.block_limit = (inp.max_blocks if inp.max_blocks > 0 else DEFAULT_MAX_BLOCKS) + <int64_t>lines
-    if not update_zero(st):
+    if not update_zero(st) or (st.iso and st.ngc == NULL):
         set_error(err, ERR_OUT_OF_MEMORY, inp.file_idx, 0, NULL, 0)
         result = COMPILE_ERROR
     for i in range(3):
@@ -231,5 +244,6 @@ cdef int compile_program(const CompileInput *inp, ProgramBuilder *build, ErrorIn
         for i in range(10):
             if not st.fixed[i]:
                 prog.start_gindex[i] = INT32_MAX    # never named: every part follows the start
+    ngc_free(st.ngc)
     free(st)
     return result

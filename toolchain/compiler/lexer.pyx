@@ -60,6 +60,15 @@ cdef inline int lx_ident_run(const char *p, const char *eol) noexcept nogil:
     return n
 
 
+cdef inline size_t lx_bom(const char *text, size_t n) noexcept nogil:
+    """Length of a UTF-8 byte-order mark at the start of a text (Windows editors, CAM
+    posts write one): 3, or 0 without."""
+    if n >= 3 and <unsigned char>text[0] == 0xEF and <unsigned char>text[1] == 0xBB \
+            and <unsigned char>text[2] == 0xBF:
+        return 3
+    return 0
+
+
 cdef bint lx_eq(const char *p, int n, const char *kw) noexcept nogil:
     """Case-insensitive: p[0:n] equals the upper-case keyword kw."""
     cdef int i = 0

@@ -90,6 +90,9 @@ ctypedef struct LineWords:
     const char *text        # M29 / PRINT text
     int text_len
     bint has_text
+    bint has_polar_r, has_polar_a   # ISO mode: LinuxCNC's polar words @ (distance) and ^ (angle)
+    double polar_r, polar_a
+    int polar_col
 
 
 ctypedef struct CState:
@@ -115,7 +118,7 @@ ctypedef struct CState:
     double rot_m[9]
     bint absolute
     int plane
-    int motion                              # modal 0 1 2 3 33
+    int motion                              # modal 0 1 2 3 33; ISO mode: also 73 81..89, -1 none (G80)
     bint per_min
     bint lathe_radius                       # G24
     bint css                                # G96
@@ -150,6 +153,9 @@ ctypedef struct CState:
     double unit_scale                       # 1, or 25.4 after an ISO G20 (inches)
     bint iso_header                         # G21, or G90 before the first part: written for ISO?
     bint warned_g18                         # the G18 arc warning is given once
+    bint warned_feed, warned_bare_axes      # warnings 614 / 615 are given once
+    bint motion_given                       # a G0 .. G3 (or ISO cycle) was written
+    NgcState *ngc                           # ISO mode: parameters, O-words, offsets, cycles (else NULL)
     int n_warnings
     char word[64]                           # text of an offending word for messages
     LineWords lw                            # words of the current line
@@ -371,6 +377,13 @@ cdef void update_identity(CState *st) noexcept nogil:
     for a in range(10):
         if st.zero[a] != 0.0 or st.shift[a] != 0.0:
             st.identity = False
+
+
+cdef void cp_reframe(CState *st) noexcept nogil:
+    """After a change of zero offset, mirroring or rotation the machine stays where
+    it is: its program coordinates are recomputed."""
+    update_identity(st)
+    to_program(st, st.mpos, st.ppos)
 
 
 cdef bint update_zero(CState *st) noexcept nogil:

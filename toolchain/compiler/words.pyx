@@ -12,6 +12,15 @@ cdef uint32_t axes_mask() noexcept nogil:
             | bit_of(b'V') | bit_of(b'W') | bit_of(b'A') | bit_of(b'O'))
 
 
+cdef int g_column(const LineWords *lw, double g) noexcept nogil:
+    """Column of G function g on the line (1 when it is modal, not written)."""
+    cdef int i
+    for i in range(lw.ng):
+        if lw.g[i] == g:
+            return lw.gcol[i]
+    return 1
+
+
 cdef int cp_text(CState *st, const char *p, const char *eol, LineWords *lw) noexcept nogil:
     """Text of PRINT / M29: "quoted", or the rest of the line without trailing blanks."""
     cdef const char *q
@@ -31,10 +40,18 @@ cdef int cp_text(CState *st, const char *p, const char *eol, LineWords *lw) noex
     return 0
 
 
-cdef bint _value_starts(const char *q, const char *eol) noexcept nogil:
-    """A word's value may start at q: a number, a sign, a bracket, a parameter or function."""
+cdef bint _value_starts(CState *st, const char *q, const char *eol) noexcept nogil:
+    """A word's value may start at q: a number, a sign, a bracket, a parameter or function
+    (ISO mode: also LinuxCNC's [expression] and #parameter)."""
     return q < eol and (lx_is_digit(q[0]) or q[0] == b'.' or q[0] == b'-' or q[0] == b'+'
-                        or q[0] == b'(' or lx_is_alpha(q[0]))
+                        or q[0] == b'(' or lx_is_alpha(q[0]) or (st.iso and (q[0] == b'[' or q[0] == b'#')))
+
+
+cdef inline int _word_value(CState *st, const char **pp, const char *eol, double *out) noexcept nogil:
+    """A word's value: TG's, or in the ISO mode also LinuxCNC's."""
+    if st.iso:
+        return ngc_word_value(st, pp, eol, out)
+    return ex_value(st, pp, eol, out)
 
 
 cdef bint _o_word_keyword(const char *p, int n) noexcept nogil:
@@ -77,6 +94,8 @@ cdef void _words_clear(LineWords *lw) noexcept nogil:
     lw.label_len = 0
     lw.has_pword = False
     lw.first_is_o = False
+    lw.has_polar_r = False
+    lw.has_polar_a = False
 
 
 cdef bint _jump_read(const LineWords *lw) noexcept nogil:
@@ -103,7 +122,7 @@ cdef int _word_of_letters(CState *st, const char **pp, const char *eol, int n, L
     if (n == 2 or lx_is_digit(p[2]) or p[2] == b'.') and lx_upper(p[0]) == b'F' \
             and (lx_upper(p[1]) == b'F' or lx_upper(p[1]) == b'P'):
         q = lx_skip_ws(p + 2, eol)
-        if ex_value(st, &q, eol, &v) != 0:
+        if _word_value(st, &q, eol, &v) != 0:
             return R_ERR
         if lx_upper(p[1]) == b'F':
             lw.has_ff = True
@@ -138,10 +157,10 @@ cdef int _word_p(CState *st, const char **pp, const char *eol, LineWords *lw) no
         pp[0] = p
         return WORDS_MORE
     q = lx_skip_ws(p, eol)
-    if not _value_starts(q, eol):
+    if not _value_starts(st, q, eol):
         return cerr_hint(st, ERR_P_WORD, cword_at(st, w, eol), column_of(st, w),
                          "an assignment is written Pnn = value")
-    if ex_value(st, &q, eol, &v) != 0:
+    if _word_value(st, &q, eol, &v) != 0:
         return R_ERR
     lw.has_pword = True
     lw.pword = v
@@ -173,11 +192,11 @@ cdef int _word_address(CState *st, const char **pp, const char *eol, LineWords *
     if L == 79 and q < eol and q[0] == b'<':
         return cerr_hint(st, ERR_NOT_TG, cword_at(st, w, eol), col,
                          "O-word subroutines are LinuxCNC G-code; TG uses labels (name:) with CALL")
-    if q < eol and q[0] == b'[':
-        return cp_bad_word(st, q, eol, column_of(st, q), lw)
-    if not _value_starts(q, eol):
+    if q < eol and (q[0] == b'[' or q[0] == b'#') and not st.iso:
+        return cp_bad_word(st, q, eol, column_of(st, q), lw)      # LinuxCNC's (F#<_hal[..]>)
+    if not _value_starts(st, q, eol):
         return cerr_at(st, ERR_MISSING_VALUE, letter, col)
-    if ex_value(st, &q, eol, &v) != 0:
+    if _word_value(st, &q, eol, &v) != 0:
         return R_ERR
     if not (v >= -TC_MAX_WORD_VALUE and v <= TC_MAX_WORD_VALUE) and L != 71 and L != 77 and L != 76:
         return _bad_value(st, v, letter)
@@ -203,8 +222,34 @@ cdef int _word_address(CState *st, const char **pp, const char *eol, LineWords *
         lw.v[L - 65] = v
         lw.mask |= 1u << (L - 65)
         lw.col[L - 65] = col
-        if first and L == 79:
-            lw.first_is_o = True
+        if L == 79 and (first or (st.iso and (lw.mask & ~bit_of(b'O')) == bit_of(b'N') and lw.ng == 0
+                                  and lw.nm == 0)):
+            lw.first_is_o = True            # (ISO: N1 O003 is a program number too)
+    return WORDS_MORE
+
+
+cdef int _word_polar(CState *st, const char **pp, const char *eol, LineWords *lw) noexcept nogil:
+    """ISO mode: LinuxCNC's polar words, @ the distance and ^ the angle (degrees) of the
+    XY position from the program zero."""
+    cdef const char *w = pp[0]
+    cdef const char *q = lx_skip_ws(w + 1, eol)
+    cdef double v
+    cdef char letter[2]
+    letter[0] = w[0]
+    letter[1] = 0
+    if not _value_starts(st, q, eol):
+        return cerr_at(st, ERR_MISSING_VALUE, letter, column_of(st, w))
+    if _word_value(st, &q, eol, &v) != 0:
+        return R_ERR
+    if not (lw.has_polar_r or lw.has_polar_a):
+        lw.polar_col = column_of(st, w)     # the first polar word of the line
+    if w[0] == b'@':
+        lw.has_polar_r = True
+        lw.polar_r = v
+    else:
+        lw.has_polar_a = True
+        lw.polar_a = v
+    pp[0] = q
     return WORDS_MORE
 
 
@@ -221,9 +266,13 @@ cdef int cp_words(CState *st, const char *p, const char *eol, LineWords *lw) noe
             return cerr_open_comment(st, gap, eol)
         if p >= eol:
             return 0
-        if not lx_is_alpha(p[0]):
+        if st.iso and p[0] == b'#':
+            r = ngc_setting_read(st, &p, eol)       # taken after the line is read
+        elif st.iso and (p[0] == b'@' or p[0] == b'^'):
+            r = _word_polar(st, &p, eol, lw)
+        elif not lx_is_alpha(p[0]):
             return cp_bad_word(st, p, eol, column_of(st, p), lw)
-        if p + 1 < eol and lx_is_alpha(p[1]):
+        elif p + 1 < eol and lx_is_alpha(p[1]):
             r = _word_of_letters(st, &p, eol, lx_alpha_run(p, eol), lw)
         elif lx_upper(p[0]) == b'P':
             r = _word_p(st, &p, eol, lw)
