@@ -56,7 +56,7 @@ def test_the_old_module_entry_still_runs_the_demo():
 def test_demo_reports_a_tool_too_big_for_the_slot_with_its_line():
     proc = sf_tch_cli("demo", "--radius", "6")
     assert proc.returncode == 1
-    assert re.search(r"demo\.nc:28: error 503: Arc radius 5 smaller than the tool radius 6", proc.stderr)
+    assert re.search(r"demo\.nc:28:1: error 503: Arc radius 5 smaller than the tool radius 6", proc.stderr)
     assert "Traceback" not in proc.stderr
 
 

@@ -54,6 +54,7 @@ class CompileJob:
         self.name = name
         self._text = text
         self._path = path
+        self._lines: list[str] | None = None      # the source's lines, read for the first diagnostic
         self._cancel_event = cancel
         self._percent = 0
         self._changed = threading.Event()
@@ -116,20 +117,28 @@ class CompileJob:
             if last is not None and not any(e.number == last.number and e.line == last.line for e in self.errors):
                 self.errors.append(last.diagnostic)
             errors = [attach_column(e, self._source_lines(e)) for e in self.errors]
-            self._program = Program(self.core, self.name, errors, list(self.warnings), self._arguments)
+            warnings = [attach_column(w, self._source_lines(w)) for w in self.warnings]
+            self._program = Program(self.core, self.name, errors, warnings, self._arguments)
         return self._program
 
     def _source_lines(self, diagnostic: Diagnostic) -> list[str] | None:
         """The lines of the source a diagnostic points into (only read when there is
         one), None for another file (a prefix, a called file)."""
-        if diagnostic.file != self.name:
+        if diagnostic.file != self.name or diagnostic.line <= 0:
             return None
-        if self._text is not None:
-            return self._text.splitlines()
-        try:
-            return self._path.read_text(encoding="latin-1").splitlines() if self._path else None
-        except OSError:
-            return None
+        if self._lines is None:
+            text = self._text
+            if text is None:
+                try:
+                    text = self._path.read_text(encoding="latin-1") if self._path else None
+                except OSError:
+                    return None
+            # the library counts columns after a UTF-8 byte-order mark
+            for bom in ("\ufeff", "\xef\xbb\xbf"):
+                if text is not None and text.startswith(bom):
+                    text = text[len(bom):]
+            self._lines = text.split("\n") if text is not None else None     # (lines as the library counts them)
+        return self._lines
 
 
 def start_compile(source: Source, radius: float | None = None, strategy: int | None = None,

@@ -166,7 +166,8 @@ cdef int cp_pword(CState *st, LineWords *lw, const Block *b) noexcept nogil:
     cdef int arc
     if st.iso:
         if b.dwell:
-            if not (lw.mask & (bit_of(b'W') | bit_of(b'H') | bit_of(b'X') | bit_of(b'T'))):
+            # (X is an axis on a G4 P line: it may move after the dwell)
+            if not (lw.mask & (bit_of(b'W') | bit_of(b'H') | bit_of(b'T'))):
                 lw.v[7] = lw.pword          # TG's H seconds: the driver sees a G4 it knows
                 lw.mask |= bit_of(b'H')
                 lw.col[7] = lw.col[15]
