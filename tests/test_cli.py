@@ -82,6 +82,26 @@ def test_compile_error_is_file_line_column_and_exit_1(tmp_path):
     assert proc.stdout == ""
 
 
+def test_every_diagnostic_is_one_line_with_a_column(tmp_path):
+    # 407 (the arc's details in the JSON's fields), after a byte-order mark, in the ISO mode
+    arc = tmp_path / "arc.nc"
+    arc.write_bytes(b"\xef\xbb\xbfG21 G0 X10 Y0 F100\n  G3 X0 Y10.03 I-10 J0\n")
+    proc = sf_tch_cli("compile", str(arc), "--iso")
+    assert proc.returncode == 1 and proc.stderr.count("\n") == 1
+    assert proc.stderr.startswith(f"{arc}:2:16: error 407: Wrongly entered centre of circular interpolation XY "
+                                  "at column 16: start X = 10 Y = 0, end X = 0 Y = 10.03, radius at start")
+    doc = json.loads(sf_tch_cli("compile", str(arc), "--iso", "--json").stdout)
+    assert doc["errors"][0]["column"] == 16
+    assert doc["errors"][0]["fields"] == {"plane": "XY", "start": {"X": 10, "Y": 0}, "end": {"X": 0, "Y": 10.03},
+                                          "radius_start": 10, "radius_end": 10.03}
+    # 504 of the compensation: the block's column (its first word)
+    narrow = tmp_path / "narrow.nc"
+    narrow.write_text("G0 X0 Y-5\nG41 G1 X0 Y0 F100\nG1 X10\nG1 Y0.5\nG1 X0\nG1 Y1\nG1 X20\nG40 G1 X20 Y10\n")
+    proc = sf_tch_cli("compile", str(narrow), "--radius", "2")
+    assert proc.returncode == 1 and proc.stderr.count("\n") == 1
+    assert proc.stderr.startswith(f"{narrow}:4:1: error 504: Equidistants cross: the tool (radius 2)")
+
+
 def test_json_is_parsed_back(square, tmp_path):
     proc = sf_tch_cli("compile", str(square), "--json")
     assert proc.returncode == 0, proc.stderr
