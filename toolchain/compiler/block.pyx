@@ -325,7 +325,7 @@ cdef int _x_parameters(CState *st, const LineWords *lw, const Block *b) noexcept
     return 0
 
 
-cdef void _x_feed_mode(CState *st, const Block *b) noexcept nogil:
+cdef inline void _x_feed_mode(CState *st, const Block *b) noexcept nogil:
     """2. G94 / G95 feed per minute / revolution, G96 / G97 constant cutting speed, G24;
     ISO: G93 inverse time (LinuxCNC wants a new F after it ends)."""
     if b.feed_mode != 0 and st.ngc != NULL:
@@ -340,7 +340,7 @@ cdef void _x_feed_mode(CState *st, const Block *b) noexcept nogil:
         st.lathe_radius = True
 
 
-cdef void _x_values(CState *st, const LineWords *lw, const Block *b) noexcept nogil:
+cdef inline void _x_values(CState *st, const LineWords *lw, const Block *b) noexcept nogil:
     """3. F S T (unless a function of the line uses the letter), FF, FP."""
     if not (b.consumed & bit_of(b'F')) and has(lw, b'F'):
         st.feed = val(lw, b'F')
@@ -405,13 +405,6 @@ cdef bint _is_cycle(int motion) noexcept nogil:
     return motion == 73 or motion == 74 or (motion >= 81 and motion <= 89)
 
 
-cdef int _motion_column(const LineWords *lw, const Block *b, uint32_t moving) noexcept nogil:
-    """The column messages about the motion name: its G word, else its first axis word."""
-    if b.motion >= 0:
-        return g_column(lw, b.motion)
-    return axis_column(lw, moving)
-
-
 cdef int _x_parts(CState *st, LineWords *lw, const Block *b) noexcept nogil:
     """11. Continuous M functions, then the dwell or the motion of the line."""
     cdef int i, m, motion = b.motion, r
@@ -455,9 +448,9 @@ cdef int _x_parts(CState *st, LineWords *lw, const Block *b) noexcept nogil:
             return cerr_at(st, ERR_NO_MOTION_MODE, word_at_column(st, axis_column(lw, moving)),
                            axis_column(lw, moving))
         if b.machine and moving:
-            return ngc_machine_move(st, lw, motion, _motion_column(lw, b, moving))
+            return ngc_machine_move(st, lw, motion)
         if motion == 38:
-            return ngc_probe(st, lw, _motion_column(lw, b, moving))
+            return ngc_probe(st, lw)
     elif motion < 0:
         # TG: G90 / G91 with axis words move like G1
         motion = 1 if (b.distance != 0 and moving) else st.motion
@@ -466,7 +459,7 @@ cdef int _x_parts(CState *st, LineWords *lw, const Block *b) noexcept nogil:
     lw.mask &= ~(b.consumed & axes)
     if b.rotation == 168:
         lw.mask &= ~(bit_of(b'I') | bit_of(b'J') | bit_of(b'K') | bit_of(b'R'))
-    r = em_motion(st, lw, motion, _motion_column(lw, b, moving))
+    r = em_motion(st, lw, motion, 0)
     lw.mask = saved
     return r
 
@@ -595,12 +588,13 @@ cdef int _x_flow(CState *st, const LineWords *lw, const Block *b, bint ret) noex
 
 
 cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
-    """Executes the words of one line: read into groups, the groups in the order above."""
+    """Executes the words of one line: read into groups, the groups in the order above
+    (a group not on the line costs a test: most lines are a move and its words)."""
     cdef Block b
     cdef bint ret = False, end = False
     if cp_read_block(st, lw, &b) != 0:
         return R_ERR
-    if _x_parameters(st, lw, &b) != 0:
+    if b.g900_col != 0 and _x_parameters(st, lw, &b) != 0:
         return R_ERR
     _x_feed_mode(st, &b)
     _x_values(st, lw, &b)
@@ -612,7 +606,9 @@ cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
         cp_comp(st, b.comp)
         if st.iso and st.comp != 40 and st.params.correction[st.comp_slot].size == 0.0:
             st.comp = 40                # ISO: a radius of 0 compensates nothing (LinuxCNC's tool 0)
-    if _x_coordinates(st, lw, &b) != 0 or _x_path(st, lw, &b) != 0:
+    if (b.zero != 0 or b.rotation != 0 or b.coord != 0) and _x_coordinates(st, lw, &b) != 0:
+        return R_ERR
+    if (b.g167 or b.strategy != 0) and _x_path(st, lw, &b) != 0:
         return R_ERR
     if b.distance != 0:
         st.absolute = b.distance == 90
@@ -621,14 +617,19 @@ cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
         st.ngc.ijk_absolute = b.ijk == 901
     if b.retract != 0:
         st.ngc.retract = b.retract
-    if _x_shift(st, lw, &b) != 0:
+    if (b.shift != 0 or b.shift_reset != 0 or b.g10 or b.home > 100) and _x_shift(st, lw, &b) != 0:
         return R_ERR
     if not st.iso:
-        cp_dialect_warnings(st, lw, &b)
-    elif _x_m_functions(st, lw, M_BEFORE, &ret, &end) != 0:
+        if lw.first_is_o or b.zero != 0 or st.plane == 18 or b.dwell or b.motion < 0:
+            cp_dialect_warnings(st, lw, &b)
+    elif lw.nm > 0 and _x_m_functions(st, lw, M_BEFORE, &ret, &end) != 0:
         return R_ERR
-    if _x_parts(st, lw, &b) != 0 or _x_m_functions(st, lw, M_STOPS if st.iso else M_ALL, &ret, &end) != 0:
+    if _x_parts(st, lw, &b) != 0:
+        return R_ERR
+    if lw.nm > 0 and _x_m_functions(st, lw, M_STOPS if st.iso else M_ALL, &ret, &end) != 0:
         return R_ERR
     if end:
         return R_END
+    if b.jump == 0 and not ret:
+        return R_NEXT
     return _x_flow(st, lw, &b, ret)

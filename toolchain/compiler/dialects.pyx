@@ -193,20 +193,10 @@ cdef int cp_pword(CState *st, LineWords *lw, const Block *b) noexcept nogil:
     return cerr_hint(st, ERR_P_WORD, word, lw.col[15], hint)
 
 
-cdef int axis_column(const LineWords *lw, uint32_t letters) noexcept nogil:
-    """Column of the first of the given axis letters written on the line (1: none)."""
-    cdef int col = 0, bit
-    while letters:
-        bit = SF_CTZ(letters)
-        letters &= letters - 1
-        if col == 0 or lw.col[bit] < col:
-            col = lw.col[bit]
-    return col if col > 0 else 1
-
-
 cdef void cp_dialect_warnings(CState *st, const LineWords *lw, const Block *b) noexcept nogil:
     """Default mode: warnings where the line looks written for ISO G-code and TG reads
-    it otherwise (docs/compiler.md)."""
+    it otherwise (docs/compiler.md). cp_block calls it for the lines that may need one:
+    an O first, a zero offset, plane G18, a dwell, or no motion G."""
     cdef int arc = b.motion if b.motion >= 0 else st.motion
     cdef int col
     cdef uint32_t moving = lw.mask & axes_mask() & ~b.consumed

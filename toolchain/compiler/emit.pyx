@@ -240,6 +240,15 @@ cdef enum:
     AXIS_LETTERS = (1 << 23) | (1 << 24) | (1 << 25) | (1 << 2) | (1 << 1) | (1 << 20) | (1 << 21) | (1 << 22) | (1 << 0) | (1 << 14)
 
 
+cdef int motion_column(const LineWords *lw, int func) noexcept nogil:
+    """The column a message about a motion names: its G word, else its first axis word."""
+    cdef int i
+    for i in range(lw.ng):
+        if lw.g[i] == func:
+            return lw.gcol[i]
+    return axis_column(lw, AXIS_LETTERS)
+
+
 cdef void em_fix_axis(CState *st, int a) noexcept nogil:
     """Axis a is named absolutely from the next part on: it no longer follows the start."""
     if not st.fixed[a] and not st.shift_follows[a]:
@@ -247,9 +256,9 @@ cdef void em_fix_axis(CState *st, int a) noexcept nogil:
         st.prog.start_gindex[a] = st.gindex
 
 
-cdef int em_motion(CState *st, const LineWords *lw, int func, int col) noexcept nogil:
+cdef inline int em_motion(CState *st, const LineWords *lw, int func, int col) noexcept nogil:
     """G0 G1 G2 G3 G33 to the axis words of the line (modal, absolute or relative); col:
-    the column messages name."""
+    the column messages name (0: found when needed)."""
     cdef double newp[10]
     cdef int a, bit
     cdef uint32_t words = lw.mask & AXIS_LETTERS
@@ -271,13 +280,16 @@ cdef int em_motion(CState *st, const LineWords *lw, int func, int col) noexcept 
     return em_move(st, lw, func, newp, col)
 
 
-cdef int em_feed_check(CState *st, const LineWords *lw, int func, int col) noexcept nogil:
+cdef inline int em_feed_check(CState *st, const LineWords *lw, int func, int col) noexcept nogil:
     """A feed move (G1 G2 G3) at feed 0: an error in the ISO mode (LinuxCNC refuses it),
     once a warning in the TG dialect, whose moves then run at motion[1].feed. ISO G93:
-    every feed move has its F."""
+    every feed move has its F. col: the column to name, 0: the motion's G word, else
+    its first axis word."""
     cdef ErrArg a[3]
     if not (func == 1 or func == 2 or func == 3):
         return 0
+    if col == 0:
+        col = motion_column(lw, func)
     if st.ngc != NULL and st.ngc.inverse_time:
         if has(lw, b'F') and val(lw, b'F') > 0.0:
             return 0

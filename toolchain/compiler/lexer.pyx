@@ -89,7 +89,7 @@ cdef bint lx_same_name(const char *a, int na, const char *b, int nb) noexcept no
     return True
 
 
-cdef const char *lx_skip_gap(const char *p, const char *eol, int *status) noexcept nogil:
+cdef inline const char *lx_skip_gap(const char *p, const char *eol, int *status) noexcept nogil:
     """Skips blanks and comments between words: '( ... )' inline; '//' and ';' end
     the line. status: 0 ok, 1 unterminated '('."""
     cdef const char *q

@@ -143,13 +143,13 @@ cdef int ngc_polar(CState *st, LineWords *lw) noexcept nogil:
     return 0
 
 
-cdef int ngc_probe(CState *st, const LineWords *lw, int col) noexcept nogil:
+cdef int ngc_probe(CState *st, const LineWords *lw) noexcept nogil:
     """G38.2 .. G38.5: a feed move to the programmed point (a compiled program touches
     nothing); #5061.. hold that point, #5070 = 1, as after a probe that tripped there."""
     cdef int k
     if st.comp != 40:
-        return ngc_usage(st, 38.2, col, "cutter compensation is on")
-    if em_motion(st, lw, 1, col) != 0:
+        return ngc_usage(st, 38.2, motion_column(lw, 38), "cutter compensation is on")
+    if em_motion(st, lw, 1, motion_column(lw, 38)) != 0:
         return R_ERR
     for k in range(9):
         st.ngc.params[5061 + k] = st.ppos[ngc_axis(k)] / st.unit_scale
@@ -172,12 +172,12 @@ cdef int ngc_feed_to(CState *st, const double *newp, int col) noexcept nogil:
     return em_move(st, &words, 1, newp, col)
 
 
-cdef int ngc_machine_move(CState *st, const LineWords *lw, int motion, int col) noexcept nogil:
+cdef int ngc_machine_move(CState *st, const LineWords *lw, int motion) noexcept nogil:
     """G53 G0 / G1: the axis words are machine coordinates, for this line only."""
     cdef double target[10]
     cdef double newp[10]
     cdef uint32_t words = lw.mask & AXIS_LETTERS
-    cdef int a, bit
+    cdef int a, bit, col = g_column(lw, 53.0)
     if motion != 0 and motion != 1:
         return ngc_usage(st, 53.0, col, "moves in machine coordinates with G0 or G1 only")
     if st.comp != 40:
@@ -192,7 +192,7 @@ cdef int ngc_machine_move(CState *st, const LineWords *lw, int motion, int col) 
         target[a] = lw.v[bit]
         em_fix_axis(st, a)
     to_program(st, target, newp)
-    return em_move(st, lw, motion, newp, col)
+    return em_move(st, lw, motion, newp, 0)
 
 
 cdef int ngc_home(CState *st, const LineWords *lw, int home, int col) noexcept nogil:

@@ -199,6 +199,24 @@ cdef const char *plane_name(int plane) noexcept nogil:
     return "ZX"
 
 
+cdef int g_column(const LineWords *lw, double g) noexcept nogil:
+    """Column of G function g on the line (1 when it is modal, not written)."""
+    cdef int i
+    for i in range(lw.ng):
+        if lw.g[i] == g:
+            return lw.gcol[i]
+    return 1
+
+
+cdef int axis_column(const LineWords *lw, uint32_t letters) noexcept nogil:
+    """Column of the first of the given address letters written on the line (1: none)."""
+    cdef int col = 0, bit
+    for bit in range(26):
+        if (letters >> bit) & 1 and (lw.mask >> bit) & 1 and (col == 0 or lw.col[bit] < col):
+            col = lw.col[bit]
+    return col if col > 0 else 1
+
+
 # --------------------------------------------------------------- errors
 
 cdef int cerr(CState *st, int32_t number) noexcept nogil:

@@ -12,15 +12,6 @@ cdef uint32_t axes_mask() noexcept nogil:
             | bit_of(b'V') | bit_of(b'W') | bit_of(b'A') | bit_of(b'O'))
 
 
-cdef int g_column(const LineWords *lw, double g) noexcept nogil:
-    """Column of G function g on the line (1 when it is modal, not written)."""
-    cdef int i
-    for i in range(lw.ng):
-        if lw.g[i] == g:
-            return lw.gcol[i]
-    return 1
-
-
 cdef int cp_text(CState *st, const char *p, const char *eol, LineWords *lw) noexcept nogil:
     """Text of PRINT / M29: "quoted", or the rest of the line without trailing blanks."""
     cdef const char *q
@@ -40,7 +31,7 @@ cdef int cp_text(CState *st, const char *p, const char *eol, LineWords *lw) noex
     return 0
 
 
-cdef bint _value_starts(CState *st, const char *q, const char *eol) noexcept nogil:
+cdef inline bint _value_starts(CState *st, const char *q, const char *eol) noexcept nogil:
     """A word's value may start at q: a number, a sign, a bracket, a parameter or function
     (ISO mode: also LinuxCNC's [expression] and #parameter)."""
     return q < eol and (lx_is_digit(q[0]) or q[0] == b'.' or q[0] == b'-' or q[0] == b'+'
@@ -192,7 +183,7 @@ cdef int _word_address(CState *st, const char **pp, const char *eol, LineWords *
     if L == 79 and q < eol and q[0] == b'<':
         return cerr_hint(st, ERR_NOT_TG, cword_at(st, w, eol), col,
                          "O-word subroutines are LinuxCNC G-code; TG uses labels (name:) with CALL")
-    if q < eol and (q[0] == b'[' or q[0] == b'#') and not st.iso:
+    if not st.iso and q < eol and (q[0] == b'[' or q[0] == b'#'):
         return cp_bad_word(st, q, eol, column_of(st, q), lw)      # LinuxCNC's (F#<_hal[..]>)
     if not _value_starts(st, q, eol):
         return cerr_at(st, ERR_MISSING_VALUE, letter, col)
@@ -266,12 +257,13 @@ cdef int cp_words(CState *st, const char *p, const char *eol, LineWords *lw) noe
             return cerr_open_comment(st, gap, eol)
         if p >= eol:
             return 0
-        if st.iso and p[0] == b'#':
-            r = ngc_setting_read(st, &p, eol)       # taken after the line is read
-        elif st.iso and (p[0] == b'@' or p[0] == b'^'):
-            r = _word_polar(st, &p, eol, lw)
-        elif not lx_is_alpha(p[0]):
-            return cp_bad_word(st, p, eol, column_of(st, p), lw)
+        if not lx_is_alpha(p[0]):
+            if st.iso and p[0] == b'#':
+                r = ngc_setting_read(st, &p, eol)   # taken after the line is read
+            elif st.iso and (p[0] == b'@' or p[0] == b'^'):
+                r = _word_polar(st, &p, eol, lw)
+            else:
+                return cp_bad_word(st, p, eol, column_of(st, p), lw)
         elif p + 1 < eol and lx_is_alpha(p[1]):
             r = _word_of_letters(st, &p, eol, lx_alpha_run(p, eol), lw)
         elif lx_upper(p[0]) == b'P':
