@@ -5,31 +5,32 @@ from libc.math cimport floor
 
 
 cdef const char *iso_g_hint(double gv) noexcept nogil:
-    """What TG expects instead of an ISO G function it does not have; NULL: no ISO meaning."""
+    """What TG expects instead of an ISO G function it does not have (and what the ISO
+    mode reads it as); NULL: no ISO meaning."""
     if gv == 20.0:
         return "TG works in millimetres (isoCompat reads G20 as inches)"
     if gv == 28.0 or gv == 30.0:
-        return "returns to a home position do not exist in TG (G98 is TG's reference run)"
+        return "returns to a home position do not exist in TG (G98 is TG's reference run; isoCompat reads G28 / G30)"
     if gv == 49.0 or gv == 43.1:
         return "TG has no tool length offsets (isoCompat ignores G43 H and G49)"
     if gv == 61.0 or gv == 61.1 or gv == 64.0:
         return "path blending is set by GCODE_PARAMETERS (isoCompat ignores G61 and G64)"
     if gv == 80.0:
-        return "TG has no canned cycles (isoCompat ignores G80)"
+        return "TG has no canned cycles (isoCompat reads G80 and the cycles)"
     if gv == 73.0 or gv == 76.0 or (gv >= 81.0 and gv <= 89.0 and gv == <double>(<int>gv)):
-        return "TG has no canned drilling cycles: write the moves (G0 / G1)"
+        return "TG has no canned drilling cycles: write the moves (G0 / G1), or isoCompat expands them"
     if gv == 90.1:
-        return "TG's arc centres are relative; Q70 on the arc's line makes I J K absolute"
+        return "TG's arc centres are relative; Q70 on the arc's line makes I J K absolute (isoCompat reads G90.1)"
     if gv == 91.1:
-        return "TG's arc centres are relative already (isoCompat ignores G91.1)"
+        return "TG's arc centres are relative already (isoCompat reads G91.1)"
     if gv == 92.1 or gv == 92.2:
-        return "TG resets a G92 shift with G92 and the axes (isoCompat: G92.1 clears the shift)"
+        return "TG resets a G92 shift with G92 and the axes (isoCompat reads G92.1 / G92.2)"
     if gv == 10.0:
-        return "TG sets zero offsets with G54..G59 and the axes"
+        return "TG sets zero offsets with G54..G59 and the axes (isoCompat reads G10 L2 / L20)"
     if gv >= 38.2 and gv <= 38.5:
-        return "TG has no probing moves"
+        return "TG has no probing moves (isoCompat moves to the point)"
     if gv == 93.0:
-        return "TG has no inverse time feed (G94 mm/min, G95 mm/rev)"
+        return "TG has no inverse time feed: G94 mm/min, G95 mm/rev (isoCompat reads G93)"
     return NULL
 
 
