@@ -132,7 +132,7 @@ cdef int cp_g900(CState *st, const LineWords *lw, int col) noexcept nogil:
     elif s == 7:
         a = to_int(val(lw, b'A')) if has(lw, b'A') else -1
         if a < 0 or a > 9:
-            return _bad_value(st, val(lw, b'A') if has(lw, b'A') else -1.0, "A")
+            return cerr_bad_value(st, val(lw, b'A') if has(lw, b'A') else -1.0, "A")
         if has(lw, b'F'): st.params.axisLimits[a].maxFeed = val(lw, b'F')
         if has(lw, b'C'): st.params.axisLimits[a].maxAcc = val(lw, b'C')
         if has(lw, b'D'): st.params.axisLimits[a].maxDec = val(lw, b'D')
@@ -159,7 +159,7 @@ cdef int cp_g900(CState *st, const LineWords *lw, int col) noexcept nogil:
     elif s == 70:
         if has(lw, b'D'): st.params.motion[7].dec = val(lw, b'D')
     else:
-        return _bad_value(st, sv, "S")
+        return cerr_bad_value(st, sv, "S")
     return 0
 
 
@@ -282,6 +282,9 @@ cdef int cp_read_m(CState *st, const LineWords *lw, int i, Block *b) noexcept no
     cdef int m = to_int(lw.m[i])
     if lw.m[i] != <double>m or m == 1000 or m < -6 or m > 1000000000 or (m < 0 and m != -5 and m != -6):
         return cerr_num_at(st, ERR_BAD_M, lw.m[i], lw.mcol[i])
+    if st.iso and m == 98:
+        return cerr_hint(st, ERR_NGC_UNSUPPORTED, word_at_column(st, lw.mcol[i]), lw.mcol[i],
+                         "Fanuc-style subprograms (M98 / M99); an o-word call is read")
     if m == -5 or _is_m(pr, m, pr.M06_changeTool):
         b.consumed |= axes_mask()
     elif m == -6:

@@ -300,6 +300,15 @@ cdef int cerr_num_at(CState *st, int32_t number, double value, int column) noexc
     return R_ERR
 
 
+cdef int cerr_bad_value(CState *st, double v, const char *letter) noexcept nogil:
+    """Error 106: value v of address `letter` out of its range."""
+    cdef ErrArg a[2]
+    a[0].num = v; a[0].text = NULL
+    a[1].num = 0; a[1].text = letter
+    set_error(st.err, ERR_BAD_VALUE, st.unit.file_idx, st.line, a, 2)
+    return R_ERR
+
+
 cdef int cerr_open_comment(CState *st, const char *p, const char *eol) noexcept nogil:
     """Error 104 for the gap [p, eol) that holds a '(' without ')': comments do not
     nest, so it is the first '(' after the last ')'."""

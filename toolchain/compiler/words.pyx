@@ -190,7 +190,7 @@ cdef int _word_address(CState *st, const char **pp, const char *eol, LineWords *
     if _word_value(st, &q, eol, &v) != 0:
         return R_ERR
     if not (v >= -TC_MAX_WORD_VALUE and v <= TC_MAX_WORD_VALUE) and L != 71 and L != 77 and L != 76:
-        return _bad_value(st, v, letter)
+        return cerr_bad_value(st, v, letter)
     pp[0] = q
     if L == 71:     # G
         if lw.ng >= MAX_WORD_LIST:
@@ -282,12 +282,4 @@ cdef int _too_many(CState *st, const char *what) noexcept nogil:
     a[0].num = MAX_WORD_LIST; a[0].text = NULL
     a[1].num = 0; a[1].text = what
     set_error(st.err, ERR_TOO_MANY_WORDS, st.unit.file_idx, st.line, a, 2)
-    return R_ERR
-
-
-cdef int _bad_value(CState *st, double v, const char *letter) noexcept nogil:
-    cdef ErrArg a[2]
-    a[0].num = v; a[0].text = NULL
-    a[1].num = 0; a[1].text = letter
-    set_error(st.err, ERR_BAD_VALUE, st.unit.file_idx, st.line, a, 2)
     return R_ERR
