@@ -6,7 +6,8 @@ Compares four descriptions of the library's binary interface:
   with ``cc`` against it: ``sizeof``/``offsetof``/``_Alignof`` of every field);
 - the ctypes mirror ``sf_tch.abi`` (``STRUCTURES`` and ``FUNCTIONS``);
 - the built library (``ToolChainCore_GetStructuresSize`` and its exported symbols);
-- the sizes table of ``ABI.md`` (:data:`SPEC_SIZES`, the spec's numbers).
+- the sizes the vendor's structures description gives on Linux x86_64
+  (:data:`SPEC_SIZES`, written down apart from the header; docs/structures.md).
 
 ``run()`` returns the list of differences (empty: conformant); ``python -m sf_tch.abi_check``
 (installed with the package; ``python -m abi_check`` in a source checkout) also prints a
@@ -22,7 +23,8 @@ import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
-# The sizes table of ABI.md (Linux x86_64), written down as the spec's numbers.
+# The sizes the vendor's field order gives on Linux x86_64 (natural alignment, 8-byte
+# pointers), written down here apart from the header: an independent check of it.
 SPEC_SIZES = {
     "P10DOUBLE": 80, "P10BOOL": 40, "P26FLOAT": 104, "DLL_INIT_STRUCT": 32,
     "SIMPLE_GM_PARAMS": 616, "GM_PARAMS_ENHANCED": 112, "CALLBACK_INFO": 32,
@@ -259,13 +261,13 @@ def check(header: str | None = None, library: str | None = None, structures: dic
         report.diff(f"C probe: {exc}")
         measured = {}
 
-    # structures: header vs ctypes mirror vs spec
+    # structures: header vs ctypes mirror vs the vendor's sizes
     for name in sorted(set(parsed) - set(structures)):
         report.diff(f"{name}: in the header, missing in the ctypes mirror")
     for name in sorted(set(structures) - set(parsed)):
         report.diff(f"{name}: in the ctypes mirror, missing in the header")
     for name in sorted(set(spec_sizes) - set(parsed)):
-        report.diff(f"{name}: documented in ABI.md, missing in the header")
+        report.diff(f"{name}: a vendor structure, missing in the header")
     for name, fields in parsed.items():
         c = measured.get(name)
         cls = structures.get(name)
@@ -357,16 +359,16 @@ def _compare_struct(report: Report, name: str, fields: list[Field], c: dict, cls
     if ctypes.alignment(cls) != c["align"]:
         notes.append(f"alignment C {c['align']} ctypes {ctypes.alignment(cls)}")
     if spec_size is not None and c["size"] != spec_size:
-        notes.append(f"sizeof C {c['size']}, ABI.md {spec_size}")
-    report.rows.append((name, "(sizeof)", f"spec {spec_size}", "", "", c["size"], ct_size, "DIFF" if notes else "OK"))
+        notes.append(f"sizeof C {c['size']}, vendor {spec_size}")
+    report.rows.append((name, "(sizeof)", "extension" if spec_size is None else f"vendor {spec_size}", "", "", c["size"], ct_size, "DIFF" if notes else "OK"))
     for n in notes:
         report.diff(f"{name}: {n}")
 
 
 def run(header: str | None = None, library: str | None = None, **overrides) -> list[str]:
-    """The differences between header, ctypes mirror, library and ABI.md (empty list:
-    conformant). `overrides` (structures=, functions=, size_order=, spec_sizes=)
-    replace the tables of sf_tch.abi / ABI.md, e.g. to prove a wrong mirror is caught."""
+    """The differences between header, ctypes mirror, library and the vendor's sizes (empty
+    list: conformant). `overrides` (structures=, functions=, size_order=, spec_sizes=)
+    replace the tables of sf_tch.abi / SPEC_SIZES, e.g. to prove a wrong mirror is caught."""
     return check(header, library, **overrides).differences
 
 

@@ -70,35 +70,36 @@ typedef const char *TGM_LPCSTR;
 /* File names of this many characters or more are refused. */
 #define TOOL_CHAIN_MAX_FILE_NAME 252
 
-/* Status of a core (ToolChainCore_StatusCNC, GM_PARAMS_ENHANCED.m_statusCNC). */
+/* Status of a core (ToolChainCore_StatusCNC, GM_PARAMS_ENHANCED.m_statusCNC); positive:
+ * something runs. The comment of each value is its name in error texts. */
 enum cnc_status {
-    CNC_STATUS_NOTHING_LOADED      = 0,
-    CNC_STATUS_NOT_CONNECTED       = -2,
-    CNC_STATUS_COMPILING           = 1,
-    CNC_STATUS_COMPILED            = -1,
-    CNC_STATUS_SIMULATING          = 10,
-    CNC_STATUS_SIMULATION_DONE     = -10,
-    CNC_STATUS_SIMULATION_STOPPED  = -11,
-    CNC_STATUS_TESTING             = 20,
-    CNC_STATUS_TEST_DONE           = -20,
-    CNC_STATUS_TEST_STOPPED        = -21,
-    CNC_STATUS_AT_START            = -30,
-    CNC_STATUS_STOPPED             = -31,
-    CNC_STATUS_AT_END              = -32,
-    CNC_STATUS_STOPPED_BY_M0       = -33,
-    CNC_STATUS_FORWARD             = 30,
-    CNC_STATUS_FORWARD_NO_M        = 31,
-    CNC_STATUS_BACKWARD            = 32,
-    CNC_STATUS_FORWARD_SKIP_FIRST_M = 33,
-    CNC_STATUS_CONNECT_CALCULATING = 40,
-    CNC_STATUS_CONNECT_MOVING      = 41,
-    CNC_STATUS_MANUAL_MOVE         = 50,
-    CNC_STATUS_OUT_OF_TRAJECTORY   = -50,
-    CNC_STATUS_INTERNAL_CALC       = 60,
-    CNC_STATUS_SENDING_START_M     = 70,
-    CNC_STATUS_SENDING_STOP_M      = 80,
-    CNC_STATUS_SENDING_CONNECT_M   = 90,
-    CNC_STATUS_INVALID             = -1234
+    CNC_STATUS_NOTHING_LOADED      = 0,   /* nothing loaded */
+    CNC_STATUS_NOT_CONNECTED       = -2,  /* remote device not connected */
+    CNC_STATUS_COMPILING           = 1,   /* compiling */
+    CNC_STATUS_COMPILED            = -1,  /* compilation finished */
+    CNC_STATUS_SIMULATING          = 10,  /* simulating */
+    CNC_STATUS_SIMULATION_DONE     = -10, /* simulation finished */
+    CNC_STATUS_SIMULATION_STOPPED  = -11, /* simulation stopped */
+    CNC_STATUS_TESTING             = 20,  /* test running */
+    CNC_STATUS_TEST_DONE           = -20, /* test finished */
+    CNC_STATUS_TEST_STOPPED        = -21, /* test stopped */
+    CNC_STATUS_AT_START            = -30, /* at the start of the trajectory */
+    CNC_STATUS_STOPPED             = -31, /* stopped on the trajectory */
+    CNC_STATUS_AT_END              = -32, /* end of the trajectory */
+    CNC_STATUS_STOPPED_BY_M0       = -33, /* stopped by M0 */
+    CNC_STATUS_FORWARD             = 30,  /* running forward */
+    CNC_STATUS_FORWARD_NO_M        = 31,  /* running forward without M functions */
+    CNC_STATUS_BACKWARD            = 32,  /* running backward */
+    CNC_STATUS_FORWARD_SKIP_FIRST_M = 33, /* running forward skipping the first M functions */
+    CNC_STATUS_CONNECT_CALCULATING = 40,  /* calculating the connection */
+    CNC_STATUS_CONNECT_MOVING      = 41,  /* moving to the connection point */
+    CNC_STATUS_MANUAL_MOVE         = 50,  /* manual move */
+    CNC_STATUS_OUT_OF_TRAJECTORY   = -50, /* out of the trajectory */
+    CNC_STATUS_INTERNAL_CALC       = 60,  /* internal calculation */
+    CNC_STATUS_SENDING_START_M     = 70,  /* sending start M functions */
+    CNC_STATUS_SENDING_STOP_M      = 80,  /* sending stop M functions */
+    CNC_STATUS_SENDING_CONNECT_M   = 90,  /* sending connect M functions */
+    CNC_STATUS_INVALID             = -1234 /* invalid */
 };
 
 /* Regimes of ToolChainCore_StartCNCEx. */
@@ -288,7 +289,7 @@ typedef struct MACHINE_PARAMETERS {
     P10DOUBLE backlash;    /* mm */
     P10DOUBLE backlashInc; /* mm per 100 us */
     int32_t   backlashValuesSource;           /* 0 from the INI, 1 from these fields */
-    int32_t   enhancedInterpolatorParameters; /* bit field, see ABI.md */
+    int32_t   enhancedInterpolatorParameters; /* bit field: docs/structures.md */
 } MACHINE_PARAMETERS;
 
 typedef struct MACHINE_STATUS {
@@ -331,7 +332,7 @@ typedef struct AXIS_LIMITS {
     double maxDec;
 } AXIS_LIMITS;
 
-/* G-code properties of a core; defaults in ABI.md and ToolChainCore_GetGCodeParameters. */
+/* G-code properties of a core; meanings and defaults: docs/structures.md. */
 typedef struct GCODE_PARAMETERS {
     int32_t  absMode;            /* 1 absolute (default), 0 relative */
     int32_t  swapG2G3;
@@ -643,7 +644,7 @@ TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_StartCNCEx(uint32_t intId
  * worker sets the status when it has stopped. -1 when nothing runs. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_StopCNCEx(uint32_t intIdx, TGM_LPCSTR addCode);
 
-/* Moves back onto the trajectory (connect_type). See API.md. */
+/* Moves back onto the trajectory (connect_type): docs/api.md, docs/connect.md. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_ConnectCNCEx_Plane(uint32_t intIdx, uint32_t nType, uint32_t nCoords, const double *coords, TGM_LPCSTR addCode, uint32_t axesForCalc, uint32_t axesForConnect, int32_t stateAfter);
 
 /* Manual linear move to absolute coordinates with motion[5]. */
@@ -723,8 +724,8 @@ TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GetToolpath(uint32_t intI
 
 /* Look-ahead of the feed planner in parts, for the core's next compilations: 0 the
  * vendor's window (the current part and 7 more: run times as on a TG Motion machine),
- * n >= 1 that many parts, -1 unlimited (faster on dense short segments; README, "Feed
- * planner"). Also the INI key [GCodeParameters] lookAheadParts. Any thread, any status.
+ * n >= 1 that many parts, -1 unlimited (faster on dense short segments; docs/planner.md).
+ * Also the INI key [GCodeParameters] lookAheadParts. Any thread, any status.
  * Returns 0; -1 for parts < -1; -2 bad core. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_SetLookAhead(uint32_t intIdx, int32_t parts);
 

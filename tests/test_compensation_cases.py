@@ -1,5 +1,5 @@
 """Tool radius compensation: hand-computed cases for each corner type, each
-strategy bit and each error (compensation stage alone, see tests/comp_harness)."""
+strategy bit and each error (compensation stage alone, see tests/harness)."""
 import math
 
 import pytest
@@ -156,7 +156,7 @@ def test_switching_off_on_an_arc_is_an_error(harness):
 
 @pytest.mark.parametrize("strategy", [0, 1])
 def test_switching_on_before_an_arc_inserts_a_line_to_its_perpendicular(harness, strategy):
-    # G42 alone, then an arc (seed 003): G1 to the arc's perpendicular, the arc compensated
+    # G42 alone, then an arc (the interpolator manual's example program): G1 to the arc's perpendicular, the arc compensated
     parts = [dict(func=0, e=(0, -10), comp=40), dict(kind=2, func=51, comp=41, line=3),
              A(3, 10, 0, 10, -10, line=4), L(10, 10), L(0, 10, comp=40)]
     out, err, warn = comp_run(parts, r=1.0, start=(0, -10, 0), strategy=strategy)

@@ -1,5 +1,5 @@
 """Tool radius compensation checked on the compensation stage alone (parts given
-directly, see tests/comp_harness): exact offset curves from shapely as the oracle
+directly, see tests/harness): exact offset curves from shapely as the oracle
 for random closed contours, and hand-computed cases for every corner type and
 strategy bit."""
 import math
@@ -19,16 +19,9 @@ from comp_helpers import (contour_parts, polygon_elements, programmed_polyline, 
 TOL = 1e-3
 
 
-_MODULE = []
-
-
 def _harness_module():
-    if not _MODULE:
-        import tempfile
-        from pathlib import Path
-        from comp_harness import build
-        _MODULE.append(build(Path(tempfile.mkdtemp(prefix="comp_harness"))))
-    return _MODULE[0]
+    import harness
+    return harness.load()
 
 
 @pytest.fixture(scope="session")

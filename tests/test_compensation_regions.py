@@ -21,7 +21,7 @@ TOL = 1e-3
 REMOVE = 0x80000
 JOIN_G1 = 0x20000
 ERR_COMP_CROSSING = 504
-REPRO = Path(__file__).resolve().parent / "comp_repro"     # ../shared/repro/comp_*.nc
+REPRO = Path(__file__).resolve().parent / "comp_repro"     # the reproducers comp_*.nc
 REPRO_FILES = ["comp_spike_entry", "comp_zigzag", "comp_gouge_notch"]
 # search depths (0x700): 10, 50 and 2000 parts
 DEPTHS = [0x100, 0x200, 0x600]

@@ -1,13 +1,11 @@
 """The connection search of ConnectCNCEx_Plane (toolchain/machine/connect_search.pyx),
-through tests/connect_harness (the library's pipeline and the searches, no ctypes).
+through tests/harness (the library's pipeline and the searches, no ctypes).
 
 The oracle of the nearest point is the generated program's own geometry (lines,
 arcs in G17/G18/G19, helices, a C axis), sampled densely in numpy and refined by
 golden-section search around every sampled local minimum; lines in closed form.
 The lookups are checked against the parts' own fields."""
 import math
-import tempfile
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -17,15 +15,10 @@ from sf_tch import ErrorNumber, abi
 FOUND, NOT_FOUND, OFF_PART, BAD_ARGUMENT = 0, -1, -2, -3
 PLANES = {17: (0, 1, 2), 18: (0, 2, 1), 19: (1, 2, 0)}
 LETTERS = "XYZCBUVWAO"
-_MODULE = []
-
-
 @pytest.fixture(scope="session")
 def ch():
-    if not _MODULE:
-        from connect_harness import build
-        _MODULE.append(build(Path(tempfile.mkdtemp(prefix="connect_harness"))))
-    return _MODULE[0]
+    import harness
+    return harness.load()
 
 
 # ---- generated programs with known geometry ----------------------------------------

@@ -4,9 +4,11 @@
 from libc.string cimport memset, memcpy, strlen, strdup
 from libc.stdlib cimport free, malloc
 
-# PLC memory of the offline machine (TGM_Data): the G-code's ReadPLC*/WritePLC* and
-# the host (ctypes: (c_ubyte * 524288).in_dll(lib, "TGM_Data")) share it.
-cdef public uint8_t TGM_Data[524288]
+cdef extern from *:
+    """
+    #define TC_VERSION_STRING "SF_TCh 0.1.0 (open drop-in CNC module library, built " __DATE__ " " __TIME__ ")"
+    """
+    const char *TC_VERSION_STRING
 
 
 # ------------------------------------------------------------------ lifecycle

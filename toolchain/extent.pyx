@@ -5,9 +5,6 @@
 from libc.string cimport memcpy
 from libc.math cimport sqrt
 
-cdef enum:
-    NO_MOTION = -1          # extent_range: no motion part in the range
-
 
 cdef inline void _widen(GCODE_SIZE *size, const double *point, int axes) noexcept nogil:
     """Widens the first `axes` axes of the extent to the point."""

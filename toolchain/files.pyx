@@ -3,15 +3,11 @@
 # writer, a device that waits for a carrier), so a file that another process
 # controls cannot hang the caller; the file type is then taken from the open
 # descriptor (fstat), not from the name, so nothing can be swapped in between.
-from libc.stdlib cimport malloc, realloc, free
+from libc.stdlib cimport malloc, free
 from libc.errno cimport errno, EINTR
 from posix.fcntl cimport open as posix_open, O_RDONLY, O_NONBLOCK, O_CLOEXEC, O_NOCTTY
 from posix.unistd cimport read as posix_read, close as posix_close
 from posix.stat cimport struct_stat, fstat, S_ISREG
-
-cdef enum:
-    MAX_FILE_BYTES = 1 << 30        # 1 GiB: larger files are refused (ERR_FILE_TOO_LARGE)
-    FILE_READ_CHUNK = 1 << 16       # growth step for files whose size fstat does not tell
 
 
 cdef int file_open_regular(const char *path, size_t *size, int32_t *error) noexcept nogil:
@@ -57,7 +53,6 @@ cdef char *read_whole_file(const char *path, size_t *length, int32_t *error) noe
     cdef size_t capacity, grown_capacity, used = 0
     cdef ssize_t n
     cdef char *buf
-    cdef char *grown
     cdef int fd = file_open_regular(path, &capacity, error)
     if fd < 0:
         return NULL
@@ -80,13 +75,11 @@ cdef char *read_whole_file(const char *path, size_t *length, int32_t *error) noe
             grown_capacity = capacity + FILE_READ_CHUNK
             if grown_capacity > <size_t>MAX_FILE_BYTES + 2:
                 grown_capacity = <size_t>MAX_FILE_BYTES + 2
-            grown = <char *>realloc(buf, grown_capacity)
-            if grown == NULL:
+            if not resize(<void **>&buf, grown_capacity, 1):
                 free(buf)
                 posix_close(fd)
                 error[0] = ERR_OUT_OF_MEMORY
                 return NULL
-            buf = grown
             capacity = grown_capacity
         n = posix_read(fd, buf + used, capacity - 1 - used)
         if n > 0:

@@ -4,12 +4,6 @@
 from libc.math cimport atan2, sqrt, fabs, M_PI, cos, sin
 
 
-cdef inline double distance2d(double dx, double dy) noexcept nogil:
-    """Length of (dx, dy). libm's hypot guards against overflow at several times the
-    cost; machine coordinates never come near it."""
-    return sqrt(dx * dx + dy * dy)
-
-
 cdef const char *axis_name(int k) noexcept nogil:
     """Letter of axis index k (x y z c b u v w a o order)."""
     if k == 0: return "X"

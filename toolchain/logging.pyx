@@ -7,12 +7,6 @@ from libc.string cimport strlen, strncpy
 from posix.time cimport clock_gettime, timespec, CLOCK_REALTIME, time_t
 from libc.time cimport tm, localtime_r, strftime
 
-cdef extern from "tgm_cnc.h":
-    uint32_t LOG_TO_CONSOLE, LOG_TO_FILE, LOG_TO_TGM
-    uint32_t LOG_DEBUG, LOG_VERBOSE, LOG_WORKER, LOG_TOOLCHAIN, LOG_DRIVER, LOG_COMPILER
-    uint32_t LOG_EXECUTOR, LOG_MATH
-
-ctypedef void (*LogHook)(intptr_t, uint32_t, const char *) noexcept nogil
 
 cdef extern from *:
     """
@@ -21,7 +15,6 @@ cdef extern from *:
     """
     int tc_in_log_hook
 
-cdef uint32_t g_log_mask          # zero: nothing is logged until SetLogValue
 cdef pthread_mutex_t g_log_lock   # zero-initialised == PTHREAD_MUTEX_INITIALIZER (glibc)
 cdef FILE *g_log_file
 cdef char g_log_dir[1024]         # empty: $SF_TCH_LOG_DIR or the current directory

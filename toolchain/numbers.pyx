@@ -57,10 +57,6 @@ cdef extern from *:
         return n;
     }
     """
-    # strtod with a '.' decimal point whatever the process's locale
-    double c_strtod "tc_c_strtod"(const char *s, char **end) nogil
-    # snprintf with a '.' decimal point whatever the calling thread's locale
-    int c_snprintf "tc_c_snprintf"(char *buf, size_t size, const char *fmt, ...) nogil
 
 
 cdef inline bint _num_only_blanks(const char *s) noexcept nogil:

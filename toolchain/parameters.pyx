@@ -215,16 +215,6 @@ cdef bint coordinates_finite(const double *values, uint32_t n) noexcept nogil:
 
 # ------------------------------------------------------------------ INI
 
-ctypedef struct IniSettings:
-    # what LoadFromIni reads into, a copy of the core's configuration: the file is
-    # read and parsed without the core's lock, and stored only when all of it is good
-    GCODE_PARAMETERS params
-    char driver[256]
-    int64_t plan_window     # [GCodeParameters] lookAheadParts (the core's, see SetLookAhead)
-    double time_scale       # [Offline] TimeScale (the core's, see SetTimeScale)
-    const char *path
-    ErrorInfo *err
-
 
 cdef bint strncasecmp_prefix(const char *s, const char *prefix) noexcept nogil:
     cdef size_t i = 0

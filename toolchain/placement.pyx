@@ -8,11 +8,6 @@
 from libc.stdlib cimport malloc, free
 from libc.string cimport memcpy
 
-ctypedef struct Placement:
-    double start[10]        # where the run starts (machine position)
-    double delta[10]        # start - the compile's start
-    bint moved              # some delta is not 0
-
 
 cdef void placement_init(Placement *pl, const Program *prog, const double *start) noexcept nogil:
     cdef int k
@@ -22,10 +17,6 @@ cdef void placement_init(Placement *pl, const Program *prog, const double *start
         pl.delta[k] = start[k] - prog.start[k]
         if pl.delta[k] != 0.0:
             pl.moved = True
-
-
-cdef inline bint follows_start(const Program *prog, const Part *p, int k) noexcept nogil:
-    return p.gcode_index < prog.start_gindex[k]
 
 
 cdef void placed_part_to_gm(const Program *prog, size_t i, const Placement *pl,

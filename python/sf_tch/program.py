@@ -6,11 +6,14 @@
         path = program.toolpath          # numpy records (sf_tch.toolpath)
 
 A program keeps the core it was compiled on (for simulation and run time) until it
-is closed; at most three programs (the library's cores) live at a time.
+is closed, its ``with`` block ends, or nothing references it any more (rebinding the
+name in a loop gives the core back at once); at most three programs and Cores (the
+library's cores) live at a time.
 """
 from __future__ import annotations
 
 import os
+import re
 import threading
 from pathlib import Path
 from typing import Callable, Iterator, Sequence
@@ -21,26 +24,60 @@ from . import abi
 from .core import Core, RunResult, attach_column
 from .enums import Callback, ErrorNumber, OutputTab, Regime
 from .errors import CncError, Diagnostic
-from .toolpath import TOOLPATH_DTYPE, Toolpath
+from .toolpath import TOOLPATH_DTYPE, Toolpath, read_chunks, summarize
 
 Source = str | bytes | os.PathLike
 
 
+# a str that starts like a line of G-code: a G, M or N word, an axis or feed word, a
+# parameter assignment, a comment
+_LOOKS_LIKE_G_CODE = re.compile(r"\s*(?:[GMN]\s*-?\d|[XYZABCUVWIJKF]\s*[-+]?[\d.(]|P\d+\s*=|[(;%])", re.I)
+
+
 def _read_source(source: Source, name: str | None) -> tuple[str | None, Path | None, str]:
     """(text, path, name): text for G-code given as text, path for a file. A str
-    with a line break, or bytes, is G-code; any other str or a PathLike is a file."""
+    with a line break, or bytes, is G-code; any other str or a PathLike is a file
+    (a str without a line break is never guessed to be G-code: the message says so)."""
     if isinstance(source, bytes):
         return source.decode("latin-1"), None, name or "program.nc"
     if isinstance(source, str) and ("\n" in source or "\r" in source):
         return source, None, name or "program.nc"
     path = Path(source)
     if not path.exists():
+        if isinstance(source, str) and _LOOKS_LIKE_G_CODE.match(source):
+            raise FileNotFoundError(f"{source!r}: no such file; G-code given as text needs a line break "
+                                    f"(a one-line program: {source + chr(10)!r})")
         raise FileNotFoundError(f"{path}: no such file")
     if path.is_dir():
         raise IsADirectoryError(f"{path}: is a directory, not a G-code file")
+    if not path.is_file():
+        raise OSError(f"{path}: not a regular file (G-code is read from a regular file, or given as text)")
     if not os.access(path, os.R_OK):
         raise PermissionError(f"{path}: not readable")
     return None, path, name or str(path)
+
+
+def _check_ini(ini: str | os.PathLike) -> None:
+    path = Path(ini)
+    if not path.exists():
+        raise FileNotFoundError(f"{ini}: no such INI file")
+    if path.is_dir():
+        raise IsADirectoryError(f"{ini}: is a directory, not an INI file")
+    if not path.is_file():
+        raise OSError(f"{ini}: not a regular file (an INI file is read whole)")
+
+
+class _Progress:
+    """The last percent the library reported and an event set when it changes (the
+    job's listener: it holds nothing that holds the core)."""
+
+    def __init__(self):
+        self.percent = 0
+        self.changed = threading.Event()
+
+    def update(self, percent: int) -> None:
+        self.percent = percent
+        self.changed.set()
 
 
 class CompileJob:
@@ -56,14 +93,13 @@ class CompileJob:
         self._path = path
         self._lines: list[str] | None = None      # the source's lines, read for the first diagnostic
         self._cancel_event = cancel
-        self._percent = 0
-        self._changed = threading.Event()
+        self._progress = _Progress()
         self.warnings: list[Diagnostic] = []
         self.errors: list[Diagnostic] = []
         self._program: Program | None = None
         self._arguments = dict(arguments or {})      # those of start_compile, for compiling again
         self._removers = [
-            core.listen(Callback.SET_STATUS_BAR_PROGRESS, self._on_progress),
+            core.listen(Callback.SET_STATUS_BAR_PROGRESS, self._progress.update),
             core.listen(Callback.MATH_WARNING, self.warnings.append),
             core.listen(Callback.DISP_AND_LOCATE_ERROR, self.errors.append),
         ]
@@ -74,12 +110,8 @@ class CompileJob:
         else:
             core.start_compile_file(path)
 
-    def _on_progress(self, percent: int) -> None:
-        self._percent = percent
-        self._changed.set()
-
     def __repr__(self) -> str:
-        return f"<CompileJob {self.name!r} {'done' if self.done() else f'{self._percent} %'}>"
+        return f"<CompileJob {self.name!r} {'done' if self.done() else f'{self._progress.percent} %'}>"
 
     def done(self) -> bool:
         """True once the library has finished (or given up)."""
@@ -93,15 +125,15 @@ class CompileJob:
         last = -1
         while True:
             finished = self.done()
-            if self._percent != last:
-                last = self._percent
+            if self._progress.percent != last:
+                last = self._progress.percent
                 yield last
             if finished:
                 return
             if self._cancel_event is not None and self._cancel_event.is_set():
                 self.cancel()
-            self._changed.wait(0.05)
-            self._changed.clear()
+            self._progress.changed.wait(0.05)
+            self._progress.changed.clear()
 
     def result(self, timeout: float | None = None) -> Program:
         """Waits for the end and returns the :class:`Program` (errors in its
@@ -150,8 +182,8 @@ def start_compile(source: Source, radius: float | None = None, strategy: int | N
     are those of :func:`compile`."""
     if radius is not None and not radius >= 0:
         raise ValueError(f"tool radius must be a number >= 0 mm, not {radius}")
-    if ini is not None and not Path(ini).is_file():
-        raise FileNotFoundError(f"{ini}: no such INI file")
+    if ini is not None:
+        _check_ini(ini)
     text, path, name = _read_source(source, name)
     handle = Core(core, ini=str(ini) if ini is not None else None)
     try:
@@ -188,7 +220,8 @@ def compile(source: Source, radius: float | None = None, strategy: int | None = 
     ``program.errors`` (``program.check()`` raises the first).
 
     - ``source``: a file (path or str without a line break) or G-code text (a str
-      with a line break, or bytes); ``name`` names text in errors;
+      with a line break, or bytes: a one-line program is ``"G1 X10 F1000\\n"``);
+      ``name`` names text in errors;
     - ``radius``: tool radius in mm for every G41..G48 slot (>= 0; G41/G42 choose
       the side); ``strategy``: correctionStrategy bits (CORR_* of tgm_cnc.h);
     - ``ini``: a vendor INI file instead of the bundled one; ``params``: any other
@@ -202,8 +235,9 @@ def compile(source: Source, radius: float | None = None, strategy: int | None = 
       unlimited; default what the core has, see ToolChainCore_SetLookAhead);
     - ``progress``: called with the percent from the library's thread; ``cancel``:
       an object with ``is_set()`` (threading.Event) that interrupts when set.
-    Raises FileNotFoundError / IsADirectoryError for a bad path, ValueError for a
-    negative radius, :class:`Cancelled` when cancelled."""
+    Raises FileNotFoundError / IsADirectoryError / OSError for a bad path (a
+    missing one that looks like G-code says it needs a line break), ValueError for
+    a negative radius, :class:`Cancelled` when cancelled."""
     job = start_compile(source, radius, strategy, ini, params, core, name, progress, cancel, start, look_ahead, iso)
     try:
         return job.result()
@@ -215,8 +249,10 @@ def compile(source: Source, radius: float | None = None, strategy: int | None = 
 class Program:
     """A compiled program on its core: ``errors`` and ``warnings``
     (:class:`Diagnostic` lists), ``toolpath`` (numpy records, fetched on first use),
-    ``size_info`` (GCODE_INFO), ``run_time`` (seconds, from a simulation run on first
-    use). A context manager; :meth:`close` releases the core."""
+    ``summary()`` (counts and lengths, read a chunk at a time), ``size_info``
+    (GCODE_INFO), ``run_time`` (seconds, from a simulation run on first use). A
+    context manager; :meth:`close` releases the core, and so does the program's end
+    when nothing references it any more."""
 
     def __init__(self, core: Core, name: str, errors: list[Diagnostic], warnings: list[Diagnostic],
                  arguments: dict | None = None):
@@ -269,6 +305,15 @@ class Program:
             self._toolpath = self.core.toolpath()
         return self._toolpath
 
+    def summary(self) -> dict:
+        """Counts and lengths (mm) of the parts, cuts and rapids
+        (:meth:`Toolpath.to_dict`): from the fetched toolpath, else read from the
+        library a chunk at a time (a program of any size in a few MB); all zero
+        after an error."""
+        if self._toolpath is not None or not self.ok:
+            return self.toolpath.to_dict()
+        return summarize(read_chunks(self.core.lib, self.core.index))
+
     @property
     def size_info(self):
         """GCODE_INFO: m_size[0] programmed, [1] compensated, [2]/[3] as the machine
@@ -308,8 +353,11 @@ class Program:
         return self.core.simulate(regime)
 
     def plot(self, ax=None, **options):
-        """Draws the program with matplotlib (the ``sf-tch[plot]`` extra): see
-        :func:`sf_tch.plot.plot_program`. Returns the Axes."""
+        """Draws the program with matplotlib (``pip install matplotlib``) on `ax`, or
+        on a new figure: see :func:`sf_tch.plot.plot_program`. Returns the Axes; in a
+        script save its figure (``program.plot().figure.savefig("part.png")``) or
+        call ``matplotlib.pyplot.show()``. ImportError without matplotlib, its
+        message the command that installs it."""
         from .plot import plot_program
         return plot_program(self, ax=ax, **options)
 
@@ -319,7 +367,7 @@ class Program:
                   "warnings": [w.to_dict() for w in self.warnings]}
         if self.ok:
             size = self.size_info.m_size
-            result["toolpath"] = self.toolpath.to_dict()
+            result["toolpath"] = self.summary()
             result["extent"] = {title: {"min": [size[k].m_minimalPos.x, size[k].m_minimalPos.y, size[k].m_minimalPos.z],
                                         "max": [size[k].m_maximalPos.x, size[k].m_maximalPos.y, size[k].m_maximalPos.z]}
                                 for title, k in (("programmed", 0), ("compensated", 1))}

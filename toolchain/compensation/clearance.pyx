@@ -15,53 +15,16 @@
 # and CL_G1 * CL_G1 elements; CL_BATCH consecutive pieces share one search of the boxes.
 # Cheap proofs (_cl_far) settle most pairs, the rest is measured exactly
 # (_cl_piece_gap): O(n) on ordinary contours.
-from libc.stdlib cimport realloc, free
+from libc.stdlib cimport free
 from libc.string cimport memmove, memcpy
 from libc.math cimport fabs, sqrt, M_PI
-
-cdef enum:
-    CL_BLOCK = 16384        # parts of the chain whose contour window is held at a time
-    CL_G1 = 16              # contour elements per small box; a large box holds CL_G1 small ones
-    CL_BATCH = 16           # pieces of the path that share one search of the boxes
-
-ctypedef struct ClPiece:
-    XPiece t                # a piece of the tool path waiting for its batch's search
-    const XPiece *own       # arguments of cl_gap
-    size_t skip_a, skip_b
-    double r, stop
-
-ctypedef struct Clearance:
-    XPiece *el              # the programmed elements of the window, in part order
-    double *off             # ... how far each one's end lies off its circle (arcs; lines 0)
-    size_t n, cap
-    double *g1              # boxes of groups of CL_G1 elements
-    double *g2              # boxes of groups of CL_G1 * CL_G1 elements
-    size_t cap_g
-    double max_off          # the largest `off` of the window
-    size_t lo, hi           # parts the window holds
-    size_t el0, el_end      # the elements of the parts being walked (_cl_seam holds two ranges)
-    size_t depth            # the window: parts at most this far apart are measured
-    size_t span             # parts of the chain
-    bint closed             # distances in parts wrap round the closed chain (_cl_seam)
-    size_t *cand            # elements whose boxes meet the batch's box
-    double *cbox            # ... their boxes, side by side (the inner loop reads only these)
-    size_t n_cand, cap_cand
-    ClPiece batch[CL_BATCH] # pieces queued by _cl_queue
-    size_t n_batch
-    bint loose              # an element was not measured because the piece's own crosses it
-    # the chain being checked (cl_chain_open): parts before `next` are done, the tool
-    # stands at `cur`, insertion `rec` is the next one; the block of parts [blo, bhi]
-    size_t first, next, ins0, rec, blo, bhi, ei
-    double cur[2]
-    double allow
-    bint started, in_block, first_piece
 
 
 cdef inline double _cl_sweep(int direction, const double *s, const double *e, const double *c) noexcept nogil:
     """A stand-in for the sweep of an arc from s to e round c, in (0, 2pi]: monotone in
     the true one and equal to it at every quarter turn (what the boxes and _cl_within
     compare it with), without trigonometry; a full circle when s = e."""
-    cdef double d = _x_pseudo(e[0] - c[0], direction * (e[1] - c[1])) - _x_pseudo(s[0] - c[0], direction * (s[1] - c[1]))
+    cdef double d = x_pseudo(e[0] - c[0], direction * (e[1] - c[1])) - x_pseudo(s[0] - c[0], direction * (s[1] - c[1]))
     if d <= 0:
         d += 4.0
     return d * (0.5 * M_PI)
@@ -208,7 +171,7 @@ cdef double _cl_piece_gap(const XPiece *t, const XPiece *g, double stop) noexcep
     return _cl_arc_arc_inner(t, g, stop)
 
 
-cdef inline void _cl_box_empty(double *b) noexcept nogil:
+cdef inline void cl_box_empty(double *b) noexcept nogil:
     b[0] = 1e300; b[1] = 1e300; b[2] = -1e300; b[3] = -1e300
 
 
@@ -242,7 +205,7 @@ cdef bint cl_element(const CompState *S, size_t k, XPiece *g) noexcept nogil:
         g.kind = EL_LINE
         g.dir = 0
         g.sweep = 0.0
-    _x_geometry(g)
+    x_geometry(g)
     return True
 
 
@@ -273,20 +236,15 @@ cdef bint _cl_slide(CompState *S, Clearance *C, size_t lo, size_t hi) noexcept n
 cdef inline bint _cl_read(CompState *S, Clearance *C, size_t lo, size_t hi) noexcept nogil:
     """Appends the contour elements of parts lo..hi to the window."""
     cdef XPiece *el
-    cdef double *d
-    cdef size_t k, cap
+    cdef size_t k, c1, c2
     for k in range(lo, hi + 1):
         if C.n == C.cap:
-            cap = C.cap * 2 if C.cap else 256
-            el = <XPiece *>realloc(C.el, cap * sizeof(XPiece))
-            if el == NULL:
+            # the two arrays grow alike from the same capacity
+            c1 = c2 = C.cap
+            if not grow(<void **>&C.el, &c1, C.n + 1, sizeof(XPiece)) or \
+                    not grow(<void **>&C.off, &c2, C.n + 1, sizeof(double)):
                 return False
-            C.el = el
-            d = <double *>realloc(C.off, cap * sizeof(double))
-            if d == NULL:
-                return False
-            C.off = d
-            C.cap = cap
+            C.cap = c1
         if not cl_element(S, k, &C.el[C.n]):
             continue
         el = &C.el[C.n]
@@ -298,33 +256,27 @@ cdef inline bint _cl_read(CompState *S, Clearance *C, size_t lo, size_t hi) noex
 cdef inline bint _cl_boxes(Clearance *C) noexcept nogil:
     """The group boxes of the window (the elements' own boxes: a query box is grown by
     the piece's radius) and C.max_off."""
-    cdef double *b
     cdef size_t k, ng = C.n / CL_G1 + 1
     if ng > C.cap_g:
-        b = <double *>realloc(C.g1, 4 * ng * sizeof(double))
-        if b == NULL:
+        if not resize(<void **>&C.g1, ng, 4 * sizeof(double)) or \
+                not resize(<void **>&C.g2, ng / CL_G1 + 1, 4 * sizeof(double)):
             return False
-        C.g1 = b
-        b = <double *>realloc(C.g2, 4 * (ng / CL_G1 + 1) * sizeof(double))
-        if b == NULL:
-            return False
-        C.g2 = b
         C.cap_g = ng
     for k in range(ng):
-        _cl_box_empty(&C.g1[4 * k])
+        cl_box_empty(&C.g1[4 * k])
     for k in range(ng / CL_G1 + 1):
-        _cl_box_empty(&C.g2[4 * k])
+        cl_box_empty(&C.g2[4 * k])
     C.max_off = 0.0
     for k in range(C.n):
-        _box_union(&C.g1[4 * (k / CL_G1)], C.el[k].box)
+        box_union(&C.g1[4 * (k / CL_G1)], C.el[k].box)
         if C.off[k] > C.max_off:
             C.max_off = C.off[k]
     for k in range(ng):
-        _box_union(&C.g2[4 * (k / CL_G1)], &C.g1[4 * k])
+        box_union(&C.g2[4 * (k / CL_G1)], &C.g1[4 * k])
     return True
 
 
-cdef bint _cl_load(CompState *S, Clearance *C, size_t lo, size_t hi) noexcept nogil:
+cdef bint cl_load(CompState *S, Clearance *C, size_t lo, size_t hi) noexcept nogil:
     """The contour of parts lo..hi alone (see _cl_slide)."""
     C.n = 0
     return _cl_slide(S, C, lo, hi)
@@ -401,11 +353,11 @@ cdef bint _cl_cross(const XPiece *a, const XPiece *b) noexcept nogil:
     cdef double pts[4]
     cdef double pos
     cdef int m, k
-    m = _x_meet(a, b, 0.0, pts)
+    m = x_meet(a, b, 0.0, pts)
     for k in range(m):
-        if _x_on(a, pts[2 * k], pts[2 * k + 1], 0.0, &pos) and _x_on(b, pts[2 * k], pts[2 * k + 1], 0.0, &pos) \
-                and not ((_x_near(a.s, pts[2 * k], pts[2 * k + 1], 1e-9) or _x_near(a.e, pts[2 * k], pts[2 * k + 1], 1e-9))
-                         and (_x_near(b.s, pts[2 * k], pts[2 * k + 1], 1e-9) or _x_near(b.e, pts[2 * k], pts[2 * k + 1], 1e-9))):
+        if x_on(a, pts[2 * k], pts[2 * k + 1], 0.0, &pos) and x_on(b, pts[2 * k], pts[2 * k + 1], 0.0, &pos) \
+                and not ((x_near(a.s, pts[2 * k], pts[2 * k + 1], 1e-9) or x_near(a.e, pts[2 * k], pts[2 * k + 1], 1e-9))
+                         and (x_near(b.s, pts[2 * k], pts[2 * k + 1], 1e-9) or x_near(b.e, pts[2 * k], pts[2 * k + 1], 1e-9))):
             return True
     return False
 
@@ -421,7 +373,7 @@ cdef inline double _cl_element_gap(const Clearance *C, const XPiece *t, const XP
             or _cl_far(t, g, stop):
         return stop
     d = _cl_piece_gap(t, g, stop)
-    if d < stop and own != NULL and _box_hit(g.box, own.box, 0.0) and _cl_cross(own, g):
+    if d < stop and own != NULL and box_hit(g.box, own.box, 0.0) and _cl_cross(own, g):
         loose[0] = True
         return stop
     return d
@@ -443,13 +395,13 @@ cdef double cl_gap(const Clearance *C, XPiece *t, const XPiece *own, size_t skip
     n1 = (C.n + CL_G1 - 1) / CL_G1
     n2 = (n1 + CL_G1 - 1) / CL_G1
     for i in range(n2):
-        if not _box_hit(&C.g2[4 * i], box, 0.0):
+        if not box_hit(&C.g2[4 * i], box, 0.0):
             continue
         for j in range(i * CL_G1, min((i + 1) * CL_G1, n1)):
-            if not _box_hit(&C.g1[4 * j], box, 0.0):
+            if not box_hit(&C.g1[4 * j], box, 0.0):
                 continue
             for k in range(j * CL_G1, min((j + 1) * CL_G1, C.n)):
-                if not _box_hit(C.el[k].box, box, 0.0):
+                if not box_hit(C.el[k].box, box, 0.0):
                     continue
                 d = _cl_element_gap(C, t, &C.el[k], own, skip_a, skip_b, depth, stop, &loose)
                 if d < stop:
@@ -459,30 +411,23 @@ cdef double cl_gap(const Clearance *C, XPiece *t, const XPiece *own, size_t skip
 
 cdef bint _cl_collect(Clearance *C, const double *box) noexcept nogil:
     """C.cand: the elements whose boxes meet `box`, in order (False: no memory)."""
-    cdef size_t i, j, k, n1, n2, cap, n = 0
-    cdef size_t *cand
-    cdef double *cbox
+    cdef size_t i, j, k, n1, n2, c1, c2, n = 0
     n1 = (C.n + CL_G1 - 1) / CL_G1
     n2 = (n1 + CL_G1 - 1) / CL_G1
     for i in range(n2):
-        if not _box_hit(&C.g2[4 * i], box, 0.0):
+        if not box_hit(&C.g2[4 * i], box, 0.0):
             continue
         for j in range(i * CL_G1, min((i + 1) * CL_G1, n1)):
-            if not _box_hit(&C.g1[4 * j], box, 0.0):
+            if not box_hit(&C.g1[4 * j], box, 0.0):
                 continue
             if n + CL_G1 > C.cap_cand:
-                cap = C.cap_cand * 2 if C.cap_cand else 256
-                cand = <size_t *>realloc(C.cand, cap * sizeof(size_t))
-                if cand == NULL:
+                c1 = c2 = C.cap_cand        # the two arrays grow alike
+                if not grow(<void **>&C.cand, &c1, n + CL_G1, sizeof(size_t)) or \
+                        not grow(<void **>&C.cbox, &c2, n + CL_G1, 4 * sizeof(double)):
                     return False
-                C.cand = cand
-                cbox = <double *>realloc(C.cbox, 4 * cap * sizeof(double))
-                if cbox == NULL:
-                    return False
-                C.cbox = cbox
-                C.cap_cand = cap
+                C.cap_cand = c1
             for k in range(j * CL_G1, min((j + 1) * CL_G1, C.n)):
-                if _box_hit(C.el[k].box, box, 0.0):
+                if box_hit(C.el[k].box, box, 0.0):
                     C.cand[n] = k
                     memcpy(&C.cbox[4 * n], C.el[k].box, 4 * sizeof(double))
                     n += 1
@@ -503,11 +448,11 @@ cdef int64_t _cl_flush(Clearance *C, size_t depth) noexcept nogil:
     C.n_batch = 0
     if n == 0:
         return -1
-    _cl_box_empty(box)
+    cl_box_empty(box)
     for b in range(n):
         q = &C.batch[b]
         bb[0] = q.t.box[0] - q.r; bb[1] = q.t.box[1] - q.r; bb[2] = q.t.box[2] + q.r; bb[3] = q.t.box[3] + q.r
-        _box_union(box, bb)
+        box_union(box, bb)
     if not _cl_collect(C, box):
         return -2
     for b in range(n):
@@ -542,7 +487,7 @@ cdef inline void _cl_line(XPiece *t, const double *a, const double *b, size_t pa
     t.s[0] = a[0]; t.s[1] = a[1]
     t.e[0] = b[0]; t.e[1] = b[1]
     t.part = part
-    _x_geometry(t)
+    x_geometry(t)
 
 
 cdef inline bint _cl_arc(XPiece *t, const double *a, const double *b, const double *c, double r,
@@ -561,7 +506,7 @@ cdef inline bint _cl_arc(XPiece *t, const double *a, const double *b, const doub
     t.sweep = _cl_sweep(direction, a, b, c)
     t.part = part
     if full:
-        _x_geometry(t)
+        x_geometry(t)
     else:
         # a corner arc has the tool's radius: its circle's box is close enough (a box
         # only picks the elements to measure)
@@ -575,7 +520,7 @@ cdef bint _cl_side_change(const CompState *S, size_t k, size_t last) noexcept no
     cdef size_t m
     for m in range(k + 1, last + 1):
         if S.role[m] == ROLE_SET:
-            return _comp_distance(S, &S.prog.parts[m]) != _comp_distance(S, &S.prog.parts[k])
+            return comp_distance(S, &S.prog.parts[m]) != comp_distance(S, &S.prog.parts[k])
     return False
 
 
@@ -678,7 +623,7 @@ cdef bint _cl_run(CompState *S, size_t upto, size_t end, bint strict, bint skip_
         has_own = C.ei < C.n and C.el[C.ei].part == k
         own = &C.el[C.ei] if has_own and not strict else NULL
         p = &S.prog.parts[k]
-        r = fabs(_comp_distance(S, p))
+        r = fabs(comp_distance(S, p))
         if S.role[k] == ROLE_SET and p.kind == PART_MOTION and p.func != 0:
             t = &C.batch[C.n_batch].t       # built where the batch keeps it
             end_pt[0] = p.ce[S.first]; end_pt[1] = p.ce[S.second]

@@ -9,22 +9,6 @@
 from libc.math cimport atan2, fabs, M_PI
 
 
-ctypedef struct CompCfg:
-    uint32_t strategy
-    int mode                # low byte of the strategy: 0 or 1
-    double tol_angle        # radians: below it two parts join tangentially
-    double sin_tol          # its sine (the test on the tangents' cross product)
-    double slack            # length accuracy (crossing, near-tangent intersections)
-    double factor           # CORR_CORNER_INTERSECTION: limit distance in radii
-    double corner_distance  # ... or in mm (G172 R), when > 0
-    size_t depth            # how many parts back a crossing may be removed
-    double min_arc          # tolerance[4]: tool path arcs of a smaller radius are removed (0 = none)
-
-cdef enum CornerResult:
-    CORNER_OK = 0
-    CORNER_NOT_FOUND = 1
-
-
 cdef int corner_resolve(CompEl *a, CompEl *b, const CompCfg *cfg) noexcept nogil:
     """Sets a.pe, a.ins/a.ins_end and b.ps for the corner at a's programmed end."""
     cdef double ta[2]

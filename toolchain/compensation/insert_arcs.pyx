@@ -13,18 +13,9 @@
 # Runs after the compensation on the path the tool follows (Part.ce; Part.e too when
 # the part is not compensated). One pass, O(n); no pass at all when neither the host
 # (insertArcMode 1) nor any G167 of the program switches insertion on.
-from libc.stdlib cimport realloc, free, malloc
+from libc.stdlib cimport free, malloc
 from libc.string cimport memcpy, memset
 from libc.math cimport fabs, atan2, cos, tan, M_PI
-
-
-ctypedef struct ArcIns:
-    size_t after            # inserted right after this part (the shortened first line)
-    double end[2]           # tangent point on the second line (plane coordinates)
-    double cc[2]            # centre
-    double radius
-    int32_t func            # 2 CW, 3 CCW
-    int16_t plane
 
 
 cdef bint program_add_arc_region(ProgramBuilder *build, size_t first, bint on, int32_t plane,
@@ -34,7 +25,7 @@ cdef bint program_add_arc_region(ProgramBuilder *build, size_t first, bint on, i
     cdef ArcRegion *r
     if prog.n_arc_regions > 0 and prog.arc_regions[prog.n_arc_regions - 1].first == first:
         prog.n_arc_regions -= 1          # several G167 before the same part: the last one counts
-    if not _grow(<void **>&prog.arc_regions, &build.cap_arc_regions, prog.n_arc_regions + 1, sizeof(ArcRegion)):
+    if not grow(<void **>&prog.arc_regions, &build.cap_arc_regions, prog.n_arc_regions + 1, sizeof(ArcRegion)):
         return False
     r = &prog.arc_regions[prog.n_arc_regions]
     prog.n_arc_regions += 1
@@ -78,7 +69,6 @@ cdef int insert_arcs(ProgramBuilder *build, const GCODE_PARAMETERS *params, Erro
     cdef Part *p
     cdef Part *q
     cdef ArcIns *ins = NULL
-    cdef ArcIns *grown
     cdef ArcIns *x
     cdef double s0[2]
     cdef double s1[2]
@@ -149,14 +139,10 @@ cdef int insert_arcs(ProgramBuilder *build, const GCODE_PARAMETERS *params, Erro
                     rad = tang / tt
                     d = rad * (1.0 - ct) / ct
                 if d >= tol_min - 1e-12 and rad > 1e-9:
-                    if n_ins == cap_ins:
-                        cap_ins = cap_ins * 2 if cap_ins else 64
-                        grown = <ArcIns *>realloc(ins, cap_ins * sizeof(ArcIns))
-                        if grown == NULL:
-                            free(ins)
-                            set_error(err, ERR_OUT_OF_MEMORY, prog.main_file_idx, 0, NULL, 0)
-                            return COMPILE_ERROR
-                        ins = grown
+                    if not grow(<void **>&ins, &cap_ins, n_ins + 1, sizeof(ArcIns)):
+                        free(ins)
+                        set_error(err, ERR_OUT_OF_MEMORY, prog.main_file_idx, 0, NULL, 0)
+                        return COMPILE_ERROR
                     x = &ins[n_ins]
                     n_ins += 1
                     x.after = k - 1

@@ -3,55 +3,6 @@
 # offset distance d is signed: d > 0 = left of the direction of travel (G41).
 from libc.math cimport sqrt, fabs, atan2, M_PI
 
-cdef extern from "tgm_cnc.h":
-    enum:
-        CORR_START_MODE_MASK
-        CORR_SEARCH_DEPTH_MASK
-        CORR_ALLOW_FIRST_LAST_CROSS
-        CORR_JOIN_BY_G1
-        CORR_JOIN_BY_MOVING_START
-        CORR_REMOVE_CROSSING
-        CORR_ALLOW_REVERSE_SEARCH
-        CORR_DROP_NEGATIVE_ARCS
-        CORR_CORNER_FACTOR_2
-        CORR_CORNER_INTERSECTION
-        CORR_G0_NEVER_COMPENSATED
-        CORR_OLD_COMPATIBILITY
-
-
-cdef enum:
-    EL_LINE = 0
-    EL_ARC = 1
-
-# Insertion after an element (the corner to the next one).
-cdef enum:
-    INS_NONE = 0
-    INS_G1 = 1
-    INS_G2 = 2
-    INS_G3 = 3
-
-ctypedef struct CompEl:
-    size_t part             # index in Program.parts
-    int kind                # EL_LINE / EL_ARC
-    int dir                 # arcs: +1 CCW (G3), -1 CW (G2)
-    double d                # signed offset distance (left > 0)
-    double s[2]             # programmed start, end, centre (plane coordinates)
-    double e[2]
-    double c[2]
-    double R                # programmed arc radius
-    double ro               # offset arc radius R - d*dir
-    double sweep            # arcs: |programmed sweep| in (0, 2pi]
-    double u[2]             # lines: unit direction
-    double os[2]            # offset points on the perpendiculars at s and e
-    double oe[2]
-    double ps[2]            # tool path start / end once the corners are known
-    double pe[2]
-    int ins                 # INS_* after this element
-    double ins_end[2]       # end of the inserted part
-    bint first              # first element of its chain (entry ramp aims at ps)
-    bint fixed_start        # starts at an uncompensated point (ramp, strategy 1 / G0)
-
-
 cdef inline double _cross(double ax, double ay, double bx, double by) noexcept nogil:
     return ax * by - ay * bx
 
@@ -189,13 +140,13 @@ cdef bint el_intersect(const CompEl *a, const CompEl *b, const double *ref, doub
     return _circle_circle(a.c, a.ro, b.c, b.ro, slack, ref, out)
 
 
-cdef inline double _turn(double ax, double ay, double bx, double by) noexcept nogil:
+cdef inline double vector_turn(double ax, double ay, double bx, double by) noexcept nogil:
     # signed angle from vector a to vector b, in (-pi, pi]
     return atan2(ax * by - ay * bx, ax * bx + ay * by)
 
 
 cdef inline double _turn_small(double ax, double ay, double bx, double by) noexcept nogil:
-    # _turn for the usual case of b on (or next to) the ray of a: an end not trimmed
+    # vector_turn for the usual case of b on (or next to) the ray of a: an end not trimmed
     # lies on its perpendicular, the angle is rounding noise and atan(t) = t - t^3/3
     # is t to far below 1e-24 for |t| <= 1e-8
     cdef double y = ax * by - ay * bx

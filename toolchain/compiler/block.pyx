@@ -511,12 +511,6 @@ cdef int _mirror_of(const GCODE_PARAMETERS *pr, int m) noexcept nogil:
     return -1
 
 
-cdef enum:
-    M_ALL = 0
-    M_BEFORE = 1
-    M_STOPS = 2
-
-
 cdef bint _is_stop(const GCODE_PARAMETERS *pr, int m) noexcept nogil:
     """M0 M1 M60 and the program ends: LinuxCNC runs them after the motion of their line."""
     return m == 0 or m == 1 or m == 60 or _is_m(pr, m, pr.M02_programEnd1) or _is_m(pr, m, pr.M30_programEnd2)

@@ -194,9 +194,9 @@ cdef void reserve_parts(ProgramBuilder *build, uint32_t lines) noexcept nogil:
     cdef size_t n = <size_t>lines + 64
     if lines < 100000:
         return
-    if _grow(<void **>&prog.parts, &build.cap_parts, n + n // 2, sizeof(Part)):
+    if grow(<void **>&prog.parts, &build.cap_parts, n + n // 2, sizeof(Part)):
         program_advise_huge(prog.parts, build.cap_parts * sizeof(Part))
-    if _grow(<void **>&prog.pars, &build.cap_pars, n * 4, sizeof(float)):
+    if grow(<void **>&prog.pars, &build.cap_pars, n * 4, sizeof(float)):
         program_advise_huge(prog.pars, build.cap_pars * sizeof(float))
 
 

@@ -66,7 +66,7 @@ cdef int em_pars(CState *st, const LineWords *lw, int g, int m) noexcept nogil:
         mask |= 1u << 12
     if mask == 0:
         return 0
-    if not _grow(<void **>&prog.pars, &st.build.cap_pars, prog.n_pars + <size_t>SF_POPCOUNT(mask), sizeof(float)):
+    if not grow(<void **>&prog.pars, &st.build.cap_pars, prog.n_pars + <size_t>SF_POPCOUNT(mask), sizeof(float)):
         return cerr(st, ERR_OUT_OF_MEMORY)
     p.pars_off = <uint32_t>prog.n_pars
     p.pars_mask = mask
@@ -233,11 +233,6 @@ cdef int em_arc(CState *st, const LineWords *lw, Part *p, int *func, const doubl
         dir = 5 - dir
     func[0] = dir
     return 0
-
-
-cdef enum:
-    # X Y Z C B U V W A O as letter bits
-    AXIS_LETTERS = (1 << 23) | (1 << 24) | (1 << 25) | (1 << 2) | (1 << 1) | (1 << 20) | (1 << 21) | (1 << 22) | (1 << 0) | (1 << 14)
 
 
 cdef int motion_column(const LineWords *lw, int func) noexcept nogil:

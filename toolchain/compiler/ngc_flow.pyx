@@ -8,26 +8,6 @@
 # o<name>), and only a call may compute its label (o[#1 + 2] call).
 from libc.math cimport floor
 
-cdef enum:
-    R_NOT_O = 3                 # ow_statement: the line is no O-word statement
-
-cdef enum:
-    OW_SUB = 1
-    OW_ENDSUB = 2
-    OW_CALL = 3
-    OW_RETURN = 4
-    OW_IF = 5
-    OW_ELSEIF = 6
-    OW_ELSE = 7
-    OW_ENDIF = 8
-    OW_WHILE = 9
-    OW_ENDWHILE = 10
-    OW_DO = 11
-    OW_REPEAT = 12
-    OW_ENDREPEAT = 13
-    OW_BREAK = 14
-    OW_CONTINUE = 15
-
 
 cdef int ow_keyword(const char *p, int n) noexcept nogil:
     if lx_eq(p, n, "SUB"): return OW_SUB
@@ -230,6 +210,7 @@ cdef int ow_call(CState *st, const NgcLabel *lab, const char *p, const char *eol
     cdef NgcFrame *f
     cdef double args[NGC_ARGS]
     cdef int nargs = 0, i, status
+    cdef size_t s
     p = lx_skip_gap(p, eol, &status)
     while p < eol:
         if nargs >= NGC_ARGS:
@@ -240,9 +221,9 @@ cdef int ow_call(CState *st, const NgcLabel *lab, const char *p, const char *eol
         p = lx_skip_gap(p, eol, &status)
     if status:
         return cerr_open_comment(st, p, eol)
-    for i in range(n.n_subs):
-        if ow_same(&n.subs[i].label, lab) and n.subs[i].text == st.unit.text:
-            sub = &n.subs[i]
+    for s in range(n.n_subs):
+        if ow_same(&n.subs[s].label, lab) and n.subs[s].text == st.unit.text:
+            sub = &n.subs[s]
     if sub == NULL:
         return cerr_at(st, ERR_O_UNDEFINED, ow_label_text(st, lab), st.ngc.col)
     if n.level + 1 >= NGC_CALL_LEVELS:
@@ -266,7 +247,8 @@ cdef int ow_call(CState *st, const NgcLabel *lab, const char *p, const char *eol
 cdef int ow_return(CState *st, const NgcLabel *lab, const char *p, const char *eol) noexcept nogil:
     """`return [v]` / `endsub [v]`: back to the caller, #<_value> = v."""
     cdef NgcState *n = st.ngc
-    cdef int k = n.n_frames - 1, i, kept = 0, status
+    cdef int k = n.n_frames - 1, status
+    cdef size_t i, kept = 0
     cdef double v
     cdef bint given = False
     while k >= 0 and n.frames[k].kind != OF_CALL:
@@ -301,9 +283,8 @@ cdef int ow_return(CState *st, const NgcLabel *lab, const char *p, const char *e
 cdef int ow_sub(CState *st, const NgcLabel *lab, const char *p, const char *eol) noexcept nogil:
     """`sub`: the definition is recorded and its body skipped."""
     cdef NgcState *n = st.ngc
-    cdef NgcSub *grown
     cdef NgcSub *sub = NULL
-    cdef int i, cap
+    cdef size_t i
     if fl_rest_of_line(st, p, eol) != 0:
         return R_ERR
     if n.level > 0:
@@ -312,13 +293,8 @@ cdef int ow_sub(CState *st, const NgcLabel *lab, const char *p, const char *eol)
         if ow_same(&n.subs[i].label, lab) and n.subs[i].text == st.unit.text:
             sub = &n.subs[i]
     if sub == NULL:
-        if n.n_subs == n.cap_subs:
-            cap = n.cap_subs * 2 if n.cap_subs else 16
-            grown = <NgcSub *>realloc(n.subs, cap * sizeof(NgcSub))
-            if grown == NULL:
-                return cerr(st, ERR_OUT_OF_MEMORY)
-            n.subs = grown
-            n.cap_subs = cap
+        if not grow(<void **>&n.subs, &n.cap_subs, n.n_subs + 1, sizeof(NgcSub)):
+            return cerr(st, ERR_OUT_OF_MEMORY)
         sub = &n.subs[n.n_subs]
         n.n_subs += 1
     sub.label = lab[0]

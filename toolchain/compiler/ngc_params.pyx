@@ -4,32 +4,10 @@
 # #<_x>, #<_motion_mode>, ... Values in [ ] expressions with LinuxCNC's operators and
 # functions. Everything on a line is evaluated when the line is read; the parameter
 # settings of the line take effect after that (so `#1=5 X#1` moves to the old #1).
-from libc.stdlib cimport calloc, free, realloc
+from libc.stdlib cimport calloc, free
 from libc.string cimport memcmp, memcpy
 from libc.math cimport (sin, cos, tan, asin, acos, atan2, fabs, sqrt, log, exp, floor, ceil,
                         pow, fmod, round, M_PI, isfinite)
-
-cdef enum:
-    NGC_DEPTH = 64              # nesting of [ ] and functions (stack safety on garbage input)
-
-# binary operators by precedence (LinuxCNC's): ** ; * / MOD ; + - ; EQ NE GT GE LT LE ; AND OR XOR
-cdef enum:
-    OP_NONE = 0
-    OP_POWER = 1
-    OP_TIMES = 2
-    OP_DIVIDE = 3
-    OP_MOD = 4
-    OP_PLUS = 5
-    OP_MINUS = 6
-    OP_EQ = 7
-    OP_NE = 8
-    OP_GT = 9
-    OP_GE = 10
-    OP_LT = 11
-    OP_LE = 12
-    OP_AND = 13
-    OP_OR = 14
-    OP_XOR = 15
 
 cdef extern from *:
     """
@@ -83,29 +61,21 @@ cdef bint _same(const char *a, int na, const char *b, int nb) noexcept nogil:
 
 cdef NgcName *ngc_name_find(NgcState *n, const char *name, int nlen) noexcept nogil:
     """The named parameter a line of the current call level sees; NULL: none."""
-    cdef int i
+    cdef size_t i = n.n_names
     cdef int level = -1 if name[0] == b'_' else n.level
-    i = n.n_names - 1
-    while i >= 0:
+    while i > 0:
+        i -= 1
         if n.names[i].level == level and _same(n.names[i].name, n.names[i].len, name, nlen):
             return &n.names[i]
-        i -= 1
     return NULL
 
 
 cdef int ngc_name_set(CState *st, const char *name, int nlen, double value) noexcept nogil:
     cdef NgcState *n = st.ngc
     cdef NgcName *e = ngc_name_find(n, name, nlen)
-    cdef NgcName *grown
-    cdef int cap
     if e == NULL:
-        if n.n_names == n.cap_names:
-            cap = n.cap_names * 2 if n.cap_names else 64
-            grown = <NgcName *>realloc(n.names, cap * sizeof(NgcName))
-            if grown == NULL:
-                return cerr(st, ERR_OUT_OF_MEMORY)
-            n.names = grown
-            n.cap_names = cap
+        if not grow(<void **>&n.names, &n.cap_names, n.n_names + 1, sizeof(NgcName)):
+            return cerr(st, ERR_OUT_OF_MEMORY)
         e = &n.names[n.n_names]
         n.n_names += 1
         e.level = -1 if name[0] == b'_' else n.level

@@ -69,11 +69,6 @@ cdef int cp_bad_word(CState *st, const char *p, const char *eol, int col, const 
     return cerr_at(st, ERR_UNKNOWN_WORD, cword_at(st, p, eol), col)
 
 
-cdef enum:
-    WORDS_MORE = 0          # a word was read; more may follow
-    WORDS_DONE = 1          # the rest of the line holds no words (REM, G29's comment, M29's text)
-
-
 cdef void _words_clear(LineWords *lw) noexcept nogil:
     lw.mask = 0
     lw.ng = 0

@@ -32,47 +32,6 @@ from libc.stdlib cimport malloc, free
 from libc.string cimport memcpy, memset
 
 
-cdef enum:
-    CONNECT_ALL_AXES = 0x3FF
-    CONNECT_LEAF_PARTS = 4      # parts per leaf of the index
-    CONNECT_STACK = 128         # the walk holds at most depth + 1 nodes (< 40 for 2**33 parts)
-
-cdef enum ConnectResult:
-    CONNECT_FOUND = 0
-    CONNECT_NOT_FOUND = -1      # no such line, G-code index or occurrence; no motion in the range
-    CONNECT_OFF_PART = -2       # nType 46: the point lies farther than the tolerance from its part
-    CONNECT_BAD_ARGUMENT = -3
-    CONNECT_NO_MEMORY = -4
-
-ctypedef struct ConnectHit:
-    size_t part                 # index into prog.parts
-    double s                    # path length from the part's start (mm, the compensated path)
-    double length               # the part's length (0 for M functions, dwells, texts)
-    double point[10]            # the point, machine coordinates of the run, all ten axes
-    double distance             # from the asked point in the chosen axes (0 for lookups)
-
-# A bounding-volume hierarchy over the motion parts' boxes in the chosen axes that
-# move: the parts sorted by the Morton code of their box centres, CONNECT_LEAF_PARTS
-# of them to a leaf, and a complete binary tree over the leaves (node 1 the root,
-# node k's children 2k and 2k+1, leaf l at node first_leaf + l). Each node keeps its
-# box and the lowest and highest part index below it, so that a search restricted
-# to a range of parts skips whole subtrees.
-ctypedef struct ConnectIndex:
-    const Program *prog
-    Placement pl
-    uint32_t axes               # axesForCalc, 0x3FF for all
-    int n_dims                  # axes of the boxes: X Y Z of the mask, and the others
-    int dims[10]                # of the mask that the program moves
-    int n_fixed                 # axes of the mask that stand still everywhere: their
-    int fixed[10]               # distance is the same to every part
-    double fixed_at[10]
-    size_t n_items              # motion parts
-    uint32_t *items             # their indexes, in Morton order
-    size_t first_leaf           # a power of two; nodes 1 .. 2 * first_leaf - 1
-    double *boxes               # node k: low corner at boxes[2 * n_dims * k], high after it
-    uint32_t *span              # node k: lowest part index span[2k], highest span[2k + 1]
-
-
 # ---- errors ------------------------------------------------------------------------
 
 cdef int connect_bad_argument(ErrorInfo *err, const char *name, double value, const char *why) noexcept nogil:
@@ -245,14 +204,7 @@ cdef double _cs_line_nearest(const Segment *g, uint32_t axes, const double *q) n
 # f'' is a polynomial of degree <= 2 in cos(chi), so its zeros split [0, T] into
 # pieces where f' is monotonic: each holds at most one minimum, where f' turns from
 # negative to positive; with the two ends they are every candidate.
-ctypedef struct _cs_ArcFn:
-    int plane_axes              # 0, 1 or 2 of the plane's axes in the mask
-    double r, rho, u            # radius; |q - centre| in the plane (2); q - centre (1)
-    double chi0, sigma          # chi at theta = 0, direction
-    double L2, b
-
-
-cdef inline double _cs_arc_df(const _cs_ArcFn *f, double theta) noexcept nogil:
+cdef inline double _cs_arc_df(const ArcDistanceFn *f, double theta) noexcept nogil:
     cdef double chi = f.chi0 + f.sigma * theta
     cdef double d = 2.0 * (f.L2 * theta - f.b)
     if f.plane_axes == 2:
@@ -262,7 +214,7 @@ cdef inline double _cs_arc_df(const _cs_ArcFn *f, double theta) noexcept nogil:
     return d
 
 
-cdef inline double _cs_arc_ddf(const _cs_ArcFn *f, double theta) noexcept nogil:
+cdef inline double _cs_arc_ddf(const ArcDistanceFn *f, double theta) noexcept nogil:
     cdef double t = cos(f.chi0 + f.sigma * theta)
     if f.plane_axes == 2:
         return 2.0 * (f.r * f.rho * t + f.L2)
@@ -271,7 +223,7 @@ cdef inline double _cs_arc_ddf(const _cs_ArcFn *f, double theta) noexcept nogil:
     return 2.0 * f.L2
 
 
-cdef int _cs_add_turns(const _cs_ArcFn *f, double t, double T, double *at, int n) noexcept nogil:
+cdef int _cs_add_turns(const ArcDistanceFn *f, double t, double T, double *at, int n) noexcept nogil:
     """Appends the theta in (0, T) where cos(chi) = t."""
     cdef double base, theta
     cdef int sign
@@ -290,7 +242,7 @@ cdef int _cs_add_turns(const _cs_ArcFn *f, double t, double T, double *at, int n
     return n
 
 
-cdef double _cs_root(const _cs_ArcFn *f, double lo, double hi) noexcept nogil:
+cdef double _cs_root(const ArcDistanceFn *f, double lo, double hi) noexcept nogil:
     """The zero of f' in [lo, hi], where f' rises from < 0 to >= 0: Newton steps kept
     inside the bracket, bisection otherwise."""
     cdef double x = 0.5 * (lo + hi), fx, ddf, step
@@ -314,8 +266,8 @@ cdef double _cs_root(const _cs_ArcFn *f, double lo, double hi) noexcept nogil:
 
 
 cdef double _cs_arc_nearest(const Segment *g, uint32_t axes, const double *q) noexcept nogil:
-    """Path length of the point of an arc (helix) nearest q in the axes (see _cs_ArcFn)."""
-    cdef _cs_ArcFn f
+    """Path length of the point of an arc (helix) nearest q in the axes (see ArcDistanceFn)."""
+    cdef ArcDistanceFn f
     cdef double T = fabs(g.sweep)
     cdef double at[14]
     cdef double point[10]
@@ -455,10 +407,6 @@ cdef inline double _cs_limit_d2(double max_distance) noexcept nogil:
 
 
 # ---- every part, in program order -------------------------------------------------------
-
-# A look at each part's candidate: `d2` (squared distance) and `point` (ten axes) may
-# be changed; True = use the changed values (ConnectPointCalc, callback 1005).
-ctypedef bint (*connect_part_fn)(void *ctx, size_t part, double *d2, double *point) noexcept nogil
 
 
 cdef int connect_nearest_each(const Program *prog, const Placement *pl, uint32_t axes,

@@ -2,10 +2,6 @@
 # (startAngle, endAngle, minAngleFeed; G900 S9) and the exact stops.
 from libc.math cimport acos, sqrt, M_PI
 
-cdef enum:
-    STOP_MODE_EVERY_JUNCTION = 1    # G900 S12 A1: exact stop between any two motion parts
-    STOP_MODE_RAPID_CHANGE = 2      # G900 S12 A2: exact stop where rapid and cut meet
-
 
 cdef double junction_cosine(const double *t_end, const double *t_start, uint32_t ignored) noexcept nogil:
     """Cosine of the angle between the end tangent of one part and the start tangent of

@@ -4,19 +4,6 @@
 from libc.math cimport sqrt, cos, M_PI
 from libc.string cimport memcpy, memcmp, memset
 
-cdef enum:
-    AXIS_MASK = 0x3FF
-    ENH_ANGLE_SHIFT = 0         # enhancedInterpolatorParameters bits 0-9: no tangency slow-down
-    ENH_FEED_SHIFT = 10         # bits 10-19: axis ignored for the feed
-
-
-ctypedef struct PartLimits:
-    double length           # mm
-    double vmax             # mm/s, never 0 for a part with length
-    double acc, dec         # mm/s^2, peak of the ramps
-    int32_t ramp            # rampType of the motion class (1 trapezoid, 2 sine)
-    bint rapid
-
 
 cdef void plan_settings_from_params(PlanRegion *s, const GCODE_PARAMETERS *p) noexcept nogil:
     """The host's settings, before the program changes any."""
@@ -58,7 +45,7 @@ cdef bint program_add_plan_region(ProgramBuilder *build, size_t first, const GCO
         prog.n_plan_regions -= 1         # several changes before the same part: the last one counts
     if prog.n_plan_regions > 0 and _same_settings(&prog.plan_regions[prog.n_plan_regions - 1], &made):
         return True                      # nothing changed (a G900 in a loop): no new region
-    if not _grow(<void **>&prog.plan_regions, &build.cap_plan_regions, prog.n_plan_regions + 1,
+    if not grow(<void **>&prog.plan_regions, &build.cap_plan_regions, prog.n_plan_regions + 1,
                  sizeof(PlanRegion)):
         return False
     memcpy(&prog.plan_regions[prog.n_plan_regions], &made, sizeof(PlanRegion))
@@ -81,16 +68,6 @@ cdef inline double _cos_start(const PlanRegion *s) noexcept nogil:
     if s.startAngle > 0.0 and s.startAngle < 180.0:
         return cos(s.startAngle * (M_PI / 180.0))
     return 2.0
-
-
-ctypedef struct PlanCursor:     # the settings of each part, parts visited in order
-    const Program *prog
-    PlanRegion cur
-    size_t region           # next region to apply
-    size_t programmed       # programmed parts before next_part
-    size_t next_part        # the parts before it are counted (only while a region remains to apply)
-    bint axes_limited       # some axis limit of cur is on
-    double cos_start        # cosine of cur.startAngle (2 when every angle slows down)
 
 
 cdef void cursor_init(PlanCursor *c, const Program *prog, const GCODE_PARAMETERS *params) noexcept nogil:

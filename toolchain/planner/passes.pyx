@@ -17,42 +17,6 @@ from libc.stdlib cimport malloc, free
 from libc.math cimport sqrt
 from libc.string cimport memcpy
 
-cdef enum:
-    VENDOR_WINDOW = 8           # the current part + 7 more
-    RING_START = 256            # nodes; a deeper window grows the ring as far as it reaches
-    PLAN_SPLIT_SEARCH = 65536   # parts plan_split_at looks through
-
-
-ctypedef struct PlanNode:       # a motion part with length, as the passes see it
-    size_t part
-    double length
-    double vmax
-    double acc, dec             # equivalent constant accelerations of its ramps (ramps.pyx)
-    double jin                  # speed limit at its start (0: the machine stands there)
-    double jin2                 # its square
-    double brake2               # 2 dec length: what braking within it takes off the squared speed
-    double entry2               # backward pass: squared highest entry speed that can still stop in the window
-    bint barrier                # it can brake from its junction's limit to rest within itself: no
-                                # part after it changes the limits of the parts before it
-
-
-ctypedef struct NodeSource:     # makes the nodes, parts in order
-    const Program *prog
-    const GCODE_PARAMETERS *params
-    uint32_t enhanced
-    PlanCursor cursor
-    size_t scan                 # next part to read
-    bint have_prev, stop_pending, prev_rapid
-    double prev_vmax
-    size_t prev_part            # the last node's part
-    bint prev_tangent_known     # prev_tangent holds its end tangent
-    double prev_tangent[10]
-    size_t class_region         # cursor.region the values below were taken at
-    bint plain_lines            # no axis limit, no axis ignored for the feed: a line's limits are
-                                # its feed and its motion class (part_limits' result, cheaper)
-    double class_acc[2]         # equivalent accelerations of the classes' ramps, [0] rapid, [1] cut
-    double class_dec[2]
-
 
 cdef void _take_classes(NodeSource *src, const PlanRegion *s) noexcept nogil:
     """The values every plain line of the settings s shares (as part_limits takes them)."""
@@ -168,11 +132,6 @@ cdef bint _next_node(NodeSource *src, PlanNode *node) noexcept nogil:
     src.have_prev = True
     src.stop_pending = False
     return True
-
-
-ctypedef struct Reciprocals:    # of the last node's values: runs of parts share them
-    double acc, dec, vmax
-    double half_inv_acc, half_inv_dec, inv_vmax
 
 
 cdef void _plan_node(const PlanNode *nd, double v_in, const PlanNode *next, Reciprocals *rc,

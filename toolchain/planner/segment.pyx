@@ -6,19 +6,6 @@ from libc.math cimport atan2, sqrt, fabs, sin, cos, ceil, M_PI
 from libc.string cimport memcpy
 
 
-ctypedef struct Segment:
-    double length
-    int n_axes              # 3: only x y z may move (the other seven as the part before), else 10
-    double start[10]        # compensated start, axes [0, n_axes)
-    double end[10]
-    bint arc                # a circular (or helical) part with a plane and a radius
-    int first, second, normal   # plane axes of an arc
-    double radius           # of the tool path (compensated)
-    double centre[2]        # in the plane (first, second)
-    double sweep            # signed, + = counter-clockwise
-    double lead             # off-plane travel per radian of turn (helix), >= 0
-
-
 cdef inline double _arc_turn(double sa, double sb, double ea, double eb, bint ccw) noexcept nogil:
     """Signed sweep from radius (sa, sb) to radius (ea, eb), in (0, 2pi] in the arc's
     direction, a full turn when they coincide (geometry.arc_sweep with one atan2)."""
@@ -89,15 +76,6 @@ cdef void segment_of_gm(const SIMPLE_GM_PARAMS *gm, Segment *g) noexcept nogil:
         _segment_shape(g, gm.m_cc.c, c[g.first], c[g.second], gm.m_func == 3)
     else:
         _segment_shape(g, 0.0, 0.0, 0.0, False)
-
-
-cdef inline void arc_point_at(const double *centre, double radius, double start_a, double start_b,
-                              double turn, double *out) noexcept nogil:
-    """The point of the circle (centre, radius) `turn` radians (+ = counter-clockwise)
-    on from the point (start_a, start_b) of it, in the plane."""
-    cdef double theta = atan2(start_b - centre[1], start_a - centre[0]) + turn
-    out[0] = centre[0] + radius * cos(theta)
-    out[1] = centre[1] + radius * sin(theta)
 
 
 cdef void segment_point_at(const Segment *g, double s, double *out) noexcept nogil:

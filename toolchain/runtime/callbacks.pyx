@@ -13,7 +13,6 @@ cdef extern from *:
     static __thread void *tc_worker_core = 0;
     static __thread int tc_own_calls[3][24];
     """
-    void *tc_worker_core
     int tc_own_calls[3][24]
 
 
@@ -21,34 +20,6 @@ cdef void worker_thread_mark(Core *core) noexcept nogil:
     """Marks the calling thread as `core`'s worker (NULL: no longer)."""
     global tc_worker_core
     tc_worker_core = core
-
-
-# Slots of the callback table, in the order of the documented numbers.
-cdef enum CallbackSlot:
-    SLOT_ADD_OUTPUT_LOG = 0
-    SLOT_SET_STATUS_BAR_TEXT = 1
-    SLOT_IS_DEBUG_MODE = 2
-    SLOT_IS_VERBOSE_MODE = 3
-    SLOT_GET_LIB_PATH = 4
-    SLOT_GET_TOOL_PATH = 5
-    SLOT_GET_SYSTEM_PATH = 6
-    SLOT_GET_FILE_TIME_STAMP = 7
-    SLOT_DO_YIELD = 8
-    SLOT_READ_INI_STRING = 9
-    SLOT_READ_INI_DOUBLE = 10
-    SLOT_READ_INI_INT = 11
-    SLOT_IS_BREAKPOINT = 12
-    SLOT_DISP_AND_LOCATE_ERROR = 13
-    SLOT_ADD_OUTPUT_LOG_WITH_MSG_BOX = 14
-    SLOT_SET_STATUS_BAR_PROGRESS = 15
-    SLOT_DRIVER_INITIALIZE = 16
-    SLOT_DRIVER_G_FUNC = 17
-    SLOT_DRIVER_M_FUNC = 18
-    SLOT_CONNECT_POINT_CALC_START = 19
-    SLOT_CONNECT_POINT_CALC = 20
-    SLOT_CONNECT_POINT_CALC_END = 21
-    SLOT_DRIVER_END = 22
-    SLOT_MATH_WARNING = 23
 
 
 cdef int32_t callback_slot(uint32_t number) noexcept nogil:

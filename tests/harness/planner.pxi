@@ -1,24 +1,5 @@
-# cython: language_level=3, boundscheck=False, wraparound=False, cdivision=True
-# cython: initializedcheck=False, nonecheck=False, overflowcheck=False
-#
-# Test-only Python module: the library's stages (toolchain/libSF_TCh.pyx) plus entry
-# points that compile G-code and run the feed planner on it with any window and
-# settings, returning the plan per part; and the ramps' closed forms.
-include "libSF_TCh.pyx"
-
-from posix.time cimport clock_gettime, timespec
-
-cdef extern from "<time.h>" nogil:
-    enum: CLOCK_THREAD_CPUTIME_ID
-    enum: CLOCK_MONOTONIC
-
-
-def default_params():
-    """bytes of GCODE_PARAMETERS with the documented defaults."""
-    cdef GCODE_PARAMETERS p
-    default_gcode_parameters(&p)
-    return (<char *>&p)[:sizeof(GCODE_PARAMETERS)]
-
+# The planner: compile G-code and plan it with any window and settings, the plan per
+# part; the ramps' closed forms; a part's segment geometry.
 
 cdef CompileInput *_input_for(bytes src, params, int32_t *cancel) except NULL:
     """A CompileInput (calloc; the caller frees it) for the text `src` with

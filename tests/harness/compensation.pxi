@@ -1,21 +1,14 @@
-# cython: language_level=3, boundscheck=False, wraparound=False, cdivision=True
-# cython: initializedcheck=False, nonecheck=False, overflowcheck=False
-#
-# Test-only Python module: the library's stages (toolchain/libSF_TCh.pyx) plus one
-# entry point that runs compensate_program on parts given from Python, so the
+# The compensation alone: compensate_program on parts given from Python, so the
 # compensation geometry can be checked without going through the G-code compiler;
-# also the status names of the error texts (test_inputs).
-include "libSF_TCh.pyx"
+# the gouge check's measure of two pieces; the status names and the error texts of the
+# catalogue (test_inputs, test_catalogue).
 
-from libc.string cimport strncat
-from posix.time cimport clock_gettime, timespec, CLOCK_MONOTONIC
-
-cdef double _seconds = 0.0
+cdef double _compensate_seconds = 0.0
 
 
 def last_seconds():
     """Wall time of the last compensate_program call."""
-    return _seconds
+    return _compensate_seconds
 
 
 cdef void _collect(void *ctx, int tab, const char *text) noexcept nogil:
@@ -71,11 +64,11 @@ def compensate(list parts, start, long long strategy=0, corrections=(), toleranc
         p.feed = 1000
         if p.comp != 40:
             prog.compensated = True
-    global _seconds
+    global _compensate_seconds
     clock_gettime(CLOCK_MONOTONIC, &t0)
     rc = compensate_program(&build, &params, &err, _collect, NULL, warn)
     clock_gettime(CLOCK_MONOTONIC, &t1)
-    _seconds = (t1.tv_sec - t0.tv_sec) + 1e-9 * (t1.tv_nsec - t0.tv_nsec)
+    _compensate_seconds = (t1.tv_sec - t0.tv_sec) + 1e-9 * (t1.tv_nsec - t0.tv_nsec)
     out = []
     if rc == COMPILE_OK:
         for k in range(<int>prog.n_parts):
@@ -96,8 +89,36 @@ def compensate(list parts, start, long long strategy=0, corrections=(), toleranc
 
 
 def cnc_status_name(int status):
-    """The name errors.pyx gives a cnc_status in error texts (test of its table)."""
+    """The name error texts give a cnc_status (test of the catalogue's table)."""
     return (<bytes>status_name(status)).decode()
+
+
+def error_text(int number, tuple args):
+    """set_error's text and '\n'-separated arguments for error `number` with `args`
+    (a str for %s, a number otherwise): test of the catalogue's table."""
+    cdef ErrorInfo err
+    cdef ErrArg a[16]
+    cdef int i
+    texts = [arg.encode() if isinstance(arg, str) else None for arg in args[:16]]
+    for i in range(len(texts)):
+        a[i].text = NULL if texts[i] is None else <const char *>texts[i]
+        a[i].num = 0 if texts[i] is not None else args[i]
+    set_error(&err, number, -1, 0, a, len(texts))
+    return err.text.decode("latin-1"), err.args.decode("latin-1")
+
+
+def error_text(int number, tuple args):
+    """set_error's text and '\n'-separated arguments for error `number` with `args`
+    (a str for %s, a number otherwise): test of the catalogue's table."""
+    cdef ErrorInfo err
+    cdef ErrArg a[16]
+    cdef int i
+    texts = [arg.encode() if isinstance(arg, str) else None for arg in args[:16]]
+    for i in range(len(texts)):
+        a[i].text = NULL if texts[i] is None else <const char *>texts[i]
+        a[i].num = 0 if texts[i] is not None else args[i]
+    set_error(&err, number, -1, 0, a, len(texts))
+    return err.text.decode("latin-1"), err.args.decode("latin-1")
 
 
 cdef bint _piece(XPiece *q, tuple spec):

@@ -1,18 +1,6 @@
-# cython: language_level=3, boundscheck=False, wraparound=False, cdivision=True
-# cython: initializedcheck=False, nonecheck=False, overflowcheck=False
-#
-# Test-only Python module: the library's stages (toolchain/libSF_TCh.pyx) plus a
-# compiled program (compiler, compensation, G167 arcs, planner: the core's pipeline
-# in the caller's thread) placed at a run's start, and entry points to every search
-# of toolchain/machine/connect_search.pyx.
-include "libSF_TCh.pyx"
-
-from posix.time cimport clock_gettime, timespec
-
-cdef extern from "<time.h>" nogil:
-    enum: CLOCK_MONOTONIC
-    enum: CLOCK_THREAD_CPUTIME_ID
-
+# The connection search: a compiled program (compiler, compensation, G167 arcs,
+# planner: the core's pipeline in the caller's thread) placed at a run's start, and
+# entry points to every search of toolchain/machine/connect_search.pyx.
 
 cdef void _no_output(void *ctx, int tab, const char *text) noexcept nogil:
     pass
@@ -35,13 +23,6 @@ cdef void _fill(double *out, values, int n) except *:
     cdef int k
     for k in range(n):
         out[k] = float(values[k]) if k < len(values) else 0.0
-
-
-def default_params():
-    """bytes of GCODE_PARAMETERS with the documented defaults."""
-    cdef GCODE_PARAMETERS p
-    default_gcode_parameters(&p)
-    return (<char *>&p)[:sizeof(GCODE_PARAMETERS)]
 
 
 cdef class Compiled:

@@ -1,16 +1,9 @@
-# cython: language_level=3, boundscheck=False, wraparound=False, cdivision=True
-# cython: initializedcheck=False, nonecheck=False, overflowcheck=False
-#
-# Test-only Python module: the library's stages (toolchain/libSF_TCh.pyx) plus entry
-# points that compile a program on one of this module's own cores and run the offline
-# machine over it synchronously: the feeder, motion_step and the notifier's
-# bookkeeping called in turn on one thread, one 100 us step at a time, every step
-# recorded. The run's setup and end follow _program_run (machine/machine.pyx) step
-# for step, with _pace's threads and sleeps replaced by this loop.
-include "libSF_TCh.pyx"
-
-import time as _time
-
+# The offline machine without its threads: compile a program on one of this module's
+# own cores and run the machine over it synchronously, the feeder, motion_step and
+# the notifier's bookkeeping called in turn on one thread, one 100 us step at a
+# time, every step recorded. The run is set up and kept as machine_program_run does
+# (machine/machine.pyx _run_setup, _run_keep), with _pace's threads and sleeps
+# replaced by this loop.
 
 def compile_text(int core_idx, text, params=None, long long window=0, position=None):
     """Compiles `text` (str) on the module's core with GCODE_PARAMETERS `params`
@@ -40,13 +33,6 @@ def compile_text(int core_idx, text, params=None, long long window=0, position=N
     if ToolChainCore_GetLastError(core_idx, &info) == 1:
         return (info.stringId, info.actLine, (<bytes>info.m_fullError).decode("latin-1"))
     return None
-
-
-def default_params():
-    """bytes of GCODE_PARAMETERS with the documented defaults."""
-    cdef GCODE_PARAMETERS p
-    default_gcode_parameters(&p)
-    return (<char *>&p)[:sizeof(GCODE_PARAMETERS)]
 
 
 def simulated_run_time(int core_idx):
@@ -137,23 +123,7 @@ def run(int core_idx, int regime, double stop_at=-1.0, overrides=(), double max_
     mo = &m.motion
     f.core = core
     f.m = m
-    # as _program_run (machine.pyx) sets the feeder and the motion up
-    f.prog = &m.program.prog
-    f.regime = regime
-    f.first = True
-    f.any_motion = False
-    cursor_init(&f.cursor, f.prog, f.params)
-    f.next = m.part if regime != RUN_BACKWARD else 0
-    f.back_current = (m.part < f.prog.n_parts and m.part_s > 0.0
-                      and f.prog.parts[m.part].kind == PART_MOTION)
-    if regime != RUN_BACKWARD:
-        cursor_settings(&f.cursor, m.part if m.part < f.prog.n_parts else 0)
-    _motion_setup(core, mo, f.params, start)
-    mo.d = m.part_s if regime != RUN_BACKWARD else 0.0
-    mo.started = m.began and regime != RUN_BACKWARD
-    mo.cut_len = m.cut_len
-    mo.rapid_len = m.rapid_len
-    mo.run_time = m.run_time
+    _run_setup(core, m, &f, regime, start)
     mo.ovr_target = mo.ovr
     _feed(&f)
     while t < max_time:
@@ -182,11 +152,7 @@ def run(int core_idx, int regime, double stop_at=-1.0, overrides=(), double max_
     _drain(&f)
     finish = _finish_event(m, regime)
     pthread_mutex_lock(&core.lock)
-    _keep_place(m, &f)
-    m.cut_len = mo.cut_len
-    m.rapid_len = mo.rapid_len
-    m.run_time = mo.run_time
-    memcpy(core.position, mo.position, sizeof(core.position))
+    _run_keep(core, m, &f)
     pthread_mutex_unlock(&core.lock)
     return dict(steps=steps, entries=entries, finish=FINISH.get(finish, finish), stop_time=stop_time,
                 dt=dt, state=STATE_NAMES[mo.state], run_time=mo.run_time)
