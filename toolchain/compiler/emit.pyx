@@ -281,22 +281,22 @@ cdef inline int em_feed_check(CState *st, const LineWords *lw, int func, int col
     every feed move has its F. col: the column to name, 0: the motion's G word, else
     its first axis word."""
     cdef ErrArg a[3]
+    cdef bint inverse_time = st.ngc != NULL and st.ngc.inverse_time
     if not (func == 1 or func == 2 or func == 3):
         return 0
-    if col == 0:
-        col = motion_column(lw, func)
-    if st.ngc != NULL and st.ngc.inverse_time:
+    if inverse_time:
         if has(lw, b'F') and val(lw, b'F') > 0.0:
             return 0
-        a[0].num = func; a[0].text = NULL
-        a[1].num = col; a[1].text = NULL
+    elif st.feed != 0.0:
+        return 0
+    if col == 0:
+        col = motion_column(lw, func)       # only a message needs it
+    a[0].num = func; a[0].text = NULL
+    a[1].num = col; a[1].text = NULL
+    if inverse_time:
         a[2].num = 0; a[2].text = "inverse time (G93) wants an F above 0 on every feed move"
         set_error(st.err, ERR_NGC_G, st.unit.file_idx, st.line, a, 3)
         return R_ERR
-    if st.feed != 0.0:
-        return 0
-    a[0].num = func; a[0].text = NULL
-    a[1].num = col; a[1].text = NULL
     if st.iso:
         set_error(st.err, ERR_NO_FEED, st.unit.file_idx, st.line, a, 2)
         return R_ERR
