@@ -325,6 +325,12 @@ def test_compile_reads_standard_input():
     bad = subprocess.run([sys.executable, "-m", "sf_tch", "compile", "-"], input="G1 X10 F100\nG1 Q1 W2 HH\n",
                          capture_output=True, text=True, timeout=120)
     assert bad.returncode == 1 and bad.stderr.strip() == "<stdin>:2:10: error 100: Unknown word 'HH' at column 10"
+    # the bytes as they come: a byte-order mark and a Latin-1 comment reach the library unchanged
+    marked = subprocess.run([sys.executable, "-m", "sf_tch", "compile", "-", "--iso"],
+                            input=b"\xef\xbb\xbfG21 G90 (\xb0)\nG1 X10 F100\nG1 X1.2.3\n",
+                            capture_output=True, timeout=120)
+    assert marked.returncode == 1
+    assert marked.stderr.decode().strip() == "<stdin>:3:5: error 101: Bad number '1.2.3' at column 5"
 
 
 def test_one_part_is_singular(tmp_path):

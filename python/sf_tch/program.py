@@ -34,12 +34,13 @@ Source = str | bytes | os.PathLike
 _LOOKS_LIKE_G_CODE = re.compile(r"\s*(?:[GMN]\s*-?\d|[XYZABCUVWIJKF]\s*[-+]?[\d.(]|P\d+\s*=|[(;%])", re.I)
 
 
-def _read_source(source: Source, name: str | None) -> tuple[str | None, Path | None, str]:
+def _read_source(source: Source, name: str | None) -> tuple[str | bytes | None, Path | None, str]:
     """(text, path, name): text for G-code given as text, path for a file. A str
     with a line break, or bytes, is G-code; any other str or a PathLike is a file
-    (a str without a line break is never guessed to be G-code: the message says so)."""
+    (a str without a line break is never guessed to be G-code: the message says so).
+    Bytes stay bytes: the library gets them as they are (a byte-order mark too)."""
     if isinstance(source, bytes):
-        return source.decode("latin-1"), None, name or "program.nc"
+        return source, None, name or "program.nc"
     if isinstance(source, str) and ("\n" in source or "\r" in source):
         return source, None, name or "program.nc"
     path = Path(source)
@@ -85,7 +86,7 @@ class CompileJob:
     progress in percent (0..100, each value once), :meth:`cancel` it, or wait for
     its :meth:`result`. Made by :func:`start_compile`."""
 
-    def __init__(self, core: Core, text: str | None, path: Path | None, name: str,
+    def __init__(self, core: Core, text: str | bytes | None, path: Path | None, name: str,
                  progress: Callable[[int], object] | None = None, cancel=None, arguments: dict | None = None):
         self.core = core
         self.name = name
@@ -159,7 +160,7 @@ class CompileJob:
         if diagnostic.file != self.name or diagnostic.line <= 0:
             return None
         if self._lines is None:
-            text = self._text
+            text = self._text.decode("latin-1") if isinstance(self._text, bytes) else self._text
             if text is None:
                 try:
                     text = self._path.read_text(encoding="latin-1") if self._path else None
