@@ -294,7 +294,7 @@ cdef int cp_read_m(CState *st, const LineWords *lw, int i, Block *b) noexcept no
     return 0
 
 
-cdef int cp_read_block(CState *st, LineWords *lw, Block *b) noexcept nogil:
+cdef inline int cp_read_block(CState *st, LineWords *lw, Block *b) noexcept nogil:
     """The G and M functions of the line into the block, in the order written; the
     P word judged after the G functions (so an unknown G of the line comes first)."""
     cdef int i
