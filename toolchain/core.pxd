@@ -95,6 +95,11 @@ ctypedef struct Core:
     bint ini_loaded
     char driver[256]
     int64_t plan_window         # look-ahead of the feed planner in parts (SetLookAhead, INI lookAheadParts)
+    # the machine builder's tables and smoothing (any status; a run or compilation takes a copy
+    # or a reference at its start once they are wired in: docs/tool-table.md, "Integration status")
+    ToolTable tool_table        # LoadToolTable, SetToolCorrection, INI [Corrections] ToolTable
+    AxisCorrections *axis_corrections   # LoadAxisCorrections, INI AxisTable1..8; NULL none (tables.pxd: references)
+    SmoothingConfig smoothing   # SetSmoothing, INI [Smoothing]
     Callback callbacks[24]
     int32_t in_flight[24]       # calls of each slot running now, on any thread
     FileTable files

@@ -54,7 +54,10 @@ include "placement.pyx"                 # a program where a run starts
 include "logging.pyx"
 include "files.pyx"
 include "ini.pyx"
+include "smoothing/smoothing.pyx"       # the output's filters: their values are INI keys too
 include "parameters.pyx"
+include "tables/tool_table.pyx"         # the correction tables: files an INI key may name
+include "tables/axis_correction.pyx"
 
 # run: the core, its activities, the offline machine
 include "runtime/transitions.pyx"

@@ -13,9 +13,10 @@ this package ships it and adds a Pythonic layer over ``ctypes``:
 - :func:`forward_library_log` -- the library's log lines to a :mod:`logging` logger.
 """
 import os
+import sys
 from pathlib import Path
 
-LIBRARY_NAME = "libSF_TCh.so"
+LIBRARY_NAME = "SF_TCh.dll" if sys.platform == "win32" else "libSF_TCh.so"   # docs/hosts.md, "Windows"
 LIBRARY_ENV = "SF_TCH_LIBRARY"
 
 _PACKAGE_DIR = Path(__file__).resolve().parent

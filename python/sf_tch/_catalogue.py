@@ -132,3 +132,12 @@ class ErrorNumber(enum.IntEnum):
     CONNECT_NO_MFUNC = 703  # ConnectCNCEx_Plane: occurrence n = %d of M%d not found (%d in that direction)
     CONNECT_OFF_PART = 704  # ConnectCNCEx_Plane: the point lies %g mm from the part with G-code index %d (tolerance %g mm)
     CONNECT_NO_MOTION = 705  # ConnectCNCEx_Plane: no motion to connect to in parts %d to %d (the program has %d)
+    TOOL_TABLE_NO_KEYWORD = 720  # Tool table '%s' has no line $KOR
+    TOOL_TABLE_LINE = 721  # Tool table '%s' line %d: %s
+    TOOL_ENTRY = 722  # Tool correction D%g does not exist (D1..D99)
+    AXIS_TABLE_HEADER = 730  # Axis correction table '%s', header: %s
+    AXIS_TABLE_DEFINITION = 731  # Axis correction table '%s', definition of basis axis %s: %s
+    AXIS_TABLE_SIZE = 732  # Axis correction table '%s' has %.0f bytes; its header and definition block ask for %.0f
+    AXIS_TABLE_VALUE = 733  # Axis correction table '%s', grid point %.0f: %s
+    AXIS_TABLES = 734  # Axis correction table '%s': %s
+    SMOOTHING = 740  # Smoothing, Command %d, Command_Parameter[%d] = %g: %s

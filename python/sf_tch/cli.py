@@ -375,7 +375,7 @@ def cmd_info(args) -> int:
     lib.ToolChainCore_GetStructuresSize(0, 9, sizes)
     structures = {name: {"library": sizes[k], "mirror": ctypes.sizeof(abi.STRUCTURES[name])}
                   for k, name in enumerate(abi.STRUCTURES_SIZE_ORDER, start=1)}
-    info = {"version": lib.ToolChainCore_GetVersionString(0).decode(), "package": sf_tch.__version__,
+    info = {"version": abi.library_text(lib.ToolChainCore_GetVersionString(0)), "package": sf_tch.__version__,
             "library": library_path(), "cores": abi.TOOL_CHAIN_MAX_CORES, "structures": structures}
     if args.json:
         print(json.dumps(info, indent=2))

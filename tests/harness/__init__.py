@@ -35,6 +35,7 @@ def cache_dir() -> Path:
 def source_key(opt: str) -> str:
     digest = hashlib.sha256()
     sources = sorted([*ROOT.glob("toolchain/**/*.pyx"), *ROOT.glob("toolchain/**/*.pxd"),
+                      *ROOT.glob("toolchain/**/*.pxi"), *ROOT.glob("toolchain/**/*.h"),
                       *ROOT.glob("include/*.h"), *HERE.glob("*.py*")])
     for path in sources:
         digest.update(str(path.relative_to(ROOT)).encode())
@@ -55,8 +56,8 @@ def _build(target: Path, opt: str) -> None:
                         str(HERE / "stages.pyx"), "-o", str(c_file)], check=True)
         so = scratch / f"stages{sysconfig.get_config_var('EXT_SUFFIX')}"
         subprocess.run([os.environ.get("CC", "gcc"), *opt.split(), "-shared", "-fPIC", "-w",
-                        "-I", str(ROOT / "include"), "-I", sysconfig.get_paths()["include"],
-                        str(c_file), "-o", str(so), "-lpthread", "-lm"], check=True)
+                        "-I", str(ROOT / "include"), "-I", str(ROOT / "toolchain" / "includes"),
+                        "-I", sysconfig.get_paths()["include"], str(c_file), "-o", str(so), "-lpthread", "-lm"], check=True)
         c_file.unlink()
         scratch.rename(target)
     finally:

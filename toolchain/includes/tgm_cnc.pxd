@@ -33,8 +33,10 @@ cdef extern from "tgm_cnc.h" nogil:
         CORR_G0_NEVER_COMPENSATED
         CORR_OLD_COMPATIBILITY
 
-    ctypedef const char *TGM_LPCTSTR
-    ctypedef char *TGM_LPTSTR
+    # char on Linux, wchar_t on Windows: opaque here, so that every text of the host
+    # goes through platform.pxd's text_from_host / text_to_host
+    ctypedef const void *TGM_LPCTSTR
+    ctypedef void *TGM_LPTSTR
     ctypedef const char *TGM_LPCSTR
 
     ctypedef struct P10DOUBLE:

@@ -6,7 +6,7 @@
 #     into look-ahead entries (placed geometry, limits, the plan's speeds, the
 #     breakpoint question), and it makes every driver callback (DriverInitialize,
 #     DriverGFunc as a part begins, DriverMFunc, PRINT, DriverEnd);
-#   - the *pacer* wakes every millisecond on CLOCK_MONOTONIC, runs the 100 us steps
+#   - the *pacer* wakes every millisecond on the monotonic clock, runs the 100 us steps
 #     of motion.pyx that the elapsed time (times the core's time scale) calls for,
 #     hands what happened to the notifier and publishes GetPos once.
 # Neither waits for the other: the ring of entries and the event queue are the only
@@ -15,7 +15,6 @@
 from libc.stdlib cimport malloc, calloc, free
 from libc.string cimport memset, memcpy, memmove, strdup
 from libc.math cimport fabs
-from posix.time cimport clock_gettime, nanosleep, timespec, CLOCK_MONOTONIC
 
 
 cdef Machine *machine_of(Core *core) noexcept nogil:
@@ -242,9 +241,7 @@ cdef void _feed(Feeder *f) noexcept nogil:
 # ------------------------------------------------------------------ the pacer
 
 cdef inline double _now() noexcept nogil:
-    cdef timespec ts
-    clock_gettime(CLOCK_MONOTONIC, &ts)
-    return <double>ts.tv_sec + <double>ts.tv_nsec * 1e-9
+    return tc_monotonic_seconds()
 
 
 cdef void _publish(Core *core, Machine *m) noexcept nogil:
@@ -306,12 +303,9 @@ cdef void *_pacer_body(void *arg) noexcept nogil:
     cdef Motion *mo = &m.motion
     cdef double last = _now(), now, budget = 0.0, scale
     cdef double dt = STEP_US * 1e-6
-    cdef timespec nap
     cdef int events
     cdef bint halted = False
     cdef uint64_t told = mo.consumed     # entries done when the notifier was last woken
-    nap.tv_sec = 0
-    nap.tv_nsec = 1000000
     while not halted and not TC_ATOMIC_LOAD(&core.cancel):
         now = _now()
         scale = TC_ATOMIC_LOAD_D(&core.time_scale)
@@ -350,7 +344,7 @@ cdef void *_pacer_body(void *arg) noexcept nogil:
         told = mo.consumed
         _publish(core, m)
         if not halted:
-            nanosleep(&nap, NULL)
+            tc_sleep_seconds(0.001)
     motion_locate(mo)
     TC_ATOMIC_STORE(&m.pacer_done, 1)
     _hand_over(m, True)
