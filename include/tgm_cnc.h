@@ -191,6 +191,11 @@ enum connect_type {
    G4 P seconds, G18 as ZX, G43 H tool length ignored, G64/G61/G80/G49 ignored, P words of
    M functions ignored, O program numbers), with a warning where it ignores something. */
 #define GCODE_REZERVA1_ISO_COMPAT 0x00000001u
+/* COMP_STRICT: tool radius compensation refuses (error 504) a tool path that crosses
+   itself or cuts into the contour where it cannot remove that part (strategy 0x80000);
+   0, the vendor's behaviour: warning 601 with the line and the depth, and the program
+   compiles (docs/compensation.md, "Crossing equidistants: warning, removal, refusal"). */
+#define GCODE_REZERVA1_COMP_STRICT 0x00000002u
 
 /* AddOutputLog tabs and flags. */
 #define OUTPUT_TAB_ERRORS 0

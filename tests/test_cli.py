@@ -97,12 +97,16 @@ def test_every_diagnostic_is_one_line_with_a_column(tmp_path):
     assert doc["errors"][0]["column"] == 16
     assert doc["errors"][0]["fields"] == {"plane": "XY", "start": {"X": 10, "Y": 0}, "end": {"X": 0, "Y": 10.03},
                                           "radius_start": 10, "radius_end": 10.03}
-    # 504 of the compensation: the block's column (its first word)
+    # the compensation's 504 (strict) and 601: the block's column (its first word)
     narrow = tmp_path / "narrow.nc"
     narrow.write_text("G0 X0 Y-5\nG41 G1 X0 Y0 F100\nG1 X10\nG1 Y0.5\nG1 X0\nG1 Y1\nG1 X20\nG40 G1 X20 Y10\n")
-    proc = sf_tch_cli("compile", str(narrow), "--radius", "2")
+    proc = sf_tch_cli("compile", str(narrow), "--radius", "2", "--strict")
     assert proc.returncode == 1 and proc.stderr.count("\n") == 1
     assert proc.stderr.startswith(f"{narrow}:4:1: error 504: Equidistants cross: the tool (radius 2)")
+    proc = sf_tch_cli("compile", str(narrow), "--radius", "2")
+    gouges = [line for line in proc.stderr.splitlines() if " warning 601: " in line]
+    assert proc.returncode == 0 and gouges and all(line.startswith(f"{narrow}:") for line in gouges)
+    assert [line.split(":")[2] for line in gouges] == ["1"] * len(gouges)
 
 
 def test_json_is_parsed_back(square, tmp_path):

@@ -247,6 +247,14 @@ cdef int gcode_parameter_from_ini(GCODE_PARAMETERS *p, const char *key, const ch
         else:
             p.rezerva1 = p.rezerva1 & ~<int32_t>GCODE_REZERVA1_ISO_COMPAT
         return 1
+    if strcasecmp(key, "strictCompensation") == 0:      # docs/compensation.md: crossing equidistants refused
+        if not c_parse_long(value, 0, 1, &i):
+            return -1
+        if i:
+            p.rezerva1 = p.rezerva1 | <int32_t>GCODE_REZERVA1_COMP_STRICT
+        else:
+            p.rezerva1 = p.rezerva1 & ~<int32_t>GCODE_REZERVA1_COMP_STRICT
+        return 1
     if strcasecmp(key, "absMode") == 0 or strcasecmp(key, "swapG2G3") == 0 or strcasecmp(key, "forceMode") == 0 \
             or strcasecmp(key, "calcTime") == 0 or strcasecmp(key, "insertArcMode") == 0:
         if not is_int:

@@ -47,6 +47,7 @@ TOOL_CHAIN_MAX_FILE_NAME = 252
 INVALID_VALUE = 1e38
 PLC_MEMORY_BYTES = 524288
 GCODE_REZERVA1_ISO_COMPAT = 0x1   # GCODE_PARAMETERS.rezerva1: the ISO compatibility mode (docs/compiler.md)
+GCODE_REZERVA1_COMP_STRICT = 0x2  # ... crossing equidistants refused (error 504; docs/compensation.md)
 
 AXES = ("x", "y", "z", "c", "b", "u", "v", "w", "a", "o")
 LETTERS = tuple(chr(ord("A") + i) for i in range(26))

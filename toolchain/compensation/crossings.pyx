@@ -11,15 +11,17 @@
 # A crossing at X of a later piece P (part B) with an earlier piece Q (part A) means a
 # loop: with 0x80000 the path is cut there (Q ends at X, P starts at X, the parts
 # between are removed and turned into zero-length moves, their insertions dropped) and
-# a warning given; without it error 504 on B's line. When P is B's inserted corner arc,
-# B's own piece is removed too and the rest of its corner arc becomes an insertion
-# after A. A cut that leaves nothing of the chain's first part needs 0x10000 (else 504).
+# a warning given; without it error 504 on B's line, or in a lenient chain the loop
+# stays (the gouge check warns where it cuts into the contour; without 0x80000 the
+# search does not run then). When P is B's inserted corner arc, B's own piece is
+# removed too and the rest of its corner arc becomes an insertion after A. A cut that
+# leaves nothing of the chain's first part needs 0x10000 (else 504, or kept).
 # Not loops: a crossing where the programmed elements cross too (the contour itself
 # crosses, the tool has to), and the crossing of the last part of a closed contour with
 # the first one (a start at an inner corner: the entry and exit rules).
 # At the chain's end its whole path is checked against the contour (clearance.pyx): a
 # cut that kept the wrong side (a chain started inside a neck narrower than the tool)
-# is error 504, or the chain is rebuilt from its regions (0x80000, regions.pyx).
+# is a gouge, and the chain is rebuilt from its regions (0x80000, regions.pyx).
 from libc.stdlib cimport malloc, free
 from libc.string cimport memmove, memcpy, memset
 from libc.math cimport fabs, sqrt, atan2, M_PI
@@ -387,6 +389,8 @@ cdef int _x_crossing(CompState *S, XPiece *pp, size_t b_part, bint closing, doub
     if not (S.cfg.strategy & CORR_REMOVE_CROSSING) or \
             (X.pc[qi[0]].first and x_near(X.pc[qi[0]].s, at[0], at[1], S.cfg.slack)
              and not (S.cfg.strategy & CORR_ALLOW_FIRST_LAST_CROSS)):
+        if S.lenient:
+            return X_WRITE              # the loop stays: the gouge check measures it
         X.err_number = ERR_COMP_CROSSING
         X.err_part = b_part
         X.err_arg = fabs(comp_distance(S, &S.prog.parts[b_part]))
@@ -404,6 +408,8 @@ cdef int cross_write(CompState *S, CompEl *el) noexcept nogil:
     cdef int res
     cdef InsRec *rec
     cdef bint closing
+    if S.lenient and not (S.cfg.strategy & CORR_REMOVE_CROSSING):
+        return X_WRITE                  # nothing is cut: the gouge check measures the path
     if el.first:
         X.n = 0
         X.base = 0
@@ -473,7 +479,7 @@ cdef int cross_write(CompState *S, CompEl *el) noexcept nogil:
         X.head_prov += 1
     if X.head_prov < X.n_prov and X.prov[X.head_prov] == el.part:
         X.head_prov += 1
-        pi.prov = el.ins == INS_G1
+        pi.prov = el.ins == INS_G1 and not S.lenient    # lenient: a join left is measured, not refused
     if distance2d(pi.e[0] - pi.s[0], pi.e[1] - pi.s[1]) < 1e-12:
         return X_WRITE
     x_geometry(&pi)

@@ -1,21 +1,51 @@
 # The state of one compensation pass (CompState, compensation.pxd) and what every
-# step of the pass does with it: keep a warning, fail, queue an insertion, discard a
-# part from the path, read a part's offset element. Shared by the crossings, the
-# clearance, the regions and the pass itself (compensation.pyx).
+# step of the pass does with it: keep a warning (600, or 601 where the tool cuts into
+# the contour), fail, queue an insertion, discard a part from the path, read a part's
+# offset element. Shared by the crossings, the clearance, the regions and the pass
+# itself (compensation.pyx).
 from libc.string cimport memset
 from libc.math cimport fabs, M_PI
 
 
-cdef void comp_warn(CompState *S, size_t part, const char *what) noexcept nogil:
-    """Keeps a warning about part `part` (`what`: a literal) for _comp_deliver."""
+cdef CompWarning *_comp_warning(CompState *S, size_t part, int32_t number) noexcept nogil:
+    """A new kept warning about part `part`, NULL when no more are kept (the last slot
+    says so)."""
     cdef CompWarning *w
     if S.n_warnings >= MAX_WARNINGS:
-        return
+        return NULL
     w = &S.warnings[S.n_warnings]
     S.n_warnings += 1
-    w.what = what if S.n_warnings < MAX_WARNINGS else NULL
+    w.number = number if S.n_warnings < MAX_WARNINGS else 0
+    w.what = NULL
+    w.depth = 0.0
     w.line = S.prog.parts[part].line
     w.file_idx = S.prog.parts[part].file_idx
+    return w if w.number != 0 else NULL
+
+
+cdef void comp_warn(CompState *S, size_t part, const char *what) noexcept nogil:
+    """Keeps a warning about part `part` (`what`: a literal) for _comp_deliver."""
+    cdef CompWarning *w = _comp_warning(S, part, WARN_COMP)
+    if w != NULL:
+        w.what = what
+
+
+cdef void comp_gouge(CompState *S, size_t part, double depth) noexcept nogil:
+    """Keeps warning 601: the tool path of part `part` cuts `depth` mm into the
+    contour. One per line of the chain, with the deepest cut of its pieces (the check
+    may measure a piece twice: round a closed contour's start)."""
+    cdef CompWarning *w
+    cdef const Part *p = &S.prog.parts[part]
+    cdef int k
+    for k in range(S.chain_warn0, S.n_warnings):
+        w = &S.warnings[k]
+        if w.number == WARN_COMP_GOUGE and w.line == p.line and w.file_idx == p.file_idx:
+            if depth > w.depth:
+                w.depth = depth
+            return
+    w = _comp_warning(S, part, WARN_COMP_GOUGE)
+    if w != NULL:
+        w.depth = depth
 
 
 cdef int comp_fail(CompState *S, int32_t number, size_t part, double a0, double a1) noexcept nogil:

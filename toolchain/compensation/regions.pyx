@@ -20,9 +20,11 @@
 # the outer border (not a pocket the contour nearly closes, nor the far side).
 #
 # The path enters the loop at the first element (program order) whose tool side offset
-# has a piece in it; the elements keep their pieces in program order (else the rebuild
-# does not apply), vertex arcs and far side lines become inserted parts, elements
-# without a piece are removed (warning 600 on their lines).
+# has a piece in it; the elements keep their pieces in program order, vertex arcs, far
+# side lines and the tool side lines the loop reaches out of program order (a contour
+# that crosses itself) become inserted parts (an arc out of order: the rebuild does not
+# apply), elements without a piece on their own part are removed (warning 600 on their
+# lines).
 from libc.stdlib cimport malloc, free, qsort
 from libc.math cimport fabs, fmax, sin, sqrt, atan2, M_PI
 from libc.float cimport DBL_EPSILON
@@ -522,7 +524,7 @@ cdef int regions_rebuild(CompState *S) noexcept nogil:
     cdef RSub *u
     cdef XPiece *q
     cdef Part *p
-    cdef bint *kept
+    cdef uint8_t *kept          # per element: KEPT_ON_PART, KEPT_INSERTED or 0 (no piece)
     cdef size_t key, prev_key, prev_piece, first_el
     if not _r_chain_elements(S, R, &d):
         return REGIONS_NOT_APPLICABLE
@@ -552,13 +554,17 @@ cdef int regions_rebuild(CompState *S) noexcept nogil:
             start = k
     if start == n_loop:
         return REGIONS_NOT_APPLICABLE   # no element to hang the arcs on
-    # the elements in program order, each once; far side pieces only of lines
+    # the tool side pieces go to their elements' parts in program order; one that comes
+    # out of order (a contour that crosses itself: the border passes its elements twice
+    # or backwards) is inserted after the last part written, as far side pieces are:
+    # both only of lines (an inserted arc has the tool radius)
     first_el = R.pel[R.sub[R.loop[start]].piece]
     prev_key = 0
     prev_piece = R.n_pc
     for j in range(n_loop):
         u = &R.sub[R.loop[(start + j) % n_loop]]
         el_i = R.pel[u.piece]
+        u.on_part = False
         if R.pconn[u.piece] == PIECE_FAR and R.els[el_i].kind != EL_LINE:
             return REGIONS_NOT_APPLICABLE
         if R.pconn[u.piece] == PIECE_TOOL:
@@ -566,16 +572,19 @@ cdef int regions_rebuild(CompState *S) noexcept nogil:
                 return REGIONS_NOT_APPLICABLE
             key = el_i if el_i >= first_el else el_i + R.n_els
             if u.piece == prev_piece:
-                pass                    # the same run goes on
-            elif j > 0 and key <= prev_key:
+                u.on_part = R.sub[R.loop[(start + j - 1) % n_loop]].on_part      # the same run goes on
+            else:
+                u.on_part = j == 0 or key > prev_key
+            if u.on_part:
+                prev_key = key
+            elif R.els[el_i].kind != EL_LINE:
                 return REGIONS_NOT_APPLICABLE
-            prev_key = key
         prev_piece = u.piece
-    kept = <bint *>malloc(R.n_els * sizeof(bint))
+    kept = <uint8_t *>malloc(R.n_els)
     if kept == NULL:
         return comp_fail(S, ERR_OUT_OF_MEMORY, S.chain_first, 0, 0)
     for j in range(R.n_els):
-        kept[j] = False
+        kept[j] = 0
     # the queued insertions of the chain and the warnings of the failed attempt go
     S.n_ins = S.chain_ins0
     S.n_warnings = S.chain_warn0
@@ -592,23 +601,26 @@ cdef int regions_rebuild(CompState *S) noexcept nogil:
         u = &R.sub[R.loop[(start + j) % n_loop]]
         q = &R.pc[u.piece]
         el_i = R.pel[u.piece]
-        if R.pconn[u.piece] != PIECE_TOOL:
-            if not ins_arc(S, last_part, u.p1, q.c, INS_G1 if R.pconn[u.piece] == PIECE_FAR else
-                            (INS_G3 if q.dir > 0 else INS_G2)):
+        if not u.on_part:
+            if not ins_arc(S, last_part, u.p1, q.c, INS_G1 if R.pconn[u.piece] != PIECE_VERTEX else
+                           (INS_G3 if q.dir > 0 else INS_G2)):
                 free(kept)
                 return comp_fail(S, ERR_OUT_OF_MEMORY, last_part, 0, 0)
+            if R.pconn[u.piece] == PIECE_TOOL and not kept[el_i]:
+                kept[el_i] = KEPT_INSERTED
             continue
         last_part = R.els[el_i].part
-        kept[el_i] = True
+        kept[el_i] = KEPT_ON_PART
         p = &S.prog.parts[last_part]
         p.ce[S.first] = u.p1[0]; p.ce[S.second] = u.p1[1]
         if R.els[el_i].kind == EL_ARC:
             p.radius = R.els[el_i].ro
         S.role[last_part] = ROLE_SET
     for j in range(R.n_els):
-        if not kept[j]:
+        if kept[j] != KEPT_ON_PART:
             comp_discard(S, R.els[j].part)
-            comp_warn(S, R.els[j].part, "part skipped: the tool does not fit there")
+            comp_warn(S, R.els[j].part, "part skipped: the tool does not fit there" if not kept[j] else
+                      "part's tool path cut after a later line (the contour crosses itself)")
     free(kept)
     if S.chain_exit_fixed:
         at[0] = R.els[R.n_els - 1].e[0]; at[1] = R.els[R.n_els - 1].e[1]

@@ -14,6 +14,7 @@ cdef extern from "tgm_cnc.h" nogil:
     double INVALID_VALUE
     float INVALID_VALUE_F
     uint32_t GCODE_REZERVA1_ISO_COMPAT
+    uint32_t GCODE_REZERVA1_COMP_STRICT
     # the log mask's sources and destinations (SetLogValue)
     uint32_t LOG_TO_CONSOLE, LOG_TO_FILE, LOG_TO_TGM
     uint32_t LOG_DEBUG, LOG_VERBOSE, LOG_WORKER, LOG_TOOLCHAIN, LOG_DRIVER, LOG_COMPILER
