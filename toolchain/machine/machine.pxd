@@ -197,13 +197,6 @@ ctypedef struct ConnectIndex:
     double *boxes               # node k: low corner at boxes[2 * n_dims * k], high after it
     uint32_t *span              # node k: lowest part index span[2k], highest span[2k + 1]
 
-# The squared distance to an arc (helix) as a function of its turn (connect_search.pyx).
-ctypedef struct ArcDistanceFn:
-    int plane_axes              # 0, 1 or 2 of the plane's axes in the mask
-    double r, rho, u            # radius; |q - centre| in the plane (2); q - centre (1)
-    double chi0, sigma          # chi at theta = 0, direction
-    double L2, b
-
 # A look at each part's candidate: `d2` (squared distance) and `point` (ten axes) may
 # be changed; True = use the changed values (ConnectPointCalc, callback 1005).
 ctypedef bint (*connect_part_fn)(void *ctx, size_t part, double *d2, double *point) noexcept nogil
