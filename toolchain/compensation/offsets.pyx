@@ -5,11 +5,33 @@
 from libc.math cimport fabs
 
 
+cdef double el_offset_ends(const CompEl *el, double d, double *s, double *e) noexcept nogil:
+    """The ends of el's offset by d, on the perpendiculars at its programmed ends (its
+    direction u, or centre and radius, set); an arc's radius shrinks by d on the left
+    of a counter-clockwise arc (its centre's side) and each end is projected on the
+    offset circle (a programmed end a little off the circle, within the arc-centre
+    tolerance, still gives a point on the path). The offset radius of an arc (0 for a
+    line)."""
+    cdef double ro, L, f
+    if el.kind == EL_LINE:
+        # left normal (-uy, ux)
+        s[0] = el.s[0] - d * el.u[1]; s[1] = el.s[1] + d * el.u[0]
+        e[0] = el.e[0] - d * el.u[1]; e[1] = el.e[1] + d * el.u[0]
+        return 0.0
+    ro = el.R - d * el.dir
+    f = ro / el.R if el.R > 0 else 0.0
+    s[0] = el.c[0] + (el.s[0] - el.c[0]) * f; s[1] = el.c[1] + (el.s[1] - el.c[1]) * f
+    L = distance2d(el.e[0] - el.c[0], el.e[1] - el.c[1])
+    f = ro / L if L > 0 else 0.0
+    e[0] = el.c[0] + (el.e[0] - el.c[0]) * f; e[1] = el.c[1] + (el.e[1] - el.c[1]) * f
+    return ro
+
+
 cdef bint el_init(CompEl *el, size_t part, int kind, int direction, double d,
                   const double *s, const double *e, const double *c, double sweep) noexcept nogil:
     """Fills the programmed geometry and the perpendicular offset points. False for a
     line of zero length in the plane."""
-    cdef double L, f
+    cdef double L
     el.part = part
     el.kind = kind
     el.dir = direction
@@ -26,24 +48,13 @@ cdef bint el_init(CompEl *el, size_t part, int kind, int direction, double d,
         el.u[0] = (e[0] - s[0]) / L
         el.u[1] = (e[1] - s[1]) / L
         el.c[0] = 0.0; el.c[1] = 0.0
-        el.R = 0.0; el.ro = 0.0; el.sweep = 0.0
-        # left normal (-uy, ux)
-        el.os[0] = s[0] - d * el.u[1]; el.os[1] = s[1] + d * el.u[0]
-        el.oe[0] = e[0] - d * el.u[1]; el.oe[1] = e[1] + d * el.u[0]
+        el.R = 0.0; el.sweep = 0.0
     else:
         el.c[0] = c[0]; el.c[1] = c[1]
         el.R = distance2d(s[0] - c[0], s[1] - c[1])
         el.sweep = fabs(sweep)
         el.u[0] = 0.0; el.u[1] = 0.0
-        # the left side of a CCW arc is its centre: the radius shrinks by d
-        el.ro = el.R - d * direction
-        # each end projected on the offset circle (a programmed end a little off the
-        # circle, within the arc-centre tolerance, still gives a point on the path)
-        f = el.ro / el.R if el.R > 0 else 0.0
-        el.os[0] = c[0] + (s[0] - c[0]) * f; el.os[1] = c[1] + (s[1] - c[1]) * f
-        L = distance2d(e[0] - c[0], e[1] - c[1])
-        f = el.ro / L if L > 0 else 0.0
-        el.oe[0] = c[0] + (e[0] - c[0]) * f; el.oe[1] = c[1] + (e[1] - c[1]) * f
+    el.ro = el_offset_ends(el, d, el.os, el.oe)
     el.ps[0] = el.os[0]; el.ps[1] = el.os[1]
     el.pe[0] = el.oe[0]; el.pe[1] = el.oe[1]
     return True

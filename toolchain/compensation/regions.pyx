@@ -102,22 +102,13 @@ cdef bint _r_offset_piece(Regions *R, size_t j, double d, int ptype) noexcept no
     """The offset of element j by d (PIECE_FAR: run backwards); nodes 4j + 0/1 (tool
     side start / end), 4j + 2/3 (far side)."""
     cdef const CompEl *a = &R.els[j]
-    cdef double ro, s[2], e[2], f
+    cdef double ro, s[2], e[2]
     cdef size_t n0 = 4 * j + (0 if ptype == PIECE_TOOL else 2)
     cdef XPiece *q
-    if a.kind == EL_LINE:
-        s[0] = a.s[0] - d * a.u[1]; s[1] = a.s[1] + d * a.u[0]
-        e[0] = a.e[0] - d * a.u[1]; e[1] = a.e[1] + d * a.u[0]
-        ro = 1.0
-    else:
-        ro = a.R - d * a.dir
-        if fabs(ro) <= ROUNDING_EPS:
-            R.alias[n0 + 1] = n0        # a point: both ends are one node
-            return True
-        f = ro / a.R
-        s[0] = a.c[0] + (a.s[0] - a.c[0]) * f; s[1] = a.c[1] + (a.s[1] - a.c[1]) * f
-        f = ro / distance2d(a.e[0] - a.c[0], a.e[1] - a.c[1])
-        e[0] = a.c[0] + (a.e[0] - a.c[0]) * f; e[1] = a.c[1] + (a.e[1] - a.c[1]) * f
+    ro = el_offset_ends(a, d, s, e)
+    if a.kind == EL_ARC and fabs(ro) <= ROUNDING_EPS:
+        R.alias[n0 + 1] = n0            # a point: both ends are one node
+        return True
     if ptype == PIECE_TOOL:
         q = _r_new_piece(R, j, ptype, n0, n0 + 1)
     else:
