@@ -61,15 +61,10 @@ cdef inline void _start_size(GCODE_SIZE *size, const double *start) noexcept nog
 cdef inline void _unrotate(const Program *prog, uint16_t rot_idx, double *point) noexcept nogil:
     """The point as written in the program: the inverse (transpose) of its G168 rotation."""
     cdef const double *r
-    cdef double q[3]
-    cdef int a
     if rot_idx == 0:
         return
     r = prog.rotations + 12 * rot_idx
-    for a in range(3):
-        q[a] = point[a] - r[a]
-    for a in range(3):
-        point[a] = r[a] + r[3 + a] * q[0] + r[6 + a] * q[1] + r[9 + a] * q[2]
+    rotate_about(r, r + 3, True, point)
 
 
 cdef size_t extent_range(const Program *prog, size_t first, size_t end, GCODE_SIZE *programmed,

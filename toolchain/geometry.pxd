@@ -2,7 +2,7 @@
 # name their two arc axes in order (first, second) and the normal: 17 XY, 18 XZ,
 # 19 YZ, -18 ZX; counter-clockwise is the positive turn from first to second. Owns the
 # named tolerances and limits, the 2-D primitives of the plane (angles, sweeps, the
-# axis points an arc passes, crossings of lines and circles), Segment (a part as the
+# axis points an arc passes, crossings of lines and circles), rotations, Segment (a part as the
 # tool runs it: lines, arcs and helices in any plane, the other axes along) with its
 # length, point, tangent, curvature, box and nearest point, and where a run's
 # placement moves a part. Called by the compiler, the compensation, the extent, the
@@ -242,6 +242,20 @@ cdef inline bint circle_circle(const double *c1, double r1, const double *c2, do
     pts[0] = mx - h * dy / dist; pts[1] = my + h * dx / dist
     pts[2] = mx + h * dy / dist; pts[3] = my - h * dx / dist
     return True
+
+
+cdef inline void rotate_about(const double *centre, const double *matrix, bint back, double *point) noexcept nogil:
+    """point (x y z) turned by `matrix` (3 x 3, by rows) about `centre`; back: by its
+    transpose, the turn undone (a G168 rotation)."""
+    cdef double q[3]
+    cdef int a
+    for a in range(3):
+        q[a] = point[a] - centre[a]
+    for a in range(3):
+        if back:
+            point[a] = centre[a] + matrix[a] * q[0] + matrix[3 + a] * q[1] + matrix[6 + a] * q[2]
+        else:
+            point[a] = centre[a] + matrix[3 * a] * q[0] + matrix[3 * a + 1] * q[1] + matrix[3 * a + 2] * q[2]
 
 
 # ---- what other stages call
