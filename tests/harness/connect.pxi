@@ -19,12 +19,6 @@ cdef _hit(const ConnectHit *hit):
                 point=[hit.point[k] for k in range(10)], distance=hit.distance)
 
 
-cdef void _fill(double *out, values, int n) except *:
-    cdef int k
-    for k in range(n):
-        out[k] = float(values[k]) if k < len(values) else 0.0
-
-
 cdef class Compiled:
     """A compiled program, its placement (the compile's start until place()), and
     one index (build_index)."""
