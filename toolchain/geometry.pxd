@@ -259,11 +259,9 @@ cdef inline void rotate_about(const double *centre, const double *matrix, bint b
 
 
 # ---- what other stages call
-# an axis index's letter (x y z c b u v w a o); a plane's axes (False: no plane);
-# the straight distance over all axes
+# an axis index's letter (x y z c b u v w a o); a plane's axes (False: no plane)
 cdef const char *axis_name(int k) noexcept nogil
 cdef bint plane_axes(int plane, int *first, int *second, int *normal) noexcept nogil
-cdef double axes_distance(const double *s, const double *e) noexcept nogil
 
 # a Segment whose start, end and n_axes are set, completed: an arc (plane 17 18 19
 # -18, radius > 0, centre x y z of which the plane's two are read) or else a line

@@ -35,16 +35,6 @@ cdef bint plane_axes(int plane, int *first, int *second, int *normal) noexcept n
     return True
 
 
-cdef double axes_distance(const double *s, const double *e) noexcept nogil:
-    """Straight distance over all axes."""
-    cdef double acc = 0.0, d
-    cdef int i
-    for i in range(AXES):
-        d = e[i] - s[i]
-        acc += d * d
-    return sqrt(acc)
-
-
 # ---- a part as a Segment ---------------------------------------------------------------
 
 cdef void segment_shape(Segment *g, int plane, double radius, const double *centre, bint ccw) noexcept nogil:
