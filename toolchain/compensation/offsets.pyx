@@ -5,7 +5,7 @@
 from libc.math cimport fabs
 
 
-cdef double el_offset_ends(const CompEl *el, double d, double *s, double *e) noexcept nogil:
+cdef inline double el_offset_ends(const CompEl *el, double d, double *s, double *e) noexcept nogil:
     """The ends of el's offset by d, on the perpendiculars at its programmed ends (its
     direction u, or centre and radius, set); an arc's radius shrinks by d on the left
     of a counter-clockwise arc (its centre's side) and each end is projected on the
