@@ -518,7 +518,7 @@ cdef public int32_t ToolChainCore_GoToPositionEx(uint32_t intIdx, const SIMPLE_G
         return TOOL_CHAIN_BAD_INTR_INDEX
     if dest == NULL or dest.m_func < 1 or dest.m_func > 3:
         return TOOL_CHAIN_ERROR
-    if not coordinates_finite(<const double *>&dest.m_calcE, 10) or not coordinates_finite(<const double *>&dest.m_cc, 10):
+    if not coordinates_finite(<const double *>&dest.m_calcE, AXES) or not coordinates_finite(<const double *>&dest.m_cc, AXES):
         return TOOL_CHAIN_ERROR
     return core_goto(core, dest, 10, <const double *>&dest.m_calcE)
 

@@ -20,10 +20,10 @@ cdef bint check_limits(Core *core, const MACHINE_PARAMETERS *machine, const SIMP
     cdef ErrArg args[4]
     cdef bint inside = True
     cdef int k
-    for k in range(10):
+    for k in range(AXES):
         if not enabled[k]:
             continue
-        if end[k] < ref[k] + lo[k] - 1e-9 or end[k] > ref[k] + hi[k] + 1e-9:
+        if end[k] < ref[k] + lo[k] - LENGTH_EPS or end[k] > ref[k] + hi[k] + LENGTH_EPS:
             args[0].text = axis_name(k)
             args[1].text = NULL
             args[1].num = end[k]
@@ -140,7 +140,7 @@ cdef void *_run_body(void *arg) noexcept nogil:
     cdef SnapshotData *view = <SnapshotData *>calloc(1, sizeof(SnapshotData))
     cdef ErrorInfo *first_error = <ErrorInfo *>calloc(1, sizeof(ErrorInfo))
     cdef SIMPLE_GM_PARAMS gm
-    cdef double start[10]
+    cdef double start[AXES]
     cdef Placement placement
     cdef double run_time = 0.0, t, length
     cdef bint testing = job.regime == RUN_TEST

@@ -33,7 +33,7 @@ from libc.string cimport memcpy, memset
 cdef int cp_zero(CState *st, const LineWords *lw, int g) noexcept nogil:
     """G53 off, G54..G57 set (absent axes 0), G59 set (absent axes kept)."""
     cdef int a, bit
-    for a in range(10):
+    for a in range(AXES):
         bit = <int>letter_of_axis(a) - 65
         if g == 53:
             st.zero[a] = 0.0
@@ -50,15 +50,15 @@ cdef int cp_zero(CState *st, const LineWords *lw, int g) noexcept nogil:
 cdef int cp_g92(CState *st, const LineWords *lw) noexcept nogil:
     """G92 / G98: the current point gets the given program coordinates (shift)."""
     cdef int a, bit
-    cdef double t[10]
-    for a in range(10):
+    cdef double t[AXES]
+    for a in range(AXES):
         bit = <int>letter_of_axis(a) - 65
         if (lw.mask >> bit) & 1:
             st.ppos[a] = lw.v[bit]
             # a shift taken where the machine follows the start follows it too
             st.shift_follows[a] = not st.fixed[a]
     to_machine(st, st.ppos, t)
-    for a in range(10):
+    for a in range(AXES):
         st.shift[a] += st.mpos[a] - t[a]
     if not update_zero(st):
         return cerr(st, ERR_OUT_OF_MEMORY)
@@ -104,7 +104,7 @@ cdef void _feed_set(CState *st, const LineWords *lw, int k) noexcept nogil:
 cdef uint32_t _axis_flags(const LineWords *lw) noexcept nogil:
     cdef uint32_t m = 0
     cdef int a, bit
-    for a in range(10):
+    for a in range(AXES):
         bit = <int>letter_of_axis(a) - 65
         if (lw.mask >> bit) & 1 and lw.v[bit] != 0.0:
             m |= 1u << a
@@ -470,7 +470,7 @@ cdef int _x_parts(CState *st, LineWords *lw, const Block *b) noexcept nogil:
 cdef void _limits_off(CState *st, const LineWords *lw) noexcept nogil:
     """M-5: per written axis, 0 switches its limits off, anything else on again."""
     cdef int k
-    for k in range(10):
+    for k in range(AXES):
         if has(lw, letter_of_axis(k)):
             if val(lw, letter_of_axis(k)) == 0.0:
                 st.limits_off |= 1u << k

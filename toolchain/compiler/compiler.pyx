@@ -241,7 +241,7 @@ cdef int compile_program(const CompileInput *inp, ProgramBuilder *build, ErrorIn
     for i in range(3):
         lb_free(&units[i])
     if result == COMPILE_OK:
-        for i in range(10):
+        for i in range(AXES):
             if not st.fixed[i]:
                 prog.start_gindex[i] = INT32_MAX    # never named: every part follows the start
     ngc_free(st.ngc)

@@ -165,8 +165,8 @@ cdef int em_arc(CState *st, const LineWords *lw, Part *p, int *func, const doubl
     cdef char li, lj
     cdef bint absolute
     cdef int col = 1
-    cdef double c[10]
-    cdef double cm[10]
+    cdef double c[AXES]
+    cdef double cm[AXES]
     cdef ErrArg args[2]
     if not plane_axes(st.plane, &fa, &sa, &na):
         return cerr_num(st, ERR_BAD_PLANE, st.plane)
@@ -217,7 +217,7 @@ cdef int em_arc(CState *st, const LineWords *lw, Part *p, int *func, const doubl
         return cerr(st, ERR_ARC_NO_CENTRE)
     if (fabs(rs - re) > tol and not st.iso) or (st.iso and ngc_arc_off(st, rs, re)):
         return em_arc_error(st, fa, sa, s, e, rs, re, col)
-    for a in range(10):
+    for a in range(AXES):
         c[a] = s[a]
         if a != fa and a != sa and e[a] != s[a]:
             p.flags |= FLAG_HELIX
@@ -254,7 +254,7 @@ cdef void em_fix_axis(CState *st, int a) noexcept nogil:
 cdef inline int em_motion(CState *st, const LineWords *lw, int func, int col) noexcept nogil:
     """G0 G1 G2 G3 G33 to the axis words of the line (modal, absolute or relative); col:
     the column messages name (0: found when needed)."""
-    cdef double newp[10]
+    cdef double newp[AXES]
     cdef int a, bit
     cdef uint32_t words = lw.mask & AXIS_LETTERS
     memcpy(newp, st.ppos, sizeof(newp))
@@ -309,7 +309,7 @@ cdef inline int em_feed_check(CState *st, const LineWords *lw, int func, int col
 cdef int em_move(CState *st, const LineWords *lw, int func, const double *newp, int col) noexcept nogil:
     """A motion part from the current point to newp (program coordinates, ten axes); lw
     holds the arc's centre words and the addresses the part carries."""
-    cdef double e[10]
+    cdef double e[AXES]
     cdef int f = func
     cdef Part *p
     if em_feed_check(st, lw, func, col) != 0:
@@ -330,7 +330,7 @@ cdef int em_move(CState *st, const LineWords *lw, int func, const double *newp, 
             p.value = val(lw, b'K')
         elif has(lw, b'F'):
             p.value = val(lw, b'F')
-    memcpy(st.ppos, newp, 10 * sizeof(double))
+    memcpy(st.ppos, newp, AXES * sizeof(double))
     memcpy(st.mpos, e, sizeof(e))
     if st.ngc != NULL and st.ngc.inverse_time and (func == 1 or func == 2 or func == 3):
         # G93: the move takes 1 / F minutes (F in 1/min, never converted from inches)

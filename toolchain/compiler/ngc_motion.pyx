@@ -174,8 +174,8 @@ cdef int ngc_feed_to(CState *st, const double *newp, int col) noexcept nogil:
 
 cdef int ngc_machine_move(CState *st, const LineWords *lw, int motion) noexcept nogil:
     """G53 G0 / G1: the axis words are machine coordinates, for this line only."""
-    cdef double target[10]
-    cdef double newp[10]
+    cdef double target[AXES]
+    cdef double newp[AXES]
     cdef uint32_t words = lw.mask & AXIS_LETTERS
     cdef int a, bit, col = g_column(lw, 53.0)
     if motion != 0 and motion != 1:
@@ -202,8 +202,8 @@ cdef int ngc_home(CState *st, const LineWords *lw, int home, int col) noexcept n
     store the current position there."""
     cdef NgcState *n = st.ngc
     cdef int base = 5161 if (home == 28 or home == 281) else 5181
-    cdef double newp[10]
-    cdef double target[10]
+    cdef double newp[AXES]
+    cdef double target[AXES]
     cdef uint32_t words = lw.mask & AXIS_LETTERS
     cdef int a, k, bit
     cdef bint moved = False
@@ -256,7 +256,7 @@ cdef int ngc_cycle(CState *st, const LineWords *lw, int g, int col) noexcept nog
     cdef char la, lb, lc
     cdef double aa, bb, inc_a = 0.0, inc_b = 0.0, r, z, q, dwell, old_cc, current, clear, depth
     cdef double inc_r = 0.0, inc_t = 0.0, radius, theta
-    cdef double target[10]
+    cdef double target[AXES]
     cdef bint same = st.motion == g
     cdef bint reverse
     if st.feed == 0.0:

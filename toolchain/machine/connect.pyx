@@ -105,14 +105,14 @@ cdef void *_connect_body(void *arg) noexcept nogil:
     cdef ErrorInfo *err = <ErrorInfo *>calloc(1, sizeof(ErrorInfo))
     cdef SIMPLE_GM_PARAMS dest
     cdef Callback cb
-    cdef double point[10]
+    cdef double point[AXES]
     cdef uint32_t moving, k
     cdef int32_t finish = EV_STOPPED, restore = TC_KEEP
     cdef int rc
     if m != NULL and err != NULL:
         memcpy(point, m.motion.position, sizeof(point))     # 31 / 44: nearest to where it stands
         if job.n_type == 0 or job.n_type == 10 or job.n_type == 40:
-            memcpy(point, job.coords, min(job.n_coords, 10) * sizeof(double))
+            memcpy(point, job.coords, min(job.n_coords, AXES) * sizeof(double))
         if callback_enter(core, SLOT_CONNECT_POINT_CALC_START, &cb):
             (<TC_ConnectPointCalcStart>cb.fn)(cb.user, job.n_type, job.n_coords, job.coords, job.axes_calc)
             callback_leave(core, SLOT_CONNECT_POINT_CALC_START)
@@ -126,15 +126,15 @@ cdef void *_connect_body(void *arg) noexcept nogil:
         elif not TC_ATOMIC_LOAD(&core.cancel):
             _connect_end_callback(core, m, &hit)
             # the straight way there: the axes of axesForConnect (0: the first nCoords)
-            moving = job.axes_connect if job.axes_connect != 0 else (1u << min(job.n_coords, 10)) - 1
+            moving = job.axes_connect if job.axes_connect != 0 else (1u << min(job.n_coords, AXES)) - 1
             memset(&dest, 0, sizeof(dest))
             dest.m_func = 1
             memcpy(&dest.m_calcE, m.motion.position, sizeof(P10DOUBLE))
-            for k in range(10):
+            for k in range(AXES):
                 if (moving >> k) & 1:
                     (<double *>&dest.m_calcE)[k] = hit.point[k]
             core_set_status(core, CNC_STATUS_CONNECT_MOVING)
-            finish = machine_manual_move(core, m, &f, &dest, 10)
+            finish = machine_manual_move(core, m, &f, &dest, AXES)
             if finish == EV_DONE:
                 pthread_mutex_lock(&core.lock)
                 _connect_place(m, &hit)
