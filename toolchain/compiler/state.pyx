@@ -54,6 +54,24 @@ cdef const char *plane_name(int plane) noexcept nogil:
     return "ZX"
 
 
+cdef int g_column(const LineWords *lw, double g) noexcept nogil:
+    """Column of G function g on the line (1 when it is modal, not written)."""
+    cdef int i
+    for i in range(lw.ng):
+        if lw.g[i] == g:
+            return lw.gcol[i]
+    return 1
+
+
+cdef int axis_column(const LineWords *lw, uint32_t letters) noexcept nogil:
+    """Column of the first of the given address letters written on the line (1: none)."""
+    cdef int col = 0, bit
+    for bit in range(26):
+        if (letters >> bit) & 1 and (lw.mask >> bit) & 1 and (col == 0 or lw.col[bit] < col):
+            col = lw.col[bit]
+    return col if col > 0 else 1
+
+
 # --------------------------------------------------------------- errors
 
 cdef int cerr(CState *st, int32_t number) noexcept nogil:
@@ -134,6 +152,15 @@ cdef int cerr_num_at(CState *st, int32_t number, double value, int column) noexc
     a[0].num = value; a[0].text = NULL
     a[1].num = column; a[1].text = NULL
     set_error(st.err, number, st.unit.file_idx, st.line, a, 2)
+    return R_ERR
+
+
+cdef int cerr_bad_value(CState *st, double v, const char *letter) noexcept nogil:
+    """Error 106: value v of address `letter` out of its range."""
+    cdef ErrArg a[2]
+    a[0].num = v; a[0].text = NULL
+    a[1].num = 0; a[1].text = letter
+    set_error(st.err, ERR_BAD_VALUE, st.unit.file_idx, st.line, a, 2)
     return R_ERR
 
 
@@ -224,6 +251,13 @@ cdef void update_identity(CState *st) noexcept nogil:
     for a in range(AXES):
         if st.zero[a] != 0.0 or st.shift[a] != 0.0:
             st.identity = False
+
+
+cdef void cp_reframe(CState *st) noexcept nogil:
+    """After a change of zero offset, mirroring or rotation the machine stays where
+    it is: its program coordinates are recomputed."""
+    update_identity(st)
+    to_program(st, st.mpos, st.ppos)
 
 
 cdef bint update_zero(CState *st) noexcept nogil:
