@@ -683,7 +683,9 @@ TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_LoadCNCCalcPlugIn(TGM_LPC
 /* Sets (fn non-NULL) or removes (fn NULL) callback fceNo (callback_number) of the core;
  * userData is passed back as the first argument. Returns once no call of the previous
  * function runs on another thread, and no later call reaches it: the host may free it
- * then. 0; -1 unknown number, or a driver number (> 1000) before LoadFromIni; -2 bad
+ * then. Called from inside any callback it returns at once (no later call reaches the
+ * old function, but one may still run on another thread): waiting there could wait for
+ * a callback that waits for this one. 0; -1 unknown number, or a driver number (> 1000) before LoadFromIni; -2 bad
  * core. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_SetCallBack(uint32_t intIdx, uint32_t fceNo, intptr_t userData, void *fn);
 

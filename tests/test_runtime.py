@@ -405,6 +405,37 @@ def test_a_callback_removing_itself_does_not_deadlock(run):
     """)
 
 
+def test_callbacks_replacing_each_others_callback_never_deadlock(run):
+    # setcallback_cross_deadlock.py: the DriverMFunc of two cores, inside at the same
+    # time, each replace the other core's DriverMFunc. Waiting for the other's call to
+    # return (as SetCallBack does outside callbacks) would wait for ever on both sides.
+    run("""
+        both_inside = threading.Barrier(2, timeout=5)
+        returned = []
+
+        def make(core):
+            def driver_m(user, part):
+                both_inside.wait()
+                rc = lib.ToolChainCore_SetCallBack(1 - core, abi.CB_DRIVER_M_FUNC, 0,
+                                                   ctypes.cast(thunks[1 - core], ctypes.c_void_p))
+                returned.append((core, rc))
+                return 0
+            return abi.DriverMFunc(driver_m)
+
+        thunks = [make(0), make(1)]
+        for core in (0, 1):
+            load_ini(lib, core)
+            set_callback(lib, core, abi.CB_DRIVER_M_FUNC, thunks[core])
+            assert compile_wait(lib, core, b"G1 X1 F6000\\nM7\\nG1 X2\\n") is None
+        for core in (0, 1):
+            start(lib, core)
+        for core in (0, 1):
+            assert wait_status(lib, core, lambda s: s != 10, 5) == -10
+        assert sorted(returned) == [(0, 0), (1, 0)], returned
+        assert lib.ToolChainCore_DestroyCNC(0) == 0 and lib.ToolChainCore_DestroyCNC(1) == 0
+    """)
+
+
 # ------------------------------------------------------------------ file table
 
 def test_file_names_are_recycled_and_keep_their_run_time(run):
