@@ -1039,6 +1039,18 @@ def test_GoToPosition_moves_at_motion_5_then_stands_out_of_the_trajectory(api):
     assert lib.ToolChainCore_StatusCNC(0) == -30
 
 
+def test_GoToPosition_with_no_coordinates_moves_nothing(api):
+    """GoToPosition(core, 0, NULL) is allowed (the header: -1 only for nCoords > 0 with
+    NULL): a manual move to where the machine stands, 50 then -50, nothing moved (no
+    NULL reaches memcpy: the ASan + UBSan build stops at undefined behaviour)."""
+    lib = api
+    assert lib.ToolChainCore_ResetCNC(0, 0, 2, (ctypes.c_double * 2)(3.0, 4.0)) == 0
+    assert lib.ToolChainCore_SetTimeScale(0, 20.0) == 0
+    assert lib.ToolChainCore_GoToPosition(0, 0, None) == 0
+    assert poll_run(lib, 0, running=(50,))[1] == -50
+    assert xyz(get_pos(lib, 0)[0]) == (3.0, 4.0, 0.0)
+
+
 def test_GoToPosition_run_time_is_the_moves_own_after_DestroyCNC(api):
     """After a run and DestroyCNC, a manual line of 30 mm at 20 mm/s (500 mm/s^2):
     GetPos shows its own time, 1.5 s + 0.04 s, not the run's before it."""

@@ -436,6 +436,33 @@ def test_callbacks_replacing_each_others_callback_never_deadlock(run):
     """)
 
 
+# ------------------------------------------------------------------ settings beside the machine
+
+def test_set_look_ahead_beside_the_machines_starts(run):
+    # tsan_setlookahead_race.py: SetLookAhead from a host thread while manual moves start
+    # the machine's worker, which reads the look-ahead setting (a data race under
+    # ThreadSanitizer until the worker copied it under the core's lock).
+    run("""
+        assert lib.ToolChainCore_SetTimeScale(0, 1e6) == 0
+        stop = threading.Event()
+
+        def host():
+            k = 0
+            while not stop.is_set():
+                lib.ToolChainCore_SetLookAhead(0, k % 3)
+                k += 1
+
+        setter = threading.Thread(target=host)
+        setter.start()
+        for n in range(40):
+            assert lib.ToolChainCore_GoToPosition(0, 2, (ctypes.c_double * 2)(n % 7, n % 5)) == 0
+            assert wait_status(lib, 0, lambda s: s != 50) == -50
+        stop.set()
+        setter.join()
+        assert lib.ToolChainCore_SetLookAhead(0, 0) == 0
+    """)
+
+
 # ------------------------------------------------------------------ file table
 
 def test_file_names_are_recycled_and_keep_their_run_time(run):

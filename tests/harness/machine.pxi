@@ -118,6 +118,7 @@ def run(int core_idx, int regime, double stop_at=-1.0, overrides=(), double max_
     params = core.params
     f.params = &params
     f.enhanced = <uint32_t>core.machine.enhancedInterpolatorParameters
+    f.plan_window = core.plan_window
     memcpy(start, m.motion.position, sizeof(start))
     pthread_mutex_unlock(&core.lock)
     mo = &m.motion

@@ -148,6 +148,7 @@ ctypedef struct Feeder:         # what the notifier thread reads parts with
     GCODE_PARAMETERS *params
     PlanCursor cursor
     uint32_t enhanced
+    int64_t plan_window         # the core's look-ahead setting when the run began (SetLookAhead)
     int32_t regime
     size_t next                 # forward: next part; backward: entries made so far
     bint any_motion             # regime 33: a motion part was fed

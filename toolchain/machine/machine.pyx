@@ -498,11 +498,12 @@ cdef void _drain(Feeder *f) noexcept nogil:
         _notify(f, &ev)
 
 
-cdef void _motion_setup(Core *core, Motion *mo, const GCODE_PARAMETERS *params, const double *start) noexcept nogil:
-    """An empty motion at `start` with the run's settings (override, stop)."""
+cdef void _motion_setup(Core *core, Motion *mo, const Feeder *f, const double *start) noexcept nogil:
+    """An empty motion at `start` with the run's settings (window, override, stop)."""
+    cdef const GCODE_PARAMETERS *params = f.params
     motion_reset(mo, start)
-    mo.window = <size_t>(core.plan_window if core.plan_window > 0 else
-                         (LOOK_RING if core.plan_window < 0 else VENDOR_WINDOW))
+    mo.window = <size_t>(f.plan_window if f.plan_window > 0 else
+                         (LOOK_RING if f.plan_window < 0 else VENDOR_WINDOW))
     if mo.window > LOOK_RING - LOOK_RING // 4 - 1:
         mo.window = LOOK_RING - LOOK_RING // 4 - 1  # the ring holds it and the feeder's slack
     mo.ovr = TC_ATOMIC_LOAD_D(&core.rel_feed) if TC_ATOMIC_LOAD_D(&core.rel_feed) > 0 else 1.0
@@ -521,7 +522,7 @@ cdef int32_t machine_manual_move(Core *core, Machine *m, Feeder *f, const SIMPLE
     cdef int32_t finish
     cdef double start[10]
     memcpy(start, mo.position, sizeof(start))
-    _motion_setup(core, mo, f.params, start)
+    _motion_setup(core, mo, f, start)
     mo.window = 1
     mo.ovr = 1.0
     _manual_entry(mo, dest, n_dest, f.params)
@@ -547,7 +548,7 @@ cdef void _run_setup(Core *core, Machine *m, Feeder *f, int32_t regime, const do
     f.back_current = m.part < prog.n_parts and m.part_s > 0.0 and prog.parts[m.part].kind == PART_MOTION
     if regime != RUN_BACKWARD:
         cursor_settings(&f.cursor, m.part if m.part < prog.n_parts else 0)
-    _motion_setup(core, mo, f.params, start)
+    _motion_setup(core, mo, f, start)
     mo.d = m.part_s if regime != RUN_BACKWARD else 0.0
     mo.started = m.began and regime != RUN_BACKWARD
     mo.cut_len = m.cut_len
@@ -612,6 +613,7 @@ cdef Machine *machine_worker_begin(Job *job, Feeder *f) noexcept nogil:
     if f.params != NULL:
         f.params[0] = core.params
     else:
+    f.plan_window = core.plan_window
         set_error(&core.error, ERR_OUT_OF_MEMORY, -1, 0, NULL, 0)
     f.enhanced = <uint32_t>core.machine.enhancedInterpolatorParameters
     pthread_mutex_unlock(&core.lock)
@@ -711,7 +713,8 @@ cdef int32_t core_goto(Core *core, const SIMPLE_GM_PARAMS *dest, uint32_t n_dest
         return core_fail(core, ERR_OUT_OF_MEMORY, NULL)
     job.regime = RUN_MANUAL
     job.dest = dest[0]
-    memcpy(&job.dest.m_calcE, coords, n_dest * sizeof(double))
+    if n_dest > 0:                      # GoToPosition(core, 0, NULL) moves nothing
+        memcpy(&job.dest.m_calcE, coords, n_dest * sizeof(double))
     job.n_dest = n_dest
     return core_begin(core, CMD_GOTO, "GoToPosition", machine_body, job)
 
