@@ -582,15 +582,16 @@ TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_CompileFromMemory(uint32_
 /* 0 idle, 1 busy (compiling, simulating, moving), -2 bad core. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_IsBusy(uint32_t intIdx);
 
-/* 0 no error (info untouched); 1 the last compilation or run failed and info is filled
- * (the strings stay valid until the next compilation or start on the core); -1 NULL.
+/* 0 no error (info untouched); 1 the last compilation or run failed and info is filled;
+ * -1 NULL. The strings are never rewritten: they stay valid until the calling thread
+ * calls GetLastError for this core again (or ends), whatever other threads do.
  * A refused call never changes it: see GetLastCallError. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GetLastError(uint32_t intIdx, CALLBACK_INFO *info);
 
 /* Beyond the vendor's list. The error of the last call on the core that was refused
  * with an error text (busy, wrong status, unreadable file, not implemented, ...):
- * 1 and info filled (strings valid until the next refused call), 0 none yet; -1 NULL,
- * -2 bad core. The same error also went to DispAndLocateError and AddOutputLog. */
+ * 1 and info filled (the strings never rewritten, valid until the calling thread calls
+ * GetLastCallError for this core again or ends), 0 none yet; -1 NULL, -2 bad core. The same error also went to DispAndLocateError and AddOutputLog. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GetLastCallError(uint32_t intIdx, CALLBACK_INFO *info);
 
 /* Index of a file name (new names get the next index, 64 per core; when the table is

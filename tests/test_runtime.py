@@ -351,6 +351,60 @@ def test_a_refused_call_does_not_replace_the_programs_error(run):
     """)
 
 
+def test_an_error_text_a_thread_read_is_never_rewritten(run):
+    # tsan_lastcallerror_text.py: GetLastCallError's texts were the core's one buffer,
+    # rewritten by the next refused call on any thread while a host thread read it (torn
+    # texts; a data race under ThreadSanitizer). Each kept error is published whole by a
+    # pointer swap and stays as it was while the thread that read it holds it.
+    run("""
+        def text_pointer(info):
+            return ctypes.c_void_p.from_buffer(info, abi.CALLBACK_INFO.m_fullError.offset).value
+
+        info = abi.CALLBACK_INFO()
+        assert lib.ToolChainCore_StopCNCEx(0, None) == -1                # nothing runs
+        assert lib.ToolChainCore_GetLastCallError(0, ctypes.byref(info)) == 1
+        held = text_pointer(info)
+        text = ctypes.string_at(held)
+        assert b"StopCNCEx" in text, text
+
+        stop = threading.Event()
+        def refuser():
+            while not stop.is_set():
+                lib.ToolChainCore_StopCNCEx(0, None)     # refused: a new error each time
+                lib.ToolChainCore_ConfirmMFunc(0)        # refused: another text
+        read = {"seen": 0, "torn": []}
+        def reader():                                    # reads each new text at once
+            mine = abi.CALLBACK_INFO()
+            while not stop.is_set():
+                if lib.ToolChainCore_GetLastCallError(0, ctypes.byref(mine)) == 1:
+                    now = ctypes.string_at(text_pointer(mine))
+                    read["seen"] += 1
+                    if not (b"StopCNCEx" in now or b"M function" in now):
+                        read["torn"].append(now)
+        threads = [threading.Thread(target=refuser) for _ in range(2)] + [threading.Thread(target=reader)]
+        for t in threads:
+            t.start()
+        deadline = time.monotonic() + 1.0
+        while time.monotonic() < deadline:
+            assert ctypes.string_at(held) == text        # what this thread holds stays
+        stop.set()
+        for t in threads:
+            t.join()
+        assert read["seen"] > 0 and not read["torn"], read["torn"][:3]
+        # GetLastError: the same rule for the error of a compilation, which the next
+        # compilation replaces while this thread holds the first one
+        def compiled(text):
+            assert lib.ToolChainCore_CompileFromMemory(0, b"bad.nc", text) == 0
+            assert wait_status(lib, 0, lambda s: s != 1) == -1
+        compiled(b"G1 X1\\nQQ\\n")
+        assert lib.ToolChainCore_GetLastError(0, ctypes.byref(info)) == 1 and info.actLine == 2
+        held, text = text_pointer(info), info.m_fullError
+        compiled(b"G1 X1\\nG1 X2\\nQQ\\n")
+        assert ctypes.string_at(held) == text
+        assert lib.ToolChainCore_GetLastError(0, ctypes.byref(info)) == 1 and info.actLine == 3
+    """)
+
+
 # ------------------------------------------------------------------ callbacks removed while in flight
 
 def test_removing_a_callback_waits_for_the_call_in_flight(run):

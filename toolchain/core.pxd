@@ -33,6 +33,12 @@ ctypedef struct Callback:
     void *fn
     intptr_t user
 
+# An error kept for the host (GetLastError, GetLastCallError): written once, then only
+# read, freed by its last holder (runtime/last_errors.pyx).
+ctypedef struct PublishedError:
+    int32_t refs            # atomic: the core while it keeps it, each thread that read it
+    ErrorInfo info
+
 # A compiled program, immutable once published, shared by the core and every run
 # that reads it; the last release frees it (runtime/programs.pyx).
 ctypedef struct LoadedProgram:
@@ -102,8 +108,8 @@ ctypedef struct Core:
     int32_t compile_files[3]    # main, prefix, postfix entries of the compilation that runs
     # results
     LoadedProgram *program      # NULL: nothing compiled (or the compilation failed)
-    ErrorInfo error             # error of the last activity (GetLastError)
-    ErrorInfo call_error        # error of the last refused call (GetLastCallError)
+    PublishedError *error       # error of the last activity (GetLastError); NULL none
+    PublishedError *call_error  # error of the last refused call (GetLastCallError); NULL none
     GCODE_INFO size_info        # of `program` at the current start position
     # the machine
     double position[10]         # machine position: where the next run and compilation start
@@ -154,11 +160,10 @@ cdef inline void core_set_status(Core *core, int32_t status) noexcept nogil:
     TC_ATOMIC_STORE(&core.status, status)
 
 # errors: a refused call (number and text argument: GetLastCallError, reported), a
-# call the transition table refuses in `status`, GetLastError / GetLastCallError
+# call the transition table refuses in `status`
 cdef int32_t core_fail(Core *core, int32_t number, const char *text_arg) noexcept nogil
 cdef void core_fail_with(Core *core, const ErrorInfo *err) noexcept nogil
 cdef int32_t core_refuse(Core *core, const char *what, int32_t status) noexcept nogil
-cdef int32_t core_read_error(Core *core, const ErrorInfo *slot, CALLBACK_INFO *info) noexcept nogil
 # an activity: a job for its worker; its start (the transition table's `command`, the
 # worker running `body`); the worker's last step (an event of the table; or, when it
 # gave up before it changed anything, back to the status it began in); the calls that

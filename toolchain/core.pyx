@@ -84,23 +84,9 @@ cdef int32_t core_refuse(Core *core, const char *what, int32_t status) noexcept 
     return TOOL_CHAIN_ERROR
 
 
-cdef int32_t core_read_error(Core *core, const ErrorInfo *slot, CALLBACK_INFO *info) noexcept nogil:
-    """GetLastError / GetLastCallError: 1 and info filled from `slot` (core.error or
-    core.call_error), 0 when it holds no error."""
-    cdef int32_t result = 0
-    pthread_mutex_lock(&core.lock)
-    if slot.number != 0:
-        fill_callback_info(slot, info)
-        result = 1
-    pthread_mutex_unlock(&core.lock)
-    return result
-
-
 cdef void core_fail_with(Core *core, const ErrorInfo *err) noexcept nogil:
     """Records `err` as the error of a refused call (GetLastCallError) and reports it."""
-    pthread_mutex_lock(&core.lock)
-    core.call_error = err[0]
-    pthread_mutex_unlock(&core.lock)
+    core_keep_error(core, True, err)
     core_report_error(core, err)
 
 
@@ -234,6 +220,7 @@ cdef int32_t core_begin(Core *core, int32_t command, const char *what,
     critical section. Takes ownership of `job` (freed here on refusal).
     TOOL_CHAIN_SUCCESS or TOOL_CHAIN_ERROR (with the call's error)."""
     cdef int32_t status, after, err = 0
+    cdef PublishedError *old_error
     if tc_worker_core == <void *>core:
         job_free(job)
         return core_fail(core, ERR_REENTRANT, what)
@@ -263,7 +250,7 @@ cdef int32_t core_begin(Core *core, int32_t command, const char *what,
     TC_ATOMIC_STORE(&core.cancel, 0)
     TC_ATOMIC_STORE(&core.stop, 0)
     core.deferred_end = END_NONE
-    memset(&core.error, 0, sizeof(ErrorInfo))
+    old_error = core_swap_error_locked(core, False, NULL)
     if command == CMD_COMPILE:
         memcpy(core.compile_files, job.files, sizeof(core.compile_files))
     core_set_status(core, after)
@@ -272,10 +259,12 @@ cdef int32_t core_begin(Core *core, int32_t command, const char *what,
         core.compile_files[0] = core.compile_files[1] = core.compile_files[2] = -1
         core_set_status(core, status)
         pthread_mutex_unlock(&core.lock)
+        published_error_release(old_error)
         job_free(job)
         return core_fail(core, ERR_OUT_OF_MEMORY, NULL)
     core.has_worker = True
     pthread_mutex_unlock(&core.lock)
+    published_error_release(old_error)
     return TOOL_CHAIN_SUCCESS
 
 
@@ -457,6 +446,7 @@ cdef void *_compile_body(void *arg) noexcept nogil:
     cdef GCODE_INFO *extent = <GCODE_INFO *>calloc(1, sizeof(GCODE_INFO))
     cdef LoadedProgram *loaded = NULL
     cdef LoadedProgram *old
+    cdef PublishedError *kept = NULL
     cdef int result = COMPILE_ERROR
     cdef char text[400]
     worker_thread_mark(core)
@@ -471,19 +461,18 @@ cdef void *_compile_body(void *arg) noexcept nogil:
                 set_error(err, ERR_OUT_OF_MEMORY, job.files[0], 0, NULL, 0)
     if result != COMPILE_OK and err != NULL:
         err.n_lines = <int32_t>build.prog.n_lines   # lines of the main file, counted before compiling
+    if loaded == NULL:
+        kept = published_error_new(err)            # err NULL: out of memory
     pthread_mutex_lock(&core.lock)
     old = core.program
     core.program = loaded
     if loaded != NULL:
         core.size_info = loaded.extent
-        memset(&core.error, 0, sizeof(ErrorInfo))
     else:
         memset(&core.size_info, 0, sizeof(GCODE_INFO))
-        if err != NULL:
-            core.error = err[0]
-        else:
-            set_error(&core.error, ERR_OUT_OF_MEMORY, job.files[0], 0, NULL, 0)
+    kept = core_swap_error_locked(core, False, kept)
     pthread_mutex_unlock(&core.lock)
+    published_error_release(kept)
     program_builder_free(&build)        # what a failed compilation left
     loaded_program_release(old)
     if loaded != NULL:

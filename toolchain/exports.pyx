@@ -274,7 +274,7 @@ cdef public int32_t ToolChainCore_GetLastError(uint32_t intIdx, CALLBACK_INFO *i
         return TOOL_CHAIN_BAD_INTR_INDEX
     if info == NULL:
         return TOOL_CHAIN_ERROR
-    return core_read_error(core, &core.error, info)
+    return core_read_error(core, False, info)
 
 
 cdef public int32_t ToolChainCore_GetLastCallError(uint32_t intIdx, CALLBACK_INFO *info) noexcept nogil:
@@ -283,7 +283,7 @@ cdef public int32_t ToolChainCore_GetLastCallError(uint32_t intIdx, CALLBACK_INF
         return TOOL_CHAIN_BAD_INTR_INDEX
     if info == NULL:
         return TOOL_CHAIN_ERROR
-    return core_read_error(core, &core.call_error, info)
+    return core_read_error(core, True, info)
 
 
 cdef public int32_t ToolChain_GetLastError(CALLBACK_INFO *info) noexcept nogil:

@@ -158,9 +158,7 @@ cdef void *_run_body(void *arg) noexcept nogil:
     memcpy(start, core.position, sizeof(start))
     pthread_mutex_unlock(&core.lock)
     if loaded == NULL or params == NULL or machine == NULL or view == NULL or first_error == NULL:
-        pthread_mutex_lock(&core.lock)
-        set_error(&core.error, ERR_OUT_OF_MEMORY, -1, 0, NULL, 0)
-        pthread_mutex_unlock(&core.lock)
+        core_keep_error(core, False, NULL)         # out of memory
         stopped = True
     else:
         prog = &loaded.prog
@@ -202,9 +200,9 @@ cdef void *_run_body(void *arg) noexcept nogil:
         if callback_enter(core, SLOT_DRIVER_END, &cb):
             (<TC_DriverEnd>cb.fn)(cb.user)
             callback_leave(core, SLOT_DRIVER_END)
-        pthread_mutex_lock(&core.lock)
         if first_error.number != 0:
-            core.error = first_error[0]
+            core_keep_error(core, False, first_error)
+        pthread_mutex_lock(&core.lock)
         if params.calcTime and complete and 0 <= prog.main_file_idx < MAX_FILES:
             core.files.run_times[prog.main_file_idx] = run_time
         pthread_mutex_unlock(&core.lock)

@@ -31,6 +31,10 @@ cdef extern from "<pthread.h>" nogil:
     int pthread_cond_destroy(pthread_cond_t *c)
     int pthread_mutex_destroy(pthread_mutex_t *m)
     int pthread_once(pthread_once_t *once, void (*init)() noexcept nogil)
+    ctypedef struct pthread_key_t:
+        pass
+    int pthread_key_create(pthread_key_t *key, void (*destructor)(void *) noexcept nogil)
+    int pthread_setspecific(pthread_key_t key, const void *value)
 
 # Memory advice: transparent huge pages for the large arrays, and faulting pages in
 # ahead of their writer (Linux 5.14; older kernels refuse it, a hint less).

@@ -118,9 +118,7 @@ cdef void *_connect_body(void *arg) noexcept nogil:
             callback_leave(core, SLOT_CONNECT_POINT_CALC_START)
         rc = _connect_search(core, m, f.params, job, point, &hit, err)
         if rc != CONNECT_FOUND:
-            pthread_mutex_lock(&core.lock)
-            core.error = err[0]
-            pthread_mutex_unlock(&core.lock)
+            core_keep_error(core, False, err)
             core_report_error(core, err)
             restore = job.status_before
         elif not TC_ATOMIC_LOAD(&core.cancel):

@@ -612,11 +612,11 @@ cdef Machine *machine_worker_begin(Job *job, Feeder *f) noexcept nogil:
     m = <Machine *>core.offline           # machine_prepare made it and its place
     if f.params != NULL:
         f.params[0] = core.params
-    else:
-    f.plan_window = core.plan_window
-        set_error(&core.error, ERR_OUT_OF_MEMORY, -1, 0, NULL, 0)
     f.enhanced = <uint32_t>core.machine.enhancedInterpolatorParameters
+    f.plan_window = core.plan_window
     pthread_mutex_unlock(&core.lock)
+    if f.params == NULL:
+        core_keep_error(core, False, NULL)         # out of memory
     f.core = core
     f.m = m
     return m if f.params != NULL else NULL
@@ -647,9 +647,7 @@ cdef int32_t _pace(Core *core, Machine *m, Feeder *f) noexcept nogil:
     TC_ATOMIC_STORE(&m.pacer_done, 0)
     started = pthread_create(&m.pacer, NULL, _pacer_body, core) == 0
     if not started:
-        pthread_mutex_lock(&core.lock)
-        set_error(&core.error, ERR_OUT_OF_MEMORY, -1, 0, NULL, 0)
-        pthread_mutex_unlock(&core.lock)
+        core_keep_error(core, False, NULL)         # out of memory
         return EV_STOPPED
     while not TC_ATOMIC_LOAD(&m.pacer_done):
         if f.prog != NULL:

@@ -4,6 +4,7 @@
 #   snapshot.pyx     the GetPos view: a double-buffered seqlock readers never wait on
 #   programs.pyx     compiled programs with an owner count (published, shared, released)
 #   callbacks.pyx    the host's callbacks: counted while they run, the reports they carry
+#   last_errors.pyx  GetLastError / GetLastCallError: errors published by pointer swap
 #   file_names.pyx   the file table (FileToIdx / IdxToFile)
 # The data it works on belongs to the core (core.pxd: Core, its Snapshot, FileTable,
 # Callback and LoadedProgram); the runtime owns the commands of the status machine and
@@ -98,6 +99,17 @@ cdef void core_report_error(Core *core, const ErrorInfo *err) noexcept nogil
 cdef void core_progress(Core *core, uint32_t percent) noexcept nogil
 cdef void core_status_text(Core *core, const char *text, int32_t file_idx, int32_t n_lines) noexcept nogil
 cdef void core_warning(Core *core, const ErrorInfo *warning) noexcept nogil
+
+# the errors a core keeps (GetLastError: of_calls False; GetLastCallError: True): a
+# copy to publish (err number 0: none, NULL; err NULL: "out of memory"), a reference
+# dropped, one published, one swapped in with core.lock held (the old one returned,
+# to release after unlocking), one read for the host (the calling thread holds it
+# until it reads again)
+cdef PublishedError *published_error_new(const ErrorInfo *err) noexcept nogil
+cdef void published_error_release(PublishedError *e) noexcept nogil
+cdef void core_keep_error(Core *core, bint of_calls, const ErrorInfo *err) noexcept nogil
+cdef PublishedError *core_swap_error_locked(Core *core, bint of_calls, PublishedError *e) noexcept nogil
+cdef int32_t core_read_error(Core *core, bint of_calls, CALLBACK_INFO *info) noexcept nogil
 
 # the file table: FileToIdx, IdxToFile
 cdef int32_t core_file_to_idx(Core *core, const char *name) noexcept nogil
