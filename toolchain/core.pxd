@@ -14,7 +14,7 @@
 #     never during file I/O, a pass over the parts, a callback or a join;
 #   - one activity (compilation or run) at a time, run by one worker thread; exactly
 #     one thread joins it (`joining`), every caller that ends it waits for the join
-#     on `changed`.
+#     on `changed` (runtime/lifecycle.pyx).
 
 cdef enum:
     MAX_FILES = 64          # file names per core (FileToIdx); recycled when full
@@ -123,25 +123,48 @@ ctypedef struct Core:
     Snapshot snap
 
 
-# What a worker gets from the call that started it; the worker frees it.
+# An activity's job: what its worker gets from the call that began it (the worker
+# frees it). One type per activity, each opening with the same head; the table of
+# runtime/lifecycle.pyx (activity_of) gives each command its worker and job type.
 ctypedef struct Job:
     Core *core
-    int32_t regime              # runs: StartCNCEx regime
-    char *text                  # compilations: the program text (owned); NULL: read `name`
+    int32_t command             # the transition table's command that began it
+
+ctypedef struct CompileJob:     # CompileFromFile, CompileFromMemory
+    Job head
+    char *text                  # the program text (owned); NULL: read `name`
     size_t length
-    int32_t files[3]            # compilations: file table entries of main, prefix, postfix
-    char *prefix                # compilations: GCodePrefixPostfix texts at the start (owned)
+    int32_t files[3]            # file table entries of main, prefix, postfix
+    char *prefix                # GCodePrefixPostfix texts at the start (owned)
     char *postfix
     char name[252]
-    char *add_code              # runs: StartCNCEx addCode (owned, may be NULL)
-    SIMPLE_GM_PARAMS dest       # manual moves: line (m_func 1) or arc (2, 3) to m_calcE, as GoToPositionEx
+
+ctypedef struct RunJob:         # StartCNCEx 10, 20, 30-33
+    Job head
+    int32_t regime
+    char *add_code              # StartCNCEx addCode (owned, may be NULL)
+
+ctypedef struct GotoJob:        # GoToPosition, GoToPositionEx
+    Job head
+    SIMPLE_GM_PARAMS dest       # line (m_func 1) or arc (2, 3) to m_calcE, as GoToPositionEx
     uint32_t n_dest             # ... of which the first n_dest axes move (GoToPosition)
-    uint32_t n_type             # connections: ConnectCNCEx_Plane's arguments
+
+ctypedef struct ConnectJob:     # ConnectCNCEx_Plane's arguments
+    Job head
+    uint32_t n_type
     double coords[11]
     uint32_t n_coords
     uint32_t axes_calc, axes_connect
     int32_t state_after
-    int32_t status_before       # ... and the status it was called in
+    int32_t status_before       # the status it was called in
+    char *add_code              # owned, may be NULL
+
+ctypedef struct Activity:       # a row of the lifecycle's table
+    void *(*body)(void *) noexcept nogil            # the worker, given its Job
+    size_t job_size             # sizeof its job type
+    bint needs_program          # refused (ERR_NOTHING_COMPILED) without a compiled program
+    int32_t (*prepare)(Core *core, Job *job) noexcept nogil     # under core.lock before the
+                                # worker starts (NULL: nothing): 0, or the error refusing it
 
 
 # ---- what other stages call
@@ -164,17 +187,9 @@ cdef inline void core_set_status(Core *core, int32_t status) noexcept nogil:
 cdef int32_t core_fail(Core *core, int32_t number, const char *text_arg) noexcept nogil
 cdef void core_fail_with(Core *core, const ErrorInfo *err) noexcept nogil
 cdef int32_t core_refuse(Core *core, const char *what, int32_t status) noexcept nogil
-# an activity: a job for its worker; its start (the transition table's `command`, the
-# worker running `body`); the worker's last step (an event of the table; or, when it
-# gave up before it changed anything, back to the status it began in); the calls that
-# end it (DestroyCNC, ResetCNC, ResetStatusCNC: an EndKind)
-cdef Job *job_new() noexcept nogil
-cdef void job_free(Job *job) noexcept nogil
-cdef int32_t core_begin(Core *core, int32_t command, const char *what,
-                        void *(*body)(void *) noexcept nogil, Job *job) noexcept nogil
-cdef void core_finish(Core *core, int32_t event) noexcept nogil
-cdef void core_finish_to(Core *core, int32_t status) noexcept nogil
-cdef int32_t core_end(Core *core, int32_t kind, const char *what, uint32_t n_coords,
-                      const double *coords) noexcept nogil
-# CompileFromFile (text NULL: the worker reads the file `name`) and CompileFromMemory
+# CompileFromFile (text NULL: the worker reads the file `name`) and CompileFromMemory;
+# the lifecycle's row of a compilation (runtime/lifecycle.pyx): its worker, and what is
+# made ready under core.lock before it starts (a CompileJob; 0, or an error number)
 cdef int32_t core_start_compile(Core *core, const char *name, char *text, size_t length) noexcept nogil
+cdef void *compile_body(void *arg) noexcept nogil
+cdef int32_t compile_prepare(Core *core, Job *job) noexcept nogil

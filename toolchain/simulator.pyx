@@ -129,9 +129,11 @@ cdef void _deliver(Core *core, const Program *prog, size_t i, const SIMPLE_GM_PA
         callback_leave(core, slot)
 
 
-cdef void *_run_body(void *arg) noexcept nogil:
-    cdef Job *job = <Job *>arg
-    cdef Core *core = job.core
+cdef void *simulation_body(void *arg) noexcept nogil:
+    """The worker of a simulation (10) or test (20): every part of the program to the
+    driver callbacks, in order, as fast as possible."""
+    cdef RunJob *job = <RunJob *>arg
+    cdef Core *core = job.head.core
     cdef LoadedProgram *loaded
     cdef const Program *prog
     cdef Callback cb
@@ -151,7 +153,7 @@ cdef void *_run_body(void *arg) noexcept nogil:
     cdef const Part *p
     worker_thread_mark(core)
     pthread_mutex_lock(&core.lock)
-    loaded = loaded_program_ref(core.program)       # core_begin made sure there is one
+    loaded = loaded_program_ref(core.program)       # core_start made sure there is one
     if params != NULL and machine != NULL:
         params[0] = core.params
         machine[0] = core.machine
@@ -211,29 +213,6 @@ cdef void *_run_body(void *arg) noexcept nogil:
     free(machine)
     free(view)
     free(first_error)
-    job_free(job)
+    job_free(&job.head)
     core_finish(core, EV_STOPPED if stopped else EV_DONE)
     return NULL
-
-
-cdef int32_t core_start_run(Core *core, int32_t regime, const char *add_code) noexcept nogil:
-    """StartCNCEx: simulation (10) and test (20) here, 30-33 the offline machine
-    (machine/machine.pyx), each as the core's activity."""
-    cdef int32_t command
-    cdef void *(*body)(void *) noexcept nogil
-    cdef Job *job
-    if regime == RUN_SIMULATION or regime == RUN_TEST:
-        command = CMD_SIMULATE if regime == RUN_SIMULATION else CMD_TEST
-        body = _run_body
-    elif regime == RUN_FORWARD or regime == RUN_FORWARD_NO_M or regime == RUN_BACKWARD or regime == RUN_FORWARD_SKIP_FIRST_M:
-        command = machine_command(regime)
-        body = machine_body
-    else:
-        return core_fail(core, ERR_BAD_REGIME, NULL)
-    job = job_new()
-    if job == NULL:
-        return core_fail(core, ERR_OUT_OF_MEMORY, NULL)
-    job.regime = regime
-    if add_code != NULL:
-        job.add_code = strdup(add_code)
-    return core_begin(core, command, "StartCNCEx", body, job)

@@ -111,7 +111,7 @@ def run(int core_idx, int regime, double stop_at=-1.0, overrides=(), double max_
     cdef list pending = sorted(overrides)
     memset(&f, 0, sizeof(f))
     pthread_mutex_lock(&core.lock)
-    if core.program == NULL or not machine_prepare(core):
+    if core.program == NULL or machine_prepare(core, NULL) != 0:
         pthread_mutex_unlock(&core.lock)
         raise RuntimeError("nothing compiled")
     m = <Machine *>core.offline

@@ -23,7 +23,7 @@ cdef bint _part_calc(void *ctx, size_t part, double *d2, double *point) noexcept
     return False
 
 
-cdef int _connect_search(Core *core, Machine *m, const GCODE_PARAMETERS *params, const Job *job,
+cdef int _connect_search(Core *core, Machine *m, const GCODE_PARAMETERS *params, const ConnectJob *job,
                          const double *point, ConnectHit *hit, ErrorInfo *err) noexcept nogil:
     """The place the connection goes to, by the type's rule (connect_search.pyx). The
     nearest point of the trajectory offers every part to ConnectPointCalc when the host
@@ -96,11 +96,12 @@ cdef void _connect_place(Machine *m, const ConnectHit *hit) noexcept nogil:
     m.cur_motion = <int64_t>hit.part if m.began and prog.parts[hit.part].kind == PART_MOTION else PART_NONE
 
 
-cdef void *_connect_body(void *arg) noexcept nogil:
-    cdef Job *job = <Job *>arg
-    cdef Core *core = job.core
+cdef void *connect_body(void *arg) noexcept nogil:
+    """The worker of a connection (ConnectCNCEx_Plane, a ConnectJob)."""
+    cdef ConnectJob *job = <ConnectJob *>arg
+    cdef Core *core = job.head.core
     cdef Feeder f
-    cdef Machine *m = machine_worker_begin(job, &f)
+    cdef Machine *m = machine_worker_begin(&job.head, &f)
     cdef ConnectHit hit
     cdef ErrorInfo *err = <ErrorInfo *>calloc(1, sizeof(ErrorInfo))
     cdef SIMPLE_GM_PARAMS dest
@@ -145,7 +146,7 @@ cdef void *_connect_body(void *arg) noexcept nogil:
                     finish = machine_program_run(core, m, &f, RUN_FORWARD, NULL)
     free(err)
     free(f.params)
-    job_free(job)
+    job_free(&job.head)
     if restore != TC_KEEP:
         core_finish_to(core, restore)
     else:
@@ -157,7 +158,7 @@ cdef int32_t core_connect(Core *core, uint32_t n_type, uint32_t n_coords, const 
                           const char *add_code, uint32_t axes_calc, uint32_t axes_connect,
                           int32_t state_after) noexcept nogil:
     """ConnectCNCEx_Plane: 40, 41, then -31 (or a forward run)."""
-    cdef Job *job = job_new()
+    cdef ConnectJob *job = <ConnectJob *>job_new(CMD_CONNECT)
     if job == NULL:
         return core_fail(core, ERR_OUT_OF_MEMORY, NULL)
     job.n_type = n_type
@@ -170,4 +171,4 @@ cdef int32_t core_connect(Core *core, uint32_t n_type, uint32_t n_coords, const 
     job.status_before = core_status(core)
     if add_code != NULL:
         job.add_code = strdup(add_code)
-    return core_begin(core, CMD_CONNECT, "ConnectCNCEx_Plane", _connect_body, job)
+    return core_start(core, &job.head, "ConnectCNCEx_Plane")

@@ -7,9 +7,9 @@
 #   connect_search.pyx  where on a program ConnectCNCEx_Plane connects to (pure, typed)
 #   connect.pyx         the connection as an activity: search, move there, run on
 # Owns Machine (the machine of one core, Core.offline: its place on the program
-# outlives the runs), Motion and the search's index. Called by the core (prepare and
-# forget a core's machine), the simulator (core_start_run starts a machine run) and
-# the exports (GoTo, M confirmations, ConnectCNCEx_Plane, StopCNCEx's addCode).
+# outlives the runs), Motion and the search's index. Called by the lifecycle
+# (runtime/lifecycle.pyx: prepare and forget a core's machine, its workers) and the
+# exports (GoTo, M confirmations, ConnectCNCEx_Plane, StopCNCEx's addCode).
 
 # ---- motion.pyx: the step and its ring of entries
 cdef enum:
@@ -222,14 +222,15 @@ cdef inline bint machine_moving(int32_t status) noexcept nogil:
             or status == CNC_STATUS_CONNECT_MOVING or status == CNC_STATUS_MANUAL_MOVE)
 
 
-# the core, with core.lock held: the core's machine made ready for a run (False: out
-# of memory); its place on the program dropped (ResetCNC, a new program, DestroyCNC)
-cdef bint machine_prepare(Core *core) noexcept nogil
+# the lifecycle, with core.lock held: the core's machine made ready for an activity (0,
+# or ERR_OUT_OF_MEMORY); its place on the program dropped (ResetCNC, a new program,
+# DestroyCNC). The workers of its table: a run (RunJob), a manual move (GotoJob), a
+# connection (ConnectJob)
+cdef int32_t machine_prepare(Core *core, Job *job) noexcept nogil
 cdef void machine_forget(Core *core) noexcept nogil
-# the simulator: the transition table's command of StartCNCEx 30-33, and the worker
-# of such a run
-cdef int32_t machine_command(int32_t regime) noexcept nogil
-cdef void *machine_body(void *arg) noexcept nogil
+cdef void *machine_run_body(void *arg) noexcept nogil
+cdef void *machine_goto_body(void *arg) noexcept nogil
+cdef void *connect_body(void *arg) noexcept nogil
 # the exports: GoToPosition(Ex), StopCNCEx's addCode, MFunc, ConfirmMFunc, ConnectCNCEx_Plane
 cdef int32_t core_goto(Core *core, const SIMPLE_GM_PARAMS *dest, uint32_t n_dest, const double *coords) noexcept nogil
 cdef void machine_keep_stop_code(Core *core, const char *code) noexcept nogil

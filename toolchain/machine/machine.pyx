@@ -622,19 +622,32 @@ cdef Machine *machine_worker_begin(Job *job, Feeder *f) noexcept nogil:
     return m if f.params != NULL else NULL
 
 
-cdef void *machine_body(void *arg) noexcept nogil:
-    cdef Job *job = <Job *>arg
-    cdef Core *core = job.core
+cdef void *machine_run_body(void *arg) noexcept nogil:
+    """The worker of a run along the program (StartCNCEx 30-33, a RunJob)."""
+    cdef RunJob *job = <RunJob *>arg
+    cdef Core *core = job.head.core
     cdef Feeder f
-    cdef Machine *m = machine_worker_begin(job, &f)
+    cdef Machine *m = machine_worker_begin(&job.head, &f)
     cdef int32_t finish = EV_STOPPED
     if m != NULL:
-        if job.regime == RUN_MANUAL:
-            finish = machine_manual_move(core, m, &f, &job.dest, job.n_dest)
-        else:
-            finish = machine_program_run(core, m, &f, job.regime, job.add_code)
+        finish = machine_program_run(core, m, &f, job.regime, job.add_code)
     free(f.params)
-    job_free(job)
+    job_free(&job.head)
+    core_finish(core, finish)
+    return NULL
+
+
+cdef void *machine_goto_body(void *arg) noexcept nogil:
+    """The worker of a manual move (GoToPosition, GoToPositionEx: a GotoJob)."""
+    cdef GotoJob *job = <GotoJob *>arg
+    cdef Core *core = job.head.core
+    cdef Feeder f
+    cdef Machine *m = machine_worker_begin(&job.head, &f)
+    cdef int32_t finish = EV_STOPPED
+    if m != NULL:
+        finish = machine_manual_move(core, m, &f, &job.dest, job.n_dest)
+    free(f.params)
+    job_free(&job.head)
     core_finish(core, finish)
     return NULL
 
@@ -706,15 +719,14 @@ cdef void _manual_entry(Motion *mo, const SIMPLE_GM_PARAMS *dest, uint32_t n_des
 
 cdef int32_t core_goto(Core *core, const SIMPLE_GM_PARAMS *dest, uint32_t n_dest, const double *coords) noexcept nogil:
     """GoToPosition / GoToPositionEx: a manual move; 50, then -50."""
-    cdef Job *job = job_new()
+    cdef GotoJob *job = <GotoJob *>job_new(CMD_GOTO)
     if job == NULL:
         return core_fail(core, ERR_OUT_OF_MEMORY, NULL)
-    job.regime = RUN_MANUAL
     job.dest = dest[0]
     if n_dest > 0:                      # GoToPosition(core, 0, NULL) moves nothing
         memcpy(&job.dest.m_calcE, coords, n_dest * sizeof(double))
     job.n_dest = n_dest
-    return core_begin(core, CMD_GOTO, "GoToPosition", machine_body, job)
+    return core_start(core, &job.head, "GoToPosition")
 
 
 cdef void machine_keep_stop_code(Core *core, const char *code) noexcept nogil:
@@ -755,30 +767,20 @@ cdef int32_t machine_send_m(Core *core, const SIMPLE_GM_PARAMS *fun) noexcept no
     return TOOL_CHAIN_SUCCESS
 
 
-cdef int32_t machine_command(int32_t regime) noexcept nogil:
-    """The transition table's command of StartCNCEx 30-33."""
-    if regime == RUN_FORWARD:
-        return CMD_FORWARD
-    if regime == RUN_FORWARD_NO_M:
-        return CMD_FORWARD_NO_M
-    if regime == RUN_BACKWARD:
-        return CMD_BACKWARD
-    return CMD_FORWARD_SKIP_M
-
-
-cdef bint machine_prepare(Core *core) noexcept nogil:
-    """With core.lock held, before a run starts (core_begin): the machine exists and
-    its place refers to the core's program (a new program: its start)."""
+cdef int32_t machine_prepare(Core *core, Job *job) noexcept nogil:
+    """The lifecycle's preparation of the machine's activities, with core.lock held
+    before the worker starts: the machine exists and its place refers to the core's
+    program (a new program: its start). 0, or ERR_OUT_OF_MEMORY."""
     cdef Machine *m = machine_of(core)
     if m == NULL:
-        return False
+        return ERR_OUT_OF_MEMORY
     if m.program != core.program:
         machine_forget(core)
         m.program = loaded_program_ref(core.program)
     if m.program != NULL and m.part == 0 and m.part_s == 0.0 and m.n_history == 0:
         placement_init(&m.placement, &m.program.prog, core.position)    # a run from the start
     memcpy(m.motion.position, core.position, sizeof(core.position))
-    return True
+    return 0
 
 
 # ------------------------------------------------------------------ M functions

@@ -5,6 +5,7 @@
 #   programs.pyx     compiled programs with an owner count (published, shared, released)
 #   callbacks.pyx    the host's callbacks: counted while they run, the reports they carry
 #   last_errors.pyx  GetLastError / GetLastCallError: errors published by pointer swap
+#   lifecycle.pyx    the activities: command -> worker table, begin, end, join
 #   file_names.pyx   the file table (FileToIdx / IdxToFile)
 # The data it works on belongs to the core (core.pxd: Core, its Snapshot, FileTable,
 # Callback and LoadedProgram); the runtime owns the commands of the status machine and
@@ -110,6 +111,23 @@ cdef void published_error_release(PublishedError *e) noexcept nogil
 cdef void core_keep_error(Core *core, bint of_calls, const ErrorInfo *err) noexcept nogil
 cdef PublishedError *core_swap_error_locked(Core *core, bint of_calls, PublishedError *e) noexcept nogil
 cdef int32_t core_read_error(Core *core, bint of_calls, CALLBACK_INFO *info) noexcept nogil
+
+# the activities (lifecycle.pyx): the table's row of a command (False: it begins no
+# activity); the command of a StartCNCEx regime (-1: none); an empty job of a command
+# and its release; StartCNCEx; an activity started (takes the job; `what` names the
+# call in errors); the worker's last step (an event of the table; or, when it gave up
+# before it changed anything, back to the status it began in); the calls that end it
+# (DestroyCNC, ResetCNC, ResetStatusCNC: an EndKind)
+cdef bint activity_of(int32_t command, Activity *a) noexcept nogil
+cdef int32_t run_command(int32_t regime) noexcept nogil
+cdef Job *job_new(int32_t command) noexcept nogil
+cdef void job_free(Job *job) noexcept nogil
+cdef int32_t core_start_run(Core *core, int32_t regime, const char *add_code) noexcept nogil
+cdef int32_t core_start(Core *core, Job *job, const char *what) noexcept nogil
+cdef void core_finish(Core *core, int32_t event) noexcept nogil
+cdef void core_finish_to(Core *core, int32_t status) noexcept nogil
+cdef int32_t core_end(Core *core, int32_t kind, const char *what, uint32_t n_coords,
+                      const double *coords) noexcept nogil
 
 # the file table: FileToIdx, IdxToFile
 cdef int32_t core_file_to_idx(Core *core, const char *name) noexcept nogil
