@@ -749,6 +749,21 @@ TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_SetTimeScale(uint32_t int
 #define TC_MFUNC_LATER 2
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_ConfirmMFunc(uint32_t intIdx);
 
+/* Test-only: never call it from a host. The offline machine's stepped clock, for tests
+ * that step the machine instead of sleeping. With key TC_TEST_CLOCK_KEY:
+ *   seconds > 0: the core's machine runs on a clock that only this function advances
+ *     (from now on, also in later runs: the wall clock and the time scale no longer move
+ *     it), and the run that moves -- or is starting -- runs `seconds` of machine time in
+ *     100 us steps. Returns once they have run (or the machine halted, stands at an M
+ *     function that waits for a confirmation, or nothing moves), GetPos shows them and
+ *     every driver callback they caused has returned.
+ *   seconds == 0: the stepped clock on, nothing run.   seconds < 0: the wall clock again.
+ * Any other key: -1 and nothing changes, so no host switches it on by accident.
+ * Returns 0; -1 for another key, NaN, or a call from a library thread (a callback of a
+ * running activity: it would wait for its own thread); -2 bad core. */
+#define TC_TEST_CLOCK_KEY 0x4B434F4C43545354ULL   /* "TSTCLOCK" */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_TestClock(uint32_t intIdx, uint64_t key, double seconds);
+
 /*
  * Log hook (extension)
  */

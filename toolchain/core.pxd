@@ -82,7 +82,7 @@ ctypedef struct Core:
     int32_t index
     int32_t status              # cnc_status, atomic
     int32_t cancel              # atomic: the activity must end now (reset, destroy)
-    int32_t stop                # atomic: StopCNCEx during a run
+    int32_t stop                # atomic: StopCNCEx calls during the activity (0: none)
     pthread_mutex_t lock
     pthread_cond_t changed      # a worker was joined, a callback call ended
     # the activity
@@ -117,10 +117,15 @@ ctypedef struct Core:
     uint32_t n_pending
     void *offline               # the offline machine (machine/machine.pyx Machine), made on first run
     double time_scale           # atomic (TC_ATOMIC_*_D): the offline machine runs this many times real time
+    int32_t clock_stepped       # atomic: the offline machine runs on the test-only stepped clock (machine/clock.pyx)
     double rel_feed             # atomic (TC_ATOMIC_*_D)
     uint32_t breakpoint_line
     int32_t breakpoint_file
     Snapshot snap
+    char *stop_code             # StopCNCEx's addCode, sent once the run stands (lock; owned)
+    # the M-function handshake (runtime/session.pyx)
+    int32_t m_waiting           # the M function DriverMFunc answered TC_MFUNC_LATER for (M0: -1), 0 none (lock)
+    int32_t m_answered          # atomic: the waiting M function of the running activity was answered
 
 
 # An activity's job: what its worker gets from the call that began it (the worker

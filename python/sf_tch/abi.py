@@ -386,13 +386,19 @@ FUNCTIONS = (
     ("ToolChain_SetLogHook", c_int32, (c_ssize_t, c_void_p)),
     ("ToolChainCore_SetTimeScale", c_int32, (c_uint32, c_double)),
     ("ToolChainCore_ConfirmMFunc", c_int32, (c_uint32,)),
+    ("ToolChainCore_TestClock", c_int32, (c_uint32, ctypes.c_uint64, c_double)),
 )
 
 
 # Beyond the vendor's list (docs/api.md, "Extensions"): the structures and functions this library adds.
 EXTENSION_STRUCTURES = ("TC_TOOLPATH_RECORD",)
 EXTENSION_FUNCTIONS = ("ToolChainCore_GetLastCallError", "ToolChainCore_GetToolpath", "ToolChainCore_SetLookAhead",
-                       "ToolChain_SetLogHook", "ToolChainCore_SetTimeScale", "ToolChainCore_ConfirmMFunc")
+                       "ToolChain_SetLogHook", "ToolChainCore_SetTimeScale", "ToolChainCore_ConfirmMFunc",
+                       "ToolChainCore_TestClock")
+# DriverMFunc's answer "the host confirms later" (ToolChainCore_ConfirmMFunc)
+TC_MFUNC_LATER = 2
+# ToolChainCore_TestClock's key: the test-only stepped clock of the offline machine
+TC_TEST_CLOCK_KEY = 0x4B434F4C43545354
 
 
 # Readable repr() and to_dict() of every structure (added to the classes above,

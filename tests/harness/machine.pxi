@@ -135,6 +135,7 @@ def run(int core_idx, int regime, double stop_at=-1.0, overrides=(), double max_
             motion_stop(mo)
         if n_steps % feed_every == 0:
             _feed(&f)
+        _take_answer(core, mo)
         events = motion_step(mo, dt)
         motion_locate(mo)               # the pacer does it once per tick; here after every step
         n_steps += 1

@@ -1,10 +1,11 @@
 # ConnectCNCEx_Plane: the offline machine goes back onto its trajectory. One
 # activity of the core: status 40 while the place is searched (connect_search.pyx,
 # the ConnectPointCalc callbacks 1004-1006), 41 while the machine moves there in a
-# straight line at motion[5] (the axes of axesForConnect), then -31 on the trajectory
-# (stateAfter 2: -50), or, for the types that continue (10 11 12 40 41 42 44), on into
-# a forward run from there (status 30). The search failing leaves the status where it
-# was, the error in GetLastError.
+# straight line at motion[5] (the axes of axesForConnect), 90 while addCode's M
+# functions are sent there (one answered TC_MFUNC_LATER holds it until confirmed),
+# then -31 on the trajectory (stateAfter 2: -50), or, for the types that continue
+# (10 11 12 40 41 42 44), on into a forward run from there (status 30). The search
+# failing leaves the status where it was, the error in GetLastError.
 
 cdef inline bint _connect_continues(uint32_t n_type) noexcept nogil:
     return n_type in (10, 11, 12, 40, 41, 42, 44)
@@ -108,7 +109,7 @@ cdef void *connect_body(void *arg) noexcept nogil:
     cdef Callback cb
     cdef double point[10]
     cdef uint32_t moving, k
-    cdef int32_t finish = EV_STOPPED, restore = TC_KEEP
+    cdef int32_t finish = EV_STOPPED, end_status = TC_KEEP
     cdef int rc
     if m != NULL and err != NULL:
         memcpy(point, m.motion.position, sizeof(point))     # 31 / 44: nearest to where it stands
@@ -121,7 +122,7 @@ cdef void *connect_body(void *arg) noexcept nogil:
         if rc != CONNECT_FOUND:
             core_keep_error(core, False, err)
             core_report_error(core, err)
-            restore = job.status_before
+            end_status = job.status_before
         elif not TC_ATOMIC_LOAD(&core.cancel):
             _connect_end_callback(core, m, &hit)
             # the straight way there: the axes of axesForConnect (0: the first nCoords)
@@ -138,17 +139,19 @@ cdef void *connect_body(void *arg) noexcept nogil:
                 pthread_mutex_lock(&core.lock)
                 _connect_place(m, &hit)
                 pthread_mutex_unlock(&core.lock)
-                send_add_code(core, job.add_code, m.motion.position)
-                if job.state_after == 2:
-                    finish = EV_STOPPED         # reported out of the trajectory (-50)
+                session_open(&m.session, core, RUN_FORWARD, True)
+                if not session_add_code(&m.session, job.add_code, m.motion.position, CNC_STATUS_SENDING_CONNECT_M, False):
+                    finish = EV_STOPPED         # stopped while they were sent: on the trajectory (-31)
+                elif job.state_after == 2:
+                    end_status = CNC_STATUS_OUT_OF_TRAJECTORY      # reported out of the trajectory
                 elif _connect_continues(job.n_type) and not TC_ATOMIC_LOAD(&core.cancel):
                     core_set_status(core, CNC_STATUS_FORWARD)
                     finish = machine_program_run(core, m, &f, RUN_FORWARD, NULL)
     free(err)
     free(f.params)
     job_free(&job.head)
-    if restore != TC_KEEP:
-        core_finish_to(core, restore)
+    if end_status != TC_KEEP:
+        core_finish_to(core, end_status)
     else:
         core_finish(core, finish)
     return NULL

@@ -104,6 +104,22 @@ cdef int32_t core_start_run(Core *core, int32_t regime, const char *add_code) no
     return core_start(core, &job.head, "StartCNCEx")
 
 
+cdef int32_t core_stop(Core *core, const char *add_code) noexcept nogil:
+    """StopCNCEx: asks the running activity to stop (it ends at EV_STOPPED); the run
+    sends `add_code`'s M functions once it stands (session.pyx). A stop also answers
+    an M function that waits for a confirmation."""
+    cdef int32_t status = core_status(core)
+    if status_after(status, CMD_STOP, False) == TC_REFUSED:
+        return core_refuse(core, "StopCNCEx", status)
+    if add_code != NULL and add_code[0] != 0:
+        session_keep_stop_code(core, add_code)
+    pthread_mutex_lock(&core.lock)
+    TC_ATOMIC_STORE(&core.stop, TC_ATOMIC_LOAD(&core.stop) + 1)     # the count tells a new stop
+    pthread_cond_broadcast(&core.changed)          # a worker waiting for a confirmation
+    pthread_mutex_unlock(&core.lock)
+    return TOOL_CHAIN_SUCCESS
+
+
 cdef inline bint _on_worker_thread() noexcept nogil:
     """True inside a callback of any core's running activity (a library thread)."""
     return tc_worker_core != NULL
@@ -153,6 +169,7 @@ cdef int32_t core_start(Core *core, Job *job, const char *what) noexcept nogil:
     TC_ATOMIC_STORE(&core.cancel, 0)
     TC_ATOMIC_STORE(&core.stop, 0)
     core.deferred_end = END_NONE
+    session_forget_locked(core)
     old_error = core_swap_error_locked(core, False, NULL)
     core_set_status(core, after)
     job.core = core
@@ -181,6 +198,7 @@ cdef bint _join_locked(Core *core, uint64_t activity) noexcept nogil:
         core.joining = True
         worker = core.worker
         TC_ATOMIC_STORE(&core.cancel, 1)
+        pthread_cond_broadcast(&core.changed)      # a worker waiting for a confirmation
         pthread_mutex_unlock(&core.lock)
         pthread_join(worker, NULL)
         pthread_mutex_lock(&core.lock)
@@ -279,6 +297,7 @@ cdef int32_t core_end(Core *core, int32_t kind, const char *what, uint32_t n_coo
         if kind == END_DESTROY or core.deferred_end == END_NONE:
             core.deferred_end = kind
         TC_ATOMIC_STORE(&core.cancel, 1)
+        pthread_cond_broadcast(&core.changed)
         pthread_mutex_unlock(&core.lock)
         return TOOL_CHAIN_SUCCESS
     if _join_locked(core, core.activity):
@@ -309,6 +328,7 @@ cdef void _finish(Core *core, int32_t event, int32_t status) noexcept nogil:
     pthread_mutex_lock(&core.lock)
     kind = core.deferred_end
     core.deferred_end = END_NONE
+    session_forget_locked(core)
     core.compile_files[0] = core.compile_files[1] = core.compile_files[2] = -1
     if kind != END_NONE:
         dropped = _apply_end_locked(core, kind)
