@@ -1196,6 +1196,38 @@ def test_GoToPosition_with_no_coordinates_moves_nothing(api):
     assert xyz(get_pos(lib, 0)[0]) == (3.0, 4.0, 0.0)
 
 
+@pytest.mark.parametrize("case", ["distance", "arc_centre", "feed"])
+def test_manual_moves_whose_path_is_not_finite_are_refused(api, case):
+    """goto_nonfinite_position.py: finite arguments whose path overflows -- +1e308 from
+    -1e308 (the distance), an arc round (5, 1e300) (its points), a line at feed 1e300
+    (its speed squared) -- left NaN or infinite positions. Refused: -1, error 24 naming
+    the call, nothing moves; the position stays finite and the next move runs."""
+    lib = api
+    start_x = -1e308 if case == "distance" else 0.0
+    assert lib.ToolChainCore_ResetCNC(0, 0, 1, (ctypes.c_double * 1)(start_x)) == 0
+    before = lib.ToolChainCore_StatusCNC(0)
+    if case == "distance":
+        rc = lib.ToolChainCore_GoToPosition(0, 1, (ctypes.c_double * 1)(1e308))
+    else:
+        dest = abi.SIMPLE_GM_PARAMS()
+        dest.m_func, dest.m_planeTool = (2, 17) if case == "arc_centre" else (1, 17)
+        dest.m_calcE.x = 10.0 if case == "arc_centre" else 1e300
+        if case == "arc_centre":
+            dest.m_cc.x, dest.m_cc.y = 5.0, 1e300
+        else:
+            dest.m_cc.a = 1e300
+        rc = lib.ToolChainCore_GoToPositionEx(0, ctypes.byref(dest))
+    assert rc == -1 and lib.ToolChainCore_StatusCNC(0) == before
+    info = abi.CALLBACK_INFO()
+    assert lib.ToolChainCore_GetLastCallError(0, ctypes.byref(info)) == 1
+    assert info.stringId == 24 and info.m_fullError.startswith(b"GoToPosition: the move's path is not finite")
+    assert xyz(get_pos(lib, 0)[0]) == (start_x, 0.0, 0.0)
+    assert lib.ToolChainCore_ResetCNC(0, 0, 10, (ctypes.c_double * 10)()) == 0
+    assert lib.ToolChainCore_GoToPosition(0, 3, (ctypes.c_double * 3)(1.0, 2.0, 3.0)) == 0
+    assert poll_run(lib, 0, running=(50,))[1] == -50
+    assert xyz(get_pos(lib, 0)[0]) == pytest.approx((1.0, 2.0, 3.0), abs=1e-12)
+
+
 def test_GoToPosition_run_time_is_the_moves_own_after_DestroyCNC(api):
     """After a run and DestroyCNC, a manual line of 30 mm at 20 mm/s (500 mm/s^2):
     GetPos shows its own time, 1.5 s + 0.04 s, not the run's before it."""

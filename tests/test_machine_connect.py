@@ -244,3 +244,43 @@ def test_connect_point_callbacks(square):
     assert [c[1] for c in calls if c[0] == "part"] == [1, 2, 3, 5, 6]     # every motion part, in order
     assert calls[-1] == ("end", 5, 50.0, 100.0)
     assert position(lib) == pytest.approx((49.0, 100.0), abs=1e-9)
+
+
+@pytest.mark.parametrize("where, value", [("end", float("inf")), ("end", float("nan")), ("part", float("nan")),
+                                          ("part_distance", float("nan"))])
+def test_a_point_that_is_not_finite_from_the_callbacks_fails_the_connection(square, where, value):
+    """connect_callback_nonfinite.py: an infinite point from ConnectPointCalcEnd sent the
+    machine towards infinity (status 41 for ever, x NaN); a NaN one gave -31 while the
+    machine stood 5 mm from its place, and the next run jumped there. A point or
+    distance that is not finite fails the connection: error 706 naming the callback,
+    the status where it was (-50), the machine where it stood; no NaN in GetPos."""
+    lib = square
+
+    @abi.ConnectPointCalc
+    def on_part(user, part, sq_distance, point):
+        if where == "part":
+            point.contents.x = value
+        else:
+            sq_distance[0] = value
+        return 1
+
+    @abi.ConnectPointCalcEnd
+    def on_end(user, part, point):
+        point.contents.x = value
+        return 1
+
+    number, fn = ((abi.CB_CONNECT_POINT_CALC_END, on_end) if where == "end" else (abi.CB_CONNECT_POINT_CALC, on_part))
+    assert lib.ToolChainCore_SetCallBack(CORE, number, 0, ctypes.cast(fn, ctypes.c_void_p)) == 0
+    go_off(lib, 50.0, 7.0)
+    assert lib.ToolChainCore_ConnectCNCEx_Plane(CORE, 0, 2, doubles(50.0, 7.0), None, 0, 0, 0) == 0
+    assert follow(lib)[-1] == -50
+    info = abi.CALLBACK_INFO()
+    assert lib.ToolChainCore_GetLastError(CORE, ctypes.byref(info)) == 1
+    callback = b"ConnectPointCalcEnd" if where == "end" else b"ConnectPointCalc "
+    assert info.stringId == 706 and callback in info.m_fullError, info.m_fullError
+    assert position(lib) == pytest.approx((50.0, 7.0), abs=1e-9)
+    assert lib.ToolChainCore_SetCallBack(CORE, number, 0, None) == 0
+    # the next connection, without the callback, goes to the nearest point
+    assert lib.ToolChainCore_ConnectCNCEx_Plane(CORE, 0, 2, doubles(50.0, 7.0), None, 0, 0, 0) == 0
+    assert follow(lib)[-1] == -31
+    assert position(lib) == pytest.approx((50.0, 0.0), abs=1e-9)

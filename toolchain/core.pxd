@@ -168,8 +168,8 @@ ctypedef struct Activity:       # a row of the lifecycle's table
     void *(*body)(void *) noexcept nogil            # the worker, given its Job
     size_t job_size             # sizeof its job type
     bint needs_program          # refused (ERR_NOTHING_COMPILED) without a compiled program
-    int32_t (*prepare)(Core *core, Job *job) noexcept nogil     # under core.lock before the
-                                # worker starts (NULL: nothing): 0, or the error refusing it
+    bint (*prepare)(Core *core, Job *job, ErrorInfo *err) noexcept nogil    # under core.lock before
+                                # the worker starts (NULL: nothing); False refuses it (err set)
 
 
 # ---- what other stages call
@@ -194,7 +194,7 @@ cdef void core_fail_with(Core *core, const ErrorInfo *err) noexcept nogil
 cdef int32_t core_refuse(Core *core, const char *what, int32_t status) noexcept nogil
 # CompileFromFile (text NULL: the worker reads the file `name`) and CompileFromMemory;
 # the lifecycle's row of a compilation (runtime/lifecycle.pyx): its worker, and what is
-# made ready under core.lock before it starts (a CompileJob; 0, or an error number)
+# made ready under core.lock before it starts (a CompileJob)
 cdef int32_t core_start_compile(Core *core, const char *name, char *text, size_t length) noexcept nogil
 cdef void *compile_body(void *arg) noexcept nogil
-cdef int32_t compile_prepare(Core *core, Job *job) noexcept nogil
+cdef bint compile_prepare(Core *core, Job *job, ErrorInfo *err) noexcept nogil

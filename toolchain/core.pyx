@@ -245,11 +245,11 @@ cdef void *compile_body(void *arg) noexcept nogil:
     return NULL
 
 
-cdef int32_t compile_prepare(Core *core, Job *job) noexcept nogil:
+cdef bint compile_prepare(Core *core, Job *job, ErrorInfo *err) noexcept nogil:
     """With core.lock held before the worker starts: the file table entries the
     compilation uses are not recycled while it runs."""
     memcpy(core.compile_files, (<CompileJob *>job).files, sizeof(core.compile_files))
-    return 0
+    return True
 
 
 cdef int32_t core_start_compile(Core *core, const char *name, char *text, size_t length) noexcept nogil:

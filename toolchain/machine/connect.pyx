@@ -12,16 +12,22 @@ cdef inline bint _connect_continues(uint32_t n_type) noexcept nogil:
 
 
 cdef bint _part_calc(void *ctx, size_t part, double *d2, double *point) noexcept nogil:
-    """ConnectPointCalc (1005) for one part's candidate: 1 = use its changed values."""
+    """ConnectPointCalc (1005) for one part's candidate: 1 = use its changed values
+    (refused, and the connection with them, when they are not finite)."""
     cdef PartCalc *pc = <PartCalc *>ctx
     cdef SIMPLE_GM_PARAMS gm
     cdef P10DOUBLE changed
+    cdef double changed_d2 = d2[0]
     placed_part_to_gm(&pc.m.program.prog, part, &pc.m.placement, &gm)
     memcpy(&changed, point, sizeof(changed))
-    if (<TC_ConnectPointCalc>pc.cb.fn)(pc.cb.user, &gm, d2, &changed) == 1:
-        memcpy(point, &changed, sizeof(changed))
-        return True
-    return False
+    if (<TC_ConnectPointCalc>pc.cb.fn)(pc.cb.user, &gm, &changed_d2, &changed) != 1:
+        return False
+    if not (isfinite(changed_d2) and coordinates_finite(<const double *>&changed, 10)):
+        pc.not_finite = True
+        return False
+    d2[0] = changed_d2
+    memcpy(point, &changed, sizeof(changed))
+    return True
 
 
 cdef int _connect_search(Core *core, Machine *m, const GCODE_PARAMETERS *params, const ConnectJob *job,
@@ -38,10 +44,14 @@ cdef int _connect_search(Core *core, Machine *m, const GCODE_PARAMETERS *params,
     if t == 0 or t == 10 or t == 40:
         pc.core = core
         pc.m = m
+        pc.not_finite = False
         if callback_enter(core, SLOT_CONNECT_POINT_CALC, &pc.cb):
             rc = connect_nearest_each(prog, pl, job.axes_calc, point, params.maxConnectionDistance,
                                       0, prog.n_parts, _part_calc, &pc, hit, err)
             callback_leave(core, SLOT_CONNECT_POINT_CALC)
+            if pc.not_finite:
+                set_error_text(err, ERR_CONNECT_NOT_FINITE, -1, 0, "ConnectPointCalc")
+                return CONNECT_BAD_ARGUMENT
             return rc
         rc = connect_index_build(&ix, prog, pl, job.axes_calc, err)
         if rc == CONNECT_FOUND:
@@ -66,18 +76,25 @@ cdef int _connect_search(Core *core, Machine *m, const GCODE_PARAMETERS *params,
     return connect_bad_argument(err, "nType", t, "no such connect type")
 
 
-cdef void _connect_end_callback(Core *core, Machine *m, ConnectHit *hit) noexcept nogil:
-    """ConnectPointCalcEnd (1006) with the part found: 1 = use the changed point."""
+cdef bint _connect_end_callback(Core *core, Machine *m, ConnectHit *hit, ErrorInfo *err) noexcept nogil:
+    """ConnectPointCalcEnd (1006) with the part found: 1 = use the changed point.
+    False (err set) when that point is not finite."""
     cdef Callback cb
     cdef SIMPLE_GM_PARAMS gm
     cdef P10DOUBLE point
+    cdef bint finite = True
     if not callback_enter(core, SLOT_CONNECT_POINT_CALC_END, &cb):
-        return
+        return True
     placed_part_to_gm(&m.program.prog, hit.part, &m.placement, &gm)
     memcpy(&point, hit.point, sizeof(point))
     if (<TC_ConnectPointCalcEnd>cb.fn)(cb.user, &gm, &point) == 1:
-        memcpy(hit.point, &point, sizeof(point))
+        finite = coordinates_finite(<const double *>&point, 10)
+        if finite:
+            memcpy(hit.point, &point, sizeof(point))
+        else:
+            set_error_text(err, ERR_CONNECT_NOT_FINITE, -1, 0, "ConnectPointCalcEnd")
     callback_leave(core, SLOT_CONNECT_POINT_CALC_END)
+    return finite
 
 
 cdef void _connect_place(Machine *m, const ConnectHit *hit) noexcept nogil:
@@ -109,6 +126,7 @@ cdef void *connect_body(void *arg) noexcept nogil:
     cdef Callback cb
     cdef double point[10]
     cdef uint32_t moving, k
+    cdef ErrArg args[2]
     cdef int32_t finish = EV_STOPPED, end_status = TC_KEEP
     cdef int rc
     if m != NULL and err != NULL:
@@ -119,12 +137,9 @@ cdef void *connect_body(void *arg) noexcept nogil:
             (<TC_ConnectPointCalcStart>cb.fn)(cb.user, job.n_type, job.n_coords, job.coords, job.axes_calc)
             callback_leave(core, SLOT_CONNECT_POINT_CALC_START)
         rc = _connect_search(core, m, f.params, job, point, &hit, err)
-        if rc != CONNECT_FOUND:
-            core_keep_error(core, False, err)
-            core_report_error(core, err)
-            end_status = job.status_before
-        elif not TC_ATOMIC_LOAD(&core.cancel):
-            _connect_end_callback(core, m, &hit)
+        if rc == CONNECT_FOUND and not TC_ATOMIC_LOAD(&core.cancel):
+            if not _connect_end_callback(core, m, &hit, err):
+                rc = CONNECT_BAD_ARGUMENT
             # the straight way there: the axes of axesForConnect (0: the first nCoords)
             moving = job.axes_connect if job.axes_connect != 0 else (1u << min(job.n_coords, 10)) - 1
             memset(&dest, 0, sizeof(dest))
@@ -133,6 +148,16 @@ cdef void *connect_body(void *arg) noexcept nogil:
             for k in range(10):
                 if (moving >> k) & 1:
                     (<double *>&dest.m_calcE)[k] = hit.point[k]
+            args[1].text = manual_path_not_finite(m.motion.position, &dest, 10, f.params) if rc == CONNECT_FOUND else NULL
+            if args[1].text != NULL:
+                args[0].text = "ConnectCNCEx_Plane"
+                set_error(err, ERR_PATH_NOT_FINITE, -1, 0, args, 2)
+                rc = CONNECT_BAD_ARGUMENT
+        if rc != CONNECT_FOUND:
+            core_keep_error(core, False, err)
+            core_report_error(core, err)
+            end_status = job.status_before
+        elif not TC_ATOMIC_LOAD(&core.cancel):
             core_set_status(core, CNC_STATUS_CONNECT_MOVING)
             finish = machine_manual_move(core, m, &f, &dest, 10)
             if finish == EV_DONE:

@@ -222,6 +222,7 @@ ctypedef struct PartCalc:          # what the ConnectPointCalc hook needs
     Core *core
     Machine *m
     Callback cb
+    bint not_finite             # the host gave a point or distance that is not finite
 
 
 # ---- what other stages call
@@ -231,17 +232,20 @@ cdef inline bint machine_moving(int32_t status) noexcept nogil:
             or status == CNC_STATUS_CONNECT_MOVING or status == CNC_STATUS_MANUAL_MOVE)
 
 
-# the lifecycle, with core.lock held: the core's machine made ready for an activity (0,
-# or ERR_OUT_OF_MEMORY); its place on the program dropped (ResetCNC, a new program,
+# the lifecycle, with core.lock held: the core's machine made ready for an activity
+# (False: refused, err set); its place on the program dropped (ResetCNC, a new program,
 # DestroyCNC). The workers of its table: a run (RunJob), a manual move (GotoJob), a
 # connection (ConnectJob)
-cdef int32_t machine_prepare(Core *core, Job *job) noexcept nogil
+cdef bint machine_prepare(Core *core, Job *job, ErrorInfo *err) noexcept nogil
 cdef void machine_forget(Core *core) noexcept nogil
 cdef void *machine_run_body(void *arg) noexcept nogil
 cdef void *machine_goto_body(void *arg) noexcept nogil
 cdef void *connect_body(void *arg) noexcept nogil
 # the exports: GoToPosition(Ex), ConnectCNCEx_Plane, ToolChainCore_TestClock (test-only)
 cdef int32_t core_goto(Core *core, const SIMPLE_GM_PARAMS *dest, uint32_t n_dest, const double *coords) noexcept nogil
+# the connection: why its straight way from `start` cannot run in finite numbers (NULL: it can)
+cdef const char *manual_path_not_finite(const double *start, const SIMPLE_GM_PARAMS *dest, uint32_t n_dest,
+                                        const GCODE_PARAMETERS *params) noexcept nogil
 cdef int32_t machine_test_clock(Core *core, uint64_t key, double seconds) noexcept nogil
 cdef int32_t core_connect(Core *core, uint32_t n_type, uint32_t n_coords, const double *coords,
                           const char *add_code, uint32_t axes_calc, uint32_t axes_connect,

@@ -14,7 +14,7 @@
 # ran, for backward) outlives the run, so the next StartCNCEx continues there.
 from libc.stdlib cimport malloc, calloc, free
 from libc.string cimport memset, memcpy, memmove, strdup
-from libc.math cimport fabs
+from libc.math cimport fabs, isfinite
 
 
 cdef Machine *machine_of(Core *core) noexcept nogil:
@@ -672,21 +672,18 @@ cdef int32_t _pace(Core *core, Machine *m, Feeder *f) noexcept nogil:
     return _finish_event(m, f.regime)
 
 
-cdef void _manual_entry(Motion *mo, const SIMPLE_GM_PARAMS *dest, uint32_t n_dest,
-                        const GCODE_PARAMETERS *params) noexcept nogil:
-    """The one entry of a manual move from where the machine stands: a line to the
-    first n_dest axes of dest.m_calcE (the others stay), or an arc round dest.m_cc in
-    the plane of m_planeTool's low 16 bits; the feed of m_cc.a, else motion[5]'s."""
-    cdef Entry *e = &mo.ring[0]
-    cdef SIMPLE_GM_PARAMS gm
+cdef void _manual_gm(const double *start, const SIMPLE_GM_PARAMS *dest, uint32_t n_dest,
+                     SIMPLE_GM_PARAMS *gm) noexcept nogil:
+    """The path of a manual move from `start`: a line to the first n_dest axes of
+    dest.m_calcE (the others stay), or an arc round dest.m_cc in the plane of
+    m_planeTool's low 16 bits."""
     cdef double *end = <double *>&gm.m_calcE
     cdef const double *centre = <const double *>&dest.m_cc
     cdef int first, second, normal
     cdef int16_t plane = <int16_t>(dest.m_planeTool & 0xFFFF)
-    cdef double feed
-    memset(&gm, 0, sizeof(gm))
-    memcpy(&gm.m_calcS, mo.position, sizeof(P10DOUBLE))
-    memcpy(end, mo.position, sizeof(P10DOUBLE))
+    memset(gm, 0, sizeof(SIMPLE_GM_PARAMS))
+    memcpy(&gm.m_calcS, start, sizeof(P10DOUBLE))
+    memcpy(end, start, sizeof(P10DOUBLE))
     memcpy(end, &dest.m_calcE, n_dest * sizeof(double))
     gm.m_func = dest.m_func
     if dest.m_func == 2 or dest.m_func == 3:
@@ -695,7 +692,44 @@ cdef void _manual_entry(Motion *mo, const SIMPLE_GM_PARAMS *dest, uint32_t n_des
         gm.m_planeTool = plane
         gm.m_cc = dest.m_cc
         if plane_axes(plane, &first, &second, &normal):
-            gm.m_cc.c = distance2d(mo.position[first] - centre[first], mo.position[second] - centre[second])
+            gm.m_cc.c = distance2d(start[first] - centre[first], start[second] - centre[second])
+
+
+cdef inline double _manual_feed(const SIMPLE_GM_PARAMS *dest, const GCODE_PARAMETERS *params) noexcept nogil:
+    """mm/min: m_cc.a when not 0, else motion[5]'s."""
+    return dest.m_cc.a if dest.m_cc.a > 0.0 else params.motion[5].feed
+
+
+cdef const char *manual_path_not_finite(const double *start, const SIMPLE_GM_PARAMS *dest, uint32_t n_dest,
+                                        const GCODE_PARAMETERS *params) noexcept nogil:
+    """Why a manual move from `start` cannot run in finite numbers (NULL: it can): its
+    length, its points (an arc's centre far away), or its feed (squared by the ramps)."""
+    cdef SIMPLE_GM_PARAMS gm
+    cdef Segment seg
+    cdef double point[10]
+    cdef double v = _manual_feed(dest, params) / 60.0
+    cdef int k
+    _manual_gm(start, dest, n_dest, &gm)
+    segment_of_gm(&gm, &seg)
+    if not isfinite(seg.length) or not coordinates_finite(<const double *>&gm.m_cc, 10):
+        return "its length"
+    for k in range(9):
+        segment_point_at(&seg, seg.length * k / 8.0, point)
+        if not coordinates_finite(point, 10):
+            return "its points"
+    if not isfinite(v * v) or (v > 0.0 and not isfinite(seg.length / v)):
+        return "its feed"
+    return NULL
+
+
+cdef void _manual_entry(Motion *mo, const SIMPLE_GM_PARAMS *dest, uint32_t n_dest,
+                        const GCODE_PARAMETERS *params) noexcept nogil:
+    """The one entry of a manual move from where the machine stands (_manual_gm) at
+    the feed of m_cc.a, else motion[5]'s."""
+    cdef Entry *e = &mo.ring[0]
+    cdef SIMPLE_GM_PARAMS gm
+    cdef double feed
+    _manual_gm(mo.position, dest, n_dest, &gm)
     memset(e, 0, sizeof(Entry))
     e.part = <size_t>PART_NONE
     e.kind = PART_MOTION
@@ -704,7 +738,7 @@ cdef void _manual_entry(Motion *mo, const SIMPLE_GM_PARAMS *dest, uint32_t n_des
     segment_of_gm(&gm, &e.seg)
     e.s_from = 0.0
     e.s_to = e.seg.length
-    feed = dest.m_cc.a if dest.m_cc.a > 0.0 else params.motion[5].feed
+    feed = _manual_feed(dest, params)
     e.vmax = feed / 60.0 if feed > 0.0 else 1.0 / 60.0
     e.feed = feed
     e.acc = e.dec = 1e12
@@ -725,17 +759,27 @@ cdef int32_t core_goto(Core *core, const SIMPLE_GM_PARAMS *dest, uint32_t n_dest
     return core_start(core, &job.head, "GoToPosition")
 
 
-cdef int32_t machine_prepare(Core *core, Job *job) noexcept nogil:
+cdef bint machine_prepare(Core *core, Job *job, ErrorInfo *err) noexcept nogil:
     """The lifecycle's preparation of the machine's activities, with core.lock held
     before the worker starts: the machine exists and its place refers to the core's
-    program (a new program: its start). 0, or ERR_OUT_OF_MEMORY."""
+    program (a new program: its start); a manual move's path is finite from where the
+    machine stands. False (err set) refuses the activity."""
     cdef Machine *m = machine_of(core)
+    cdef GotoJob *go = <GotoJob *>job
+    cdef ErrArg args[2]
     if m == NULL:
-        return ERR_OUT_OF_MEMORY
+        set_error(err, ERR_OUT_OF_MEMORY, -1, 0, NULL, 0)
+        return False
+    if job.command == CMD_GOTO:
+        args[1].text = manual_path_not_finite(core.position, &go.dest, go.n_dest, &core.params)
+        if args[1].text != NULL:
+            args[0].text = "GoToPosition"
+            set_error(err, ERR_PATH_NOT_FINITE, -1, 0, args, 2)
+            return False
     if m.program != core.program:
         machine_forget(core)
         m.program = loaded_program_ref(core.program)
     if m.program != NULL and m.part == 0 and m.part_s == 0.0 and m.n_history == 0:
         placement_init(&m.placement, &m.program.prog, core.position)    # a run from the start
     memcpy(m.motion.position, core.position, sizeof(core.position))
-    return 0
+    return True

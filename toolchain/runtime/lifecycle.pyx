@@ -136,6 +136,7 @@ cdef int32_t core_start(Core *core, Job *job, const char *what) noexcept nogil:
     cdef int32_t status, after, err = 0
     cdef int32_t command = job.command
     cdef PublishedError *old_error
+    cdef ErrorInfo *refusal
     cdef Activity a
     activity_of(command, &a)
     if tc_worker_core == <void *>core:
@@ -160,11 +161,15 @@ cdef int32_t core_start(Core *core, Job *job, const char *what) noexcept nogil:
             return core_fail(core, err, NULL)
         return core_refuse(core, what, status)
     if a.prepare != NULL:
-        err = a.prepare(core, job)
-        if err != 0:
+        refusal = <ErrorInfo *>calloc(1, sizeof(ErrorInfo))
+        if refusal == NULL or not a.prepare(core, job, refusal):
             pthread_mutex_unlock(&core.lock)
             job_free(job)
-            return core_fail(core, err, NULL)
+            if refusal != NULL:
+                core_fail_with(core, refusal)
+            free(refusal)
+            return TOOL_CHAIN_ERROR
+        free(refusal)
     core.activity += 1
     TC_ATOMIC_STORE(&core.cancel, 0)
     TC_ATOMIC_STORE(&core.stop, 0)
