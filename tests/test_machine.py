@@ -897,7 +897,7 @@ def test_a_confirmation_racing_the_next_start_confirms_nothing_of_it(api):
     and the move runs as a move."""
     lib = api
     compile_on(lib, 0, "G1 X10 F6000\nM7\nG1 X20\n")
-    Driver(lib, 0, m_answer=lambda m: MFUNC_LATER)
+    driver = Driver(lib, 0, m_answer=lambda m: MFUNC_LATER)     # kept: its thunks must live
     for i in range(20):
         assert lib.ToolChainCore_ResetCNC(0, 0, 10, (ctypes.c_double * 10)()) == 0
         start(lib, 0)

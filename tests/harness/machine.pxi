@@ -109,9 +109,13 @@ def run(int core_idx, int regime, double stop_at=-1.0, overrides=(), double max_
     cdef Entry *e
     cdef list steps = [], entries = []
     cdef list pending = sorted(overrides)
+    cdef Job job
+    cdef ErrorInfo refusal
     memset(&f, 0, sizeof(f))
+    memset(&job, 0, sizeof(job))
+    job.command = CMD_FORWARD
     pthread_mutex_lock(&core.lock)
-    if core.program == NULL or machine_prepare(core, NULL) != 0:
+    if core.program == NULL or not machine_prepare(core, &job, &refusal):
         pthread_mutex_unlock(&core.lock)
         raise RuntimeError("nothing compiled")
     m = <Machine *>core.offline
