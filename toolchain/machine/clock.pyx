@@ -56,13 +56,14 @@ cdef double clock_take(Core *core, Machine *m, double *last) noexcept nogil:
     return steps * (STEP_US * 1e-6) + 1e-9 if steps > 0 else 0.0
 
 
-cdef void clock_pause(Core *core, Machine *m, double *budget) noexcept nogil:
-    """Between two ticks of the pacer, `budget` the machine time it has left. The
-    wall clock: a millisecond's sleep (the budget carries over). The stepped clock:
-    when the pacer ran what it was granted (less than a step left; also when it
-    stands at a waiting M function, which drops its budget) the stepper is told and
-    the pacer waits for the next grant (a millisecond at most: a stop, an end or a
-    confirmation may come meanwhile); otherwise it waits a moment for the feeder or
+cdef void clock_pause(Core *core, Machine *m, double *budget, bint handed_over) noexcept nogil:
+    """Between two ticks of the pacer, `budget` the machine time it has left,
+    `handed_over`: the notifier has all its step's log. The wall clock: a
+    millisecond's sleep (the budget carries over). The stepped clock: when the pacer
+    ran what it was granted (less than a step left; also when it stands at a waiting
+    M function, which drops its budget) and handed it all over, the stepper is told
+    and the pacer waits for the next grant (a millisecond at most: a stop, an end or
+    a confirmation may come meanwhile); otherwise it waits a moment for the feeder or
     the notifier."""
     cdef timespec nap
     nap.tv_sec = 0
@@ -70,7 +71,7 @@ cdef void clock_pause(Core *core, Machine *m, double *budget) noexcept nogil:
         nap.tv_nsec = 1000000
         nanosleep(&nap, NULL)
         return
-    if budget[0] >= STEP_US * 1e-6:
+    if budget[0] >= STEP_US * 1e-6 or not handed_over:
         nap.tv_nsec = 50000
         nanosleep(&nap, NULL)
         return

@@ -330,7 +330,7 @@ cdef void *_pacer_body(void *arg) noexcept nogil:
         told = mo.consumed
         _publish(core, m)
         if not halted and not cut:
-            clock_pause(core, m, &budget)
+            clock_pause(core, m, &budget, mo.n_log == 0)
     motion_locate(mo)
     TC_ATOMIC_STORE(&m.pacer_done, 1)
     _hand_over(m, True)

@@ -13,7 +13,7 @@
 # the next activity begins without one. The core keeps the handshake's state
 # (core.pxd: m_waiting, m_answered) so that ConfirmMFunc reaches it from any thread.
 from libc.string cimport memset, memcpy, strdup
-from libc.stdlib cimport strtol, malloc, free
+from libc.stdlib cimport strtol, free
 
 
 # ------------------------------------------------------------------ the calls
@@ -164,7 +164,7 @@ cdef bint _wait_answer(Session *s, const SIMPLE_GM_PARAMS *gm, uint32_t stops) n
     confirmed (GetPos shows it), a stop answers it (a StopCNCEx after `stops`) or the
     activity ends. False unless confirmed."""
     cdef Core *core = s.core
-    cdef SnapshotData *view
+    cdef SnapshotData view
     cdef bint confirmed
     pthread_mutex_lock(&core.lock)
     if core.m_waiting == 0:
@@ -172,16 +172,13 @@ cdef bint _wait_answer(Session *s, const SIMPLE_GM_PARAMS *gm, uint32_t stops) n
         pthread_mutex_unlock(&core.lock)
         return not TC_ATOMIC_LOAD(&core.cancel)
     pthread_mutex_unlock(&core.lock)
-    view = <SnapshotData *>malloc(sizeof(SnapshotData))
-    if view != NULL:                    # standing at it: m_func M + 10000, the M cell
-        snapshot_read(&core.snap, view)
-        view.pos.m_func = gm.m_func + 10000
-        view.pos.m_pars.M = gm.m_pars.M
-        view.pos.m_editorLine = 0
-        view.pos.m_fileIdx = TOOL_CHAIN_FILE_EXEC
-        view.enh.m_actFeed = 0.0
-        snapshot_publish(&core.snap, view)
-        free(view)
+    snapshot_read(&core.snap, &view)    # standing at it: m_func M + 10000, the M cell
+    view.pos.m_func = gm.m_func + 10000
+    view.pos.m_pars.M = gm.m_pars.M
+    view.pos.m_editorLine = 0
+    view.pos.m_fileIdx = TOOL_CHAIN_FILE_EXEC
+    view.enh.m_actFeed = 0.0
+    snapshot_publish(&core.snap, &view)
     pthread_mutex_lock(&core.lock)
     while (core.m_waiting != 0 and not TC_ATOMIC_LOAD(&core.cancel)
            and <uint32_t>TC_ATOMIC_LOAD(&core.stop) == stops):
