@@ -637,21 +637,28 @@ TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_ResetCNC(uint32_t intIdx,
 
 /* Starts a run in the core's worker (run_regime) from the machine position; a
  * simulation or test is a dry run and does not move the machine position. addCode:
- * M functions sent first. -1 when compiling, nothing compiled, the regime cannot start
- * in this status, or inside a callback of the core's running activity. */
+ * M functions sent first (the offline machine: at status 70, one that DriverMFunc
+ * answers TC_MFUNC_LATER holds the start until ToolChainCore_ConfirmMFunc). -1 when
+ * compiling, nothing compiled, the regime cannot start in this status, or inside a
+ * callback of the core's running activity. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_StartCNCEx(uint32_t intIdx, int32_t regime, TGM_LPCSTR addCode);
 
 /* Controlled stop (simulation: -11, test: -21, motion: -31); returns at once, the
- * worker sets the status when it has stopped. -1 when nothing runs. */
+ * worker sets the status when it has stopped, after sending addCode's M functions (not
+ * in regimes 31, 32; the offline machine: at status 80, held like the start's). It also
+ * answers an M function that waits for its confirmation (it stays sent). -1 when
+ * nothing runs. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_StopCNCEx(uint32_t intIdx, TGM_LPCSTR addCode);
 
 /* Moves back onto the trajectory (connect_type): docs/api.md, docs/connect.md. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_ConnectCNCEx_Plane(uint32_t intIdx, uint32_t nType, uint32_t nCoords, const double *coords, TGM_LPCSTR addCode, uint32_t axesForCalc, uint32_t axesForConnect, int32_t stateAfter);
 
-/* Manual linear move to absolute coordinates with motion[5]. */
+/* Manual linear move to absolute coordinates with motion[5]. -1 (error 24) when its
+ * path is not finite from where the machine stands (a target that far away). */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GoToPosition(uint32_t intIdx, uint32_t nCoords, const double *coords);
 
-/* Manual move by line or arc described by dest (m_func 1/2/3, m_calcE, m_cc). */
+/* Manual move by line or arc described by dest (m_func 1/2/3, m_calcE, m_cc). -1
+ * (error 24) when its path is not finite (a target, an arc centre or a feed too large). */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GoToPositionEx(uint32_t intIdx, const SIMPLE_GM_PARAMS *dest);
 
 /* Signals M function fun->m_func to the machine while stopped. */
