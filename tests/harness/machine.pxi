@@ -118,6 +118,7 @@ def run(int core_idx, int regime, double stop_at=-1.0, overrides=(), double max_
     if core.program == NULL or not machine_prepare(core, &job, &refusal):
         pthread_mutex_unlock(&core.lock)
         raise RuntimeError("nothing compiled")
+    session_forget_locked(core)         # as an activity begins: no M function waits
     m = <Machine *>core.offline
     params = core.params
     f.params = &params
