@@ -71,10 +71,10 @@ cdef struct NameChunk:
     char text[65520]
 
 ctypedef struct FileTable:
-    const char *names[64]   # into `store`
+    const char *names[MAX_FILES]    # into `store`
     NameChunk *store
-    double run_times[64]
-    uint64_t used[64]       # last use (FileToIdx, compile): the oldest unreferenced entry is recycled
+    double run_times[MAX_FILES]
+    uint64_t used[MAX_FILES]    # last use (FileToIdx, compile): the oldest unreferenced entry is recycled
     uint64_t clock
     int32_t n
 
@@ -101,8 +101,13 @@ ctypedef struct Core:
     bint ini_loaded
     char driver[256]
     int64_t plan_window         # look-ahead of the feed planner in parts (SetLookAhead, INI lookAheadParts)
-    Callback callbacks[24]
-    int32_t in_flight[24]       # calls of each slot running now, on any thread
+    # the machine builder's tables and smoothing (any status; a run or compilation takes a copy
+    # or a reference at its start once they are wired in: docs/tool-table.md, "Integration status")
+    ToolTable tool_table        # LoadToolTable, SetToolCorrection, INI [Corrections] ToolTable
+    AxisCorrections *axis_corrections   # LoadAxisCorrections, INI AxisTable1..8; NULL none (tables.pxd: references)
+    SmoothingConfig smoothing   # SetSmoothing, INI [Smoothing]
+    Callback callbacks[N_CALLBACK_SLOTS]
+    int32_t in_flight[N_CALLBACK_SLOTS]     # calls of each slot running now, on any thread
     FileTable files
     # the file table entries the running compilation uses (never recycled meanwhile)
     int32_t compile_files[3]    # main, prefix, postfix entries of the compilation that runs
@@ -112,8 +117,8 @@ ctypedef struct Core:
     PublishedError *call_error  # error of the last refused call (GetLastCallError); NULL none
     GCODE_INFO size_info        # of `program` at the current start position
     # the machine
-    double position[10]         # machine position: where the next run and compilation start
-    double pending_position[10] # ResetCNC's coordinates, applied once the activity it ends is over
+    double position[AXES]       # machine position: where the next run and compilation start
+    double pending_position[AXES]   # ResetCNC's coordinates, applied once the activity it ends is over
     uint32_t n_pending
     void *offline               # the offline machine (machine/machine.pyx Machine), made on first run
     double time_scale           # atomic (TC_ATOMIC_*_D): the offline machine runs this many times real time

@@ -36,7 +36,6 @@ include "compensation/regions.pyx"
 include "compensation/compensation.pyx"
 include "compensation/insert_arcs.pyx"
 include "extent.pyx"
-include "planner/segment.pyx"
 include "planner/limits.pyx"
 include "planner/junctions.pyx"
 include "planner/mfunc_insert.pyx"
@@ -48,7 +47,10 @@ include "placement.pyx"                 # a program where a run starts
 include "logging.pyx"
 include "files.pyx"
 include "ini.pyx"
+include "smoothing/smoothing.pyx"       # the output's filters: their values are INI keys too
 include "parameters.pyx"
+include "tables/tool_table.pyx"         # the correction tables: files an INI key may name
+include "tables/axis_correction.pyx"
 
 # run: the core, its activities, the offline machine
 include "runtime/transitions.pyx"

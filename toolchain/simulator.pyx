@@ -20,10 +20,10 @@ cdef bint check_limits(Core *core, const MACHINE_PARAMETERS *machine, const SIMP
     cdef ErrArg args[4]
     cdef bint inside = True
     cdef int k
-    for k in range(10):
+    for k in range(AXES):
         if not enabled[k]:
             continue
-        if end[k] < ref[k] + lo[k] - 1e-9 or end[k] > ref[k] + hi[k] + 1e-9:
+        if end[k] < ref[k] + lo[k] - LENGTH_EPS or end[k] > ref[k] + hi[k] + LENGTH_EPS:
             args[0].text = axis_name(k)
             args[1].text = NULL
             args[1].num = end[k]
@@ -78,7 +78,7 @@ cdef void *simulation_body(void *arg) noexcept nogil:
     cdef SIMPLE_GM_PARAMS gm
     cdef RunCounts counts
     cdef char *stop_code
-    cdef double start[10]
+    cdef double start[AXES]
     cdef double lengths[2]              # rapids, cuts
     cdef Placement placement
     cdef double run_time = 0.0, t

@@ -107,6 +107,7 @@ class ErrorNumber(enum.IntEnum):
     COMP_CROSSING = 504  # Equidistants cross: the tool (radius %g) does not fit the contour
     COMP_LOOKAHEAD = 505  # More than %d blocks without motion in the compensation plane
     COMPENSATION_WARNING = 600  # Tool radius compensation: %s
+    COMPENSATION_GOUGE = 601  # Equidistant error on line %d: the tool cuts %g mm into the contour
     WARN_G43_H = 610  # G43 with H at column %d: TG's G43 switches on tool radius compensation with correction[2], it is no tool length offset (isoCompat: ignored)
     WARN_O_AT_START = 611  # O%g at column %d at the start of the program moves the O axis; a program number? (isoCompat: ignored)
     WARN_G18_ARC = 612  # G18 arc at column %d after an ISO header (G21 / G90): TG's G18 is the XZ plane with arcs turning the other way than ISO's ZX plane, which is TG's G-18 (isoCompat: G18 is read as G-18)
@@ -119,3 +120,12 @@ class ErrorNumber(enum.IntEnum):
     CONNECT_OFF_PART = 704  # ConnectCNCEx_Plane: the point lies %g mm from the part with G-code index %d (tolerance %g mm)
     CONNECT_NO_MOTION = 705  # ConnectCNCEx_Plane: no motion to connect to in parts %d to %d (the program has %d)
     CONNECT_NOT_FINITE = 706  # ConnectCNCEx_Plane: %s gave a point that is not finite
+    TOOL_TABLE_NO_KEYWORD = 720  # Tool table '%s' has no line $KOR
+    TOOL_TABLE_LINE = 721  # Tool table '%s' line %d: %s
+    TOOL_ENTRY = 722  # Tool correction D%g does not exist (D1..D99)
+    AXIS_TABLE_HEADER = 730  # Axis correction table '%s', header: %s
+    AXIS_TABLE_DEFINITION = 731  # Axis correction table '%s', definition of basis axis %s: %s
+    AXIS_TABLE_SIZE = 732  # Axis correction table '%s' has %.0f bytes; its header and definition block ask for %.0f
+    AXIS_TABLE_VALUE = 733  # Axis correction table '%s', grid point %.0f: %s
+    AXIS_TABLES = 734  # Axis correction table '%s': %s
+    SMOOTHING = 740  # Smoothing, Command %d, Command_Parameter[%d] = %g: %s

@@ -98,10 +98,10 @@ ctypedef struct CState:
     int n_pstack
     double P[100]
     # positions: machine = rotate(mirror(ppos)) + zero + shift
-    double ppos[10]
-    double mpos[10]
-    double zero[10]
-    double shift[10]
+    double ppos[AXES]
+    double mpos[AXES]
+    double zero[AXES]
+    double shift[AXES]
     int zero_idx
     int mirror                              # bit 0 X, 1 Y, 2 Z
     bint rot_on
@@ -126,8 +126,8 @@ ctypedef struct CState:
     uint32_t g900_ignore_angle, g900_ignore_feed
     int32_t g900_stop_mode, g900_arc_table
     int32_t gindex
-    bint fixed[10]                          # the axis no longer follows the start (named absolutely)
-    bint shift_follows[10]                  # a G92 on the axis while it followed the start
+    bint fixed[AXES]                        # the axis no longer follows the start (named absolutely)
+    bint shift_follows[AXES]                # a G92 on the axis while it followed the start
     bint program_end
     int64_t blocks, block_limit
     Frame frames[FRAME_DEPTH]

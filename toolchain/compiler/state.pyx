@@ -191,35 +191,27 @@ cdef void to_machine(const CState *st, const double *pp, double *out) noexcept n
     """Program coordinates -> machine: mirror (M81..M87), rotation (G168), then the
     zero offset and the G92 shift."""
     cdef int a
-    cdef double q[3]
     if st.identity:
-        memcpy(out, pp, 10 * sizeof(double))
+        memcpy(out, pp, AXES * sizeof(double))
         return
-    for a in range(10):
+    for a in range(AXES):
         out[a] = pp[a]
     if st.mirror & 1: out[0] = -out[0]
     if st.mirror & 2: out[1] = -out[1]
     if st.mirror & 4: out[2] = -out[2]
     if st.rot_on:
-        for a in range(3):
-            q[a] = out[a] - st.rot_c[a]
-        for a in range(3):
-            out[a] = st.rot_c[a] + st.rot_m[3 * a] * q[0] + st.rot_m[3 * a + 1] * q[1] + st.rot_m[3 * a + 2] * q[2]
-    for a in range(10):
+        rotate_about(st.rot_c, st.rot_m, False, out)
+    for a in range(AXES):
         out[a] += st.zero[a] + st.shift[a]
 
 
 cdef void to_program(const CState *st, const double *mp, double *out) noexcept nogil:
     """Inverse of to_machine."""
     cdef int a
-    cdef double q[3]
-    for a in range(10):
+    for a in range(AXES):
         out[a] = mp[a] - st.zero[a] - st.shift[a]
     if st.rot_on:
-        for a in range(3):
-            q[a] = out[a] - st.rot_c[a]
-        for a in range(3):   # transpose = inverse of a rotation
-            out[a] = st.rot_c[a] + st.rot_m[a] * q[0] + st.rot_m[3 + a] * q[1] + st.rot_m[6 + a] * q[2]
+        rotate_about(st.rot_c, st.rot_m, True, out)
     if st.mirror & 1: out[0] = -out[0]
     if st.mirror & 2: out[1] = -out[1]
     if st.mirror & 4: out[2] = -out[2]
@@ -229,17 +221,17 @@ cdef void update_identity(CState *st) noexcept nogil:
     """to_machine is a plain copy while no offset, mirroring or rotation is active."""
     cdef int a
     st.identity = st.mirror == 0 and not st.rot_on
-    for a in range(10):
+    for a in range(AXES):
         if st.zero[a] != 0.0 or st.shift[a] != 0.0:
             st.identity = False
 
 
 cdef bint update_zero(CState *st) noexcept nogil:
     """Registers the active offset (zero + shift) with the program; False = no memory."""
-    cdef double total[10]
+    cdef double total[AXES]
     cdef int a, idx
     update_identity(st)
-    for a in range(10):
+    for a in range(AXES):
         total[a] = st.zero[a] + st.shift[a]
     idx = program_add_zero(st.build, total)
     if idx < 0:

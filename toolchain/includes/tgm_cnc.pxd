@@ -14,6 +14,7 @@ cdef extern from "tgm_cnc.h" nogil:
     double INVALID_VALUE
     float INVALID_VALUE_F
     uint32_t GCODE_REZERVA1_ISO_COMPAT
+    uint32_t GCODE_REZERVA1_COMP_STRICT
     int32_t TC_MFUNC_LATER
     uint64_t TC_TEST_CLOCK_KEY
     # the log mask's sources and destinations (SetLogValue)
@@ -35,8 +36,10 @@ cdef extern from "tgm_cnc.h" nogil:
         CORR_G0_NEVER_COMPENSATED
         CORR_OLD_COMPATIBILITY
 
-    ctypedef const char *TGM_LPCTSTR
-    ctypedef char *TGM_LPTSTR
+    # char on Linux, wchar_t on Windows: opaque here, so that every text of the host
+    # goes through platform.pxd's text_from_host / text_to_host
+    ctypedef const void *TGM_LPCTSTR
+    ctypedef void *TGM_LPTSTR
     ctypedef const char *TGM_LPCSTR
 
     ctypedef struct P10DOUBLE:

@@ -1,34 +1,16 @@
 # The offline machine's time. The pacer (machine.pyx) runs the machine's 100 us
-# steps as the wall clock (CLOCK_MONOTONIC) times the core's time scale calls for --
-# or, in tests only, as a stepped clock grants them: ToolChainCore_TestClock (behind
-# a key no host passes by accident) puts a core's machine on a clock only that
-# function advances, and returns once the steps it granted have run, GetPos shows
-# them and the driver callbacks they caused have returned. The stepper, the pacer
-# and the notifier meet under Machine.lock; nothing here runs while the wall clock
-# paces the machine but one atomic load per tick.
-from posix.time cimport clock_gettime, nanosleep, timespec, CLOCK_MONOTONIC
-
-cdef extern from *:
-    """
-    #include <time.h>
-    /* waits on `c` at most `ns` nanoseconds (CLOCK_REALTIME, the condition's clock) */
-    static inline void tc_cond_wait_ns(pthread_cond_t *c, pthread_mutex_t *m, long ns) {
-        struct timespec until;
-        clock_gettime(CLOCK_REALTIME, &until);
-        until.tv_nsec += ns;
-        until.tv_sec += until.tv_nsec / 1000000000L;
-        until.tv_nsec %= 1000000000L;
-        pthread_cond_timedwait(c, m, &until);
-    }
-    """
-    void tc_cond_wait_ns(pthread_cond_t *c, pthread_mutex_t *m, long ns) nogil
+# steps as the wall clock (the platform's monotonic clock) times the core's time
+# scale calls for -- or, in tests only, as a stepped clock grants them:
+# ToolChainCore_TestClock (behind a key no host passes by accident) puts a core's
+# machine on a clock only that function advances, and returns once the steps it
+# granted have run, GetPos shows them and the driver callbacks they caused have
+# returned. The stepper, the pacer and the notifier meet under Machine.lock; nothing
+# here runs while the wall clock paces the machine but one atomic load per tick.
 
 
 cdef inline double clock_now() noexcept nogil:
-    """Seconds of CLOCK_MONOTONIC."""
-    cdef timespec ts
-    clock_gettime(CLOCK_MONOTONIC, &ts)
-    return <double>ts.tv_sec + <double>ts.tv_nsec * 1e-9
+    """Seconds of the monotonic clock."""
+    return tc_monotonic_seconds()
 
 
 cdef inline bint clock_stepped(Core *core) noexcept nogil:
@@ -65,22 +47,18 @@ cdef void clock_pause(Core *core, Machine *m, double *budget, bint handed_over) 
     and the pacer waits for the next grant (a millisecond at most: a stop, an end or
     a confirmation may come meanwhile); otherwise it waits a moment for the feeder or
     the notifier."""
-    cdef timespec nap
-    nap.tv_sec = 0
     if not clock_stepped(core):
-        nap.tv_nsec = 1000000
-        nanosleep(&nap, NULL)
+        tc_sleep_seconds(0.001)
         return
     if budget[0] >= STEP_US * 1e-6 or not handed_over:
-        nap.tv_nsec = 50000
-        nanosleep(&nap, NULL)
+        tc_sleep_seconds(0.00005)
         return
     budget[0] = 0.0
     pthread_mutex_lock(&m.lock)
     if m.granted == 0:
         m.pacer_state = PACER_IDLE
         pthread_cond_broadcast(&m.wake)
-        tc_cond_wait_ns(&m.wake, &m.lock, 1000000)
+        tc_cond_wait_seconds(&m.wake, &m.lock, 0.001)
     pthread_mutex_unlock(&m.lock)
 
 
@@ -132,12 +110,12 @@ cdef int32_t machine_test_clock(Core *core, uint64_t key, double seconds) noexce
         # a run that is starting: its pacer comes
         while (m.pacer_state == PACER_NONE and machine_moving(core_status(core))
                and not TC_ATOMIC_LOAD(&core.cancel)):
-            tc_cond_wait_ns(&m.wake, &m.lock, 1000000)
+            tc_cond_wait_seconds(&m.wake, &m.lock, 0.001)
         if m.pacer_state != PACER_NONE:
             run = m.pacer_runs
             m.granted += <uint64_t>(seconds / (STEP_US * 1e-6) + 0.5)
             pthread_cond_broadcast(&m.wake)
             while not _settled(core, m, run):
-                tc_cond_wait_ns(&m.wake, &m.lock, 1000000)
+                tc_cond_wait_seconds(&m.wake, &m.lock, 0.001)
     pthread_mutex_unlock(&m.lock)
     return TOOL_CHAIN_SUCCESS

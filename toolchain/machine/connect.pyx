@@ -22,7 +22,7 @@ cdef bint _part_calc(void *ctx, size_t part, double *d2, double *point) noexcept
     memcpy(&changed, point, sizeof(changed))
     if (<TC_ConnectPointCalc>pc.cb.fn)(pc.cb.user, &gm, &changed_d2, &changed) != 1:
         return False
-    if not (isfinite(changed_d2) and coordinates_finite(<const double *>&changed, 10)):
+    if not (isfinite(changed_d2) and coordinates_finite(<const double *>&changed, AXES)):
         pc.not_finite = True
         return False
     d2[0] = changed_d2
@@ -88,7 +88,7 @@ cdef bint _connect_end_callback(Core *core, Machine *m, ConnectHit *hit, ErrorIn
     placed_part_to_gm(&m.program.prog, hit.part, &m.placement, &gm)
     memcpy(&point, hit.point, sizeof(point))
     if (<TC_ConnectPointCalcEnd>cb.fn)(cb.user, &gm, &point) == 1:
-        finite = coordinates_finite(<const double *>&point, 10)
+        finite = coordinates_finite(<const double *>&point, AXES)
         if finite:
             memcpy(hit.point, &point, sizeof(point))
         else:
@@ -124,7 +124,7 @@ cdef void *connect_body(void *arg) noexcept nogil:
     cdef ErrorInfo *err = <ErrorInfo *>calloc(1, sizeof(ErrorInfo))
     cdef SIMPLE_GM_PARAMS dest
     cdef Callback cb
-    cdef double point[10]
+    cdef double point[AXES]
     cdef uint32_t moving, k
     cdef ErrArg args[2]
     cdef int32_t finish = EV_STOPPED, end_status = TC_KEEP
@@ -132,7 +132,7 @@ cdef void *connect_body(void *arg) noexcept nogil:
     if m != NULL and err != NULL:
         memcpy(point, m.motion.position, sizeof(point))     # 31 / 44: nearest to where it stands
         if job.n_type == 0 or job.n_type == 10 or job.n_type == 40:
-            memcpy(point, job.coords, min(job.n_coords, 10) * sizeof(double))
+            memcpy(point, job.coords, min(job.n_coords, AXES) * sizeof(double))
         if callback_enter(core, SLOT_CONNECT_POINT_CALC_START, &cb):
             (<TC_ConnectPointCalcStart>cb.fn)(cb.user, job.n_type, job.n_coords, job.coords, job.axes_calc)
             callback_leave(core, SLOT_CONNECT_POINT_CALC_START)
@@ -141,11 +141,11 @@ cdef void *connect_body(void *arg) noexcept nogil:
             if not _connect_end_callback(core, m, &hit, err):
                 rc = CONNECT_BAD_ARGUMENT
             # the straight way there: the axes of axesForConnect (0: the first nCoords)
-            moving = job.axes_connect if job.axes_connect != 0 else (1u << min(job.n_coords, 10)) - 1
+            moving = job.axes_connect if job.axes_connect != 0 else (1u << min(job.n_coords, AXES)) - 1
             memset(&dest, 0, sizeof(dest))
             dest.m_func = 1
             memcpy(&dest.m_calcE, m.motion.position, sizeof(P10DOUBLE))
-            for k in range(10):
+            for k in range(AXES):
                 if (moving >> k) & 1:
                     (<double *>&dest.m_calcE)[k] = hit.point[k]
             args[1].text = manual_path_not_finite(m.motion.position, &dest, 10, f.params) if rc == CONNECT_FOUND else NULL
@@ -159,7 +159,7 @@ cdef void *connect_body(void *arg) noexcept nogil:
             end_status = job.status_before
         elif not TC_ATOMIC_LOAD(&core.cancel):
             core_set_status(core, CNC_STATUS_CONNECT_MOVING)
-            finish = machine_manual_move(core, m, &f, &dest, 10)
+            finish = machine_manual_move(core, m, &f, &dest, AXES)
             if finish == EV_DONE:
                 pthread_mutex_lock(&core.lock)
                 _connect_place(m, &hit)

@@ -65,7 +65,7 @@ ctypedef struct Run:            # the profile of the current entry from where it
     int32_t ramp
 
 ctypedef struct Motion:
-    Entry ring[64]              # entry k of the run at ring[k % LOOK_RING]
+    Entry ring[LOOK_RING]       # entry k of the run at ring[k % LOOK_RING]
     uint64_t produced           # atomic: entries written (the feeder)
     uint64_t consumed           # atomic: entries done (the step)
     int32_t fed_all             # atomic: the feeder wrote its last entry
@@ -97,12 +97,12 @@ ctypedef struct Motion:
     double stop_dec
     int32_t stop_ramp
     # what the run did (GetPos)
-    double position[10]
+    double position[AXES]
     double cut_len, rapid_len, run_time
     # what happened since the machine's thread last read it (the driver callbacks)
     int32_t n_log
-    int32_t log_kind[256]       # ME_ENTRY, ME_MFUNC, ME_PRINT
-    size_t log_part[256]
+    int32_t log_kind[LOG_SIZE]  # ME_ENTRY, ME_MFUNC, ME_PRINT
+    size_t log_part[LOG_SIZE]
 
 # ---- machine.pyx: a run's threads and the machine's place on the program
 cdef enum:
@@ -142,7 +142,7 @@ ctypedef struct Machine:
     pthread_mutex_t lock
     pthread_cond_t wake         # the notifier sleeps on it until the pacer has news; the stepper too
     bint news                   # events queued, entries consumed or the pacer done (lock)
-    MachineEvent events[1024]
+    MachineEvent events[EVENT_QUEUE]
     size_t ev_first, ev_n
     bint notifying              # the notifier is inside an event's callbacks (lock)
     # the stepped clock (clock.pyx), under lock
@@ -183,7 +183,7 @@ ctypedef struct ConnectHit:
     size_t part                 # index into prog.parts
     double s                    # path length from the part's start (mm, the compensated path)
     double length               # the part's length (0 for M functions, dwells, texts)
-    double point[10]            # the point, machine coordinates of the run, all ten axes
+    double point[AXES]          # the point, machine coordinates of the run, all ten axes
     double distance             # from the asked point in the chosen axes (0 for lookups)
 
 # A bounding-volume hierarchy over the motion parts' boxes in the chosen axes that
@@ -197,22 +197,15 @@ ctypedef struct ConnectIndex:
     Placement pl
     uint32_t axes               # axesForCalc, 0x3FF for all
     int n_dims                  # axes of the boxes: X Y Z of the mask, and the others
-    int dims[10]                # of the mask that the program moves
+    int dims[AXES]              # of the mask that the program moves
     int n_fixed                 # axes of the mask that stand still everywhere: their
-    int fixed[10]               # distance is the same to every part
-    double fixed_at[10]
+    int fixed[AXES]             # distance is the same to every part
+    double fixed_at[AXES]
     size_t n_items              # motion parts
     uint32_t *items             # their indexes, in Morton order
     size_t first_leaf           # a power of two; nodes 1 .. 2 * first_leaf - 1
     double *boxes               # node k: low corner at boxes[2 * n_dims * k], high after it
     uint32_t *span              # node k: lowest part index span[2k], highest span[2k + 1]
-
-# The squared distance to an arc (helix) as a function of its turn (connect_search.pyx).
-ctypedef struct ArcDistanceFn:
-    int plane_axes              # 0, 1 or 2 of the plane's axes in the mask
-    double r, rho, u            # radius; |q - centre| in the plane (2); q - centre (1)
-    double chi0, sigma          # chi at theta = 0, direction
-    double L2, b
 
 # A look at each part's candidate: `d2` (squared distance) and `point` (ten axes) may
 # be changed; True = use the changed values (ConnectPointCalc, callback 1005).

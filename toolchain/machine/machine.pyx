@@ -6,7 +6,7 @@
 #     into look-ahead entries (placed geometry, limits, the plan's speeds, the
 #     breakpoint question), and it makes every driver callback (DriverInitialize,
 #     DriverGFunc as a part begins, DriverMFunc, PRINT, DriverEnd);
-#   - the *pacer* wakes every millisecond on CLOCK_MONOTONIC, runs the 100 us steps
+#   - the *pacer* wakes every millisecond on the monotonic clock, runs the 100 us steps
 #     of motion.pyx that the elapsed time (times the core's time scale) calls for,
 #     hands what happened to the notifier and publishes GetPos once.
 # Neither waits for the other: the ring of entries and the event queue are the only
@@ -104,7 +104,7 @@ cdef void _entry_identity(Entry *e, const Part *p, size_t part) noexcept nogil:
     e.dwell = 0.0
     e.s_from = e.s_to = 0.0
     e.vmax = e.exit_cap = 0.0
-    e.acc = e.dec = 1e12
+    e.acc = e.dec = NO_LIMIT
     e.ramp = RAMP_TRAPEZOID
     e.dyn_extra = 0.0
 
@@ -131,7 +131,6 @@ cdef bint _forward_entry(Feeder *f, Entry *e) noexcept nogil:
     regime leaves out are skipped."""
     cdef const Program *prog = f.prog
     cdef const Part *p
-    cdef SIMPLE_GM_PARAMS gm
     cdef PartLimits lim
     cdef const PlanRegion *s
     cdef const GCODE_FEED *cls
@@ -154,8 +153,7 @@ cdef bint _forward_entry(Feeder *f, Entry *e) noexcept nogil:
             e.waits = True
         elif p.kind == PART_MOTION:
             f.any_motion = True
-            placed_part_to_gm(prog, k, &f.m.placement, &gm)
-            segment_of_gm(&gm, &e.seg)
+            segment_of_placed_part(prog, k, &f.m.placement, &e.seg)
             e.s_from = 0.0
             e.s_to = e.seg.length
             s = cursor_settings(&f.cursor, k)
@@ -180,9 +178,9 @@ cdef bint _forward_entry(Feeder *f, Entry *e) noexcept nogil:
 
 cdef void _class_ramps(Entry *e, const GCODE_FEED *cls) noexcept nogil:
     """Accelerations and ramp of a motion class (motion[2] backward, [4] no M, [5] manual)."""
-    if 0.0 < cls.acc < 1e12:
+    if 0.0 < cls.acc < NO_LIMIT:
         e.acc = cls.acc
-    if 0.0 < cls.dec < 1e12:
+    if 0.0 < cls.dec < NO_LIMIT:
         e.dec = cls.dec
     e.ramp = RAMP_SINE if cls.rampType == RAMP_SINE else RAMP_TRAPEZOID
 
@@ -193,7 +191,6 @@ cdef bint _backward_entry(Feeder *f, Entry *e) noexcept nogil:
     cdef Machine *m = f.m
     cdef const Program *prog = f.prog
     cdef const GCODE_FEED *cls = &f.params.motion[2]
-    cdef SIMPLE_GM_PARAMS gm
     cdef size_t k, back
     cdef double from_s = -1.0
     if f.back_current and f.next == 0:
@@ -206,8 +203,7 @@ cdef bint _backward_entry(Feeder *f, Entry *e) noexcept nogil:
         k = m.history[m.n_history - 1 - back]
     f.next += 1
     _entry_identity(e, &prog.parts[k], k)
-    placed_part_to_gm(prog, k, &m.placement, &gm)
-    segment_of_gm(&gm, &e.seg)
+    segment_of_placed_part(prog, k, &m.placement, &e.seg)
     e.s_from = from_s if from_s >= 0.0 else e.seg.length
     e.s_to = 0.0
     e.vmax = cls.feed / 60.0 if cls.feed > 0.0 else 1.0 / 60.0
@@ -497,7 +493,7 @@ cdef void _motion_setup(Core *core, Motion *mo, const Feeder *f, const double *s
     mo.ovr_inc = params.overrideInc if 0.0 < params.overrideInc <= 0.1 else 0.001
     mo.ovr_timing = (params.interpolatorConfig0 & 1) != 0
     mo.ovr_off_in_rapids = params.disableG0FeedOverride == 1
-    mo.stop_dec = params.motion[6].dec if 0.0 < params.motion[6].dec < 1e12 else 1e12
+    mo.stop_dec = limit_or_none(params.motion[6].dec)
     mo.stop_ramp = RAMP_SINE if params.motion[6].rampType == RAMP_SINE else RAMP_TRAPEZOID
 
 
@@ -507,7 +503,7 @@ cdef int32_t machine_manual_move(Core *core, Machine *m, Feeder *f, const SIMPLE
     motion[5], without override; the machine position follows it."""
     cdef Motion *mo = &m.motion
     cdef int32_t finish
-    cdef double start[10]
+    cdef double start[AXES]
     memcpy(start, mo.position, sizeof(start))
     _motion_setup(core, mo, f, start)
     mo.window = 1
@@ -572,7 +568,7 @@ cdef int32_t machine_program_run(Core *core, Machine *m, Feeder *f, int32_t regi
     cdef int32_t finish = EV_STOPPED
     cdef char *stop_code
     cdef bint sends_m = regime != RUN_FORWARD_NO_M and regime != RUN_BACKWARD
-    cdef double start[10]
+    cdef double start[AXES]
     memcpy(start, mo.position, sizeof(start))
     _run_setup(core, m, f, regime, start)
     _feed(f)
@@ -706,16 +702,16 @@ cdef const char *manual_path_not_finite(const double *start, const SIMPLE_GM_PAR
     length, its points (an arc's centre far away), or its feed (squared by the ramps)."""
     cdef SIMPLE_GM_PARAMS gm
     cdef Segment seg
-    cdef double point[10]
+    cdef double point[AXES]
     cdef double v = _manual_feed(dest, params) / 60.0
     cdef int k
     _manual_gm(start, dest, n_dest, &gm)
     segment_of_gm(&gm, &seg)
-    if not isfinite(seg.length) or not coordinates_finite(<const double *>&gm.m_cc, 10):
+    if not isfinite(seg.length) or not coordinates_finite(<const double *>&gm.m_cc, AXES):
         return "its length"
     for k in range(9):
         segment_point_at(&seg, seg.length * k / 8.0, point)
-        if not coordinates_finite(point, 10):
+        if not coordinates_finite(point, AXES):
             return "its points"
     if not isfinite(v * v) or (v > 0.0 and not isfinite(seg.length / v)):
         return "its feed"
@@ -741,7 +737,7 @@ cdef void _manual_entry(Motion *mo, const SIMPLE_GM_PARAMS *dest, uint32_t n_des
     feed = _manual_feed(dest, params)
     e.vmax = feed / 60.0 if feed > 0.0 else 1.0 / 60.0
     e.feed = feed
-    e.acc = e.dec = 1e12
+    e.acc = e.dec = NO_LIMIT
     _class_ramps(e, &params.motion[5])
     TC_STORE_U64(&mo.produced, 1)
     TC_ATOMIC_STORE(&mo.fed_all, 1)

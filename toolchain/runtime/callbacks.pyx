@@ -2,10 +2,12 @@
 # under core.lock; and per thread, for calls nested in a callback), so that
 # SetCallBack can return only once no call of the slot runs on another thread: a
 # host may free its function as soon as it has removed it (SetCallBack made inside a
-# callback does not wait). A worker looks a callback
-# up at each call, never caching it across calls.
+# callback does not wait). A worker looks a callback up at each call, never caching it
+# across calls. Text arguments reach the host in its text type (TGM_LPCTSTR: UTF-16 on
+# Windows), converted for the call (text_to_host).
 from libc.string cimport memset
 from libc.stdio cimport snprintf
+from libc.stdlib cimport free
 
 cdef extern from *:
     """
@@ -103,11 +105,13 @@ cdef void core_output(Core *core, uint32_t tab, const char *text) noexcept nogil
     """A line for the host's output log (AddOutputLog), e.g. PRINT text on tab 2."""
     cdef Callback cb
     cdef CALLBACK_INFO info
+    cdef void *owned
     memset(&info, 0, sizeof(info))
     info.stringId = -1
     info.fileIdx = -1
     if callback_enter(core, SLOT_ADD_OUTPUT_LOG, &cb):
-        (<TC_AddOutputLog>cb.fn)(cb.user, tab, text, &info)
+        (<TC_AddOutputLog>cb.fn)(cb.user, tab, text_to_host(text, &owned), &info)
+        free(owned)
         callback_leave(core, SLOT_ADD_OUTPUT_LOG)
     log_line(LOG_TOOLCHAIN, text)
 
@@ -118,12 +122,15 @@ cdef void core_report_error(Core *core, const ErrorInfo *err) noexcept nogil:
     cdef Callback cb
     cdef CALLBACK_INFO info
     cdef char line[1400]
+    cdef void *owned
     fill_callback_info(err, &info)
     if callback_enter(core, SLOT_DISP_AND_LOCATE_ERROR, &cb):
-        (<TC_DispAndLocateError>cb.fn)(cb.user, <uint32_t>err.line, err.file_idx, err.text, &info)
+        (<TC_DispAndLocateError>cb.fn)(cb.user, <uint32_t>err.line, err.file_idx, text_to_host(err.text, &owned), &info)
+        free(owned)
         callback_leave(core, SLOT_DISP_AND_LOCATE_ERROR)
     if callback_enter(core, SLOT_ADD_OUTPUT_LOG, &cb):
-        (<TC_AddOutputLog>cb.fn)(cb.user, 0, err.text, &info)
+        (<TC_AddOutputLog>cb.fn)(cb.user, 0, text_to_host(err.text, &owned), &info)
+        free(owned)
         callback_leave(core, SLOT_ADD_OUTPUT_LOG)
     snprintf(line, sizeof(line), "core %d: error %d at file %d line %d: %s",
              core.index, err.number, err.file_idx, err.line, err.text)
@@ -140,12 +147,14 @@ cdef void core_progress(Core *core, uint32_t percent) noexcept nogil:
 cdef void core_status_text(Core *core, const char *text, int32_t file_idx, int32_t n_lines) noexcept nogil:
     cdef Callback cb
     cdef CALLBACK_INFO info
+    cdef void *owned
     memset(&info, 0, sizeof(info))
     info.stringId = -1
     info.fileIdx = file_idx
     info.nLines = n_lines
     if callback_enter(core, SLOT_SET_STATUS_BAR_TEXT, &cb):
-        (<TC_SetStatusBarText>cb.fn)(cb.user, 0, text, &info)
+        (<TC_SetStatusBarText>cb.fn)(cb.user, 0, text_to_host(text, &owned), &info)
+        free(owned)
         callback_leave(core, SLOT_SET_STATUS_BAR_TEXT)
 
 

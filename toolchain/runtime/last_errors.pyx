@@ -19,14 +19,10 @@ cdef extern from *:
         if (tc_held_key_made)
             pthread_key_delete(tc_held_key);
     }
-    #define TC_REF_ADD_E(p) __atomic_add_fetch((p), 1, __ATOMIC_RELAXED)
-    #define TC_REF_SUB_E(p) __atomic_sub_fetch((p), 1, __ATOMIC_ACQ_REL)
     """
     void *tc_held_errors[3][2]
     pthread_key_t tc_held_key
     int tc_held_key_made
-    int32_t TC_REF_ADD_E(int32_t *p) nogil
-    int32_t TC_REF_SUB_E(int32_t *p) nogil
 
 # the error kept when there is no memory for a copy of the one to keep: never freed
 cdef PublishedError g_out_of_memory_error
@@ -59,7 +55,7 @@ cdef PublishedError *published_error_new(const ErrorInfo *err) noexcept nogil:
         return NULL
     e = <PublishedError *>malloc(sizeof(PublishedError)) if err != NULL else NULL
     if e == NULL:
-        TC_REF_ADD_E(&g_out_of_memory_error.refs)
+        TC_REF_ADD(&g_out_of_memory_error.refs)
         return &g_out_of_memory_error
     e.refs = 1
     e.info = err[0]
@@ -68,7 +64,7 @@ cdef PublishedError *published_error_new(const ErrorInfo *err) noexcept nogil:
 
 cdef void published_error_release(PublishedError *e) noexcept nogil:
     """Drops a reference (e may be NULL); the last one frees it."""
-    if e != NULL and TC_REF_SUB_E(&e.refs) == 0 and e != &g_out_of_memory_error:
+    if e != NULL and TC_REF_SUB(&e.refs) == 0 and e != &g_out_of_memory_error:
         free(e)
 
 
@@ -105,7 +101,7 @@ cdef int32_t core_read_error(Core *core, bint of_calls, CALLBACK_INFO *info) noe
     pthread_mutex_lock(&core.lock)
     e = core.call_error if of_calls else core.error
     if e != NULL:
-        TC_REF_ADD_E(&e.refs)
+        TC_REF_ADD(&e.refs)
     pthread_mutex_unlock(&core.lock)
     if e == NULL:
         return 0

@@ -31,7 +31,7 @@ cdef void session_begin(Session *s, const double *start) noexcept nogil:
     """DriverInitialize: the start position (ten axes) and the regime."""
     cdef Callback cb
     if callback_enter(s.core, SLOT_DRIVER_INITIALIZE, &cb):
-        (<TC_DriverInitialize>cb.fn)(cb.user, start, 10, s.regime)
+        (<TC_DriverInitialize>cb.fn)(cb.user, <double *>start, AXES, s.regime)
         callback_leave(s.core, SLOT_DRIVER_INITIALIZE)
 
 
@@ -275,7 +275,7 @@ cdef void session_cells(SnapshotData *view, int32_t kind, int32_t func, bint wai
     cdef int k
     for k in range(26):
         cells[k] = INVALID_VALUE_F
-    for k in range(10):
+    for k in range(AXES):
         cells[_AXIS_CELL[k]] = <float>position[k]
     if kind == PART_MOTION or kind == PART_DWELL:
         view.pos.m_func = func
