@@ -28,6 +28,7 @@ cdef enum ErrorNumber:
     ERR_BAD_REGIME = 21              # StartCNCEx: unknown regime
     ERR_NO_M_PENDING = 22            # No M function waits for a confirmation
     ERR_M_PENDING = 23               # An M function still waits for its confirmation (ToolChainCore_ConfirmMFunc)
+    ERR_PATH_NOT_FINITE = 24         # %s: the move's path is not finite (%s)
     # Lexical (100..199)
     ERR_UNKNOWN_WORD = 100           # Unknown word '%s' at column %d
     ERR_BAD_NUMBER = 101             # Bad number '%s' at column %d
@@ -107,6 +108,7 @@ cdef enum ErrorNumber:
     ERR_CONNECT_NO_MFUNC = 703       # ConnectCNCEx_Plane: occurrence n = %d of M%d not found (%d in that direction)
     ERR_CONNECT_OFF_PART = 704       # ConnectCNCEx_Plane: the point lies %g mm from the part with G-code index %d (tolerance %g mm)
     ERR_CONNECT_NO_MOTION = 705      # ConnectCNCEx_Plane: no motion to connect to in parts %d to %d (the program has %d)
+    ERR_CONNECT_NOT_FINITE = 706     # ConnectCNCEx_Plane: %s gave a point that is not finite
     # Correction tables and smoothing (720..759)
     ERR_TOOL_TABLE_NO_KEYWORD = 720  # Tool table '%s' has no line $KOR
     ERR_TOOL_TABLE_LINE = 721        # Tool table '%s' line %d: %s
@@ -142,6 +144,7 @@ cdef extern from *:
         case 21: return "StartCNCEx: unknown regime";
         case 22: return "No M function waits for a confirmation";
         case 23: return "An M function still waits for its confirmation (ToolChainCore_ConfirmMFunc)";
+        case 24: return "%s: the move's path is not finite (%s)";
         case 100: return "Unknown word '%s' at column %d";
         case 101: return "Bad number '%s' at column %d";
         case 102: return "Address %s at column %d without a value";
@@ -214,6 +217,7 @@ cdef extern from *:
         case 703: return "ConnectCNCEx_Plane: occurrence n = %d of M%d not found (%d in that direction)";
         case 704: return "ConnectCNCEx_Plane: the point lies %g mm from the part with G-code index %d (tolerance %g mm)";
         case 705: return "ConnectCNCEx_Plane: no motion to connect to in parts %d to %d (the program has %d)";
+        case 706: return "ConnectCNCEx_Plane: %s gave a point that is not finite";
         case 720: return "Tool table '%s' has no line $KOR";
         case 721: return "Tool table '%s' line %d: %s";
         case 722: return "Tool correction D%g does not exist (D1..D99)";

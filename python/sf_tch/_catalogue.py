@@ -61,6 +61,7 @@ class ErrorNumber(enum.IntEnum):
     BAD_REGIME = 21  # StartCNCEx: unknown regime
     NO_M_PENDING = 22  # No M function waits for a confirmation
     M_PENDING = 23  # An M function still waits for its confirmation (ToolChainCore_ConfirmMFunc)
+    PATH_NOT_FINITE = 24  # %s: the move's path is not finite (%s)
     UNKNOWN_WORD = 100  # Unknown word '%s' at column %d
     BAD_NUMBER = 101  # Bad number '%s' at column %d
     MISSING_VALUE = 102  # Address %s at column %d without a value
@@ -133,6 +134,7 @@ class ErrorNumber(enum.IntEnum):
     CONNECT_NO_MFUNC = 703  # ConnectCNCEx_Plane: occurrence n = %d of M%d not found (%d in that direction)
     CONNECT_OFF_PART = 704  # ConnectCNCEx_Plane: the point lies %g mm from the part with G-code index %d (tolerance %g mm)
     CONNECT_NO_MOTION = 705  # ConnectCNCEx_Plane: no motion to connect to in parts %d to %d (the program has %d)
+    CONNECT_NOT_FINITE = 706  # ConnectCNCEx_Plane: %s gave a point that is not finite
     TOOL_TABLE_NO_KEYWORD = 720  # Tool table '%s' has no line $KOR
     TOOL_TABLE_LINE = 721  # Tool table '%s' line %d: %s
     TOOL_ENTRY = 722  # Tool correction D%g does not exist (D1..D99)
