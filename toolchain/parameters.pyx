@@ -18,7 +18,7 @@ cdef extern from *:
 
 
 cdef void default_gcode_parameters(GCODE_PARAMETERS *p) noexcept nogil:
-    """The documented defaults (ABI.md)."""
+    """The documented defaults (docs/structures.md)."""
     cdef int i
     memset(p, 0, sizeof(GCODE_PARAMETERS))
     p.absMode = 1

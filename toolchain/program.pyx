@@ -298,7 +298,7 @@ cdef inline void _p10(P10DOUBLE *dst, const double *src) noexcept nogil:
 
 
 cdef void part_to_gm(const Program *prog, size_t i, SIMPLE_GM_PARAMS *gm) noexcept nogil:
-    """Builds the API view of part i: every field as API.md/ABI.md describe."""
+    """Builds the API view of part i: every field as docs/api.md and docs/structures.md describe."""
     cdef const Part *p = &prog.parts[i]
     cdef float *cells = <float *>&gm.m_pars
     cdef int letter
@@ -344,7 +344,7 @@ cdef void part_to_gm(const Program *prog, size_t i, SIMPLE_GM_PARAMS *gm) noexce
         gm.m_pars.G = <float>p.func
         gm.m_pars.N = 0.0       # the length of the part: a dwell does not move
     gm.m_pars.S = p.spindle
-    # tool in the high 16 bits, plane in the low 16 (ABI.md); shifted unsigned: a tool
+    # tool in the high 16 bits, plane in the low 16 (docs/structures.md); shifted unsigned: a tool
     # of 32768 and more sets the sign bit, which a signed shift may not do
     gm.m_planeTool = <int32_t>((<uint32_t>p.tool << 16) | (<uint32_t>p.plane & 0xFFFF))
     gm.m_reserved = 0

@@ -1,4 +1,4 @@
-# The connection search of ConnectCNCEx_Plane (API.md): the place on a program, as a
+# The connection search of ConnectCNCEx_Plane (docs/api.md): the place on a program, as a
 # run places it (placement.pyx), where the machine connects to. Pure and typed, no
 # GIL, no Python objects: the machine calls it from its own thread and does the
 # moving, the statuses and the callbacks. Rules and costs: docs/connect.md.
@@ -24,7 +24,7 @@
 #   connect_exact_point(prog, pl, coords, n_coords, axes, tolerance, hit, err)   46
 #   connect_bad_argument(err, name, value, why)   error 700 for an argument the caller checks
 #
-# maxConnectionDistance (ABI.md, the vendor's text): a part farther than it from the
+# maxConnectionDistance (docs/structures.md, the vendor's text): a part farther than it from the
 # point counts by its two end points only, so a far point connects to a vertex of
 # the trajectory, never into the middle of a part; <= 0 (or not finite) = no limit.
 from libc.math cimport sqrt, floor, isfinite, INFINITY

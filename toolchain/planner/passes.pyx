@@ -1,6 +1,6 @@
 # The look-ahead: every motion part gets an entry, peak and exit speed such that
 # the machine can still stop at the end of what it sees. The vendor's interpolator
-# sees the current part and the next 7 (its look-ahead table, seed 003), so the
+# sees the current part and the next 7 (its look-ahead table, docs/vendor-sources.md), so the
 # default window is 8 parts (M functions count); a deeper window only lets parts
 # run faster. One sweep over the program with a ring of the visible parts:
 #   backward: from a stop at the window's end (or the program's end), the highest
