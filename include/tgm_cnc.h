@@ -600,15 +600,16 @@ TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_CompileFromMemory(uint32_
 /* 0 idle, 1 busy (compiling, simulating, moving), -2 bad core. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_IsBusy(uint32_t intIdx);
 
-/* 0 no error (info untouched); 1 the last compilation or run failed and info is filled
- * (the strings stay valid until the next compilation or start on the core); -1 NULL.
+/* 0 no error (info untouched); 1 the last compilation or run failed and info is filled;
+ * -1 NULL. The strings are never rewritten: they stay valid until the calling thread
+ * calls GetLastError for this core again (or ends), whatever other threads do.
  * A refused call never changes it: see GetLastCallError. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GetLastError(uint32_t intIdx, CALLBACK_INFO *info);
 
 /* Beyond the vendor's list. The error of the last call on the core that was refused
  * with an error text (busy, wrong status, unreadable file, not implemented, ...):
- * 1 and info filled (strings valid until the next refused call), 0 none yet; -1 NULL,
- * -2 bad core. The same error also went to DispAndLocateError and AddOutputLog. */
+ * 1 and info filled (the strings never rewritten, valid until the calling thread calls
+ * GetLastCallError for this core again or ends), 0 none yet; -1 NULL, -2 bad core. The same error also went to DispAndLocateError and AddOutputLog. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GetLastCallError(uint32_t intIdx, CALLBACK_INFO *info);
 
 /* Index of a file name (new names get the next index, 64 per core; when the table is
@@ -654,21 +655,28 @@ TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_ResetCNC(uint32_t intIdx,
 
 /* Starts a run in the core's worker (run_regime) from the machine position; a
  * simulation or test is a dry run and does not move the machine position. addCode:
- * M functions sent first. -1 when compiling, nothing compiled, the regime cannot start
- * in this status, or inside a callback of the core's running activity. */
+ * M functions sent first (the offline machine: at status 70, one that DriverMFunc
+ * answers TC_MFUNC_LATER holds the start until ToolChainCore_ConfirmMFunc). -1 when
+ * compiling, nothing compiled, the regime cannot start in this status, or inside a
+ * callback of the core's running activity. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_StartCNCEx(uint32_t intIdx, int32_t regime, TGM_LPCSTR addCode);
 
 /* Controlled stop (simulation: -11, test: -21, motion: -31); returns at once, the
- * worker sets the status when it has stopped. -1 when nothing runs. */
+ * worker sets the status when it has stopped, after sending addCode's M functions (not
+ * in regimes 31, 32; the offline machine: at status 80, held like the start's). It also
+ * answers an M function that waits for its confirmation (it stays sent). -1 when
+ * nothing runs. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_StopCNCEx(uint32_t intIdx, TGM_LPCSTR addCode);
 
 /* Moves back onto the trajectory (connect_type): docs/api.md, docs/connect.md. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_ConnectCNCEx_Plane(uint32_t intIdx, uint32_t nType, uint32_t nCoords, const double *coords, TGM_LPCSTR addCode, uint32_t axesForCalc, uint32_t axesForConnect, int32_t stateAfter);
 
-/* Manual linear move to absolute coordinates with motion[5]. */
+/* Manual linear move to absolute coordinates with motion[5]. -1 (error 24) when its
+ * path is not finite from where the machine stands (a target that far away). */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GoToPosition(uint32_t intIdx, uint32_t nCoords, const double *coords);
 
-/* Manual move by line or arc described by dest (m_func 1/2/3, m_calcE, m_cc). */
+/* Manual move by line or arc described by dest (m_func 1/2/3, m_calcE, m_cc). -1
+ * (error 24) when its path is not finite (a target, an arc centre or a feed too large). */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GoToPositionEx(uint32_t intIdx, const SIMPLE_GM_PARAMS *dest);
 
 /* Signals M function fun->m_func to the machine while stopped. */
@@ -701,7 +709,9 @@ TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_LoadCNCCalcPlugIn(TGM_LPC
 /* Sets (fn non-NULL) or removes (fn NULL) callback fceNo (callback_number) of the core;
  * userData is passed back as the first argument. Returns once no call of the previous
  * function runs on another thread, and no later call reaches it: the host may free it
- * then. 0; -1 unknown number, or a driver number (> 1000) before LoadFromIni; -2 bad
+ * then. Called from inside any callback it returns at once (no later call reaches the
+ * old function, but one may still run on another thread): waiting there could wait for
+ * a callback that waits for this one. 0; -1 unknown number, or a driver number (> 1000) before LoadFromIni; -2 bad
  * core. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_SetCallBack(uint32_t intIdx, uint32_t fceNo, intptr_t userData, void *fn);
 
@@ -763,6 +773,21 @@ TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_SetTimeScale(uint32_t int
  * Returns 0; -1 when no M function waits for a confirmation; -2 bad core. */
 #define TC_MFUNC_LATER 2
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_ConfirmMFunc(uint32_t intIdx);
+
+/* Test-only: never call it from a host. The offline machine's stepped clock, for tests
+ * that step the machine instead of sleeping. With key TC_TEST_CLOCK_KEY:
+ *   seconds > 0: the core's machine runs on a clock that only this function advances
+ *     (from now on, also in later runs: the wall clock and the time scale no longer move
+ *     it), and the run that moves -- or is starting -- runs `seconds` of machine time in
+ *     100 us steps. Returns once they have run (or the machine halted, stands at an M
+ *     function that waits for a confirmation, or nothing moves), GetPos shows them and
+ *     every driver callback they caused has returned.
+ *   seconds == 0: the stepped clock on, nothing run.   seconds < 0: the wall clock again.
+ * Any other key: -1 and nothing changes, so no host switches it on by accident.
+ * Returns 0; -1 for another key, NaN, or a call from a library thread (a callback of a
+ * running activity: it would wait for its own thread); -2 bad core. */
+#define TC_TEST_CLOCK_KEY 0x4B434F4C43545354ULL   /* "TSTCLOCK" */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_TestClock(uint32_t intIdx, uint64_t key, double seconds);
 
 /*
  * Log hook (extension)

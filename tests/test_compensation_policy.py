@@ -62,7 +62,7 @@ def test_seed_example_compiles_with_warnings_by_default(strategy):
         for w in program.warnings:
             if w.number == ErrorNumber.COMPENSATION_GOUGE:
                 assert w.arguments[0] == str(w.line) and w.file == "seed.nc"
-                assert str(w).startswith(f"seed.nc:{w.line}: warning 601: Equidistant error on line {w.line}: "
+                assert str(w).startswith(f"seed.nc:{w.line}:1: warning 601: Equidistant error on line {w.line}: "
                                          f"the tool cuts 1.5 mm into the contour")
         # Python shows each one at its G-code line
         assert sorted((w.filename, w.lineno, str(w.message)) for w in shown) == \
@@ -326,14 +326,14 @@ def test_strict_switch_from_the_command_line(tmp_path):
     proc = _cli("compile", str(path), "--radius", "2")
     assert proc.returncode == 0, proc.stderr
     lines = proc.stderr.splitlines()
-    assert lines[:3] == [f"{path}:{n}: warning 601: Equidistant error on line {n}: the tool cuts 0.871573 mm into "
+    assert lines[:3] == [f"{path}:{n}:1: warning 601: Equidistant error on line {n}: the tool cuts 0.871573 mm into "
                          f"the contour" for n in (4, 5, 6)]
     assert lines[3] == ("sf-tch: 3 warnings, 3 where the tool cuts into the contour (warning 601; --strict "
                         "refuses such a program)")
     assert "GougeWarning" not in proc.stderr and "program:" in proc.stdout
     proc = _cli("compile", str(path), "--radius", "2", "--strict")
     assert proc.returncode == 1
-    assert f"{path}:5: error 504: Equidistants cross" in proc.stderr
+    assert f"{path}:5:1: error 504: Equidistants cross" in proc.stderr
     proc = _cli("compile", str(path), "--radius", "2", "--strategy", "0x80600", "--strict")
     assert proc.returncode == 0 and "601" not in proc.stderr
 

@@ -10,9 +10,9 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 PAGES = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
 
-# Folders whose files may not cite what lies outside the repository. toolchain/ joins them
-# once its comments are rewritten.
-CHECKED = ["README.md", "docs", "python", "abi_check", "examples", "include", "benchmarks", "tests"]
+# Folders whose files may not cite what lies outside the repository.
+CHECKED = ["README.md", "docs", "python", "abi_check", "examples", "include", "benchmarks", "tests", "toolchain",
+           "tools", "cmake", ".ci"]
 OUTSIDE = re.compile(r"\b(?:API|ABI|GCODE|DESIGN)\.md\b"          # the specification files
                      r"|\.\./shared\b|/work/shared\b|\bshared/(?:spec|seeds|repro|corpus)\b"
                      r"|(?i:\bseeds?\s+0\d\d\b)")                 # the vendor's documents by number

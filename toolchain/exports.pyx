@@ -364,7 +364,7 @@ cdef public int32_t ToolChainCore_GetLastError(uint32_t intIdx, CALLBACK_INFO *i
         return TOOL_CHAIN_BAD_INTR_INDEX
     if info == NULL:
         return TOOL_CHAIN_ERROR
-    return core_read_error(core, &core.error, info)
+    return core_read_error(core, False, info)
 
 
 cdef public int32_t ToolChainCore_GetLastCallError(uint32_t intIdx, CALLBACK_INFO *info) noexcept nogil:
@@ -373,7 +373,7 @@ cdef public int32_t ToolChainCore_GetLastCallError(uint32_t intIdx, CALLBACK_INF
         return TOOL_CHAIN_BAD_INTR_INDEX
     if info == NULL:
         return TOOL_CHAIN_ERROR
-    return core_read_error(core, &core.call_error, info)
+    return core_read_error(core, True, info)
 
 
 cdef public int32_t ToolChain_GetLastError(CALLBACK_INFO *info) noexcept nogil:
@@ -468,16 +468,9 @@ cdef public int32_t ToolChainCore_StartCNCEx(uint32_t intIdx, int32_t regime, TG
 
 cdef public int32_t ToolChainCore_StopCNCEx(uint32_t intIdx, TGM_LPCSTR addCode) noexcept nogil:
     cdef Core *core = core_get(intIdx)
-    cdef int32_t status
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
-    status = core_status(core)
-    if status_after(status, CMD_STOP, False) == TC_REFUSED:
-        return core_refuse(core, "StopCNCEx", status)
-    if addCode != NULL and addCode[0] != 0:
-        machine_keep_stop_code(core, addCode)
-    TC_ATOMIC_STORE(&core.stop, 1)
-    return TOOL_CHAIN_SUCCESS
+    return core_stop(core, addCode)
 
 
 cdef int32_t not_implemented(uint32_t intIdx, const char *what) noexcept nogil:
@@ -518,7 +511,7 @@ cdef public int32_t ToolChainCore_GoToPositionEx(uint32_t intIdx, const SIMPLE_G
         return TOOL_CHAIN_BAD_INTR_INDEX
     if dest == NULL or dest.m_func < 1 or dest.m_func > 3:
         return TOOL_CHAIN_ERROR
-    if not coordinates_finite(<const double *>&dest.m_calcE, 10) or not coordinates_finite(<const double *>&dest.m_cc, 10):
+    if not coordinates_finite(<const double *>&dest.m_calcE, AXES) or not coordinates_finite(<const double *>&dest.m_cc, AXES):
         return TOOL_CHAIN_ERROR
     return core_goto(core, dest, 10, <const double *>&dest.m_calcE)
 
@@ -529,7 +522,7 @@ cdef public int32_t ToolChainCore_MFunc(uint32_t intIdx, const SIMPLE_GM_PARAMS 
         return TOOL_CHAIN_BAD_INTR_INDEX
     if fun == NULL:
         return TOOL_CHAIN_ERROR
-    return machine_send_m(core, fun)
+    return session_standing_m(core, fun)
 
 
 cdef public int32_t ToolChainCore_SetRelFeed(uint32_t intIdx, double relFeed) noexcept nogil:
@@ -687,7 +680,14 @@ cdef public int32_t ToolChainCore_ConfirmMFunc(uint32_t intIdx) noexcept nogil:
     cdef Core *core = core_get(intIdx)
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
-    return machine_confirm_m(core)
+    return session_confirm(core)
+
+
+cdef public int32_t ToolChainCore_TestClock(uint32_t intIdx, uint64_t key, double seconds) noexcept nogil:
+    cdef Core *core = core_get(intIdx)
+    if core == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX
+    return machine_test_clock(core, key, seconds)
 
 
 # ------------------------------------------------------------------ toolpath (extension)

@@ -18,7 +18,7 @@ cdef extern from *:
 
 
 cdef void default_gcode_parameters(GCODE_PARAMETERS *p) noexcept nogil:
-    """The documented defaults (ABI.md)."""
+    """The documented defaults (docs/structures.md)."""
     cdef int i
     memset(p, 0, sizeof(GCODE_PARAMETERS))
     p.absMode = 1
@@ -154,7 +154,7 @@ cdef bint check_gcode_parameters(const GCODE_PARAMETERS *p, ErrorInfo *err) noex
             and _in_bounds(err, "GCODE_PARAMETERS.dynamicG42Correction_percent", p.dynamicG42Correction_percent,
                            -1000.0, 1000.0, False)):
         return False
-    for i in range(10):
+    for i in range(AXES):
         if not (_indexed_in_bounds(err, "GCODE_PARAMETERS.axisLimits[%d].maxFeed", i, p.axisLimits[i].maxFeed,
                                    0.0, TC_MAX_RATE, False)
                 and _indexed_in_bounds(err, "GCODE_PARAMETERS.axisLimits[%d].maxAcc", i, p.axisLimits[i].maxAcc,
@@ -175,7 +175,7 @@ cdef bint _axes_in_bounds(ErrorInfo *err, const char *field, const P10DOUBLE *va
     cdef const char *axes = "xyzcbuvwao"
     cdef char name[96]
     cdef int i
-    for i in range(10):
+    for i in range(AXES):
         c_snprintf(name, sizeof(name), "MACHINE_PARAMETERS.%s.%c", field, axes[i])
         if not _in_bounds(err, name, v[i], lo, hi, False):
             return False

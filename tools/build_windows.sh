@@ -39,6 +39,8 @@ RUN="$BUILD/wine-run"
 rm -rf "$RUN"
 mkdir -p "$RUN"
 cp "$BUILD/SF_TCh.dll" "$BUILD/panel.exe" "$ROOT/python/sf_tch/data/SF_TCh.ini" "$ROOT/python/sf_tch/data/demo.nc" "$RUN/"
+# a preloaded library (a sanitizer runtime, say) is a Linux one: Wine would fail to start with it
+unset LD_PRELOAD
 export WINEPREFIX="${WINEPREFIX:-$BUILD/wineprefix}" WINEDEBUG=-all WINEDLLOVERRIDES="mscoree,mshtml="
 mkdir -p "$WINEPREFIX"
 

@@ -338,15 +338,17 @@ class Core:
         """Interrupts a compilation or run (ResetCNC marking the start only)."""
         self.lib.ToolChainCore_ResetCNC(self.index, 1, 0, None)
 
-    def start_compile_text(self, code: str, name: str = "program.nc") -> None:
-        """Starts compiling G-code text in the core's thread and returns at once."""
-        self._check(self.lib.ToolChainCore_CompileFromMemory(self.index, abi.host_text(name), code.encode()))
+    def start_compile_text(self, code: str | bytes, name: str = "program.nc") -> None:
+        """Starts compiling G-code text (a str is sent as UTF-8, bytes as they are) in
+        the core's thread and returns at once."""
+        data = code if isinstance(code, bytes) else code.encode()
+        self._check(self.lib.ToolChainCore_CompileFromMemory(self.index, abi.host_text(name), data))
 
     def start_compile_file(self, path) -> None:
         """Starts compiling a file in the core's thread and returns at once."""
         self._check(self.lib.ToolChainCore_CompileFromFile(self.index, abi.host_text(str(path))))
 
-    def compile_text(self, code: str, name: str = "program.nc") -> None:
+    def compile_text(self, code: str | bytes, name: str = "program.nc") -> None:
         """Compiles G-code text; raises :class:`CncError` on the first error."""
         self.start_compile_text(code, name)
         self._finish()

@@ -35,12 +35,13 @@ Source = str | bytes | os.PathLike
 _LOOKS_LIKE_G_CODE = re.compile(r"\s*(?:[GMN]\s*-?\d|[XYZABCUVWIJKF]\s*[-+]?[\d.(]|P\d+\s*=|[(;%])", re.I)
 
 
-def _read_source(source: Source, name: str | None) -> tuple[str | None, Path | None, str]:
+def _read_source(source: Source, name: str | None) -> tuple[str | bytes | None, Path | None, str]:
     """(text, path, name): text for G-code given as text, path for a file. A str
     with a line break, or bytes, is G-code; any other str or a PathLike is a file
-    (a str without a line break is never guessed to be G-code: the message says so)."""
+    (a str without a line break is never guessed to be G-code: the message says so).
+    Bytes stay bytes: the library gets them as they are (a byte-order mark too)."""
     if isinstance(source, bytes):
-        return source.decode("latin-1"), None, name or "program.nc"
+        return source, None, name or "program.nc"
     if isinstance(source, str) and ("\n" in source or "\r" in source):
         return source, None, name or "program.nc"
     path = Path(source)
@@ -86,12 +87,13 @@ class CompileJob:
     progress in percent (0..100, each value once), :meth:`cancel` it, or wait for
     its :meth:`result`. Made by :func:`start_compile`."""
 
-    def __init__(self, core: Core, text: str | None, path: Path | None, name: str,
+    def __init__(self, core: Core, text: str | bytes | None, path: Path | None, name: str,
                  progress: Callable[[int], object] | None = None, cancel=None, arguments: dict | None = None):
         self.core = core
         self.name = name
         self._text = text
         self._path = path
+        self._lines: list[str] | None = None      # the source's lines, read for the first diagnostic
         self._cancel_event = cancel
         self._progress = _Progress()
         self.warnings: list[Diagnostic] = []
@@ -149,8 +151,9 @@ class CompileJob:
             if last is not None and not any(e.number == last.number and e.line == last.line for e in self.errors):
                 self.errors.append(last.diagnostic)
             errors = [attach_column(e, self._source_lines(e)) for e in self.errors]
-            self._program = Program(self.core, self.name, errors, list(self.warnings), self._arguments)
-            for warning in self.warnings:
+            located = [attach_column(w, self._source_lines(w)) for w in self.warnings]
+            self._program = Program(self.core, self.name, errors, located, self._arguments)
+            for warning in located:
                 if warning.number == ErrorNumber.COMPENSATION_GOUGE:
                     # the part would be damaged: shown by Python itself, at the G-code line
                     # (strict=True refuses it)
@@ -161,14 +164,21 @@ class CompileJob:
     def _source_lines(self, diagnostic: Diagnostic) -> list[str] | None:
         """The lines of the source a diagnostic points into (only read when there is
         one), None for another file (a prefix, a called file)."""
-        if diagnostic.file != self.name:
+        if diagnostic.file != self.name or diagnostic.line <= 0:
             return None
-        if self._text is not None:
-            return self._text.splitlines()
-        try:
-            return self._path.read_text(encoding="latin-1").splitlines() if self._path else None
-        except OSError:
-            return None
+        if self._lines is None:
+            text = self._text.decode("latin-1") if isinstance(self._text, bytes) else self._text
+            if text is None:
+                try:
+                    text = self._path.read_text(encoding="latin-1") if self._path else None
+                except OSError:
+                    return None
+            # the library counts columns after a UTF-8 byte-order mark
+            for bom in ("\ufeff", "\xef\xbb\xbf"):
+                if text is not None and text.startswith(bom):
+                    text = text[len(bom):]
+            self._lines = text.split("\n") if text is not None else None     # (lines as the library counts them)
+        return self._lines
 
 
 def start_compile(source: Source, radius: float | None = None, strategy: int | None = None,

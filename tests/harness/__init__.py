@@ -1,6 +1,6 @@
 """The test-only module `stages` (stages.pyx: the library's stages with Python entry
-points into the compensation, the planner, the connection search and the offline
-machine), built once per source state and shared by every test process.
+points into the geometry, the compensation, the planner, the connection search and
+the offline machine), built once per source state and shared by every test process.
 
 The build is cached under $SF_TCH_HARNESS_CACHE, else $XDG_CACHE_HOME/sf_tch-harness
 (~/.cache/sf_tch-harness), in a directory named by a hash of toolchain/, include/,

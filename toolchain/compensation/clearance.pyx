@@ -22,21 +22,11 @@ from libc.string cimport memmove, memcpy
 from libc.math cimport fabs, sqrt, M_PI
 
 
-cdef inline double _cl_sweep(int direction, const double *s, const double *e, const double *c) noexcept nogil:
-    """A stand-in for the sweep of an arc from s to e round c, in (0, 2pi]: monotone in
-    the true one and equal to it at every quarter turn (what the boxes and _cl_within
-    compare it with), without trigonometry; a full circle when s = e."""
-    cdef double d = x_pseudo(e[0] - c[0], direction * (e[1] - c[1])) - x_pseudo(s[0] - c[0], direction * (s[1] - c[1]))
-    if d <= 0:
-        d += 4.0
-    return d * (0.5 * M_PI)
-
-
 cdef inline bint _cl_within(const XPiece *q, double x, double y) noexcept nogil:
     """Whether the direction of point (x, y) from arc piece q's centre lies within the
     arc (cross products, no angles: this is the check's inner loop)."""
     cdef double ax, ay, px, py, bx, by
-    if q.sweep >= 2.0 * M_PI - 1e-12:
+    if q.sweep >= 2.0 * M_PI - ANGLE_EPS:
         return True
     ax = q.s[0] - q.c[0]; ay = q.s[1] - q.c[1]
     bx = q.e[0] - q.c[0]; by = q.e[1] - q.c[1]
@@ -110,7 +100,7 @@ cdef double _cl_arc_arc_inner(const XPiece *p, const XPiece *q, double stop) noe
     cdef double pp[4]
     cdef double qq[4]
     cdef int i, j, n_p = 0, n_q = 0
-    if D <= 1e-12:
+    if D <= ROUNDING_EPS:
         return stop             # concentric: the ends decide
     ux = dx / D; uy = dy / D
     if D <= p.r + q.r and D >= fabs(p.r - q.r):
@@ -217,13 +207,13 @@ cdef bint cl_element(const CompState *S, size_t k, XPiece *g) noexcept nogil:
     if p.func == 2 or p.func == 3:
         g.c[0] = p.cc[S.first]; g.c[1] = p.cc[S.second]
         g.r = distance2d(g.s[0] - g.c[0], g.s[1] - g.c[1])
-        if g.r <= 1e-9:
+        if g.r <= LENGTH_EPS:
             return False
         g.kind = EL_ARC
         g.dir = 1 if p.func == 3 else -1
-        g.sweep = _cl_sweep(g.dir, g.s, g.e, g.c)
+        g.sweep = pseudo_sweep(g.s[0] - g.c[0], g.s[1] - g.c[1], g.e[0] - g.c[0], g.e[1] - g.c[1], g.dir)
     else:
-        if (g.e[0] - g.s[0]) * (g.e[0] - g.s[0]) + (g.e[1] - g.s[1]) * (g.e[1] - g.s[1]) <= 1e-18:
+        if (g.e[0] - g.s[0]) * (g.e[0] - g.s[0]) + (g.e[1] - g.s[1]) * (g.e[1] - g.s[1]) <= LENGTH_EPS * LENGTH_EPS:
             return False
         g.kind = EL_LINE
         g.dir = 0
@@ -402,8 +392,10 @@ cdef bint _cl_cross(const XPiece *a, const XPiece *b) noexcept nogil:
     m = x_meet(a, b, 0.0, pts)
     for k in range(m):
         if x_on(a, pts[2 * k], pts[2 * k + 1], 0.0, &pos) and x_on(b, pts[2 * k], pts[2 * k + 1], 0.0, &pos) \
-                and not ((x_near(a.s, pts[2 * k], pts[2 * k + 1], 1e-9) or x_near(a.e, pts[2 * k], pts[2 * k + 1], 1e-9))
-                         and (x_near(b.s, pts[2 * k], pts[2 * k + 1], 1e-9) or x_near(b.e, pts[2 * k], pts[2 * k + 1], 1e-9))):
+                and not ((x_near(a.s, pts[2 * k], pts[2 * k + 1], LENGTH_EPS)
+                          or x_near(a.e, pts[2 * k], pts[2 * k + 1], LENGTH_EPS))
+                         and (x_near(b.s, pts[2 * k], pts[2 * k + 1], LENGTH_EPS)
+                              or x_near(b.e, pts[2 * k], pts[2 * k + 1], LENGTH_EPS))):
             return True
     return False
 
@@ -588,7 +580,7 @@ cdef inline bint _cl_arc(XPiece *t, const double *a, const double *b, const doub
     """An arc piece from a to b round c in `direction`; False for no piece. full: a
     part's arc (a = b: a full circle), with its exact box; else a corner arc (a = b:
     nothing), with its circle's box."""
-    if r <= 1e-12 or (not full and distance2d(b[0] - a[0], b[1] - a[1]) <= 1e-12):
+    if r <= ROUNDING_EPS or (not full and distance2d(b[0] - a[0], b[1] - a[1]) <= ROUNDING_EPS):
         return False
     t.kind = EL_ARC
     t.dir = direction
@@ -596,7 +588,7 @@ cdef inline bint _cl_arc(XPiece *t, const double *a, const double *b, const doub
     t.e[0] = b[0]; t.e[1] = b[1]
     t.c[0] = c[0]; t.c[1] = c[1]
     t.r = r
-    t.sweep = _cl_sweep(direction, a, b, c)
+    t.sweep = pseudo_sweep(a[0] - c[0], a[1] - c[1], b[0] - c[0], b[1] - c[1], direction)
     t.part = part
     if full:
         x_geometry(t)
@@ -743,7 +735,7 @@ cdef bint _cl_run(CompState *S, size_t upto, size_t end, bint strict, bint skip_
                 c[0] = p.cc[S.first]; c[1] = p.cc[S.second]
                 have = _cl_arc(t, C.cur, end_pt, c, p.radius, 1 if p.func == 3 else -1, k, True)
             else:
-                have = distance2d(end_pt[0] - C.cur[0], end_pt[1] - C.cur[1]) > 1e-12
+                have = distance2d(end_pt[0] - C.cur[0], end_pt[1] - C.cur[1]) > ROUNDING_EPS
                 if have:
                     _cl_line(t, C.cur, end_pt, k)
             skip = (C.first_piece and skip_first) or (k == last_el and skip_last)
@@ -769,7 +761,7 @@ cdef bint _cl_run(CompState *S, size_t upto, size_t end, bint strict, bint skip_
             have = False
             if not S.ins[C.rec].no_centre:
                 if S.ins[C.rec].func == INS_G1:
-                    have = distance2d(end_pt[0] - C.cur[0], end_pt[1] - C.cur[1]) > 1e-12 \
+                    have = distance2d(end_pt[0] - C.cur[0], end_pt[1] - C.cur[1]) > ROUNDING_EPS \
                         and not _cl_side_change(S, k, end)
                     if have:
                         _cl_line(t, C.cur, end_pt, k)
@@ -867,7 +859,7 @@ cdef bint cl_chain_close(CompState *S, size_t last, bint skip_first, bint skip_l
     cdef Clearance *C = &S.cl
     cdef const double *st = part_start_xyz(S.prog, C.first)
     cdef const Part *p = &S.prog.parts[last]
-    cdef bint is_open = distance2d(st[S.first] - p.e[S.first], st[S.second] - p.e[S.second]) > 1e-6
+    cdef bint is_open = distance2d(st[S.first] - p.e[S.first], st[S.second] - p.e[S.second]) > CLOSED_EPS
     cdef size_t last_el = last
     cdef XPiece g
     if not is_open and C.loose:

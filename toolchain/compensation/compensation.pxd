@@ -95,7 +95,7 @@ ctypedef struct XPiece:
 ctypedef struct XState:
     XPiece *pc
     size_t n, cap, base     # pieces [base, n) are searched
-    double *g[6]            # boxes of the groups of each level (XLEV)
+    double *g[XLEV]         # boxes of the groups of each level
     size_t last_part        # part of the chain's last element (set when the chain ends)
     double start[2]         # programmed start of the chain's first element
     size_t *prov            # parts whose corner cross_join joined by a G1 (FIFO)

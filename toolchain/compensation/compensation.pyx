@@ -65,7 +65,7 @@ cdef bint _write_el(CompState *S, const CompEl *el) noexcept nogil:
         # a trimmed arc of no length would read as a full circle: it becomes a point
         # (one trimmed past itself, kept by a lenient chain, turns the long way round:
         # what its offset gives from its start to its end)
-        p.radius = el.ro if fabs(el_path_sweep(el)) > 1e-9 else 0.0
+        p.radius = el.ro if fabs(el_path_sweep(el)) > TURN_EPS else 0.0
     S.role[el.part] = ROLE_SET
     if el.first and S.entry_part >= 0:
         entry = &S.prog.parts[S.entry_part]
@@ -389,7 +389,7 @@ cdef bint _in_plane_motion(const CompState *S, size_t k, bint *is_arc) noexcept 
     s = part_start_xyz(S.prog, k)
     dx = p.e[S.first] - s[S.first]
     dy = p.e[S.second] - s[S.second]
-    return dx * dx + dy * dy > 1e-18        # longer than 1e-9
+    return dx * dx + dy * dy > LENGTH_EPS * LENGTH_EPS
 
 
 cdef int _run_begin(CompState *S, size_t i) noexcept nogil:
@@ -467,8 +467,8 @@ cdef int _run_part(CompState *S, size_t k) noexcept nogil:
     if S.chain_global:
         return COMPILE_OK           # rebuilt from the regions at the chain's end
     if is_arc:
-        if el.ro <= 1e-9 * el.R:
-            if el.ro < -1e-9 * el.R:
+        if el.ro <= LENGTH_EPS * el.R:
+            if el.ro < -LENGTH_EPS * el.R:
                 if not (S.cfg.strategy & CORR_DROP_NEGATIVE_ARCS):
                     return comp_fail(S, ERR_COMP_NEGATIVE_ARC, k, el.R, fabs(el.d))
                 comp_warn(S, k, "arc with negative equidistant removed")

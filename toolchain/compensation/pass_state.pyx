@@ -4,7 +4,7 @@
 # offset element. Shared by the crossings, the clearance, the regions and the pass
 # itself (compensation.pyx).
 from libc.string cimport memset
-from libc.math cimport fabs, M_PI
+from libc.math cimport fabs
 
 
 cdef CompWarning *_comp_warning(CompState *S, size_t part, int32_t number) noexcept nogil:
@@ -131,15 +131,10 @@ cdef bint comp_part_element(const CompState *S, size_t k, CompEl *el) noexcept n
     pe[0] = p.e[S.first]; pe[1] = p.e[S.second]
     if p.func == 2 or p.func == 3:
         pc[0] = p.cc[S.first]; pc[1] = p.cc[S.second]
-        if distance2d(ps[0] - pc[0], ps[1] - pc[1]) <= 1e-9:
+        if distance2d(ps[0] - pc[0], ps[1] - pc[1]) <= LENGTH_EPS:
             return False
-        # sweep in the arc's direction, a full circle when start = end (as arc_sweep)
-        sweep = vector_turn(ps[0] - pc[0], ps[1] - pc[1], pe[0] - pc[0], pe[1] - pc[1])
-        if p.func == 3 and sweep <= 1e-12:
-            sweep += 2.0 * M_PI
-        elif p.func == 2 and sweep >= -1e-12:
-            sweep -= 2.0 * M_PI
+        sweep = arc_sweep(ps[0] - pc[0], ps[1] - pc[1], pe[0] - pc[0], pe[1] - pc[1], p.func == 3)
         return el_init(el, k, EL_ARC, 1 if p.func == 3 else -1, comp_distance(S, p), ps, pe, pc, sweep)
-    if (pe[0] - ps[0]) * (pe[0] - ps[0]) + (pe[1] - ps[1]) * (pe[1] - ps[1]) <= 1e-18:
+    if (pe[0] - ps[0]) * (pe[0] - ps[0]) + (pe[1] - ps[1]) * (pe[1] - ps[1]) <= LENGTH_EPS * LENGTH_EPS:
         return False
     return el_init(el, k, EL_LINE, 0, comp_distance(S, p), ps, pe, pc, 0.0)

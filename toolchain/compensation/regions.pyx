@@ -26,7 +26,7 @@
 # apply), elements without a piece on their own part are removed (warning 600 on their
 # lines).
 from libc.stdlib cimport malloc, free, qsort
-from libc.math cimport fabs, fmax, sin, sqrt, atan2, M_PI
+from libc.math cimport fabs, fmax, sin, sqrt, M_PI
 from libc.float cimport DBL_EPSILON
 
 
@@ -57,7 +57,7 @@ cdef void _r_point(const XPiece *q, double t, double *out) noexcept nogil:
         out[0] = q.s[0] + (q.e[0] - q.s[0]) * t / L
         out[1] = q.s[1] + (q.e[1] - q.s[1]) * t / L
         return
-    arc_point_at(q.c, q.r, q.s[0], q.s[1], q.dir * t / q.r, out)     # planner/segment.pyx
+    arc_point_at(q.c, q.r, q.s[0], q.s[1], q.dir * t / q.r, out)
 
 
 cdef void regions_free(Regions *R) noexcept nogil:
@@ -104,22 +104,13 @@ cdef bint _r_offset_piece(Regions *R, size_t j, double d, int ptype) noexcept no
     """The offset of element j by d (PIECE_FAR: run backwards); nodes 4j + 0/1 (tool
     side start / end), 4j + 2/3 (far side)."""
     cdef const CompEl *a = &R.els[j]
-    cdef double ro, s[2], e[2], f
+    cdef double ro, s[2], e[2]
     cdef size_t n0 = 4 * j + (0 if ptype == PIECE_TOOL else 2)
     cdef XPiece *q
-    if a.kind == EL_LINE:
-        s[0] = a.s[0] - d * a.u[1]; s[1] = a.s[1] + d * a.u[0]
-        e[0] = a.e[0] - d * a.u[1]; e[1] = a.e[1] + d * a.u[0]
-        ro = 1.0
-    else:
-        ro = a.R - d * a.dir
-        if fabs(ro) <= 1e-12:
-            R.alias[n0 + 1] = n0        # a point: both ends are one node
-            return True
-        f = ro / a.R
-        s[0] = a.c[0] + (a.s[0] - a.c[0]) * f; s[1] = a.c[1] + (a.s[1] - a.c[1]) * f
-        f = ro / distance2d(a.e[0] - a.c[0], a.e[1] - a.c[1])
-        e[0] = a.c[0] + (a.e[0] - a.c[0]) * f; e[1] = a.c[1] + (a.e[1] - a.c[1]) * f
+    ro = el_offset_ends(a, d, s, e)
+    if a.kind == EL_ARC and fabs(ro) <= ROUNDING_EPS:
+        R.alias[n0 + 1] = n0            # a point: both ends are one node
+        return True
     if ptype == PIECE_TOOL:
         q = _r_new_piece(R, j, ptype, n0, n0 + 1)
     else:
@@ -151,7 +142,6 @@ cdef bint _r_vertex(Regions *R, size_t j, double d) noexcept nogil:
     cdef double tmp_a, t_[2]
     cdef size_t tmp_n, i, k, m = 0
     cdef int direction = -1 if d > 0 else 1
-    cdef double base
     cdef XPiece *q
     cdef double c[2]
     cdef const CompEl *b = &R.els[jn]
@@ -171,7 +161,7 @@ cdef bint _r_vertex(Regions *R, size_t j, double d) noexcept nogil:
         else:
             t_[0] = c[0] + d * tb[1]; t_[1] = c[1] - d * tb[0]; tmp_n = 4 * jn + 2
         for k in range(m):
-            if distance2d(pts[2 * k] - t_[0], pts[2 * k + 1] - t_[1]) <= 1e-9:
+            if distance2d(pts[2 * k] - t_[0], pts[2 * k + 1] - t_[1]) <= LENGTH_EPS:
                 R.alias[_r_node(R, tmp_n)] = _r_node(R, nodes[k])     # touching ends: one node
                 break
         else:
@@ -179,13 +169,8 @@ cdef bint _r_vertex(Regions *R, size_t j, double d) noexcept nogil:
             nodes[m] = tmp_n
             m += 1
     # in the circle's direction from the first point
-    base = atan2(pts[1] - c[1], pts[0] - c[0])
     for i in range(m):
-        ang[i] = direction * (atan2(pts[2 * i + 1] - c[1], pts[2 * i] - c[0]) - base)
-        while ang[i] < 0:
-            ang[i] += 2.0 * M_PI
-        while ang[i] >= 2.0 * M_PI:
-            ang[i] -= 2.0 * M_PI
+        ang[i] = turn_from(pts[0] - c[0], pts[1] - c[1], pts[2 * i] - c[0], pts[2 * i + 1] - c[1], direction)
     for i in range(1, m):
         k = i
         while k > 0 and ang[k] < ang[k - 1]:
@@ -283,7 +268,7 @@ cdef bint _r_crossings(Regions *R, size_t *n_nodes) noexcept nogil:
     cdef size_t i, k, gi, ng, n = R.n_pc
     cdef double pts[4]
     cdef double pi_, pk, Li, Lk
-    cdef double eps = 1e-9
+    cdef double eps = LENGTH_EPS
     cdef int m, h
     cdef XPiece *a
     cdef XPiece *b
@@ -495,7 +480,7 @@ cdef bint _r_chain_elements(CompState *S, Regions *R, double *d) noexcept nogil:
     if R.n_els == 0:
         return False
     d[0] = R.els[0].d
-    return distance2d(R.els[0].s[0] - R.els[R.n_els - 1].e[0], R.els[0].s[1] - R.els[R.n_els - 1].e[1]) <= 1e-6
+    return distance2d(R.els[0].s[0] - R.els[R.n_els - 1].e[0], R.els[0].s[1] - R.els[R.n_els - 1].e[1]) <= CLOSED_EPS
 
 
 cdef double _r_contour_area(const Regions *R) noexcept nogil:

@@ -4,10 +4,11 @@
  * Cython sources in platform.pxd. Every function here is nogil C.
  *
  *   threads     the POSIX subset the library uses (create/join, mutexes, condition
- *               variables, once), under the POSIX names; on Windows implemented over
- *               CreateThread, SRW locks, condition variables and InitOnce, with no
- *               pthread library: a zero-initialised mutex, condition or once is valid
- *               on both systems, as the library's static ones rely on
+ *               variables, once, thread-specific keys), under the POSIX names; on
+ *               Windows implemented over CreateThread, SRW locks, condition variables,
+ *               InitOnce and fiber-local storage, with no pthread library: a
+ *               zero-initialised mutex, condition or once is valid on both systems,
+ *               as the library's static ones rely on
  *   memory      madvise hints (huge pages, prefault); no-ops refused on Windows
  *   time        a monotonic clock in seconds, sleeps, the local wall-clock time
  *   files       regular files opened without blocking (a FIFO, a device, a console
@@ -106,6 +107,12 @@ static inline int pthread_cond_wait(pthread_cond_t *c, pthread_mutex_t *m) {
 }
 static inline int pthread_cond_broadcast(pthread_cond_t *c) { WakeAllConditionVariable(c); return 0; }
 
+/* Waits on `c` at most `seconds` (a whole millisecond at least). */
+static inline void tc_cond_wait_seconds(pthread_cond_t *c, pthread_mutex_t *m, double seconds) {
+    double ms = seconds * 1000.0;
+    SleepConditionVariableSRW(c, m, ms < 1.0 ? 1 : (DWORD)ms, 0);
+}
+
 static BOOL CALLBACK tc_once_main(PINIT_ONCE once, PVOID init, PVOID *context) {
     (void)once;
     (void)context;
@@ -118,6 +125,22 @@ static int pthread_once(pthread_once_t *once, void (*init)(void)) {
     memcpy(&param, &init, sizeof param);
     InitOnceExecuteOnce(once, tc_once_main, param, NULL);
     return 0;
+}
+
+/* Thread-specific keys over fiber-local storage, whose callback runs at a thread's end
+   as a key's destructor does (for a value that is not NULL). x64 has one calling
+   convention, so the destructor is the callback itself. */
+typedef DWORD pthread_key_t;
+
+static int pthread_key_create(pthread_key_t *key, void (*destructor)(void *)) {
+    PFLS_CALLBACK_FUNCTION callback;
+    memcpy(&callback, &destructor, sizeof callback);
+    *key = FlsAlloc(callback);
+    return *key == FLS_OUT_OF_INDEXES ? EAGAIN : 0;
+}
+static inline int pthread_key_delete(pthread_key_t key) { return FlsFree(key) ? 0 : EINVAL; }
+static inline int pthread_setspecific(pthread_key_t key, const void *value) {
+    return FlsSetValue(key, (PVOID)value) ? 0 : EINVAL;
 }
 
 /* ------------------------------------------------------------------ memory advice */
@@ -364,6 +387,19 @@ static int tc_c_snprintf(char *buf, size_t size, const char *fmt, ...) {
 #ifndef MADV_POPULATE_WRITE
 #define MADV_POPULATE_WRITE 23    /* Linux 5.14; older kernels refuse it, a hint less */
 #endif
+
+/* ------------------------------------------------------------------ threads */
+/* Waits on `c` at most `seconds` (CLOCK_REALTIME, the condition's clock). */
+static inline void tc_cond_wait_seconds(pthread_cond_t *c, pthread_mutex_t *m, double seconds) {
+    struct timespec until;
+    long ns = (long)(seconds * 1e9);
+    clock_gettime(CLOCK_REALTIME, &until);
+    until.tv_sec += ns / 1000000000L;
+    until.tv_nsec += ns % 1000000000L;
+    until.tv_sec += until.tv_nsec / 1000000000L;
+    until.tv_nsec %= 1000000000L;
+    pthread_cond_timedwait(c, m, &until);
+}
 
 /* ------------------------------------------------------------------ time */
 static inline double tc_monotonic_seconds(void) {

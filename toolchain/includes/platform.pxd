@@ -35,9 +35,16 @@ cdef extern from "platform.h" nogil:
     int pthread_cond_init(pthread_cond_t *c, const pthread_condattr_t *a)
     int pthread_cond_wait(pthread_cond_t *c, pthread_mutex_t *m)
     int pthread_cond_broadcast(pthread_cond_t *c)
+    void tc_cond_wait_seconds(pthread_cond_t *c, pthread_mutex_t *m, double seconds)   # at most that long
     int pthread_cond_destroy(pthread_cond_t *c)
     int pthread_mutex_destroy(pthread_mutex_t *m)
     int pthread_once(pthread_once_t *once, void (*init)() noexcept nogil)
+    # a key's destructor runs at the end of each thread that set a value (not NULL)
+    ctypedef struct pthread_key_t:
+        pass
+    int pthread_key_create(pthread_key_t *key, void (*destructor)(void *) noexcept nogil)
+    int pthread_key_delete(pthread_key_t key)
+    int pthread_setspecific(pthread_key_t key, const void *value)
 
     # memory advice: transparent huge pages for the large arrays, and faulting pages in
     # ahead of their writer; only hints (a refused one is a hint less)

@@ -1,6 +1,6 @@
 # The ABI structures and constants, declared from include/tgm_cnc.h (the C compiler
 # uses the header's definitions; these lines only tell Cython the field names).
-from libc.stdint cimport int32_t, uint32_t, int64_t, intptr_t
+from libc.stdint cimport int32_t, uint32_t, int64_t, uint64_t, intptr_t
 
 cdef extern from "tgm_cnc.h" nogil:
     int TOOL_CHAIN_BAD_INTR_INDEX
@@ -15,6 +15,8 @@ cdef extern from "tgm_cnc.h" nogil:
     float INVALID_VALUE_F
     uint32_t GCODE_REZERVA1_ISO_COMPAT
     uint32_t GCODE_REZERVA1_COMP_STRICT
+    int32_t TC_MFUNC_LATER
+    uint64_t TC_TEST_CLOCK_KEY
     # the log mask's sources and destinations (SetLogValue)
     uint32_t LOG_TO_CONSOLE, LOG_TO_FILE, LOG_TO_TGM
     uint32_t LOG_DEBUG, LOG_VERBOSE, LOG_WORKER, LOG_TOOLCHAIN, LOG_DRIVER, LOG_COMPILER

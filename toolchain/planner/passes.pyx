@@ -1,6 +1,6 @@
 # The look-ahead: every motion part gets an entry, peak and exit speed such that
 # the machine can still stop at the end of what it sees. The vendor's interpolator
-# sees the current part and the next 7 (its look-ahead table, seed 003), so the
+# sees the current part and the next 7 (its look-ahead table, docs/vendor-sources.md), so the
 # default window is 8 parts (M functions count); a deeper window only lets parts
 # run faster. One sweep over the program with a ring of the visible parts:
 #   backward: from a stop at the window's end (or the program's end), the highest
@@ -29,8 +29,8 @@ cdef void _take_classes(NodeSource *src, const PlanRegion *s) noexcept nogil:
     for c in range(2):
         cls = &s.motion[c]
         ramp = RAMP_SINE if cls.rampType == RAMP_SINE else RAMP_TRAPEZOID
-        src.class_acc[c] = ramp_equivalent_acc(cls.acc if 0.0 < cls.acc < 1e12 else 1e12, ramp)
-        src.class_dec[c] = ramp_equivalent_acc(cls.dec if 0.0 < cls.dec < 1e12 else 1e12, ramp)
+        src.class_acc[c] = ramp_equivalent_acc(limit_or_none(cls.acc), ramp)
+        src.class_dec[c] = ramp_equivalent_acc(limit_or_none(cls.dec), ramp)
 
 
 cdef bint _general_node(NodeSource *src, size_t k, const PlanRegion *s, bint want_tangent,
@@ -40,7 +40,7 @@ cdef bint _general_node(NodeSource *src, size_t k, const PlanRegion *s, bint wan
     cdef Segment g
     cdef PartLimits lim
     segment_of_part(src.prog, k, &g)
-    if g.length <= 1e-9:
+    if g.length <= LENGTH_EPS:
         return False
     part_limits(&g, &src.prog.parts[k], src.params, s, src.cursor.axes_limited, src.enhanced, &lim)
     node.length = g.length
@@ -49,14 +49,14 @@ cdef bint _general_node(NodeSource *src, size_t k, const PlanRegion *s, bint wan
     node.dec = ramp_equivalent_acc(lim.dec, lim.ramp)
     if want_tangent:
         segment_tangent(&g, 0.0, t_start)
-        segment_tangent(&g, 1.0, t_end)
+        segment_tangent(&g, g.length, t_end)
     return True
 
 
 cdef void _end_tangent(const Program *prog, size_t k, double *t) noexcept nogil:
     cdef Segment g
     segment_of_part(prog, k, &g)
-    segment_tangent(&g, 1.0, t)
+    segment_tangent(&g, g.length, t)
 
 
 cdef bint _next_node(NodeSource *src, PlanNode *node) noexcept nogil:
@@ -65,8 +65,8 @@ cdef bint _next_node(NodeSource *src, PlanNode *node) noexcept nogil:
     cdef const Part *p = &src.prog.parts[k]
     cdef const Part *prev
     cdef const PlanRegion *s = cursor_settings(&src.cursor, k)
-    cdef double t0[10]
-    cdef double t1[10]
+    cdef double t0[AXES]
+    cdef double t1[AXES]
     cdef double jin, cosine, vmax, d0, d1, d2, inv
     cdef bint rapid, want_tangent, plain
     cdef int c
@@ -87,7 +87,7 @@ cdef bint _next_node(NodeSource *src, PlanNode *node) noexcept nogil:
         d1 = p.ce[1] - prev.ce[1]
         d2 = p.ce[2] - prev.ce[2]
         node.length = sqrt(d0 * d0 + d1 * d1 + d2 * d2)     # segment_of_part's
-        if node.length <= 1e-9:
+        if node.length <= LENGTH_EPS:
             return False                        # no motion: the speed passes through
         vmax = part_feed(p, src.params) / 60.0  # part_limits' limits of a plain line
         node.vmax = vmax if vmax > 0.0 else 1.0 / 60.0
@@ -99,7 +99,7 @@ cdef bint _next_node(NodeSource *src, PlanNode *node) noexcept nogil:
             t0[0] = d0 * inv
             t0[1] = d1 * inv
             t0[2] = d2 * inv
-            for c in range(3, 10):
+            for c in range(3, AXES):
                 t0[c] = 0.0
     elif not _general_node(src, k, s, want_tangent, node, t0, t1):
         return False

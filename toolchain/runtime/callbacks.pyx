@@ -1,21 +1,22 @@
 # The host's callbacks of a core. Every call is counted while it runs (in_flight,
 # under core.lock; and per thread, for calls nested in a callback), so that
 # SetCallBack can return only once no call of the slot runs on another thread: a
-# host may free its function as soon as it has removed it. A worker looks a callback
-# up at each call, never caching it across calls. Text arguments reach the host in its
-# text type (TGM_LPCTSTR: UTF-16 on Windows), converted for the call (text_to_host).
+# host may free its function as soon as it has removed it (SetCallBack made inside a
+# callback does not wait). A worker looks a callback up at each call, never caching it
+# across calls. Text arguments reach the host in its text type (TGM_LPCTSTR: UTF-16 on
+# Windows), converted for the call (text_to_host).
 from libc.string cimport memset
 from libc.stdio cimport snprintf
 from libc.stdlib cimport free
 
 cdef extern from *:
     """
-    /* The core whose worker runs on this thread (NULL on the host's threads), and the
-       callback calls this thread is inside of, per core and slot. */
+    /* The core whose worker runs on this thread (NULL on the host's threads), and how
+       many callback calls this thread is inside of. */
     static __thread void *tc_worker_core = 0;
-    static __thread int tc_own_calls[3][24];
+    static __thread int tc_in_callbacks = 0;
     """
-    int tc_own_calls[3][24]
+    int tc_in_callbacks
 
 
 cdef void worker_thread_mark(Core *core) noexcept nogil:
@@ -56,6 +57,7 @@ cdef int32_t callback_slot(uint32_t number) noexcept nogil:
 cdef bint callback_enter(Core *core, int32_t slot, Callback *cb) noexcept nogil:
     """The callback of `slot` for one call (False when none is set); the call must be
     closed with callback_leave."""
+    global tc_in_callbacks
     pthread_mutex_lock(&core.lock)
     cb[0] = core.callbacks[slot]
     if cb.fn != NULL:
@@ -63,12 +65,13 @@ cdef bint callback_enter(Core *core, int32_t slot, Callback *cb) noexcept nogil:
     pthread_mutex_unlock(&core.lock)
     if cb.fn == NULL:
         return False
-    tc_own_calls[core.index][slot] += 1
+    tc_in_callbacks += 1
     return True
 
 
 cdef void callback_leave(Core *core, int32_t slot) noexcept nogil:
-    tc_own_calls[core.index][slot] -= 1
+    global tc_in_callbacks
+    tc_in_callbacks -= 1
     pthread_mutex_lock(&core.lock)
     core.in_flight[slot] -= 1
     if core.in_flight[slot] == 0:
@@ -78,12 +81,13 @@ cdef void callback_leave(Core *core, int32_t slot) noexcept nogil:
 
 cdef void callback_set(Core *core, int32_t slot, void *fn, intptr_t user) noexcept nogil:
     """SetCallBack: the new function is used by every later call; returns once the
-    calls of the old one on other threads have returned (this thread's own calls,
-    when it changes a callback from inside one, are not waited for)."""
+    calls of the old one on other threads have returned. Made from inside a callback
+    it does not wait: two callbacks that each replace the other's function would
+    wait for each other for ever."""
     pthread_mutex_lock(&core.lock)
     core.callbacks[slot].fn = fn
     core.callbacks[slot].user = user if fn != NULL else 0
-    while core.in_flight[slot] > tc_own_calls[core.index][slot]:
+    while tc_in_callbacks == 0 and core.in_flight[slot] > 0:
         pthread_cond_wait(&core.changed, &core.lock)
     pthread_mutex_unlock(&core.lock)
 

@@ -22,7 +22,7 @@ cdef int _axis_of_letter(unsigned char c) noexcept nogil:
     cdef const char *letters = "xyzcbuvwao"
     cdef int k
     c = c | 0x20 if b'A' <= c <= b'Z' else c
-    for k in range(10):
+    for k in range(AXES):
         if letters[k] == c:
             return k
     return -1
