@@ -134,10 +134,12 @@ def tool_path(out, first, last, step=0.02):
 
 def point_distances(points, lines):
     """Distance of each point (an N x 2 array) to a linear geometry (a line, a ring, or
-    several, e.g. a polygon's boundary): shapely.distance's numbers, found through an
-    STRtree of the geometry's segments (shapely.distance walks every vertex for every
-    point: seconds for the dense sampled rings of these tests)."""
+    several, e.g. a polygon's boundary): shapely.distance's numbers. shapely.distance
+    walks every vertex for every point (seconds for the dense rings of the offset
+    oracle): a geometry of many vertices is searched through an STRtree of its segments."""
     import shapely      # here: the modules that need shapely skip without it (importorskip)
+    if shapely.get_num_coordinates(lines) < 200:
+        return shapely.distance(shapely.points(points), lines)
     segments = []
     for part in shapely.get_parts(lines):
         xy = shapely.get_coordinates(part)
