@@ -15,9 +15,9 @@ How the suite runs (the hooks below):
   ``-p no:xdist``: all in this process);
 - the body of a test marked ``exclusive`` runs while no other test runs (its fixtures
   are set up beside them);
-- every test has a time limit (pytest-timeout: ``timeout`` in pyproject.toml, more with
-  ``@pytest.mark.timeout(seconds)``), stretched by ``SF_TCH_TIME_SCALE`` as the runtime
-  tests' own hang limits are;
+- every test has a time limit (pytest-timeout: ``timeout`` in pyproject.toml, more for
+  slow tests and with ``@pytest.mark.timeout(seconds)``), stretched by
+  ``SF_TCH_TIME_SCALE`` as the runtime tests' own hang limits are;
 - the library's log file (``SF_TCh.log``) goes to a directory of each process's own.
 """
 import ctypes
@@ -35,6 +35,8 @@ import pytest
 from runtime_host import TIME_SCALE
 from sf_tch import abi, library, library_path
 
+SLOW_TIME_LIMIT = 600.0  # s, a slow test's time limit unless it has its own
+SLOW_SCALE = float(os.environ.get("SF_TCH_SLOW_SCALE", "1"))
 HANG_GRACE = 30.0       # s after its time limit: a test stuck in C is ended by the watchdog
 TIME_LIMIT = pytest.StashKey[float]()
 STDERR = pytest.StashKey[TextIO]()
@@ -91,21 +93,27 @@ def pytest_configure(config):
 
 @pytest.hookimpl(tryfirst=True)
 def pytest_collection_modifyitems(config, items):
-    """Each test's time limit, stretched by SF_TCH_TIME_SCALE (sanitized libraries run
-    slower)."""
+    """Each test's time limit: its timeout mark, else SLOW_TIME_LIMIT for a slow test
+    (times SF_TCH_SLOW_SCALE, which sizes them), else pytest-timeout's default; all
+    stretched by SF_TCH_TIME_SCALE (sanitized libraries run slower)."""
     if not config.pluginmanager.hasplugin("timeout"):
         return
     default = config.getoption("timeout")
     if default is None:
         default = config.getini("timeout")
+    if not default:
+        return                      # --timeout 0: no limits
     for item in items:
         marker = item.get_closest_marker("timeout")
-        seconds = float(marker.args[0] if marker and marker.args else default or 0)
-        if seconds and TIME_SCALE != 1:
-            seconds *= TIME_SCALE
-            item.add_marker(pytest.mark.timeout(seconds), append=False)
-        if seconds:
-            item.stash[TIME_LIMIT] = seconds
+        if marker and marker.args:
+            seconds = float(marker.args[0])
+        elif item.get_closest_marker("slow"):
+            seconds = SLOW_TIME_LIMIT * SLOW_SCALE
+        else:
+            seconds = float(default)
+        seconds *= TIME_SCALE
+        item.add_marker(pytest.mark.timeout(seconds), append=False)
+        item.stash[TIME_LIMIT] = seconds
 
 
 @pytest.hookimpl(wrapper=True, tryfirst=True)
