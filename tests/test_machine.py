@@ -518,6 +518,19 @@ def start(lib, core, regime=FWD, add_code=None):
     assert rc == 0, f"StartCNCEx({regime}) -> {rc} in status {lib.ToolChainCore_StatusCNC(core)}"
 
 
+def wait_moving(lib, core, feed=None, timeout=20.0):
+    """Polls GetPos until the machine moves (at `feed` mm/min when given: at cruise);
+    (pos, enh) then."""
+    deadline = time.monotonic() + timeout
+    while True:
+        pos, enh = get_pos(lib, core)
+        if enh.m_actFeed > 0 and (feed is None or enh.m_actFeed == pytest.approx(feed)):
+            return pos, enh
+        assert time.monotonic() < deadline, f"core {core} does not move (feed {enh.m_actFeed}, status " \
+                                            f"{lib.ToolChainCore_StatusCNC(core)})"
+        time.sleep(0.0005)
+
+
 def poll_run(lib, core, running=(30, 31, 32, 33), timeout=20.0):
     """GetPos samples (pos, enh) while the core runs; the final status."""
     samples = []
@@ -611,7 +624,7 @@ def test_stop_then_continue_reaches_the_same_end(api):
     stops = []
     for _ in range(3):
         start(lib, 0)
-        time.sleep(0.05)
+        wait_moving(lib, 0)
         if lib.ToolChainCore_StopCNCEx(0, None) == 0:
             status = wait(lib, 0, lambda s: s != 30)
             assert status in (-31, -32)
@@ -638,9 +651,7 @@ def test_stop_distance_through_the_api(api):
     compile_on(lib, 0, "G1 X1000 F6000\n")
     assert lib.ToolChainCore_SetTimeScale(0, 1.0) == 0
     start(lib, 0)
-    time.sleep(0.5)
-    before, enh = get_pos(lib, 0)
-    assert enh.m_actFeed == pytest.approx(6000.0)
+    before, _ = wait_moving(lib, 0, feed=6000.0)
     assert lib.ToolChainCore_StopCNCEx(0, None) == 0
     after_call, _ = get_pos(lib, 0)
     assert wait(lib, 0, lambda s: s != 30) == -31
@@ -659,7 +670,7 @@ def test_stop_add_code_goes_to_the_driver_once_it_stands(api):
     driver = Driver(lib, 0, m_answer=lambda m: seen.append((m, xyz(get_pos(lib, 0)[0]))) or 0)
     assert lib.ToolChainCore_SetTimeScale(0, 2.0) == 0
     start(lib, 0)
-    time.sleep(0.1)
+    wait_moving(lib, 0)
     assert lib.ToolChainCore_StopCNCEx(0, b"M8 M9") == 0
     assert wait(lib, 0, lambda s: s != 30) == -31
     stood = xyz(get_pos(lib, 0)[0])
@@ -872,7 +883,7 @@ def test_GetPos_m_relFeed_follows_the_override_ramp(api):
     compile_on(lib, 0, "G1 X2000 F6000\n")
     assert lib.ToolChainCore_SetTimeScale(0, 10.0) == 0
     start(lib, 0)
-    time.sleep(0.05)
+    wait_moving(lib, 0, feed=6000.0)
     assert lib.ToolChainCore_SetRelFeed(0, 0.5) == 0
     ramp = []
     for _ in range(40):
@@ -894,8 +905,7 @@ def test_the_override_ramp_shows_in_the_actual_feed(api):
     compile_on(lib, 0, "G1 X2000 F6000\n")
     assert lib.ToolChainCore_SetTimeScale(0, 10.0) == 0
     start(lib, 0)
-    time.sleep(0.05)
-    assert get_pos(lib, 0)[1].m_actFeed == pytest.approx(6000.0)
+    wait_moving(lib, 0, feed=6000.0)
     assert lib.ToolChainCore_SetRelFeed(0, 0.5) == 0
     feeds = []
     deadline = time.monotonic() + 20

@@ -197,7 +197,9 @@ def test_a_stop_on_the_way_leaves_it_out_of_the_trajectory(square):
     while lib.ToolChainCore_StatusCNC(CORE) != 41:
         assert time.monotonic() < deadline
         time.sleep(0.0005)
-    time.sleep(0.2)                             # on its way (10 mm at motion[5], half real time)
+    while position(lib)[1] <= 90.0:             # on its way (10 mm at motion[5], half real time)
+        assert time.monotonic() < deadline
+        time.sleep(0.0005)
     assert lib.ToolChainCore_StopCNCEx(CORE, None) == 0
     assert follow(lib)[-1] == -50
     x, y = position(lib)
