@@ -35,6 +35,9 @@ import pytest
 from runtime_host import TIME_SCALE
 from sf_tch import abi, library, library_path
 
+# fixtures of the test harnesses (tests/*_harness: the library's stages in a test-only
+# module); a test using one but not the library (fixture lib) is marked `harness`
+HARNESS_FIXTURES = {"harness", "ph", "mh", "ch"}
 SLOW_TIME_LIMIT = 600.0  # s, a slow test's time limit unless it has its own
 SLOW_SCALE = float(os.environ.get("SF_TCH_SLOW_SCALE", "1"))
 HANG_GRACE = 30.0       # s after its time limit: a test stuck in C is ended by the watchdog
@@ -93,9 +96,13 @@ def pytest_configure(config):
 
 @pytest.hookimpl(tryfirst=True)
 def pytest_collection_modifyitems(config, items):
-    """Each test's time limit: its timeout mark, else SLOW_TIME_LIMIT for a slow test
-    (times SF_TCH_SLOW_SCALE, which sizes them), else pytest-timeout's default; all
-    stretched by SF_TCH_TIME_SCALE (sanitized libraries run slower)."""
+    """The `harness` mark, and each test's time limit: its timeout mark, else
+    SLOW_TIME_LIMIT for a slow test (times SF_TCH_SLOW_SCALE, which sizes them), else
+    pytest-timeout's default; all stretched by SF_TCH_TIME_SCALE (sanitized libraries
+    run slower)."""
+    for item in items:
+        if HARNESS_FIXTURES & set(item.fixturenames) and "lib" not in item.fixturenames:
+            item.add_marker(pytest.mark.harness)
     if not config.pluginmanager.hasplugin("timeout"):
         return
     default = config.getoption("timeout")

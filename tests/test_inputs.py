@@ -455,6 +455,7 @@ def _documented_statuses():
     return {m.group(1): int(m.group(2)) for m in re.finditer(r"(CNC_STATUS_\w+)\s*=\s*(-?\d+)", body)}
 
 
+@pytest.mark.harness          # its harness is built below, not by a fixture (conftest marks those)
 def test_every_documented_status_has_a_name():
     from test_compensation_geometry import _harness_module
     harness = _harness_module()

@@ -3,7 +3,11 @@ the README's test command):
 
 - AddressSanitizer + UndefinedBehaviorSanitizer: every test module but this one;
 - ThreadSanitizer: the runtime, stress, pipeline and offline-machine tests (test_runtime.py,
-  test_stress.py, test_pipeline.py: the stages side by side, test_machine*.py).
+  test_stress.py, test_pipeline.py: the stages side by side, test_machine*.py);
+
+slow ones too, without the tests marked `harness`: they run the stages compiled into a
+test harness without the sanitizer, never the sanitized library (under ASan they took
+three quarters of the run, mostly in shapely's allocations through ASan's malloc).
 
 Each library is built once per source state (CMake option SF_TCH_SANITIZE, into
 pytest's cache directory; a fixture, so beside other tests), then a child pytest runs
@@ -98,7 +102,7 @@ def run_suite(library: Path, preload: list[str], options: dict, tests: list[str]
               time_scale: int, timeout: float):
     env = dict(os.environ, SF_TCH_LIBRARY=str(library), LD_PRELOAD=" ".join(preload),
                SF_TCH_TIME_SCALE=str(time_scale), **options)
-    command = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-m", "slow or not slow",
+    command = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-m", "not harness",
                "--ignore", str(Path(__file__)), *tests]
     proc = subprocess.run(command, cwd=ROOT, env=env, capture_output=True, text=True, timeout=timeout)
     found = sorted(reports.parent.glob(reports.name + "*"))
