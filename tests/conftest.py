@@ -7,7 +7,8 @@
   (default G-code and machine parameters, no user parameters, prefix/postfix or
   callbacks, override 1.0) before and after the test; yields ``lib``;
 - ``run_python``: runs a Python snippet in a fresh interpreter (fresh library state)
-  and returns its stdout; the snippet finds ``LIB_PATH`` predefined.
+  and returns its stdout; the snippet finds ``LIB_PATH`` predefined;
+- ``comma_locale``: (name, environment) of a locale with a decimal comma.
 
 How the suite runs (the hooks below):
 
@@ -24,6 +25,8 @@ import ctypes
 import faulthandler
 import fcntl
 import os
+import re
+import shutil
 import subprocess
 import sys
 import textwrap
@@ -220,6 +223,26 @@ def fresh_defaults():
     """).stdout.split()
     return (abi.GCODE_PARAMETERS.from_buffer_copy(bytes.fromhex(out[0])),
             abi.MACHINE_PARAMETERS.from_buffer_copy(bytes.fromhex(out[1])))
+
+
+@pytest.fixture(scope="session")
+def comma_locale(tmp_path_factory) -> tuple[str, dict]:
+    """(name, environment) of a locale with a decimal comma: one the machine has (no
+    environment), else de_DE.UTF-8 generated with localedef (LOCPATH names it)."""
+    listed = subprocess.run(["locale", "-a"], capture_output=True, text=True).stdout.split() \
+        if shutil.which("locale") else []
+    for name in listed:
+        if re.match(r"(de_DE|fr_FR|cs_CZ|it_IT|es_ES)\.utf-?8$", name, re.I):
+            return name, {}
+    localedef = shutil.which("localedef")
+    if localedef is None:
+        pytest.skip("no decimal-comma locale installed and no localedef to generate one")
+    root = tmp_path_factory.mktemp("locale")
+    proc = subprocess.run([localedef, "-i", "de_DE", "-f", "UTF-8", str(root / "de_DE.UTF-8")],
+                          capture_output=True, text=True, timeout=120)
+    if not (root / "de_DE.UTF-8").exists():
+        pytest.skip(f"no decimal-comma locale and localedef failed: {proc.stderr.strip()[:200]}")
+    return "de_DE.UTF-8", {"LOCPATH": str(root)}
 
 
 def reset_core(lib, idx: int, defaults) -> None:
