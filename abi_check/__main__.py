@@ -9,7 +9,7 @@ from . import NO_COMPILER, check, default_header, find_compiler, format_report
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog=f"python -m {__package__}",
                                      description="Compare tgm_cnc.h, the ctypes mirror sf_tch.abi, "
-                                                 "libSF_TCh.so and the sizes of ABI.md.")
+                                                 "libSF_TCh.so and the sizes of the vendor's structures.")
     parser.add_argument("--header", help="C header (default: the installed sf_tch/include/tgm_cnc.h, "
                                          "else include/tgm_cnc.h of the source tree)")
     parser.add_argument("--library", help="shared library (default: sf_tch.library_path())")

@@ -206,7 +206,7 @@ def main():
         sys.path.insert(0, str(Path(__file__).resolve().parent))
         from fresh_memory import balloon_reports_free_pages
         if balloon_reports_free_pages():
-            # freed memory goes back to the host: runs that get it cold are slower (README)
+            # freed memory goes back to the host: runs that get it cold are slower (docs/benchmarks.md)
             print("note: this VM's balloon reports free pages to the host; check the rounds with "
                   "benchmarks/fresh_memory.py")
         print(f"floor (read + strtod every number, C -O2): {floor * 1e3:.1f} ms")

@@ -3,9 +3,9 @@ time, the nearest-point query time, the lookups, the index's memory.
 
     python benchmarks/connect_benchmark.py [--lines 1000000] [--queries 2000] [--runs 5]
 
-Builds the test harness (tests/connect_harness: the library's stages with Python
-entry points to toolchain/machine/connect_search.pyx, here with -O3 like the
-library), compiles the compile benchmark's cutting program (benchmarks/
+Loads the test harness (tests/harness: the library's stages with Python entry
+points, among them to toolchain/machine/connect_search.pyx; here built with -O3 like
+the library), compiles the compile benchmark's cutting program (benchmarks/
 compile_benchmark.py, --lines lines, written relative) and
 1. builds the index --runs times for the axes X Y (0x3) and X Y Z (0x7), run from
    the compile's start, and for X Y run from another start (every part moved by the
@@ -33,7 +33,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests"))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
-from connect_harness import build  # noqa: E402
+import harness  # noqa: E402
 from compile_benchmark import write_program  # noqa: E402
 from sf_tch import abi  # noqa: E402
 
@@ -48,7 +48,7 @@ def main() -> None:
     ap.add_argument("--queries", type=int, default=2000)
     ap.add_argument("--runs", type=int, default=5)
     args = ap.parse_args()
-    ch = build(Path(tempfile.mkdtemp(prefix="connect_bench")), "-O3")
+    ch = harness.load("-O3")
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / "cut.nc"
         write_program(path, args.lines)

@@ -9,7 +9,7 @@ then sleeps --pause seconds. On a VM whose balloon driver reports freed memory t
 host (virtio-balloon free page reporting: 2 MB blocks, about 2 s after they are
 freed), the first huge-page run of a round touches blocks the host has taken back and
 is slow; the second reuses the blocks the first just freed. The compile benchmark's
-figures swing with this (README, "Performance"); run this before comparing rounds.
+figures swing with this (docs/benchmarks.md); run this before comparing rounds.
 """
 import argparse
 import shutil

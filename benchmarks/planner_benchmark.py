@@ -3,8 +3,8 @@ short segments, and the planner's cost on a large program.
 
     python benchmarks/planner_benchmark.py [--lines 1000000] [--runs 5]
 
-Builds the test harness (tests/plan_harness: the library's stages with a Python entry
-to compile and plan, here with -O3 like the library) and
+Loads the test harness (tests/harness: the library's stages with Python entries, one
+of them to compile and plan; here built with -O3 like the library) and
 1. plans dense short segments at F6000 (100 mm/s), acc = dec = 500 mm/s^2, trapezoid
    ramps, the angle slow-down off, with windows of 1, 2, 4, 8 (the vendor's), 16, 32,
    64, 256 parts and unlimited: (a) a circle of r 50 mm in 0.05 mm chords (6284 parts,
@@ -29,7 +29,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests"))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
-from plan_harness import build  # noqa: E402
+import harness  # noqa: E402
 from compile_benchmark import write_program  # noqa: E402
 from sf_tch import abi  # noqa: E402
 
@@ -54,7 +54,7 @@ def main() -> None:
     ap.add_argument("--lines", type=int, default=1_000_000)
     ap.add_argument("--runs", type=int, default=5)
     args = ap.parse_args()
-    ph = build(Path(tempfile.mkdtemp(prefix="plan_bench")), "-O3")
+    ph = harness.load("-O3")
     for name, text in (("circle r50 in 0.05 mm chords", circle(50.0, 0.05)),
                        ("line 100 mm in 0.1 mm pieces", line(100.0, 0.1))):
         print(f"{name}:")

@@ -5,7 +5,6 @@ import ctypes
 import math
 import time
 from dataclasses import dataclass, field
-from pathlib import Path
 
 from sf_tch import abi, library
 
@@ -175,9 +174,8 @@ def close(a, b, tol=1e-9):
     return all(math.isclose(x, y, rel_tol=0, abs_tol=tol) for x, y in zip(a, b))
 
 
-# The example program of seed 003 (the vendor's interpolator manual); the seeds lie
-# in shared/ beside the repository.
-SEED_FILE = Path(__file__).resolve().parents[2] / "shared" / "seeds" / "003_eeacbdb0de9380f9.txt"
+# The example program of the vendor's interpolator manual (section "Example of part of the
+# G-code", docs/vendor-sources.md), as printed there.
 SEED_PROGRAM = """G00 X60.6051 Y40.7723
 G42
 M51

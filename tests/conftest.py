@@ -5,10 +5,14 @@
 - ``lib_path``: its path, for ``ctypes.CDLL`` in a subprocess;
 - ``fresh_core``: every core destroyed and reset to the state of a fresh process
   (default G-code and machine parameters, no user parameters, prefix/postfix or
-  callbacks, override 1.0) before and after the test; yields ``lib``;
+  callbacks, override 1.0, the tool table all zero, no axis correction tables,
+  smoothing off) before and after the test; yields ``lib``;
 - ``run_python``: runs a Python snippet in a fresh interpreter (fresh library state)
   and returns its stdout; the snippet finds ``LIB_PATH`` predefined;
-- ``comma_locale``: (name, environment) of a locale with a decimal comma.
+- ``comma_locale``: (name, environment) of a locale with a decimal comma;
+- ``harness``: the test harness module (tests/harness: the library's stages with
+  test-only entry points), built once per source state; test modules name it as
+  they like (ph, mh, ch, geo) through a fixture of their own that uses this one.
 
 How the suite runs (the hooks below):
 
@@ -19,7 +23,10 @@ How the suite runs (the hooks below):
 - every test has a time limit (pytest-timeout: ``timeout`` in pyproject.toml, more for
   slow tests and with ``@pytest.mark.timeout(seconds)``), stretched by
   ``SF_TCH_TIME_SCALE`` as the runtime tests' own hang limits are;
-- the library's log file (``SF_TCh.log``) goes to a directory of each process's own.
+- the library's log file (``SF_TCh.log``) goes to a directory of each process's own;
+- a test that uses ``harness`` (directly or through another fixture) but not ``lib``
+  is marked ``harness``: it runs the stages compiled into the harness, never the
+  built library (the sanitizer runs leave it out).
 """
 import ctypes
 import faulthandler
@@ -38,9 +45,6 @@ import pytest
 from runtime_host import TIME_SCALE
 from sf_tch import abi, library, library_path
 
-# fixtures of the test harnesses (tests/*_harness: the library's stages in a test-only
-# module); a test using one but not the library (fixture lib) is marked `harness`
-HARNESS_FIXTURES = {"harness", "ph", "mh", "ch"}
 SLOW_TIME_LIMIT = 600.0  # s, a slow test's time limit unless it has its own
 SLOW_SCALE = float(os.environ.get("SF_TCH_SLOW_SCALE", "1"))
 HANG_GRACE = 30.0       # s after its time limit: a test stuck in C is ended by the watchdog
@@ -104,7 +108,7 @@ def pytest_collection_modifyitems(config, items):
     pytest-timeout's default; all stretched by SF_TCH_TIME_SCALE (sanitized libraries
     run slower)."""
     for item in items:
-        if HARNESS_FIXTURES & set(item.fixturenames) and "lib" not in item.fixturenames:
+        if "harness" in item.fixturenames and "lib" not in item.fixturenames:
             item.add_marker(pytest.mark.harness)
     if not config.pluginmanager.hasplugin("timeout"):
         return
@@ -209,6 +213,12 @@ def lib() -> ctypes.CDLL:
 
 
 @pytest.fixture(scope="session")
+def harness():
+    import harness
+    return harness.load()
+
+
+@pytest.fixture(scope="session")
 def fresh_defaults():
     """(GCODE_PARAMETERS, MACHINE_PARAMETERS) of a fresh process, read in a subprocess
     so that nothing done in this process can leak into them."""
@@ -260,6 +270,13 @@ def reset_core(lib, idx: int, defaults) -> None:
     assert lib.ToolChainCore_ResetCNC(idx, 0, 10, (ctypes.c_double * 10)()) == 0
     for number in abi.CALLBACK_NUMBERS:
         assert lib.ToolChainCore_SetCallBack(idx, number, 0, None) == 0
+    # the correction tables and the smoothing: none, all zero, off
+    assert lib.ToolChainCore_LoadAxisCorrections(idx, 0, None) == 0
+    for command in (abi.TC_SMOOTHING_SPLINE, abi.TC_SMOOTHING_IIR):
+        assert lib.ToolChainCore_SetSmoothing(idx, command, (ctypes.c_double * 4)()) == 0
+    zeros = (ctypes.c_double * abi.TC_TOOL_VALUES)()
+    for entry in range(1, abi.TC_TOOL_ENTRIES + 1):
+        assert lib.ToolChainCore_SetToolCorrection(idx, entry, 0x1F, zeros) == 0
 
 
 @pytest.fixture

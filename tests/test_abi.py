@@ -1,5 +1,5 @@
-"""The binary layouts: header, ctypes mirror, library and ABI.md agree (abi_check), the
-offsets of ABI.md hold field by field, and abi_check does catch a wrong mirror. abi_check
+"""The binary layouts: header, ctypes mirror, library and the vendor's sizes agree (abi_check),
+the offsets of the vendor's field order hold field by field (docs/structures.md), and abi_check does catch a wrong mirror. abi_check
 is installed as sf_tch.abi_check and runs as ``python -m abi_check`` in the source tree."""
 import ctypes
 import os
@@ -14,7 +14,8 @@ from sf_tch import abi, abi_check, header_path
 
 ROOT = Path(__file__).resolve().parents[1]
 
-# ABI.md, the spec's numbers (field -> offset).
+# The offsets the vendor's field order gives on Linux x86_64 (field -> offset), written down
+# apart from the header.
 SPEC_DLL_INIT_STRUCT = {"CNC_Dll_Dir": 0, "Macros_Dir": 8, "Comm_Int2_Dir": 16, "Local_Core_Mode": 24}
 
 SPEC_SIMPLE_GM_PARAMS = {
@@ -46,7 +47,7 @@ SPEC_GCODE_PARAMETERS = {
     "axisLimits": 776, "dynamicG41Correction_percent": 1016, "dynamicG42Correction_percent": 1024,
     "tolerance": 1032,
 }
-# "M02_programEnd1 ... M99_defFeed: each at 624 + 4*i", in this order (ABI.md).
+# M02_programEnd1 ... M99_defFeed: each at 624 + 4*i, in the vendor's order.
 SPEC_M_FUNCTIONS = ["M02", "M30", "M03", "M04", "M05", "M06", "M07", "M08", "M09", "M17", "M29",
                     "M80", "M81", "M82", "M83", "M84", "M85", "M86", "M87", "M99"]
 
@@ -226,7 +227,7 @@ def test_detects_wrong_size_order_and_spec():
     order[0], order[1] = order[1], order[0]
     diffs = abi_check.run(size_order=order, spec_sizes={**abi_check.SPEC_SIZES, "GCODE_INFO": 1288})
     assert any(d.startswith("ToolChainCore_GetStructuresSize[1]") for d in diffs), diffs
-    assert "GCODE_INFO: sizeof C 1280, ABI.md 1288" in diffs
+    assert "GCODE_INFO: sizeof C 1280, vendor 1288" in diffs
 
 
 def test_detects_a_changed_header(tmp_path):

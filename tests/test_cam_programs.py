@@ -271,7 +271,7 @@ def test_iso_g92_1_clears_the_shift(host):
 # ----------------------------------------------------------------- the corpus
 
 def test_corpus_counts(fresh_core):
-    """The figures of README.md ("ISO compatibility mode"): how many of the generated
+    """The figures of docs/compiler.md ("ISO compatibility mode"): how many of the generated
     CAM-style programs compile with and without the mode, and why the others do not."""
     from sf_tch.core import Core
     with Core(0) as core:

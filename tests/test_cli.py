@@ -1,13 +1,16 @@
 """The command line (`sf-tch`, `python -m sf_tch`): the README's main job `demo`,
-every command, `--json` parsed back, and every way it ends: program errors (1), bad
-usage (2, one line, no traceback), Ctrl-C (130) and a closed pipe (141)."""
+every command, `--json` parsed back (also on failure), standard input, and every way
+it ends: program errors (1), bad usage (2, one line, no traceback), Ctrl-C (130, also
+during a run on the offline machine) and a closed pipe (141)."""
 import json
 import os
+import pty
 import re
 import signal
 import subprocess
 import sys
 import time
+import tracemalloc
 
 import pytest
 
@@ -39,7 +42,7 @@ def test_demo_compiles_compensates_and_simulates_the_sample():
     proc = sf_tch_cli("demo")
     assert proc.returncode == 0, proc.stderr
     out = proc.stdout
-    assert re.search(r"parts:\s+28 motion, 16 M functions", out)
+    assert re.search(r"parts:\s+47 motion, 16 M functions", out)
     # the outline is cut outside (G42) with the default 1 mm radius
     box = re.search(r"box compensated:\s+X (\S+)\.\.(\S+)\s+Y (\S+)\.\.(\S+)", out)
     assert [float(v) for v in box.groups()] == pytest.approx([-1.0, 121.0, -8.0, 81.0])
@@ -56,7 +59,7 @@ def test_the_old_module_entry_still_runs_the_demo():
 def test_demo_reports_a_tool_too_big_for_the_slot_with_its_line():
     proc = sf_tch_cli("demo", "--radius", "6")
     assert proc.returncode == 1
-    assert re.search(r"demo\.nc:28: error 503: Arc radius 5 smaller than the tool radius 6", proc.stderr)
+    assert re.search(r"demo\.nc:34: error 503: Arc radius 5 smaller than the tool radius 6", proc.stderr)
     assert "Traceback" not in proc.stderr
 
 
@@ -119,6 +122,25 @@ def test_plot_writes_png_and_svg(square, tmp_path):
     assert (tmp_path / "out.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert b"<svg" in (tmp_path / "out.svg").read_bytes()[:500]
     assert_usage_error(sf_tch_cli("plot", str(square), "-o", str(tmp_path / "out.gif")), r"\.png, \.svg or \.pdf")
+
+
+def test_plot_without_matplotlib_names_the_install_command(square, tmp_path):
+    probe = ("import sys, runpy\nsys.modules['matplotlib'] = None\n"
+             f"sys.argv = ['sf-tch', 'plot', {str(square)!r}, '-o', {str(tmp_path / 'x.png')!r}]\n"
+             "runpy.run_module('sf_tch', run_name='__main__')\n")
+    proc = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, timeout=60)
+    assert_usage_error(proc, "^sf-tch: error: plotting needs matplotlib: " + re.escape(sys.executable)
+                       + r" -m pip install matplotlib$")
+    assert not (tmp_path / "x.png").exists()
+
+
+def test_plot_of_a_large_program_says_it_is_drawing(tmp_path):
+    program = tmp_path / "large.nc"
+    program.write_text("G0 X0 Y0 Z0\n" + "".join(f"G1 X{k % 100} Y{k % 37} F1000\n" for k in range(100_000)))
+    proc = sf_tch_cli("plot", str(program), "-o", str(tmp_path / "large.png"), "--radius", "0")
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stderr == f"drawing 100,001 parts into {tmp_path / 'large.png'} ...\n"
+    assert (tmp_path / "large.png").stat().st_size > 5000
 
 
 def test_version_info_and_help():
@@ -252,3 +274,136 @@ def test_run_moves_the_offline_machine_to_the_end(square):
 
 def test_run_rejects_a_bad_time_scale(square):
     assert_usage_error(sf_tch_cli("run", str(square), "--time-scale", "0"), r"outside \(0, 1e6\]")
+
+
+def test_json_is_one_document_also_when_the_command_fails(square, tmp_path):
+    cases = [(("compile", str(tmp_path / "missing.nc"), "--json"), 2, r"missing\.nc: no such file"),
+             (("compile", str(tmp_path), "--json"), 2, r"is a directory"),
+             (("compile", "/dev/null", "--json"), 2, r"/dev/null: not a regular file"),
+             (("compile", str(square), "--core", "5", "--json"), 2, r"core 5 does not exist"),
+             (("plot", str(square), "-o", str(tmp_path / "x.gif"), "--json"), 2, r"\.png, \.svg or \.pdf")]
+    for args, code, pattern in cases:
+        proc = sf_tch_cli(*args)
+        assert proc.returncode == code, (args, proc.stdout, proc.stderr)
+        doc = json.loads(proc.stdout)
+        assert doc["ok"] is False and doc["exit_code"] == code and re.search(pattern, doc["error"]), doc
+        assert proc.stderr == ""
+    ok = json.loads(sf_tch_cli("compile", str(square), "--json").stdout)
+    assert ok["ok"] is True and ok["exit_code"] == 0
+
+
+def test_usage_errors_have_the_prefix_and_exit_2(square, tmp_path):
+    assert_usage_error(sf_tch_cli("compile", "/dev/null"), r"^sf-tch: error: /dev/null: not a regular file")
+    assert_usage_error(sf_tch_cli("compile", str(square), "--ini", str(tmp_path)),
+                       r"^sf-tch: error: .*: is a directory, not an INI file")
+    assert_usage_error(sf_tch_cli("compile", str(square), "--core", "5"),
+                       r"^sf-tch: error: argument --core: core 5 does not exist \(0\.\.2\) \(see sf-tch compile --help\)")
+
+
+def test_compile_reads_standard_input():
+    proc = subprocess.run([sys.executable, "-m", "sf_tch", "compile", "-", "--radius", "0"], input=SQUARE,
+                          capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    assert re.search(r"^program:\s+<stdin>$", proc.stdout, re.M)
+    assert re.search(r"cut length:\s+40\.000 mm in 4 parts", proc.stdout)
+    bad = subprocess.run([sys.executable, "-m", "sf_tch", "compile", "-"], input="G1 X10 F100\nG1 Q1 W2 HH\n",
+                         capture_output=True, text=True, timeout=120)
+    assert bad.returncode == 1 and bad.stderr.strip() == "<stdin>:2:10: error 100: Unknown word 'HH' at column 10"
+
+
+def test_one_part_is_singular(tmp_path):
+    one = tmp_path / "one.nc"
+    one.write_text("G0 X0 Y0 Z0\nG1 X10 F600\n")
+    proc = sf_tch_cli("compile", str(one))
+    assert re.search(r"cut length:\s+10\.000 mm in 1 part$", proc.stdout, re.M), proc.stdout
+    assert re.search(r"rapid length:\s+0\.000 mm in 1 part$", proc.stdout, re.M), proc.stdout
+
+
+def test_version_and_help_do_not_load_numpy():
+    for args in (["--version"], ["--help"], ["compile", "--help"]):
+        probe = ("import atexit, sys\n"
+                 "atexit.register(lambda: print('numpy loaded:', 'numpy' in sys.modules, file=sys.stderr))\n"
+                 f"sys.argv = ['sf-tch', *{args!r}]\n"
+                 "import runpy\nrunpy.run_module('sf_tch', run_name='__main__')\n")
+        proc = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, timeout=60)
+        assert proc.returncode == 0 and "numpy loaded: False" in proc.stderr, (args, proc.stderr)
+
+
+def test_compile_summary_reads_the_toolpath_in_chunks(tmp_path, capsys):
+    """The summary of `sf-tch compile` needs a chunk of records, not the whole
+    toolpath: its Python memory stays far below the records' own size."""
+    from sf_tch import cli
+    from sf_tch.toolpath import TOOLPATH_DTYPE
+    lines = 100_000
+    program = tmp_path / "long.nc"
+    program.write_text("G0 X0 Y0 Z0\n" + "".join(f"G1 X{k % 100} Y{k % 37} F1000\n" for k in range(lines)))
+    records_size = (lines + 1) * TOOLPATH_DTYPE.itemsize                     # 16.8 MB
+    tracemalloc.start()
+    try:
+        code = cli.main(["compile", str(program), "--radius", "0"])
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    out = capsys.readouterr().out
+    assert code == 0 and re.search(rf"parts:\s+{lines + 1} motion", out)
+    assert peak < 0.25 * records_size, (peak, records_size)
+
+
+def _program_lines(proc_out: str, key: str) -> str:
+    return re.search(rf"^{key}.*$", proc_out, re.M).group(0)
+
+
+def test_run_prints_the_compiles_box_and_progress_lines_without_a_terminal():
+    compiled = sf_tch_cli("compile", sf_tch.sample_program())
+    proc = sf_tch_cli("run", sf_tch.sample_program(), "--time-scale", "1000")
+    assert proc.returncode == 0, proc.stderr
+    for key in ("box programmed:", "box compensated:"):          # the compile's extents, not the machine's after
+        assert _program_lines(proc.stdout, key) == _program_lines(compiled.stdout, key)
+    assert "Z -1.000..5.000" in _program_lines(proc.stdout, "box programmed:")
+    progress = [line for line in proc.stderr.splitlines() if line.startswith("run ")]
+    assert len(progress) >= 2 and progress[0].startswith("run   0.0 %") and progress[-1].startswith("run 100.0 %")
+    assert re.search(r"run:\s+status -32 \(AT_END\)$", proc.stdout, re.M)
+
+
+def test_run_on_a_terminal_keeps_one_live_line_that_reaches_100(square):
+    master, slave = pty.openpty()
+    proc = subprocess.Popen([sys.executable, "-m", "sf_tch", "run", str(square), "--time-scale", "20"],
+                            stdout=subprocess.PIPE, stderr=slave, text=True)
+    os.close(slave)
+    chunks = []
+    while True:
+        try:
+            data = os.read(master, 4096)
+        except OSError:                      # the child closed the terminal
+            break
+        if not data:
+            break
+        chunks.append(data)
+    out = proc.stdout.read()
+    assert proc.wait(timeout=60) == 0, out
+    os.close(master)
+    screen = b"".join(chunks).decode()
+    live = [part for part in screen.replace("\n", "\r").split("\r") if part.startswith("run ")]
+    assert len(live) >= 3 and "\n" not in screen.rstrip("\r\n").split("\r")[-1]
+    assert live[-1].startswith("run 100.0 %"), live[-3:]
+
+
+@pytest.mark.parametrize("as_json", [False, True])
+def test_ctrl_c_stops_the_machine_and_exits_130(as_json):
+    # the sample at real time takes half a minute: interrupted once its first progress line is out
+    proc = subprocess.Popen([sys.executable, "-m", "sf_tch", "run", sf_tch.sample_program(), "--time-scale", "1"]
+                            + (["--json"] if as_json else []), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True)
+    first = proc.stderr.readline()
+    assert first.startswith("run   0.0 %"), first
+    proc.send_signal(signal.SIGINT)
+    out, err = proc.communicate(timeout=60)
+    assert proc.returncode == 130, (out, err)
+    if as_json:
+        doc = json.loads(out)
+        assert doc["exit_code"] == 130 and doc["run"]["interrupted"] is True
+        assert doc["run"]["status_name"] == "STOPPED" and doc["run"]["run_time"] < 30
+    else:
+        assert re.search(r"^run:\s+status -31 \(STOPPED\), interrupted$", out, re.M), out
+        assert err.rstrip().endswith("sf-tch: interrupted: the machine stopped on the path")
+    assert "Traceback" not in err

@@ -1,13 +1,11 @@
 """The connection search of ConnectCNCEx_Plane (toolchain/machine/connect_search.pyx),
-through tests/connect_harness (the library's pipeline and the searches, no ctypes).
+through tests/harness (the library's pipeline and the searches, no ctypes).
 
 The oracle of the nearest point is the generated program's own geometry (lines,
 arcs in G17/G18/G19, helices, a C axis), sampled densely in numpy and refined by
 golden-section search around every sampled local minimum; lines in closed form.
 The lookups are checked against the parts' own fields."""
 import math
-import tempfile
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -17,15 +15,9 @@ from sf_tch import ErrorNumber, abi
 FOUND, NOT_FOUND, OFF_PART, BAD_ARGUMENT = 0, -1, -2, -3
 PLANES = {17: (0, 1, 2), 18: (0, 2, 1), 19: (1, 2, 0)}
 LETTERS = "XYZCBUVWAO"
-_MODULE = []
-
-
 @pytest.fixture(scope="session")
-def ch():
-    if not _MODULE:
-        from connect_harness import build
-        _MODULE.append(build(Path(tempfile.mkdtemp(prefix="connect_harness"))))
-    return _MODULE[0]
+def ch(harness):
+    return harness
 
 
 # ---- generated programs with known geometry ----------------------------------------
@@ -395,17 +387,11 @@ def test_a_run_placed_elsewhere_moves_the_trajectory(ch):
             check_hit(hit, geos, q, mask, oracle.nearest(q, mask))
 
 
-def _same_segment(a, b, tol):
-    assert a.keys() == b.keys() and (a["arc"], a["n_axes"]) == (b["arc"], b["n_axes"])
-    for key, value in a.items():
-        assert value == pytest.approx(b[key], abs=tol), key
-
-
 @pytest.mark.parametrize("relative", (False, True))
 def test_the_parts_own_geometry_equals_the_records_one(ch, relative):
-    """connect_segment takes the geometry from the part and moves it by the placement;
-    placed_part_to_gm + segment_of_gm (the API's record) give the same: unmoved
-    exactly, moved within rounding -- absolute programs (only the head follows the
+    """segment_of_placed_part takes the geometry from the part and moves it by the
+    placement; placed_part_to_gm + segment_of_gm (the API's record) give the same
+    numbers, unmoved and moved -- absolute programs (only the head follows the
     start, the part that names an axis first is reshaped) and relative ones."""
     rng = np.random.default_rng(1)
     text, _ = random_program(rng, 50, relative=relative)
@@ -415,7 +401,7 @@ def test_the_parts_own_geometry_equals_the_records_one(ch, relative):
         assert c.segment(i) == c.segment(i, via_record=True)
     c.place([3.0, -4.0, 2.5, 10.0, 0, 0, 0, 0, 0, 0])
     for i in motion:
-        _same_segment(c.segment(i), c.segment(i, via_record=True), 1e-9)
+        assert c.segment(i) == c.segment(i, via_record=True)
 
 
 def test_a_large_program_against_a_vectorised_oracle(ch):

@@ -1,5 +1,5 @@
 """Every exported function of tgm_cnc.h: present with the prototypes of sf_tch.abi,
-and every argument check of API.md (core index, NULL pointers, counts, names,
+and every argument check of docs/api.md and the header (core index, NULL pointers, counts, names,
 callback numbers, statuses), defaults, round trips, logging."""
 import ctypes
 import shutil

@@ -206,7 +206,7 @@ def test_c_program_gets_the_package_results(fresh_core, c_hmi, lib_path, seed_fi
 def test_the_package_run_is_the_documented_one(fresh_core, seed_file):
     """The oracle itself against the figures of test_cli and test_compiler."""
     sample = package_run(fresh_core, sample_program())
-    assert len(sample["parts"]) == 28 and sample["m_functions"] == 16
+    assert len(sample["parts"]) == 47 and sample["m_functions"] == 16
     assert sample["boxes"][1][:4] == pytest.approx([-1.0, 121.0, -8.0, 81.0])
     assert sample["printed"] == ["plate done"]
     seed = package_run(fresh_core, seed_file, abs_mode=1)

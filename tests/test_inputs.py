@@ -50,8 +50,8 @@ def _run_isolated(run_python, code, **kw):
 # ------------------------------------------------------------------ files
 
 def test_compile_from_fifo_is_refused_at_once(run_python, tmp_path):
-    """/work/shared/repro/fifo_hang.py: a FIFO without a writer neither blocks the
-    caller nor the worker; the error names the file."""
+    """A FIFO without a writer neither blocks the caller nor the worker; the error names
+    the file."""
     fifo = tmp_path / "prog.nc"
     os.mkfifo(fifo)
     out = _run_isolated(run_python, f"""
@@ -121,8 +121,8 @@ def test_load_from_ini_of_what_is_not_a_file_returns_1(fresh_core, tmp_path, kin
 
 
 def test_load_from_ini_on_a_fifo_neither_blocks_nor_holds_the_lock(run_python, tmp_path):
-    """/work/shared/repro/fifo_ini.py: LoadFromIni on a FIFO returns 1 at once, and
-    GetPos / GetLastError never wait meanwhile."""
+    """LoadFromIni on a FIFO returns 1 at once, and GetPos / GetLastError never wait
+    meanwhile."""
     fifo = tmp_path / "cnc.ini"
     os.mkfifo(fifo)
     out = _run_isolated(run_python, f"""
@@ -204,8 +204,8 @@ def _params(lib, core=0):
                                            (-math.inf, "-inf is not a finite number"),
                                            (1e300, "1e+300 is outside <-1e+06, 1e+06>")])
 def test_set_gcode_parameters_refuses_a_bad_radius(fresh_core, radius, shown):
-    """/work/shared/repro/nonfinite_radius.py: refused, error naming the field,
-    nothing changed; the compilation then runs with the radius from before."""
+    """A NaN or infinite radius: refused, error naming the field, nothing changed; the
+    compilation then runs with the radius from before."""
     lib = fresh_core
     before = _params(lib)
     p = _params(lib)
@@ -305,7 +305,7 @@ def test_set_user_params_refuses_non_finite(fresh_core):
 # ------------------------------------------------------------------ numbers in programs
 
 def test_number_that_overflows_is_an_error_on_its_line_and_column(host):
-    """/work/shared/repro/overflow_number_inf.nc."""
+    """A number too large for a double: error 108 on its line, at its column."""
     r = host.compile("G1 X1 F100\nG0 X1" + "0" * 320 + "\n", run=False)
     assert r.error is not None and r.error[0] == ERR_NUMBER_OVERFLOW and r.error[1] == 2
     assert "at column 5 is too large" in r.error[3]
@@ -378,8 +378,8 @@ def test_largest_words_give_only_finite_numbers():
 @pytest.mark.parametrize("tool, high", [(0, 0), (32767, 32767), (32768, 32768), (65535, 65535),
                                         (70000, 65535), (10 ** 9, 65535)])
 def test_tool_number_fills_the_high_16_bits_of_m_plane_tool(host, tool, high):
-    """/work/shared/repro/ubsan_tool_shift.nc: ABI.md m_planeTool, low 16 bits the
-    plane (17), high 16 bits the tool number (saturated to 16 bits)."""
+    """m_planeTool (docs/structures.md): low 16 bits the plane (17), high 16 bits the
+    tool number (saturated to 16 bits), without an undefined shift."""
     r = host.compile(f"T{tool} M6\nG1 X1 F100\n")
     assert r.error is None
     g = r.g[-1]
@@ -430,16 +430,13 @@ def test_numbers_do_not_follow_a_decimal_comma_locale(run_python, tmp_path, comm
 
 def _documented_statuses():
     """Every value of enum cnc_status in the installed header."""
-    from sf_tch import library_path
-    header = (Path(library_path()).parent / "include" / "tgm_cnc.h").read_text()
+    from sf_tch import header_path
+    header = Path(header_path()).read_text()
     body = re.search(r"enum cnc_status\s*\{(.*?)\}", header, re.S).group(1)
     return {m.group(1): int(m.group(2)) for m in re.finditer(r"(CNC_STATUS_\w+)\s*=\s*(-?\d+)", body)}
 
 
-@pytest.mark.harness          # its harness is built below, not by a fixture (conftest marks those)
-def test_every_documented_status_has_a_name():
-    from test_compensation_geometry import _harness_module
-    harness = _harness_module()
+def test_every_documented_status_has_a_name(harness):
     statuses = _documented_statuses()
     assert len(statuses) == 27
     names = {value: harness.cnc_status_name(value) for value in statuses.values()}

@@ -1,6 +1,6 @@
 """The offline machine (StartCNCEx 30-33, toolchain/machine/).
 
-Part one drives the pure step through tests/machine_harness (no threads, one 100 us
+Part one drives the pure step through tests/harness (no threads, one 100 us
 step at a time, every step recorded) and checks it against geometry and closed forms:
 positions on the compensated path, speeds under the plan and the programmed feed,
 the stop distance v^2 / 2d, continue and backward, the run time.
@@ -12,34 +12,22 @@ import ctypes
 import math
 import os
 import random
-import tempfile
 import threading
 import time
-from pathlib import Path
 
 import pytest
 
-from sf_tch import abi, library_path
+from sf_tch import abi, default_ini
 
 DT = 1e-4                                   # the machine's step, s
 EPS = 1e-6                                  # mm: sampled positions on the path
 SLOW_SCALE = int(os.environ.get("SF_TCH_SLOW_SCALE", "1"))
 
-_MODULE = []
-
-
-def harness_module():
-    if not _MODULE:
-        from machine_harness import build
-        _MODULE.append(build(Path(tempfile.mkdtemp(prefix="machine_harness"))))
-    return _MODULE[0]
-
 
 @pytest.fixture(scope="session")
-def mh():
-    module = harness_module()
-    yield module
-    module.destroy_all()
+def mh(harness):
+    yield harness
+    harness.destroy_all()
 
 
 def params(mh, radius=0.0, **fields):
@@ -433,7 +421,7 @@ def test_a_breakpoint_stops_before_its_line_and_the_next_start_passes(mh):
 
 # ------------------------------------------------------------------ through the API
 
-INI = library_path().replace("libSF_TCh.so", "data/SF_TCh.ini").encode()
+INI = default_ini().encode()         # the bundled INI, wherever SF_TCH_LIBRARY points
 FWD, FWD_NO_M, BACK, FWD_SKIP_M = 30, 31, 32, 33
 MFUNC_LATER = 2                             # TC_MFUNC_LATER of the header: "the host confirms later"
 
@@ -1222,7 +1210,7 @@ def test_DestroyCNC_and_ResetCNC_at_random_moments(run_python):
     """Three cores run forward, backward, wait for M functions, dwell, pause at M0,
     while the host resets, destroys, stops and confirms at random moments (and the
     M callback destroys or resets its core): every call returns, the statuses are
-    API.md's, GetPos never fails, no thread is left, and every core runs again."""
+    the documented ones (docs/api.md), GetPos never fails, no thread is left, and every core runs again."""
     random_endings(run_python, 3)
 
 

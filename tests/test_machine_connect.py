@@ -8,10 +8,10 @@ import time
 
 import pytest
 
-from sf_tch import abi, library_path
+from sf_tch import abi, default_ini
 
 CORE = 2
-INI = library_path().replace("libSF_TCh.so", "data/SF_TCh.ini").encode()
+INI = default_ini().encode()         # the bundled INI, wherever SF_TCH_LIBRARY points
 # a 100 mm square from the origin, counter-clockwise, with an M function on line 4
 SQUARE = b"G0 X0 Y0\nG1 X100 F6000\nG1 Y100\nM8\nG1 X0\nG1 Y0\n"
 

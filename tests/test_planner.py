@@ -1,10 +1,9 @@
 """The feed planner (toolchain/planner/): closed forms computed by hand, the junction
 and arc feed tables, centripetal and axis limits, exact stops, the look-ahead window,
 ruckig (test-only) as the time-optimal oracle, and the run time of a simulation.
-The planner runs through tests/plan_harness (compiler + planner, no ctypes)."""
+The planner runs through tests/harness (compiler + planner, no ctypes)."""
 import ctypes
 import math
-import tempfile
 from pathlib import Path
 
 import pytest
@@ -12,19 +11,9 @@ import pytest
 from sf_tch import abi
 from sf_tch.core import Core
 
-_MODULE = []
-
-
-def harness_module():
-    if not _MODULE:
-        from plan_harness import build
-        _MODULE.append(build(Path(tempfile.mkdtemp(prefix="plan_harness"))))
-    return _MODULE[0]
-
-
 @pytest.fixture(scope="session")
-def ph():
-    return harness_module()
+def ph(harness):
+    return harness
 
 
 def params(ph, **fields):
@@ -509,7 +498,7 @@ def test_look_ahead_through_the_library(ph, tmp_path, fresh_core):
     with sf_tch.compile(text, core=2) as program:
         assert simulated(program) == pytest.approx(expected[-1], rel=1e-12)
     ini = tmp_path / "window.ini"
-    ini.write_text(Path(sf_tch.library_path()).with_name("data").joinpath("SF_TCh.ini").read_text()
+    ini.write_text(Path(sf_tch.default_ini()).read_text()
                    + "\n[GCodeParameters]\nlookAheadParts = 0\n")
     with sf_tch.compile(text, ini=ini, core=2) as program:
         assert simulated(program) == pytest.approx(expected[0], rel=1e-12)

@@ -1,6 +1,12 @@
 """Program.plot(): the picture of the bundled sample (programmed and compensated
 paths, dashed rapids, starts, errors) and its extent against the library's size
-info; a PNG that is not empty."""
+info; a PNG that is not empty; a failing program drawn up to its error; the hint
+that installs matplotlib."""
+import builtins
+import math
+import re
+import sys
+
 import pytest
 
 import sf_tch
@@ -51,10 +57,85 @@ def test_errors_are_marked_at_their_line():
             title = ax.get_title()
         finally:
             plt.close(fig)
-    mark = labels["error 503 (line 28)"]
-    assert list(zip(mark.get_xdata(), mark.get_ydata())) == [(80.0, 45.0)]    # N230 G3 X80 Y45
-    assert "Arc radius 5 smaller than the tool radius 6" in title
+    mark = labels["error 503 (line 34)"]
+    assert list(zip(mark.get_xdata(), mark.get_ydata())) == [(80.0, 45.0)]    # N270 G3 X80 Y45
+    assert "Arc radius 5 smaller than the tool radius 6" in title and "drawn without compensation" in title
     assert "cut" in labels and "tool centre (compensated)" not in labels        # drawn uncompensated
+
+
+def _drawn_points(ax, label):
+    line = _lines(ax)[label]
+    xy = np.column_stack([line.get_xdata(), line.get_ydata()])
+    return xy[~np.isnan(xy).any(axis=1)]
+
+
+@pytest.mark.parametrize("as_file", [False, True])
+def test_a_failing_program_draws_the_moves_before_its_error(tmp_path, as_file):
+    # line 4: the centre (13, 10) is 3 mm from the start and 7 mm from the end: error 400
+    code = "G0 X0 Y0 Z0\nG1 X10 F600\nG1 Y10\nG2 X20 Y10 I3 J0\nG1 X30\nM30\n"
+    source = tmp_path / "arc.nc" if as_file else code
+    if as_file:
+        source.write_text(code)
+    with sf_tch.compile(source, name=None if as_file else "arc.nc", start=ORIGIN) as program:
+        (error,) = program.errors
+        fig, ax = plt.subplots()
+        try:
+            program.plot(ax=ax)
+            cut = _drawn_points(ax, "cut")
+            mark = _lines(ax)[f"error {int(error.number)} (line 4)"]
+            title = ax.get_title()
+        finally:
+            plt.close(fig)
+    assert error.line == 4
+    # the moves of lines 2 and 3, nothing of the arc or after it; the cross where they end
+    assert cut.tolist() == [[0, 0], [10, 0], [10, 10]]
+    assert list(zip(mark.get_xdata(), mark.get_ydata())) == [(10.0, 10.0)]
+    assert "drawn without compensation up to line 3" in title
+
+
+def test_an_error_inside_a_loop_draws_what_compiles_before_the_loop():
+    # the division by zero is in the loop's second pass; the text before its line leaves
+    # the FOR open, so the picture is of the text before the FOR
+    code = ("G0 X0 Y0 Z0\nG1 X5 F600\nFOR P1 = 1 TO 3\n  G1 X(P1 * 10)\n  G1 Y(10 / (P1 - 2))\nEND\nM30\n")
+    with sf_tch.compile(code, name="loop.nc", start=ORIGIN) as program:
+        assert program.errors[0].line == 5
+        fig, ax = plt.subplots()
+        try:
+            program.plot(ax=ax)
+            cut = _drawn_points(ax, "cut")
+            title = ax.get_title()
+        finally:
+            plt.close(fig)
+    assert cut.tolist() == [[0, 0], [5, 0]] and "up to line 2" in title
+
+
+def test_arcs_are_drawn_no_finer_than_the_picture_shows():
+    # a drawing 1000 mm wide: a circle of r 50 asked for in 0.01 mm chords is drawn in
+    # chords of 1/2000 of that (0.5 mm), then the line
+    with sf_tch.compile("G0 X0 Y0 Z0\nG2 X0 Y0 I50 J0 F1000\nG1 X1000\nM30\n", start=ORIGIN) as program:
+        fig, ax = plt.subplots()
+        try:
+            program.plot(ax=ax, step=0.01)
+            cut = _drawn_points(ax, "cut")
+        finally:
+            plt.close(fig)
+    circle = cut[:-1]
+    assert len(circle) == 1 + math.ceil(2 * math.pi * 50 / 0.5)
+    assert np.allclose(np.hypot(circle[:, 0] - 50, circle[:, 1]), 50) and cut[-1].tolist() == [1000, 0]
+
+
+def test_plot_hint_names_the_install_command(monkeypatch):
+    real_import = builtins.__import__
+
+    def no_matplotlib(name, *args, **kwargs):
+        if name.startswith("matplotlib"):
+            raise ImportError(f"No module named {name!r}")
+        return real_import(name, *args, **kwargs)
+
+    monkeypatch.setattr(builtins, "__import__", no_matplotlib)
+    with sf_tch.compile("G1 X1 F100\n") as program:
+        with pytest.raises(ImportError, match=re.escape(f"{sys.executable} -m pip install matplotlib")):
+            program.plot()
 
 
 def test_png_is_not_empty(tmp_path):

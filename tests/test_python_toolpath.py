@@ -1,8 +1,9 @@
 """ToolChainCore_GetToolpath and sf_tch.Toolpath: every field against the parts the
 driver callbacks deliver (the vendor's path), chunked reads, argument checks, and
-the arc sampling against closed forms."""
+the arc sampling against closed forms, its memory on a large program."""
 import ctypes
 import math
+import tracemalloc
 
 import numpy as np
 import pytest
@@ -64,16 +65,33 @@ def _check_against_callbacks(program):
 def test_fields_match_the_driver_callbacks_on_the_compensated_sample(sample):
     path = _check_against_callbacks(sample)
     assert (path.records["compensation"] != 40).any()
-    # the first hole goes down to Z-1 in its circle; the other three stay at Z-1
+    # each of the four holes is one helical turn from Z0 down to Z-1
     helix = path.records[(path.records["flags"] & sf_tch.ToolpathFlag.HELIX) != 0]
-    assert len(helix) == 1 and helix["end"][0, 2] - helix["start"][0, 2] == -1
-    assert helix["length"][0] == pytest.approx(math.hypot(2 * math.pi * 4, 1))
+    assert len(helix) == 4 and (helix["start"][:, 2] == 0).all() and (helix["end"][:, 2] == -1).all()
+    assert helix["length"] == pytest.approx(math.hypot(2 * math.pi * 4, 1))
     assert (path.records["kind"] == PartKind.PRINT).sum() == 1
     assert set(path.files.values()) == {sf_tch.sample_program()}
 
 
+def test_the_sample_rapids_above_the_plate_and_its_holes_are_helical(sample):
+    """What every user copies: no rapid below the plate's top (Z0), the cuts at Z-1,
+    and the four holes of the header's comment each a helix (its z changes)."""
+    rec = sample.toolpath.records
+    moves = rec[rec["kind"] == PartKind.MOTION]
+    rapids = moves[moves["number"] == 0]
+    assert len(rapids) > 8 and (rapids["start"][:, 2] >= 0).all() and (rapids["end"][:, 2] >= 0).all()
+    assert rapids["end"][-1].tolist() == [0, 0, 5]                      # the final G0 X0 Y0 at the safe height
+    arcs = moves[np.isin(moves["number"], [2, 3])]
+    holes = arcs[arcs["centre"][:, 1] == 20]                           # the outline and slot arcs lie elsewhere
+    assert len(holes) == 4 and (holes["start"][:, 2] != holes["end"][:, 2]).all()
+    assert sorted(holes["centre"][:, 0].tolist()) == [30, 50, 70, 90]
+    cuts = moves[moves["number"] != 0]
+    plunges = (cuts["start"][:, 0] == cuts["end"][:, 0]) & (cuts["start"][:, 1] == cuts["end"][:, 1])
+    assert (cuts["end"][~plunges & ~np.isin(cuts["number"], [2, 3]), 2] == -1).all()   # contours through the plate
+
+
 def test_fields_match_the_driver_callbacks_on_the_seed_program():
-    # (r 0.5 gouges: the seed's arcs turn almost a full circle; error 504, test_compensation_e2e)
+    # (r 0.5 gouges: the seed's arcs turn almost a full circle; warning 601, test_compensation_policy)
     with sf_tch.compile(SEED_PROGRAM + "\n", radius=0.01, params={"absMode": 0}, name="seed.nc") as program:
         program.check()
         _check_against_callbacks(program)
@@ -181,3 +199,30 @@ def test_no_toolpath_without_a_program():
 def test_record_layout_is_the_headers():
     assert TOOLPATH_DTYPE.itemsize == ctypes.sizeof(abi.TC_TOOLPATH_RECORD) == 168
     assert TOOLPATH_DTYPE["start"].shape == (3,) and TOOLPATH_DTYPE.fields["kind"][1] == 128
+
+
+def _half_circles(count: int) -> str:
+    """A zigzag of `count` lines 1 mm long, each followed by a half circle of r 5 mm."""
+    blocks = "".join(f"G1 X{k * 11 + 1}\nG2 X{k * 11 + 11} Y0 I5 J0\n" for k in range(count))
+    return "G0 X0 Y0 Z0\nG1 F3000\n" + blocks + "M30\n"
+
+
+@pytest.mark.parametrize("tool", [False, True])
+def test_points_of_a_large_program_need_little_beside_the_result(tool):
+    """Sampled a bounded number of moves at a time: beside the array it returns,
+    points() needs a few bytes per move (the old sampling held about six times the
+    result's size at once)."""
+    with sf_tch.compile(_half_circles(20_000), radius=0.0) as program:
+        path = program.toolpath                        # 40,000 moves; the input, read before measuring
+    tracemalloc.start()
+    try:
+        pts = path.points(step=0.5, tool=tool)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert len(pts) == 1 + 1 + 20_000 * (1 + math.ceil(math.pi * 5 / 0.5))    # start, the rapid, lines, arcs
+    assert pts.nbytes > 15e6
+    assert peak < 1.5 * pts.nbytes, (peak / pts.nbytes)
+    # the same points as the arcs' closed form: the last half circle's samples on its circle
+    last = pts[-1 - math.ceil(math.pi * 5 / 0.5):]
+    assert np.allclose(np.hypot(last[:, 0] - (19_999 * 11 + 6), last[:, 1]), 5)

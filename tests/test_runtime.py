@@ -1,5 +1,5 @@
 """The core runtime under the calls an HMI makes from several threads and from its
-callbacks (issue 9, the scripts of shared/repro): one activity per core, every ending
+callbacks (issue 9, the project's reproducer scripts): one activity per core, every ending
 call waits for the worker to be joined, re-entrant calls from the worker's own thread,
 refused calls kept apart from the program's error, callbacks removed while in flight,
 the file table's recycling and where a run starts.
@@ -426,11 +426,11 @@ def test_file_names_are_recycled_and_keep_their_run_time(run):
 
 # ------------------------------------------------------------------ where a run starts
 
-SEED_RELATIVE = SEED_PROGRAM       # seed 003's example: relative coordinates (absMode 0)
+SEED_RELATIVE = SEED_PROGRAM       # the interpolator manual's example: relative coordinates (absMode 0)
 
 
 def test_a_simulation_never_moves_the_machine(run):
-    # Seed 003's relative example compiled and simulated three times ended at (47.25, 63.13),
+    # The manual's relative example compiled and simulated three times ended at (47.25, 63.13),
     # (94.50, 126.26), (141.75, 189.39): each dry run moved the next one's start.
     run(f"""
         load_ini(lib, 0)

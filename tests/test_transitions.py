@@ -1,6 +1,6 @@
 """The status machine (toolchain/runtime/transitions.pyx) checked as a table against
-API.md: every status a core can reach today (the offline machine's too), every command, the status that follows
-or the refusal. The expected table is written from API.md's text, not read from the
+the vendor's text (docs/api.md): every status a core can reach today (the offline machine's too), every command, the status that follows
+or the refusal. The expected table is written from that text, not read from the
 library; each cell is driven through the exported functions. A running status is
 held by a callback that waits on a gate; an ending command opens the gate from a
 timer (it returns only once the worker is joined)."""
@@ -10,14 +10,14 @@ import time
 
 import pytest
 
-from sf_tch import abi, library_path
+from sf_tch import abi, default_ini
 
 CORE = 2
 GOOD = b"G1 X10 Y0 F1000\nG1 X10 Y10\nG1 X0 Y10\n"
 BAD = b"G2 X10 Y0\n"                  # an arc without a centre: the compilation fails
 PAUSED = b"G1 X10 Y0 F1000\nM0\nG1 X10 Y10\n"   # the offline machine pauses at M0 (-33)
 FAST, REAL = 1000.0, 1.0               # time scales of the offline machine
-INI = library_path().replace("libSF_TCh.so", "data/SF_TCh.ini").encode()
+INI = default_ini().encode()         # the bundled INI, wherever SF_TCH_LIBRARY points
 REFUSED = "refused"
 
 
@@ -123,7 +123,7 @@ COMMANDS = {
     "skip_m": (lambda lib: lib.ToolChainCore_StartCNCEx(CORE, 33, None), False),
 }
 
-# API.md: what follows each command in each status (1 / 10 / 20 / 30 are held
+# The vendor's text: what follows each command in each status (1 / 10 / 20 / 30 are held
 # running; "stop" in a run: the run ends stopped once the gate opens; a started
 # compilation or run is awaited). The machine's regimes (StartCNCEx 30-33): forward
 # from a compiled program or a stop (-1, -10, -11, -20, -21, -30, -31, -33) to the

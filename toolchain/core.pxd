@@ -1,5 +1,10 @@
-# The runtime of one CNC core (interpolator channel): what a core holds and who may
-# touch it. docs/threading.md draws the lifecycle; in short:
+# Face of core.pyx and of the runtime's data: one CNC core (interpolator channel),
+# what it holds and who may touch it. The core owns its configuration, its program,
+# its errors and its one activity (a compilation or a run) in a worker thread; the
+# runtime (runtime/, its own face) keeps the pieces declared here: the file table,
+# the callbacks, the GetPos snapshot, the published program. The exports call the
+# core for every API function; the machine and the simulator start, finish and fail
+# activities through it. docs/threading.md draws the lifecycle; in short:
 #   - `status`, `cancel` and `stop` are int32 read and written atomically: StatusCNC
 #     polls `status` without any lock;
 #   - `snap` (the GetPos view) is a double-buffered seqlock: its writers take
@@ -10,10 +15,6 @@
 #   - one activity (compilation or run) at a time, run by one worker thread; exactly
 #     one thread joins it (`joining`), every caller that ends it waits for the join
 #     on `changed`.
-from libc.stdint cimport int32_t, int64_t, uint32_t, uint64_t, intptr_t
-from includes.tgm_cnc cimport GCODE_PARAMETERS, MACHINE_PARAMETERS, GCODE_INFO, SIMPLE_GM_PARAMS, GM_PARAMS_ENHANCED
-from includes.system cimport pthread_t, pthread_mutex_t, pthread_cond_t
-from program cimport Program, ErrorInfo
 
 cdef enum:
     MAX_FILES = 64          # file names per core (FileToIdx); recycled when full
@@ -64,10 +65,10 @@ cdef struct NameChunk:
     char text[65520]
 
 ctypedef struct FileTable:
-    const char *names[64]   # into `store`
+    const char *names[MAX_FILES]    # into `store`
     NameChunk *store
-    double run_times[64]
-    uint64_t used[64]       # last use (FileToIdx, compile): the oldest unreferenced entry is recycled
+    double run_times[MAX_FILES]
+    uint64_t used[MAX_FILES]    # last use (FileToIdx, compile): the oldest unreferenced entry is recycled
     uint64_t clock
     int32_t n
 
@@ -94,8 +95,13 @@ ctypedef struct Core:
     bint ini_loaded
     char driver[256]
     int64_t plan_window         # look-ahead of the feed planner in parts (SetLookAhead, INI lookAheadParts)
-    Callback callbacks[24]
-    int32_t in_flight[24]       # calls of each slot running now, on any thread
+    # the machine builder's tables and smoothing (any status; a run or compilation takes a copy
+    # or a reference at its start once they are wired in: docs/tool-table.md, "Integration status")
+    ToolTable tool_table        # LoadToolTable, SetToolCorrection, INI [Corrections] ToolTable
+    AxisCorrections *axis_corrections   # LoadAxisCorrections, INI AxisTable1..8; NULL none (tables.pxd: references)
+    SmoothingConfig smoothing   # SetSmoothing, INI [Smoothing]
+    Callback callbacks[N_CALLBACK_SLOTS]
+    int32_t in_flight[N_CALLBACK_SLOTS]     # calls of each slot running now, on any thread
     FileTable files
     # the file table entries the running compilation uses (never recycled meanwhile)
     int32_t compile_files[3]    # main, prefix, postfix entries of the compilation that runs
@@ -105,8 +111,8 @@ ctypedef struct Core:
     ErrorInfo call_error        # error of the last refused call (GetLastCallError)
     GCODE_INFO size_info        # of `program` at the current start position
     # the machine
-    double position[10]         # machine position: where the next run and compilation start
-    double pending_position[10] # ResetCNC's coordinates, applied once the activity it ends is over
+    double position[AXES]       # machine position: where the next run and compilation start
+    double pending_position[AXES]   # ResetCNC's coordinates, applied once the activity it ends is over
     uint32_t n_pending
     void *offline               # the offline machine (machine/machine.pyx Machine), made on first run
     double time_scale           # atomic (TC_ATOMIC_*_D): the offline machine runs this many times real time
@@ -114,3 +120,61 @@ ctypedef struct Core:
     uint32_t breakpoint_line
     int32_t breakpoint_file
     Snapshot snap
+
+
+# What a worker gets from the call that started it; the worker frees it.
+ctypedef struct Job:
+    Core *core
+    int32_t regime              # runs: StartCNCEx regime
+    char *text                  # compilations: the program text (owned); NULL: read `name`
+    size_t length
+    int32_t files[3]            # compilations: file table entries of main, prefix, postfix
+    char *prefix                # compilations: GCodePrefixPostfix texts at the start (owned)
+    char *postfix
+    char name[252]
+    char *add_code              # runs: StartCNCEx addCode (owned, may be NULL)
+    SIMPLE_GM_PARAMS dest       # manual moves: line (m_func 1) or arc (2, 3) to m_calcE, as GoToPositionEx
+    uint32_t n_dest             # ... of which the first n_dest axes move (GoToPosition)
+    uint32_t n_type             # connections: ConnectCNCEx_Plane's arguments
+    double coords[11]
+    uint32_t n_coords
+    uint32_t axes_calc, axes_connect
+    int32_t state_after
+    int32_t status_before       # ... and the status it was called in
+
+
+# ---- what other stages call
+# ToolChainCore_Init's settings (the exports write them)
+cdef int32_t g_core_mode           # Local_Core_Mode of ToolChainCore_Init (2 offline until Init)
+cdef char g_macros_dir[1024]       # Macros_Dir of ToolChainCore_Init (external G functions: not used yet)
+
+# the core of an index (NULL for none); its status, read and written atomically
+cdef Core *core_get(uint32_t index) noexcept nogil
+
+cdef inline int32_t core_status(Core *core) noexcept nogil:
+    return TC_ATOMIC_LOAD(&core.status)
+
+
+cdef inline void core_set_status(Core *core, int32_t status) noexcept nogil:
+    TC_ATOMIC_STORE(&core.status, status)
+
+# errors: a refused call (number and text argument: GetLastCallError, reported), a
+# call the transition table refuses in `status`, GetLastError / GetLastCallError
+cdef int32_t core_fail(Core *core, int32_t number, const char *text_arg) noexcept nogil
+cdef void core_fail_with(Core *core, const ErrorInfo *err) noexcept nogil
+cdef int32_t core_refuse(Core *core, const char *what, int32_t status) noexcept nogil
+cdef int32_t core_read_error(Core *core, const ErrorInfo *slot, CALLBACK_INFO *info) noexcept nogil
+# an activity: a job for its worker; its start (the transition table's `command`, the
+# worker running `body`); the worker's last step (an event of the table; or, when it
+# gave up before it changed anything, back to the status it began in); the calls that
+# end it (DestroyCNC, ResetCNC, ResetStatusCNC: an EndKind)
+cdef Job *job_new() noexcept nogil
+cdef void job_free(Job *job) noexcept nogil
+cdef int32_t core_begin(Core *core, int32_t command, const char *what,
+                        void *(*body)(void *) noexcept nogil, Job *job) noexcept nogil
+cdef void core_finish(Core *core, int32_t event) noexcept nogil
+cdef void core_finish_to(Core *core, int32_t status) noexcept nogil
+cdef int32_t core_end(Core *core, int32_t kind, const char *what, uint32_t n_coords,
+                      const double *coords) noexcept nogil
+# CompileFromFile (text NULL: the worker reads the file `name`) and CompileFromMemory
+cdef int32_t core_start_compile(Core *core, const char *name, char *text, size_t length) noexcept nogil

@@ -15,37 +15,12 @@ from libc.stdlib cimport malloc, calloc, free
 from libc.string cimport memset, memcpy, memcmp, strlen, strcmp, strncpy, strdup
 from libc.stdio cimport snprintf
 
-cdef extern from *:
-    """
-    #define TC_VERSION_STRING "SF_TCh 0.1.0 (open drop-in CNC module library, built " __DATE__ " " __TIME__ ")"
-    """
-    const char *TC_VERSION_STRING
-
-# What a worker gets from the call that started it; the worker frees it.
-ctypedef struct Job:
-    Core *core
-    int32_t regime              # runs: StartCNCEx regime
-    char *text                  # compilations: the program text (owned); NULL: read `name`
-    size_t length
-    int32_t files[3]            # compilations: file table entries of main, prefix, postfix
-    char *prefix                # compilations: GCodePrefixPostfix texts at the start (owned)
-    char *postfix
-    char name[252]
-    char *add_code              # runs: StartCNCEx addCode (owned, may be NULL)
-    SIMPLE_GM_PARAMS dest       # manual moves: line (m_func 1) or arc (2, 3) to m_calcE, as GoToPositionEx
-    uint32_t n_dest             # ... of which the first n_dest axes move (GoToPosition)
-    uint32_t n_type             # connections: ConnectCNCEx_Plane's arguments
-    double coords[11]
-    uint32_t n_coords
-    uint32_t axes_calc, axes_connect
-    int32_t state_after
-    int32_t status_before       # ... and the status it was called in
-
-
 cdef Core g_cores[3]
 cdef pthread_once_t g_once
-cdef int32_t g_core_mode           # Local_Core_Mode of ToolChainCore_Init (2 offline until Init)
-cdef char g_macros_dir[1024]       # Macros_Dir of ToolChainCore_Init (external G functions: not used yet)
+
+# PLC memory of the offline machine (TGM_Data): the G-code's ReadPLC*/WritePLC* and
+# the host (ctypes: (c_ubyte * 524288).in_dll(lib, "TGM_Data")) share it.
+cdef public uint8_t TGM_Data[524288]
 
 
 cdef void _init_cores() noexcept nogil:
@@ -72,14 +47,6 @@ cdef Core *core_get(uint32_t index) noexcept nogil:
     if index >= <uint32_t>TOOL_CHAIN_MAX_CORES:
         return NULL
     return &g_cores[index]
-
-
-cdef inline int32_t core_status(Core *core) noexcept nogil:
-    return TC_ATOMIC_LOAD(&core.status)
-
-
-cdef inline void core_set_status(Core *core, int32_t status) noexcept nogil:
-    TC_ATOMIC_STORE(&core.status, status)
 
 
 cdef inline bint on_worker_thread() noexcept nogil:

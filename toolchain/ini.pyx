@@ -6,10 +6,6 @@
 from libc.stdlib cimport free
 from libc.string cimport strchr
 
-# 0 to go on; anything else stops ini_read, which returns it
-ctypedef int32_t (*ini_visitor)(void *ctx, const char *section, const char *key, const char *value,
-                                int32_t line) noexcept nogil
-
 
 cdef char *_ini_strip(char *s) noexcept nogil:
     cdef char *end

@@ -6,19 +6,19 @@
 # here needs the Python module to be initialised, so a host may load the library
 # with ctypes alone. Module-level variables are therefore only zero-initialised C
 # statics (constants live in functions or C literals).
-from libc.stdint cimport int8_t, int16_t, int32_t, int64_t, uint8_t, uint16_t, uint32_t, uint64_t, intptr_t, INT32_MAX
-from includes.tgm_cnc cimport *
-from includes.system cimport *
-from program cimport *
-from errors cimport *
-from core cimport *
 
+# The faces (libSF_TCh.pxd, read first) declare every stage's types and the functions
+# other stages call; the stages follow in the order they depend on each other
+# (docs/architecture.md).
+
+# the data and its tools
+include "arrays.pyx"
 include "numbers.pyx"
 include "errors.pyx"
 include "geometry.pyx"
 include "program.pyx"
-include "extent.pyx"              # early: pipeline.pyx measures it beside the merge
-include "pipeline.pyx"
+
+# compile: text -> parts -> tool path -> extent -> feed plan
 include "compiler/lexer.pyx"
 include "compiler/state.pyx"
 include "compiler/expressions.pyx"
@@ -29,30 +29,40 @@ include "compiler/compiler.pyx"
 include "compensation/offsets.pyx"
 include "compensation/corners.pyx"
 include "compensation/strategy.pyx"
+include "compensation/pass_state.pyx"
 include "compensation/crossings.pyx"
+include "compensation/clearance.pyx"
+include "compensation/regions.pyx"
 include "compensation/compensation.pyx"
 include "compensation/insert_arcs.pyx"
-include "placement.pyx"
-include "planner/segment.pyx"
-include "planner/ramps.pyx"
+include "extent.pyx"
 include "planner/limits.pyx"
 include "planner/junctions.pyx"
 include "planner/mfunc_insert.pyx"
 include "planner/passes.pyx"
-include "machine/connect_search.pyx"
+include "pipeline.pyx"                  # the stages side by side
+include "placement.pyx"                 # a program where a run starts
+
+# the host's settings
 include "logging.pyx"
 include "files.pyx"
 include "ini.pyx"
+include "smoothing/smoothing.pyx"       # the output's filters: their values are INI keys too
 include "parameters.pyx"
+include "tables/tool_table.pyx"         # the correction tables: files an INI key may name
+include "tables/axis_correction.pyx"
+
+# run: the core, its activities, the offline machine
 include "runtime/transitions.pyx"
 include "runtime/snapshot.pyx"
 include "runtime/programs.pyx"
 include "runtime/callbacks.pyx"
 include "runtime/file_names.pyx"
 include "core.pyx"
-include "simulator.pyx"
 include "machine/motion.pyx"
 include "machine/machine.pyx"
+include "machine/connect_search.pyx"
 include "machine/connect.pyx"
+include "simulator.pyx"
 include "toolpath.pyx"
 include "exports.pyx"

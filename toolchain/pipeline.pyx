@@ -3,7 +3,7 @@
 # finished, so on a large program it costs little more than its tail once the
 # compiler ends. Between batches the thread also faults in the memory the compiler
 # and the compensation's merge will write next (program_prefault), which is most of
-# the cost of writing fresh memory. The hand-over (Follow, program.pxd):
+# the cost of writing fresh memory. The hand-over (Follow, pipeline.pxd):
 #   - the compiler publishes the parts it will not touch again at its periodic check
 #     (every 1024 blocks, when at least FOLLOW_BATCH new parts are final); the first
 #     publication starts the thread;
@@ -18,11 +18,6 @@
 # compensation's merge (ExtentBeside), then the plan in two ranges beside the extent
 # when that was not measured yet (plan_beside_extent).
 from libc.string cimport memset
-
-cdef enum:
-    FOLLOW_BATCH = 4096     # parts: fewer are not worth waking the thread for
-    PREFAULT_AHEAD = 65536  # parts (10 MB) whose memory the thread readies ahead of the compiler
-    PREFAULT_CHUNK = 16384  # parts (2.4 MB) readied at a time between batches
 
 
 cdef void follow_init(Follow *F, ProgramBuilder *build, consume_fn consume, void *ctx) noexcept nogil:
@@ -151,31 +146,6 @@ cdef void follow_abandon(Follow *F) noexcept nogil:
     F.started = False
 
 
-# The extent measured beside the compensation's merge (program_merge), which moves
-# the parts from the last one down: a thread measures each range of parts as soon as
-# the merge tells it is final, on the core that has nothing else to do then (the
-# compensation's own thread has ended). Each range starts one part above the lowest
-# final one, whose end is its start; the merge's end makes the rest final. The thread
-# starts with the merge's first notice (programs of fewer than MERGE_WATCH_STEP moved
-# parts get none: their extent is measured beside the plan, below).
-ctypedef struct ExtentBeside:
-    const Program *prog
-    MergeWatch watch        # given to program_merge
-    pthread_mutex_t lock
-    pthread_cond_t cond
-    pthread_t thread
-    bint started            # the thread runs (set under `lock` by the merge's thread)
-    size_t final_from       # parts [final_from, total) are final (guarded by `lock`)
-    size_t total
-    bint done               # the merge ended: every part is final
-    bint quit               # the merge failed: stop
-    # the thread's: both extents as the machine runs the program, [1] as it is
-    # written (with G168 rotations only), and the last motion part
-    GCODE_SIZE programmed[2]
-    GCODE_SIZE tool[2]
-    size_t last
-
-
 cdef void *_extent_beside_body(void *arg) noexcept nogil:
     cdef ExtentBeside *E = <ExtentBeside *>arg
     cdef const Program *prog = E.prog
@@ -245,27 +215,6 @@ cdef bint extent_beside_end(ExtentBeside *E, bint merged, GCODE_INFO *extent) no
         return False
     extent_finish(E.prog, E.last, E.programmed, E.tool, extent)
     return True
-
-
-# The finished program's plan (planner/) and its extent (extent.pyx) side by side:
-# both only read the parts. A thread of its own plans the program from a part where
-# the machine stands (plan_split_at) on, while this thread measures the extent and
-# then plans the parts before that part; the plan is the same as in one piece. The
-# split is taken near 3/8 of the parts: the extent's pass costs about a quarter of the
-# planner's per part, so both threads end about together. Small programs, and
-# programs whose plan inserts M functions (mFuncInsertTable), plan in one piece in
-# this thread, as does everything when no thread can be had.
-cdef enum:
-    PLAN_BESIDE_MIN = 4096      # parts: fewer are not worth a thread
-
-
-ctypedef struct PlanJob:
-    Program *prog
-    const GCODE_PARAMETERS *params
-    uint32_t enhanced
-    int64_t window
-    size_t first
-    int result
 
 
 cdef void *_plan_body(void *arg) noexcept nogil:

@@ -1,14 +1,15 @@
-# The data that flows through the pipeline: compiler -> compensation -> planner ->
-# simulator/interpolator. One compact Part per compiled G or M function, kept in a
-# growable C array; SIMPLE_GM_PARAMS (616 bytes) is only built at the API boundary
-# (program.pyx: part_to_gm).
-from libc.stdint cimport int8_t, int16_t, int32_t, uint8_t, uint16_t, uint32_t, int64_t
-from includes.tgm_cnc cimport GCODE_PARAMETERS, GCODE_FEED, AXIS_LIMITS, P10DOUBLE
-from includes.system cimport pthread_t, pthread_mutex_t, pthread_cond_t
+# Face of program.pyx: the data that flows through the pipeline, compiler ->
+# compensation -> planner -> simulator / machine. One compact Part per compiled G or M
+# function, kept in a growable C array; SIMPLE_GM_PARAMS (616 bytes) is only built at
+# the API boundary (part_to_gm). Owns Program (published read-only once compiled),
+# ProgramBuilder (while it is compiled), the merge of inserted parts, and the contract
+# of the compile stages (CompileInput, CompileResult, their hooks). Every stage reads
+# it; the compiler, the compensation and the planner write it through the builder.
 
 
 cdef enum:
     AXES = 10               # x y z c b u v w a o
+    OTHER_AXES = 7          # c b u v w a o: a Part holds x y z, Program.axes these
     PLC_MEMORY_BYTES = 524288
 
 # Part.kind
@@ -41,7 +42,7 @@ ctypedef struct Part:
     uint32_t pars_off       # offset of this part's addresses in Program.pars (see pars_mask)
     uint32_t pars_mask      # bit (letter - 'A') set for every address written on the line
     uint32_t aux            # PART_PRINT: offset of its text in Program.texts
-    uint32_t axes_idx       # the end's other seven axes (c b u v w a o): Program.axes[7 * axes_idx ...]
+    uint32_t axes_idx       # the end's other seven axes (c b u v w a o): Program.axes[OTHER_AXES * axes_idx ...]
     uint16_t zero_idx       # index into Program.zeros (active zero offset)
     uint16_t rot_idx        # index into Program.rotations (G168), 0 = not rotated
     uint16_t tool           # T
@@ -73,7 +74,7 @@ ctypedef struct StrategyRegion:   # G172 / G173: the compensation strategy from 
 ctypedef struct PlanRegion:
     size_t first
     GCODE_FEED motion[8]    # G900 S20..S70
-    AXIS_LIMITS axisLimits[10]  # G900 S7
+    AXIS_LIMITS axisLimits[AXES]    # G900 S7
     double startAngle, endAngle, minAngleFeed   # G900 S9
     uint32_t ignore_angle   # G900 S10: axes left out of the junction angle
     uint32_t ignore_feed    # G900 S11: axes left out of the feed's length
@@ -88,7 +89,7 @@ ctypedef struct PartPlan:
     double v_exit           # speed at its end
     double time             # seconds (dwell: its time)
 
-cdef struct Follow                  # below: the stage beside the compiler
+cdef struct Follow                  # the stage beside the compiler (pipeline.pxd)
 
 ctypedef struct Program:
     Part *parts
@@ -105,11 +106,11 @@ ctypedef struct Program:
     size_t n_texts
     double *axes            # positions of the axes c b u v w a o, 7 doubles per entry (Part.axes_idx):
     size_t n_axes           # a new entry only when one of them moves, so most programs have one
-    double start[10]        # machine position before the first part
+    double start[AXES]      # machine position before the first part
     int32_t main_file_idx
     uint32_t n_lines        # lines of the main file
     bint compensated        # some part has comp != 40
-    int32_t start_gindex[10]    # parts whose gcode_index is below it take axis k relative to the
+    int32_t start_gindex[AXES]  # parts whose gcode_index is below it take axis k relative to the
                                 # machine position a run starts from (the axis not yet named
                                 # absolutely: G91 moves, or not named at all); INT32_MAX: every part
     ArcRegion *arc_regions  # G167 changes, in part order (compensation/insert_arcs.pyx)
@@ -134,46 +135,6 @@ ctypedef struct ProgramBuilder:
 
 cdef enum:
     HUGE_ADVICE_MIN = 4194304   # bytes: arrays from this size on ask for huge pages (program_advise_huge)
-
-# A stage that reads the parts while the compiler still writes them, in a thread of
-# its own (pipeline.pyx; the compensation): the compiler hands over the parts as they
-# become final, and growth of an array the stage reads waits until it is between
-# batches. Everything but `started` is guarded by `lock`.
-ctypedef int (*consume_fn)(void *ctx, size_t upto, bint last, size_t *more) noexcept nogil
-
-cdef struct Follow:
-    consume_fn consume      # takes parts [previous upto, upto); last: the program is complete;
-    void *ctx               # more: parts it will insert later (their memory is readied too)
-    ProgramBuilder *build
-    pthread_mutex_t lock
-    pthread_cond_t cond
-    pthread_t thread
-    size_t published        # parts [0, published) are final
-    int result              # the consumer's first result other than COMPILE_OK
-    bint started            # the thread runs (only the compiler's thread reads or writes it)
-    bint done               # published is the whole program
-    bint stop               # give up (compile error, cancel)
-    bint paused             # the compiler grows an array: start no batch
-    bint busy               # a batch is being consumed
-    bint ended              # the thread has consumed its last batch
-
-# One error: number of the catalogue (errors.pyx), location and the formatted texts.
-cdef enum:
-    ERROR_TEXT_BYTES = 1024
-    ERROR_ARGS_BYTES = 512
-
-ctypedef struct ErrorInfo:
-    int32_t number          # 0 = no error
-    int32_t file_idx
-    int32_t line            # 1-based, 0 unknown
-    int32_t n_lines
-    char text[1024]         # full English text
-    char args[512]          # arguments separated by '\n'
-
-# One argument of an error format: a number, or a string when text is not NULL.
-ctypedef struct ErrArg:
-    double num
-    const char *text
 
 # The merge of parts a stage inserts (program.pyx program_merge): where insertion
 # `rec` goes (after which part), and how it is built from the part before it and the
@@ -214,7 +175,7 @@ ctypedef struct CompileInput:
     int32_t postfix_idx
     GCODE_PARAMETERS params
     double user_params[100] # P00..P99 at the start
-    double start[10]        # machine position at the start
+    double start[AXES]      # machine position at the start
     uint8_t *plc            # PLC memory (PLC_MEMORY_BYTES), shared with the host
     int32_t *cancel         # set non-zero (atomically) to interrupt: the compiler returns COMPILE_CANCELLED
     progress_fn progress
@@ -228,3 +189,44 @@ cdef enum CompileResult:
     COMPILE_OK = 0
     COMPILE_ERROR = -1      # ErrorInfo filled
     COMPILE_CANCELLED = -2
+
+
+# ---- what other stages call
+from libc.string cimport memcpy
+
+# a Program and its builder: empty, freed (what a failed compilation left), the
+# spare room of the large arrays given back before the program is published
+cdef void program_init(Program *prog) noexcept nogil
+cdef void program_free(Program *prog) noexcept nogil
+cdef void program_builder_init(ProgramBuilder *build) noexcept nogil
+cdef void program_builder_free(ProgramBuilder *build) noexcept nogil
+cdef void program_builder_trim(ProgramBuilder *build) noexcept nogil
+# the compiler appends: a part (NULL: out of memory), its end, a zero offset, a G168
+# rotation, a PRINT text (index or offset; -1 out of memory)
+cdef Part *program_add_part(ProgramBuilder *build) noexcept nogil
+cdef bint program_set_end(ProgramBuilder *build, Part *p, const double *end) noexcept nogil
+cdef int program_add_zero(ProgramBuilder *build, const double *offset) noexcept nogil
+cdef int program_add_rotation(ProgramBuilder *build, const double *centre, const double *matrix) noexcept nogil
+cdef int64_t program_add_text(ProgramBuilder *build, const char *text, size_t n) noexcept nogil
+# a stage inserts parts in one backward pass (the callbacks above); False: out of memory
+cdef bint program_merge(ProgramBuilder *build, size_t n_ins, void *ctx, inserted_after_fn after_of,
+                        make_inserted_fn make, settle_parts_fn settle, const MergeWatch *watch) noexcept nogil
+# memory hints for large arrays: huge pages; pages faulted in ahead of their writer
+cdef void program_advise_huge(void *buf, size_t size) noexcept nogil
+cdef bint program_prefault(ProgramBuilder *build, size_t first, size_t count, size_t limit) noexcept nogil
+
+# a part's programmed end and start (all ten axes; x y z of the start), its
+# compensated start, and its API view (SIMPLE_GM_PARAMS); its length: geometry.pxd
+cdef inline void part_end(const Program *prog, const Part *p, double *out) noexcept nogil:
+    out[0] = p.e[0]; out[1] = p.e[1]; out[2] = p.e[2]
+    memcpy(out + 3, &prog.axes[OTHER_AXES * p.axes_idx], OTHER_AXES * sizeof(double))
+
+
+cdef inline const double *part_start_xyz(const Program *prog, size_t i) noexcept nogil:
+    # the previous part's end, or the program start
+    if i > 0:
+        return prog.parts[i - 1].e
+    return prog.start
+
+cdef void part_calc_start(const Program *prog, size_t i, double *out) noexcept nogil
+cdef void part_to_gm(const Program *prog, size_t i, SIMPLE_GM_PARAMS *gm) noexcept nogil

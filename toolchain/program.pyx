@@ -1,9 +1,7 @@
 # The compiled program: growable arrays of parts, their addresses, zero offsets and
 # texts, and the one place a Part becomes a SIMPLE_GM_PARAMS.
-from libc.stdlib cimport malloc, realloc, free
+from libc.stdlib cimport free
 from libc.string cimport memset, memcpy, memcmp
-from libc.math cimport sqrt, fabs
-from program cimport *
 from includes.tgm_cnc cimport SIMPLE_GM_PARAMS, P10DOUBLE, P26FLOAT
 
 
@@ -44,34 +42,12 @@ cdef void program_builder_trim(ProgramBuilder *build) noexcept nogil:
     nothing in glibc (the tail is split off or unmapped): about 0.1 ms on a million
     parts. When realloc refuses, the spare room stays."""
     cdef Program *prog = &build.prog
-    cdef void *p
     if prog.n_parts > 0 and build.cap_parts > prog.n_parts:
-        p = realloc(prog.parts, prog.n_parts * sizeof(Part))
-        if p != NULL:
-            prog.parts = <Part *>p
+        if resize(<void **>&prog.parts, prog.n_parts, sizeof(Part)):
             build.cap_parts = prog.n_parts
     if prog.n_pars > 0 and build.cap_pars > prog.n_pars:
-        p = realloc(prog.pars, prog.n_pars * sizeof(float))
-        if p != NULL:
-            prog.pars = <float *>p
+        if resize(<void **>&prog.pars, prog.n_pars, sizeof(float)):
             build.cap_pars = prog.n_pars
-
-
-cdef bint _grow(void **buf, size_t *cap, size_t need, size_t item) noexcept nogil:
-    # Ensures room for `need` items (doubling); False when memory is exhausted.
-    cdef size_t new_cap
-    cdef void *p
-    if need <= cap[0]:
-        return True
-    new_cap = cap[0] * 2 if cap[0] else 256
-    while new_cap < need:
-        new_cap *= 2
-    p = realloc(buf[0], new_cap * item)
-    if p == NULL:
-        return False
-    buf[0] = p
-    cap[0] = new_cap
-    return True
 
 
 cdef inline void _part_defaults(Part *p) noexcept nogil:
@@ -84,13 +60,13 @@ cdef inline void _part_defaults(Part *p) noexcept nogil:
 
 cdef bint program_grow_shared(ProgramBuilder *build, void **buf, size_t *cap, size_t need,
                               size_t item) noexcept nogil:
-    """_grow for an array that a stage beside the compiler reads (ProgramBuilder.follow):
+    """grow for an array that a stage beside the compiler reads (ProgramBuilder.follow):
     the array moves only while that stage waits between batches."""
     cdef bint ok
     if need <= cap[0]:
         return True
     follow_pause(build.follow)
-    ok = _grow(buf, cap, need, item)
+    ok = grow(buf, cap, need, item)
     follow_resume(build.follow)
     return ok
 
@@ -124,10 +100,9 @@ cdef bint program_merge(ProgramBuilder *build, size_t n_ins, void *ctx, inserted
         if settle != NULL:
             settle(ctx, 0, n, <size_t>NO_INSERTION)
         return True
-    parts = <Part *>realloc(prog.parts, total * sizeof(Part))
-    if parts == NULL:
+    if not resize(<void **>&prog.parts, total, sizeof(Part)):
         return False
-    prog.parts = parts
+    parts = prog.parts
     build.cap_parts = total
     # parts [0, k) have not moved yet; part k now lives at next_w (total: there is no
     # part after the last one). Every group but the first moves a run of at least its
@@ -214,7 +189,7 @@ cdef bint program_set_pars(ProgramBuilder *build, Part *part, const float *value
     for letter in range(26):
         if mask & (1u << letter):
             n += 1
-    if not _grow(<void **>&prog.pars, &build.cap_pars, prog.n_pars + n, sizeof(float)):
+    if not grow(<void **>&prog.pars, &build.cap_pars, prog.n_pars + n, sizeof(float)):
         return False
     part = &prog.parts[part_pos]
     part.pars_off = <uint32_t>prog.n_pars
@@ -231,7 +206,7 @@ cdef int program_add_zero(ProgramBuilder *build, const double *offset) noexcept 
     cdef Program *prog = &build.prog
     cdef int i
     if prog.n_zeros == 0:
-        if not _grow(<void **>&prog.zeros, &build.cap_zeros, 1, sizeof(P10DOUBLE)):
+        if not grow(<void **>&prog.zeros, &build.cap_zeros, 1, sizeof(P10DOUBLE)):
             return -1
         memset(&prog.zeros[0], 0, sizeof(P10DOUBLE))
         prog.n_zeros = 1
@@ -239,7 +214,7 @@ cdef int program_add_zero(ProgramBuilder *build, const double *offset) noexcept 
         return <int>prog.n_zeros - 1
     if prog.n_zeros >= 65535:
         return -1
-    if not _grow(<void **>&prog.zeros, &build.cap_zeros, prog.n_zeros + 1, sizeof(P10DOUBLE)):
+    if not grow(<void **>&prog.zeros, &build.cap_zeros, prog.n_zeros + 1, sizeof(P10DOUBLE)):
         return -1
     memcpy(&prog.zeros[prog.n_zeros], offset, sizeof(P10DOUBLE))
     prog.n_zeros += 1
@@ -258,7 +233,7 @@ cdef int program_add_rotation(ProgramBuilder *build, const double *centre, const
             return <int>prog.n_rotations - 1
     if prog.n_rotations >= 65535:
         return -1
-    if not _grow(<void **>&prog.rotations, &build.cap_rotations, 12 * (prog.n_rotations + 1), sizeof(double)):
+    if not grow(<void **>&prog.rotations, &build.cap_rotations, 12 * (prog.n_rotations + 1), sizeof(double)):
         return -1
     r = prog.rotations + 12 * prog.n_rotations
     memcpy(r, centre, 3 * sizeof(double))
@@ -271,7 +246,7 @@ cdef int64_t program_add_text(ProgramBuilder *build, const char *text, size_t n)
     """Stores a NUL-terminated copy of text[0:n]; its offset, -1 out of memory."""
     cdef Program *prog = &build.prog
     cdef size_t off = prog.n_texts
-    if not _grow(<void **>&prog.texts, &build.cap_texts, prog.n_texts + n + 1, 1):
+    if not grow(<void **>&prog.texts, &build.cap_texts, prog.n_texts + n + 1, 1):
         return -1
     memcpy(&prog.texts[off], text, n)
     prog.texts[off + n] = 0
@@ -287,30 +262,16 @@ cdef bint program_set_end(ProgramBuilder *build, Part *p, const double *end) noe
     cdef double *last
     p.e[0] = end[0]; p.e[1] = end[1]; p.e[2] = end[2]
     if prog.n_axes > 0:
-        last = &prog.axes[7 * (prog.n_axes - 1)]
-        if memcmp(last, end + 3, 7 * sizeof(double)) == 0:
+        last = &prog.axes[OTHER_AXES * (prog.n_axes - 1)]
+        if memcmp(last, end + 3, OTHER_AXES * sizeof(double)) == 0:
             p.axes_idx = <uint32_t>(prog.n_axes - 1)
             return True
-    if not _grow(<void **>&prog.axes, &build.cap_axes, 7 * (prog.n_axes + 1), sizeof(double)):
+    if not grow(<void **>&prog.axes, &build.cap_axes, OTHER_AXES * (prog.n_axes + 1), sizeof(double)):
         return False
-    memcpy(&prog.axes[7 * prog.n_axes], end + 3, 7 * sizeof(double))
+    memcpy(&prog.axes[OTHER_AXES * prog.n_axes], end + 3, OTHER_AXES * sizeof(double))
     p.axes_idx = <uint32_t>prog.n_axes
     prog.n_axes += 1
     return True
-
-
-cdef inline void part_end(const Program *prog, const Part *p, double *out) noexcept nogil:
-    """Programmed end of part p, all ten axes."""
-    out[0] = p.e[0]; out[1] = p.e[1]; out[2] = p.e[2]
-    memcpy(out + 3, &prog.axes[7 * p.axes_idx], 7 * sizeof(double))
-
-
-cdef inline const double *part_start_xyz(const Program *prog, size_t i) noexcept nogil:
-    """x y z of the programmed start of part i: the previous part's end, or the
-    program start."""
-    if i > 0:
-        return prog.parts[i - 1].e
-    return prog.start
 
 
 cdef inline void part_start(const Program *prog, size_t i, double *out) noexcept nogil:
@@ -318,7 +279,7 @@ cdef inline void part_start(const Program *prog, size_t i, double *out) noexcept
     if i > 0:
         part_end(prog, &prog.parts[i - 1], out)
     else:
-        memcpy(out, prog.start, 10 * sizeof(double))
+        memcpy(out, prog.start, AXES * sizeof(double))
 
 
 cdef void part_calc_start(const Program *prog, size_t i, double *out) noexcept nogil:
@@ -332,30 +293,6 @@ cdef void part_calc_start(const Program *prog, size_t i, double *out) noexcept n
         out[2] = prev.ce[2]
 
 
-cdef double part_length(const Program *prog, size_t i) noexcept nogil:
-    """Path length of the tool (compensated) for part i; 0 for M functions."""
-    cdef const Part *p = &prog.parts[i]
-    cdef double s[10]
-    cdef double e[10]
-    cdef int first, second, normal, k
-    cdef double sweep, planar, rest
-    if p.kind != PART_MOTION:
-        return 0.0
-    part_calc_start(prog, i, s)
-    part_end(prog, p, e)
-    e[0] = p.ce[0]; e[1] = p.ce[1]; e[2] = p.ce[2]
-    if (p.func == 2 or p.func == 3) and p.radius > 0 and plane_axes(p.plane, &first, &second, &normal):
-        sweep = arc_sweep(s[first], s[second], e[first], e[second], p.cc[first], p.cc[second],
-                          p.func == 3)
-        planar = fabs(sweep) * p.radius
-        rest = 0.0
-        for k in range(10):
-            if k != first and k != second:
-                rest += (e[k] - s[k]) * (e[k] - s[k])
-        return sqrt(planar * planar + rest)
-    return segment_length(s, e)
-
-
 cdef inline void _p10(P10DOUBLE *dst, const double *src) noexcept nogil:
     memcpy(dst, src, sizeof(P10DOUBLE))
 
@@ -366,7 +303,7 @@ cdef void part_to_gm(const Program *prog, size_t i, SIMPLE_GM_PARAMS *gm) noexce
     cdef float *cells = <float *>&gm.m_pars
     cdef int letter
     cdef size_t k
-    cdef double e[10]
+    cdef double e[AXES]
     cdef const double *start
     cdef int first, second, normal
     part_start(prog, i, <double *>&gm.m_s)

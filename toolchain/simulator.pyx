@@ -20,10 +20,10 @@ cdef bint check_limits(Core *core, const MACHINE_PARAMETERS *machine, const SIMP
     cdef ErrArg args[4]
     cdef bint inside = True
     cdef int k
-    for k in range(10):
+    for k in range(AXES):
         if not enabled[k]:
             continue
-        if end[k] < ref[k] + lo[k] - 1e-9 or end[k] > ref[k] + hi[k] + 1e-9:
+        if end[k] < ref[k] + lo[k] - LENGTH_EPS or end[k] > ref[k] + hi[k] + LENGTH_EPS:
             args[0].text = axis_name(k)
             args[1].text = NULL
             args[1].num = end[k]
@@ -76,7 +76,7 @@ cdef void _count_part(SnapshotData *view, const Program *prog, size_t i, const S
     view.pos.m_pars.P = 100.0
 
 
-cdef void _send_add_code(Core *core, const char *code, const double *position) noexcept nogil:
+cdef void send_add_code(Core *core, const char *code, const double *position) noexcept nogil:
     """StartCNCEx addCode: its M words become M parts sent before the program."""
     cdef SIMPLE_GM_PARAMS gm
     cdef Callback cb
@@ -140,7 +140,7 @@ cdef void *_run_body(void *arg) noexcept nogil:
     cdef SnapshotData *view = <SnapshotData *>calloc(1, sizeof(SnapshotData))
     cdef ErrorInfo *first_error = <ErrorInfo *>calloc(1, sizeof(ErrorInfo))
     cdef SIMPLE_GM_PARAMS gm
-    cdef double start[10]
+    cdef double start[AXES]
     cdef Placement placement
     cdef double run_time = 0.0, t, length
     cdef bint testing = job.regime == RUN_TEST
@@ -172,7 +172,7 @@ cdef void *_run_body(void *arg) noexcept nogil:
         if callback_enter(core, SLOT_DRIVER_INITIALIZE, &cb):
             (<TC_DriverInitialize>cb.fn)(cb.user, start, 10, job.regime)
             callback_leave(core, SLOT_DRIVER_INITIALIZE)
-        _send_add_code(core, job.add_code, start)
+        send_add_code(core, job.add_code, start)
         complete = True
         for i in range(n):
             if TC_ATOMIC_LOAD(&core.cancel):
@@ -229,7 +229,7 @@ cdef int32_t core_start_run(Core *core, int32_t regime, const char *add_code) no
         body = _run_body
     elif regime == RUN_FORWARD or regime == RUN_FORWARD_NO_M or regime == RUN_BACKWARD or regime == RUN_FORWARD_SKIP_FIRST_M:
         command = machine_command(regime)
-        body = _machine_body
+        body = machine_body
     else:
         return core_fail(core, ERR_BAD_REGIME, NULL)
     job = job_new()

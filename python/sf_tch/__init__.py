@@ -13,15 +13,10 @@ this package ships it and adds a Pythonic layer over ``ctypes``:
 - :func:`forward_library_log` -- the library's log lines to a :mod:`logging` logger.
 """
 import os
-from importlib import metadata
+import sys
 from pathlib import Path
 
-try:
-    __version__ = metadata.version("sf-tch")        # pyproject.toml [project] version, the one place
-except metadata.PackageNotFoundError:               # imported from a source tree that is not installed
-    __version__ = "0+unknown"
-
-LIBRARY_NAME = "libSF_TCh.so"
+LIBRARY_NAME = "SF_TCh.dll" if sys.platform == "win32" else "libSF_TCh.so"   # docs/hosts.md, "Windows"
 LIBRARY_ENV = "SF_TCH_LIBRARY"
 
 _PACKAGE_DIR = Path(__file__).resolve().parent
@@ -32,6 +27,7 @@ def _candidates() -> list[Path]:
     ``pip install .``), where the installed distribution put it (``pip install -e
     .``: site-packages, beside the redirected sources), then the build directories of
     a source tree (scikit-build-core's ``build-dir``, a CMake build in ``build/``)."""
+    from importlib import metadata
     found = [_PACKAGE_DIR / LIBRARY_NAME]
     try:
         installed = metadata.distribution("sf-tch")
@@ -76,14 +72,14 @@ def header_path() -> str:
 
 from .enums import (Callback, Compensation, ErrorNumber, GFunction, MFunction, PartKind, Plane,  # noqa: E402
                     Regime, ReturnCode, Status, ToolpathFlag)
-from .errors import (Cancelled, CncError, Diagnostic, LibraryNotFoundError, NoFreeCoreError,  # noqa: E402
-                     SfTchError)
+from .errors import (Cancelled, CncError, Diagnostic, GougeWarning, LibraryNotFoundError,  # noqa: E402
+                     NoFreeCoreError, SfTchError)
 from .logs import LibraryLog, LogSource, forward_library_log  # noqa: E402
 
 # The numpy side (Core, Program, Toolpath) is imported on first use: a host that only
 # needs the ctypes layer (sf_tch.abi, sf_tch.library) does not load numpy, whose
 # OpenBLAS threads spin for a while after the import and take a core from the
-# library's compile threads on a two-core panel (README, "Performance").
+# library's compile threads on a two-core panel (docs/benchmarks.md, 2026-11-25).
 _LAZY = {
     "Core": "core", "RunResult": "core", "default_ini": "core", "sample_program": "core",
     "CompileJob": "program", "Program": "program", "compile": "program", "start_compile": "program",
@@ -91,7 +87,20 @@ _LAZY = {
 }
 
 
+def _version() -> str:
+    """pyproject.toml's [project] version, the one place, as installed; read on first
+    use (importlib.metadata alone takes longer to import than the rest of the package)."""
+    from importlib import metadata
+    try:
+        return metadata.version("sf-tch")
+    except metadata.PackageNotFoundError:           # imported from a source tree that is not installed
+        return "0+unknown"
+
+
 def __getattr__(name: str):
+    if name == "__version__":
+        globals()[name] = _version()
+        return globals()[name]
     module = _LAZY.get(name)
     if module is None:
         raise AttributeError(f"module 'sf_tch' has no attribute {name!r}")
@@ -102,12 +111,12 @@ def __getattr__(name: str):
 
 
 def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_LAZY))
+    return sorted(set(globals()) | set(_LAZY) | {"__version__"})
 
 
 __all__ = [
     "__version__", "library_path", "header_path", "compile", "start_compile", "CompileJob", "Program",
-    "Core", "RunResult", "Toolpath", "Run", "TOOLPATH_DTYPE", "Diagnostic", "SfTchError", "CncError",
+    "Core", "RunResult", "Toolpath", "Run", "TOOLPATH_DTYPE", "Diagnostic", "GougeWarning", "SfTchError", "CncError",
     "Cancelled", "LibraryNotFoundError", "NoFreeCoreError", "Callback", "Compensation", "ErrorNumber",
     "GFunction", "MFunction", "PartKind", "Plane", "Regime", "ReturnCode", "Status", "ToolpathFlag",
     "default_ini", "sample_program", "forward_library_log", "LibraryLog", "LogSource",

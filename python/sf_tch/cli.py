@@ -2,6 +2,7 @@
 
     sf-tch demo [FILE]            compile, compensate and simulate (default: the bundled sample)
     sf-tch compile FILE           summary, warnings, errors as file:line:col: error N: text
+                                  (FILE "-": the G-code on standard input, for every command)
     sf-tch simulate FILE          compile and run the simulation (or --test: machine limits)
     sf-tch run FILE               run it on the offline machine: position, line, feed, progress
     sf-tch plot FILE -o OUT       draw it (PNG, SVG or PDF, from OUT's suffix)
@@ -9,33 +10,44 @@
     sf-tch --version
 
 Options of the commands that compile: --radius MM, --strategy BITS, --ini FILE,
---core N, --relative, --iso (the ISO compatibility mode, docs/compiler.md), --look-ahead N,
---json (one JSON document on stdout instead of text).
+--core N, --relative, --iso (the ISO compatibility mode, docs/compiler.md), --strict (tool
+radius compensation refuses a tool path that cuts into the contour: error 504 instead of
+warning 601, docs/compensation.md), --look-ahead N, --json (one JSON document on stdout
+instead of text, also when the command fails: then with ``"ok": false``, ``"error"`` and
+``"exit_code"``). Warnings go to stderr as file:line: warning N: text, then their count.
 
 Exit codes: 0 success; 1 the program has errors (compile or run); 2 bad usage (bad
-arguments, a missing or unreadable file, no library); 130 interrupted (Ctrl-C);
-141 stdout closed early (e.g. ``| head``).
+arguments, a missing, unreadable or not regular file, no library); 130 interrupted
+(Ctrl-C; ``run`` stops the machine first); 141 stdout closed early (e.g. ``| head``).
+
+Only what a command needs is imported: ``sf-tch --version`` and ``--help`` do not load
+numpy (the numpy side is imported by the commands that compile).
 """
 from __future__ import annotations
 
 import argparse
 import ctypes
-import importlib.util
 import json
 import os
 import sys
 import threading
 import time
-from typing import Sequence
+import warnings
+from pathlib import Path
+from typing import TYPE_CHECKING, Sequence
 
-from . import __version__, abi, library_path
-from .core import sample_program
-from .enums import Regime
-from .errors import Cancelled, CncError, SfTchError
+import sf_tch
+
+from . import abi, library_path
+from .enums import ErrorNumber, Regime
+from .errors import Cancelled, CncError, GougeWarning, SfTchError
 from .library import load
-from .program import Program, start_compile
+
+if TYPE_CHECKING:
+    from .program import Program
 
 EXIT_OK, EXIT_PROGRAM_ERRORS, EXIT_USAGE, EXIT_INTERRUPTED, EXIT_BROKEN_PIPE = 0, 1, 2, 130, 141
+LARGE_PLOT = 100_000        # parts from which `plot` says on stderr that it is drawing
 
 
 class UsageError(Exception):
@@ -124,32 +136,96 @@ class ProgressBar:
                 self.shown = False
 
 
+class RunProgress:
+    """The offline machine's progress while it runs: on a terminal one live line on
+    stderr, redrawn at every call; otherwise a line on stderr each time the run
+    passes another tenth of the path, and at least every `every` seconds."""
+
+    def __init__(self, total_length: float, live: bool | None = None, every: float = 10.0):
+        self.total = max(total_length, 1e-9)
+        self.live = sys.stderr.isatty() if live is None else live
+        self.every = every
+        self.last_tenth = -1
+        self.last_time = -float("inf")
+
+    def line(self, pos, enh) -> str:
+        """Percent of the path, line, position, feed and machine time of a GetPos."""
+        done = min(100.0, 100.0 * enh.m_actPartsLen / self.total)
+        return (f"run {done:5.1f} %  line {pos.m_editorLine:<6} X {pos.m_calcS.x:9.3f} Y {pos.m_calcS.y:9.3f} "
+                f"Z {pos.m_calcS.z:8.3f}  F {enh.m_actFeed:8.1f}  t {enh.m_cncRunTime:7.2f} s")
+
+    def show(self, pos, enh) -> None:
+        """The state while the machine moves."""
+        if self.live:
+            sys.stderr.write("\r" + self.line(pos, enh) + " ")
+            sys.stderr.flush()
+            return
+        tenth = int(10 * min(1.0, enh.m_actPartsLen / self.total))
+        now = time.monotonic()
+        if tenth > self.last_tenth or now - self.last_time >= self.every:
+            self.last_tenth, self.last_time = tenth, now
+            print(self.line(pos, enh), file=sys.stderr, flush=True)
+
+    def finish(self, pos, enh) -> None:
+        """The state the run ended in, as the last line (100 % at the program's end)."""
+        if self.live:
+            sys.stderr.write("\r" + self.line(pos, enh) + " \n")
+        else:
+            print(self.line(pos, enh), file=sys.stderr)
+        sys.stderr.flush()
+
+
 # ------------------------------------------------------------------ compiling
 
+STDIN = "-"
+
+
 def _compile(args, path: str) -> Program:
-    """Compiles `path` with the command's options, a progress bar meanwhile (a
-    missing file, a directory or an unreadable one raise OSError: exit 2)."""
-    bar = ProgressBar(f"compiling {os.path.basename(path)}")
+    """Compiles the file `path` ("-": the G-code on standard input) with the
+    command's options, a progress bar meanwhile (a missing file, a directory, a
+    device or an unreadable file raise OSError: exit 2); its warnings to stderr
+    (text output), then how many there are."""
+    from .program import start_compile
+    if path == STDIN:
+        source, name, title = sys.stdin.buffer.read(), "<stdin>", "standard input"
+    else:
+        source, name, title = Path(path), None, os.path.basename(path)
+    bar = ProgressBar(f"compiling {title}")
     params = {"absMode": 0} if args.relative else None
     try:
-        job = start_compile(path, radius=args.radius, strategy=args.strategy, ini=args.ini, params=params,
-                            core=args.core, progress=bar, iso=args.iso, look_ahead=args.look_ahead)
+        job = start_compile(source, radius=args.radius, strategy=args.strategy, ini=args.ini, params=params,
+                            core=args.core, name=name, progress=bar, iso=args.iso, strict=args.strict,
+                            look_ahead=args.look_ahead)
         try:
-            return job.result()
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", GougeWarning)     # printed below, as every warning
+                program = job.result()
         except BaseException:
             job.core.close()
             raise
     finally:
         bar.close()
+    if not args.json:
+        for warning in program.warnings:
+            print(str(warning), file=sys.stderr)
+        if program.warnings:
+            print(_warning_count(program), file=sys.stderr)
+    return program
+
+
+def _parts(count: int) -> str:
+    return f"{count} part{'' if count == 1 else 's'}"
 
 
 def _summary(program: Program) -> list[str]:
-    info = program.toolpath.to_dict()
+    """The summary's lines: counts and lengths (read from the library a chunk at a
+    time) and the compile's extents; before a run, which moves the machine."""
+    info = program.summary()
     size = program.size_info.m_size
     lines = [f"program:       {program.name}",
              f"parts:         {info['moves']} motion, {info['m_functions']} M functions",
-             f"cut length:    {info['cut_length']:.3f} mm in {info['cut_parts']} parts",
-             f"rapid length:  {info['rapid_length']:.3f} mm in {info['rapid_parts']} parts"]
+             f"cut length:    {info['cut_length']:.3f} mm in {_parts(info['cut_parts'])}",
+             f"rapid length:  {info['rapid_length']:.3f} mm in {_parts(info['rapid_parts'])}"]
     for title, k in (("programmed", 0), ("compensated", 1)):
         lo, hi = size[k].m_minimalPos, size[k].m_maximalPos
         lines.append(f"box {title + ':':<13} X {lo.x:.3f}..{hi.x:.3f}  Y {lo.y:.3f}..{hi.y:.3f}  "
@@ -157,20 +233,35 @@ def _summary(program: Program) -> list[str]:
     return lines
 
 
+def _warning_count(program: Program) -> str:
+    """The summary line after the warnings: how many, and how many gouges (601)."""
+    count = len(program.warnings)
+    gouges = sum(w.number == ErrorNumber.COMPENSATION_GOUGE for w in program.warnings)
+    text = f"sf-tch: {count} warning{'s' if count != 1 else ''}"
+    if gouges:
+        text += (f", {gouges} where the tool cuts into the contour (warning 601; --strict refuses "
+                 f"such a program)")
+    return text
+
+
+def _print_json(document: dict, code: int) -> int:
+    """The command's one JSON document on stdout, with its exit code."""
+    print(json.dumps({**document, "exit_code": code}, indent=2))
+    return code
+
+
 def _report(program: Program, args, extra: Sequence[str] = ()) -> int:
     """Prints the program's result (text or JSON); the exit code."""
+    code = EXIT_OK if program.ok else EXIT_PROGRAM_ERRORS
     if args.json:
-        print(json.dumps(program.to_dict(), indent=2))
-        return EXIT_OK if program.ok else EXIT_PROGRAM_ERRORS
-    for warning in program.warnings:
-        print(str(warning), file=sys.stderr)
+        return _print_json(program.to_dict(), code)
     if not program.ok:
         for error in program.errors:
             print(str(error), file=sys.stderr)
-        return EXIT_PROGRAM_ERRORS
+        return code
     for line in _summary(program) + list(extra):
         print(line)
-    return EXIT_OK
+    return code
 
 
 # ------------------------------------------------------------------ commands
@@ -183,6 +274,7 @@ def cmd_compile(args) -> int:
 
 def cmd_demo(args) -> int:
     """``sf-tch demo``: the summary with run time, PRINT texts and errors (the README's main job)."""
+    from .core import sample_program
     with _compile(args, args.program or sample_program()) as program:
         if args.json or not program.ok:
             return _report(program, args)
@@ -200,16 +292,17 @@ def _run_summary(core, status, error) -> dict:
             "rapid_length": enh.m_actG00PartsLen, "error": error.to_dict() if error else None}
 
 
-def _report_run(program: Program, args, run: dict, lines: Sequence[str], error) -> int:
-    """Prints a program's run (text or JSON) and its error; the exit code."""
+def _report_run(args, document: dict, summary: Sequence[str], run: dict, lines: Sequence[str], error,
+                code: int) -> int:
+    """Prints a program's run (text or JSON), `document` and `summary` taken from
+    the program before the run; its error; returns `code`."""
     if args.json:
-        print(json.dumps({**program.to_dict(), "run": run}, indent=2))
-    else:
-        for line in _summary(program) + list(lines):
-            print(line)
-        if error:
-            print(str(error), file=sys.stderr)
-    return EXIT_PROGRAM_ERRORS if error else EXIT_OK
+        return _print_json({**document, "run": run}, code)
+    for line in list(summary) + list(lines):
+        print(line)
+    if error:
+        print(str(error), file=sys.stderr)
+    return code
 
 
 def cmd_simulate(args) -> int:
@@ -217,6 +310,7 @@ def cmd_simulate(args) -> int:
     with _compile(args, args.program) as program:
         if not program.ok:
             return _report(program, args)
+        document, summary = (program.to_dict(), []) if args.json else ({}, _summary(program))
         try:
             status = program.core.run(Regime.TEST if args.test else Regime.SIMULATION)
             error = None
@@ -225,65 +319,75 @@ def cmd_simulate(args) -> int:
         _, enh = program.core.position()
         run = {"regime": "test" if args.test else "simulation", **_run_summary(program.core, status, error),
                "cut_parts": enh.m_nWorkCounter, "rapid_parts": enh.m_nG00Counter, "m_functions": enh.m_nMCounter}
-        return _report_run(program, args, run, [f"run:           {run['regime']}, status {run['status']} "
-                                                f"({run['status_name']})",
-                                                f"run time:      {run['run_time']:.2f} s (estimate)"], error)
+        lines = [f"run:           {run['regime']}, status {run['status']} ({run['status_name']})",
+                 f"run time:      {run['run_time']:.2f} s (estimate)"]
+        return _report_run(args, document, summary, run, lines, error,
+                           EXIT_PROGRAM_ERRORS if error else EXIT_OK)
 
 
 def cmd_run(args) -> int:
     """``sf-tch run``: the offline machine runs the program (StartCNCEx 30) at
-    --time-scale times real time; a status line while it moves, Ctrl-C stops it on
-    the path (a second Ctrl-C ends the run at once)."""
+    --time-scale times real time, its progress on stderr (a live line on a terminal,
+    else a line every tenth of the path). Ctrl-C stops it on the path and exits 130
+    once it stands (a second Ctrl-C ends the run at once)."""
     with _compile(args, args.program) as program:
         if not program.ok:
             return _report(program, args)
         core = program.core
-        total = max(program.toolpath.to_dict()["cut_length"] + program.toolpath.to_dict()["rapid_length"], 1e-9)
+        # what the compile gives, before the machine moves: extents, lengths, the planned time
+        document = program.to_dict() if args.json else {}
+        summary = [] if args.json else _summary(program)
+        lengths = program.summary()
+        planned = program.run_time
+        progress = RunProgress(lengths["cut_length"] + lengths["rapid_length"])
         core.set_time_scale(args.time_scale)
         core.reset()
         core.start(Regime.FORWARD)
-        live = sys.stderr.isatty() and not args.json
+        interrupted = False
         try:
             while core.status > 0:
-                pos, enh = core.position()
-                if live:
-                    done = 100.0 * enh.m_actPartsLen / total
-                    sys.stderr.write(f"\r{done:5.1f} %  line {pos.m_editorLine:<6} X {pos.m_calcS.x:9.3f} "
-                                     f"Y {pos.m_calcS.y:9.3f} Z {pos.m_calcS.z:8.3f}  F {enh.m_actFeed:8.1f}  "
-                                     f"t {enh.m_cncRunTime:7.2f} s ")
-                    sys.stderr.flush()
+                progress.show(*core.position())
                 time.sleep(0.1)
         except KeyboardInterrupt:
+            interrupted = True
             core.stop()
             core.wait()
-        if live:
-            sys.stderr.write("\n")
-        pos, _ = core.position()
+        pos, enh = core.position()
+        progress.finish(pos, enh)
         error = core.last_error()
-        run = {**_run_summary(core, core.status, error),
-               "position": [pos.m_calcS.x, pos.m_calcS.y, pos.m_calcS.z]}
-        return _report_run(program, args, run, [f"run:           status {run['status']} ({run['status_name']})",
-                                                f"machine time:  {run['run_time']:.2f} s "
-                                                f"(planned {program.run_time:.2f} s)"], error)
+        run = {**_run_summary(core, core.status, error), "position": [pos.m_calcS.x, pos.m_calcS.y, pos.m_calcS.z],
+               "interrupted": interrupted}
+        lines = [f"run:           status {run['status']} ({run['status_name']})"
+                 + (", interrupted" if interrupted else ""),
+                 f"machine time:  {run['run_time']:.2f} s (planned {planned:.2f} s)"]
+        code = EXIT_INTERRUPTED if interrupted else EXIT_PROGRAM_ERRORS if error else EXIT_OK
+        if interrupted and not args.json:
+            print("sf-tch: interrupted: the machine stopped on the path", file=sys.stderr)
+        return _report_run(args, document, summary, run, lines, error, code)
 
 
 def cmd_plot(args) -> int:
     """``sf-tch plot``: draw the program into a PNG, SVG or PDF file."""
-    from .plot import save_plot
     suffix = os.path.splitext(args.output)[1].lower()
     if suffix not in (".png", ".svg", ".pdf"):
         raise UsageError(f"{args.output}: the picture's name must end in .png, .svg or .pdf")
-    if importlib.util.find_spec("matplotlib") is None:
-        raise UsageError("plotting needs matplotlib: pip install 'sf-tch[plot]'")
+    from .plot import install_hint, save_plot
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        raise UsageError(install_hint()) from None
     with _compile(args, args.program) as program:
+        parts = program.summary()["parts"]
+        if parts >= LARGE_PLOT and not args.json:
+            print(f"drawing {parts:,} parts into {args.output} ...", file=sys.stderr, flush=True)
         save_plot(program, args.output, step=args.step)
+        code = EXIT_OK if program.ok else EXIT_PROGRAM_ERRORS
         if args.json:
-            print(json.dumps({**program.to_dict(), "picture": args.output}, indent=2))
-        else:
-            for error in program.errors:
-                print(str(error), file=sys.stderr)
-            print(f"wrote {args.output}")
-        return EXIT_OK if program.ok else EXIT_PROGRAM_ERRORS
+            return _print_json({**program.to_dict(), "picture": args.output}, code)
+        for error in program.errors:
+            print(str(error), file=sys.stderr)
+        print(f"wrote {args.output}")
+        return code
 
 
 def cmd_info(args) -> int:
@@ -293,13 +397,13 @@ def cmd_info(args) -> int:
     lib.ToolChainCore_GetStructuresSize(0, 9, sizes)
     structures = {name: {"library": sizes[k], "mirror": ctypes.sizeof(abi.STRUCTURES[name])}
                   for k, name in enumerate(abi.STRUCTURES_SIZE_ORDER, start=1)}
-    info = {"version": lib.ToolChainCore_GetVersionString(0).decode(), "package": __version__,
+    info = {"version": abi.library_text(lib.ToolChainCore_GetVersionString(0)), "package": sf_tch.__version__,
             "library": library_path(), "cores": abi.TOOL_CHAIN_MAX_CORES, "structures": structures}
     if args.json:
         print(json.dumps(info, indent=2))
         return EXIT_OK
     print(info["version"])
-    print(f"package: sf-tch {__version__}")
+    print(f"package: sf-tch {sf_tch.__version__}")
     print(f"library: {info['library']}")
     print(f"cores:   {info['cores']}")
     print("structures (library / ctypes mirror):")
@@ -311,11 +415,20 @@ def cmd_info(args) -> int:
 
 # ------------------------------------------------------------------ parser
 
+class _Version(argparse.Action):
+    """--version: the package's version, read only when asked for."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        print(f"sf-tch {sf_tch.__version__}")
+        parser.exit()
+
+
 class _Parser(argparse.ArgumentParser):
-    """argparse with a one-line error (no usage block) and exit code 2."""
+    """argparse raising :class:`UsageError` (main() prints it on one line, or as
+    the JSON document, and exits 2) instead of printing the usage block."""
 
     def error(self, message: str):
-        self.exit(EXIT_USAGE, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+        raise UsageError(f"{message} (see {self.prog} --help)")
 
 
 def parser() -> argparse.ArgumentParser:
@@ -323,12 +436,13 @@ def parser() -> argparse.ArgumentParser:
     top = _Parser(prog="sf-tch", description="Compile, simulate and draw G-code with libSF_TCh.",
                                   epilog="Exit codes: 0 ok, 1 errors in the program, 2 bad usage, "
                                          "130 interrupted, 141 output closed.")
-    top.add_argument("--version", action="version", version=f"sf-tch {__version__}")
+    top.add_argument("--version", action=_Version, nargs=0, help="show the package's version and exit")
     sub = top.add_subparsers(dest="command", required=True, metavar="COMMAND", parser_class=_Parser)
 
     def compiling(name: str, help: str, program_optional: bool = False) -> argparse.ArgumentParser:
         p = sub.add_parser(name, help=help, description=help)
-        p.add_argument("program", nargs="?" if program_optional else None, metavar="FILE", help="G-code file")
+        p.add_argument("program", nargs="?" if program_optional else None, metavar="FILE",
+                       help="G-code file, - for standard input")
         p.add_argument("--radius", type=_radius, default=1.0, help="tool radius for G41..G48, mm (default 1)")
         p.add_argument("--strategy", type=_strategy, default=None,
                        help="correctionStrategy bits, e.g. 0x80600 (default: the INI's or 0x600)")
@@ -337,6 +451,9 @@ def parser() -> argparse.ArgumentParser:
         p.add_argument("--relative", action="store_true", help="absMode 0 (relative coordinates)")
         p.add_argument("--iso", action="store_true",
                        help="ISO compatibility mode: G20/G21, G4 P seconds, G18 as ISO, G43 H a tool length, ...")
+        p.add_argument("--strict", action="store_true",
+                       help="compensation refuses a tool path that cuts into the contour (error 504; "
+                            "default: warning 601 and the path as its offsets give it)")
         p.add_argument("--look-ahead", type=_look_ahead, default=None, metavar="N",
                        help="parts the feed planner looks ahead: 0 the vendor's 8 (default), -1 unlimited")
         p.add_argument("--json", action="store_true", help="one JSON document on stdout")
@@ -364,8 +481,10 @@ def parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     """Runs the command line; returns the exit code (see the module's docstring)."""
-    args = parser().parse_args(argv)
+    argv = sys.argv[1:] if argv is None else list(argv)
+    as_json = "--json" in argv          # known before the arguments parse: a usage error is a document too
     try:
+        args = parser().parse_args(argv)
         code = args.run(args)
         sys.stdout.flush()
         return code
@@ -373,13 +492,24 @@ def main(argv: list[str] | None = None) -> int:
         if isinstance(exc, BrokenPipeError):
             return _broken_pipe()
         if isinstance(exc, CncError) and not isinstance(exc, Cancelled):
-            print(str(exc), file=sys.stderr)
-            return EXIT_PROGRAM_ERRORS
-        print(f"sf-tch: error: {exc}", file=sys.stderr)
-        return EXIT_USAGE
+            return _fail(as_json, str(exc), EXIT_PROGRAM_ERRORS, errors=[exc.to_dict()])
+        return _fail(as_json, str(exc), EXIT_USAGE)
     except (KeyboardInterrupt, Cancelled):
+        return _fail(as_json, "interrupted", EXIT_INTERRUPTED)
+
+
+def _fail(as_json: bool, message: str, code: int, **fields) -> int:
+    """A command that failed before its result: one line on stderr (``sf-tch:``
+    first), or with --json the JSON document on stdout; returns the exit code."""
+    if as_json:
+        return _print_json({"ok": False, "error": message, **fields}, code)
+    if code == EXIT_PROGRAM_ERRORS:
+        print(message, file=sys.stderr)         # file:line:col: error N: text, as the compiler's errors
+    elif code == EXIT_INTERRUPTED:
         print("sf-tch: interrupted", file=sys.stderr)
-        return EXIT_INTERRUPTED
+    else:
+        print(f"sf-tch: error: {message}", file=sys.stderr)
+    return code
 
 
 def _broken_pipe() -> int:

@@ -132,8 +132,53 @@ def sample_program() -> str:
     return str(resources.files("sf_tch") / "data" / "demo.nc")
 
 
-def _text(value: bytes | None) -> str:
-    return (value or b"").decode(errors="replace")
+class _Events:
+    """The four callbacks every Core sets (output log, progress, warnings, errors)
+    and the Python listeners behind them. The ctypes thunks reference this object,
+    never the Core: a Core nothing else references is freed at once (its core
+    released), not when the garbage collector finds a cycle."""
+
+    def __init__(self, lib: ctypes.CDLL, index: int):
+        self.lib = lib
+        self.index = index
+        self.listeners: dict[int, list[Callable]] = {number: [] for number in (
+            Callback.ADD_OUTPUT_LOG, Callback.SET_STATUS_BAR_PROGRESS, Callback.MATH_WARNING,
+            Callback.DISP_AND_LOCATE_ERROR)}
+
+    def thunks(self) -> dict[int, object]:
+        return {Callback.ADD_OUTPUT_LOG: abi.AddOutputLog(self._on_output),
+                Callback.SET_STATUS_BAR_PROGRESS: abi.SetStatusBarProgress(self._on_progress),
+                Callback.MATH_WARNING: abi.MathWarning(self._on_warning),
+                Callback.DISP_AND_LOCATE_ERROR: abi.DispAndLocateError(self._on_error)}
+
+    def _emit(self, number: int, *args) -> int:
+        for fn in list(self.listeners.get(number, ())):
+            try:
+                fn(*args)
+            except Exception:       # a listener's bug must not unwind through the library
+                LOG.exception("listener of callback %d failed", number)
+        return 0
+
+    def diagnostic(self, severity: str, info) -> Diagnostic:
+        args = abi.library_text(info.m_errorArguments)
+        file = abi.library_text(self.lib.ToolChainCore_IdxToFile(self.index, info.fileIdx))
+        return Diagnostic(severity, _number(info.stringId), file, info.actLine, abi.library_text(info.m_fullError),
+                          tuple(args.split("\n")) if args else ())
+
+    def _on_output(self, user, tab, text, info) -> int:
+        line = abi.library_text(text)
+        level = logging.ERROR if tab == OutputTab.ERRORS else logging.INFO if tab == OutputTab.PRINT else logging.DEBUG
+        LOG.log(level, "core %d: %s", self.index, line)
+        return self._emit(Callback.ADD_OUTPUT_LOG, int(tab), line)
+
+    def _on_progress(self, user, percent) -> int:
+        return self._emit(Callback.SET_STATUS_BAR_PROGRESS, int(percent))
+
+    def _on_warning(self, user, info) -> int:
+        return self._emit(Callback.MATH_WARNING, self.diagnostic("warning", info.contents))
+
+    def _on_error(self, user, line, file_idx, text, info) -> int:
+        return self._emit(Callback.DISP_AND_LOCATE_ERROR, self.diagnostic("error", info.contents))
 
 
 class Core:
@@ -148,18 +193,17 @@ class Core:
         self.lib = load()
         self.timeout = timeout
         self._callbacks: dict[int, object] = {}         # keeps the ctypes thunks alive
-        self._listeners: dict[int, list[Callable]] = {}  # Python functions behind a callback number
         self.index = self._claim(index)
+        self._events = _Events(self.lib, self.index)
         try:
             n = ctypes.c_uint32()
-            rc = self.lib.ToolChainCore_LoadFromIni(self.index, str(ini or default_ini()).encode(), ctypes.byref(n))
+            rc = self.lib.ToolChainCore_LoadFromIni(self.index, abi.host_text(str(ini or default_ini())),
+                                                   ctypes.byref(n))
             if rc != abi.TOOL_CHAIN_SUCCESS:
                 raise self.last_error() or RuntimeError(f"LoadFromIni failed ({rc})")
             self.cores = n.value
-            self._install(Callback.ADD_OUTPUT_LOG, abi.AddOutputLog(self._on_output))
-            self._install(Callback.SET_STATUS_BAR_PROGRESS, abi.SetStatusBarProgress(self._on_progress))
-            self._install(Callback.MATH_WARNING, abi.MathWarning(self._on_warning))
-            self._install(Callback.DISP_AND_LOCATE_ERROR, abi.DispAndLocateError(self._on_error))
+            for number, thunk in self._events.thunks().items():
+                self.set_callback(number, thunk)
         except BaseException:
             self.close()
             raise
@@ -203,7 +247,7 @@ class Core:
         for number in list(self._callbacks):
             self.lib.ToolChainCore_SetCallBack(self.index, number, 0, None)
         self._callbacks.clear()
-        self._listeners.clear()
+        self._events.listeners.clear()
         self.closed = True
         with _claim_lock:
             _claimed.discard(self.index)
@@ -253,45 +297,13 @@ class Core:
         else:
             self._callbacks[number] = fn
 
-    def _install(self, number: int, thunk) -> None:
-        self.set_callback(number, thunk)
-        self._listeners.setdefault(number, [])
-
     def listen(self, number: Callback, fn: Callable) -> Callable[[], None]:
         """Adds a Python listener of ADD_OUTPUT_LOG ``fn(tab, text)``,
         SET_STATUS_BAR_PROGRESS ``fn(percent)``, MATH_WARNING or DISP_AND_LOCATE_ERROR
         ``fn(Diagnostic)``; called from the library's thread. Returns the remover."""
-        listeners = self._listeners[Callback(number)]
+        listeners = self._events.listeners[Callback(number)]
         listeners.append(fn)
         return lambda: listeners.remove(fn) if fn in listeners else None
-
-    def _emit(self, number: int, *args) -> int:
-        for fn in list(self._listeners.get(number, ())):
-            try:
-                fn(*args)
-            except Exception:       # a listener's bug must not unwind through the library
-                LOG.exception("listener of callback %d failed", number)
-        return 0
-
-    def _on_output(self, user, tab, text, info) -> int:
-        line = _text(text)
-        level = logging.ERROR if tab == OutputTab.ERRORS else logging.INFO if tab == OutputTab.PRINT else logging.DEBUG
-        LOG.log(level, "core %d: %s", self.index, line)
-        return self._emit(Callback.ADD_OUTPUT_LOG, int(tab), line)
-
-    def _on_progress(self, user, percent) -> int:
-        return self._emit(Callback.SET_STATUS_BAR_PROGRESS, int(percent))
-
-    def _diagnostic(self, severity: str, info) -> Diagnostic:
-        args = _text(info.m_errorArguments)
-        return Diagnostic(severity, _number(info.stringId), self.file_name(info.fileIdx), info.actLine,
-                          _text(info.m_fullError), tuple(args.split("\n")) if args else ())
-
-    def _on_warning(self, user, info) -> int:
-        return self._emit(Callback.MATH_WARNING, self._diagnostic("warning", info.contents))
-
-    def _on_error(self, user, line, file_idx, text, info) -> int:
-        return self._emit(Callback.DISP_AND_LOCATE_ERROR, self._diagnostic("error", info.contents))
 
     # -- compilation ---------------------------------------------------------
     @property
@@ -328,11 +340,11 @@ class Core:
 
     def start_compile_text(self, code: str, name: str = "program.nc") -> None:
         """Starts compiling G-code text in the core's thread and returns at once."""
-        self._check(self.lib.ToolChainCore_CompileFromMemory(self.index, name.encode(), code.encode()))
+        self._check(self.lib.ToolChainCore_CompileFromMemory(self.index, abi.host_text(name), code.encode()))
 
     def start_compile_file(self, path) -> None:
         """Starts compiling a file in the core's thread and returns at once."""
-        self._check(self.lib.ToolChainCore_CompileFromFile(self.index, str(path).encode()))
+        self._check(self.lib.ToolChainCore_CompileFromFile(self.index, abi.host_text(str(path))))
 
     def compile_text(self, code: str, name: str = "program.nc") -> None:
         """Compiles G-code text; raises :class:`CncError` on the first error."""
@@ -358,15 +370,15 @@ class Core:
         read = self.lib.ToolChainCore_GetLastCallError if refused_call else self.lib.ToolChainCore_GetLastError
         if read(self.index, ctypes.byref(info)) != 1:
             return None
-        return CncError.from_diagnostic(self._diagnostic("error", info))
+        return CncError.from_diagnostic(self._events.diagnostic("error", info))
 
     def file_name(self, index: int) -> str:
         """IdxToFile: the name of a file index (special names for -1..-4)."""
-        return _text(self.lib.ToolChainCore_IdxToFile(self.index, index))
+        return abi.library_text(self.lib.ToolChainCore_IdxToFile(self.index, index))
 
     def file_index(self, name: str) -> int:
         """FileToIdx: the index of a file name (a new name gets the next index)."""
-        return self.lib.ToolChainCore_FileToIdx(self.index, name.encode())
+        return self.lib.ToolChainCore_FileToIdx(self.index, abi.host_text(name))
 
     # -- results -------------------------------------------------------------
     def toolpath(self) -> Toolpath:

@@ -1,7 +1,11 @@
 """The numbers of the C ABI as :class:`enum.IntEnum` (they compare equal to the plain
 ints the library returns): statuses, run regimes, callbacks, return codes, error
-numbers, part kinds, G and M functions, planes, compensation sides."""
+numbers, part kinds, G and M functions, planes, compensation sides. Status and
+ErrorNumber are generated (tools/gen_catalogue.py) from the header and the error
+catalogue, toolchain/errors.toml."""
 import enum
+
+from ._catalogue import ErrorNumber, Status  # noqa: F401 (re-exported)
 
 
 class ReturnCode(enum.IntEnum):
@@ -11,42 +15,6 @@ class ReturnCode(enum.IntEnum):
     SUCCESS = 0
     EXEC_FAILED = 1  # runtime failure (e.g. LoadFromIni: file missing)
     BREAK = 2
-
-
-class Status(enum.IntEnum):
-    """cnc_status of a core (ToolChainCore_StatusCNC); positive: something runs."""
-    NOTHING_LOADED = 0
-    NOT_CONNECTED = -2
-    COMPILING = 1
-    COMPILED = -1
-    SIMULATING = 10
-    SIMULATION_DONE = -10
-    SIMULATION_STOPPED = -11
-    TESTING = 20
-    TEST_DONE = -20
-    TEST_STOPPED = -21
-    AT_START = -30
-    STOPPED = -31
-    AT_END = -32
-    STOPPED_BY_M0 = -33
-    FORWARD = 30
-    FORWARD_NO_M = 31
-    BACKWARD = 32
-    FORWARD_SKIP_FIRST_M = 33
-    CONNECT_CALCULATING = 40
-    CONNECT_MOVING = 41
-    MANUAL_MOVE = 50
-    OUT_OF_TRAJECTORY = -50
-    INTERNAL_CALC = 60
-    SENDING_START_M = 70
-    SENDING_STOP_M = 80
-    SENDING_CONNECT_M = 90
-    INVALID = -1234
-
-    @property
-    def busy(self) -> bool:
-        """True while the core works (compiles, runs, moves)."""
-        return self > 0
 
 
 class Regime(enum.IntEnum):
@@ -93,86 +61,6 @@ class OutputTab(enum.IntEnum):
     CNC = 1
     PRINT = 2
     STATUS = 3
-
-
-class ErrorNumber(enum.IntEnum):
-    """The library's error catalogue (docs/errors.md, toolchain/errors.pxd); 600 and up are warnings."""
-    FILE_OPEN = 1  # Cannot open file '%s'
-    FILE_READ = 2  # Cannot read file '%s'
-    INI_OPEN = 3  # Cannot open INI file '%s'
-    OUT_OF_MEMORY = 4  # Out of memory
-    CANCELLED = 5  # Compilation interrupted
-    NOTHING_COMPILED = 6  # No compiled program
-    DRIVER_REFUSED = 7  # Driver callback %s returned %d
-    BUSY = 8  # Core busy: %s
-    BAD_STATUS = 9  # %s not allowed in status %d (%s)
-    NOT_IMPLEMENTED = 10  # %s is not implemented yet
-    INI_FIRST = 11  # Callback %d needs LoadFromIni first
-    FILE_TOO_LARGE = 12  # File '%s' is larger than 1 GiB
-    NOT_REGULAR_FILE = 13  # '%s' is not a regular file
-    NOT_FINITE = 14  # %s = %g is not a finite number
-    OUT_OF_RANGE = 15  # %s = %g is outside <%g, %g>
-    INI_VALUE = 16  # INI file '%s' line %d: %s
-    REENTRANT = 20  # %s is not allowed inside a callback of the core's running activity
-    BAD_REGIME = 21  # StartCNCEx: unknown regime
-    NO_M_PENDING = 22  # No M function waits for a confirmation
-    M_PENDING = 23  # An M function still waits for its confirmation (ToolChainCore_ConfirmMFunc)
-    UNKNOWN_WORD = 100  # Unknown word '%s' at column %d
-    BAD_NUMBER = 101  # Bad number '%s' at column %d
-    MISSING_VALUE = 102  # Address %s at column %d without a value
-    UNBALANCED_BRACKETS = 103  # Unbalanced brackets: '(' at column %d not closed
-    UNTERMINATED_COMMENT = 104  # Comment '(' at column %d not closed on this line
-    LINE_TOO_LONG = 105  # Line longer than %d characters
-    BAD_VALUE = 106  # Bad value %g of address %s
-    TOO_MANY_WORDS = 107  # More than %d %s words on one line
-    NUMBER_OVERFLOW = 108  # Number '%s' at column %d is too large
-    P_WORD = 110  # Word '%s' at column %d: P is reserved for parameters P00..P99 (Pnn = value); %s
-    NOT_TG = 111  # '%s' at column %d is not TG G-code: %s
-    DIVISION_BY_ZERO = 200  # Division by zero
-    BAD_PARAMETER = 201  # Parameter P%g at column %d does not exist (P00..P99)
-    BAD_EXPRESSION = 202  # Syntax error in expression '%s' at column %d
-    UNKNOWN_FUNCTION = 203  # Unknown function '%s' at column %d
-    MATH_DOMAIN = 204  # Argument out of domain in %s(%g)
-    BAD_PLC_ADDRESS = 205  # PLC address %g out of range (1..%d)
-    PARAM_STACK = 206  # G900 parameter stack %s
-    NOT_FINITE_RESULT = 207  # Expression '%s' does not give a finite number
-    UNDEFINED_LABEL = 300  # Undefined label '%s'
-    DUPLICATE_LABEL = 301  # Label '%s' defined twice (first on line %d)
-    UNBALANCED_END = 302  # END without FOR, WHILE or IF
-    MISSING_END = 303  # %s without END
-    CALL_STACK_OVERFLOW = 304  # Subroutine calls nested deeper than %d
-    RETURN_WITHOUT_CALL = 305  # RETURN outside a subroutine
-    BLOCK_LIMIT = 306  # More than %d blocks executed: endless loop?
-    BREAK_OUTSIDE_LOOP = 307  # %s outside a loop
-    BAD_CONDITION = 308  # Bad condition '%s' at column %d
-    PART_LIMIT = 309  # More than %d parts: program too large
-    ARC_CENTRE = 400  # Wrongly entered centre of circular interpolation ...
-    ARC_RADIUS = 401  # Arc radius %g too small for chord %g
-    ARC_NO_CENTRE = 402  # Arc without centre (I J K or R)
-    BAD_PLANE = 403  # Bad plane G%d
-    BAD_G = 404  # Unknown G function G%g at column %d
-    BAD_M = 405  # Bad M function M%g at column %d
-    ARC_RADII = 407  # Wrongly entered centre ... radius at start <> radius at end
-    MACHINE_LIMIT = 406  # Axis %s position %g outside the machine limits <%g, %g>
-    ISO_G = 408  # G%g at column %d is not TG G-code: %s
-    COMP_NOT_FOUND = 500  # Intersection of equidistants not found
-    COMP_ON_ARC = 501  # Compensation switched on or off on an arc
-    COMP_PLANE_CHANGE = 502  # Plane changed while tool radius compensation is active
-    COMP_NEGATIVE_ARC = 503  # Arc radius %g smaller than the tool radius %g
-    COMP_CROSSING = 504  # Equidistants cross: the tool (radius %g) does not fit the contour
-    COMP_LOOKAHEAD = 505  # More than %d blocks without motion in the compensation plane
-    COMPENSATION_WARNING = 600  # Tool radius compensation: %s
-    WARN_G43_H = 610  # G43 with H at column %d: ...
-    WARN_O_AT_START = 611  # O%g at column %d at the start of the program moves the O axis ...
-    WARN_G18_ARC = 612  # G18 arc at column %d after an ISO header: ...
-    WARN_ZERO_WITH_MOVE = 613  # G%g at column %d with axis words sets the zero offset ...
-    WARN_ISO_IGNORED = 620  # '%s' at column %d ignored (ISO compatibility mode)
-    CONNECT_BAD_ARGUMENT = 700  # ConnectCNCEx_Plane: %s = %g: %s
-    CONNECT_NO_LINE = 701  # ConnectCNCEx_Plane: no part at line %d of file %d
-    CONNECT_NO_GINDEX = 702  # ConnectCNCEx_Plane: no part with G-code index %d
-    CONNECT_NO_MFUNC = 703  # ConnectCNCEx_Plane: occurrence n = %d of M%d not found ...
-    CONNECT_OFF_PART = 704  # ConnectCNCEx_Plane: the point lies %g mm from the part ...
-    CONNECT_NO_MOTION = 705  # ConnectCNCEx_Plane: no motion to connect to in parts ...
 
 
 class PartKind(enum.IntEnum):

@@ -80,6 +80,12 @@ class SfTchError(Exception):
     """Base of the exceptions of this package."""
 
 
+class GougeWarning(UserWarning):
+    """Warning 601 of a compilation: the compensated tool path cuts into the contour
+    (``warnings.simplefilter("error", GougeWarning)`` makes it an exception; or
+    compile with ``strict=True``, which refuses such a program with error 504)."""
+
+
 class LibraryNotFoundError(SfTchError, FileNotFoundError):
     """``libSF_TCh.so`` is neither where ``SF_TCH_LIBRARY`` says, nor installed."""
 

@@ -6,12 +6,16 @@
         path = program.toolpath          # numpy records (sf_tch.toolpath)
 
 A program keeps the core it was compiled on (for simulation and run time) until it
-is closed; at most three programs (the library's cores) live at a time.
+is closed, its ``with`` block ends, or nothing references it any more (rebinding the
+name in a loop gives the core back at once); at most three programs and Cores (the
+library's cores) live at a time.
 """
 from __future__ import annotations
 
 import os
+import re
 import threading
+import warnings
 from pathlib import Path
 from typing import Callable, Iterator, Sequence
 
@@ -20,27 +24,61 @@ import numpy as np
 from . import abi
 from .core import Core, RunResult, attach_column
 from .enums import Callback, ErrorNumber, OutputTab, Regime
-from .errors import CncError, Diagnostic
-from .toolpath import TOOLPATH_DTYPE, Toolpath
+from .errors import CncError, Diagnostic, GougeWarning
+from .toolpath import TOOLPATH_DTYPE, Toolpath, read_chunks, summarize
 
 Source = str | bytes | os.PathLike
 
 
+# a str that starts like a line of G-code: a G, M or N word, an axis or feed word, a
+# parameter assignment, a comment
+_LOOKS_LIKE_G_CODE = re.compile(r"\s*(?:[GMN]\s*-?\d|[XYZABCUVWIJKF]\s*[-+]?[\d.(]|P\d+\s*=|[(;%])", re.I)
+
+
 def _read_source(source: Source, name: str | None) -> tuple[str | None, Path | None, str]:
     """(text, path, name): text for G-code given as text, path for a file. A str
-    with a line break, or bytes, is G-code; any other str or a PathLike is a file."""
+    with a line break, or bytes, is G-code; any other str or a PathLike is a file
+    (a str without a line break is never guessed to be G-code: the message says so)."""
     if isinstance(source, bytes):
         return source.decode("latin-1"), None, name or "program.nc"
     if isinstance(source, str) and ("\n" in source or "\r" in source):
         return source, None, name or "program.nc"
     path = Path(source)
     if not path.exists():
+        if isinstance(source, str) and _LOOKS_LIKE_G_CODE.match(source):
+            raise FileNotFoundError(f"{source!r}: no such file; G-code given as text needs a line break "
+                                    f"(a one-line program: {source + chr(10)!r})")
         raise FileNotFoundError(f"{path}: no such file")
     if path.is_dir():
         raise IsADirectoryError(f"{path}: is a directory, not a G-code file")
+    if not path.is_file():
+        raise OSError(f"{path}: not a regular file (G-code is read from a regular file, or given as text)")
     if not os.access(path, os.R_OK):
         raise PermissionError(f"{path}: not readable")
     return None, path, name or str(path)
+
+
+def _check_ini(ini: str | os.PathLike) -> None:
+    path = Path(ini)
+    if not path.exists():
+        raise FileNotFoundError(f"{ini}: no such INI file")
+    if path.is_dir():
+        raise IsADirectoryError(f"{ini}: is a directory, not an INI file")
+    if not path.is_file():
+        raise OSError(f"{ini}: not a regular file (an INI file is read whole)")
+
+
+class _Progress:
+    """The last percent the library reported and an event set when it changes (the
+    job's listener: it holds nothing that holds the core)."""
+
+    def __init__(self):
+        self.percent = 0
+        self.changed = threading.Event()
+
+    def update(self, percent: int) -> None:
+        self.percent = percent
+        self.changed.set()
 
 
 class CompileJob:
@@ -55,14 +93,13 @@ class CompileJob:
         self._text = text
         self._path = path
         self._cancel_event = cancel
-        self._percent = 0
-        self._changed = threading.Event()
+        self._progress = _Progress()
         self.warnings: list[Diagnostic] = []
         self.errors: list[Diagnostic] = []
         self._program: Program | None = None
         self._arguments = dict(arguments or {})      # those of start_compile, for compiling again
         self._removers = [
-            core.listen(Callback.SET_STATUS_BAR_PROGRESS, self._on_progress),
+            core.listen(Callback.SET_STATUS_BAR_PROGRESS, self._progress.update),
             core.listen(Callback.MATH_WARNING, self.warnings.append),
             core.listen(Callback.DISP_AND_LOCATE_ERROR, self.errors.append),
         ]
@@ -73,12 +110,8 @@ class CompileJob:
         else:
             core.start_compile_file(path)
 
-    def _on_progress(self, percent: int) -> None:
-        self._percent = percent
-        self._changed.set()
-
     def __repr__(self) -> str:
-        return f"<CompileJob {self.name!r} {'done' if self.done() else f'{self._percent} %'}>"
+        return f"<CompileJob {self.name!r} {'done' if self.done() else f'{self._progress.percent} %'}>"
 
     def done(self) -> bool:
         """True once the library has finished (or given up)."""
@@ -92,15 +125,15 @@ class CompileJob:
         last = -1
         while True:
             finished = self.done()
-            if self._percent != last:
-                last = self._percent
+            if self._progress.percent != last:
+                last = self._progress.percent
                 yield last
             if finished:
                 return
             if self._cancel_event is not None and self._cancel_event.is_set():
                 self.cancel()
-            self._changed.wait(0.05)
-            self._changed.clear()
+            self._progress.changed.wait(0.05)
+            self._progress.changed.clear()
 
     def result(self, timeout: float | None = None) -> Program:
         """Waits for the end and returns the :class:`Program` (errors in its
@@ -117,6 +150,12 @@ class CompileJob:
                 self.errors.append(last.diagnostic)
             errors = [attach_column(e, self._source_lines(e)) for e in self.errors]
             self._program = Program(self.core, self.name, errors, list(self.warnings), self._arguments)
+            for warning in self.warnings:
+                if warning.number == ErrorNumber.COMPENSATION_GOUGE:
+                    # the part would be damaged: shown by Python itself, at the G-code line
+                    # (strict=True refuses it)
+                    warnings.warn_explicit(f"warning {int(warning.number)}: {warning.text}", GougeWarning,
+                                           warning.file, warning.line, module="sf_tch")
         return self._program
 
     def _source_lines(self, diagnostic: Diagnostic) -> list[str] | None:
@@ -136,23 +175,24 @@ def start_compile(source: Source, radius: float | None = None, strategy: int | N
                   ini: str | os.PathLike | None = None, params: dict | None = None, core: int | None = None,
                   name: str | None = None, progress: Callable[[int], object] | None = None,
                   cancel=None, start: Sequence[float] | None = None, look_ahead: int | None = None,
-                  iso: bool = False) -> CompileJob:
+                  iso: bool = False, strict: bool = False) -> CompileJob:
     """Starts compiling and returns the running :class:`CompileJob`; the arguments
     are those of :func:`compile`."""
     if radius is not None and not radius >= 0:
         raise ValueError(f"tool radius must be a number >= 0 mm, not {radius}")
-    if ini is not None and not Path(ini).is_file():
-        raise FileNotFoundError(f"{ini}: no such INI file")
+    if ini is not None:
+        _check_ini(ini)
     text, path, name = _read_source(source, name)
     handle = Core(core, ini=str(ini) if ini is not None else None)
     try:
         fields = dict(params or {})
         fields.setdefault("calcTime", 1)
-        if iso or "rezerva1" not in fields:
-            # the mode is this call's (a core keeps its parameters from one user to the next)
+        if iso or strict or "rezerva1" not in fields:
+            # the modes are this call's (a core keeps its parameters from one user to the next)
             base = fields.get("rezerva1", handle.params.rezerva1)
-            iso_bit = abi.GCODE_REZERVA1_ISO_COMPAT
-            fields["rezerva1"] = base | iso_bit if iso else base & ~iso_bit
+            for bit, on in ((abi.GCODE_REZERVA1_ISO_COMPAT, iso), (abi.GCODE_REZERVA1_COMP_STRICT, strict)):
+                base = base | bit if on else base & ~bit
+            fields["rezerva1"] = base
         if strategy is not None:
             fields["correctionStrategy"] = strategy
         handle.update_params(**fields)
@@ -163,7 +203,7 @@ def start_compile(source: Source, radius: float | None = None, strategy: int | N
         if look_ahead is not None:
             handle.set_look_ahead(look_ahead)
         arguments = {"source": source, "radius": radius, "strategy": strategy, "ini": ini, "params": params,
-                     "name": name, "start": start, "look_ahead": look_ahead, "iso": iso}
+                     "name": name, "start": start, "look_ahead": look_ahead, "iso": iso, "strict": strict}
         return CompileJob(handle, text, path, name, progress, cancel, arguments)
     except BaseException:
         handle.close()
@@ -174,12 +214,13 @@ def compile(source: Source, radius: float | None = None, strategy: int | None = 
             ini: str | os.PathLike | None = None, params: dict | None = None, core: int | None = None,
             name: str | None = None, progress: Callable[[int], object] | None = None,
             cancel=None, start: Sequence[float] | None = None, look_ahead: int | None = None,
-            iso: bool = False) -> Program:
+            iso: bool = False, strict: bool = False) -> Program:
     """Compiles G-code and returns the :class:`Program`; errors of the G-code are in
     ``program.errors`` (``program.check()`` raises the first).
 
     - ``source``: a file (path or str without a line break) or G-code text (a str
-      with a line break, or bytes); ``name`` names text in errors;
+      with a line break, or bytes: a one-line program is ``"G1 X10 F1000\\n"``);
+      ``name`` names text in errors;
     - ``radius``: tool radius in mm for every G41..G48 slot (>= 0; G41/G42 choose
       the side); ``strategy``: correctionStrategy bits (CORR_* of tgm_cnc.h);
     - ``ini``: a vendor INI file instead of the bundled one; ``params``: any other
@@ -189,13 +230,19 @@ def compile(source: Source, radius: float | None = None, strategy: int | None = 
       where the core's machine stands (set by ResetCNC, or 0);
     - ``iso``: the ISO compatibility mode (G20/G21, ``G4 P`` seconds, G18 as ISO, G43 H
       as a tool length, ... docs/compiler.md), off by default;
+    - ``strict``: tool radius compensation refuses a tool path that cuts into the
+      contour where it cannot remove that part (error 504); by default such a part
+      is compiled as its offsets give it, with warning 601 (line, depth in mm), which
+      Python also shows as a :class:`GougeWarning` (docs/compensation.md);
     - ``look_ahead``: parts the feed planner looks ahead (0 the vendor's 8, -1
       unlimited; default what the core has, see ToolChainCore_SetLookAhead);
     - ``progress``: called with the percent from the library's thread; ``cancel``:
       an object with ``is_set()`` (threading.Event) that interrupts when set.
-    Raises FileNotFoundError / IsADirectoryError for a bad path, ValueError for a
-    negative radius, :class:`Cancelled` when cancelled."""
-    job = start_compile(source, radius, strategy, ini, params, core, name, progress, cancel, start, look_ahead, iso)
+    Raises FileNotFoundError / IsADirectoryError / OSError for a bad path (a
+    missing one that looks like G-code says it needs a line break), ValueError for
+    a negative radius, :class:`Cancelled` when cancelled."""
+    job = start_compile(source, radius, strategy, ini, params, core, name, progress, cancel, start, look_ahead, iso,
+                        strict)
     try:
         return job.result()
     except BaseException:
@@ -206,8 +253,10 @@ def compile(source: Source, radius: float | None = None, strategy: int | None = 
 class Program:
     """A compiled program on its core: ``errors`` and ``warnings``
     (:class:`Diagnostic` lists), ``toolpath`` (numpy records, fetched on first use),
-    ``size_info`` (GCODE_INFO), ``run_time`` (seconds, from a simulation run on first
-    use). A context manager; :meth:`close` releases the core."""
+    ``summary()`` (counts and lengths, read a chunk at a time), ``size_info``
+    (GCODE_INFO), ``run_time`` (seconds, from a simulation run on first use). A
+    context manager; :meth:`close` releases the core, and so does the program's end
+    when nothing references it any more."""
 
     def __init__(self, core: Core, name: str, errors: list[Diagnostic], warnings: list[Diagnostic],
                  arguments: dict | None = None):
@@ -260,6 +309,15 @@ class Program:
             self._toolpath = self.core.toolpath()
         return self._toolpath
 
+    def summary(self) -> dict:
+        """Counts and lengths (mm) of the parts, cuts and rapids
+        (:meth:`Toolpath.to_dict`): from the fetched toolpath, else read from the
+        library a chunk at a time (a program of any size in a few MB); all zero
+        after an error."""
+        if self._toolpath is not None or not self.ok:
+            return self.toolpath.to_dict()
+        return summarize(read_chunks(self.core.lib, self.core.index))
+
     @property
     def size_info(self):
         """GCODE_INFO: m_size[0] programmed, [1] compensated, [2]/[3] as the machine
@@ -299,8 +357,11 @@ class Program:
         return self.core.simulate(regime)
 
     def plot(self, ax=None, **options):
-        """Draws the program with matplotlib (the ``sf-tch[plot]`` extra): see
-        :func:`sf_tch.plot.plot_program`. Returns the Axes."""
+        """Draws the program with matplotlib (``pip install matplotlib``) on `ax`, or
+        on a new figure: see :func:`sf_tch.plot.plot_program`. Returns the Axes; in a
+        script save its figure (``program.plot().figure.savefig("part.png")``) or
+        call ``matplotlib.pyplot.show()``. ImportError without matplotlib, its
+        message the command that installs it."""
         from .plot import plot_program
         return plot_program(self, ax=ax, **options)
 
@@ -310,7 +371,7 @@ class Program:
                   "warnings": [w.to_dict() for w in self.warnings]}
         if self.ok:
             size = self.size_info.m_size
-            result["toolpath"] = self.toolpath.to_dict()
+            result["toolpath"] = self.summary()
             result["extent"] = {title: {"min": [size[k].m_minimalPos.x, size[k].m_minimalPos.y, size[k].m_minimalPos.z],
                                         "max": [size[k].m_maximalPos.x, size[k].m_maximalPos.y, size[k].m_maximalPos.z]}
                                 for title, k in (("programmed", 0), ("compensated", 1))}

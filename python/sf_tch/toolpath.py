@@ -7,12 +7,15 @@ its start is the previous record's ``tool_end``), ``centre``, ``radius``, ``leng
 ``feed``, ``value``, ``kind`` (:class:`~sf_tch.enums.PartKind`), ``number`` (G or M
 number), ``line``, ``file_index``, ``plane``, ``compensation``, ``flags``, ``tool``,
 ``spindle``, ``feed_factor``. :func:`fetch` has the library fill such an array in one
-call; :class:`Toolpath` adds the file names and samples arcs for drawing.
+call, :func:`read_chunks` reads it a bounded chunk at a time (a summary of a program
+of any size, :func:`summarize`); :class:`Toolpath` adds the file names and samples
+arcs for drawing, a bounded number of moves at a time.
 """
 from __future__ import annotations
 
 import ctypes
 from dataclasses import dataclass
+from typing import Iterable, Iterator
 
 import numpy as np
 
@@ -25,21 +28,68 @@ assert TOOLPATH_DTYPE.itemsize == 168, "TC_TOOLPATH_RECORD is 168 bytes (include
 # first and second axis of each arc plane (geometry.pyx of the library)
 _PLANE_AXES = {17: (0, 1), 18: (0, 2), 19: (1, 2), -18: (2, 0)}
 
+# Records read or sampled per step: the temporaries of a step stay a few MB whatever
+# the program's size (a 1,000,000-line program is 168 MB of records).
+CHUNK_RECORDS = 16384
+_SAMPLES_PER_STEP = 16384
+
 
 def fetch(lib: ctypes.CDLL, core: int) -> np.ndarray:
     """The whole toolpath of the core's compiled program: asks the library for the
     number of records, allocates the array, and has the library fill it (one copy).
     Raises RuntimeError when the core has no compiled program."""
+    total = _total(lib, core)
+    records = np.empty(total, TOOLPATH_DTYPE)
+    _read(lib, core, records, 0, total)
+    return records
+
+
+def read_chunks(lib: ctypes.CDLL, core: int, size: int = CHUNK_RECORDS) -> Iterator[np.ndarray]:
+    """The toolpath of the core's compiled program in order, at most `size` records
+    at a time, read into one buffer: each chunk is valid until the next is read
+    (copy what you keep). Raises RuntimeError as :func:`fetch`."""
+    total = _total(lib, core)
+    buffer = np.empty(max(1, min(size, total)), TOOLPATH_DTYPE)
+    for first in range(0, total, len(buffer)):
+        count = min(len(buffer), total - first)
+        _read(lib, core, buffer, first, total)
+        yield buffer[:count]
+
+
+def _total(lib: ctypes.CDLL, core: int) -> int:
     total = ctypes.c_uint64()
     if lib.ToolChainCore_GetToolpath(core, None, 0, 0, ctypes.byref(total)) != abi.TOOL_CHAIN_SUCCESS:
         raise RuntimeError(f"core {core} has no compiled program")
-    records = np.empty(total.value, TOOLPATH_DTYPE)
-    out = records.ctypes.data_as(ctypes.POINTER(abi.TC_TOOLPATH_RECORD))
+    return total.value
+
+
+def _read(lib: ctypes.CDLL, core: int, out: np.ndarray, first: int, total: int) -> None:
+    """Records [first, first + len(out)) into `out`; the program must still have `total`."""
     again = ctypes.c_uint64()
-    if (lib.ToolChainCore_GetToolpath(core, out, total.value, 0, ctypes.byref(again)) != abi.TOOL_CHAIN_SUCCESS
-            or again.value != total.value):
+    pointer = out.ctypes.data_as(ctypes.POINTER(abi.TC_TOOLPATH_RECORD))
+    if (lib.ToolChainCore_GetToolpath(core, pointer, len(out), first, ctypes.byref(again)) != abi.TOOL_CHAIN_SUCCESS
+            or again.value != total):
         raise RuntimeError(f"the program of core {core} changed while it was read")
-    return records
+
+
+def summarize(chunks: Iterable[np.ndarray]) -> dict:
+    """Counts and lengths (mm) of the parts, cuts and rapids of records given in one
+    or more chunks (:func:`read_chunks`), as plain types."""
+    summary = dict.fromkeys(("parts", "moves", "m_functions", "cut_parts", "rapid_parts"), 0)
+    summary.update(cut_length=0.0, rapid_length=0.0)
+    for records in chunks:
+        kind, number, length = records["kind"], records["number"], records["length"]
+        moves = kind == PartKind.MOTION
+        rapid = moves & (number == GFunction.RAPID)
+        cut = moves & ~rapid
+        summary["parts"] += len(records)
+        summary["moves"] += int(moves.sum())
+        summary["m_functions"] += int((kind == PartKind.M_FUNCTION).sum())
+        summary["cut_parts"] += int(cut.sum())
+        summary["rapid_parts"] += int(rapid.sum())
+        summary["cut_length"] += float(length[cut].sum())
+        summary["rapid_length"] += float(length[rapid].sum())
+    return summary
 
 
 @dataclass(frozen=True)
@@ -93,48 +143,92 @@ class Toolpath:
 
     def to_dict(self) -> dict:
         """Summary as plain types: counts and lengths (mm) of cuts and rapids."""
-        kind, number, length = self.records["kind"], self.records["number"], self.records["length"]
-        moves = kind == PartKind.MOTION
-        rapid = moves & (number == GFunction.RAPID)
-        cut = moves & ~rapid
-        return {"parts": len(self), "moves": int(moves.sum()),
-                "m_functions": int((kind == PartKind.M_FUNCTION).sum()),
-                "cut_parts": int(cut.sum()), "rapid_parts": int(rapid.sum()),
-                "cut_length": float(length[cut].sum()), "rapid_length": float(length[rapid].sum())}
-
-    def _moves(self, tool: bool) -> _Moves:
-        keep = self.records["kind"] == PartKind.MOTION
-        starts = self.tool_start()[keep] if tool else self.records["start"][keep]
-        return _Moves(starts, self.records["tool_end" if tool else "end"][keep], self.records["centre"][keep],
-                      self.records["number"][keep], self.records["plane"][keep])
+        return summarize(self.records[k:k + CHUNK_RECORDS] for k in range(0, len(self.records), CHUNK_RECORDS))
 
     def points(self, step: float = 0.5, tool: bool = False) -> np.ndarray:
         """Every move in order as one (n, 3) array of points (mm): the first move's
         start, then for each move its end, arcs sampled so that no chord spans more
-        than `step` mm of arc. `tool`: the compensated path instead of the programmed."""
-        moves = self._moves(tool)
-        if len(moves.start) == 0:
-            return np.empty((0, 3))
-        samples, _ = _sample(moves, step)
-        return np.concatenate([moves.start[:1], samples])
+        than `step` mm of arc. `tool`: the compensated path instead of the programmed.
+        Sampled a bounded number of moves at a time: beside the array it returns,
+        it needs a few bytes per move."""
+        return self._sample(step, tool).points
 
     def polyline(self, step: float = 0.5, tool: bool = False) -> list[Run]:
         """The moves as runs of rapids and of cuts (a new run where they change, or
         where a move does not start at the previous one's end), arcs sampled as in
-        :meth:`points`; for drawing, e.g. rapids dashed."""
-        moves = self._moves(tool)
-        if len(moves.start) == 0:
+        :meth:`points`; for drawing, e.g. rapids dashed. A run's points are a view
+        into one array of every point (a copy only for a run after a gap)."""
+        sampled = self._sample(step, tool)
+        rapid, gap = sampled.rapid, sampled.gap
+        if len(rapid) == 0:
             return []
-        rapid = moves.number == GFunction.RAPID
-        breaks = np.flatnonzero((rapid[1:] != rapid[:-1])
-                                | np.any(np.abs(moves.start[1:] - moves.end[:-1]) > 1e-9, axis=1)) + 1
-        samples, counts = _sample(moves, step)
-        offsets = np.concatenate([[0], np.cumsum(counts)])
+        breaks = np.flatnonzero((rapid[1:] != rapid[:-1]) | gap[1:]) + 1
+        firsts = np.concatenate([[0], breaks])
+        # points[ends[i]] is the end of move i (points[0] the first move's start): a run
+        # from move `first` to move `last` spans points[ends[first - 1] .. ends[last]]
+        ends = np.cumsum(sampled.counts, dtype=np.int64)
+        begins = np.concatenate([[0], ends[breaks - 1]]).tolist()
+        stops = (ends[np.concatenate([breaks, [len(rapid)]]) - 1] + 1).tolist()
+        points, gap_starts = sampled.points, sampled.gap_starts
         runs = []
-        for first, last in zip(np.concatenate([[0], breaks]), np.concatenate([breaks, [len(rapid)]])):
-            pts = np.concatenate([moves.start[first:first + 1], samples[offsets[first]:offsets[last]]])
-            runs.append(Run(bool(rapid[first]), pts))
+        for first, begin, stop, is_rapid in zip(firsts.tolist(), begins, stops, rapid[firsts].tolist()):
+            if first in gap_starts:
+                pts = np.concatenate([gap_starts[first][None, :], points[begin + 1:stop]])
+            else:
+                pts = points[begin:stop]
+            runs.append(Run(is_rapid, pts))
         return runs
+
+    def _sample(self, step: float, tool: bool) -> _Sampled:
+        """The points of :meth:`points` and, per move, its number of points, whether
+        it is a rapid and whether it starts away from the previous move's end. Two
+        passes over the records a chunk at a time: the number of points of every
+        move, then the points into the one array of them all."""
+        if not step > 0:
+            raise ValueError("step must be positive")
+        chunks = range(0, len(self.records), CHUNK_RECORDS)
+        counts, rapid, gap, gap_starts = [], [], [], {}
+        previous_end, moves_before = None, 0
+        for lo in chunks:
+            moves = self._moves(lo, tool)
+            shape = _ArcShape(moves, step)
+            counts.append(shape.counts.astype(np.int32))
+            rapid.append(moves.number == GFunction.RAPID)
+            if len(moves.start):
+                joined = np.concatenate([moves.end[:1] if previous_end is None else previous_end, moves.end[:-1]])
+                away = np.any(np.abs(moves.start - joined) > 1e-9, axis=1)
+                gap.append(away)
+                for k in np.flatnonzero(away):
+                    gap_starts[moves_before + int(k)] = moves.start[k].copy()
+                previous_end = moves.end[-1:].copy()
+                moves_before += len(moves.start)
+        counts = np.concatenate(counts) if counts else np.empty(0, np.int32)
+        rapid = np.concatenate(rapid) if rapid else np.empty(0, bool)
+        gap = np.concatenate(gap) if gap else np.empty(0, bool)
+        points = np.empty((int(counts.sum(dtype=np.int64)) + (1 if len(counts) else 0), 3))
+        written = 1
+        for lo in chunks:
+            moves = self._moves(lo, tool)
+            if len(moves.start) == 0:
+                continue
+            if written == 1:
+                points[0] = moves.start[0]
+            written += _ArcShape(moves, step).fill(points[written:])
+        return _Sampled(points, counts, rapid, gap, gap_starts)
+
+    def _moves(self, lo: int, tool: bool) -> _Moves:
+        """The motion parts among records [lo, lo + CHUNK_RECORDS), on one of the two paths."""
+        records = self.records[lo:lo + CHUNK_RECORDS]
+        keep = records["kind"] == PartKind.MOTION
+        if tool:
+            starts = np.empty((len(records), 3))
+            starts[:1] = self.records["tool_end"][lo - 1] if lo else records["start"][:1]
+            starts[1:] = records["tool_end"][:-1]
+            starts = starts[keep]
+        else:
+            starts = records["start"][keep]
+        return _Moves(starts, records["tool_end" if tool else "end"][keep], records["centre"][keep],
+                      records["number"][keep], records["plane"][keep])
 
 
 @dataclass(frozen=True)
@@ -148,39 +242,77 @@ class _Moves:
     plane: np.ndarray
 
 
-def _sample(moves: _Moves, step: float) -> tuple[np.ndarray, np.ndarray]:
-    """The points after each move's start (its arc samples, its end last), all moves,
-    and how many each move has: 1 for a line, enough for an arc that no chord spans
-    more than `step` mm of arc (at most 720)."""
-    if not step > 0:
-        raise ValueError("step must be positive")
-    n = len(moves.start)
-    arc = ((moves.number == GFunction.ARC_CW) | (moves.number == GFunction.ARC_CCW)) \
-        & np.isin(moves.plane, list(_PLANE_AXES))
-    first, second = np.zeros(n, int), np.ones(n, int)
-    for plane, (a, b) in _PLANE_AXES.items():
-        on = moves.plane == plane
-        first[on], second[on] = a, b
-    rows = np.arange(n)
-    s, e, c = moves.start, moves.end, moves.centre
-    sa, sb = s[rows, first] - c[rows, first], s[rows, second] - c[rows, second]
-    a0 = np.arctan2(sb, sa)
-    sweep = np.arctan2(e[rows, second] - c[rows, second], e[rows, first] - c[rows, first]) - a0
-    # in the arc's direction, in (0, 2 pi]: equal start and end make a full circle
-    ccw = moves.number == GFunction.ARC_CCW
-    sweep = np.where(ccw, np.mod(sweep - 1e-12, 2 * np.pi) + 1e-12, -(np.mod(-sweep - 1e-12, 2 * np.pi) + 1e-12))
-    radius = np.hypot(sa, sb)
-    counts = np.ones(n, np.int64)
-    counts[arc] = np.clip(np.ceil(np.abs(sweep[arc]) * radius[arc] / step), 1, 720).astype(np.int64)
+@dataclass(frozen=True)
+class _Sampled:
+    """What :meth:`Toolpath._sample` gives: every point, and per move its number of
+    points, rapid or not, away from the previous end or not (the start of each such
+    move in ``gap_starts``, by move index)."""
 
-    owner = np.repeat(rows, counts)
-    within = np.arange(len(owner)) - np.repeat(np.cumsum(counts) - counts, counts)
-    t = (within + 1) / counts[owner]                        # (0, 1], 1 = the move's end
-    points = s[owner] + (e[owner] - s[owner]) * t[:, None]  # lines; the normal axis of helices
-    on_arc = np.flatnonzero(arc[owner])
-    k = owner[on_arc]
-    angle = a0[k] + sweep[k] * t[on_arc]
-    points[on_arc, first[k]] = c[k, first[k]] + radius[k] * np.cos(angle)
-    points[on_arc, second[k]] = c[k, second[k]] + radius[k] * np.sin(angle)
-    points[np.cumsum(counts) - 1] = e                       # ends exactly as the library has them
-    return points, counts
+    points: np.ndarray
+    counts: np.ndarray
+    rapid: np.ndarray
+    gap: np.ndarray
+    gap_starts: dict
+
+
+class _ArcShape:
+    """The arcs among some moves (G2/G3 in a known plane): the plane's two axes, the
+    start angle, the sweep and the radius of each, and how many points each move
+    gets: 1 for a line, enough for an arc that no chord spans more than `step` mm of
+    arc (at most 720)."""
+
+    def __init__(self, moves: _Moves, step: float):
+        self.moves = moves
+        n = len(moves.start)
+        self.arc = ((moves.number == GFunction.ARC_CW) | (moves.number == GFunction.ARC_CCW)) \
+            & np.isin(moves.plane, list(_PLANE_AXES))
+        self.first, self.second = np.zeros(n, np.int8), np.ones(n, np.int8)
+        for plane, (a, b) in _PLANE_AXES.items():
+            on = moves.plane == plane
+            self.first[on], self.second[on] = a, b
+        rows = np.arange(n)
+        s, e, c = moves.start, moves.end, moves.centre
+        first, second = self.first, self.second
+        sa, sb = s[rows, first] - c[rows, first], s[rows, second] - c[rows, second]
+        self.a0 = np.arctan2(sb, sa)
+        sweep = np.arctan2(e[rows, second] - c[rows, second], e[rows, first] - c[rows, first]) - self.a0
+        # in the arc's direction, in (0, 2 pi]: equal start and end make a full circle
+        ccw = moves.number == GFunction.ARC_CCW
+        self.sweep = np.where(ccw, np.mod(sweep - 1e-12, 2 * np.pi) + 1e-12,
+                              -(np.mod(-sweep - 1e-12, 2 * np.pi) + 1e-12))
+        self.radius = np.hypot(sa, sb)
+        self.counts = np.ones(n, np.int64)
+        arc = self.arc
+        self.counts[arc] = np.clip(np.ceil(np.abs(self.sweep[arc]) * self.radius[arc] / step), 1, 720)
+
+    def fill(self, out: np.ndarray) -> int:
+        """Writes the points after each move's start (its arc samples, its end last)
+        to the front of `out`, a bounded number of points at a time; returns how many."""
+        ends = np.cumsum(self.counts)
+        written, lo = 0, 0
+        while lo < len(self.counts):
+            # the moves whose points fit in one step (at least one move)
+            hi = max(lo + 1, int(np.searchsorted(ends, written + _SAMPLES_PER_STEP, side="right")))
+            count = int(ends[hi - 1]) - written
+            self._fill_moves(lo, hi, out[written:written + count])
+            written += count
+            lo = hi
+        return written
+
+    def _fill_moves(self, lo: int, hi: int, out: np.ndarray) -> None:
+        m = self.moves
+        counts = self.counts[lo:hi]
+        s, e = m.start[lo:hi], m.end[lo:hi]
+        owner = np.repeat(np.arange(hi - lo), counts)
+        within = np.arange(len(owner)) - np.repeat(np.cumsum(counts) - counts, counts)
+        t = (within + 1) / counts[owner]                        # (0, 1], 1 = the move's end
+        np.multiply(e[owner] - s[owner], t[:, None], out=out)   # lines; the normal axis of helices
+        out += s[owner]
+        on_arc = np.flatnonzero(self.arc[lo:hi][owner])
+        if len(on_arc):
+            k = owner[on_arc] + lo
+            first, second = self.first[k], self.second[k]
+            angle = self.a0[k] + self.sweep[k] * t[on_arc]
+            out[on_arc, first] = m.centre[k, first] + self.radius[k] * np.cos(angle)
+            out[on_arc, second] = m.centre[k, second] + self.radius[k] * np.sin(angle)
+        out[np.cumsum(counts) - 1] = e                          # ends exactly as the library has them

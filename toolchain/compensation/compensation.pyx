@@ -10,203 +10,46 @@
 #      chains between the entry ramp (G41 block or G0) and the exit (G40 block or G0);
 #   3. each new element resolves its corner with the top of a stack of open elements;
 #      an element the corners trimmed past itself (crossing offsets) is popped and the
-#      corner recomputed with the one before, at most `depth` times (strategy 0x700);
+#      corner recomputed with the one before, at most `depth` times (strategy 0x700;
+#      0x80000), or kept as the offsets give it (a lenient chain: the default, the
+#      vendor's, with warning 601 where the path cuts into the contour), or error 504
+#      (the strict mode);
 #   4. elements deeper than the search depth are final: their ends are written to the
 #      parts and their corner insertions queued;
 #   5. one merge pass rebuilds the part array with the insertions and gives the parts
 #      without motion in the plane the compensated position they sit at.
-from libc.stdlib cimport malloc, realloc, free, calloc
+from libc.stdlib cimport malloc, free, calloc
 from libc.string cimport memcpy, memset, memchr
 from libc.stdio cimport snprintf
 from libc.math cimport fabs, sin, M_PI
-
-include "compensation/clearance.pyx"
-include "compensation/regions.pyx"
-
-cdef enum:
-    ROLE_NONE = 0           # not compensated: ce = e
-    ROLE_SET = 1            # ce computed here
-    ROLE_FOLLOW = 2         # no motion in the plane: ce = position of the previous part
-    LOOKAHEAD_PARTS = 200   # blocks without motion in the plane a corner may span
-    MAX_WARNINGS = 50
-
-# 32 bytes: on a contour with many outer corners the queue holds about one record
-# per two parts, so what the merge can read from the parts themselves is not stored:
-# the arc centre is the programmed end of part `after` (the corner) and the radius
-# that part's tool radius.
-ctypedef struct InsRec:
-    size_t after            # inserted right after this part
-    double end[2]           # plane coordinates of its end
-    double cc[2]            # arcs: plane coordinates of the centre (the programmed corner)
-    int32_t func            # 1, 2, 3
-    uint8_t src_next        # takes its attributes (line, feed, comp) from part after + 1, else after
-    uint8_t no_centre       # centre 0, 0 in the plane (lines switching on or off)
-
-# A warning, kept until the pass is over: compensate_end gives them from the thread
-# that ends the compilation (a callback may then call back into the library, even
-# DestroyCNC, as it may from the compiler's callbacks).
-ctypedef struct CompWarning:
-    const char *what        # a literal of this stage; NULL: "further warnings suppressed"
-    uint32_t line
-    int32_t file_idx
-
-ctypedef struct CompState:
-    ProgramBuilder *build   # the merge grows its parts
-    Program *prog           # &build.prog
-    const GCODE_PARAMETERS *params
-    ErrorInfo *err
-    output_fn output
-    warn_fn warn
-    void *ctx
-    CompCfg cfg
-    int first, second, normal
-    uint8_t *role
-    CompEl *st              # stack of open elements of the current chain
-    size_t n_st, cap_st
-    InsRec *ins
-    size_t n_ins, cap_ins
-    int64_t entry_part      # ramp whose end is the start of the chain's first element
-    bint next_fixed         # the next chain starts at an uncompensated point
-    int n_warnings
-    CompWarning warnings[MAX_WARNINGS]
-    bint has_followers      # some compensated part has no motion in the plane
-    XState xs               # crossings of parts that are not neighbours (crossings.pyx)
-    Clearance cl            # the contour the tool path keeps away from (clearance.pyx)
-    Regions rg              # a chain rebuilt from its regions (regions.pyx)
-    # the chain being read: parts chain_first .. chain_last (its elements), what was
-    # queued before it, and how it started; chain_global: the chain is rebuilt from its
-    # regions at its end (0x80000 after a crossing or gouge the corners could not cut)
-    bint chain_open
-    bint chain_global
-    bint chain_rebuilt      # the chain that just ended was rebuilt
-    size_t chain_first, chain_last
-    int64_t chain_entry     # its entry ramp (a part ending where the chain starts), -1 none
-    bint chain_fixed        # it starts at an uncompensated point (strategy 1)
-    bint chain_exit_fixed   # it ends at an uncompensated point (strategy 1 before G40)
-    size_t chain_ins0       # insertions queued before it
-    int chain_warn0         # warnings kept before it
-    ErrorInfo chain_err     # the error that made it global (reported if the rebuild fails)
-    CompCfg host            # the host's strategy (run_config changes it per run)
-    size_t region           # next strategy region (run_config)
-    size_t next             # first part compensate_feed has not taken yet
-    size_t cap_role
-    int result              # COMPILE_OK, or the first failure (err filled)
-    # the run being read (parts with comp 41/42)
-    bint in_run
-    int plane
-    size_t idle             # parts without motion in the plane since the last one with
-    bint first_motion       # the G41/G42 block is still to come
-    bint entry_arc          # ... it was an arc: the chain starts on it
-    bint g0_never
-    # after a run: the first move in the plane must be linear (G40 on an arc is an error)
-    bint exit_check
-    size_t exit_from
-
-
-cdef void _comp_warn(CompState *S, size_t part, const char *what) noexcept nogil:
-    """Keeps a warning about part `part` (`what`: a literal) for _comp_deliver."""
-    cdef CompWarning *w
-    if S.n_warnings >= MAX_WARNINGS:
-        return
-    w = &S.warnings[S.n_warnings]
-    S.n_warnings += 1
-    w.what = what if S.n_warnings < MAX_WARNINGS else NULL
-    w.line = S.prog.parts[part].line
-    w.file_idx = S.prog.parts[part].file_idx
 
 
 cdef void _comp_deliver(CompState *S) noexcept nogil:
     """The kept warnings, in order, to `output` (text) and `warn` (numbered)."""
     cdef char text[300]
     cdef ErrorInfo info
-    cdef ErrArg arg
+    cdef ErrArg args[2]
     cdef const CompWarning *w
     cdef int k
     for k in range(S.n_warnings):
         w = &S.warnings[k]
-        if w.what == NULL:
+        if w.number == 0:
             snprintf(text, sizeof(text), "Warning: tool radius compensation: further warnings suppressed")
         else:
-            snprintf(text, sizeof(text), "Warning: tool radius compensation, line %u: %s", w.line, w.what)
+            if w.number == WARN_COMP:
+                args[0].num = 0; args[0].text = w.what
+                set_error(&info, WARN_COMP, w.file_idx, <int32_t>w.line, args, 1)
+                snprintf(text, sizeof(text), "Warning: tool radius compensation, line %u: %s", w.line, w.what)
+            else:
+                args[0].num = w.line; args[0].text = NULL
+                args[1].num = w.depth; args[1].text = NULL
+                set_error(&info, w.number, w.file_idx, <int32_t>w.line, args, 2)
+                snprintf(text, sizeof(text), "Warning: tool radius compensation, line %u: %s", w.line, info.text)
             if S.warn != NULL:
-                arg.num = 0; arg.text = w.what
-                set_error(&info, WARN_COMP, w.file_idx, <int32_t>w.line, &arg, 1)
                 info.n_lines = <int32_t>S.prog.n_lines
                 S.warn(S.ctx, &info)
         if S.output != NULL:
             S.output(S.ctx, 0, text)
-
-
-cdef int _comp_fail(CompState *S, int32_t number, size_t part, double a0, double a1) noexcept nogil:
-    cdef ErrArg args[2]
-    cdef const Part *p = &S.prog.parts[part]
-    args[0].num = a0; args[0].text = NULL
-    args[1].num = a1; args[1].text = NULL
-    set_error(S.err, number, p.file_idx, <int32_t>p.line, args, 2)
-    return COMPILE_ERROR
-
-
-cdef double _comp_distance(const CompState *S, const Part *p) noexcept nogil:
-    """Signed offset distance of a part: left (41) positive, |correction| of its slot."""
-    cdef double r = fabs(S.params.correction[p.comp_slot & 7].size)
-    return r if p.comp == 41 else -r
-
-
-cdef bint _ins_add(CompState *S, const CompEl *el) noexcept nogil:
-    cdef InsRec *rec
-    cdef size_t cap
-    if S.n_ins == S.cap_ins:
-        cap = S.cap_ins * 2 if S.cap_ins else 256
-        rec = <InsRec *>realloc(S.ins, cap * sizeof(InsRec))
-        if rec == NULL:
-            return False
-        S.ins = rec
-        S.cap_ins = cap
-        if cap * sizeof(InsRec) >= HUGE_ADVICE_MIN:
-            program_advise_huge(rec, cap * sizeof(InsRec))
-    rec = &S.ins[S.n_ins]
-    S.n_ins += 1
-    rec.after = el.part
-    rec.func = el.ins
-    rec.end[0] = el.ins_end[0]; rec.end[1] = el.ins_end[1]
-    rec.cc[0] = el.e[0]; rec.cc[1] = el.e[1]
-    rec.src_next = False
-    rec.no_centre = False
-    return True
-
-
-cdef bint _ins_line(CompState *S, size_t after, size_t src, const double *end) noexcept nogil:
-    """Queues a G1 after part `after` (switching on or off next to an arc); src is
-    `after` or `after` + 1."""
-    cdef CompEl tmp
-    memset(&tmp, 0, sizeof(tmp))
-    tmp.part = after
-    tmp.ins = INS_G1
-    tmp.ins_end[0] = end[0]; tmp.ins_end[1] = end[1]
-    if not _ins_add(S, &tmp):
-        return False
-    S.ins[S.n_ins - 1].src_next = src == after + 1
-    S.ins[S.n_ins - 1].no_centre = True
-    return True
-
-
-cdef bint _ins_arc(CompState *S, size_t after, const double *end, const double *centre, int func) noexcept nogil:
-    """Queues an arc of the tool radius round `centre` after part `after` (a vertex of
-    a chain rebuilt from its regions)."""
-    cdef CompEl tmp
-    memset(&tmp, 0, sizeof(tmp))
-    tmp.part = after
-    tmp.ins = func
-    tmp.ins_end[0] = end[0]; tmp.ins_end[1] = end[1]
-    tmp.e[0] = centre[0]; tmp.e[1] = centre[1]
-    return _ins_add(S, &tmp)
-
-
-cdef void _discard(CompState *S, size_t part) noexcept nogil:
-    """A part removed from the path: it stays in the program with no motion in the plane."""
-    S.role[part] = ROLE_FOLLOW
-    S.has_followers = True
-    S.prog.parts[part].radius = 0.0
 
 
 cdef bint _write_el(CompState *S, const CompEl *el) noexcept nogil:
@@ -220,7 +63,9 @@ cdef bint _write_el(CompState *S, const CompEl *el) noexcept nogil:
     p.ce[S.second] = el.pe[1]
     if el.kind == EL_ARC:
         # a trimmed arc of no length would read as a full circle: it becomes a point
-        p.radius = el.ro if el_path_sweep(el) > 1e-9 else 0.0
+        # (one trimmed past itself, kept by a lenient chain, turns the long way round:
+        # what its offset gives from its start to its end)
+        p.radius = el.ro if fabs(el_path_sweep(el)) > TURN_EPS else 0.0
     S.role[el.part] = ROLE_SET
     if el.first and S.entry_part >= 0:
         entry = &S.prog.parts[S.entry_part]
@@ -228,7 +73,7 @@ cdef bint _write_el(CompState *S, const CompEl *el) noexcept nogil:
         entry.ce[S.second] = el.ps[1]
         S.entry_part = -1
     if el.ins != INS_NONE:
-        return _ins_add(S, el)
+        return ins_add(S, el)
     return True
 
 
@@ -247,15 +92,8 @@ cdef bint _flush(CompState *S, size_t keep) noexcept nogil:
 
 
 cdef bint _push(CompState *S, const CompEl *el) noexcept nogil:
-    cdef CompEl *st
-    cdef size_t cap
-    if S.n_st == S.cap_st:
-        cap = S.cap_st * 2 if S.cap_st else 64
-        st = <CompEl *>realloc(S.st, cap * sizeof(CompEl))
-        if st == NULL:
-            return False
-        S.st = st
-        S.cap_st = cap
+    if not grow(<void **>&S.st, &S.cap_st, S.n_st + 1, sizeof(CompEl)):
+        return False
     S.st[S.n_st] = el[0]
     S.n_st += 1
     # flushing in batches of 3 x depth keeps the copying of the kept tail small; the
@@ -290,7 +128,7 @@ cdef int _chain_add(CompState *S, CompEl *b) noexcept nogil:
     cdef int res
     if S.n_st == 0:
         _start_chain(S, b)
-        return COMPILE_OK if _push(S, b) else _comp_fail(S, ERR_OUT_OF_MEMORY, b.part, 0, 0)
+        return COMPILE_OK if _push(S, b) else comp_fail(S, ERR_OUT_OF_MEMORY, b.part, 0, 0)
     while True:
         a = &S.st[S.n_st - 1]
         res = corner_resolve(a, b, &S.cfg)
@@ -298,8 +136,8 @@ cdef int _chain_add(CompState *S, CompEl *b) noexcept nogil:
             if (S.cfg.strategy & CORR_ALLOW_REVERSE_SEARCH) and _can_pop(S, a) and pops < S.cfg.depth \
                     and S.n_st > 1:
                 # search back: the offsets may meet an earlier element's
-                _comp_warn(S, a.part, "part removed: no intersection with the next part")
-                _discard(S, a.part)
+                comp_warn(S, a.part, "part removed: no intersection with the next part")
+                comp_discard(S, a.part)
                 S.n_st -= 1
                 pops += 1
                 continue
@@ -308,19 +146,21 @@ cdef int _chain_add(CompState *S, CompEl *b) noexcept nogil:
                 a.ins = INS_G1
                 a.ins_end[0] = b.os[0]; a.ins_end[1] = b.os[1]
                 b.ps[0] = b.os[0]; b.ps[1] = b.os[1]
-                _comp_warn(S, a.part, "intersection of equidistants not found, joined by G1")
+                comp_warn(S, a.part, "intersection of equidistants not found, joined by G1")
             elif S.cfg.strategy & CORR_JOIN_BY_MOVING_START:
                 a.pe[0] = a.oe[0]; a.pe[1] = a.oe[1]
                 b.ps[0] = a.oe[0]; b.ps[1] = a.oe[1]
-                _comp_warn(S, a.part, "intersection of equidistants not found, start point moved")
+                comp_warn(S, a.part, "intersection of equidistants not found, start point moved")
             else:
-                return _comp_fail(S, ERR_COMP_NOT_FOUND, a.part, 0, 0)
+                return comp_fail(S, ERR_COMP_NOT_FOUND, a.part, 0, 0)
         if el_path_length(a) < -S.cfg.slack:
             # the corners trimmed a past itself: the offsets cross here
             if not (S.cfg.strategy & CORR_REMOVE_CROSSING) or not _can_pop(S, a) or pops >= S.cfg.depth:
-                return _comp_fail(S, ERR_COMP_CROSSING, a.part, fabs(a.d), 0)
-            _comp_warn(S, a.part, "crossing part removed from the path")
-            _discard(S, a.part)
+                if S.lenient:
+                    break           # a stays as the offsets give it: the gouge check measures it
+                return comp_fail(S, ERR_COMP_CROSSING, a.part, fabs(a.d), 0)
+            comp_warn(S, a.part, "crossing part removed from the path")
+            comp_discard(S, a.part)
             S.n_st -= 1
             pops += 1
             if S.n_st == 0:
@@ -328,7 +168,7 @@ cdef int _chain_add(CompState *S, CompEl *b) noexcept nogil:
                 break
             continue
         break
-    return COMPILE_OK if _push(S, b) else _comp_fail(S, ERR_OUT_OF_MEMORY, b.part, 0, 0)
+    return COMPILE_OK if _push(S, b) else comp_fail(S, ERR_OUT_OF_MEMORY, b.part, 0, 0)
 
 
 cdef int _chain_end_corners(CompState *S, bint fixed_end) noexcept nogil:
@@ -346,15 +186,17 @@ cdef int _chain_end_corners(CompState *S, bint fixed_end) noexcept nogil:
             break
         if not (S.cfg.strategy & CORR_REMOVE_CROSSING) or not (S.cfg.strategy & CORR_ALLOW_FIRST_LAST_CROSS) \
                 or S.n_st == 1:
-            return _comp_fail(S, ERR_COMP_CROSSING, a.part, fabs(a.d), 0)
-        _comp_warn(S, a.part, "crossing last part removed from the path")
-        _discard(S, a.part)
+            if S.lenient:
+                break
+            return comp_fail(S, ERR_COMP_CROSSING, a.part, fabs(a.d), 0)
+        comp_warn(S, a.part, "crossing last part removed from the path")
+        comp_discard(S, a.part)
         S.n_st -= 1
     S.xs.last_part = S.st[S.n_st - 1].part if S.n_st > 0 else <size_t>-1
     if not _flush(S, 0):
-        return _comp_fail(S, ERR_OUT_OF_MEMORY, S.prog.main_file_idx, 0, 0)
+        return comp_fail(S, ERR_OUT_OF_MEMORY, S.prog.main_file_idx, 0, 0)
     if not cross_chain_end(S):
-        return _comp_fail(S, S.xs.err_number, S.xs.err_part, S.xs.err_arg, 0)
+        return comp_fail(S, S.xs.err_number, S.xs.err_part, S.xs.err_arg, 0)
     S.entry_part = -1
     return COMPILE_OK
 
@@ -367,20 +209,24 @@ cdef void _chain_open(CompState *S, size_t k) noexcept nogil:
     S.chain_last = k
     S.chain_entry = S.entry_part
     S.chain_fixed = S.next_fixed
+    S.chain_entry_arc = S.entry_arc
     S.chain_ins0 = S.n_ins
     S.chain_warn0 = S.n_warnings
+    if not S.retrying:
+        S.lenient = not S.strict and not (S.cfg.strategy & CORR_REMOVE_CROSSING)
     cl_chain_open(S, k, S.n_ins)
 
 
 cdef int _chain_fallback(CompState *S, int res) noexcept nogil:
     """A failure of the chain of corners: with 0x80000 a crossing or gouge it could
-    not cut (504, 500) makes the chain global (rebuilt from its regions at its end)."""
+    not cut (504, 500) makes the chain global (rebuilt from its regions at its end;
+    a lenient chain is not)."""
     if res == COMPILE_OK:
         return res
     if S.xs.err_number != 0:
-        _comp_fail(S, S.xs.err_number, S.xs.err_part, S.xs.err_arg, 0)
+        comp_fail(S, S.xs.err_number, S.xs.err_part, S.xs.err_arg, 0)
         S.xs.err_number = 0
-    if not (S.cfg.strategy & CORR_REMOVE_CROSSING) or not S.chain_open or \
+    if not (S.cfg.strategy & CORR_REMOVE_CROSSING) or not S.chain_open or S.lenient or \
             (S.err.number != ERR_COMP_CROSSING and S.err.number != ERR_COMP_NOT_FOUND):
         return res
     memcpy(&S.chain_err, S.err, sizeof(ErrorInfo))
@@ -394,27 +240,72 @@ cdef int _chain_fallback(CompState *S, int res) noexcept nogil:
 
 
 cdef int _chain_rebuild(CompState *S) noexcept nogil:
-    """The global chain from its regions, its path checked; else the error that made
-    it global."""
+    """The global chain from its regions, its path checked (a gouge left: warning 601,
+    strict: error 504); REGIONS_NOT_APPLICABLE when the regions do not give a path."""
     cdef int res = regions_rebuild(S)
-    if res == REGIONS_NOT_APPLICABLE:
-        memcpy(S.err, &S.chain_err, sizeof(ErrorInfo))
-        return COMPILE_ERROR
+    cdef bint lenient = S.lenient
     if res != COMPILE_OK:
         return res
     S.chain_rebuilt = True
     # the rebuilt path keeps the radius from the whole contour, not only within the depth
+    S.lenient = not S.strict
     if not cl_check_chain(S, S.chain_first, S.chain_last, S.chain_ins0, False, False,
                           S.chain_last - S.chain_first):
-        res = _comp_fail(S, S.xs.err_number, S.xs.err_part, S.xs.err_arg, 0)
+        res = comp_fail(S, S.xs.err_number, S.xs.err_part, S.xs.err_arg, 0)
         S.xs.err_number = 0
+    S.lenient = lenient
+    return res
+
+
+cdef int _chain_retry(CompState *S, bint fixed_end, bint exit_fixed) noexcept nogil:
+    """0x80000 without the strict switch: a chain its regions cannot rebuild (an open
+    one, one that changes its radius, ...) is read again from its first part, lenient:
+    the corners and the loop search remove what they can, the rest stays as the
+    offsets give it, with warning 601 where the tool cuts into the contour. Everything
+    the first reading wrote for the chain's parts is written again."""
+    cdef size_t k, last = S.chain_last
+    cdef int res = COMPILE_OK
+    cdef Part *p
+    cdef const double *st
+    S.n_ins = S.chain_ins0
+    S.n_warnings = S.chain_warn0
+    for k in range(S.chain_first, last + 1):
+        p = &S.prog.parts[k]
+        if p.kind == PART_MOTION and (p.func == 2 or p.func == 3):
+            # a removed arc (radius 0) is an arc again (_in_plane_motion)
+            st = part_start_xyz(S.prog, k)
+            p.radius = distance2d(st[S.first] - p.cc[S.first], st[S.second] - p.cc[S.second])
+    S.entry_part = S.chain_entry
+    S.next_fixed = S.chain_fixed
+    S.entry_arc = S.chain_entry_arc
+    S.idle = 0
+    S.n_st = 0
+    S.xs.n = 0
+    S.xs.base = 0
+    S.xs.n_prov = 0
+    S.xs.head_prov = 0
+    S.xs.err_number = 0
+    S.xs.last_part = <size_t>-1
+    S.chain_open = False
+    S.chain_global = False
+    S.retrying = True
+    S.lenient = True
+    k = S.chain_first
+    while k <= last and res == COMPILE_OK:
+        res = _run_part(S, k)
+        k += 1
+    if res == COMPILE_OK:
+        res = _chain_end(S, fixed_end, exit_fixed)
+    S.retrying = False
     return res
 
 
 cdef int _chain_end(CompState *S, bint fixed_end, bint exit_fixed) noexcept nogil:
     """Closes the chain (fixed_end: its last line ends at its programmed end;
     exit_fixed: strategy 1 before G40), checks that its path keeps the tool radius
-    from the contour, and rebuilds it from its regions when it does not (0x80000)."""
+    from the contour, and rebuilds it from its regions when it does not (0x80000);
+    when they do not apply, the error that made it global stands (strict) or the
+    chain is read again, lenient (_chain_retry)."""
     cdef int res = COMPILE_OK
     S.chain_rebuilt = False
     S.chain_exit_fixed = exit_fixed
@@ -426,41 +317,16 @@ cdef int _chain_end(CompState *S, bint fixed_end, bint exit_fixed) noexcept nogi
         res = _chain_fallback(S, res)
     if res == COMPILE_OK and S.chain_global:
         res = _chain_rebuild(S)
+        if res == REGIONS_NOT_APPLICABLE and S.strict:
+            memcpy(S.err, &S.chain_err, sizeof(ErrorInfo))
+            res = COMPILE_ERROR
+        elif res == REGIONS_NOT_APPLICABLE:
+            return _chain_retry(S, fixed_end, exit_fixed)
     S.chain_open = False
     S.chain_global = False
     S.n_st = 0
     S.entry_part = -1
     return res
-
-
-cdef bint comp_part_element(const CompState *S, size_t k, CompEl *el) noexcept nogil:
-    """The offset element of part k when it is a line or an arc that moves in the plane
-    (not a rapid); a removed arc counts (its radius is read from its centre)."""
-    cdef const Part *p = &S.prog.parts[k]
-    cdef const double *s
-    cdef double ps[2]
-    cdef double pe[2]
-    cdef double pc[2]
-    cdef double sweep
-    if p.kind != PART_MOTION or p.func == 0:
-        return False
-    s = part_start_xyz(S.prog, k)
-    ps[0] = s[S.first]; ps[1] = s[S.second]
-    pe[0] = p.e[S.first]; pe[1] = p.e[S.second]
-    if p.func == 2 or p.func == 3:
-        pc[0] = p.cc[S.first]; pc[1] = p.cc[S.second]
-        if distance2d(ps[0] - pc[0], ps[1] - pc[1]) <= 1e-9:
-            return False
-        # sweep in the arc's direction, a full circle when start = end (as arc_sweep)
-        sweep = _turn(ps[0] - pc[0], ps[1] - pc[1], pe[0] - pc[0], pe[1] - pc[1])
-        if p.func == 3 and sweep <= 1e-12:
-            sweep += 2.0 * M_PI
-        elif p.func == 2 and sweep >= -1e-12:
-            sweep -= 2.0 * M_PI
-        return el_init(el, k, EL_ARC, 1 if p.func == 3 else -1, _comp_distance(S, p), ps, pe, pc, sweep)
-    if (pe[0] - ps[0]) * (pe[0] - ps[0]) + (pe[1] - ps[1]) * (pe[1] - ps[1]) <= 1e-18:
-        return False
-    return el_init(el, k, EL_LINE, 0, _comp_distance(S, p), ps, pe, pc, 0.0)
 
 
 cdef bint _in_plane_motion(const CompState *S, size_t k, bint *is_arc) noexcept nogil:
@@ -477,7 +343,7 @@ cdef bint _in_plane_motion(const CompState *S, size_t k, bint *is_arc) noexcept 
     s = part_start_xyz(S.prog, k)
     dx = p.e[S.first] - s[S.first]
     dy = p.e[S.second] - s[S.second]
-    return dx * dx + dy * dy > 1e-18        # longer than 1e-9
+    return dx * dx + dy * dy > LENGTH_EPS * LENGTH_EPS
 
 
 cdef int _run_begin(CompState *S, size_t i) noexcept nogil:
@@ -485,7 +351,7 @@ cdef int _run_begin(CompState *S, size_t i) noexcept nogil:
     S.g0_never = (S.cfg.strategy & CORR_G0_NEVER_COMPENSATED) != 0
     S.plane = S.prog.parts[i].plane
     if not plane_axes(S.plane, &S.first, &S.second, &S.normal):
-        return _comp_fail(S, ERR_COMP_PLANE_CHANGE, i, 0, 0)
+        return comp_fail(S, ERR_COMP_PLANE_CHANGE, i, 0, 0)
     S.entry_part = -1
     S.next_fixed = False
     S.n_st = 0
@@ -507,13 +373,13 @@ cdef int _run_part(CompState *S, size_t k) noexcept nogil:
     cdef bint is_arc
     cdef int res
     if p.plane != S.plane:
-        return _comp_fail(S, ERR_COMP_PLANE_CHANGE, k, 0, 0)
+        return comp_fail(S, ERR_COMP_PLANE_CHANGE, k, 0, 0)
     S.role[k] = ROLE_FOLLOW
     if not _in_plane_motion(S, k, &is_arc):
         S.has_followers = True
         S.idle += 1
         if S.idle > LOOKAHEAD_PARTS and S.n_st > 0:
-            return _comp_fail(S, ERR_COMP_LOOKAHEAD, k, LOOKAHEAD_PARTS, 0)
+            return comp_fail(S, ERR_COMP_LOOKAHEAD, k, LOOKAHEAD_PARTS, 0)
         return COMPILE_OK
     S.idle = 0
     if S.first_motion and is_arc:
@@ -521,7 +387,7 @@ cdef int _run_part(CompState *S, size_t k) noexcept nogil:
         # to the arc's perpendicular and the arc is compensated whole
         S.first_motion = False
         if k == 0:
-            return _comp_fail(S, ERR_COMP_ON_ARC, k, 0, 0)
+            return comp_fail(S, ERR_COMP_ON_ARC, k, 0, 0)
         S.entry_arc = True
     elif S.first_motion:
         # the G41/G42 block: a line to the perpendicular of the next part (strategy 0)
@@ -553,28 +419,28 @@ cdef int _run_part(CompState *S, size_t k) noexcept nogil:
     if S.chain_global:
         return COMPILE_OK           # rebuilt from the regions at the chain's end
     if is_arc:
-        if el.ro <= 1e-9 * el.R:
-            if el.ro < -1e-9 * el.R:
+        if el.ro <= LENGTH_EPS * el.R:
+            if el.ro < -LENGTH_EPS * el.R:
                 if not (S.cfg.strategy & CORR_DROP_NEGATIVE_ARCS):
-                    return _comp_fail(S, ERR_COMP_NEGATIVE_ARC, k, el.R, fabs(el.d))
-                _comp_warn(S, k, "arc with negative equidistant removed")
+                    return comp_fail(S, ERR_COMP_NEGATIVE_ARC, k, el.R, fabs(el.d))
+                comp_warn(S, k, "arc with negative equidistant removed")
             # an offset of no radius is a point the neighbours' offsets pass through
-            _discard(S, k)
+            comp_discard(S, k)
             return COMPILE_OK
         if el.ro < S.cfg.min_arc:
             # below the minimum arc radius (tolerance[4]): removed the same way
-            _comp_warn(S, k, "arc with an offset radius below tolerance[4] removed")
-            _discard(S, k)
+            comp_warn(S, k, "arc with an offset radius below tolerance[4] removed")
+            comp_discard(S, k)
             return COMPILE_OK
         if S.entry_arc or (S.n_st == 0 and S.next_fixed):
             # the chain starts on an arc: switch on by a line to its perpendicular
             S.entry_arc = False
             S.next_fixed = False
             S.entry_part = -1
-            if not _flush(S, 0) or not _ins_line(S, k - 1, k, el.os):
-                return _comp_fail(S, ERR_OUT_OF_MEMORY, k, 0, 0)
+            if not _flush(S, 0) or not ins_line(S, k - 1, k, el.os):
+                return comp_fail(S, ERR_OUT_OF_MEMORY, k, 0, 0)
             S.chain_fixed = False
-            _comp_warn(S, k, "compensation switched on before an arc: line to its perpendicular inserted")
+            comp_warn(S, k, "compensation switched on before an arc: line to its perpendicular inserted")
     return _chain_fallback(S, _chain_add(S, &el))
 
 
@@ -594,9 +460,9 @@ cdef int _run_end(CompState *S, size_t j, bint g40) noexcept nogil:
         pe[0] = S.st[S.n_st - 1].e[0]; pe[1] = S.st[S.n_st - 1].e[1]
         res = _chain_end(S, False, True)
         if res == COMPILE_OK and not S.chain_rebuilt:
-            if not _ins_line(S, k, k, pe):
-                return _comp_fail(S, ERR_OUT_OF_MEMORY, k, 0, 0)
-            _comp_warn(S, k, "compensation switched off after an arc: line to the programmed end inserted")
+            if not ins_line(S, k, k, pe):
+                return comp_fail(S, ERR_OUT_OF_MEMORY, k, 0, 0)
+            comp_warn(S, k, "compensation switched off after an arc: line to the programmed end inserted")
     else:
         res = _chain_end(S, False, exit_fixed)
     # G40 only on a linear move: checked on the parts from j on (compensate_feed)
@@ -614,7 +480,7 @@ cdef int _exit_part(CompState *S, size_t k) noexcept nogil:
     elif _in_plane_motion(S, k, &is_arc):
         S.exit_check = False
         if is_arc:
-            return _comp_fail(S, ERR_COMP_ON_ARC, k, 0, 0)
+            return comp_fail(S, ERR_COMP_ON_ARC, k, 0, 0)
     return COMPILE_OK
 
 
@@ -742,7 +608,7 @@ cdef int _merge(CompState *S, const MergeWatch *watch) noexcept nogil:
     if S.has_followers:
         settle = _settle
     if not program_merge(S.build, S.n_ins, S, _ins_after, _ins_make, settle, watch):
-        return _comp_fail(S, ERR_OUT_OF_MEMORY, 0, 0, 0)
+        return comp_fail(S, ERR_OUT_OF_MEMORY, 0, 0, 0)
     return COMPILE_OK
 
 
@@ -758,6 +624,7 @@ cdef void compensate_begin(CompState *S, ProgramBuilder *build, const GCODE_PARA
     S.output = output
     S.warn = warn
     S.ctx = ctx
+    S.strict = (<uint32_t>params.rezerva1 & GCODE_REZERVA1_COMP_STRICT) != 0
     S.xs.last_part = <size_t>-1
     comp_config(&S.host, params)
     S.cfg = S.host
@@ -766,19 +633,12 @@ cdef void compensate_begin(CompState *S, ProgramBuilder *build, const GCODE_PARA
 
 cdef bint _role_room(CompState *S, size_t n) noexcept nogil:
     """S.role covers parts [0, n), new entries ROLE_NONE."""
-    cdef size_t cap
-    cdef uint8_t *role
-    if n <= S.cap_role:
+    cdef size_t old = S.cap_role
+    if n <= old:
         return True
-    cap = S.cap_role * 2 if S.cap_role else 65536
-    while cap < n:
-        cap *= 2
-    role = <uint8_t *>realloc(S.role, cap)
-    if role == NULL:
+    if not grow(<void **>&S.role, &S.cap_role, n, 1):
         return False
-    memset(role + S.cap_role, ROLE_NONE, cap - S.cap_role)
-    S.role = role
-    S.cap_role = cap
+    memset(S.role + old, ROLE_NONE, S.cap_role - old)
     return True
 
 
@@ -799,7 +659,7 @@ cdef int compensate_feed(void *ctx, size_t upto, bint last, size_t *more) noexce
             return COMPILE_OK
         _compatibility(prog)
     if not _role_room(S, upto):
-        S.result = _comp_fail(S, ERR_OUT_OF_MEMORY, S.next if S.next < upto else 0, 0, 0)
+        S.result = comp_fail(S, ERR_OUT_OF_MEMORY, S.next if S.next < upto else 0, 0, 0)
         return S.result
     k = S.next
     while k < upto and res == COMPILE_OK:
@@ -821,7 +681,7 @@ cdef int compensate_feed(void *ctx, size_t upto, bint last, size_t *more) noexce
     if res == COMPILE_OK and last and S.in_run:
         res = _run_end(S, upto, False)
     if res != COMPILE_OK and S.xs.err_number != 0:
-        _comp_fail(S, S.xs.err_number, S.xs.err_part, S.xs.err_arg, 0)
+        comp_fail(S, S.xs.err_number, S.xs.err_part, S.xs.err_arg, 0)
     S.result = res
     more[0] = S.n_ins
     return res
@@ -833,7 +693,7 @@ cdef int compensate_end(CompState *S, const MergeWatch *watch) noexcept nogil:
     COMPILE_ERROR with err filled."""
     cdef int res = S.result
     if res == COMPILE_OK and not _role_room(S, S.prog.n_parts):
-        res = _comp_fail(S, ERR_OUT_OF_MEMORY, 0, 0, 0)
+        res = comp_fail(S, ERR_OUT_OF_MEMORY, 0, 0, 0)
     if res == COMPILE_OK:
         res = _merge(S, watch)
     _comp_deliver(S)

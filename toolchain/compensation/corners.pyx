@@ -6,23 +6,7 @@
 #   3. outer corner: an arc about the programmed corner (radius = tool radius), or with
 #      CORR_CORNER_INTERSECTION the intersection of the extended offsets when it lies
 #      closer than factor x radius to the corner.
-from libc.math cimport atan2, fabs, M_PI
-
-
-ctypedef struct CompCfg:
-    uint32_t strategy
-    int mode                # low byte of the strategy: 0 or 1
-    double tol_angle        # radians: below it two parts join tangentially
-    double sin_tol          # its sine (the test on the tangents' cross product)
-    double slack            # length accuracy (crossing, near-tangent intersections)
-    double factor           # CORR_CORNER_INTERSECTION: limit distance in radii
-    double corner_distance  # ... or in mm (G172 R), when > 0
-    size_t depth            # how many parts back a crossing may be removed
-    double min_arc          # tolerance[4]: tool path arcs of a smaller radius are removed (0 = none)
-
-cdef enum CornerResult:
-    CORNER_OK = 0
-    CORNER_NOT_FOUND = 1
+from libc.math cimport fabs
 
 
 cdef int corner_resolve(CompEl *a, CompEl *b, const CompCfg *cfg) noexcept nogil:
@@ -46,7 +30,7 @@ cdef int corner_resolve(CompEl *a, CompEl *b, const CompCfg *cfg) noexcept nogil
             a.ins = INS_G1
             a.ins_end[0] = b.os[0]; a.ins_end[1] = b.os[1]
         return CORNER_OK
-    if distance2d(a.e[0] - b.s[0], a.e[1] - b.s[1]) > 1e-9:
+    if distance2d(a.e[0] - b.s[0], a.e[1] - b.s[1]) > LENGTH_EPS:
         # parts between them were removed: no common corner to go round, only the
         # intersection of the two offsets joins them
         ref[0] = 0.5 * (a.oe[0] + b.os[0])

@@ -11,67 +11,30 @@
 # A crossing at X of a later piece P (part B) with an earlier piece Q (part A) means a
 # loop: with 0x80000 the path is cut there (Q ends at X, P starts at X, the parts
 # between are removed and turned into zero-length moves, their insertions dropped) and
-# a warning given; without it error 504 on B's line. When P is B's inserted corner arc,
-# B's own piece is removed too and the rest of its corner arc becomes an insertion
-# after A. A cut that leaves nothing of the chain's first part needs 0x10000 (else 504).
+# a warning given; without it error 504 on B's line, or in a lenient chain the loop
+# stays (the gouge check warns where it cuts into the contour; without 0x80000 the
+# search does not run then). When P is B's inserted corner arc, B's own piece is
+# removed too and the rest of its corner arc becomes an insertion after A. A cut that
+# leaves nothing of the chain's first part needs 0x10000 (else 504, or kept).
 # Not loops: a crossing where the programmed elements cross too (the contour itself
 # crosses, the tool has to), and the crossing of the last part of a closed contour with
 # the first one (a start at an inner corner: the entry and exit rules).
 # At the chain's end its whole path is checked against the contour (clearance.pyx): a
 # cut that kept the wrong side (a chain started inside a neck narrower than the tool)
-# is error 504, or the chain is rebuilt from its regions (0x80000, regions.pyx).
-from libc.stdlib cimport malloc, realloc, free
+# is a gouge, and the chain is rebuilt from its regions (0x80000, regions.pyx).
+from libc.stdlib cimport malloc, free
 from libc.string cimport memmove, memcpy, memset
-from libc.math cimport fabs, sqrt, atan2, M_PI
+from libc.math cimport fabs, M_PI
 
 cdef extern from *:
     int __builtin_ctzll(unsigned long long) nogil
 
-cdef enum:
-    XLEV = 6                # levels of groups: 4 << 2L pieces (4 .. 4096)
-    XTOP = 4096             # pieces of a top-level group
-    X_WRITE = 1             # cross_write: let _write_el write the element
-    X_DONE = 2              # ... the element is already written (removed)
-    X_FAIL = 0
 
-ctypedef struct XPiece:
-    double s[2]
-    double e[2]
-    double c[2]
-    double r                # arc radius
-    double sweep            # arc sweep in dir, (0, 2pi]; < 0: not computed yet (_x_sweep)
-    double box[4]           # xmin ymin xmax ymax
-    double gs[2]            # bodies: the programmed start, end, radius and |sweep|
-    double ge[2]
-    double gR, gsweep
-    size_t part             # part whose path this is (window of the search depth)
-    size_t after            # inserted pieces: the part the InsRec follows
-    size_t rec              # inserted pieces: index of the InsRec in CompState.ins
-    signed char kind        # EL_LINE / EL_ARC
-    signed char dir         # arcs: +1 CCW, -1 CW
-    unsigned char ins       # an inserted corner piece
-    unsigned char first     # the body of the chain's first element
-    unsigned char prov      # a G1 join that has to end up inside a removed loop
-    unsigned char gprog     # bodies: the programmed element (gs .. gsweep) follows
-
-ctypedef struct XState:
-    XPiece *pc
-    size_t n, cap, base     # pieces [base, n) are searched
-    double *g[6]            # boxes of the groups of each level (XLEV)
-    size_t last_part        # part of the chain's last element (set when the chain ends)
-    double start[2]         # programmed start of the chain's first element
-    size_t *prov            # parts whose corner cross_join joined by a G1 (FIFO)
-    size_t n_prov, head_prov, cap_prov
-    int32_t err_number      # error found while writing (reported by compensate_feed)
-    size_t err_part
-    double err_arg
-
-
-cdef inline bint _box_hit(const double *a, const double *b, double t) noexcept nogil:
+cdef inline bint box_hit(const double *a, const double *b, double t) noexcept nogil:
     return a[0] <= b[2] + t and b[0] <= a[2] + t and a[1] <= b[3] + t and b[1] <= a[3] + t
 
 
-cdef inline void _box_union(double *a, const double *b) noexcept nogil:
+cdef inline void box_union(double *a, const double *b) noexcept nogil:
     if b[0] < a[0]: a[0] = b[0]
     if b[1] < a[1]: a[1] = b[1]
     if b[2] > a[2]: a[2] = b[2]
@@ -80,35 +43,20 @@ cdef inline void _box_union(double *a, const double *b) noexcept nogil:
 
 cdef inline double _x_angle(const XPiece *q, double x, double y) noexcept nogil:
     """Angle of point (x, y) from q's start in q's direction, in [0, 2pi)."""
-    cdef double a = q.dir * _turn(q.s[0] - q.c[0], q.s[1] - q.c[1], x - q.c[0], y - q.c[1])
-    if a < 0:
-        a += 2.0 * M_PI
-    return a
+    return turn_from(q.s[0] - q.c[0], q.s[1] - q.c[1], x - q.c[0], y - q.c[1], q.dir)
 
 
 cdef inline void _x_sweep(XPiece *q) noexcept nogil:
-    """Computes an arc's sweep left for later (< 0) by _x_geometry."""
+    """Computes an arc's sweep left for later (< 0) by x_geometry."""
     if q.kind == EL_ARC and q.sweep < 0:
         q.sweep = _x_angle(q, q.e[0], q.e[1])
 
 
-cdef inline double _x_pseudo(double x, double y) noexcept nogil:
-    """A monotone stand-in for the angle of (x, y) in [0, 4): k at the k-th axis
-    direction (+x, +y, -x, -y), no trigonometry."""
-    if y >= 0:
-        if x >= 0:
-            return y / (x + y) if x + y > 0 else 0.0
-        return 1.0 - x / (y - x)
-    if x < 0:
-        return 2.0 - y / (-x - y)
-    return 3.0 + x / (x - y)
-
-
-cdef void _x_geometry(XPiece *q) noexcept nogil:
-    """Bounding box from s, e (and c, r, dir for arcs); an arc's sweep <= 0 is computed
-    (== 0) or left for _x_sweep (< 0: only for arcs of at most a half turn)."""
-    cdef double ps, d, t, sy, ey
-    cdef int i
+cdef void x_geometry(XPiece *q) noexcept nogil:
+    """Bounding box from s, e (and c, r, dir for arcs: the axis points it passes,
+    geometry.pxd arc_axis_points); an arc's sweep == 0 is computed, one < 0 (only
+    corner arcs of at most a half turn) left for _x_sweep."""
+    cdef unsigned passes
     q.box[0] = q.s[0] if q.s[0] < q.e[0] else q.e[0]
     q.box[2] = q.e[0] if q.s[0] < q.e[0] else q.s[0]
     q.box[1] = q.s[1] if q.s[1] < q.e[1] else q.e[1]
@@ -117,38 +65,19 @@ cdef void _x_geometry(XPiece *q) noexcept nogil:
         return
     if q.sweep == 0:
         q.sweep = _x_angle(q, q.e[0], q.e[1])
-    # the axis points the arc passes: pseudo-angles in the arc's direction (CW arcs
-    # mirrored in x), the span from s to e disambiguated by the sweep
-    sy = q.dir * (q.s[1] - q.c[1])
-    ey = q.dir * (q.e[1] - q.c[1])
-    ps = _x_pseudo(q.s[0] - q.c[0], sy)
-    d = _x_pseudo(q.e[0] - q.c[0], ey) - ps
-    if d < 0:
-        d += 4.0
-    if q.sweep < 0 and d < 1e-6:
-        q.sweep = _x_angle(q, q.e[0], q.e[1])     # ends (nearly) together: which way?
-    if q.sweep > 0:
-        if q.sweep > M_PI and d < 2.0:
-            d += 4.0
-        elif q.sweep <= M_PI and d > 2.0:
-            d -= 4.0
-    for i in range(4):
-        t = i - ps
-        if t < 0:
-            t += 4.0
-        # generous at both ends: a larger box only costs a closer look
-        if t <= d + 1e-9 or t >= 4.0 - 1e-9:
-            if i == 0: q.box[2] = q.c[0] + q.r
-            elif i == 2: q.box[0] = q.c[0] - q.r
-            elif (i == 1) == (q.dir > 0): q.box[3] = q.c[1] + q.r
-            else: q.box[1] = q.c[1] - q.r
+    passes = arc_axis_points(q.s[0] - q.c[0], q.s[1] - q.c[1], q.e[0] - q.c[0], q.e[1] - q.c[1],
+                             q.dir > 0, q.sweep)
+    if passes & 1: q.box[2] = q.c[0] + q.r
+    if passes & 2: q.box[3] = q.c[1] + q.r
+    if passes & 4: q.box[0] = q.c[0] - q.r
+    if passes & 8: q.box[1] = q.c[1] - q.r
 
 
-cdef bint _x_on(const XPiece *q, double x, double y, double slack, double *pos) noexcept nogil:
+cdef bint x_on(const XPiece *q, double x, double y, double slack, double *pos) noexcept nogil:
     """Whether a point of q's line / circle lies on the piece; pos = distance along it."""
     cdef double L, t, a
     if q.kind == EL_LINE:
-        L = sqrt((q.e[0] - q.s[0]) * (q.e[0] - q.s[0]) + (q.e[1] - q.s[1]) * (q.e[1] - q.s[1]))
+        L = distance2d(q.e[0] - q.s[0], q.e[1] - q.s[1])
         if L <= 0:
             return False
         t = ((x - q.s[0]) * (q.e[0] - q.s[0]) + (y - q.s[1]) * (q.e[1] - q.s[1])) / L
@@ -161,16 +90,17 @@ cdef bint _x_on(const XPiece *q, double x, double y, double slack, double *pos) 
     return pos[0] >= -slack and pos[0] <= q.sweep * q.r + slack
 
 
-cdef int _x_meet(const XPiece *p, const XPiece *q, double slack, double *pts) noexcept nogil:
+cdef int x_meet(const XPiece *p, const XPiece *q, double slack, double *pts) noexcept nogil:
     """Points where the line / circle of p meets that of q (0, 1 or 2, in pts)."""
-    cdef double dx, dy, ex, ey, den, t, L, wx, wy, b, disc, sq, dist, a, h2, h, mx, my
+    cdef double dx, dy, ex, ey, den, t, L
+    cdef double u[2]
     cdef const XPiece *ln
     cdef const XPiece *ci
     if p.kind == EL_LINE and q.kind == EL_LINE:
         dx = p.e[0] - p.s[0]; dy = p.e[1] - p.s[1]
         ex = q.e[0] - q.s[0]; ey = q.e[1] - q.s[1]
         den = dx * ey - dy * ex
-        if den * den <= 1e-24 * (dx * dx + dy * dy) * (ex * ex + ey * ey) + 1e-300:
+        if den * den <= ANGLE_EPS * ANGLE_EPS * (dx * dx + dy * dy) * (ex * ex + ey * ey) + 1e-300:
             return 0
         # both ends of one on the same side of the other: no crossing
         t = (q.s[0] - p.s[0]) * dy - (q.s[1] - p.s[1]) * dx
@@ -184,35 +114,15 @@ cdef int _x_meet(const XPiece *p, const XPiece *q, double slack, double *pts) no
     if p.kind == EL_LINE or q.kind == EL_LINE:
         ln = p if p.kind == EL_LINE else q
         ci = q if p.kind == EL_LINE else p
-        L = sqrt((ln.e[0] - ln.s[0]) * (ln.e[0] - ln.s[0]) + (ln.e[1] - ln.s[1]) * (ln.e[1] - ln.s[1]))
+        L = distance2d(ln.e[0] - ln.s[0], ln.e[1] - ln.s[1])
         if L <= 0:
             return 0
-        dx = (ln.e[0] - ln.s[0]) / L; dy = (ln.e[1] - ln.s[1]) / L
-        wx = ln.s[0] - ci.c[0]; wy = ln.s[1] - ci.c[1]
-        b = wx * dx + wy * dy
-        disc = b * b - (wx * wx + wy * wy - ci.r * ci.r)
-        if disc < 0:
-            return 0
-        sq = sqrt(disc)
-        pts[0] = ln.s[0] + (-b + sq) * dx; pts[1] = ln.s[1] + (-b + sq) * dy
-        pts[2] = ln.s[0] + (-b - sq) * dx; pts[3] = ln.s[1] + (-b - sq) * dy
-        return 2
-    dx = q.c[0] - p.c[0]; dy = q.c[1] - p.c[1]
-    dist = distance2d(dx, dy)
-    if dist < 1e-12:
-        return 0
-    a = (p.r * p.r - q.r * q.r + dist * dist) / (2.0 * dist)
-    h2 = p.r * p.r - a * a
-    if h2 < 0:
-        return 0
-    h = sqrt(h2)
-    mx = p.c[0] + a * dx / dist; my = p.c[1] + a * dy / dist
-    pts[0] = mx - h * dy / dist; pts[1] = my + h * dx / dist
-    pts[2] = mx + h * dy / dist; pts[3] = my - h * dx / dist
-    return 2
+        u[0] = (ln.e[0] - ln.s[0]) / L; u[1] = (ln.e[1] - ln.s[1]) / L
+        return 2 if line_circle(ln.s, u, ci.c, ci.r, 0.0, pts) else 0
+    return 2 if circle_circle(p.c, p.r, q.c, q.r, 0.0, pts) else 0
 
 
-cdef inline bint _x_near(const double *a, double x, double y, double slack) noexcept nogil:
+cdef inline bint x_near(const double *a, double x, double y, double slack) noexcept nogil:
     return (a[0] - x) * (a[0] - x) + (a[1] - y) * (a[1] - y) < slack * slack
 
 
@@ -228,11 +138,11 @@ cdef bint _x_prog_cross(const XPiece *p, const XPiece *q, double slack) noexcept
     a = p[0]; b = q[0]
     a.s[0] = p.gs[0]; a.s[1] = p.gs[1]; a.e[0] = p.ge[0]; a.e[1] = p.ge[1]; a.r = p.gR; a.sweep = p.gsweep
     b.s[0] = q.gs[0]; b.s[1] = q.gs[1]; b.e[0] = q.ge[0]; b.e[1] = q.ge[1]; b.r = q.gR; b.sweep = q.gsweep
-    m = _x_meet(&a, &b, slack, pts)
+    m = x_meet(&a, &b, slack, pts)
     for k in range(m):
-        if _x_on(&a, pts[2 * k], pts[2 * k + 1], slack, &pos) and _x_on(&b, pts[2 * k], pts[2 * k + 1], slack, &pos):
-            if (_x_near(a.s, pts[2 * k], pts[2 * k + 1], slack) or _x_near(a.e, pts[2 * k], pts[2 * k + 1], slack)) \
-                    and (_x_near(b.s, pts[2 * k], pts[2 * k + 1], slack) or _x_near(b.e, pts[2 * k], pts[2 * k + 1], slack)):
+        if x_on(&a, pts[2 * k], pts[2 * k + 1], slack, &pos) and x_on(&b, pts[2 * k], pts[2 * k + 1], slack, &pos):
+            if (x_near(a.s, pts[2 * k], pts[2 * k + 1], slack) or x_near(a.e, pts[2 * k], pts[2 * k + 1], slack)) \
+                    and (x_near(b.s, pts[2 * k], pts[2 * k + 1], slack) or x_near(b.e, pts[2 * k], pts[2 * k + 1], slack)):
                 continue
             return True
     return False
@@ -261,7 +171,7 @@ cdef int64_t _x_find(const XState *X, XPiece *p, double slack, bint last, double
         if lev >= XLEV:
             lev = XLEV - 1
         while lev >= 0:
-            if not _box_hit(&X.g[lev][4 * ((j >> (2 * lev + 2)) - 1)], p.box, slack):
+            if not box_hit(&X.g[lev][4 * ((j >> (2 * lev + 2)) - 1)], p.box, slack):
                 size = (<size_t>4) << (2 * lev)
                 j = j - size if j - size > X.base else X.base
                 skipped = True
@@ -271,21 +181,21 @@ cdef int64_t _x_find(const XState *X, XPiece *p, double slack, bint last, double
             continue
         j -= 1
         q = &X.pc[j]
-        if not _box_hit(q.box, p.box, slack):
+        if not box_hit(q.box, p.box, slack):
             continue
         if last and q.first:
             continue                    # start/end overlap of a chain: the entry rules
         _x_sweep(p)
         _x_sweep(<XPiece *>q)
-        m = _x_meet(p, q, slack, pts)
+        m = x_meet(p, q, slack, pts)
         for k in range(m):
-            if not _x_on(p, pts[2 * k], pts[2 * k + 1], slack, &pos) or pos >= best_pos:
+            if not x_on(p, pts[2 * k], pts[2 * k + 1], slack, &pos) or pos >= best_pos:
                 continue
-            if not _x_on(q, pts[2 * k], pts[2 * k + 1], slack, &qpos):
+            if not x_on(q, pts[2 * k], pts[2 * k + 1], slack, &qpos):
                 continue
             # touching at the ends of both (the path passing a shared point) is no loop
-            if (_x_near(p.s, pts[2 * k], pts[2 * k + 1], slack) or _x_near(p.e, pts[2 * k], pts[2 * k + 1], slack)) \
-                    and (_x_near(q.s, pts[2 * k], pts[2 * k + 1], slack) or _x_near(q.e, pts[2 * k], pts[2 * k + 1], slack)):
+            if (x_near(p.s, pts[2 * k], pts[2 * k + 1], slack) or x_near(p.e, pts[2 * k], pts[2 * k + 1], slack)) \
+                    and (x_near(q.s, pts[2 * k], pts[2 * k + 1], slack) or x_near(q.e, pts[2 * k], pts[2 * k + 1], slack)):
                 continue
             if _x_prog_cross(p, q, slack):
                 continue
@@ -302,7 +212,7 @@ cdef inline void _x_fold(XState *X, int lev, size_t c) noexcept nogil:
     if (c & 3) == 0:
         g[0] = b[0]; g[1] = b[1]; g[2] = b[2]; g[3] = b[3]
     else:
-        _box_union(g, b)
+        box_union(g, b)
 
 
 cdef void _x_regroup(XState *X, size_t upto) noexcept nogil:
@@ -314,7 +224,7 @@ cdef void _x_regroup(XState *X, size_t upto) noexcept nogil:
     b = &X.g[0][4 * (upto >> 2)]
     memcpy(b, X.pc[g].box, 4 * sizeof(double))
     for k in range(g + 1, upto + 1):
-        _box_union(b, X.pc[k].box)
+        box_union(b, X.pc[k].box)
     for lev in range(1, XLEV):
         # the complete subgroups (level lev - 1) of the group holding upto
         size = (<size_t>4) << (2 * lev)
@@ -326,7 +236,6 @@ cdef void _x_regroup(XState *X, size_t upto) noexcept nogil:
 
 cdef bint _x_add(XState *X, const XPiece *q, size_t depth) noexcept nogil:
     cdef size_t cap, shift, j, size
-    cdef XPiece *pc
     cdef double *g
     cdef int lev
     # the search window: parts at most `depth` back
@@ -346,17 +255,13 @@ cdef bint _x_add(XState *X, const XPiece *q, size_t depth) noexcept nogil:
         X.n -= shift
         X.base -= shift
     if X.n == X.cap:
-        cap = X.cap * 2 if X.cap else 1024
-        pc = <XPiece *>realloc(X.pc, cap * sizeof(XPiece))
-        if pc == NULL:
+        cap = X.cap
+        if not grow(<void **>&X.pc, &cap, X.n + 1, sizeof(XPiece)):
             return False
-        X.pc = pc
-        for lev in range(XLEV):
+        for lev in range(XLEV):     # the group boxes of each level, for that capacity
             size = (<size_t>4) << (2 * lev)
-            g = <double *>realloc(X.g[lev], 4 * (cap / size + 1) * sizeof(double))
-            if g == NULL:
+            if not resize(<void **>&X.g[lev], cap / size + 1, 4 * sizeof(double)):
                 return False
-            X.g[lev] = g
         X.cap = cap
     j = X.n
     X.pc[j] = q[0]
@@ -368,7 +273,7 @@ cdef bint _x_add(XState *X, const XPiece *q, size_t depth) noexcept nogil:
     if (j & 3) == 0:
         g[0] = q.box[0]; g[1] = q.box[1]; g[2] = q.box[2]; g[3] = q.box[3]
     else:
-        _box_union(g, q.box)
+        box_union(g, q.box)
     j += 1
     lev = 0
     while lev + 1 < XLEV and (j & (((<size_t>4) << (2 * lev)) - 1)) == 0:
@@ -394,7 +299,7 @@ cdef bint _x_cut(CompState *S, size_t qi, const double *at, size_t b_part, bint 
     cdef size_t k, stop
     cdef double slack = S.cfg.slack
     if q.ins:
-        if _x_near(q.s, at[0], at[1], slack):
+        if x_near(q.s, at[0], at[1], slack):
             S.n_ins = q.rec             # nothing left of the inserted piece
         else:
             S.ins[q.rec].end[0] = at[0]; S.ins[q.rec].end[1] = at[1]
@@ -402,19 +307,19 @@ cdef bint _x_cut(CompState *S, size_t qi, const double *at, size_t b_part, bint 
     else:
         p = &S.prog.parts[q.part]
         p.ce[S.first] = at[0]; p.ce[S.second] = at[1]
-        if q.kind == EL_ARC and _x_near(q.s, at[0], at[1], slack):
+        if q.kind == EL_ARC and x_near(q.s, at[0], at[1], slack):
             p.radius = 0.0              # an arc of no length would read as a full circle
         while S.n_ins > 0 and S.ins[S.n_ins - 1].after >= q.part:
             S.n_ins -= 1
     stop = b_part + 1 if b_removed else b_part
     for k in range(q.part + 1, stop):
         if S.role[k] == ROLE_SET:
-            _discard(S, k)
+            comp_discard(S, k)
     if b_removed:
-        _discard(S, b_part)
+        comp_discard(S, b_part)
     q.e[0] = at[0]; q.e[1] = at[1]
     q.sweep = 0.0
-    _x_geometry(q)
+    x_geometry(q)
     X.n = qi + 1
     _x_regroup(X, qi)
     return True
@@ -429,11 +334,13 @@ cdef int _x_crossing(CompState *S, XPiece *pp, size_t b_part, bint closing, doub
     if qi[0] < 0:
         return X_WRITE
     if not (S.cfg.strategy & CORR_REMOVE_CROSSING) or \
-            (X.pc[qi[0]].first and _x_near(X.pc[qi[0]].s, at[0], at[1], S.cfg.slack)
+            (X.pc[qi[0]].first and x_near(X.pc[qi[0]].s, at[0], at[1], S.cfg.slack)
              and not (S.cfg.strategy & CORR_ALLOW_FIRST_LAST_CROSS)):
+        if S.lenient:
+            return X_WRITE              # the loop stays: the gouge check measures it
         X.err_number = ERR_COMP_CROSSING
         X.err_part = b_part
-        X.err_arg = fabs(_comp_distance(S, &S.prog.parts[b_part]))
+        X.err_arg = fabs(comp_distance(S, &S.prog.parts[b_part]))
         return X_FAIL
     return X_DONE
 
@@ -448,13 +355,15 @@ cdef int cross_write(CompState *S, CompEl *el) noexcept nogil:
     cdef int res
     cdef InsRec *rec
     cdef bint closing
+    if S.lenient and not (S.cfg.strategy & CORR_REMOVE_CROSSING):
+        return X_WRITE                  # nothing is cut: the gouge check measures the path
     if el.first:
         X.n = 0
         X.base = 0
         X.start[0] = el.s[0]; X.start[1] = el.s[1]
     # the last part of a closed contour crosses the first one where they meet (an inner
     # corner): the start and end rules of the chain, no loop
-    closing = el.part == X.last_part and distance2d(el.e[0] - X.start[0], el.e[1] - X.start[1]) < 1e-9
+    closing = el.part == X.last_part and distance2d(el.e[0] - X.start[0], el.e[1] - X.start[1]) < LENGTH_EPS
     # the element's own piece
     pb.part = el.part
     pb.after = 0
@@ -477,21 +386,21 @@ cdef int cross_write(CompState *S, CompEl *el) noexcept nogil:
         pb.sweep = el_path_sweep(el)
         if pb.sweep > 2.0 * M_PI:
             pb.sweep = 2.0 * M_PI
-        if pb.sweep < 1e-9 or pb.r <= 0:
+        if pb.sweep < TURN_EPS or pb.r <= 0:
             pb.kind = EL_LINE
             pb.gprog = False
-    _x_geometry(&pb)
+    x_geometry(&pb)
     while True:
         res = _x_crossing(S, &pb, el.part, closing, at, &qi)
         if res != X_DONE:
             break
-        _comp_warn(S, el.part, "loop removed from the path (offsets of distant parts cross)")
+        comp_warn(S, el.part, "loop removed from the path (offsets of distant parts cross)")
         _x_cut(S, <size_t>qi, at, el.part, False)
         el.ps[0] = at[0]; el.ps[1] = at[1]
         pb.s[0] = at[0]; pb.s[1] = at[1]
         if pb.kind == EL_ARC:
             pb.sweep = 0.0
-        _x_geometry(&pb)
+        x_geometry(&pb)
     if res == X_FAIL:
         return X_FAIL
     if not _x_add(X, &pb, S.cfg.depth):
@@ -517,10 +426,10 @@ cdef int cross_write(CompState *S, CompEl *el) noexcept nogil:
         X.head_prov += 1
     if X.head_prov < X.n_prov and X.prov[X.head_prov] == el.part:
         X.head_prov += 1
-        pi.prov = el.ins == INS_G1
-    if distance2d(pi.e[0] - pi.s[0], pi.e[1] - pi.s[1]) < 1e-12:
+        pi.prov = el.ins == INS_G1 and not S.lenient    # lenient: a join left is measured, not refused
+    if distance2d(pi.e[0] - pi.s[0], pi.e[1] - pi.s[1]) < ROUNDING_EPS:
         return X_WRITE
-    _x_geometry(&pi)
+    x_geometry(&pi)
     res = _x_crossing(S, &pi, el.part, False, at, &qi)
     if res == X_FAIL:
         return X_FAIL
@@ -528,11 +437,11 @@ cdef int cross_write(CompState *S, CompEl *el) noexcept nogil:
         return X_WRITE if _x_add(X, &pi, S.cfg.depth) else X_FAIL
     # the corner piece crosses: el's own piece is part of the loop; the rest of the
     # corner becomes an insertion after the earlier part
-    _comp_warn(S, el.part, "loop removed from the path (offsets of distant parts cross)")
+    comp_warn(S, el.part, "loop removed from the path (offsets of distant parts cross)")
     X.n -= 1                            # el's own piece
     _x_cut(S, <size_t>qi, at, el.part, True)
     if distance2d(at[0] - pi.e[0], at[1] - pi.e[1]) >= S.cfg.slack:
-        if not _ins_add(S, el):
+        if not ins_add(S, el):
             return X_FAIL
         rec = &S.ins[S.n_ins - 1]
         rec.after = X.pc[qi].part if not X.pc[qi].ins else X.pc[qi].after
@@ -540,7 +449,7 @@ cdef int cross_write(CompState *S, CompEl *el) noexcept nogil:
         pi.after = rec.after
         pi.s[0] = at[0]; pi.s[1] = at[1]
         pi.sweep = 0.0
-        _x_geometry(&pi)
+        x_geometry(&pi)
         if not _x_add(X, &pi, S.cfg.depth):
             return X_FAIL
     return X_DONE
@@ -553,20 +462,13 @@ cdef bint cross_join(CompState *S, const CompEl *a, const CompEl *b) noexcept no
     search must remove it, else error 500 on a's line (at the chain's end or once it
     is farther back than the search depth)."""
     cdef XState *X = &S.xs
-    cdef size_t *prov
-    cdef size_t cap
-    if not (S.cfg.strategy & CORR_REMOVE_CROSSING) or distance2d(a.e[0] - b.s[0], a.e[1] - b.s[1]) <= 1e-9:
+    if not (S.cfg.strategy & CORR_REMOVE_CROSSING) or distance2d(a.e[0] - b.s[0], a.e[1] - b.s[1]) <= LENGTH_EPS:
         return False
     if X.head_prov == X.n_prov:
         X.head_prov = 0
         X.n_prov = 0
-    if X.n_prov == X.cap_prov:
-        cap = X.cap_prov * 2 if X.cap_prov else 16
-        prov = <size_t *>realloc(X.prov, cap * sizeof(size_t))
-        if prov == NULL:
-            return False
-        X.prov = prov
-        X.cap_prov = cap
+    if not grow(<void **>&X.prov, &X.cap_prov, X.n_prov + 1, sizeof(size_t)):
+        return False
     X.prov[X.n_prov] = a.part
     X.n_prov += 1
     return True

@@ -13,18 +13,9 @@
 # Runs after the compensation on the path the tool follows (Part.ce; Part.e too when
 # the part is not compensated). One pass, O(n); no pass at all when neither the host
 # (insertArcMode 1) nor any G167 of the program switches insertion on.
-from libc.stdlib cimport realloc, free, malloc
+from libc.stdlib cimport free, malloc
 from libc.string cimport memcpy, memset
 from libc.math cimport fabs, atan2, cos, tan, M_PI
-
-
-ctypedef struct ArcIns:
-    size_t after            # inserted right after this part (the shortened first line)
-    double end[2]           # tangent point on the second line (plane coordinates)
-    double cc[2]            # centre
-    double radius
-    int32_t func            # 2 CW, 3 CCW
-    int16_t plane
 
 
 cdef bint program_add_arc_region(ProgramBuilder *build, size_t first, bint on, int32_t plane,
@@ -34,7 +25,7 @@ cdef bint program_add_arc_region(ProgramBuilder *build, size_t first, bint on, i
     cdef ArcRegion *r
     if prog.n_arc_regions > 0 and prog.arc_regions[prog.n_arc_regions - 1].first == first:
         prog.n_arc_regions -= 1          # several G167 before the same part: the last one counts
-    if not _grow(<void **>&prog.arc_regions, &build.cap_arc_regions, prog.n_arc_regions + 1, sizeof(ArcRegion)):
+    if not grow(<void **>&prog.arc_regions, &build.cap_arc_regions, prog.n_arc_regions + 1, sizeof(ArcRegion)):
         return False
     r = &prog.arc_regions[prog.n_arc_regions]
     prog.n_arc_regions += 1
@@ -60,11 +51,11 @@ cdef bint _ia_in_plane_line(const Program *prog, size_t k, int a, int b) noexcep
     cdef int i
     if p.kind != PART_MOTION or p.func != 1:
         return False
-    segment_of_part(prog, k, &g)        # planner/segment.pyx
+    segment_of_part(prog, k, &g)
     for i in range(g.n_axes):
-        if i != a and i != b and fabs(g.end[i] - g.start[i]) > 1e-9:
+        if i != a and i != b and fabs(g.end[i] - g.start[i]) > LENGTH_EPS:
             return False
-    return distance2d(g.end[a] - g.start[a], g.end[b] - g.start[b]) > 1e-9
+    return distance2d(g.end[a] - g.start[a], g.end[b] - g.start[b]) > LENGTH_EPS
 
 
 cdef int insert_arcs(ProgramBuilder *build, const GCODE_PARAMETERS *params, ErrorInfo *err) noexcept nogil:
@@ -78,7 +69,6 @@ cdef int insert_arcs(ProgramBuilder *build, const GCODE_PARAMETERS *params, Erro
     cdef Part *p
     cdef Part *q
     cdef ArcIns *ins = NULL
-    cdef ArcIns *grown
     cdef ArcIns *x
     cdef double s0[2]
     cdef double s1[2]
@@ -136,8 +126,8 @@ cdef int insert_arcs(ProgramBuilder *build, const GCODE_PARAMETERS *params, Erro
             cross = u0[0] * u1[1] - u0[1] * u1[0]
             dot = u0[0] * u1[0] + u0[1] * u1[1]
             t = atan2(fabs(cross), dot)                 # deflection, 0..pi
-            if t > 1e-9 and t * 180.0 / M_PI > min_angle and t * 180.0 / M_PI <= max_angle + 1e-9 \
-                    and t < M_PI - 1e-9:
+            if t > TURN_EPS and t * 180.0 / M_PI > min_angle and t * 180.0 / M_PI <= max_angle + TURN_EPS \
+                    and t < M_PI - TURN_EPS:
                 ct = cos(t / 2.0)
                 tt = tan(t / 2.0)
                 d = tol_max
@@ -148,15 +138,11 @@ cdef int insert_arcs(ProgramBuilder *build, const GCODE_PARAMETERS *params, Erro
                     tang = half
                     rad = tang / tt
                     d = rad * (1.0 - ct) / ct
-                if d >= tol_min - 1e-12 and rad > 1e-9:
-                    if n_ins == cap_ins:
-                        cap_ins = cap_ins * 2 if cap_ins else 64
-                        grown = <ArcIns *>realloc(ins, cap_ins * sizeof(ArcIns))
-                        if grown == NULL:
-                            free(ins)
-                            set_error(err, ERR_OUT_OF_MEMORY, prog.main_file_idx, 0, NULL, 0)
-                            return COMPILE_ERROR
-                        ins = grown
+                if d >= tol_min - ROUNDING_EPS and rad > LENGTH_EPS:
+                    if not grow(<void **>&ins, &cap_ins, n_ins + 1, sizeof(ArcIns)):
+                        free(ins)
+                        set_error(err, ERR_OUT_OF_MEMORY, prog.main_file_idx, 0, NULL, 0)
+                        return COMPILE_ERROR
                     x = &ins[n_ins]
                     n_ins += 1
                     x.after = k - 1

@@ -20,28 +20,14 @@
 # the outer border (not a pocket the contour nearly closes, nor the far side).
 #
 # The path enters the loop at the first element (program order) whose tool side offset
-# has a piece in it; the elements keep their pieces in program order (else the rebuild
-# does not apply), vertex arcs and far side lines become inserted parts, elements
-# without a piece are removed (warning 600 on their lines).
-from libc.stdlib cimport malloc, realloc, free, qsort
-from libc.math cimport fabs, fmax, sin, sqrt, atan2, M_PI
+# has a piece in it; the elements keep their pieces in program order, vertex arcs, far
+# side lines and the tool side lines the loop reaches out of program order (a contour
+# that crosses itself) become inserted parts (an arc out of order: the rebuild does not
+# apply), elements without a piece on their own part are removed (warning 600 on their
+# lines).
+from libc.stdlib cimport malloc, free, qsort
+from libc.math cimport fabs, fmax, sin, sqrt, M_PI
 from libc.float cimport DBL_EPSILON
-
-ctypedef struct RSplit:
-    size_t piece
-    double pos              # distance along the piece from its start
-    double x, y
-    size_t node
-
-ctypedef struct RSub:
-    size_t piece
-    double t0, t1
-    double p0[2]
-    double p1[2]
-    size_t n0, n1           # nodes at its ends
-    int64_t next            # the sub-piece the kept loop goes on with, -1 none
-    uint8_t valid
-    uint32_t seen           # the walk that reached it (_r_best_loop), 0 none
 
 
 cdef int _r_split_cmp(const void *a, const void *b) noexcept nogil:
@@ -71,32 +57,7 @@ cdef void _r_point(const XPiece *q, double t, double *out) noexcept nogil:
         out[0] = q.s[0] + (q.e[0] - q.s[0]) * t / L
         out[1] = q.s[1] + (q.e[1] - q.s[1]) * t / L
         return
-    arc_point_at(q.c, q.r, q.s[0], q.s[1], q.dir * t / q.r, out)     # planner/segment.pyx
-
-
-ctypedef struct Regions:
-    CompEl *els             # the chain's elements, in order
-    size_t n_els, cap_els
-    XPiece *pc              # the pieces of the band's border
-    size_t *pel             # element of each piece (a vertex circle: the element before it)
-    uint8_t *pconn          # PIECE_*
-    size_t *pn0             # nodes at the start and end of each piece
-    size_t *pn1
-    size_t n_pc, cap_pc
-    size_t *alias           # nodes of touching ends: the node that stands for them
-    size_t cap_alias
-    size_t *out_start       # sub-pieces leaving each node: out_list[out_start[v] .. out_start[v + 1])
-    size_t *out_list
-    size_t cap_out_start, cap_out_list
-    RSplit *sp
-    size_t n_sp, cap_sp
-    RSub *sub
-    size_t n_sub, cap_sub
-    size_t *loop            # sub-pieces of the loop kept, in order
-    size_t cap_loop
-    double *g1              # boxes of groups of CL_G1 pieces
-    size_t cap_g1
-    double end_slack        # a meet this close to a node two pieces share is their touch (_r_end_slack)
+    arc_point_at(q.c, q.r, q.s[0], q.s[1], q.dir * t / q.r, out)
 
 
 cdef void regions_free(Regions *R) noexcept nogil:
@@ -106,22 +67,16 @@ cdef void regions_free(Regions *R) noexcept nogil:
 
 
 cdef bint _r_piece_room(Regions *R, size_t need) noexcept nogil:
-    # the three arrays grow alike from the same capacity
+    # the five arrays grow alike from the same capacity
     cdef size_t c1 = R.cap_pc, c2 = R.cap_pc, c3 = R.cap_pc, c4 = R.cap_pc, c5 = R.cap_pc
-    if not _grow(<void **>&R.pc, &c1, need, sizeof(XPiece)) or \
-            not _grow(<void **>&R.pel, &c2, need, sizeof(size_t)) or \
-            not _grow(<void **>&R.pconn, &c3, need, sizeof(uint8_t)) or \
-            not _grow(<void **>&R.pn0, &c4, need, sizeof(size_t)) or \
-            not _grow(<void **>&R.pn1, &c5, need, sizeof(size_t)):
+    if not grow(<void **>&R.pc, &c1, need, sizeof(XPiece)) or \
+            not grow(<void **>&R.pel, &c2, need, sizeof(size_t)) or \
+            not grow(<void **>&R.pconn, &c3, need, sizeof(uint8_t)) or \
+            not grow(<void **>&R.pn0, &c4, need, sizeof(size_t)) or \
+            not grow(<void **>&R.pn1, &c5, need, sizeof(size_t)):
         return False
     R.cap_pc = c1
     return True
-
-
-cdef enum:
-    PIECE_TOOL = 0          # an element's offset on the tool side
-    PIECE_FAR = 1           # ... on the other side, against the contour's direction
-    PIECE_VERTEX = 2        # an arc of a vertex circle
 
 
 cdef size_t _r_node(const Regions *R, size_t v) noexcept nogil:
@@ -149,22 +104,13 @@ cdef bint _r_offset_piece(Regions *R, size_t j, double d, int ptype) noexcept no
     """The offset of element j by d (PIECE_FAR: run backwards); nodes 4j + 0/1 (tool
     side start / end), 4j + 2/3 (far side)."""
     cdef const CompEl *a = &R.els[j]
-    cdef double ro, s[2], e[2], f
+    cdef double ro, s[2], e[2]
     cdef size_t n0 = 4 * j + (0 if ptype == PIECE_TOOL else 2)
     cdef XPiece *q
-    if a.kind == EL_LINE:
-        s[0] = a.s[0] - d * a.u[1]; s[1] = a.s[1] + d * a.u[0]
-        e[0] = a.e[0] - d * a.u[1]; e[1] = a.e[1] + d * a.u[0]
-        ro = 1.0
-    else:
-        ro = a.R - d * a.dir
-        if fabs(ro) <= 1e-12:
-            R.alias[n0 + 1] = n0        # a point: both ends are one node
-            return True
-        f = ro / a.R
-        s[0] = a.c[0] + (a.s[0] - a.c[0]) * f; s[1] = a.c[1] + (a.s[1] - a.c[1]) * f
-        f = ro / distance2d(a.e[0] - a.c[0], a.e[1] - a.c[1])
-        e[0] = a.c[0] + (a.e[0] - a.c[0]) * f; e[1] = a.c[1] + (a.e[1] - a.c[1]) * f
+    ro = el_offset_ends(a, d, s, e)
+    if a.kind == EL_ARC and fabs(ro) <= ROUNDING_EPS:
+        R.alias[n0 + 1] = n0            # a point: both ends are one node
+        return True
     if ptype == PIECE_TOOL:
         q = _r_new_piece(R, j, ptype, n0, n0 + 1)
     else:
@@ -181,7 +127,7 @@ cdef bint _r_offset_piece(Regions *R, size_t j, double d, int ptype) noexcept no
         q.r = fabs(ro)
         q.dir = a.dir if ptype == PIECE_TOOL else -a.dir
         q.sweep = a.sweep
-    _x_geometry(q)
+    x_geometry(q)
     return True
 
 
@@ -196,7 +142,6 @@ cdef bint _r_vertex(Regions *R, size_t j, double d) noexcept nogil:
     cdef double tmp_a, t_[2]
     cdef size_t tmp_n, i, k, m = 0
     cdef int direction = -1 if d > 0 else 1
-    cdef double base
     cdef XPiece *q
     cdef double c[2]
     cdef const CompEl *b = &R.els[jn]
@@ -216,7 +161,7 @@ cdef bint _r_vertex(Regions *R, size_t j, double d) noexcept nogil:
         else:
             t_[0] = c[0] + d * tb[1]; t_[1] = c[1] - d * tb[0]; tmp_n = 4 * jn + 2
         for k in range(m):
-            if distance2d(pts[2 * k] - t_[0], pts[2 * k + 1] - t_[1]) <= 1e-9:
+            if distance2d(pts[2 * k] - t_[0], pts[2 * k + 1] - t_[1]) <= LENGTH_EPS:
                 R.alias[_r_node(R, tmp_n)] = _r_node(R, nodes[k])     # touching ends: one node
                 break
         else:
@@ -224,13 +169,8 @@ cdef bint _r_vertex(Regions *R, size_t j, double d) noexcept nogil:
             nodes[m] = tmp_n
             m += 1
     # in the circle's direction from the first point
-    base = atan2(pts[1] - c[1], pts[0] - c[0])
     for i in range(m):
-        ang[i] = direction * (atan2(pts[2 * i + 1] - c[1], pts[2 * i] - c[0]) - base)
-        while ang[i] < 0:
-            ang[i] += 2.0 * M_PI
-        while ang[i] >= 2.0 * M_PI:
-            ang[i] -= 2.0 * M_PI
+        ang[i] = turn_from(pts[0] - c[0], pts[1] - c[1], pts[2 * i] - c[0], pts[2 * i + 1] - c[1], direction)
     for i in range(1, m):
         k = i
         while k > 0 and ang[k] < ang[k - 1]:
@@ -252,14 +192,14 @@ cdef bint _r_vertex(Regions *R, size_t j, double d) noexcept nogil:
         q.r = fabs(d)
         q.dir = direction
         q.sweep = ang[k] - ang[i] if k > i else 2.0 * M_PI - ang[i]
-        _x_geometry(q)
+        x_geometry(q)
     return True
 
 
 cdef bint _r_raw_curve(Regions *R, double d) noexcept nogil:
     """The border pieces of the band within |d| of the closed chain R.els."""
     cdef size_t j, cap = R.cap_alias
-    if not _grow(<void **>&R.alias, &cap, 4 * R.n_els, sizeof(size_t)):
+    if not grow(<void **>&R.alias, &cap, 4 * R.n_els, sizeof(size_t)):
         return False
     R.cap_alias = cap
     for j in range(4 * R.n_els):
@@ -279,7 +219,7 @@ cdef bint _r_raw_curve(Regions *R, double d) noexcept nogil:
 
 cdef bint _r_add_split(Regions *R, size_t piece, double pos, double x, double y, size_t node) noexcept nogil:
     cdef RSplit *s
-    if not _grow(<void **>&R.sp, &R.cap_sp, R.n_sp + 1, sizeof(RSplit)):
+    if not grow(<void **>&R.sp, &R.cap_sp, R.n_sp + 1, sizeof(RSplit)):
         return False
     s = &R.sp[R.n_sp]
     R.n_sp += 1
@@ -313,12 +253,12 @@ cdef bint _r_touch(const Regions *R, size_t i, size_t k, double x, double y) noe
     near the ends of pieces that share no node is a crossing."""
     cdef const XPiece *a = &R.pc[i]
     cdef const XPiece *b = &R.pc[k]
-    if (_x_near(a.s, x, y, 1e-7) or _x_near(a.e, x, y, 1e-7)) and \
-            (_x_near(b.s, x, y, 1e-7) or _x_near(b.e, x, y, 1e-7)):
+    if (x_near(a.s, x, y, 1e-7) or x_near(a.e, x, y, 1e-7)) and \
+            (x_near(b.s, x, y, 1e-7) or x_near(b.e, x, y, 1e-7)):
         return True
-    if (R.pn0[i] == R.pn0[k] or R.pn0[i] == R.pn1[k]) and _x_near(a.s, x, y, R.end_slack):
+    if (R.pn0[i] == R.pn0[k] or R.pn0[i] == R.pn1[k]) and x_near(a.s, x, y, R.end_slack):
         return True
-    return (R.pn1[i] == R.pn0[k] or R.pn1[i] == R.pn1[k]) and _x_near(a.e, x, y, R.end_slack)
+    return (R.pn1[i] == R.pn0[k] or R.pn1[i] == R.pn1[k]) and x_near(a.e, x, y, R.end_slack)
 
 
 cdef bint _r_crossings(Regions *R, size_t *n_nodes) noexcept nogil:
@@ -328,36 +268,36 @@ cdef bint _r_crossings(Regions *R, size_t *n_nodes) noexcept nogil:
     cdef size_t i, k, gi, ng, n = R.n_pc
     cdef double pts[4]
     cdef double pi_, pk, Li, Lk
-    cdef double eps = 1e-9
+    cdef double eps = LENGTH_EPS
     cdef int m, h
     cdef XPiece *a
     cdef XPiece *b
     cdef size_t node = 4 * R.n_els
     cdef size_t cap = R.cap_g1
     ng = n / CL_G1 + 1
-    if not _grow(<void **>&R.g1, &cap, 4 * ng, sizeof(double)):
+    if not grow(<void **>&R.g1, &cap, 4 * ng, sizeof(double)):
         return False
     R.cap_g1 = cap
     for gi in range(ng):
-        _cl_box_empty(&R.g1[4 * gi])
+        cl_box_empty(&R.g1[4 * gi])
     for i in range(n):
-        _box_union(&R.g1[4 * (i / CL_G1)], R.pc[i].box)
+        box_union(&R.g1[4 * (i / CL_G1)], R.pc[i].box)
     R.n_sp = 0
     for i in range(n):
         a = &R.pc[i]
         Li = _r_len(a)
         for gi in range(i / CL_G1, ng):
-            if not _box_hit(&R.g1[4 * gi], a.box, eps):
+            if not box_hit(&R.g1[4 * gi], a.box, eps):
                 continue
             for k in range(gi * CL_G1 if gi * CL_G1 > i + 1 else i + 1, min((gi + 1) * CL_G1, n)):
                 b = &R.pc[k]
-                if not _box_hit(a.box, b.box, eps):
+                if not box_hit(a.box, b.box, eps):
                     continue
                 Lk = _r_len(b)
-                m = _x_meet(a, b, eps, pts)
+                m = x_meet(a, b, eps, pts)
                 for h in range(m):
-                    if not _x_on(a, pts[2 * h], pts[2 * h + 1], eps, &pi_) or \
-                            not _x_on(b, pts[2 * h], pts[2 * h + 1], eps, &pk):
+                    if not x_on(a, pts[2 * h], pts[2 * h + 1], eps, &pi_) or \
+                            not x_on(b, pts[2 * h], pts[2 * h + 1], eps, &pk):
                         continue
                     if _r_touch(R, i, k, pts[2 * h], pts[2 * h + 1]):
                         continue
@@ -384,7 +324,7 @@ cdef bint _r_subs(Regions *R) noexcept nogil:
         p0[0] = R.pc[i].s[0]; p0[1] = R.pc[i].s[1]
         n0 = R.pn0[i]
         while True:
-            if not _grow(<void **>&R.sub, &R.cap_sub, R.n_sub + 1, sizeof(RSub)):
+            if not grow(<void **>&R.sub, &R.cap_sub, R.n_sub + 1, sizeof(RSub)):
                 return False
             u = &R.sub[R.n_sub]
             R.n_sub += 1
@@ -424,7 +364,7 @@ cdef void _r_classify(Regions *R, const Clearance *C, double r, double slack) no
         _r_point(&R.pc[u.piece], 0.5 * (u.t0 + u.t1), m)
         pt.s[0] = m[0]; pt.s[1] = m[1]; pt.e[0] = m[0]; pt.e[1] = m[1]
         pt.part = R.pc[u.piece].part
-        _x_geometry(&pt)
+        x_geometry(&pt)
         u.valid = cl_gap(C, &pt, NULL, <size_t>-1, <size_t>-1, r, <size_t>-1, r - 0.5 * slack) >= r - 0.5 * slack
 
 
@@ -433,8 +373,8 @@ cdef bint _r_link(Regions *R, size_t n_nodes) noexcept nogil:
     another piece when there is one (at a crossing the border turns)."""
     cdef size_t k, v, i, c1 = R.cap_out_start, c2 = R.cap_out_list
     cdef RSub *u
-    if not _grow(<void **>&R.out_start, &c1, n_nodes + 1, sizeof(size_t)) or \
-            not _grow(<void **>&R.out_list, &c2, R.n_sub + 1, sizeof(size_t)):
+    if not grow(<void **>&R.out_start, &c1, n_nodes + 1, sizeof(size_t)) or \
+            not grow(<void **>&R.out_list, &c2, R.n_sub + 1, sizeof(size_t)):
         return False
     R.cap_out_start = c1
     R.cap_out_list = c2
@@ -511,7 +451,7 @@ cdef int64_t _r_best_loop(Regions *R, double orient, size_t *n_loop) noexcept no
             best_n = n
     if best < 0:
         return -1
-    if not _grow(<void **>&R.loop, &R.cap_loop, best_n, sizeof(size_t)):
+    if not grow(<void **>&R.loop, &R.cap_loop, best_n, sizeof(size_t)):
         return -2
     cur = best
     for j in range(best_n):
@@ -533,14 +473,14 @@ cdef bint _r_chain_elements(CompState *S, Regions *R, double *d) noexcept nogil:
             continue
         if R.n_els > 0 and el.d != R.els[0].d:
             return False
-        if not _grow(<void **>&R.els, &R.cap_els, R.n_els + 1, sizeof(CompEl)):
+        if not grow(<void **>&R.els, &R.cap_els, R.n_els + 1, sizeof(CompEl)):
             return False
         R.els[R.n_els] = el
         R.n_els += 1
     if R.n_els == 0:
         return False
     d[0] = R.els[0].d
-    return distance2d(R.els[0].s[0] - R.els[R.n_els - 1].e[0], R.els[0].s[1] - R.els[R.n_els - 1].e[1]) <= 1e-6
+    return distance2d(R.els[0].s[0] - R.els[R.n_els - 1].e[0], R.els[0].s[1] - R.els[R.n_els - 1].e[1]) <= CLOSED_EPS
 
 
 cdef double _r_contour_area(const Regions *R) noexcept nogil:
@@ -556,10 +496,6 @@ cdef double _r_contour_area(const Regions *R) noexcept nogil:
     return a
 
 
-cdef enum:
-    REGIONS_NOT_APPLICABLE = 1  # not closed, several radii, no region, a loop not in program order
-
-
 cdef int regions_rebuild(CompState *S) noexcept nogil:
     """Rebuilds the chain S.chain_first .. S.chain_last (its insertions from
     S.chain_ins0 on are dropped): COMPILE_OK, COMPILE_ERROR with S.err filled (out of
@@ -573,7 +509,7 @@ cdef int regions_rebuild(CompState *S) noexcept nogil:
     cdef RSub *u
     cdef XPiece *q
     cdef Part *p
-    cdef bint *kept
+    cdef uint8_t *kept          # per element: KEPT_ON_PART, KEPT_INSERTED or 0 (no piece)
     cdef size_t key, prev_key, prev_piece, first_el
     if not _r_chain_elements(S, R, &d):
         return REGIONS_NOT_APPLICABLE
@@ -581,15 +517,15 @@ cdef int regions_rebuild(CompState *S) noexcept nogil:
     R.end_slack = _r_end_slack(R, r)
     orient = 1.0 if _r_contour_area(R) > 0 else -1.0
     # the contour of the whole chain for the distances
-    if not _cl_load(S, C, S.chain_first, S.chain_last) or not _r_raw_curve(R, d) \
+    if not cl_load(S, C, S.chain_first, S.chain_last) or not _r_raw_curve(R, d) \
             or not _r_crossings(R, &n_nodes) or not _r_subs(R):
-        return _comp_fail(S, ERR_OUT_OF_MEMORY, S.chain_first, 0, 0)
+        return comp_fail(S, ERR_OUT_OF_MEMORY, S.chain_first, 0, 0)
     _r_classify(R, C, r, S.cfg.slack)
     if not _r_link(R, n_nodes):
-        return _comp_fail(S, ERR_OUT_OF_MEMORY, S.chain_first, 0, 0)
+        return comp_fail(S, ERR_OUT_OF_MEMORY, S.chain_first, 0, 0)
     best = _r_best_loop(R, orient, &n_loop)
     if best == -2:
-        return _comp_fail(S, ERR_OUT_OF_MEMORY, S.chain_first, 0, 0)
+        return comp_fail(S, ERR_OUT_OF_MEMORY, S.chain_first, 0, 0)
     if best < 0:
         return REGIONS_NOT_APPLICABLE   # the tool fits nowhere
     # enter at the first element (program order) whose tool side offset is in the loop
@@ -603,13 +539,17 @@ cdef int regions_rebuild(CompState *S) noexcept nogil:
             start = k
     if start == n_loop:
         return REGIONS_NOT_APPLICABLE   # no element to hang the arcs on
-    # the elements in program order, each once; far side pieces only of lines
+    # the tool side pieces go to their elements' parts in program order; one that comes
+    # out of order (a contour that crosses itself: the border passes its elements twice
+    # or backwards) is inserted after the last part written, as far side pieces are:
+    # both only of lines (an inserted arc has the tool radius)
     first_el = R.pel[R.sub[R.loop[start]].piece]
     prev_key = 0
     prev_piece = R.n_pc
     for j in range(n_loop):
         u = &R.sub[R.loop[(start + j) % n_loop]]
         el_i = R.pel[u.piece]
+        u.on_part = False
         if R.pconn[u.piece] == PIECE_FAR and R.els[el_i].kind != EL_LINE:
             return REGIONS_NOT_APPLICABLE
         if R.pconn[u.piece] == PIECE_TOOL:
@@ -617,16 +557,19 @@ cdef int regions_rebuild(CompState *S) noexcept nogil:
                 return REGIONS_NOT_APPLICABLE
             key = el_i if el_i >= first_el else el_i + R.n_els
             if u.piece == prev_piece:
-                pass                    # the same run goes on
-            elif j > 0 and key <= prev_key:
+                u.on_part = R.sub[R.loop[(start + j - 1) % n_loop]].on_part      # the same run goes on
+            else:
+                u.on_part = j == 0 or key > prev_key
+            if u.on_part:
+                prev_key = key
+            elif R.els[el_i].kind != EL_LINE:
                 return REGIONS_NOT_APPLICABLE
-            prev_key = key
         prev_piece = u.piece
-    kept = <bint *>malloc(R.n_els * sizeof(bint))
+    kept = <uint8_t *>malloc(R.n_els)
     if kept == NULL:
-        return _comp_fail(S, ERR_OUT_OF_MEMORY, S.chain_first, 0, 0)
+        return comp_fail(S, ERR_OUT_OF_MEMORY, S.chain_first, 0, 0)
     for j in range(R.n_els):
-        kept[j] = False
+        kept[j] = 0
     # the queued insertions of the chain and the warnings of the failed attempt go
     S.n_ins = S.chain_ins0
     S.n_warnings = S.chain_warn0
@@ -635,34 +578,37 @@ cdef int regions_rebuild(CompState *S) noexcept nogil:
     if S.chain_entry >= 0 and not S.chain_fixed:
         p = &S.prog.parts[S.chain_entry]
         p.ce[S.first] = at[0]; p.ce[S.second] = at[1]
-    elif not _ins_line(S, S.chain_first - 1, S.chain_first, at):
+    elif not ins_line(S, S.chain_first - 1, S.chain_first, at):
         free(kept)
-        return _comp_fail(S, ERR_OUT_OF_MEMORY, S.chain_first, 0, 0)
+        return comp_fail(S, ERR_OUT_OF_MEMORY, S.chain_first, 0, 0)
     last_part = S.chain_first
     for j in range(n_loop):
         u = &R.sub[R.loop[(start + j) % n_loop]]
         q = &R.pc[u.piece]
         el_i = R.pel[u.piece]
-        if R.pconn[u.piece] != PIECE_TOOL:
-            if not _ins_arc(S, last_part, u.p1, q.c, INS_G1 if R.pconn[u.piece] == PIECE_FAR else
-                            (INS_G3 if q.dir > 0 else INS_G2)):
+        if not u.on_part:
+            if not ins_arc(S, last_part, u.p1, q.c, INS_G1 if R.pconn[u.piece] != PIECE_VERTEX else
+                           (INS_G3 if q.dir > 0 else INS_G2)):
                 free(kept)
-                return _comp_fail(S, ERR_OUT_OF_MEMORY, last_part, 0, 0)
+                return comp_fail(S, ERR_OUT_OF_MEMORY, last_part, 0, 0)
+            if R.pconn[u.piece] == PIECE_TOOL and not kept[el_i]:
+                kept[el_i] = KEPT_INSERTED
             continue
         last_part = R.els[el_i].part
-        kept[el_i] = True
+        kept[el_i] = KEPT_ON_PART
         p = &S.prog.parts[last_part]
         p.ce[S.first] = u.p1[0]; p.ce[S.second] = u.p1[1]
         if R.els[el_i].kind == EL_ARC:
             p.radius = R.els[el_i].ro
         S.role[last_part] = ROLE_SET
     for j in range(R.n_els):
-        if not kept[j]:
-            _discard(S, R.els[j].part)
-            _comp_warn(S, R.els[j].part, "part skipped: the tool does not fit there")
+        if kept[j] != KEPT_ON_PART:
+            comp_discard(S, R.els[j].part)
+            comp_warn(S, R.els[j].part, "part skipped: the tool does not fit there" if not kept[j] else
+                      "part's tool path cut after a later line (the contour crosses itself)")
     free(kept)
     if S.chain_exit_fixed:
         at[0] = R.els[R.n_els - 1].e[0]; at[1] = R.els[R.n_els - 1].e[1]
-        if not _ins_line(S, last_part, last_part, at):
-            return _comp_fail(S, ERR_OUT_OF_MEMORY, last_part, 0, 0)
+        if not ins_line(S, last_part, last_part, at):
+            return comp_fail(S, ERR_OUT_OF_MEMORY, last_part, 0, 0)
     return COMPILE_OK

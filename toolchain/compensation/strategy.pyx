@@ -14,7 +14,7 @@ cdef bint program_add_strategy_region(ProgramBuilder *build, size_t first, bint 
     follow_pause(build.follow)
     if prog.n_strategy_regions > 0 and prog.strategy_regions[prog.n_strategy_regions - 1].first == first:
         prog.n_strategy_regions -= 1
-    ok = _grow(<void **>&prog.strategy_regions, &build.cap_strategy_regions, prog.n_strategy_regions + 1,
+    ok = grow(<void **>&prog.strategy_regions, &build.cap_strategy_regions, prog.n_strategy_regions + 1,
                sizeof(StrategyRegion))
     if ok:
         r = &prog.strategy_regions[prog.n_strategy_regions]

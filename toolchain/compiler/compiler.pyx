@@ -226,7 +226,7 @@ cdef void cp_reframe(CState *st) noexcept nogil:
 cdef int cp_zero(CState *st, const LineWords *lw, int g) noexcept nogil:
     """G53 off, G54..G57 set (absent axes 0), G59 set (absent axes kept)."""
     cdef int a, bit
-    for a in range(10):
+    for a in range(AXES):
         bit = <int>letter_of_axis(a) - 65
         if g == 53:
             st.zero[a] = 0.0
@@ -243,15 +243,15 @@ cdef int cp_zero(CState *st, const LineWords *lw, int g) noexcept nogil:
 cdef int cp_g92(CState *st, const LineWords *lw) noexcept nogil:
     """G92 / G98: the current point gets the given program coordinates (shift)."""
     cdef int a, bit
-    cdef double t[10]
-    for a in range(10):
+    cdef double t[AXES]
+    for a in range(AXES):
         bit = <int>letter_of_axis(a) - 65
         if (lw.mask >> bit) & 1:
             st.ppos[a] = lw.v[bit]
             # a shift taken where the machine follows the start follows it too
             st.shift_follows[a] = not st.fixed[a]
     to_machine(st, st.ppos, t)
-    for a in range(10):
+    for a in range(AXES):
         st.shift[a] += st.mpos[a] - t[a]
     if not update_zero(st):
         return cerr(st, ERR_OUT_OF_MEMORY)
@@ -297,7 +297,7 @@ cdef void _feed_set(CState *st, const LineWords *lw, int k) noexcept nogil:
 cdef uint32_t _axis_flags(const LineWords *lw) noexcept nogil:
     cdef uint32_t m = 0
     cdef int a, bit
-    for a in range(10):
+    for a in range(AXES):
         bit = <int>letter_of_axis(a) - 65
         if (lw.mask >> bit) & 1 and lw.v[bit] != 0.0:
             m |= 1u << a
@@ -504,7 +504,7 @@ cdef int cp_iso_g(CState *st, const LineWords *lw, int i) noexcept nogil:
         cwarn_at(st, WARN_ISO_IGNORED, word_at_column(st, col), col)
         return 1
     if gv == 92.1:
-        for a in range(10):
+        for a in range(AXES):
             st.shift[a] = 0.0
         cp_reframe(st)
         if not update_zero(st):
@@ -723,7 +723,7 @@ cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
             continue
         if m == -5:
             # per written axis: 0 switches its limits off, anything else on again
-            for k in range(10):
+            for k in range(AXES):
                 if has(lw, letter_of_axis(k)):
                     if val(lw, letter_of_axis(k)) == 0.0:
                         st.limits_off |= 1u << k
@@ -963,9 +963,9 @@ cdef void reserve_parts(ProgramBuilder *build, uint32_t lines) noexcept nogil:
     cdef size_t n = <size_t>lines + 64
     if lines < 100000:
         return
-    if _grow(<void **>&prog.parts, &build.cap_parts, n + n // 2, sizeof(Part)):
+    if grow(<void **>&prog.parts, &build.cap_parts, n + n // 2, sizeof(Part)):
         program_advise_huge(prog.parts, build.cap_parts * sizeof(Part))
-    if _grow(<void **>&prog.pars, &build.cap_pars, n * 4, sizeof(float)):
+    if grow(<void **>&prog.pars, &build.cap_pars, n * 4, sizeof(float)):
         program_advise_huge(prog.pars, build.cap_pars * sizeof(float))
 
 
@@ -1010,7 +1010,7 @@ cdef int compile_program(const CompileInput *inp, ProgramBuilder *build, ErrorIn
     for i in range(3):
         lb_free(&units[i])
     if result == COMPILE_OK:
-        for i in range(10):
+        for i in range(AXES):
             if not st.fixed[i]:
                 prog.start_gindex[i] = INT32_MAX    # never named: every part follows the start
     free(st)

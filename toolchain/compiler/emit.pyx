@@ -66,7 +66,7 @@ cdef int em_pars(CState *st, const LineWords *lw, int g, int m) noexcept nogil:
         mask |= 1u << 12
     if mask == 0:
         return 0
-    if not _grow(<void **>&prog.pars, &st.build.cap_pars, prog.n_pars + <size_t>SF_POPCOUNT(mask), sizeof(float)):
+    if not grow(<void **>&prog.pars, &st.build.cap_pars, prog.n_pars + <size_t>SF_POPCOUNT(mask), sizeof(float)):
         return cerr(st, ERR_OUT_OF_MEMORY)
     p.pars_off = <uint32_t>prog.n_pars
     p.pars_mask = mask
@@ -152,8 +152,8 @@ cdef int em_arc(CState *st, const LineWords *lw, Part *p, int *func, const doubl
     cdef int fa, sa, na, a, dir = func[0]
     cdef double sx, sy, ex, ey, cx, cy, r, d, h, sgn, rs, re, tol
     cdef char li, lj
-    cdef double c[10]
-    cdef double cm[10]
+    cdef double c[AXES]
+    cdef double cm[AXES]
     cdef ErrArg args[2]
     if not plane_axes(st.plane, &fa, &sa, &na):
         return cerr_num(st, ERR_BAD_PLANE, st.plane)
@@ -197,7 +197,7 @@ cdef int em_arc(CState *st, const LineWords *lw, Part *p, int *func, const doubl
         return cerr(st, ERR_ARC_NO_CENTRE)
     if fabs(rs - re) > tol:
         return em_arc_error(st, fa, sa, s, e, rs, re)
-    for a in range(10):
+    for a in range(AXES):
         c[a] = s[a]
         if a != fa and a != sa and e[a] != s[a]:
             p.flags |= FLAG_HELIX
@@ -213,15 +213,10 @@ cdef int em_arc(CState *st, const LineWords *lw, Part *p, int *func, const doubl
     return 0
 
 
-cdef enum:
-    # X Y Z C B U V W A O as letter bits
-    AXIS_LETTERS = (1 << 23) | (1 << 24) | (1 << 25) | (1 << 2) | (1 << 1) | (1 << 20) | (1 << 21) | (1 << 22) | (1 << 0) | (1 << 14)
-
-
 cdef int em_motion(CState *st, const LineWords *lw, int func) noexcept nogil:
     """G0 G1 G2 G3 G33 to the axis words of the line (modal, absolute or relative)."""
-    cdef double newp[10]
-    cdef double e[10]
+    cdef double newp[AXES]
+    cdef double e[AXES]
     cdef int a, bit, f = func
     cdef bint any_axis = False
     cdef Part *p

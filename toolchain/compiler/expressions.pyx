@@ -6,9 +6,6 @@ from libc.math cimport (sin, cos, tan, asin, acos, atan, atan2, fabs, sqrt, log1
                         hypot, floor, ceil, pow, fmod, M_PI, isfinite)
 from libc.string cimport memcpy
 
-cdef enum:
-    EXPR_DEPTH = 64     # nesting of brackets/functions (stack safety on garbage input)
-
 
 cdef int ex_error(CState *st, const char *start, const char *eol) noexcept nogil:
     """Syntax error: the rest of the line from `start` (up to 40 characters, without

@@ -14,10 +14,6 @@ cdef extern from *:
     const double sf_pow10_exact[23]
 
 
-cdef enum:
-    NUMBER_MAX_CHARS = 400      # longer digit strings are a "bad number"
-
-
 cdef inline bint lx_is_digit(char c) noexcept nogil:
     return c >= b'0' and c <= b'9'
 

@@ -6,16 +6,6 @@ from libc.string cimport memcpy
 from libc.stdio cimport snprintf
 
 
-cdef enum:
-    CALL_DEPTH = 64             # nested CALL / G25 / G26 (documented in docs/errors.md)
-    FRAME_DEPTH = 256           # calls + open FOR / WHILE / IF blocks
-    PARAM_STACK_DEPTH = 16      # G900 S1 pushes
-    MAX_LINE_CHARS = 65536      # longer lines are refused (ERR_LINE_TOO_LONG)
-    MAX_PARTS = 20000000        # ERR_PART_LIMIT
-    MAX_WORD_LIST = 16          # G or M words on one line
-    MAX_COMPILE_WARNINGS = 50   # per compilation; then one "further warnings suppressed"
-    DEFAULT_MAX_BLOCKS = 10000000
-
 cdef extern from *:
     """
     /* largest value of an address word that parts carry (not G, M, L): squares stay
@@ -24,135 +14,6 @@ cdef extern from *:
     #define TC_MAX_WORD_VALUE 1e30
     """
     double TC_MAX_WORD_VALUE
-
-# what exec_line asks the run loop to do next
-cdef enum:
-    R_NEXT = 0
-    R_JUMP = 1
-    R_END = 2
-    R_ERR = -1
-
-# flow frames
-cdef enum:
-    FR_CALL = 1
-    FR_FOR = 2
-    FR_WHILE = 3
-    FR_IF = 4
-
-
-ctypedef struct Label:
-    const char *name        # NULL for an N number
-    int32_t len
-    int64_t nval            # N number
-    size_t pos              # start of the line holding the label
-    uint32_t line
-    bint used
-
-
-ctypedef struct Unit:
-    const char *text
-    size_t len
-    int32_t file_idx
-    Label *labels           # open-addressing hash table, built on the first jump
-    size_t cap_labels, n_labels
-    bint labels_built
-
-
-ctypedef struct Frame:
-    int kind
-    size_t pos              # FOR: body start; WHILE: its own line; CALL: return line
-    uint32_t line
-    int param               # FOR: loop parameter
-    double end, step        # FOR
-    int64_t repeat          # CALL (G26 H): calls still to do
-    size_t target_pos       # CALL: subroutine start, for repeats
-    uint32_t target_line
-
-
-ctypedef struct LineWords:
-    double v[26]            # values of the address letters (after evaluation)
-    uint32_t mask           # letters present
-    int ng, nm
-    double g[MAX_WORD_LIST]
-    double m[MAX_WORD_LIST]
-    int gcol[MAX_WORD_LIST]     # 1-based columns of the G / M words, for messages
-    int mcol[MAX_WORD_LIST]
-    int col[26]                 # column of each address letter (valid where mask is set)
-    bint has_pword              # a P word that is no assignment (P0.1): ISO dwell, G64 or M argument
-    double pword
-    const char *pword_at        # its text, for messages
-    int pword_len
-    bint first_is_o             # the line starts with an O word (a program number in ISO)
-    bint has_ff, has_fp
-    double ff, fp
-    const char *label       # G25/G26/G27 L target given as a name
-    int label_len
-    const char *text        # M29 / PRINT text
-    int text_len
-    bint has_text
-
-
-ctypedef struct CState:
-    const CompileInput *inp
-    ProgramBuilder *build   # grows the program's arrays
-    Program *prog           # &build.prog
-    ErrorInfo *err
-    GCODE_PARAMETERS params                 # working copy (G900 changes it)
-    GCODE_PARAMETERS pstack[PARAM_STACK_DEPTH]
-    int n_pstack
-    double P[100]
-    # positions: machine = rotate(mirror(ppos)) + zero + shift
-    double ppos[10]
-    double mpos[10]
-    double zero[10]
-    double shift[10]
-    int zero_idx
-    int mirror                              # bit 0 X, 1 Y, 2 Z
-    bint rot_on
-    int rot_idx                             # Program.rotations entry of the active rotation, 0 = none
-    bint identity                           # no offset, mirror or rotation: machine = program
-    double rot_c[3]
-    double rot_m[9]
-    bint absolute
-    int plane
-    int motion                              # modal 0 1 2 3 33
-    bint per_min
-    bint lathe_radius                       # G24
-    bint css                                # G96
-    double feed, def_feed, ff, fp
-    bint ff_set
-    float spindle
-    int tool
-    int comp, comp_slot
-    bint g167_on
-    double g167[4]                          # E A U Q
-    uint32_t limits_off                     # M-5: axes whose limits are disabled
-    uint32_t g900_ignore_angle, g900_ignore_feed
-    int32_t g900_stop_mode, g900_arc_table
-    int32_t gindex
-    bint fixed[10]                          # the axis no longer follows the start (named absolutely)
-    bint shift_follows[10]                  # a G92 on the axis while it followed the start
-    bint program_end
-    int64_t blocks, block_limit
-    Frame frames[FRAME_DEPTH]
-    int n_frames, n_calls
-    Unit *unit
-    uint32_t line
-    size_t cur_pos                          # start of the line being executed
-    size_t skip_pos                         # fl_skip: the END/ELSE line found
-    uint32_t skip_line
-    size_t next_pos
-    uint32_t next_line
-    size_t jpos
-    uint32_t jline
-    int last_percent
-    bint iso                                # ISO compatibility mode (GCODE_REZERVA1_ISO_COMPAT)
-    double unit_scale                       # 1, or 25.4 after an ISO G20 (inches)
-    bint iso_header                         # G21, or G90 before the first part: written for ISO?
-    bint warned_g18                         # the G18 arc warning is given once
-    int n_warnings
-    char word[64]                           # text of an offending word for messages
-    LineWords lw                            # words of the current line
 
 
 cdef inline int to_int(double v) noexcept nogil:
@@ -330,35 +191,27 @@ cdef void to_machine(const CState *st, const double *pp, double *out) noexcept n
     """Program coordinates -> machine: mirror (M81..M87), rotation (G168), then the
     zero offset and the G92 shift."""
     cdef int a
-    cdef double q[3]
     if st.identity:
-        memcpy(out, pp, 10 * sizeof(double))
+        memcpy(out, pp, AXES * sizeof(double))
         return
-    for a in range(10):
+    for a in range(AXES):
         out[a] = pp[a]
     if st.mirror & 1: out[0] = -out[0]
     if st.mirror & 2: out[1] = -out[1]
     if st.mirror & 4: out[2] = -out[2]
     if st.rot_on:
-        for a in range(3):
-            q[a] = out[a] - st.rot_c[a]
-        for a in range(3):
-            out[a] = st.rot_c[a] + st.rot_m[3 * a] * q[0] + st.rot_m[3 * a + 1] * q[1] + st.rot_m[3 * a + 2] * q[2]
-    for a in range(10):
+        rotate_about(st.rot_c, st.rot_m, False, out)
+    for a in range(AXES):
         out[a] += st.zero[a] + st.shift[a]
 
 
 cdef void to_program(const CState *st, const double *mp, double *out) noexcept nogil:
     """Inverse of to_machine."""
     cdef int a
-    cdef double q[3]
-    for a in range(10):
+    for a in range(AXES):
         out[a] = mp[a] - st.zero[a] - st.shift[a]
     if st.rot_on:
-        for a in range(3):
-            q[a] = out[a] - st.rot_c[a]
-        for a in range(3):   # transpose = inverse of a rotation
-            out[a] = st.rot_c[a] + st.rot_m[a] * q[0] + st.rot_m[3 + a] * q[1] + st.rot_m[6 + a] * q[2]
+        rotate_about(st.rot_c, st.rot_m, True, out)
     if st.mirror & 1: out[0] = -out[0]
     if st.mirror & 2: out[1] = -out[1]
     if st.mirror & 4: out[2] = -out[2]
@@ -368,17 +221,17 @@ cdef void update_identity(CState *st) noexcept nogil:
     """to_machine is a plain copy while no offset, mirroring or rotation is active."""
     cdef int a
     st.identity = st.mirror == 0 and not st.rot_on
-    for a in range(10):
+    for a in range(AXES):
         if st.zero[a] != 0.0 or st.shift[a] != 0.0:
             st.identity = False
 
 
 cdef bint update_zero(CState *st) noexcept nogil:
     """Registers the active offset (zero + shift) with the program; False = no memory."""
-    cdef double total[10]
+    cdef double total[AXES]
     cdef int a, idx
     update_identity(st)
-    for a in range(10):
+    for a in range(AXES):
         total[a] = st.zero[a] + st.shift[a]
     idx = program_add_zero(st.build, total)
     if idx < 0:

@@ -14,9 +14,30 @@ cdef extern from "tgm_cnc.h" nogil:
     double INVALID_VALUE
     float INVALID_VALUE_F
     uint32_t GCODE_REZERVA1_ISO_COMPAT
+    uint32_t GCODE_REZERVA1_COMP_STRICT
+    # the log mask's sources and destinations (SetLogValue)
+    uint32_t LOG_TO_CONSOLE, LOG_TO_FILE, LOG_TO_TGM
+    uint32_t LOG_DEBUG, LOG_VERBOSE, LOG_WORKER, LOG_TOOLCHAIN, LOG_DRIVER, LOG_COMPILER
+    uint32_t LOG_EXECUTOR, LOG_MATH
+    # the bits of GCODE_PARAMETERS.correctionStrategy
+    enum:
+        CORR_START_MODE_MASK
+        CORR_SEARCH_DEPTH_MASK
+        CORR_ALLOW_FIRST_LAST_CROSS
+        CORR_JOIN_BY_G1
+        CORR_JOIN_BY_MOVING_START
+        CORR_REMOVE_CROSSING
+        CORR_ALLOW_REVERSE_SEARCH
+        CORR_DROP_NEGATIVE_ARCS
+        CORR_CORNER_FACTOR_2
+        CORR_CORNER_INTERSECTION
+        CORR_G0_NEVER_COMPENSATED
+        CORR_OLD_COMPATIBILITY
 
-    ctypedef const char *TGM_LPCTSTR
-    ctypedef char *TGM_LPTSTR
+    # char on Linux, wchar_t on Windows: opaque here, so that every text of the host
+    # goes through platform.pxd's text_from_host / text_to_host
+    ctypedef const void *TGM_LPCTSTR
+    ctypedef void *TGM_LPTSTR
     ctypedef const char *TGM_LPCSTR
 
     ctypedef struct P10DOUBLE:

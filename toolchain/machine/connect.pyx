@@ -10,15 +10,9 @@ cdef inline bint _connect_continues(uint32_t n_type) noexcept nogil:
     return n_type in (10, 11, 12, 40, 41, 42, 44)
 
 
-ctypedef struct _PartCalc:          # what the ConnectPointCalc hook needs
-    Core *core
-    Machine *m
-    Callback cb
-
-
 cdef bint _part_calc(void *ctx, size_t part, double *d2, double *point) noexcept nogil:
     """ConnectPointCalc (1005) for one part's candidate: 1 = use its changed values."""
-    cdef _PartCalc *pc = <_PartCalc *>ctx
+    cdef PartCalc *pc = <PartCalc *>ctx
     cdef SIMPLE_GM_PARAMS gm
     cdef P10DOUBLE changed
     placed_part_to_gm(&pc.m.program.prog, part, &pc.m.placement, &gm)
@@ -37,7 +31,7 @@ cdef int _connect_search(Core *core, Machine *m, const GCODE_PARAMETERS *params,
     cdef const Program *prog = &m.program.prog
     cdef const Placement *pl = &m.placement
     cdef ConnectIndex ix
-    cdef _PartCalc pc
+    cdef PartCalc pc
     cdef uint32_t t = job.n_type
     cdef int rc
     if t == 0 or t == 10 or t == 40:
@@ -98,7 +92,7 @@ cdef void _connect_place(Machine *m, const ConnectHit *hit) noexcept nogil:
     m.history_lost = first > 0
     for k in range(first, hit.part):
         if prog.parts[k].kind == PART_MOTION:
-            _history_push(m, k)
+            machine_history_push(m, k)
     m.cur_motion = <int64_t>hit.part if m.began and prog.parts[hit.part].kind == PART_MOTION else PART_NONE
 
 
@@ -106,19 +100,19 @@ cdef void *_connect_body(void *arg) noexcept nogil:
     cdef Job *job = <Job *>arg
     cdef Core *core = job.core
     cdef Feeder f
-    cdef Machine *m = _worker_begin(job, &f)
+    cdef Machine *m = machine_worker_begin(job, &f)
     cdef ConnectHit hit
     cdef ErrorInfo *err = <ErrorInfo *>calloc(1, sizeof(ErrorInfo))
     cdef SIMPLE_GM_PARAMS dest
     cdef Callback cb
-    cdef double point[10]
+    cdef double point[AXES]
     cdef uint32_t moving, k
     cdef int32_t finish = EV_STOPPED, restore = TC_KEEP
     cdef int rc
     if m != NULL and err != NULL:
         memcpy(point, m.motion.position, sizeof(point))     # 31 / 44: nearest to where it stands
         if job.n_type == 0 or job.n_type == 10 or job.n_type == 40:
-            memcpy(point, job.coords, min(job.n_coords, 10) * sizeof(double))
+            memcpy(point, job.coords, min(job.n_coords, AXES) * sizeof(double))
         if callback_enter(core, SLOT_CONNECT_POINT_CALC_START, &cb):
             (<TC_ConnectPointCalcStart>cb.fn)(cb.user, job.n_type, job.n_coords, job.coords, job.axes_calc)
             callback_leave(core, SLOT_CONNECT_POINT_CALC_START)
@@ -132,25 +126,25 @@ cdef void *_connect_body(void *arg) noexcept nogil:
         elif not TC_ATOMIC_LOAD(&core.cancel):
             _connect_end_callback(core, m, &hit)
             # the straight way there: the axes of axesForConnect (0: the first nCoords)
-            moving = job.axes_connect if job.axes_connect != 0 else (1u << min(job.n_coords, 10)) - 1
+            moving = job.axes_connect if job.axes_connect != 0 else (1u << min(job.n_coords, AXES)) - 1
             memset(&dest, 0, sizeof(dest))
             dest.m_func = 1
             memcpy(&dest.m_calcE, m.motion.position, sizeof(P10DOUBLE))
-            for k in range(10):
+            for k in range(AXES):
                 if (moving >> k) & 1:
                     (<double *>&dest.m_calcE)[k] = hit.point[k]
             core_set_status(core, CNC_STATUS_CONNECT_MOVING)
-            finish = _manual_move(core, m, &f, &dest, 10)
+            finish = machine_manual_move(core, m, &f, &dest, AXES)
             if finish == EV_DONE:
                 pthread_mutex_lock(&core.lock)
                 _connect_place(m, &hit)
                 pthread_mutex_unlock(&core.lock)
-                _send_add_code(core, job.add_code, m.motion.position)
+                send_add_code(core, job.add_code, m.motion.position)
                 if job.state_after == 2:
                     finish = EV_STOPPED         # reported out of the trajectory (-50)
                 elif _connect_continues(job.n_type) and not TC_ATOMIC_LOAD(&core.cancel):
                     core_set_status(core, CNC_STATUS_FORWARD)
-                    finish = _program_run(core, m, &f, RUN_FORWARD, NULL)
+                    finish = machine_program_run(core, m, &f, RUN_FORWARD, NULL)
     free(err)
     free(f.params)
     job_free(job)

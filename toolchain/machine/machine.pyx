@@ -6,59 +6,15 @@
 #     into look-ahead entries (placed geometry, limits, the plan's speeds, the
 #     breakpoint question), and it makes every driver callback (DriverInitialize,
 #     DriverGFunc as a part begins, DriverMFunc, PRINT, DriverEnd);
-#   - the *pacer* wakes every millisecond on CLOCK_MONOTONIC, runs the 100 us steps
+#   - the *pacer* wakes every millisecond on the monotonic clock, runs the 100 us steps
 #     of motion.pyx that the elapsed time (times the core's time scale) calls for,
 #     hands what happened to the notifier and publishes GetPos once.
 # Neither waits for the other: the ring of entries and the event queue are the only
 # things they share. The machine's place on the path (part, distance, the parts it
 # ran, for backward) outlives the run, so the next StartCNCEx continues there.
-from libc.stdlib cimport malloc, calloc, realloc, free
+from libc.stdlib cimport malloc, calloc, free
 from libc.string cimport memset, memcpy, memmove, strdup
 from libc.math cimport fabs
-from posix.time cimport clock_gettime, nanosleep, timespec, CLOCK_MONOTONIC
-
-cdef enum:
-    EVENT_QUEUE = 1024          # events between the pacer and the notifier
-    HISTORY_DEPTH = 100000      # motion parts a backward run can retrace
-    PART_NONE = -1              # an entry that is no part of the program (a manual move)
-    MFUNC_LATER = 2             # DriverMFunc's answer: the host confirms with ToolChainCore_ConfirmMFunc
-    RUN_MANUAL = 50             # the regime of a manual move (GoToPosition), as its status
-
-ctypedef struct MachineEvent:
-    int32_t kind                # ME_ENTRY, ME_MFUNC, ME_PRINT
-    size_t part
-
-ctypedef struct Machine:
-    Motion motion
-    pthread_t pacer
-    int32_t pacer_done          # atomic: the pacer has left its loop
-    int32_t regime              # of the run (30 31 32 33), CMD_GOTO's 50
-    # where the machine is on the program (outlives the runs)
-    LoadedProgram *program      # the program the place refers to (a reference); NULL: none
-    Placement placement         # where that program runs (the machine position of its first start)
-    int64_t cur_motion          # the motion part it runs or ran last (PART_NONE: none)
-    char *stop_code             # StopCNCEx addCode, sent once the machine stands (core.lock)
-    size_t part                 # the part it is in (n_parts: after the last)
-    double part_s               # path length done along that part
-    bint began                  # the part's start was reported (DriverGFunc)
-    size_t *history             # motion parts it ran before `part`, oldest first
-    size_t n_history, cap_history
-    bint history_lost           # older ones were dropped (HISTORY_DEPTH)
-    double cut_len, rapid_len, run_time
-    # the M-function handshake
-    int32_t m_pending           # atomic: a DriverMFunc answered "later": ConfirmMFunc ends it
-    # pacer -> notifier
-    pthread_mutex_t lock
-    pthread_cond_t wake         # the notifier sleeps on it until the pacer has news
-    bint news                   # events queued, entries consumed or the pacer done (lock)
-    MachineEvent events[1024]
-    size_t ev_first, ev_n
-
-
-cdef inline bint machine_moving(int32_t status) noexcept nogil:
-    """The offline machine moves in this status (its thread publishes GetPos)."""
-    return (30 <= status <= 33 or status == CNC_STATUS_CONNECT_CALCULATING
-            or status == CNC_STATUS_CONNECT_MOVING or status == CNC_STATUS_MANUAL_MOVE)
 
 
 cdef Machine *machine_of(Core *core) noexcept nogil:
@@ -93,10 +49,9 @@ cdef void machine_forget(Core *core) noexcept nogil:
     TC_ATOMIC_STORE(&m.m_pending, 0)
 
 
-cdef void _history_push(Machine *m, size_t part) noexcept nogil:
+cdef void machine_history_push(Machine *m, size_t part) noexcept nogil:
     """Remembers a motion part run (for backward runs): when HISTORY_DEPTH are held,
     the oldest tenth goes at once."""
-    cdef size_t *grown
     cdef size_t cap
     if m.n_history == HISTORY_DEPTH:
         memmove(m.history, m.history + HISTORY_DEPTH // 10,
@@ -105,32 +60,15 @@ cdef void _history_push(Machine *m, size_t part) noexcept nogil:
         m.history_lost = True
     if m.n_history == m.cap_history:
         cap = min(max(2 * m.cap_history, <size_t>1024), <size_t>HISTORY_DEPTH)
-        grown = <size_t *>realloc(m.history, cap * sizeof(size_t))
-        if grown == NULL:
+        if not resize(<void **>&m.history, cap, sizeof(size_t)):
             m.history_lost = True
             return
-        m.history = grown
         m.cap_history = cap
     m.history[m.n_history] = part
     m.n_history += 1
 
 
 # ------------------------------------------------------------------ entries
-
-ctypedef struct Feeder:         # what the notifier thread reads parts with
-    Core *core
-    Machine *m
-    const Program *prog
-    GCODE_PARAMETERS *params
-    PlanCursor cursor
-    uint32_t enhanced
-    int32_t regime
-    size_t next                 # forward: next part; backward: entries made so far
-    bint any_motion             # regime 33: a motion part was fed
-    uint32_t last_line          # the breakpoint question is asked once per line
-    int32_t last_file
-    bint first
-    bint back_current           # backward: the machine stands inside a motion part
 
 
 cdef bint _is_breakpoint(Feeder *f, const Part *p) noexcept nogil:
@@ -166,7 +104,7 @@ cdef void _entry_identity(Entry *e, const Part *p, size_t part) noexcept nogil:
     e.dwell = 0.0
     e.s_from = e.s_to = 0.0
     e.vmax = e.exit_cap = 0.0
-    e.acc = e.dec = 1e12
+    e.acc = e.dec = NO_LIMIT
     e.ramp = RAMP_TRAPEZOID
     e.dyn_extra = 0.0
 
@@ -193,7 +131,6 @@ cdef bint _forward_entry(Feeder *f, Entry *e) noexcept nogil:
     regime leaves out are skipped."""
     cdef const Program *prog = f.prog
     cdef const Part *p
-    cdef SIMPLE_GM_PARAMS gm
     cdef PartLimits lim
     cdef const PlanRegion *s
     cdef const GCODE_FEED *cls
@@ -216,8 +153,7 @@ cdef bint _forward_entry(Feeder *f, Entry *e) noexcept nogil:
             e.waits = True
         elif p.kind == PART_MOTION:
             f.any_motion = True
-            placed_part_to_gm(prog, k, &f.m.placement, &gm)
-            segment_of_gm(&gm, &e.seg)
+            segment_of_placed_part(prog, k, &f.m.placement, &e.seg)
             e.s_from = 0.0
             e.s_to = e.seg.length
             s = cursor_settings(&f.cursor, k)
@@ -242,9 +178,9 @@ cdef bint _forward_entry(Feeder *f, Entry *e) noexcept nogil:
 
 cdef void _class_ramps(Entry *e, const GCODE_FEED *cls) noexcept nogil:
     """Accelerations and ramp of a motion class (motion[2] backward, [4] no M, [5] manual)."""
-    if 0.0 < cls.acc < 1e12:
+    if 0.0 < cls.acc < NO_LIMIT:
         e.acc = cls.acc
-    if 0.0 < cls.dec < 1e12:
+    if 0.0 < cls.dec < NO_LIMIT:
         e.dec = cls.dec
     e.ramp = RAMP_SINE if cls.rampType == RAMP_SINE else RAMP_TRAPEZOID
 
@@ -255,7 +191,6 @@ cdef bint _backward_entry(Feeder *f, Entry *e) noexcept nogil:
     cdef Machine *m = f.m
     cdef const Program *prog = f.prog
     cdef const GCODE_FEED *cls = &f.params.motion[2]
-    cdef SIMPLE_GM_PARAMS gm
     cdef size_t k, back
     cdef double from_s = -1.0
     if f.back_current and f.next == 0:
@@ -268,8 +203,7 @@ cdef bint _backward_entry(Feeder *f, Entry *e) noexcept nogil:
         k = m.history[m.n_history - 1 - back]
     f.next += 1
     _entry_identity(e, &prog.parts[k], k)
-    placed_part_to_gm(prog, k, &m.placement, &gm)
-    segment_of_gm(&gm, &e.seg)
+    segment_of_placed_part(prog, k, &m.placement, &e.seg)
     e.s_from = from_s if from_s >= 0.0 else e.seg.length
     e.s_to = 0.0
     e.vmax = cls.feed / 60.0 if cls.feed > 0.0 else 1.0 / 60.0
@@ -303,9 +237,7 @@ cdef void _feed(Feeder *f) noexcept nogil:
 # ------------------------------------------------------------------ the pacer
 
 cdef inline double _now() noexcept nogil:
-    cdef timespec ts
-    clock_gettime(CLOCK_MONOTONIC, &ts)
-    return <double>ts.tv_sec + <double>ts.tv_nsec * 1e-9
+    return tc_monotonic_seconds()
 
 
 cdef void _publish(Core *core, Machine *m) noexcept nogil:
@@ -321,7 +253,7 @@ cdef void _publish(Core *core, Machine *m) noexcept nogil:
     view.pos.m_fileIdx = -1
     memcpy(&view.pos.m_calcS, mo.position, sizeof(P10DOUBLE))
     view.pos.m_calcE = view.pos.m_calcS
-    for k in range(10):
+    for k in range(AXES):
         cells[_AXIS_CELLS[k]] = <float>mo.position[k]
     if mo.count > 0:
         e = motion_entry(mo, 0)
@@ -367,12 +299,9 @@ cdef void *_pacer_body(void *arg) noexcept nogil:
     cdef Motion *mo = &m.motion
     cdef double last = _now(), now, budget = 0.0, scale
     cdef double dt = STEP_US * 1e-6
-    cdef timespec nap
     cdef int events
     cdef bint halted = False
     cdef uint64_t told = mo.consumed     # entries done when the notifier was last woken
-    nap.tv_sec = 0
-    nap.tv_nsec = 1000000
     while not halted and not TC_ATOMIC_LOAD(&core.cancel):
         now = _now()
         scale = TC_ATOMIC_LOAD_D(&core.time_scale)
@@ -411,7 +340,7 @@ cdef void *_pacer_body(void *arg) noexcept nogil:
         told = mo.consumed
         _publish(core, m)
         if not halted:
-            nanosleep(&nap, NULL)
+            tc_sleep_seconds(0.001)
     motion_locate(mo)
     TC_ATOMIC_STORE(&m.pacer_done, 1)
     _hand_over(m, True)
@@ -541,7 +470,7 @@ cdef void _keep_place(Machine *m, const Feeder *f) noexcept nogil:
         m.began = False
     inside = mo.count > 0 and m.began and motion_entry(mo, 0).kind == PART_MOTION
     if not inside and m.cur_motion != PART_NONE:
-        _history_push(m, <size_t>m.cur_motion)      # it stands after the part it ran last
+        machine_history_push(m, <size_t>m.cur_motion)      # it stands after the part it ran last
         m.cur_motion = PART_NONE
 
 
@@ -554,7 +483,7 @@ cdef void _drain(Feeder *f) noexcept nogil:
         if (ev.kind == ME_ENTRY and f.regime != RUN_BACKWARD and f.prog != NULL and ev.part < f.prog.n_parts
                 and f.prog.parts[ev.part].kind == PART_MOTION):
             if m.cur_motion != PART_NONE:
-                _history_push(m, <size_t>m.cur_motion)
+                machine_history_push(m, <size_t>m.cur_motion)
             m.cur_motion = <int64_t>ev.part
         _notify(f, &ev)
 
@@ -570,17 +499,17 @@ cdef void _motion_setup(Core *core, Motion *mo, const GCODE_PARAMETERS *params, 
     mo.ovr_inc = params.overrideInc if 0.0 < params.overrideInc <= 0.1 else 0.001
     mo.ovr_timing = (params.interpolatorConfig0 & 1) != 0
     mo.ovr_off_in_rapids = params.disableG0FeedOverride == 1
-    mo.stop_dec = params.motion[6].dec if 0.0 < params.motion[6].dec < 1e12 else 1e12
+    mo.stop_dec = limit_or_none(params.motion[6].dec)
     mo.stop_ramp = RAMP_SINE if params.motion[6].rampType == RAMP_SINE else RAMP_TRAPEZOID
 
 
-cdef int32_t _manual_move(Core *core, Machine *m, Feeder *f, const SIMPLE_GM_PARAMS *dest,
+cdef int32_t machine_manual_move(Core *core, Machine *m, Feeder *f, const SIMPLE_GM_PARAMS *dest,
                           uint32_t n_dest) noexcept nogil:
     """A move off the program (GoToPosition, the way to a connection point) at
     motion[5], without override; the machine position follows it."""
     cdef Motion *mo = &m.motion
     cdef int32_t finish
-    cdef double start[10]
+    cdef double start[AXES]
     memcpy(start, mo.position, sizeof(start))
     _motion_setup(core, mo, f.params, start)
     mo.window = 1
@@ -594,16 +523,11 @@ cdef int32_t _manual_move(Core *core, Machine *m, Feeder *f, const SIMPLE_GM_PAR
     return finish
 
 
-cdef int32_t _program_run(Core *core, Machine *m, Feeder *f, int32_t regime, const char *add_code) noexcept nogil:
-    """A run along the program (regimes 30-33) from the machine's place; the place
-    and the machine position follow it."""
+cdef void _run_setup(Core *core, Machine *m, Feeder *f, int32_t regime, const double *start) noexcept nogil:
+    """The feeder and the motion of a run along the program (regimes 30-33) from the
+    machine's place, the machine at `start`."""
     cdef Motion *mo = &m.motion
     cdef const Program *prog = &m.program.prog
-    cdef Callback cb
-    cdef int32_t finish
-    cdef char *stop_code
-    cdef double start[10]
-    memcpy(start, mo.position, sizeof(start))
     f.prog = prog
     f.regime = regime
     f.first = True
@@ -619,6 +543,28 @@ cdef int32_t _program_run(Core *core, Machine *m, Feeder *f, int32_t regime, con
     mo.cut_len = m.cut_len
     mo.rapid_len = m.rapid_len
     mo.run_time = m.run_time
+
+
+cdef void _run_keep(Core *core, Machine *m, const Feeder *f) noexcept nogil:
+    """With core.lock held, after a run along the program: the machine's place, its
+    lengths and times, and the core's position follow the run."""
+    _keep_place(m, f)
+    m.cut_len = m.motion.cut_len
+    m.rapid_len = m.motion.rapid_len
+    m.run_time = m.motion.run_time
+    memcpy(core.position, m.motion.position, sizeof(core.position))
+
+
+cdef int32_t machine_program_run(Core *core, Machine *m, Feeder *f, int32_t regime, const char *add_code) noexcept nogil:
+    """A run along the program (regimes 30-33) from the machine's place; the place
+    and the machine position follow it."""
+    cdef Motion *mo = &m.motion
+    cdef Callback cb
+    cdef int32_t finish
+    cdef char *stop_code
+    cdef double start[AXES]
+    memcpy(start, mo.position, sizeof(start))
+    _run_setup(core, m, f, regime, start)
     _feed(f)
     motion_sync(mo)
     _publish(core, m)                   # GetPos shows this run from its start, not the last activity's
@@ -626,20 +572,16 @@ cdef int32_t _program_run(Core *core, Machine *m, Feeder *f, int32_t regime, con
         (<TC_DriverInitialize>cb.fn)(cb.user, start, 10, regime)
         callback_leave(core, SLOT_DRIVER_INITIALIZE)
     if regime != RUN_FORWARD_NO_M and regime != RUN_BACKWARD:
-        _send_add_code(core, add_code, start)
+        send_add_code(core, add_code, start)
     finish = _pace(core, m, f)
     pthread_mutex_lock(&core.lock)
-    _keep_place(m, f)
-    m.cut_len = mo.cut_len
-    m.rapid_len = mo.rapid_len
-    m.run_time = mo.run_time
-    memcpy(core.position, mo.position, sizeof(core.position))
+    _run_keep(core, m, f)
     stop_code = m.stop_code
     m.stop_code = NULL
     pthread_mutex_unlock(&core.lock)
     if (finish == EV_STOPPED and stop_code != NULL and not TC_ATOMIC_LOAD(&core.cancel)
             and regime != RUN_FORWARD_NO_M and regime != RUN_BACKWARD):
-        _send_add_code(core, stop_code, mo.position)
+        send_add_code(core, stop_code, mo.position)
     free(stop_code)
     if callback_enter(core, SLOT_DRIVER_END, &cb):
         (<TC_DriverEnd>cb.fn)(cb.user)
@@ -647,7 +589,7 @@ cdef int32_t _program_run(Core *core, Machine *m, Feeder *f, int32_t regime, con
     return finish
 
 
-cdef Machine *_worker_begin(Job *job, Feeder *f) noexcept nogil:
+cdef Machine *machine_worker_begin(Job *job, Feeder *f) noexcept nogil:
     """The start of a run's worker: the feeder with a copy of the core's settings;
     NULL (the run's error set) when out of memory."""
     cdef Core *core = job.core
@@ -668,17 +610,17 @@ cdef Machine *_worker_begin(Job *job, Feeder *f) noexcept nogil:
     return m if f.params != NULL else NULL
 
 
-cdef void *_machine_body(void *arg) noexcept nogil:
+cdef void *machine_body(void *arg) noexcept nogil:
     cdef Job *job = <Job *>arg
     cdef Core *core = job.core
     cdef Feeder f
-    cdef Machine *m = _worker_begin(job, &f)
+    cdef Machine *m = machine_worker_begin(job, &f)
     cdef int32_t finish = EV_STOPPED
     if m != NULL:
         if job.regime == RUN_MANUAL:
-            finish = _manual_move(core, m, &f, &job.dest, job.n_dest)
+            finish = machine_manual_move(core, m, &f, &job.dest, job.n_dest)
         else:
-            finish = _program_run(core, m, &f, job.regime, job.add_code)
+            finish = machine_program_run(core, m, &f, job.regime, job.add_code)
     free(f.params)
     job_free(job)
     core_finish(core, finish)
@@ -746,7 +688,7 @@ cdef void _manual_entry(Motion *mo, const SIMPLE_GM_PARAMS *dest, uint32_t n_des
     feed = dest.m_cc.a if dest.m_cc.a > 0.0 else params.motion[5].feed
     e.vmax = feed / 60.0 if feed > 0.0 else 1.0 / 60.0
     e.feed = feed
-    e.acc = e.dec = 1e12
+    e.acc = e.dec = NO_LIMIT
     _class_ramps(e, &params.motion[5])
     TC_STORE_U64(&mo.produced, 1)
     TC_ATOMIC_STORE(&mo.fed_all, 1)
@@ -761,7 +703,7 @@ cdef int32_t core_goto(Core *core, const SIMPLE_GM_PARAMS *dest, uint32_t n_dest
     job.dest = dest[0]
     memcpy(&job.dest.m_calcE, coords, n_dest * sizeof(double))
     job.n_dest = n_dest
-    return core_begin(core, CMD_GOTO, "GoToPosition", _machine_body, job)
+    return core_begin(core, CMD_GOTO, "GoToPosition", machine_body, job)
 
 
 cdef void machine_keep_stop_code(Core *core, const char *code) noexcept nogil:

@@ -6,7 +6,7 @@
 # Each entry is one part of the program (or, backward, one part retraced). When an
 # entry begins -- or when what governs its speed changes (override, stop, more
 # look-ahead) -- its speed profile is planned again from the machine's present speed
-# in closed form (ramps.pyx): up to the entry's cap, cruise, down to the highest
+# in closed form (the ramps of planner.pxd): up to the entry's cap, cruise, down to the highest
 # exit that every entry visible after it can still brake from. With the window full
 # and no override, that profile is the compiled plan's own: a run takes
 # GetGCodeRunTime.
@@ -16,100 +16,6 @@ cdef extern from *:
     # 64-bit counters shared by the feeder and the step (system.pxd's macros)
     uint64_t TC_LOAD_U64 "TC_ATOMIC_LOAD" (uint64_t *p) nogil
     void TC_STORE_U64 "TC_ATOMIC_STORE" (uint64_t *p, uint64_t v) nogil
-
-cdef enum:
-    LOOK_RING = 64              # entries held ahead (the plan's window of 8 and room for the feeder)
-    STEP_US = 100               # the vendor's time base: overrideInc is per 100 us
-
-cdef enum MotionState:
-    MS_RUNNING = 0
-    MS_WAIT_M = 1               # a waiting M function: stands until it is confirmed
-    MS_DWELL = 2                # G4
-    MS_STARVED = 3              # the next entry is not in the ring yet (the feeder is behind)
-    MS_STOPPED = 4              # StopCNCEx or a breakpoint: -31
-    MS_M0 = 5                   # M0: -33
-    MS_END = 6                  # the last entry ended: -32 forward, -30 backward at the start
-    MS_BUFFER_END = 7           # backward: the executed path it remembers ended: -31
-
-cdef enum MotionEvent:          # motion_step's report (bits; the entries in Motion.log)
-    ME_ENTRY = 0x1              # an entry began
-    ME_MFUNC = 0x2              # an M function was reached (waiting or continuous)
-    ME_PRINT = 0x4
-    ME_HALT = 0x8               # the state left MS_RUNNING for good (stopped, M0, end)
-    LOG_SIZE = 256
-
-
-ctypedef struct Entry:
-    size_t part
-    int32_t kind                # PartKind
-    int32_t func                # G or M number
-    uint32_t line               # of the part (GetPos)
-    int32_t file_idx
-    int32_t gcode_index
-    double feed                 # programmed feed, mm/min (GetPos m_setFeed)
-    bint rapid
-    bint waits                  # the machine stands at it: waiting M (< 1000), M1, dwell
-    bint m0                     # M0: the run pauses (-33)
-    bint break_before           # a breakpoint: the machine stops before this part
-    double dwell                # seconds
-    Segment seg                 # placed geometry of a motion part
-    double s_from, s_to         # the traverse along seg: forward 0 -> length, backward s -> 0
-    double vmax                 # mm/s: the highest speed in it (the plan's peak, or the regime's feed)
-    double exit_cap             # mm/s at its end (the plan's junction speed)
-    double acc, dec             # peak accelerations of its ramps
-    int32_t ramp
-    double dyn_extra            # the dynamic G41/G42 correction at rest, mm (0: none)
-    int32_t dyn_side            # +1 G41 (the tool left of its way), -1 G42
-    int dyn_first, dyn_second   # the plane's axes
-
-
-ctypedef struct Run:            # the profile of the current entry from where it was planned
-    double v_in, v_peak, v_out
-    double a1, a3               # peak acceleration of the first and the last ramp
-    double t1, t2, t3           # ramp, cruise, ramp
-    double d1, d2, d3
-    int32_t ramp
-
-
-ctypedef struct Motion:
-    Entry ring[64]              # entry k of the run at ring[k % LOOK_RING]
-    uint64_t produced           # atomic: entries written (the feeder)
-    uint64_t consumed           # atomic: entries done (the step)
-    int32_t fed_all             # atomic: the feeder wrote its last entry
-    size_t head                 # ring index of the current entry (consumed % LOOK_RING)
-    size_t count                # entries in the ring, the current one included (motion_sync)
-    bint complete               # no entry will follow the ring's last
-    size_t window               # parts the look-ahead sees (the plan's window)
-    int32_t state
-    # the current entry
-    Run run
-    double run_t                # seconds into `run`
-    double run_d0               # distance along the entry where `run` was planned
-    double d                    # distance along the entry done
-    double v                    # path speed now, mm/s
-    bint replan                 # plan the current entry again before the next step
-    bint window_short           # its exit was limited by the ring's end: plan again when more arrives
-    size_t planned_count        # `count` when it was planned
-    bint started                # the current entry began (ME_ENTRY reported)
-    double wait_left            # dwell seconds left
-    int32_t confirmed           # a waiting M function was confirmed (set by the machine's thread)
-    # the override
-    double ovr, ovr_target, ovr_inc
-    bint ovr_timing             # interpolatorConfig0 bit 0: override scales time (acc and dec too)
-    bint ovr_off_in_rapids      # disableG0FeedOverride
-    # a stop (StopCNCEx): at `stop_entry` (ring index), `stop_d` along it
-    bint stopping
-    size_t stop_entry
-    double stop_d
-    double stop_dec
-    int32_t stop_ramp
-    # what the run did (GetPos)
-    double position[10]
-    double cut_len, rapid_len, run_time
-    # what happened since the machine's thread last read it (the driver callbacks)
-    int32_t n_log
-    int32_t log_kind[256]       # ME_ENTRY, ME_MFUNC, ME_PRINT
-    size_t log_part[256]
 
 
 cdef inline double _eq(double acc, int32_t ramp) noexcept nogil:
@@ -125,7 +31,7 @@ cdef void entry_point(const Entry *e, double d, double v, double *out) noexcept 
     correction moves it sideways by dyn_extra (1 - v / vmax), towards the side the
     tool is compensated to: all of it at rest, none at the entry's full speed."""
     cdef double s, extra
-    cdef double t[10]
+    cdef double t[AXES]
     if e.kind != PART_MOTION:
         return
     s = e.s_from + d if e.s_to >= e.s_from else e.s_from - d
@@ -133,7 +39,7 @@ cdef void entry_point(const Entry *e, double d, double v, double *out) noexcept 
     if e.dyn_extra == 0.0 or e.seg.length <= 0.0:
         return
     extra = e.dyn_extra * (1.0 - min(v / e.vmax, 1.0)) if e.vmax > 0.0 else e.dyn_extra
-    segment_tangent(&e.seg, s / e.seg.length, t)
+    segment_tangent(&e.seg, s, t)
     # the way's own direction (not the traverse's): a backward run keeps the side
     out[e.dyn_first] -= e.dyn_side * extra * t[e.dyn_second]
     out[e.dyn_second] += e.dyn_side * extra * t[e.dyn_first]
@@ -312,7 +218,7 @@ cdef void motion_reset(Motion *m, const double *position) noexcept nogil:
     m.ovr = 1.0
     m.ovr_target = 1.0
     m.cut_len = m.rapid_len = m.run_time = 0.0
-    for k in range(10):
+    for k in range(AXES):
         m.position[k] = position[k]
 
 

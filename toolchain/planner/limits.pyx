@@ -4,19 +4,6 @@
 from libc.math cimport sqrt, cos, M_PI
 from libc.string cimport memcpy, memcmp, memset
 
-cdef enum:
-    AXIS_MASK = 0x3FF
-    ENH_ANGLE_SHIFT = 0         # enhancedInterpolatorParameters bits 0-9: no tangency slow-down
-    ENH_FEED_SHIFT = 10         # bits 10-19: axis ignored for the feed
-
-
-ctypedef struct PartLimits:
-    double length           # mm
-    double vmax             # mm/s, never 0 for a part with length
-    double acc, dec         # mm/s^2, peak of the ramps
-    int32_t ramp            # rampType of the motion class (1 trapezoid, 2 sine)
-    bint rapid
-
 
 cdef void plan_settings_from_params(PlanRegion *s, const GCODE_PARAMETERS *p) noexcept nogil:
     """The host's settings, before the program changes any."""
@@ -58,7 +45,7 @@ cdef bint program_add_plan_region(ProgramBuilder *build, size_t first, const GCO
         prog.n_plan_regions -= 1         # several changes before the same part: the last one counts
     if prog.n_plan_regions > 0 and _same_settings(&prog.plan_regions[prog.n_plan_regions - 1], &made):
         return True                      # nothing changed (a G900 in a loop): no new region
-    if not _grow(<void **>&prog.plan_regions, &build.cap_plan_regions, prog.n_plan_regions + 1,
+    if not grow(<void **>&prog.plan_regions, &build.cap_plan_regions, prog.n_plan_regions + 1,
                  sizeof(PlanRegion)):
         return False
     memcpy(&prog.plan_regions[prog.n_plan_regions], &made, sizeof(PlanRegion))
@@ -69,7 +56,7 @@ cdef bint program_add_plan_region(ProgramBuilder *build, size_t first, const GCO
 cdef inline bint _axes_limited(const PlanRegion *s) noexcept nogil:
     """Some axis has a limit that is on."""
     cdef int k
-    for k in range(10):
+    for k in range(AXES):
         if not ((s.limits_off >> k) & 1) and (s.axisLimits[k].maxFeed > 0.0 or s.axisLimits[k].maxAcc > 0.0
                                                or s.axisLimits[k].maxDec > 0.0):
             return True
@@ -81,16 +68,6 @@ cdef inline double _cos_start(const PlanRegion *s) noexcept nogil:
     if s.startAngle > 0.0 and s.startAngle < 180.0:
         return cos(s.startAngle * (M_PI / 180.0))
     return 2.0
-
-
-ctypedef struct PlanCursor:     # the settings of each part, parts visited in order
-    const Program *prog
-    PlanRegion cur
-    size_t region           # next region to apply
-    size_t programmed       # programmed parts before next_part
-    size_t next_part        # the parts before it are counted (only while a region remains to apply)
-    bint axes_limited       # some axis limit of cur is on
-    double cos_start        # cosine of cur.startAngle (2 when every angle slows down)
 
 
 cdef void cursor_init(PlanCursor *c, const Program *prog, const GCODE_PARAMETERS *params) noexcept nogil:
@@ -172,33 +149,30 @@ cdef void part_limits(const Segment *g, const Part *p, const GCODE_PARAMETERS *p
                       const PlanRegion *s, bint axes_limited, uint32_t enhanced, PartLimits *out) noexcept nogil:
     """The static limits of a motion part with geometry g (axes_limited: _axes_limited(s))."""
     cdef const GCODE_FEED *cls
-    cdef double reach[10]
-    cdef double v, feed_len, curvature
+    cdef double reach[AXES]
+    cdef double v, feed_len
     cdef uint32_t ignore_feed = s.ignore_feed | ((enhanced >> ENH_FEED_SHIFT) & AXIS_MASK)
     cdef int k
     out.rapid = p.func == 0
     cls = &s.motion[0] if out.rapid else &s.motion[1]
     out.length = g.length
     out.ramp = RAMP_SINE if cls.rampType == RAMP_SINE else RAMP_TRAPEZOID
-    # acc/dec 0 (or nonsense): no limit of the class, 1e12 mm/s^2 (instant ramps in
-    # practice); the cap keeps the closed forms finite
-    out.acc = cls.acc if 0.0 < cls.acc < 1e12 else 1e12
-    out.dec = cls.dec if 0.0 < cls.dec < 1e12 else 1e12
+    out.acc = limit_or_none(cls.acc)
+    out.dec = limit_or_none(cls.dec)
     v = part_feed(p, params) / 60.0
     feed_len = segment_feed_length(g, ignore_feed)
-    if feed_len > 1e-12 and feed_len < g.length:
+    if feed_len > ROUNDING_EPS and feed_len < g.length:
         v = v * g.length / feed_len     # the feed holds on the other axes: the path runs faster
     if g.arc and not out.rapid:
         v = v * arc_feed_factor(params, s.arc_table, g.radius)
         if params.centripetalAcc > 0.0:
-            curvature = g.radius / (g.radius * g.radius + g.lead * g.lead)
-            v = min(v, sqrt(params.centripetalAcc / curvature))
+            v = min(v, sqrt(params.centripetalAcc / segment_curvature(g)))
     if not axes_limited:
         out.vmax = v if v > 0.0 else 1.0 / 60.0
         return
     segment_axis_reach(g, reach)
-    for k in range(10):
-        if (s.limits_off >> k) & 1 or reach[k] <= 1e-12:
+    for k in range(AXES):
+        if (s.limits_off >> k) & 1 or reach[k] <= ANGLE_EPS:
             continue
         if s.axisLimits[k].maxFeed > 0.0:
             v = min(v, s.axisLimits[k].maxFeed / 60.0 / reach[k])

@@ -8,35 +8,12 @@
 # Numbers from 1001 on are continuous (never stop the motion), others wait like any
 # waiting M function; all carry FLAG_INSERTED. At the program's start "before" means
 # after the first part (an insertion follows a part).
-from libc.stdlib cimport malloc, realloc, free, qsort
-
-cdef enum:
-    MFI_BEFORE_SLOW_DOWN = 0
-    MFI_AFTER_SLOW_DOWN = 1
-    MFI_BEFORE_RAPID = 2
-
-
-ctypedef struct MfuncInsertion:
-    size_t after            # inserted right after this part
-    size_t seq              # found in this order (several after one part keep it)
-    int32_t mfunc
-
-
-ctypedef struct MfuncInsertions:
-    MfuncInsertion *items
-    size_t n, cap
+from libc.stdlib cimport malloc, free, qsort
 
 
 cdef bint _mfi_add(MfuncInsertions *ins, size_t after, int32_t mfunc) noexcept nogil:
-    cdef MfuncInsertion *grown
-    cdef size_t cap
-    if ins.n == ins.cap:
-        cap = ins.cap * 2 if ins.cap > 0 else 64
-        grown = <MfuncInsertion *>realloc(ins.items, cap * sizeof(MfuncInsertion))
-        if grown == NULL:
-            return False
-        ins.items = grown
-        ins.cap = cap
+    if not grow(<void **>&ins.items, &ins.cap, ins.n + 1, sizeof(MfuncInsertion)):
+        return False
     ins.items[ins.n].after = after
     ins.items[ins.n].mfunc = mfunc
     ins.items[ins.n].seq = ins.n

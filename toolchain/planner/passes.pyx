@@ -17,42 +17,6 @@ from libc.stdlib cimport malloc, free
 from libc.math cimport sqrt
 from libc.string cimport memcpy
 
-cdef enum:
-    VENDOR_WINDOW = 8           # the current part + 7 more
-    RING_START = 256            # nodes; a deeper window grows the ring as far as it reaches
-    PLAN_SPLIT_SEARCH = 65536   # parts plan_split_at looks through
-
-
-ctypedef struct PlanNode:       # a motion part with length, as the passes see it
-    size_t part
-    double length
-    double vmax
-    double acc, dec             # equivalent constant accelerations of its ramps (ramps.pyx)
-    double jin                  # speed limit at its start (0: the machine stands there)
-    double jin2                 # its square
-    double brake2               # 2 dec length: what braking within it takes off the squared speed
-    double entry2               # backward pass: squared highest entry speed that can still stop in the window
-    bint barrier                # it can brake from its junction's limit to rest within itself: no
-                                # part after it changes the limits of the parts before it
-
-
-ctypedef struct NodeSource:     # makes the nodes, parts in order
-    const Program *prog
-    const GCODE_PARAMETERS *params
-    uint32_t enhanced
-    PlanCursor cursor
-    size_t scan                 # next part to read
-    bint have_prev, stop_pending, prev_rapid
-    double prev_vmax
-    size_t prev_part            # the last node's part
-    bint prev_tangent_known     # prev_tangent holds its end tangent
-    double prev_tangent[10]
-    size_t class_region         # cursor.region the values below were taken at
-    bint plain_lines            # no axis limit, no axis ignored for the feed: a line's limits are
-                                # its feed and its motion class (part_limits' result, cheaper)
-    double class_acc[2]         # equivalent accelerations of the classes' ramps, [0] rapid, [1] cut
-    double class_dec[2]
-
 
 cdef void _take_classes(NodeSource *src, const PlanRegion *s) noexcept nogil:
     """The values every plain line of the settings s shares (as part_limits takes them)."""
@@ -65,8 +29,8 @@ cdef void _take_classes(NodeSource *src, const PlanRegion *s) noexcept nogil:
     for c in range(2):
         cls = &s.motion[c]
         ramp = RAMP_SINE if cls.rampType == RAMP_SINE else RAMP_TRAPEZOID
-        src.class_acc[c] = ramp_equivalent_acc(cls.acc if 0.0 < cls.acc < 1e12 else 1e12, ramp)
-        src.class_dec[c] = ramp_equivalent_acc(cls.dec if 0.0 < cls.dec < 1e12 else 1e12, ramp)
+        src.class_acc[c] = ramp_equivalent_acc(limit_or_none(cls.acc), ramp)
+        src.class_dec[c] = ramp_equivalent_acc(limit_or_none(cls.dec), ramp)
 
 
 cdef bint _general_node(NodeSource *src, size_t k, const PlanRegion *s, bint want_tangent,
@@ -76,7 +40,7 @@ cdef bint _general_node(NodeSource *src, size_t k, const PlanRegion *s, bint wan
     cdef Segment g
     cdef PartLimits lim
     segment_of_part(src.prog, k, &g)
-    if g.length <= 1e-9:
+    if g.length <= LENGTH_EPS:
         return False
     part_limits(&g, &src.prog.parts[k], src.params, s, src.cursor.axes_limited, src.enhanced, &lim)
     node.length = g.length
@@ -85,14 +49,14 @@ cdef bint _general_node(NodeSource *src, size_t k, const PlanRegion *s, bint wan
     node.dec = ramp_equivalent_acc(lim.dec, lim.ramp)
     if want_tangent:
         segment_tangent(&g, 0.0, t_start)
-        segment_tangent(&g, 1.0, t_end)
+        segment_tangent(&g, g.length, t_end)
     return True
 
 
 cdef void _end_tangent(const Program *prog, size_t k, double *t) noexcept nogil:
     cdef Segment g
     segment_of_part(prog, k, &g)
-    segment_tangent(&g, 1.0, t)
+    segment_tangent(&g, g.length, t)
 
 
 cdef bint _next_node(NodeSource *src, PlanNode *node) noexcept nogil:
@@ -101,8 +65,8 @@ cdef bint _next_node(NodeSource *src, PlanNode *node) noexcept nogil:
     cdef const Part *p = &src.prog.parts[k]
     cdef const Part *prev
     cdef const PlanRegion *s = cursor_settings(&src.cursor, k)
-    cdef double t0[10]
-    cdef double t1[10]
+    cdef double t0[AXES]
+    cdef double t1[AXES]
     cdef double jin, cosine, vmax, d0, d1, d2, inv
     cdef bint rapid, want_tangent, plain
     cdef int c
@@ -123,7 +87,7 @@ cdef bint _next_node(NodeSource *src, PlanNode *node) noexcept nogil:
         d1 = p.ce[1] - prev.ce[1]
         d2 = p.ce[2] - prev.ce[2]
         node.length = sqrt(d0 * d0 + d1 * d1 + d2 * d2)     # segment_of_part's
-        if node.length <= 1e-9:
+        if node.length <= LENGTH_EPS:
             return False                        # no motion: the speed passes through
         vmax = part_feed(p, src.params) / 60.0  # part_limits' limits of a plain line
         node.vmax = vmax if vmax > 0.0 else 1.0 / 60.0
@@ -135,7 +99,7 @@ cdef bint _next_node(NodeSource *src, PlanNode *node) noexcept nogil:
             t0[0] = d0 * inv
             t0[1] = d1 * inv
             t0[2] = d2 * inv
-            for c in range(3, 10):
+            for c in range(3, AXES):
                 t0[c] = 0.0
     elif not _general_node(src, k, s, want_tangent, node, t0, t1):
         return False
@@ -168,11 +132,6 @@ cdef bint _next_node(NodeSource *src, PlanNode *node) noexcept nogil:
     src.have_prev = True
     src.stop_pending = False
     return True
-
-
-ctypedef struct Reciprocals:    # of the last node's values: runs of parts share them
-    double acc, dec, vmax
-    double half_inv_acc, half_inv_dec, inv_vmax
 
 
 cdef void _plan_node(const PlanNode *nd, double v_in, const PlanNode *next, Reciprocals *rc,

@@ -2,9 +2,11 @@
 # under core.lock; and per thread, for calls nested in a callback), so that
 # SetCallBack can return only once no call of the slot runs on another thread: a
 # host may free its function as soon as it has removed it. A worker looks a callback
-# up at each call, never caching it across calls.
+# up at each call, never caching it across calls. Text arguments reach the host in its
+# text type (TGM_LPCTSTR: UTF-16 on Windows), converted for the call (text_to_host).
 from libc.string cimport memset
 from libc.stdio cimport snprintf
+from libc.stdlib cimport free
 
 cdef extern from *:
     """
@@ -13,7 +15,6 @@ cdef extern from *:
     static __thread void *tc_worker_core = 0;
     static __thread int tc_own_calls[3][24];
     """
-    void *tc_worker_core
     int tc_own_calls[3][24]
 
 
@@ -21,34 +22,6 @@ cdef void worker_thread_mark(Core *core) noexcept nogil:
     """Marks the calling thread as `core`'s worker (NULL: no longer)."""
     global tc_worker_core
     tc_worker_core = core
-
-
-# Slots of the callback table, in the order of the documented numbers.
-cdef enum CallbackSlot:
-    SLOT_ADD_OUTPUT_LOG = 0
-    SLOT_SET_STATUS_BAR_TEXT = 1
-    SLOT_IS_DEBUG_MODE = 2
-    SLOT_IS_VERBOSE_MODE = 3
-    SLOT_GET_LIB_PATH = 4
-    SLOT_GET_TOOL_PATH = 5
-    SLOT_GET_SYSTEM_PATH = 6
-    SLOT_GET_FILE_TIME_STAMP = 7
-    SLOT_DO_YIELD = 8
-    SLOT_READ_INI_STRING = 9
-    SLOT_READ_INI_DOUBLE = 10
-    SLOT_READ_INI_INT = 11
-    SLOT_IS_BREAKPOINT = 12
-    SLOT_DISP_AND_LOCATE_ERROR = 13
-    SLOT_ADD_OUTPUT_LOG_WITH_MSG_BOX = 14
-    SLOT_SET_STATUS_BAR_PROGRESS = 15
-    SLOT_DRIVER_INITIALIZE = 16
-    SLOT_DRIVER_G_FUNC = 17
-    SLOT_DRIVER_M_FUNC = 18
-    SLOT_CONNECT_POINT_CALC_START = 19
-    SLOT_CONNECT_POINT_CALC = 20
-    SLOT_CONNECT_POINT_CALC_END = 21
-    SLOT_DRIVER_END = 22
-    SLOT_MATH_WARNING = 23
 
 
 cdef int32_t callback_slot(uint32_t number) noexcept nogil:
@@ -128,11 +101,13 @@ cdef void core_output(Core *core, uint32_t tab, const char *text) noexcept nogil
     """A line for the host's output log (AddOutputLog), e.g. PRINT text on tab 2."""
     cdef Callback cb
     cdef CALLBACK_INFO info
+    cdef void *owned
     memset(&info, 0, sizeof(info))
     info.stringId = -1
     info.fileIdx = -1
     if callback_enter(core, SLOT_ADD_OUTPUT_LOG, &cb):
-        (<TC_AddOutputLog>cb.fn)(cb.user, tab, text, &info)
+        (<TC_AddOutputLog>cb.fn)(cb.user, tab, text_to_host(text, &owned), &info)
+        free(owned)
         callback_leave(core, SLOT_ADD_OUTPUT_LOG)
     log_line(LOG_TOOLCHAIN, text)
 
@@ -143,12 +118,15 @@ cdef void core_report_error(Core *core, const ErrorInfo *err) noexcept nogil:
     cdef Callback cb
     cdef CALLBACK_INFO info
     cdef char line[1400]
+    cdef void *owned
     fill_callback_info(err, &info)
     if callback_enter(core, SLOT_DISP_AND_LOCATE_ERROR, &cb):
-        (<TC_DispAndLocateError>cb.fn)(cb.user, <uint32_t>err.line, err.file_idx, err.text, &info)
+        (<TC_DispAndLocateError>cb.fn)(cb.user, <uint32_t>err.line, err.file_idx, text_to_host(err.text, &owned), &info)
+        free(owned)
         callback_leave(core, SLOT_DISP_AND_LOCATE_ERROR)
     if callback_enter(core, SLOT_ADD_OUTPUT_LOG, &cb):
-        (<TC_AddOutputLog>cb.fn)(cb.user, 0, err.text, &info)
+        (<TC_AddOutputLog>cb.fn)(cb.user, 0, text_to_host(err.text, &owned), &info)
+        free(owned)
         callback_leave(core, SLOT_ADD_OUTPUT_LOG)
     snprintf(line, sizeof(line), "core %d: error %d at file %d line %d: %s",
              core.index, err.number, err.file_idx, err.line, err.text)
@@ -165,12 +143,14 @@ cdef void core_progress(Core *core, uint32_t percent) noexcept nogil:
 cdef void core_status_text(Core *core, const char *text, int32_t file_idx, int32_t n_lines) noexcept nogil:
     cdef Callback cb
     cdef CALLBACK_INFO info
+    cdef void *owned
     memset(&info, 0, sizeof(info))
     info.stringId = -1
     info.fileIdx = file_idx
     info.nLines = n_lines
     if callback_enter(core, SLOT_SET_STATUS_BAR_TEXT, &cb):
-        (<TC_SetStatusBarText>cb.fn)(cb.user, 0, text, &info)
+        (<TC_SetStatusBarText>cb.fn)(cb.user, 0, text_to_host(text, &owned), &info)
+        free(owned)
         callback_leave(core, SLOT_SET_STATUS_BAR_TEXT)
 
 

@@ -1,30 +1,7 @@
-# The status machine of a core in one table (the statuses' names: errors.pyx): for every status of API.md and every
+# The status machine of a core in one table: for every status of the header and every
 # command (a host call, or the end of the worker's activity) the status that follows,
 # or a refusal. The core asks the table before it acts; tests read it as a table
 # (tests/test_transitions.py).
-
-cdef enum Command:
-    CMD_COMPILE = 0             # CompileFromFile / CompileFromMemory
-    CMD_SIMULATE = 1            # StartCNCEx 10 (also needs a compiled program)
-    CMD_TEST = 2                # StartCNCEx 20 (also needs a compiled program)
-    CMD_STOP = 3                # StopCNCEx: the worker ends with EV_STOPPED
-    CMD_RESET = 4               # ResetCNC
-    CMD_DESTROY = 5             # DestroyCNC
-    CMD_DROP_PROGRAM = 6        # ResetStatusCNC mode 0
-    CMD_OUT_OF_TRAJECTORY = 7   # ResetStatusCNC mode 1
-    CMD_SET_PARAMETERS = 8      # SetGCodeParameters (while stopped on the path: feeds only)
-    CMD_LOAD_INI = 9            # LoadFromIni
-    CMD_SET_PREFIX = 10         # GCodePrefixPostfix
-    EV_DONE = 11                # the worker finished its activity
-    EV_STOPPED = 12             # the worker stopped on StopCNCEx (the machine: also a breakpoint)
-    CMD_FORWARD = 13            # StartCNCEx 30 (also needs a compiled program)
-    CMD_FORWARD_NO_M = 14       # StartCNCEx 31
-    CMD_BACKWARD = 15           # StartCNCEx 32
-    CMD_FORWARD_SKIP_M = 16     # StartCNCEx 33
-    CMD_GOTO = 17               # GoToPosition / GoToPositionEx
-    CMD_CONNECT = 18            # ConnectCNCEx_Plane
-    EV_M0 = 19                  # the machine stopped at M0
-    N_COMMANDS = 20
 
 cdef extern from *:
     """
@@ -35,12 +12,11 @@ cdef extern from *:
     #define R TC_REFUSED
     #define K TC_KEEP
     #define S TC_AT_START
-    #define TC_N_STATUSES 26
-    static const int32_t tc_status_values[TC_N_STATUSES] = {
-        0, -2, 1, -1, 10, -10, -11, 20, -20, -21, -30, -31, -32, -33,
-        30, 31, 32, 33, 40, 41, 50, -50, 60, 70, 80, 90};
+    /* One row per status, in the order of the header's enum cnc_status (status_row of
+       catalogue.pxi, generated from the header). -1234 is StatusCNC's answer for a bad
+       core, never a core's status: its row refuses every command. */
     /*                     COMPILE SIM TEST STOP RESET DESTROY DROP  OUT  PARAMS INI PREFIX DONE STOPPED FWD FWD_NO_M BACK FWD_SKIP_M GOTO CONNECT M0 */
-    static const int32_t tc_transitions[TC_N_STATUSES][20] = {
+    static const int32_t tc_transitions[][20] = {
     /*    0 */            {    1,   10,   20,    R,    S,    0,    R,    R,    K,    K,    K,    R,    R,    R,    R,    R,    R,   50,    R,    R },
     /*   -2 */            {    1,   10,   20,    R,    S,    0,    0,  -50,    K,    K,    K,    R,    R,    R,    R,    R,    R,    R,    R,    R },
     /*    1 */            {    R,    R,    R,    R,    S,    0,    R,    R,    R,    R,    R,   -1,    R,    R,    R,    R,    R,    R,    R,    R },
@@ -66,28 +42,21 @@ cdef extern from *:
     /*   60 */            {    R,    R,    R,    R,    S,    0,    R,    R,    R,    R,    K,    R,    R,    R,    R,    R,    R,    R,    R,    R },
     /*   70 */            {    R,    R,    R,    R,    S,    0,    R,    R,    R,    R,    K,    R,    R,    R,    R,    R,    R,    R,    R,    R },
     /*   80 */            {    R,    R,    R,    R,    S,    0,    R,    R,    R,    R,    K,    R,    R,    R,    R,    R,    R,    R,    R,    R },
-    /*   90 */            {    R,    R,    R,    R,    S,    0,    R,    R,    R,    R,    K,    R,    R,    R,    R,    R,    R,    R,    R,    R }};
+    /*   90 */            {    R,    R,    R,    R,    S,    0,    R,    R,    R,    R,    K,    R,    R,    R,    R,    R,    R,    R,    R,    R },
+    /* -1234 */           {    R,    R,    R,    R,    R,    R,    R,    R,    R,    R,    R,    R,    R,    R,    R,    R,    R,    R,    R,    R }};
+    _Static_assert(sizeof(tc_transitions) / sizeof(tc_transitions[0]) == TC_N_STATUSES,
+                   "tc_transitions: one row for every status of enum cnc_status");
     #undef R
     #undef K
     #undef S
     """
-    int32_t TC_REFUSED, TC_KEEP, TC_AT_START, TC_N_STATUSES
-    const int32_t tc_status_values[]
     const int32_t tc_transitions[][20]
-
-
-cdef int32_t _status_row(int32_t status) noexcept nogil:
-    cdef int32_t i
-    for i in range(TC_N_STATUSES):
-        if tc_status_values[i] == status:
-            return i
-    return -1
 
 
 cdef int32_t status_after(int32_t status, int32_t command, bint has_program) noexcept nogil:
     """The status that `command` leads to from `status`: a status, TC_KEEP, or
-    TC_REFUSED (also for a status that is not in API.md's list)."""
-    cdef int32_t row = _status_row(status)
+    TC_REFUSED (also for a value that is not a status)."""
+    cdef int32_t row = status_row(status)
     cdef int32_t after
     if row < 0 or command < 0 or command >= N_COMMANDS:
         return TC_REFUSED

@@ -1,0 +1,177 @@
+# The offline machine without its threads: compile a program on one of this module's
+# own cores and run the machine over it synchronously, the feeder, motion_step and
+# the notifier's bookkeeping called in turn on one thread, one 100 us step at a
+# time, every step recorded. The run is set up and kept as machine_program_run does
+# (machine/machine.pyx _run_setup, _run_keep), with _pace's threads and sleeps
+# replaced by this loop.
+
+def compile_text(int core_idx, text, params=None, long long window=0, position=None):
+    """Compiles `text` (str) on the module's core with GCODE_PARAMETERS `params`
+    (bytes, else the core's), look-ahead `window`, from machine `position` (10
+    floats, else where the machine stands). Returns None or (number, line, text)."""
+    cdef bytes code = text.encode("latin-1")
+    cdef bytes pb
+    cdef double start[10]
+    cdef CALLBACK_INFO info
+    cdef int k
+    if params is not None:
+        pb = bytes(params)
+        if len(pb) != sizeof(GCODE_PARAMETERS):
+            raise ValueError("params: wrong size")
+        if ToolChainCore_SetGCodeParameters(core_idx, <const GCODE_PARAMETERS *><const char *>pb) != 0:
+            raise ValueError("params refused")
+    if position is not None:
+        for k in range(10):
+            start[k] = position[k]
+        if ToolChainCore_ResetCNC(core_idx, 0, 10, start) != 0:
+            raise RuntimeError("ResetCNC refused")
+    ToolChainCore_SetLookAhead(core_idx, <int32_t>window)
+    if ToolChainCore_CompileFromMemory(core_idx, b"m.nc", code) != 0:
+        raise RuntimeError("CompileFromMemory refused")
+    while ToolChainCore_StatusCNC(core_idx) == CNC_STATUS_COMPILING:
+        _time.sleep(0.001)
+    if ToolChainCore_GetLastError(core_idx, &info) == 1:
+        return (info.stringId, info.actLine, (<bytes>info.m_fullError).decode("latin-1"))
+    return None
+
+
+def simulated_run_time(int core_idx):
+    """StartCNCEx 10 (a simulation with calcTime) and GetGCodeRunTime of the main file."""
+    if ToolChainCore_StartCNCEx(core_idx, RUN_SIMULATION, NULL) != 0:
+        raise RuntimeError("StartCNCEx 10 refused")
+    while ToolChainCore_StatusCNC(core_idx) == 10:
+        _time.sleep(0.001)
+    return ToolChainCore_GetGCodeRunTime(core_idx, 0)
+
+
+def toolpath(int core_idx):
+    """The program's TC_TOOLPATH_RECORDs (GetToolpath) as bytes."""
+    cdef uint64_t total = 0
+    cdef bytearray out
+    if ToolChainCore_GetToolpath(core_idx, NULL, 0, 0, &total) != 0:
+        raise RuntimeError("GetToolpath refused")
+    out = bytearray(total * sizeof(TC_TOOLPATH_RECORD))
+    if total and ToolChainCore_GetToolpath(core_idx, <TC_TOOLPATH_RECORD *><char *>out, total, 0, &total) != 0:
+        raise RuntimeError("GetToolpath refused")
+    return bytes(out)
+
+
+def plan(int core_idx):
+    """The compiled plan per part: (v_peak, v_exit, time), mm/s and s."""
+    cdef Core *core = core_get(core_idx)
+    cdef const Program *prog
+    cdef size_t k
+    if core.program == NULL or core.program.prog.plan == NULL:
+        return []
+    prog = &core.program.prog
+    return [(prog.plan[k].v_peak, prog.plan[k].v_exit, prog.plan[k].time) for k in range(prog.n_parts)]
+
+
+def set_breakpoint(int core_idx, unsigned int line):
+    ToolChainCore_SetBreakpoint(core_idx, line, 0)
+
+
+def set_rel_feed(int core_idx, double rel_feed):
+    """SetRelFeed: a run starts with this override (no ramp to it)."""
+    ToolChainCore_SetRelFeed(core_idx, rel_feed)
+
+
+def forget(int core_idx):
+    """ResetCNC to the origin: the machine's place on the program is dropped (its start)."""
+    cdef double origin[10]
+    memset(origin, 0, sizeof(origin))
+    ToolChainCore_ResetCNC(core_idx, 0, 10, origin)
+
+
+STATE_NAMES = {MS_RUNNING: "running", MS_WAIT_M: "wait_m", MS_DWELL: "dwell", MS_STARVED: "starved",
+               MS_STOPPED: "stopped", MS_M0: "m0", MS_END: "end", MS_BUFFER_END: "buffer_end"}
+FINISH = {EV_DONE: "done", EV_STOPPED: "stopped", EV_M0: "m0"}
+
+
+def run(int core_idx, int regime, double stop_at=-1.0, overrides=(), double max_time=600.0,
+        int feed_every=1):
+    """One run of the machine (StartCNCEx `regime`) from where it stands, until it
+    halts or `max_time` seconds of machine time. `stop_at`: StopCNCEx at that machine
+    time; `overrides`: ((time, relFeed), ...) set at those times; `feed_every`: the
+    feeder fills the ring only every that many steps (a feeder that lags).
+    Returns dict(steps=[(t, part, d, v, ovr, x, y, z, state, cut+rapid length)] after
+    every step, entries=[part of each entry begun], finish, stop_time, dt)."""
+    cdef Core *core = core_get(core_idx)
+    cdef Machine *m
+    cdef Motion *mo
+    cdef Feeder f
+    cdef GCODE_PARAMETERS params
+    cdef double start[10]
+    cdef double dt = STEP_US * 1e-6
+    cdef double t = 0.0, stop_time = -1.0
+    cdef int events, k, n_steps = 0
+    cdef int32_t finish
+    cdef Entry *e
+    cdef list steps = [], entries = []
+    cdef list pending = sorted(overrides)
+    memset(&f, 0, sizeof(f))
+    pthread_mutex_lock(&core.lock)
+    if core.program == NULL or not machine_prepare(core):
+        pthread_mutex_unlock(&core.lock)
+        raise RuntimeError("nothing compiled")
+    m = <Machine *>core.offline
+    params = core.params
+    f.params = &params
+    f.enhanced = <uint32_t>core.machine.enhancedInterpolatorParameters
+    memcpy(start, m.motion.position, sizeof(start))
+    pthread_mutex_unlock(&core.lock)
+    mo = &m.motion
+    f.core = core
+    f.m = m
+    _run_setup(core, m, &f, regime, start)
+    mo.ovr_target = mo.ovr
+    _feed(&f)
+    while t < max_time:
+        while pending and pending[0][0] <= t:
+            mo.ovr_target = pending.pop(0)[1]
+        if stop_at >= 0.0 and t >= stop_at and stop_time < 0.0:
+            stop_time = t
+            motion_stop(mo)
+        if n_steps % feed_every == 0:
+            _feed(&f)
+        events = motion_step(mo, dt)
+        motion_locate(mo)               # the pacer does it once per tick; here after every step
+        n_steps += 1
+        t = n_steps * dt
+        for k in range(mo.n_log):
+            if mo.log_kind[k] == ME_ENTRY:
+                entries.append(mo.log_part[k])
+        _hand_over(m, True)
+        _drain(&f)
+        e = motion_entry(mo, 0) if mo.count > 0 else NULL
+        steps.append((t, <long long>e.part if e != NULL else -1, mo.d, mo.v, mo.ovr,
+                      mo.position[0], mo.position[1], mo.position[2], STATE_NAMES[mo.state],
+                      mo.cut_len + mo.rapid_len))
+        if events & ME_HALT or mo.state >= MS_STOPPED:
+            break
+    _drain(&f)
+    finish = _finish_event(m, regime)
+    pthread_mutex_lock(&core.lock)
+    _run_keep(core, m, &f)
+    pthread_mutex_unlock(&core.lock)
+    return dict(steps=steps, entries=entries, finish=FINISH.get(finish, finish), stop_time=stop_time,
+                dt=dt, state=STATE_NAMES[mo.state], run_time=mo.run_time)
+
+
+def place(int core_idx):
+    """Where the machine stands on its program: (part, distance along it, began,
+    motion parts it remembers for backward, oldest first)."""
+    cdef Core *core = core_get(core_idx)
+    cdef Machine *m = <Machine *>core.offline
+    cdef size_t k
+    if m == NULL:
+        return None
+    return (m.part, m.part_s, m.began, [m.history[k] for k in range(m.n_history)])
+
+
+def destroy_all():
+    """DestroyCNC on the module's cores: their finished compile workers are joined (a
+    host ends so; ThreadSanitizer reports a thread nobody joined)."""
+    cdef uint32_t k
+    for k in range(TOOL_CHAIN_MAX_CORES):
+        ToolChainCore_DestroyCNC(k)

@@ -1,0 +1,161 @@
+# The planner: compile G-code and plan it with any window and settings, the plan per
+# part; the ramps' closed forms; a part's segment geometry.
+
+cdef CompileInput *_input_for(bytes src, params, int32_t *cancel) except NULL:
+    """A CompileInput (calloc; the caller frees it) for the text `src` with
+    GCODE_PARAMETERS `params` (bytes, else the defaults)."""
+    cdef CompileInput *inp
+    cdef bytes pb
+    if params is not None and len(bytes(params)) != sizeof(GCODE_PARAMETERS):
+        raise ValueError("params: wrong size")
+    inp = <CompileInput *>calloc(1, sizeof(CompileInput))
+    if inp == NULL:
+        raise MemoryError()
+    if params is None:
+        default_gcode_parameters(&inp.params)
+    else:
+        pb = bytes(params)
+        memcpy(&inp.params, <const char *>pb, sizeof(GCODE_PARAMETERS))
+    inp.text = src
+    inp.length = len(src)
+    inp.file_idx = 0
+    inp.prefix_idx = -1
+    inp.postfix_idx = -1
+    inp.plc = TGM_Data
+    inp.cancel = cancel
+    return inp
+
+
+def plan_text(text, params=None, long long window=0, unsigned int enhanced=0, bint detail=True,
+              long long split_near=-1):
+    """Compiles `text` (str) with GCODE_PARAMETERS `params` (bytes, else the defaults),
+    inserts the G167 arcs, plans. Returns (parts, error, timing): parts: dicts kind,
+    func, line, length, v_in, v_peak, v_out, time (detail), else one dict n_parts,
+    run_time, plan_bytes, regions (planning regions); timing: CPU seconds of the compile (with the arcs) and of the planning.
+    split_near >= 0: planned in two threads as the library does beside the extent
+    (pipeline.pyx plan_in_two), split at plan_split_at(split_near); timing["split"], and
+    wall seconds of the extent alone ("extent") and of the extent with the plan beside
+    it ("beside"); split_near < -1: the same wall times with the plan in one piece
+    before the extent, in this thread (as the library plans small programs)."""
+    cdef int32_t cancel = 0
+    cdef bytes src = text.encode("latin-1")
+    cdef CompileInput *inp = _input_for(src, params, &cancel)
+    cdef ProgramBuilder build
+    cdef Program *prog = &build.prog
+    cdef ErrorInfo err
+    cdef int rc
+    cdef size_t k
+    cdef timespec t0, t1, t2
+    cdef GCODE_INFO extent
+    cdef size_t split = 0
+    cdef double run_time = 0.0
+    program_builder_init(&build)
+    memset(&err, 0, sizeof(err))
+    inp.plan_window = window
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t0)
+    rc = compile_program(inp, &build, &err)
+    if rc == COMPILE_OK:
+        rc = insert_arcs(&build, &inp.params, &err)
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t1)
+    timing = dict(compile=(t1.tv_sec - t0.tv_sec) + 1e-9 * (t1.tv_nsec - t0.tv_nsec), plan=0.0)
+    if rc == COMPILE_OK:
+        if split_near == -1:
+            rc = plan_program(&build, &inp.params, enhanced, window)
+        elif split_near < -1:                # one piece, then the extent, wall times as below
+            clock_gettime(CLOCK_MONOTONIC, &t1)
+            program_extent(prog, &extent)
+            clock_gettime(CLOCK_MONOTONIC, &t2)
+            timing["extent"] = (t2.tv_sec - t1.tv_sec) + 1e-9 * (t2.tv_nsec - t1.tv_nsec)
+            rc = plan_program(&build, &inp.params, enhanced, window)
+            program_extent(prog, &extent)
+            clock_gettime(CLOCK_MONOTONIC, &t1)
+            timing["beside"] = (t1.tv_sec - t2.tv_sec) + 1e-9 * (t1.tv_nsec - t2.tv_nsec)
+        else:                           # wall times: the extent alone, then with the plan beside it
+            clock_gettime(CLOCK_MONOTONIC, &t1)
+            program_extent(prog, &extent)
+            clock_gettime(CLOCK_MONOTONIC, &t2)
+            timing["extent"] = (t2.tv_sec - t1.tv_sec) + 1e-9 * (t2.tv_nsec - t1.tv_nsec)
+            split = plan_split_at(prog, <size_t>split_near)
+            rc = plan_in_two(prog, &inp.params, enhanced, window, split, &extent)
+            clock_gettime(CLOCK_MONOTONIC, &t1)
+            timing["beside"] = (t1.tv_sec - t2.tv_sec) + 1e-9 * (t1.tv_nsec - t2.tv_nsec)
+            timing["split"] = split
+        clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t2)
+        timing["plan"] = (t2.tv_sec - t1.tv_sec) + 1e-9 * (t2.tv_nsec - t1.tv_nsec)
+    out = []
+    if rc == COMPILE_OK and not detail:
+        for k in range(prog.n_parts):
+            run_time += prog.plan[k].time
+        out = dict(n_parts=prog.n_parts, run_time=run_time, plan_bytes=prog.n_parts * sizeof(PartPlan),
+                   regions=prog.n_plan_regions)
+    elif rc == COMPILE_OK:
+        for k in range(prog.n_parts):
+            out.append(dict(kind=prog.parts[k].kind, func=prog.parts[k].func, line=prog.parts[k].line,
+                            length=part_length(prog, k), v_in=plan_entry_speed(prog, k),
+                            v_peak=prog.plan[k].v_peak, v_out=prog.plan[k].v_exit,
+                            time=prog.plan[k].time, calc_feed=plan_calc_feed(prog, k)))
+    error = None if rc == COMPILE_OK else (err.number, err.line, err.text.decode("latin-1"))
+    program_builder_free(&build)
+    free(inp)
+    return out, error, timing
+
+
+def ramp(double v0, double v1, double acc, int ramp_type, double t=-1.0):
+    """(time, distance) of a ramp, or (speed, distance) t seconds into it."""
+    if t < 0.0:
+        return ramp_time(v0, v1, acc, ramp_type), ramp_distance(v0, v1, acc, ramp_type)
+    return ramp_speed_at(v0, v1, acc, ramp_type, t), ramp_distance_at(v0, v1, acc, ramp_type, t)
+
+
+def profile(double length, double v_in, double v_peak, double v_out, double acc, double dec, int ramp, times):
+    """(duration, peak, speeds at `times`) of the profile the offline machine runs over
+    a part planned (v_in, v_peak, v_out): machine/motion.pyx run_plan capped by the
+    plan's peak and exit, sampled with run_at."""
+    cdef Run r
+    cdef double d, v
+    speeds = []
+    run_plan(&r, length, v_in, v_peak, v_out, acc, dec, ramp)
+    for t in times:
+        run_at(&r, t, &d, &v)
+        speeds.append(v)
+    return run_time_total(&r), r.v_peak, speeds
+
+
+def arc_factor(table, double radius, int state=-1):
+    """arc_feed_factor with arcFeedTable = [(r, relFeed), ...]."""
+    cdef GCODE_PARAMETERS p
+    memset(&p, 0, sizeof(p))
+    for i, (r, f) in enumerate(table):
+        p.arcFeedTable[i].m_r = r
+        p.arcFeedTable[i].m_relFeed = f
+    return arc_feed_factor(&p, state, radius)
+
+
+def segment_points(text, size_t part, distances, params=None):
+    """Compiles `text` (absolute coordinates unless params say otherwise) and returns
+    (length, [point (10 axes) at each path length of `distances`]) of motion part
+    `part` (geometry.pyx segment_of_part, segment_point_at)."""
+    cdef int32_t cancel = 0
+    cdef bytes src = text.encode("latin-1")
+    cdef CompileInput *inp = _input_for(src, params, &cancel)
+    cdef ProgramBuilder build
+    cdef ErrorInfo err
+    cdef Segment g
+    cdef double out[10]
+    program_builder_init(&build)
+    memset(&err, 0, sizeof(err))
+    rc = compile_program(inp, &build, &err)
+    free(inp)
+    if rc != COMPILE_OK or part >= build.prog.n_parts:
+        program_builder_free(&build)
+        raise ValueError(err.text.decode("latin-1") or "no such part")
+    segment_of_part(&build.prog, part, &g)
+    points = []
+    for s in distances:
+        for k in range(10):
+            out[k] = 0.0
+        segment_point_at(&g, s, out)
+        points.append([out[k] for k in range(g.n_axes)])
+    length = g.length
+    program_builder_free(&build)
+    return length, points

@@ -1,0 +1,2 @@
+# The library's faces, for the stages stages.pyx includes.
+include "libSF_TCh.pxd"

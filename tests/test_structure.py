@@ -1,0 +1,127 @@
+"""The structure rules of toolchain/ (tools/check_structure.py, docs/architecture.md):
+the library keeps them, and the checker finds each kind of violation in small trees."""
+import sys
+import textwrap
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "tools"))
+
+import check_structure  # noqa: E402
+
+
+def tree(tmp_path: Path, files: dict) -> Path:
+    for name, text in files.items():
+        path = tmp_path / name
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(text)
+    return tmp_path
+
+
+def problems(tmp_path: Path, files: dict) -> list:
+    return [f"{rel}:{line}: {message}" for rel, line, message in
+            check_structure.check(tree(tmp_path, files), "lib.pyx")]
+
+
+# a small library: lib.pxd includes the face; lib.pyx a stage of two files (the
+# second includes a third in the middle of its own text) and a one-file stage
+BASE = {name: textwrap.dedent(text).lstrip() for name, text in {
+    "lib.pxd": """
+        include "face.pxd"
+    """,
+    "face.pxd": """
+        # the face: its types and what other stages call
+        ctypedef struct Point:
+            double x, y
+        cdef enum:
+            LIMIT = 4
+        cdef double later(double v) noexcept nogil
+    """,
+    "lib.pyx": """
+        include "stage/first.pyx"
+        include "stage/second.pyx"
+        include "other.pyx"
+    """,
+    "stage/first.pyx": """
+        cdef double early(Point *p) noexcept nogil:
+            \"\"\"second_only and _helper in a docstring are no use.\"\"\"
+            cdef double second_only = 1.0       # a local named like a later global
+            return later(p.x) + LIMIT + second_only   # later: declared by the face
+    """,
+    "stage/second.pyx": """
+        cdef double _helper(double v) noexcept nogil:
+            return v
+        include "stage/nested.pyx"
+        cdef double later(double v) noexcept nogil:
+            return _helper(v) + nested(v)
+        cdef double second_only(double v) noexcept nogil:
+            return early(NULL) + v
+    """,
+    "stage/nested.pyx": """
+        cdef double nested(double v) noexcept nogil:
+            return _helper(v)
+    """,
+    "other.pyx": """
+        cdef double other(Point *p) noexcept nogil:
+            return later(p.y)                   # another stage: through the face
+    """,
+}.items()}
+
+
+def test_the_library_keeps_its_structure(capsys):
+    status = check_structure.main([str(ROOT / "toolchain")])
+    assert status == 0, capsys.readouterr().out
+
+
+def test_a_well_formed_tree_passes(tmp_path):
+    files = dict(BASE)
+    files["stage/second.pyx"] = files["stage/second.pyx"].replace("_helper", "helper")
+    files["stage/nested.pyx"] = files["stage/nested.pyx"].replace("_helper", "helper")
+    assert problems(tmp_path, files) == []
+
+
+def test_a_name_used_before_the_file_defining_it(tmp_path):
+    files = dict(BASE)
+    files["stage/first.pyx"] = files["stage/first.pyx"].replace("return later(p.x)", "return nested(p.x)")
+    files["stage/second.pyx"] = files["stage/second.pyx"].replace("_helper", "helper")
+    files["stage/nested.pyx"] = files["stage/nested.pyx"].replace("_helper", "helper")
+    assert problems(tmp_path, files) == [
+        "stage/first.pyx:4: nested is used before stage/nested.pyx defines it (declare it in a face, or include that file first)"]
+
+
+def test_a_private_name_used_from_another_file(tmp_path):
+    # nested.pyx, included inside second.pyx, is another file all the same
+    assert problems(tmp_path, BASE) == [
+        "stage/nested.pyx:2: private _helper of stage/second.pyx used here: give it a public name and declare it in its face"]
+
+
+def test_a_private_name_declared_in_a_face(tmp_path):
+    files = dict(BASE)
+    files["stage/nested.pyx"] = files["stage/nested.pyx"].replace("_helper(v)", "v")
+    files["face.pxd"] += "cdef double _helper(double v) noexcept nogil\n"
+    assert problems(tmp_path, files) == [
+        "face.pxd:7: private _helper of stage/second.pyx declared here: a name other files use must not start with _"]
+
+
+def test_a_type_in_a_pyx(tmp_path):
+    files = dict(BASE)
+    files["stage/nested.pyx"] = files["stage/nested.pyx"].replace("_helper(v)", "v")
+    files["stage/second.pyx"] += "cdef enum Mode:\n    MODE_A = 1\nctypedef double (*hook)(double) noexcept nogil\n"
+    assert problems(tmp_path, files) == [
+        "stage/second.pyx:8: type Mode defined in a .pyx: it belongs in its stage's face",
+        "stage/second.pyx:10: type hook defined in a .pyx: it belongs in its stage's face"]
+
+
+def test_the_command_line_prints_file_and_line(tmp_path, capsys):
+    assert check_structure.main([str(tree(tmp_path, BASE)), "--root", "lib.pyx"]) == 1
+    out = capsys.readouterr().out.splitlines()
+    assert out == [f"{tmp_path / 'stage/nested.pyx'}:2: private _helper of stage/second.pyx used here: "
+                   "give it a public name and declare it in its face"]
+
+
+def test_a_function_another_stage_uses_without_a_face(tmp_path):
+    files = dict(BASE)
+    files["stage/nested.pyx"] = files["stage/nested.pyx"].replace("_helper(v)", "v")
+    files["other.pyx"] = files["other.pyx"].replace("later(p.y)", "later(p.y) + nested(p.x)")
+    assert problems(tmp_path, files) == [
+        "other.pyx:2: nested of stage/nested.pyx is used by another stage: declare it in its stage's face"]

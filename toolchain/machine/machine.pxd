@@ -1,0 +1,232 @@
+# Face of the offline machine (machine/, Local_Core_Mode 2): runs a compiled program
+# in real time (times the core's time scale) as the vendor's interpolator would,
+# StartCNCEx 30-33, StopCNCEx, the M-function handshake, breakpoints, manual moves,
+# ConnectCNCEx_Plane. Its files:
+#   motion.pyx          the interpolator as a pure step: motion_step(m, dt) along a ring of entries
+#   machine.pyx         a run: the feeder and notifier (the activity's worker) and the pacer thread
+#   connect_search.pyx  where on a program ConnectCNCEx_Plane connects to (pure, typed)
+#   connect.pyx         the connection as an activity: search, move there, run on
+# Owns Machine (the machine of one core, Core.offline: its place on the program
+# outlives the runs), Motion and the search's index. Called by the core (prepare and
+# forget a core's machine), the simulator (core_start_run starts a machine run) and
+# the exports (GoTo, M confirmations, ConnectCNCEx_Plane, StopCNCEx's addCode).
+
+# ---- motion.pyx: the step and its ring of entries
+cdef enum:
+    LOOK_RING = 64              # entries held ahead (the plan's window of 8 and room for the feeder)
+    STEP_US = 100               # the vendor's time base: overrideInc is per 100 us
+
+cdef enum MotionState:
+    MS_RUNNING = 0
+    MS_WAIT_M = 1               # a waiting M function: stands until it is confirmed
+    MS_DWELL = 2                # G4
+    MS_STARVED = 3              # the next entry is not in the ring yet (the feeder is behind)
+    MS_STOPPED = 4              # StopCNCEx or a breakpoint: -31
+    MS_M0 = 5                   # M0: -33
+    MS_END = 6                  # the last entry ended: -32 forward, -30 backward at the start
+    MS_BUFFER_END = 7           # backward: the executed path it remembers ended: -31
+
+cdef enum MotionEvent:          # motion_step's report (bits; the entries in Motion.log)
+    ME_ENTRY = 0x1              # an entry began
+    ME_MFUNC = 0x2              # an M function was reached (waiting or continuous)
+    ME_PRINT = 0x4
+    ME_HALT = 0x8               # the state left MS_RUNNING for good (stopped, M0, end)
+    LOG_SIZE = 256
+
+ctypedef struct Entry:
+    size_t part
+    int32_t kind                # PartKind
+    int32_t func                # G or M number
+    uint32_t line               # of the part (GetPos)
+    int32_t file_idx
+    int32_t gcode_index
+    double feed                 # programmed feed, mm/min (GetPos m_setFeed)
+    bint rapid
+    bint waits                  # the machine stands at it: waiting M (< 1000), M1, dwell
+    bint m0                     # M0: the run pauses (-33)
+    bint break_before           # a breakpoint: the machine stops before this part
+    double dwell                # seconds
+    Segment seg                 # placed geometry of a motion part
+    double s_from, s_to         # the traverse along seg: forward 0 -> length, backward s -> 0
+    double vmax                 # mm/s: the highest speed in it (the plan's peak, or the regime's feed)
+    double exit_cap             # mm/s at its end (the plan's junction speed)
+    double acc, dec             # peak accelerations of its ramps
+    int32_t ramp
+    double dyn_extra            # the dynamic G41/G42 correction at rest, mm (0: none)
+    int32_t dyn_side            # +1 G41 (the tool left of its way), -1 G42
+    int dyn_first, dyn_second   # the plane's axes
+
+ctypedef struct Run:            # the profile of the current entry from where it was planned
+    double v_in, v_peak, v_out
+    double a1, a3               # peak acceleration of the first and the last ramp
+    double t1, t2, t3           # ramp, cruise, ramp
+    double d1, d2, d3
+    int32_t ramp
+
+ctypedef struct Motion:
+    Entry ring[LOOK_RING]       # entry k of the run at ring[k % LOOK_RING]
+    uint64_t produced           # atomic: entries written (the feeder)
+    uint64_t consumed           # atomic: entries done (the step)
+    int32_t fed_all             # atomic: the feeder wrote its last entry
+    size_t head                 # ring index of the current entry (consumed % LOOK_RING)
+    size_t count                # entries in the ring, the current one included (motion_sync)
+    bint complete               # no entry will follow the ring's last
+    size_t window               # parts the look-ahead sees (the plan's window)
+    int32_t state
+    # the current entry
+    Run run
+    double run_t                # seconds into `run`
+    double run_d0               # distance along the entry where `run` was planned
+    double d                    # distance along the entry done
+    double v                    # path speed now, mm/s
+    bint replan                 # plan the current entry again before the next step
+    bint window_short           # its exit was limited by the ring's end: plan again when more arrives
+    size_t planned_count        # `count` when it was planned
+    bint started                # the current entry began (ME_ENTRY reported)
+    double wait_left            # dwell seconds left
+    int32_t confirmed           # a waiting M function was confirmed (set by the machine's thread)
+    # the override
+    double ovr, ovr_target, ovr_inc
+    bint ovr_timing             # interpolatorConfig0 bit 0: override scales time (acc and dec too)
+    bint ovr_off_in_rapids      # disableG0FeedOverride
+    # a stop (StopCNCEx): at `stop_entry` (ring index), `stop_d` along it
+    bint stopping
+    size_t stop_entry
+    double stop_d
+    double stop_dec
+    int32_t stop_ramp
+    # what the run did (GetPos)
+    double position[AXES]
+    double cut_len, rapid_len, run_time
+    # what happened since the machine's thread last read it (the driver callbacks)
+    int32_t n_log
+    int32_t log_kind[LOG_SIZE]  # ME_ENTRY, ME_MFUNC, ME_PRINT
+    size_t log_part[LOG_SIZE]
+
+# ---- machine.pyx: a run's threads and the machine's place on the program
+cdef enum:
+    EVENT_QUEUE = 1024          # events between the pacer and the notifier
+    HISTORY_DEPTH = 100000      # motion parts a backward run can retrace
+    PART_NONE = -1              # an entry that is no part of the program (a manual move)
+    MFUNC_LATER = 2             # DriverMFunc's answer: the host confirms with ToolChainCore_ConfirmMFunc
+    RUN_MANUAL = 50             # the regime of a manual move (GoToPosition), as its status
+
+ctypedef struct MachineEvent:
+    int32_t kind                # ME_ENTRY, ME_MFUNC, ME_PRINT
+    size_t part
+
+ctypedef struct Machine:
+    Motion motion
+    pthread_t pacer
+    int32_t pacer_done          # atomic: the pacer has left its loop
+    int32_t regime              # of the run (30 31 32 33), CMD_GOTO's 50
+    # where the machine is on the program (outlives the runs)
+    LoadedProgram *program      # the program the place refers to (a reference); NULL: none
+    Placement placement         # where that program runs (the machine position of its first start)
+    int64_t cur_motion          # the motion part it runs or ran last (PART_NONE: none)
+    char *stop_code             # StopCNCEx addCode, sent once the machine stands (core.lock)
+    size_t part                 # the part it is in (n_parts: after the last)
+    double part_s               # path length done along that part
+    bint began                  # the part's start was reported (DriverGFunc)
+    size_t *history             # motion parts it ran before `part`, oldest first
+    size_t n_history, cap_history
+    bint history_lost           # older ones were dropped (HISTORY_DEPTH)
+    double cut_len, rapid_len, run_time
+    # the M-function handshake
+    int32_t m_pending           # atomic: a DriverMFunc answered "later": ConfirmMFunc ends it
+    # pacer -> notifier
+    pthread_mutex_t lock
+    pthread_cond_t wake         # the notifier sleeps on it until the pacer has news
+    bint news                   # events queued, entries consumed or the pacer done (lock)
+    MachineEvent events[EVENT_QUEUE]
+    size_t ev_first, ev_n
+
+ctypedef struct Feeder:         # what the notifier thread reads parts with
+    Core *core
+    Machine *m
+    const Program *prog
+    GCODE_PARAMETERS *params
+    PlanCursor cursor
+    uint32_t enhanced
+    int32_t regime
+    size_t next                 # forward: next part; backward: entries made so far
+    bint any_motion             # regime 33: a motion part was fed
+    uint32_t last_line          # the breakpoint question is asked once per line
+    int32_t last_file
+    bint first
+    bint back_current           # backward: the machine stands inside a motion part
+
+# ---- connect_search.pyx, connect.pyx: the connection search
+cdef enum:
+    CONNECT_ALL_AXES = 0x3FF
+    CONNECT_LEAF_PARTS = 4      # parts per leaf of the index
+    CONNECT_STACK = 128         # the walk holds at most depth + 1 nodes (< 40 for 2**33 parts)
+
+cdef enum ConnectResult:
+    CONNECT_FOUND = 0
+    CONNECT_NOT_FOUND = -1      # no such line, G-code index or occurrence; no motion in the range
+    CONNECT_OFF_PART = -2       # nType 46: the point lies farther than the tolerance from its part
+    CONNECT_BAD_ARGUMENT = -3
+    CONNECT_NO_MEMORY = -4
+
+ctypedef struct ConnectHit:
+    size_t part                 # index into prog.parts
+    double s                    # path length from the part's start (mm, the compensated path)
+    double length               # the part's length (0 for M functions, dwells, texts)
+    double point[AXES]          # the point, machine coordinates of the run, all ten axes
+    double distance             # from the asked point in the chosen axes (0 for lookups)
+
+# A bounding-volume hierarchy over the motion parts' boxes in the chosen axes that
+# move: the parts sorted by the Morton code of their box centres, CONNECT_LEAF_PARTS
+# of them to a leaf, and a complete binary tree over the leaves (node 1 the root,
+# node k's children 2k and 2k+1, leaf l at node first_leaf + l). Each node keeps its
+# box and the lowest and highest part index below it, so that a search restricted
+# to a range of parts skips whole subtrees.
+ctypedef struct ConnectIndex:
+    const Program *prog
+    Placement pl
+    uint32_t axes               # axesForCalc, 0x3FF for all
+    int n_dims                  # axes of the boxes: X Y Z of the mask, and the others
+    int dims[AXES]              # of the mask that the program moves
+    int n_fixed                 # axes of the mask that stand still everywhere: their
+    int fixed[AXES]             # distance is the same to every part
+    double fixed_at[AXES]
+    size_t n_items              # motion parts
+    uint32_t *items             # their indexes, in Morton order
+    size_t first_leaf           # a power of two; nodes 1 .. 2 * first_leaf - 1
+    double *boxes               # node k: low corner at boxes[2 * n_dims * k], high after it
+    uint32_t *span              # node k: lowest part index span[2k], highest span[2k + 1]
+
+# A look at each part's candidate: `d2` (squared distance) and `point` (ten axes) may
+# be changed; True = use the changed values (ConnectPointCalc, callback 1005).
+ctypedef bint (*connect_part_fn)(void *ctx, size_t part, double *d2, double *point) noexcept nogil
+
+ctypedef struct PartCalc:          # what the ConnectPointCalc hook needs
+    Core *core
+    Machine *m
+    Callback cb
+
+
+# ---- what other stages call
+cdef inline bint machine_moving(int32_t status) noexcept nogil:
+    """The offline machine moves in this status (its thread publishes GetPos)."""
+    return (30 <= status <= 33 or status == CNC_STATUS_CONNECT_CALCULATING
+            or status == CNC_STATUS_CONNECT_MOVING or status == CNC_STATUS_MANUAL_MOVE)
+
+
+# the core, with core.lock held: the core's machine made ready for a run (False: out
+# of memory); its place on the program dropped (ResetCNC, a new program, DestroyCNC)
+cdef bint machine_prepare(Core *core) noexcept nogil
+cdef void machine_forget(Core *core) noexcept nogil
+# the simulator: the transition table's command of StartCNCEx 30-33, and the worker
+# of such a run
+cdef int32_t machine_command(int32_t regime) noexcept nogil
+cdef void *machine_body(void *arg) noexcept nogil
+# the exports: GoToPosition(Ex), StopCNCEx's addCode, MFunc, ConfirmMFunc, ConnectCNCEx_Plane
+cdef int32_t core_goto(Core *core, const SIMPLE_GM_PARAMS *dest, uint32_t n_dest, const double *coords) noexcept nogil
+cdef void machine_keep_stop_code(Core *core, const char *code) noexcept nogil
+cdef int32_t machine_send_m(Core *core, const SIMPLE_GM_PARAMS *fun) noexcept nogil
+cdef int32_t machine_confirm_m(Core *core) noexcept nogil
+cdef int32_t core_connect(Core *core, uint32_t n_type, uint32_t n_coords, const double *coords,
+                          const char *add_code, uint32_t axes_calc, uint32_t axes_connect,
+                          int32_t state_after) noexcept nogil

@@ -1,0 +1,175 @@
+# Face of the feed planner (planner/): every motion part gets a peak and an exit
+# speed such that the machine can still stop at the end of what it sees (the look-
+# ahead window), and M functions the plan inserts where it slows down (a part's
+# geometry, its Segment: geometry.pxd). Its files:
+#   limits.pyx        static limits of a part: feed, arc table, centripetal, axes; G900 / M-5 regions
+#   junctions.pyx     junction speeds: the angle slow-down, exact stops
+#   mfunc_insert.pyx  mFuncInsertTable: continuous M functions inserted where the plan slows down
+#   passes.pyx        the look-ahead over the program, and the times of the parts
+# and the speed ramps' closed forms below (the plan and the machine's re-planning).
+# Owns Program.plan (PartPlan per part) and the records of the passes. Called by the
+# pipeline (plan a compiled program, whole or in two ranges), the compiler (G900 /
+# M-5 regions), the simulator (part times) and the machine (limits, ramps).
+
+from libc.math cimport cos, sin, fabs, M_PI
+
+# ---- speed ramps between two speeds, closed forms. rampType 1: trapezoid, constant
+# acceleration a. rampType 2: sine, the acceleration is a half sine wave that starts
+# and ends at 0 and peaks at a: v(t) = v0 + (v1 - v0) (1 - cos(pi t / T)) / 2 with
+# T = pi |v1 - v0| / (2 a). Its time and distance are those of a trapezoid with
+# 2a/pi, so the passes plan both with one "equivalent" acceleration (functions below).
+cdef enum:
+    RAMP_TRAPEZOID = 1
+    RAMP_SINE = 2
+
+# ---- limits.pyx
+cdef enum:
+    AXIS_MASK = 0x3FF
+    ENH_ANGLE_SHIFT = 0         # enhancedInterpolatorParameters bits 0-9: no tangency slow-down
+    ENH_FEED_SHIFT = 10         # bits 10-19: axis ignored for the feed
+
+ctypedef struct PartLimits:
+    double length           # mm
+    double vmax             # mm/s, never 0 for a part with length
+    double acc, dec         # mm/s^2, peak of the ramps
+    int32_t ramp            # rampType of the motion class (1 trapezoid, 2 sine)
+    bint rapid
+
+ctypedef struct PlanCursor:     # the settings of each part, parts visited in order
+    const Program *prog
+    PlanRegion cur
+    size_t region           # next region to apply
+    size_t programmed       # programmed parts before next_part
+    size_t next_part        # the parts before it are counted (only while a region remains to apply)
+    bint axes_limited       # some axis limit of cur is on
+    double cos_start        # cosine of cur.startAngle (2 when every angle slows down)
+
+# ---- junctions.pyx
+cdef enum:
+    STOP_MODE_EVERY_JUNCTION = 1    # G900 S12 A1: exact stop between any two motion parts
+    STOP_MODE_RAPID_CHANGE = 2      # G900 S12 A2: exact stop where rapid and cut meet
+
+# ---- mfunc_insert.pyx
+cdef enum:
+    MFI_BEFORE_SLOW_DOWN = 0
+    MFI_AFTER_SLOW_DOWN = 1
+    MFI_BEFORE_RAPID = 2
+
+ctypedef struct MfuncInsertion:
+    size_t after            # inserted right after this part
+    size_t seq              # found in this order (several after one part keep it)
+    int32_t mfunc
+
+ctypedef struct MfuncInsertions:
+    MfuncInsertion *items
+    size_t n, cap
+
+# ---- passes.pyx
+cdef enum:
+    VENDOR_WINDOW = 8           # the current part + 7 more
+    RING_START = 256            # nodes; a deeper window grows the ring as far as it reaches
+    PLAN_SPLIT_SEARCH = 65536   # parts plan_split_at looks through
+
+ctypedef struct PlanNode:       # a motion part with length, as the passes see it
+    size_t part
+    double length
+    double vmax
+    double acc, dec             # equivalent constant accelerations of its ramps (the ramps above)
+    double jin                  # speed limit at its start (0: the machine stands there)
+    double jin2                 # its square
+    double brake2               # 2 dec length: what braking within it takes off the squared speed
+    double entry2               # backward pass: squared highest entry speed that can still stop in the window
+    bint barrier                # it can brake from its junction's limit to rest within itself: no
+                                # part after it changes the limits of the parts before it
+
+ctypedef struct NodeSource:     # makes the nodes, parts in order
+    const Program *prog
+    const GCODE_PARAMETERS *params
+    uint32_t enhanced
+    PlanCursor cursor
+    size_t scan                 # next part to read
+    bint have_prev, stop_pending, prev_rapid
+    double prev_vmax
+    size_t prev_part            # the last node's part
+    bint prev_tangent_known     # prev_tangent holds its end tangent
+    double prev_tangent[AXES]
+    size_t class_region         # cursor.region the values below were taken at
+    bint plain_lines            # no axis limit, no axis ignored for the feed: a line's limits are
+                                # its feed and its motion class (part_limits' result, cheaper)
+    double class_acc[2]         # equivalent accelerations of the classes' ramps, [0] rapid, [1] cut
+    double class_dec[2]
+
+ctypedef struct Reciprocals:    # of the last node's values: runs of parts share them
+    double acc, dec, vmax
+    double half_inv_acc, half_inv_dec, inv_vmax
+
+
+# ---- what other stages call
+cdef inline double ramp_equivalent_acc(double acc, int32_t ramp_type) noexcept nogil:
+    """The constant acceleration with the same time and distance as the ramp."""
+    if ramp_type == RAMP_SINE:
+        return acc * (2.0 / M_PI)
+    return acc
+
+
+cdef inline double ramp_time(double v0, double v1, double acc, int32_t ramp_type) noexcept nogil:
+    """Seconds from speed v0 to v1 (mm/s) with the ramp's peak acceleration acc."""
+    return fabs(v1 - v0) / ramp_equivalent_acc(acc, ramp_type)
+
+
+cdef inline double ramp_distance(double v0, double v1, double acc, int32_t ramp_type) noexcept nogil:
+    """Path travelled from v0 to v1: (v0 + v1)/2 times the ramp's time for both shapes."""
+    return 0.5 * (v0 + v1) * ramp_time(v0, v1, acc, ramp_type)
+
+
+cdef inline double ramp_speed_at(double v0, double v1, double acc, int32_t ramp_type, double t) noexcept nogil:
+    """Speed t seconds into the ramp (t in [0, ramp_time])."""
+    cdef double T = ramp_time(v0, v1, acc, ramp_type)
+    if T <= 0.0 or t >= T:
+        return v1
+    if t <= 0.0:
+        return v0
+    if ramp_type == RAMP_SINE:
+        return v0 + (v1 - v0) * 0.5 * (1.0 - cos(M_PI * t / T))
+    return v0 + (v1 - v0) * t / T
+
+
+cdef inline double ramp_distance_at(double v0, double v1, double acc, int32_t ramp_type, double t) noexcept nogil:
+    """Path travelled t seconds into the ramp."""
+    cdef double T = ramp_time(v0, v1, acc, ramp_type)
+    if T <= 0.0:
+        return 0.0
+    if t >= T:
+        return 0.5 * (v0 + v1) * T
+    if t <= 0.0:
+        return 0.0
+    if ramp_type == RAMP_SINE:
+        return v0 * t + (v1 - v0) * 0.5 * (t - T / M_PI * sin(M_PI * t / T))
+    return v0 * t + (v1 - v0) * 0.5 * t * t / T
+
+
+# the compiler: G900 / M-5 settings from programmed part `first` on
+cdef bint program_add_plan_region(ProgramBuilder *build, size_t first, const GCODE_PARAMETERS *p,
+                                  uint32_t ignore_angle, uint32_t ignore_feed, uint32_t limits_off,
+                                  int32_t stop_mode, int32_t arc_table) noexcept nogil
+# the settings in force at each part (parts visited in order), and a part's limits
+cdef void cursor_init(PlanCursor *c, const Program *prog, const GCODE_PARAMETERS *params) noexcept nogil
+cdef const PlanRegion *cursor_settings(PlanCursor *c, size_t part) noexcept nogil
+cdef void part_limits(const Segment *g, const Part *p, const GCODE_PARAMETERS *params,
+                      const PlanRegion *s, bint axes_limited, uint32_t enhanced, PartLimits *out) noexcept nogil
+
+# the pipeline: plan the whole program, or in ranges split where the machine stands
+# (plan_alloc first); whether the plan inserts M functions (then it plans in one piece)
+cdef bint mfunc_insert_wanted(const GCODE_PARAMETERS *params) noexcept nogil
+
+cdef int plan_program(ProgramBuilder *build, const GCODE_PARAMETERS *params, uint32_t enhanced,
+                      int64_t window) noexcept nogil
+cdef bint plan_alloc(Program *prog) noexcept nogil
+cdef void plan_drop(Program *prog) noexcept nogil
+cdef size_t plan_split_at(const Program *prog, size_t near) noexcept nogil
+cdef int plan_range(const Program *prog, const GCODE_PARAMETERS *params, uint32_t enhanced,
+                    int64_t window, size_t first, size_t end) noexcept nogil
+# a planned part's time (s), the speed it is entered at (mm/s), its feed (mm/min)
+cdef double plan_part_time(const Program *prog, size_t i) noexcept nogil
+cdef double plan_entry_speed(const Program *prog, size_t i) noexcept nogil
+cdef double plan_calc_feed(const Program *prog, size_t i) noexcept nogil

@@ -1,0 +1,104 @@
+# Face of the runtime of a core (runtime/): what every activity of a core needs
+# besides the core itself. Its files:
+#   transitions.pyx  the status machine as one table: the status a command leads to
+#   snapshot.pyx     the GetPos view: a double-buffered seqlock readers never wait on
+#   programs.pyx     compiled programs with an owner count (published, shared, released)
+#   callbacks.pyx    the host's callbacks: counted while they run, the reports they carry
+#   file_names.pyx   the file table (FileToIdx / IdxToFile)
+# The data it works on belongs to the core (core.pxd: Core, its Snapshot, FileTable,
+# Callback and LoadedProgram); the runtime owns the commands of the status machine and
+# the callback slots. Called by the core, the exports, the simulator and the machine.
+
+cdef extern from *:                 # C in transitions.pyx and callbacks.pyx
+    # what status_after gives besides a status: the command is refused in this
+    # status; it is accepted and the status stays; -30 (program compiled), else -1
+    int32_t TC_REFUSED, TC_KEEP, TC_AT_START
+    # the core whose worker runs on this thread (NULL on the host's threads)
+    void *tc_worker_core
+
+# ---- transitions.pyx: the commands of the status machine
+cdef enum Command:
+    CMD_COMPILE = 0             # CompileFromFile / CompileFromMemory
+    CMD_SIMULATE = 1            # StartCNCEx 10 (also needs a compiled program)
+    CMD_TEST = 2                # StartCNCEx 20 (also needs a compiled program)
+    CMD_STOP = 3                # StopCNCEx: the worker ends with EV_STOPPED
+    CMD_RESET = 4               # ResetCNC
+    CMD_DESTROY = 5             # DestroyCNC
+    CMD_DROP_PROGRAM = 6        # ResetStatusCNC mode 0
+    CMD_OUT_OF_TRAJECTORY = 7   # ResetStatusCNC mode 1
+    CMD_SET_PARAMETERS = 8      # SetGCodeParameters (while stopped on the path: feeds only)
+    CMD_LOAD_INI = 9            # LoadFromIni
+    CMD_SET_PREFIX = 10         # GCodePrefixPostfix
+    EV_DONE = 11                # the worker finished its activity
+    EV_STOPPED = 12             # the worker stopped on StopCNCEx (the machine: also a breakpoint)
+    CMD_FORWARD = 13            # StartCNCEx 30 (also needs a compiled program)
+    CMD_FORWARD_NO_M = 14       # StartCNCEx 31
+    CMD_BACKWARD = 15           # StartCNCEx 32
+    CMD_FORWARD_SKIP_M = 16     # StartCNCEx 33
+    CMD_GOTO = 17               # GoToPosition / GoToPositionEx
+    CMD_CONNECT = 18            # ConnectCNCEx_Plane
+    EV_M0 = 19                  # the machine stopped at M0
+    N_COMMANDS = 20
+
+# ---- callbacks.pyx: slots of the callback table, in the order of the documented numbers
+cdef enum CallbackSlot:
+    SLOT_ADD_OUTPUT_LOG = 0
+    SLOT_SET_STATUS_BAR_TEXT = 1
+    SLOT_IS_DEBUG_MODE = 2
+    SLOT_IS_VERBOSE_MODE = 3
+    SLOT_GET_LIB_PATH = 4
+    SLOT_GET_TOOL_PATH = 5
+    SLOT_GET_SYSTEM_PATH = 6
+    SLOT_GET_FILE_TIME_STAMP = 7
+    SLOT_DO_YIELD = 8
+    SLOT_READ_INI_STRING = 9
+    SLOT_READ_INI_DOUBLE = 10
+    SLOT_READ_INI_INT = 11
+    SLOT_IS_BREAKPOINT = 12
+    SLOT_DISP_AND_LOCATE_ERROR = 13
+    SLOT_ADD_OUTPUT_LOG_WITH_MSG_BOX = 14
+    SLOT_SET_STATUS_BAR_PROGRESS = 15
+    SLOT_DRIVER_INITIALIZE = 16
+    SLOT_DRIVER_G_FUNC = 17
+    SLOT_DRIVER_M_FUNC = 18
+    SLOT_CONNECT_POINT_CALC_START = 19
+    SLOT_CONNECT_POINT_CALC = 20
+    SLOT_CONNECT_POINT_CALC_END = 21
+    SLOT_DRIVER_END = 22
+    SLOT_MATH_WARNING = 23
+
+
+# ---- what other stages call
+# the status `command` leads to from `status`: a status, TC_KEEP or TC_REFUSED
+cdef int32_t status_after(int32_t status, int32_t command, bint has_program) noexcept nogil
+
+# GetPos: a snapshot set up, published by whoever moves the position, read by anyone
+cdef void snapshot_init(Snapshot *snap) noexcept nogil
+cdef void snapshot_publish(Snapshot *snap, const SnapshotData *data) noexcept nogil
+cdef void snapshot_read(Snapshot *snap, SnapshotData *out) noexcept nogil
+
+# a compiled program published (it takes prog over), one more reader, one reader less
+cdef LoadedProgram *loaded_program_new(Program *prog, const GCODE_INFO *extent,
+                                       const int32_t *files) noexcept nogil
+cdef LoadedProgram *loaded_program_ref(LoadedProgram *lp) noexcept nogil
+cdef void loaded_program_release(LoadedProgram *lp) noexcept nogil
+
+# callbacks: the calling thread marked as a core's worker; a documented number's slot;
+# a call counted while it runs (enter: False when none is set; leave); SetCallBack;
+# an error as the API's CALLBACK_INFO; what a callback is told: output lines, an
+# error, progress, the status bar, a warning
+cdef void worker_thread_mark(Core *core) noexcept nogil
+cdef int32_t callback_slot(uint32_t number) noexcept nogil
+cdef bint callback_enter(Core *core, int32_t slot, Callback *cb) noexcept nogil
+cdef void callback_leave(Core *core, int32_t slot) noexcept nogil
+cdef void callback_set(Core *core, int32_t slot, void *fn, intptr_t user) noexcept nogil
+cdef void fill_callback_info(const ErrorInfo *err, CALLBACK_INFO *info) noexcept nogil
+cdef void core_output(Core *core, uint32_t tab, const char *text) noexcept nogil
+cdef void core_report_error(Core *core, const ErrorInfo *err) noexcept nogil
+cdef void core_progress(Core *core, uint32_t percent) noexcept nogil
+cdef void core_status_text(Core *core, const char *text, int32_t file_idx, int32_t n_lines) noexcept nogil
+cdef void core_warning(Core *core, const ErrorInfo *warning) noexcept nogil
+
+# the file table: FileToIdx, IdxToFile
+cdef int32_t core_file_to_idx(Core *core, const char *name) noexcept nogil
+cdef const char *core_idx_to_file(Core *core, int32_t idx) noexcept nogil
