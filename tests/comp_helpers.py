@@ -133,6 +133,25 @@ def tool_path(out, first, last, step=0.02):
     return np.vstack(pts)
 
 
+def point_distances(points, lines):
+    """Distance of each point (an N x 2 array) to a linear geometry (a line, a ring, or
+    several, e.g. a polygon's boundary): shapely.distance's numbers. shapely.distance
+    walks every vertex for every point (seconds for the dense rings of the offset
+    oracle): a geometry of many vertices is searched through an STRtree of its segments."""
+    import shapely      # here: the modules that need shapely skip without it (importorskip)
+    if shapely.get_num_coordinates(lines) < 200:
+        return shapely.distance(shapely.points(points), lines)
+    segments = []
+    for part in shapely.get_parts(lines):
+        xy = shapely.get_coordinates(part)
+        segments.append(np.stack([xy[:-1], xy[1:]], axis=1))
+    tree = shapely.STRtree(shapely.linestrings(np.concatenate(segments)))
+    (which, _), nearest = tree.query_nearest(shapely.points(points), return_distance=True, all_matches=False)
+    distances = np.empty(len(points))
+    distances[which] = nearest
+    return distances
+
+
 def random_convex(rng, n, radius=30.0):
     angles = sorted(rng.uniform(0, 2 * math.pi) for _ in range(n))
     # keep the angles apart so that no edge is tiny

@@ -108,9 +108,7 @@ def _sample(conversion: str, i: int):
     return f"t{i}" if conversion.endswith("s") else 7 + i if conversion.endswith("d") else 2.5 + i / 8
 
 
-def test_the_library_formats_every_error_as_printf():
-    from test_compensation_geometry import _harness_module
-    harness = _harness_module()
+def test_the_library_formats_every_error_as_printf(harness):
     _, sections = gen.read_catalogue(ROOT / gen.CATALOGUE)
     for error in (e for s in sections for e in s.errors):
         conversions = gen.conversions(error.format, error.name)
@@ -121,8 +119,6 @@ def test_the_library_formats_every_error_as_printf():
     assert harness.error_text(999, ()) == ("Error 999", "")
 
 
-def test_the_library_names_every_status_as_the_header():
-    from test_compensation_geometry import _harness_module
-    harness = _harness_module()
+def test_the_library_names_every_status_as_the_header(harness):
     for status in gen.read_statuses(ROOT / gen.HEADER):
         assert harness.cnc_status_name(status.value) == status.text

@@ -220,7 +220,11 @@ def test_ctrl_c_interrupts_a_long_compile_quietly(tmp_path):
     program = tmp_path / "endless.nc"
     program.write_text("L1:\nG1 X1 F100\nG1 X0\nGOTO L1\n")      # runs until the block limit
     env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1")     # one thread until the compile
-    proc = subprocess.Popen([sys.executable, "-m", "sf_tch", "compile", str(program)], stdout=subprocess.PIPE,
+    # python -m sf_tch with Ctrl-C's handler: a suite started in the background (`&`) runs
+    # with SIGINT ignored, and so would the command, which never gets a KeyboardInterrupt
+    cli = ("import runpy, signal; signal.signal(signal.SIGINT, signal.default_int_handler); "
+           "runpy.run_module('sf_tch', run_name='__main__', alter_sys=True)")
+    proc = subprocess.Popen([sys.executable, "-c", cli, "compile", str(program)], stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True, env=env)
     deadline = time.monotonic() + 30
     while len(os.listdir(f"/proc/{proc.pid}/task")) < 2:      # the core's worker thread compiles

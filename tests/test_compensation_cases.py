@@ -4,8 +4,9 @@ import math
 
 import pytest
 
+import harness
 from comp_helpers import check_gouge_warnings, polygon_elements, programmed_polyline, rounded_rectangle
-from test_compensation_geometry import check_oracle, comp, harness  # noqa: F401
+from test_compensation_geometry import check_oracle, comp
 
 ERR_COMP_NOT_FOUND, ERR_COMP_ON_ARC, ERR_COMP_PLANE_CHANGE = 500, 501, 502
 ERR_COMP_NEGATIVE_ARC, ERR_COMP_CROSSING, ERR_COMP_LOOKAHEAD = 503, 504, 505
@@ -35,8 +36,7 @@ def square(g, strategy=0, r=2.0):
 
 
 def comp_run(parts, r=2.0, strategy=0, start=(0, -20, 0), **kw):
-    from test_compensation_geometry import _harness_module
-    return comp(_harness_module(), parts, r=r, strategy=strategy, start=start, **kw)
+    return comp(harness.load(), parts, r=r, strategy=strategy, start=start, **kw)
 
 
 # ------------------------------------------------------------------ corners

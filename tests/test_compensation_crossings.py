@@ -10,9 +10,9 @@ import pytest
 shapely = pytest.importorskip("shapely")
 from shapely.geometry import LineString, Point, Polygon  # noqa: E402
 
-from comp_helpers import (check_gouge_warnings, contour_parts, polygon_elements, programmed_polyline,  # noqa: E402
-                          reverse_contour, tool_path)
-from test_compensation_geometry import check_oracle, comp, exact_offset, harness, signed_area  # noqa: E402,F401
+from comp_helpers import (check_gouge_warnings, contour_parts, point_distances, polygon_elements,  # noqa: E402
+                          programmed_polyline, reverse_contour, tool_path)
+from test_compensation_geometry import check_oracle, comp, exact_offset, signed_area  # noqa: E402
 
 TOL = 1e-3
 REMOVE = 0x80000
@@ -59,15 +59,15 @@ def check_split(harness, m0, els, r, g, strategy=REMOVE):
     shape = exact_offset(poly, m0, els, r, inside)
     path = tool_path(out, 2, len(out) - 2)
     contour = LineString(prog)
-    d_contour = shapely.distance(shapely.points(path), contour)
+    d_contour = point_distances(path, contour)
     assert float(np.min(d_contour)) > r - TOL, f"gouges by {r - np.min(d_contour)}"
-    d_off = shapely.distance(shapely.points(path), shape.boundary)
+    d_off = point_distances(path, shape.boundary)
     assert float(np.max(d_off)) < TOL, f"path off the offset by {np.max(d_off)}"
     start = Point(out[1]["ce"][:2])
     comps = list(getattr(shape, "geoms", [shape]))
     home = min(comps, key=lambda c: c.exterior.distance(start))
     ring_pts = np.asarray(shapely.segmentize(home.exterior, 0.05).coords)
-    d_ring = shapely.distance(shapely.points(ring_pts), LineString(path))
+    d_ring = point_distances(ring_pts, LineString(path))
     assert float(np.max(d_ring)) < TOL, f"offset not covered by {np.max(d_ring)}"
     return out, shape
 
@@ -195,16 +195,16 @@ def check_rebuilt(harness, m0, els, r, g, strategy):
     shape = exact_offset(Polygon(prog), m0, els, r, inside)
     path = tool_path(out, 2, len(out) - 2)
     path = np.asarray(shapely.segmentize(LineString(path), 0.02).coords)
-    d_contour = shapely.distance(shapely.points(path), LineString(prog))
+    d_contour = point_distances(path, LineString(prog))
     assert float(np.min(d_contour)) > r - TOL, f"gouges by {r - np.min(d_contour)}"
-    d_off = shapely.distance(shapely.points(path), shape.boundary)
+    d_off = point_distances(path, shape.boundary)
     assert float(np.max(d_off)) < TOL, f"path off the offset by {np.max(d_off)}"
     comps = list(getattr(shape, "geoms", [shape]))
     top = max(c.area for c in comps)
     covered = []
     for c in comps:
         ring_pts = np.asarray(shapely.segmentize(c.exterior, 0.05).coords)
-        covered.append((float(np.max(shapely.distance(shapely.points(ring_pts), LineString(path)))), c.area))
+        covered.append((float(np.max(point_distances(ring_pts, LineString(path)))), c.area))
     assert any(d < TOL and area > top - 1e-6 for d, area in covered), covered
     return out, shape
 
@@ -259,7 +259,7 @@ def test_dumbbell_entered_in_a_wide_neck_is_clean(harness):
     out, err, warn = run(harness, m0, els, 1.9, 41, REMOVE)
     assert err is None and "loop" not in warn
     path = tool_path(out, 2, len(out) - 2)
-    d = shapely.distance(shapely.points(path), LineString(programmed_polyline(m0, els)))
+    d = point_distances(path, LineString(programmed_polyline(m0, els)))
     assert float(np.min(d)) > 1.9 - TOL
 
 

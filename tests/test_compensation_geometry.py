@@ -12,21 +12,11 @@ import pytest
 shapely = pytest.importorskip("shapely")
 from shapely.geometry import LineString, Point, Polygon  # noqa: E402
 
-from comp_helpers import (contour_parts, polygon_elements, programmed_polyline,  # noqa: E402
-                          random_convex, random_star, reverse_contour, rounded_rectangle,
-                          tool_path, arc_centre)
+from comp_helpers import (contour_parts, point_distances, polygon_elements,  # noqa: E402
+                          programmed_polyline, random_convex, random_star, reverse_contour,
+                          rounded_rectangle, tool_path, arc_centre)
 
 TOL = 1e-3
-
-
-def _harness_module():
-    import harness
-    return harness.load()
-
-
-@pytest.fixture(scope="session")
-def harness():
-    return _harness_module()
 
 
 def comp(harness, parts, r=2.0, strategy=0, start=(0, 0, 0), tolerances=(), corrections=None, strict=False):
@@ -70,11 +60,11 @@ def check_oracle(harness, m0, els, r, g, strategy=0, strict=False):
     ring = shape.exterior
     path = tool_path(out, 2, len(out) - 2)
     # every point of the tool path on the offset ring ...
-    d_path = shapely.distance(shapely.points(path), ring)
+    d_path = point_distances(path, ring)
     assert float(np.max(d_path)) < TOL, f"path off the offset by {np.max(d_path)}"
     # ... and every point of the ring reached by the tool path
     ring_pts = np.asarray(shapely.segmentize(ring, 0.05).coords)
-    d_ring = shapely.distance(shapely.points(ring_pts), LineString(path))
+    d_ring = point_distances(ring_pts, LineString(path))
     assert float(np.max(d_ring)) < TOL, f"offset not covered by {np.max(d_ring)}"
     # the compensated end points lie exactly at the tool radius from the contour
     boundary = LineString(prog)

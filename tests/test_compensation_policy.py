@@ -25,7 +25,6 @@ from comp_helpers import check_gouge_warnings, polygon_elements, programmed_poly
 from compiler_host import SEED_PROGRAM  # noqa: E402
 from sf_tch import ErrorNumber, abi  # noqa: E402
 from test_compensation_cases import L, chamfered_pocket, comp_run  # noqa: E402
-from test_compensation_geometry import harness  # noqa: E402,F401
 from test_compensation_regions import REPRO, clearance, offset_region, read_contour, sampled_path  # noqa: E402
 from test_compensation_regions import toolpath_clearances  # noqa: E402
 

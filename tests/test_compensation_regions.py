@@ -15,9 +15,9 @@ import pytest
 shapely = pytest.importorskip("shapely")
 from shapely.geometry import LineString, Polygon  # noqa: E402
 
-from comp_helpers import (check_gouge_warnings, contour_parts, polygon_elements, programmed_polyline,  # noqa: E402
-                          star_cases, tool_path)
-from test_compensation_geometry import comp, exact_offset, harness, signed_area  # noqa: E402,F401
+from comp_helpers import (check_gouge_warnings, contour_parts, point_distances, polygon_elements,  # noqa: E402
+                          programmed_polyline, star_cases, tool_path)
+from test_compensation_geometry import comp, exact_offset, signed_area  # noqa: E402
 
 TOL = 1e-3
 REMOVE = 0x80000
@@ -70,7 +70,7 @@ def sampled_path(out, start_point, step=0.01):
 
 
 def clearance(path, contour_pts):
-    return float(np.min(shapely.distance(shapely.points(path), LineString(contour_pts))))
+    return float(np.min(point_distances(path, LineString(contour_pts))))
 
 
 def offset_region(contour_pts, r, g):
@@ -94,12 +94,12 @@ def test_repro_contours_keep_the_radius(harness, name, mode):
     assert clearance(path, pts) > r - TOL
     shape, inside = offset_region(pts, r, 41)
     # on the border of shapely's offset region, round the largest of its components
-    assert float(np.max(shapely.distance(shapely.points(path), shape.boundary))) < 2 * TOL
+    assert float(np.max(point_distances(path, shape.boundary))) < 2 * TOL
     comps = list(getattr(shape, "geoms", [shape]))
     largest = max(comps, key=lambda c: c.area) if inside else shape
     ring = largest.exterior if inside else max((g.exterior for g in comps), key=lambda e: Polygon(e).area)
     ring_pts = np.asarray(shapely.segmentize(ring, 0.01).coords)
-    covered = shapely.distance(shapely.points(ring_pts), LineString(path))
+    covered = point_distances(ring_pts, LineString(path))
     assert float(np.max(covered)) < 0.01, "part of the region's border not cut"
     # the path is closed: it ends where it started
     idx = [k for k, p in enumerate(out) if p["comp"] != 40]
@@ -307,7 +307,7 @@ def test_start_at_an_inner_corner(harness, depth, k):
     shape, inside = offset_region(contour, r, 41)
     assert inside and shape.geom_type == "Polygon"
     ring_pts = np.asarray(shapely.segmentize(shape.exterior, 0.01).coords)
-    assert float(np.max(shapely.distance(shapely.points(ring_pts), LineString(path)))) < 0.01
+    assert float(np.max(point_distances(ring_pts, LineString(path)))) < 0.01
 
 
 def star_program(cases, pitch=100.0):
@@ -347,7 +347,7 @@ def toolpath_clearances(program, contours):
             & (np.hypot(*(moves["end"][:, :2] - pts[0]).T) > 1e-6)
         runs = [Toolpath(moves[k:k + 1]).points(step=0.005)[:, :2] for k in np.flatnonzero(keep)]
         path = [shapely.segmentize(LineString(run), 0.005).coords for run in runs if np.ptp(run, axis=0).max() > 0]
-        out.append(float(np.min(shapely.distance(shapely.points(np.vstack(path)), LineString(pts)))))
+        out.append(float(np.min(point_distances(np.vstack(path), LineString(pts)))))
     return np.array(out)
 
 

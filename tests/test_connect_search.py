@@ -16,9 +16,8 @@ FOUND, NOT_FOUND, OFF_PART, BAD_ARGUMENT = 0, -1, -2, -3
 PLANES = {17: (0, 1, 2), 18: (0, 2, 1), 19: (1, 2, 0)}
 LETTERS = "XYZCBUVWAO"
 @pytest.fixture(scope="session")
-def ch():
-    import harness
-    return harness.load()
+def ch(harness):
+    return harness
 
 
 # ---- generated programs with known geometry ----------------------------------------

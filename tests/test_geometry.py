@@ -8,15 +8,13 @@ import math
 import numpy as np
 import pytest
 
-import harness
-
 AXES = 10
 PLANES = {17: (0, 1), 18: (0, 2), 19: (1, 2), -18: (2, 0)}
 
 
 @pytest.fixture(scope="module")
-def geo():
-    return harness.load()
+def geo(harness):
+    return harness
 
 
 def cross(a, b):

@@ -9,6 +9,8 @@ import pytest
 
 import harness
 
+pytestmark = pytest.mark.harness     # the harness's build code, not the library
+
 
 @pytest.fixture
 def sources(tmp_path, monkeypatch):

@@ -283,21 +283,10 @@ def test_a_cpp_host_gets_the_package_results(fresh_core, lib_path, seed_file, tm
     assert (proc.returncode, proc.stdout) == (0, expected), proc.stderr
 
 
-@pytest.fixture(scope="module")
-def comma_locale(tmp_path_factory):
-    """LOCPATH and LC_ALL of a German locale (decimal comma) compiled for the test."""
-    localedef = tool("localedef")
-    root = tmp_path_factory.mktemp("locale")
-    proc = subprocess.run([localedef, "-i", "de_DE", "-f", "UTF-8", str(root / "de_DE.UTF-8")],
-                          capture_output=True, text=True, timeout=120)
-    if not (root / "de_DE.UTF-8").exists():
-        pytest.skip(f"localedef cannot build de_DE.UTF-8: {proc.stderr.strip()}")
-    return {"LOCPATH": str(root), "LC_ALL": "de_DE.UTF-8"}
-
-
 def test_a_decimal_comma_locale_of_the_host_changes_nothing(c_hmi, lib_path, seed_file, comma_locale, tmp_path):
     """GUI toolkits set the process's locale from the environment (setlocale(LC_ALL,
     "")): the library's threads then run in it, and numbers must not change."""
+    name, env = comma_locale
     ini = tmp_path / "radius.ini"
     ini.write_text(Path(default_ini()).read_text() + "correction0=1.5\ncorrection1=1.5\n")
     long_number = tmp_path / "long_number.nc"        # more digits than the lexer's exact path takes
@@ -306,7 +295,7 @@ def test_a_decimal_comma_locale_of_the_host_changes_nothing(c_hmi, lib_path, see
                                      (str(long_number), [], None)):
         plain = run_c_hmi(c_hmi, lib_path, program, *options, cwd=tmp_path, ini=config)
         host = run_c_hmi(c_hmi, lib_path, program, "--host-locale", *options, cwd=tmp_path, ini=config,
-                         env=comma_locale)
+                         env=dict(env, LC_ALL=name))
         assert (host.returncode, host.stdout, host.stderr) == (plain.returncode, plain.stdout, plain.stderr)
 
 

@@ -8,7 +8,6 @@ import ctypes
 import math
 import os
 import re
-import shutil
 import subprocess
 import textwrap
 from ctypes import byref
@@ -391,26 +390,8 @@ def test_tool_number_fills_the_high_16_bits_of_m_plane_tool(host, tool, high):
 
 # ------------------------------------------------------------------ locale
 
-def _comma_locale(tmp_path_factory):
-    """(locale name, extra environment) of a locale with a decimal comma: one the
-    machine has, else one generated with localedef into a temporary LOCPATH."""
-    listed = subprocess.run(["locale", "-a"], capture_output=True, text=True).stdout.split() \
-        if shutil.which("locale") else []
-    for name in listed:
-        if re.match(r"(de_DE|fr_FR|cs_CZ|it_IT|es_ES)\.utf-?8$", name, re.I):
-            return name, {}
-    if shutil.which("localedef"):
-        root = tmp_path_factory.mktemp("locale")
-        done = subprocess.run(["localedef", "-i", "de_DE", "-f", "UTF-8", str(root / "de_DE.UTF-8")],
-                              capture_output=True)
-        if (root / "de_DE.UTF-8").exists():
-            return "de_DE.UTF-8", {"LOCPATH": str(root)}
-        pytest.skip(f"no decimal-comma locale and localedef failed: {done.stderr.decode()[:200]}")
-    pytest.skip("no decimal-comma locale installed and no localedef to generate one")
-
-
-def test_numbers_do_not_follow_a_decimal_comma_locale(run_python, tmp_path, tmp_path_factory):
-    name, env = _comma_locale(tmp_path_factory)
+def test_numbers_do_not_follow_a_decimal_comma_locale(run_python, tmp_path, comma_locale):
+    name, env = comma_locale
     ini = tmp_path / "comma.ini"
     ini.write_text("[CNC]\nDriver=offline\n[GCodeParameters]\ncorrection0=0.5\ntolerance0 = 0.0125\n")
     out = _run_isolated(run_python, f"""
@@ -455,9 +436,7 @@ def _documented_statuses():
     return {m.group(1): int(m.group(2)) for m in re.finditer(r"(CNC_STATUS_\w+)\s*=\s*(-?\d+)", body)}
 
 
-def test_every_documented_status_has_a_name():
-    from test_compensation_geometry import _harness_module
-    harness = _harness_module()
+def test_every_documented_status_has_a_name(harness):
     statuses = _documented_statuses()
     assert len(statuses) == 27
     names = {value: harness.cnc_status_name(value) for value in statuses.values()}

@@ -27,16 +27,11 @@ DT = 1e-4                                   # the machine's step, s
 EPS = 1e-6                                  # mm: sampled positions on the path
 SLOW_SCALE = int(os.environ.get("SF_TCH_SLOW_SCALE", "1"))
 
-def harness_module():
-    import harness
-    return harness.load()
-
 
 @pytest.fixture(scope="session")
-def mh():
-    module = harness_module()
-    yield module
-    module.destroy_all()
+def mh(harness):
+    yield harness
+    harness.destroy_all()
 
 
 def params(mh, radius=0.0, **fields):

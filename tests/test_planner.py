@@ -11,14 +11,9 @@ import pytest
 from sf_tch import abi
 from sf_tch.core import Core
 
-def harness_module():
-    import harness
-    return harness.load()
-
-
 @pytest.fixture(scope="session")
-def ph():
-    return harness_module()
+def ph(harness):
+    return harness
 
 
 def params(ph, **fields):
@@ -408,7 +403,7 @@ def test_sine_ramps_against_the_jerk_limited_optimum(ph):
 
 # ------------------------------------------------------------------ the simulation's run time
 
-def test_run_time_of_a_simulation_comes_from_the_plan(ph):
+def test_run_time_of_a_simulation_comes_from_the_plan(ph, fresh_core):
     text = corner(60.0) + "M50\nG0 X0 Y0\nG1 X10 Y10 F3000\nG4 X0.25\nG2 X20 Y0 I0 J-10\n"
     expected = total(plan(ph, text, startAngle=30.0, endAngle=90.0, minAngleFeed=600.0))
     with Core(2) as core:
@@ -451,7 +446,7 @@ def test_nan_settings_from_the_host_plan_finite_times(ph):
         assert math.isfinite(p["time"]) and p["time"] >= 0.0 and math.isfinite(p["v_peak"])
 
 
-def test_simulation_with_machine_bits_and_inserted_m_functions(ph):
+def test_simulation_with_machine_bits_and_inserted_m_functions(ph, fresh_core):
     """Through the library: enhancedInterpolatorParameters from SetMachineParameters
     reach the planner, and the inserted M functions reach the driver's M callback."""
     text = "G1 X30 A40 F600\nG1 X60\nG0 X100\n"

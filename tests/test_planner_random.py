@@ -9,15 +9,10 @@ import random
 import numpy as np
 import pytest
 
-from test_planner import harness_module, params
+from test_planner import params, ph  # noqa: F401  (ph: the fixture)
 
 SCALE = int(os.environ.get("SF_TCH_SLOW_SCALE", "1"))
 GL_X, GL_W = np.polynomial.legendre.leggauss(24)
-
-
-@pytest.fixture(scope="module")
-def ph():
-    return harness_module()
 
 
 def random_program(rng):

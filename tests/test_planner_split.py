@@ -7,7 +7,7 @@ import random
 
 import pytest
 
-from test_planner import harness_module, params
+from test_planner import params, ph  # noqa: F401  (ph: the fixture)
 from test_planner_random import random_program
 
 SETTINGS = (
@@ -17,8 +17,7 @@ SETTINGS = (
 )
 
 
-def test_two_pieces_equal_one():
-    ph = harness_module()
+def test_two_pieces_equal_one(ph):
     rng = random.Random(20261124)
     split_runs = 0
     for _ in range(30):
@@ -38,21 +37,19 @@ def test_two_pieces_equal_one():
     assert split_runs > 50
 
 
-def test_no_stop_no_split():
-    ph = harness_module()
+def test_no_stop_no_split(ph):
     text = "G1 X0 Y0 F3000\n" + "".join(f"G1 X{k % 7} Y{k % 5}\n" for k in range(1, 200))
     whole, _, _ = ph.plan_text(text, None, 0, 0)
     parts, _, timing = ph.plan_text(text, None, 0, 0, True, 50)
     assert timing["split"] == 0 and parts == whole
 
 
-def test_library_plans_a_large_program_beside_its_extent(fresh_core):
+def test_library_plans_a_large_program_beside_its_extent(ph, fresh_core):
     """A program large enough for the library to plan it in two threads (pipeline.pyx
     PLAN_BESIDE_MIN parts, a waiting M function to split at) runs as long as the
     harness's plan in one piece says (fresh cores: the default parameters; from 0)."""
     import sf_tch
     from test_planner import total
-    ph = harness_module()
     rng = random.Random(5)
     lines = ["G1 X0 Y0 F3000"]
     for k in range(6000):

@@ -3,13 +3,19 @@ the README's test command):
 
 - AddressSanitizer + UndefinedBehaviorSanitizer: every test module but this one;
 - ThreadSanitizer: the runtime, stress, pipeline and offline-machine tests (test_runtime.py,
-  test_stress.py, test_pipeline.py: the stages side by side, test_machine*.py).
+  test_stress.py, test_pipeline.py: the stages side by side, test_machine*.py);
+
+slow ones too, without the tests marked `harness`: they run the stages compiled into a
+test harness without the sanitizer, never the sanitized library (under ASan they took
+three quarters of the run, mostly in shapely's allocations through ASan's malloc).
 
 Each library is built once per source state (CMake option SF_TCH_SANITIZE, into
-pytest's cache directory), then a child pytest runs with SF_TCH_LIBRARY naming it and
-the sanitizer's runtime preloaded (the interpreter itself is not instrumented). The
-sanitizers write their reports to files (log_path), so that a report from any process
-of the run, even one whose exit status a test ignores, fails the test."""
+pytest's cache directory; a fixture, so beside other tests), then a child pytest runs
+with SF_TCH_LIBRARY naming it and the sanitizer's runtime preloaded (the interpreter
+itself is not instrumented), in parallel as every run is (tests/conftest.py) and alone:
+the tests are exclusive. The sanitizers write their reports to files (log_path), so
+that a report from any process of the run, even one whose exit status a test ignores,
+fails the test."""
 import hashlib
 import os
 import shutil
@@ -21,7 +27,9 @@ import pytest
 
 import sf_tch
 
-pytestmark = pytest.mark.slow
+# the time limit of a test: its library's build and its run (900 s each at most), and
+# waiting for the other one, which may run on another worker meanwhile
+pytestmark = [pytest.mark.slow, pytest.mark.exclusive, pytest.mark.timeout(3600)]
 
 ROOT = Path(__file__).resolve().parents[1]
 TSAN_SUPPRESSIONS = Path(__file__).resolve().parent / "tsan.supp"    # each one documented there
@@ -80,11 +88,21 @@ def cache_dir(request) -> Path:
     return Path(request.config.cache.mkdir("sanitized-libraries"))
 
 
+@pytest.fixture
+def asan_library(cache_dir) -> Path:
+    return build_library(cache_dir, "address,undefined")
+
+
+@pytest.fixture
+def tsan_library(cache_dir) -> Path:
+    return build_library(cache_dir, "thread")
+
+
 def run_suite(library: Path, preload: list[str], options: dict, tests: list[str], reports: Path,
               time_scale: int, timeout: float):
     env = dict(os.environ, SF_TCH_LIBRARY=str(library), LD_PRELOAD=" ".join(preload),
                SF_TCH_TIME_SCALE=str(time_scale), **options)
-    command = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-m", "slow or not slow",
+    command = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-m", "not harness",
                "--ignore", str(Path(__file__)),
                # the Windows tests build and run another binary (SF_TCh.dll under Wine), which the
                # preloaded sanitizer runtimes would only break
@@ -97,27 +115,25 @@ def run_suite(library: Path, preload: list[str], options: dict, tests: list[str]
     return proc.stdout
 
 
-def test_suite_under_address_and_undefined_behaviour_sanitizers(cache_dir, tmp_path):
-    library = build_library(cache_dir, "address,undefined")
+def test_suite_under_address_and_undefined_behaviour_sanitizers(asan_library, tmp_path):
     reports = tmp_path / "asan"
     options = {
         # CPython's own allocations are not freed at exit: leaks are not ours to judge
         "ASAN_OPTIONS": f"detect_leaks=0:halt_on_error=1:abort_on_error=0:log_path={reports}",
         "UBSAN_OPTIONS": f"halt_on_error=1:print_stacktrace=1:log_path={reports}",
     }
-    out = run_suite(library, [runtime("libasan.so"), runtime("libubsan.so")], options, ["tests"], reports,
+    out = run_suite(asan_library, [runtime("libasan.so"), runtime("libubsan.so")], options, ["tests"], reports,
                     time_scale=3, timeout=900)
     assert " passed" in out, out[-2000:]
 
 
-def test_runtime_and_stress_under_thread_sanitizer(cache_dir, tmp_path):
-    library = build_library(cache_dir, "thread")
+def test_runtime_and_stress_under_thread_sanitizer(tsan_library, tmp_path):
     reports = tmp_path / "tsan"
     # the uninstrumented interpreter's memory accesses are invisible to TSan and its locks
     # are the intercepted pthread ones: the suppressions are for glibc only
     options = {"TSAN_OPTIONS": f"halt_on_error=1:second_deadlock_stack=1:suppressions={TSAN_SUPPRESSIONS}"
                                f":log_path={reports}"}
-    out = run_suite(library, [runtime("libtsan.so")], options,
+    out = run_suite(tsan_library, [runtime("libtsan.so")], options,
                     ["tests/test_runtime.py", "tests/test_stress.py", "tests/test_pipeline.py", "tests/test_machine.py",
                      "tests/test_machine_connect.py", "tests/test_machine_corrections.py"], reports, time_scale=6,
                     timeout=900)

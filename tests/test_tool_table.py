@@ -190,9 +190,8 @@ def test_random_bytes_never_crash_and_a_refusal_keeps_the_table(fresh_core, tmp_
     assert 0 < accepted < 300
 
 
-def test_numbers_do_not_follow_a_decimal_comma_locale(run_python, tmp_path, tmp_path_factory):
-    from test_inputs import _comma_locale
-    name, env = _comma_locale(tmp_path_factory)
+def test_numbers_do_not_follow_a_decimal_comma_locale(run_python, tmp_path, comma_locale):
+    name, env = comma_locale
     path = write(tmp_path, "$KOR\n07: R=0.5 X=1.25e-1\n08: R=0,5\n")
     out = run_python(f"""
         import ctypes, locale
