@@ -20,8 +20,9 @@ import pytest
 shapely = pytest.importorskip("shapely")
 from shapely.geometry import LineString, Polygon  # noqa: E402
 
-from comp_helpers import check_gouge_warnings, contour_parts, programmed_polyline, tool_path  # noqa: E402
-from test_compensation_geometry import comp, exact_offset, harness, signed_area  # noqa: E402,F401
+from comp_helpers import (check_gouge_warnings, contour_parts, point_distances,  # noqa: E402
+                          programmed_polyline, tool_path)
+from test_compensation_geometry import comp, exact_offset, signed_area  # noqa: E402
 
 R = 0.15
 TOL = 1e-3
@@ -103,7 +104,7 @@ def test_corner_starts_with_0x80000_close_on_the_exact_offset(harness, seed):
             assert "Equidistant error" not in warn, warn
         path = tool_path(out, 2, len(out) - 2, step=0.01)
         ring = shape.exterior
-        assert float(np.max(shapely.distance(shapely.points(path), ring))) < TOL
+        assert float(np.max(point_distances(path, ring))) < TOL
         theta = inner_start(pts, g)
         if theta > 0:
             # closed at the offsets' intersection, r / cos(theta / 2) from the vertex,
@@ -111,7 +112,7 @@ def test_corner_starts_with_0x80000_close_on_the_exact_offset(harness, seed):
             assert np.allclose(out[1]["ce"][:2], out[-2]["ce"][:2], atol=1e-9), "the path does not close"
             assert math.dist(out[1]["ce"][:2], m0) == pytest.approx(R / math.cos(theta / 2), abs=1e-9)
             ring_pts = np.asarray(shapely.segmentize(ring, 0.01).coords)
-            assert float(np.max(shapely.distance(shapely.points(ring_pts), LineString(path)))) < 0.01
+            assert float(np.max(point_distances(ring_pts, LineString(path)))) < 0.01
             closed += 1
         else:
             # the tool outside the turn: in on the first part's perpendicular, out on the last one's
@@ -243,7 +244,7 @@ def test_cam_job_through_the_library():
         own = motion[(motion["line"] >= first) & (motion["line"] <= last)]
         ring = exact_offset_ring(poly) if poly is not None else None
         if ring is not None:
-            assert float(np.max(shapely.distance(shapely.points(own["tool_end"][:, :2]), ring))) < TOL
+            assert float(np.max(point_distances(own["tool_end"][:, :2], ring))) < TOL
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", sf_tch.GougeWarning)
         with sf_tch.compile(text, radius=R, strategy=0x20600) as program:
