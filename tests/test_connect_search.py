@@ -396,7 +396,7 @@ def _same_segment(a, b, tol):
 
 @pytest.mark.parametrize("relative", (False, True))
 def test_the_parts_own_geometry_equals_the_records_one(ch, relative):
-    """connect_segment takes the geometry from the part and moves it by the placement;
+    """placed_segment takes the geometry from the part and moves it by the placement;
     placed_part_to_gm + segment_of_gm (the API's record) give the same: unmoved
     exactly, moved within rounding -- absolute programs (only the head follows the
     start, the part that names an axis first is reshaped) and relative ones."""

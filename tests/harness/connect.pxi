@@ -66,7 +66,7 @@ cdef class Compiled:
         return out
 
     def segment(self, size_t i, bint via_record=False):
-        """connect_segment of part i, or (via_record) segment_of_gm of placed_part_to_gm."""
+        """placed_segment of part i, or (via_record) segment_of_gm of placed_part_to_gm."""
         cdef Segment g
         cdef SIMPLE_GM_PARAMS gm
         if i >= self.build.prog.n_parts:
@@ -75,7 +75,7 @@ cdef class Compiled:
             placed_part_to_gm(&self.build.prog, i, &self.pl, &gm)
             segment_of_gm(&gm, &g)
         else:
-            connect_segment(&self.build.prog, &self.pl, i, &g)
+            placed_segment(&self.build.prog, &self.pl, i, &g)
         out = dict(length=g.length, n_axes=g.n_axes, start=[g.start[k] for k in range(g.n_axes)],
                    end=[g.end[k] for k in range(g.n_axes)], arc=g.arc)
         if g.arc:

@@ -106,49 +106,6 @@ cdef inline uint32_t _cs_mask(uint32_t axes) noexcept nogil:
 
 # ---- the placed geometry of one part -----------------------------------------------------
 
-cdef void connect_segment(const Program *prog, const Placement *pl, size_t i,
-                          Segment *g) noexcept nogil:
-    """Geometry of motion part i as the run places it, all ten axes: segment_of_gm of
-    placed_part_to_gm. A part whose start and end both follow the run's start in an
-    axis, or both keep their place, is only translated (placement.pyx): its geometry
-    is the part's own (segment_of_part) moved by the placement, without building the
-    API's record; only the parts where an axis starts to be named (reshaped) take the
-    record's way."""
-    cdef SIMPLE_GM_PARAMS gm
-    cdef const Part *p = &prog.parts[i]
-    cdef const Part *prev = &prog.parts[i - 1] if i > 0 else NULL
-    cdef double shift[10]
-    cdef bint s_moves, e_moves
-    cdef const double *other
-    cdef int k
-    if pl.moved:
-        for k in range(10):
-            shift[k] = 0.0
-            if pl.delta[k] == 0.0:
-                continue
-            s_moves = prev == NULL or follows_start(prog, prev, k)
-            e_moves = follows_start(prog, p, k)
-            if s_moves != e_moves:
-                placed_part_to_gm(prog, i, pl, &gm)
-                segment_of_gm(&gm, g)
-                return
-            if e_moves:
-                shift[k] = pl.delta[k]
-    segment_of_part(prog, i, g)
-    if g.n_axes == 3:               # the seven other axes stand where the part before left them
-        other = &prog.axes[7 * p.axes_idx]
-        memcpy(&g.start[3], other, 7 * sizeof(double))
-        memcpy(&g.end[3], other, 7 * sizeof(double))
-        g.n_axes = 10
-    if pl.moved:
-        for k in range(10):
-            g.start[k] += shift[k]
-            g.end[k] += shift[k]
-        if g.arc:
-            g.centre[0] += shift[g.first]
-            g.centre[1] += shift[g.second]
-
-
 cdef void _cs_part_position(const Program *prog, const Placement *pl, size_t i,
                          double *out) noexcept nogil:
     """Where a part that does not move (M function, dwell, text) stands: the
@@ -367,7 +324,7 @@ cdef void _cs_hit_at(const Program *prog, const Placement *pl, size_t i, bint at
     hit.part = i
     hit.distance = 0.0
     if prog.parts[i].kind == PART_MOTION:
-        connect_segment(prog, pl, i, &g)
+        placed_segment(prog, pl, i, &g)
         hit.length = g.length
         hit.s = g.length if at_end else 0.0
         segment_point_at(&g, hit.s, hit.point)
@@ -385,7 +342,7 @@ cdef void _cs_hit_nearest(const Program *prog, const Placement *pl, size_t i, ui
     cdef int k
     hit.part = i
     if prog.parts[i].kind == PART_MOTION:
-        connect_segment(prog, pl, i, &g)
+        placed_segment(prog, pl, i, &g)
         _cs_part_nearest(&g, axes, q, max_d2, &hit.s)
         hit.length = g.length
         d2 = _cs_d2_at(&g, hit.s, axes, q, hit.point)
@@ -667,7 +624,7 @@ cdef int connect_index_build(ConnectIndex *ix, const Program *prog, const Placem
     for i in range(n):
         if prog.parts[i].kind != PART_MOTION:
             continue
-        connect_segment(prog, pl, i, &g)
+        placed_segment(prog, pl, i, &g)
         _cs_part_box(&g, ix.dims, D, &part_box[width * j])
         order[j] = <uint32_t>i
         j += 1
@@ -779,7 +736,7 @@ cdef int connect_nearest(const ConnectIndex *ix, const double *point, double max
                 r += 1
                 if i < first or i >= end:
                     continue
-                connect_segment(prog, &ix.pl, i, &g)
+                placed_segment(prog, &ix.pl, i, &g)
                 d2 = _cs_part_nearest(&g, ix.axes, point, max_d2, &s)
                 if d2 < best_d2 or (d2 == best_d2 and i < best_part):
                     best_d2 = d2

@@ -172,9 +172,10 @@ cdef inline double ramp_distance_at(double v0, double v1, double acc, int32_t ra
     return v0 * t + (v1 - v0) * 0.5 * t * t / T
 
 
-# a part (compiled, or as the API gives it) as a Segment; its point at path length
-# s; its unit tangent at the fraction u of its length
+# a part (compiled, placed where a run starts, or as the API gives it) as a Segment;
+# its point at path length s; its unit tangent at the fraction u of its length
 cdef void segment_of_part(const Program *prog, size_t i, Segment *g) noexcept nogil
+cdef void placed_segment(const Program *prog, const Placement *pl, size_t i, Segment *g) noexcept nogil
 cdef void segment_of_gm(const SIMPLE_GM_PARAMS *gm, Segment *g) noexcept nogil
 cdef void segment_point_at(const Segment *g, double s, double *out) noexcept nogil
 cdef void segment_tangent(const Segment *g, double u, double *t) noexcept nogil

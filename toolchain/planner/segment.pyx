@@ -63,6 +63,47 @@ cdef void segment_of_part(const Program *prog, size_t i, Segment *g) noexcept no
         _segment_shape(g, 0.0, 0.0, 0.0, False)
 
 
+cdef void placed_segment(const Program *prog, const Placement *pl, size_t i, Segment *g) noexcept nogil:
+    """Geometry of motion part i as a run from pl.start places it, all ten axes: the
+    part's own (segment_of_part), its start moved in the axes the part before follows
+    the run's start in (an arc's centre with it), its end in those the part itself
+    follows (placement.pyx); measured again where the two moved apart (the part where
+    an axis is first named absolutely), as the API's record of the part gives it."""
+    cdef const Part *p = &prog.parts[i]
+    cdef const Part *prev = &prog.parts[i - 1] if i > 0 else NULL
+    cdef const double *other
+    cdef bint s_moves, e_moves, reshaped = False
+    cdef double d
+    cdef int k
+    segment_of_part(prog, i, g)
+    if g.n_axes == 3:               # the seven other axes stand where the part before left them
+        other = &prog.axes[7 * p.axes_idx]
+        memcpy(&g.start[3], other, 7 * sizeof(double))
+        memcpy(&g.end[3], other, 7 * sizeof(double))
+        g.n_axes = 10
+    if not pl.moved:
+        return
+    for k in range(10):
+        d = pl.delta[k]
+        if d == 0.0:
+            continue
+        s_moves = prev == NULL or follows_start(prog, prev, k)
+        e_moves = follows_start(prog, p, k)
+        if s_moves:
+            g.start[k] += d
+            if g.arc and k == g.first:
+                g.centre[0] += d
+            elif g.arc and k == g.second:
+                g.centre[1] += d
+        if e_moves:
+            g.end[k] += d
+        reshaped = reshaped or s_moves != e_moves
+    if reshaped and g.arc:
+        _segment_shape(g, g.radius, g.centre[0], g.centre[1], p.func == 3)
+    elif reshaped:
+        _segment_shape(g, 0.0, 0.0, 0.0, False)
+
+
 cdef void segment_of_gm(const SIMPLE_GM_PARAMS *gm, Segment *g) noexcept nogil:
     """The geometry of a motion part as a run places it (placed_part_to_gm): ten axes
     from m_calcS to m_calcE; an arc round m_cc with the tool path's radius in m_cc.c."""
