@@ -118,15 +118,29 @@ def test_the_machine_runs_each_planned_part_in_its_planned_time(ph, ramp):
 # ------------------------------------------------------------------ static limits
 
 def test_arc_feed_table_values(ph):
+    """arcFeedTable as the vendor's manual describes it (0 = the table is off)."""
     table = [(10.0, 0.6), (2.0, 0.2), (50.0, 0.9)]   # any order
-    assert ph.arc_factor(table, 1.0) == pytest.approx(0.2)       # below the smallest radius
+    assert ph.arc_factor(table, 1.0) == pytest.approx(0.2)       # below the smallest radius: its feed
     assert ph.arc_factor(table, 2.0) == pytest.approx(0.2)
     assert ph.arc_factor(table, 5.0) == pytest.approx(0.2 + 0.4 * 3 / 8)
     assert ph.arc_factor(table, 30.0) == pytest.approx(0.6 + 0.3 * 20 / 40)
-    assert ph.arc_factor(table, 50.1) == 1.0                     # above the largest: full feed
-    assert ph.arc_factor(table, 5.0, 0) == 1.0                   # G900 S13 A0
-    assert ph.arc_factor([], 5.0) == 1.0                         # empty table: off
-    assert ph.arc_factor([(4.0, 0.5), (0.0, 0.1), (8.0, 0.1)], 6.0) == 1.0   # r = 0 ends the table
+    assert ph.arc_factor(table, 50.0) == pytest.approx(0.9)      # at and above the largest: its feed
+    assert ph.arc_factor(table, 500.0) == pytest.approx(0.9)
+    assert ph.arc_factor(table, 5.0, 0) == 0.0                   # G900 S13 A0
+    assert ph.arc_factor([], 5.0) == 0.0                         # all zero: not used
+    # "[0] = (0, 0.5): every arc at 50 %"
+    for r in (1e-3, 1.0, 20.0, 1e6):
+        assert ph.arc_factor([(0.0, 0.5)], r) == 0.5
+    # "(10, 1.25), (0.9, 0.1): radius >= 10 at 125 %, smaller ones down to 10 % at
+    # R0.9, every arc below R0.9 at 10 %"
+    vendor = [(10.0, 1.25), (0.9, 0.1)]
+    for r, expected in ((20.0, 1.25), (10.0, 1.25), (0.9, 0.1), (0.5, 0.1), (5.45, 0.1 + 1.15 * 0.5)):
+        assert ph.arc_factor(vendor, r) == pytest.approx(expected, rel=1e-12)
+    # a radius of 0 is the table's last entry: it counts when its feed is not 0
+    assert ph.arc_factor([(4.0, 0.5), (0.0, 0.1), (8.0, 0.9)], 6.0) == 0.5
+    assert ph.arc_factor([(4.0, 0.5), (0.0, 0.1), (8.0, 0.9)], 2.0) == pytest.approx(0.3)
+    assert ph.arc_factor([(4.0, 0.5), (0.0, 0.0), (8.0, 0.9)], 2.0) == 0.5
+    assert ph.arc_factor([(-1.0, 0.5), (4.0, 0.7)], 2.0) == 0.0  # a negative radius ends it empty
 
 
 def test_arc_feed_table_in_the_plan(ph):
@@ -138,6 +152,18 @@ def test_arc_feed_table_in_the_plan(ph):
     assert p["v_peak"] == pytest.approx(10.0, rel=1e-12)
     (p,) = plan(ph, "G900 S13 A0\nG900 S13 A1\n" + text, arc=table)[1:]
     assert p["v_peak"] == pytest.approx(3.5, rel=1e-12)
+
+
+@pytest.mark.parametrize("table, rel", [([(0.0, 0.5)], 0.5), ([(10.0, 1.25), (0.9, 0.1)], 1.25),
+                                        ([], 1.0)], ids=["all_arcs_50", "r10_and_up_125", "off"])
+def test_the_vendors_arc_feed_table_examples_on_a_full_circle(ph, table, rel):
+    """G3 X0 Y0 I20 J0 F3000 from the origin: a full circle of radius 20 at 50 mm/s
+    times the table's relative feed, 500 mm/s^2 up and down: 2 pi 20 / v + v / 500
+    (5.077 s at 50 %, 2.136 s at 125 %)."""
+    (p,) = plan(ph, "G3 X0 Y0 I20 J0 F3000\n", arc=table)
+    v = 50.0 * rel
+    assert p["v_peak"] == pytest.approx(v, rel=1e-12)
+    assert p["time"] == pytest.approx(2 * math.pi * 20.0 / v + v / 500.0, rel=1e-12)
 
 
 def test_centripetal_limit_on_a_circle(ph):
