@@ -40,6 +40,7 @@ include "planner/segment.pyx"
 include "planner/limits.pyx"
 include "planner/junctions.pyx"
 include "planner/mfunc_insert.pyx"
+include "planner/profile.pyx"
 include "planner/passes.pyx"
 include "pipeline.pyx"                  # the stages side by side
 include "placement.pyx"                 # a program where a run starts

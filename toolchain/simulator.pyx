@@ -142,6 +142,7 @@ cdef void *_run_body(void *arg) noexcept nogil:
     cdef SIMPLE_GM_PARAMS gm
     cdef double start[10]
     cdef Placement placement
+    cdef PlacedPlan plan
     cdef double run_time = 0.0, t, length
     cdef bint testing = job.regime == RUN_TEST
     cdef bint stopped = False, complete = False
@@ -166,6 +167,7 @@ cdef void *_run_body(void *arg) noexcept nogil:
         prog = &loaded.prog
         n = prog.n_parts
         placement_init(&placement, prog, start)
+        placed_plan_make(&plan, prog, &placement)      # the times of a run from here
         view.pos.m_fileIdx = -1
         view.enh.m_relFeed = TC_ATOMIC_LOAD_D(&core.rel_feed)
         snapshot_publish(&core.snap, view)
@@ -185,8 +187,8 @@ cdef void *_run_body(void *arg) noexcept nogil:
             p = &prog.parts[i]
             placed_part_to_gm(prog, i, &placement, &gm)
             length = gm.m_pars.N if p.kind == PART_MOTION else 0.0
-            if params.calcTime:
-                t = plan_part_time(prog, i)
+            if params.calcTime and prog.plan != NULL:
+                t = placed_plan_part(&plan, i).time
                 if t > 0:
                     run_time += t
             if testing and p.kind == PART_MOTION:
@@ -208,6 +210,7 @@ cdef void *_run_body(void *arg) noexcept nogil:
         if params.calcTime and complete and 0 <= prog.main_file_idx < MAX_FILES:
             core.files.run_times[prog.main_file_idx] = run_time
         pthread_mutex_unlock(&core.lock)
+        placed_plan_free(&plan)
     loaded_program_release(loaded)
     free(params)
     free(machine)

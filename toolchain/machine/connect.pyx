@@ -134,7 +134,7 @@ cdef void *_connect_body(void *arg) noexcept nogil:
                 if (moving >> k) & 1:
                     (<double *>&dest.m_calcE)[k] = hit.point[k]
             core_set_status(core, CNC_STATUS_CONNECT_MOVING)
-            finish = machine_manual_move(core, m, &f, &dest, 10)
+            finish = machine_manual_move(core, m, &f, &dest, 10, &f.params.motion[5])
             if finish == EV_DONE:
                 pthread_mutex_lock(&core.lock)
                 _connect_place(m, &hit)

@@ -1,7 +1,7 @@
 # Static limits of each part, before any look-ahead: the programmed feed, the arc
 # feed table, the centripetal acceleration and the axes' limits projected on the
 # tangent over the whole part; the planning settings in force (PlanRegion).
-from libc.math cimport sqrt, cos, M_PI
+from libc.math cimport sqrt, cos, M_PI, HUGE_VAL
 from libc.string cimport memcpy, memcmp, memset
 
 
@@ -80,11 +80,15 @@ cdef void cursor_init(PlanCursor *c, const Program *prog, const GCODE_PARAMETERS
     c.cos_start = _cos_start(&c.cur)
 
 
-cdef const PlanRegion *cursor_settings(PlanCursor *c, size_t part) noexcept nogil:
+cdef inline const PlanRegion *cursor_settings(PlanCursor *c, size_t part) noexcept nogil:
     """The settings part `part` runs with; parts in increasing order."""
-    cdef const Program *prog = c.prog
-    if c.region == prog.n_plan_regions:    # nothing left to apply: no need to count
+    if c.region == c.prog.n_plan_regions:  # nothing left to apply: no need to count (every part)
         return &c.cur
+    return _cursor_advance(c, part)
+
+
+cdef const PlanRegion *_cursor_advance(PlanCursor *c, size_t part) noexcept nogil:
+    cdef const Program *prog = c.prog
     while c.next_part <= part:
         if not (prog.parts[c.next_part].flags & FLAG_INSERTED):
             while c.region < prog.n_plan_regions and prog.plan_regions[c.region].first <= c.programmed:
@@ -172,6 +176,7 @@ cdef void part_limits(const Segment *g, const Part *p, const GCODE_PARAMETERS *p
     out.acc = cls.acc if 0.0 < cls.acc < 1e12 else 1e12
     out.dec = cls.dec if 0.0 < cls.dec < 1e12 else 1e12
     v = part_feed(p, params) / 60.0
+    out.v_ceiling = HUGE_VAL
     feed_len = segment_feed_length(g, ignore_feed)
     if feed_len > 1e-12 and feed_len < g.length:
         v = v * g.length / feed_len     # the feed holds on the other axes: the path runs faster
@@ -179,18 +184,22 @@ cdef void part_limits(const Segment *g, const Part *p, const GCODE_PARAMETERS *p
         factor = arc_feed_factor(params, s.arc_table, g.radius)
         if factor > 0.0:
             v = v * factor
+            out.v_ceiling = v           # the table's speed for this radius is a limit, not a feed
         if params.centripetalAcc > 0.0:
             curvature = g.radius / (g.radius * g.radius + g.lead * g.lead)
-            v = min(v, sqrt(params.centripetalAcc / curvature))
+            out.v_ceiling = min(out.v_ceiling, sqrt(params.centripetalAcc / curvature))
+            v = min(v, out.v_ceiling)
     if not axes_limited:
         out.vmax = v if v > 0.0 else 1.0 / 60.0
+        out.v_ceiling = max(out.v_ceiling, out.vmax)
         return
     segment_axis_reach(g, reach)
     for k in range(10):
         if (s.limits_off >> k) & 1 or reach[k] <= 1e-12:
             continue
         if s.axisLimits[k].maxFeed > 0.0:
-            v = min(v, s.axisLimits[k].maxFeed / 60.0 / reach[k])
+            out.v_ceiling = min(out.v_ceiling, s.axisLimits[k].maxFeed / 60.0 / reach[k])
+            v = min(v, out.v_ceiling)
         if s.axisLimits[k].maxAcc > 0.0:
             out.acc = min(out.acc, s.axisLimits[k].maxAcc / reach[k])
         if s.axisLimits[k].maxDec > 0.0:
@@ -198,3 +207,4 @@ cdef void part_limits(const Segment *g, const Part *p, const GCODE_PARAMETERS *p
     if not (v > 0.0):
         v = 1.0 / 60.0                  # no feed anywhere: 1 mm/min rather than never arriving
     out.vmax = v
+    out.v_ceiling = max(out.v_ceiling, v)
