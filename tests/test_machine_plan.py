@@ -7,14 +7,15 @@ the program was compiled plans its first moves from where the machine stands; a 
 override above 100 % stays under every hard limit (axis speeds, centripetal
 acceleration, arc feed table); continuous M functions cost no look-ahead slot; the
 arc feed table as the vendor's manual gives it. Through the exports: the first move
-after a restart."""
+after a restart, and a connection moving at motion[3]."""
+import ctypes
 import math
 
 import pytest
 
 from sf_tch import abi
 from test_machine import (ARCS, DT, LINES, SQUARE_G42, api, circle_chords, compile_on, get_pos,  # noqa: F401
-                          load, params, poll_run, run_time_of, set_params, start)
+                          load, params, poll_run, run_time_of, set_params, start, wait)
 from test_planner import ruckig_time
 
 
@@ -248,3 +249,25 @@ def test_the_first_move_after_ResetCNC_through_the_api(api):
     start(lib, 0)
     assert poll_run(lib, 0, timeout=20.0)[1] == -32
     assert get_pos(lib, 0)[1].m_cncRunTime == pytest.approx(expected, rel=0.005)
+
+
+@pytest.mark.parametrize("force_mode", [0, 1])
+def test_a_connection_moves_at_motion_3(api, force_mode):
+    """ConnectCNCEx_Plane's way onto the trajectory runs at motion[3] ("connect to the
+    trajectory"), not at GoToPosition's motion[5]: 30 mm at 10 mm/s with 500 mm/s^2,
+    3 s + 0.02 s of machine time."""
+    lib = api
+    classes = (abi.GCODE_FEED * 8)(*[abi.GCODE_FEED(6000.0, 500.0, 500.0, 1)] * 8)
+    classes[3] = abi.GCODE_FEED(600.0, 500.0, 500.0, 1)
+    set_params(lib, 0, motion=classes, forceMode=force_mode, maxConnectionDistance=1000.0)
+    compile_on(lib, 0, "G1 X100 F6000\n")
+    assert lib.ToolChainCore_SetTimeScale(0, 50.0) == 0
+    start(lib, 0)
+    assert poll_run(lib, 0)[1] == -32
+    assert lib.ToolChainCore_GoToPosition(0, 2, (ctypes.c_double * 2)(50.0, 30.0)) == 0
+    assert poll_run(lib, 0, running=(50,))[1] == -50
+    assert lib.ToolChainCore_ConnectCNCEx_Plane(0, 0, 2, (ctypes.c_double * 2)(50.0, 30.0), None, 0, 0, 0) == 0
+    assert wait(lib, 0, lambda s: s <= 0) == -31
+    pos, enh = get_pos(lib, 0)
+    assert (pos.m_calcS.x, pos.m_calcS.y) == pytest.approx((50.0, 0.0), abs=1e-9)
+    assert enh.m_cncRunTime == pytest.approx(30.0 / 10.0 + 10.0 / 500.0, rel=1e-3)

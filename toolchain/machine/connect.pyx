@@ -1,7 +1,7 @@
 # ConnectCNCEx_Plane: the offline machine goes back onto its trajectory. One
 # activity of the core: status 40 while the place is searched (connect_search.pyx,
 # the ConnectPointCalc callbacks 1004-1006), 41 while the machine moves there in a
-# straight line at motion[5] (the axes of axesForConnect), then -31 on the trajectory
+# straight line at motion[3] (the axes of axesForConnect), then -31 on the trajectory
 # (stateAfter 2: -50), or, for the types that continue (10 11 12 40 41 42 44), on into
 # a forward run from there (status 30). The search failing leaves the status where it
 # was, the error in GetLastError.
@@ -134,7 +134,7 @@ cdef void *_connect_body(void *arg) noexcept nogil:
                 if (moving >> k) & 1:
                     (<double *>&dest.m_calcE)[k] = hit.point[k]
             core_set_status(core, CNC_STATUS_CONNECT_MOVING)
-            finish = machine_manual_move(core, m, &f, &dest, 10, &f.params.motion[5])
+            finish = machine_manual_move(core, m, &f, &dest, 10, &f.params.motion[3])
             if finish == EV_DONE:
                 pthread_mutex_lock(&core.lock)
                 _connect_place(m, &hit)
