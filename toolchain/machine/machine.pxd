@@ -79,6 +79,7 @@ ctypedef struct Motion:
     bint replan                 # plan the current entry again before the next step
     bint window_short           # its exit was limited by the ring's end: plan again when more arrives
     size_t planned_count        # `count` when it was planned
+    uint64_t full_for           # consumed + 1 when the ring was found to hold its window (0: not yet)
     bint started                # the current entry began (ME_ENTRY reported)
     double wait_left            # dwell seconds left
     int32_t confirmed           # a waiting M function was confirmed (set by the machine's thread)

@@ -141,6 +141,7 @@ cdef void motion_reset(Motion *m, const double *position) noexcept nogil:
     m.run_d0 = 0.0
     m.replan = True
     m.window_short = False
+    m.full_for = 0
     m.started = False
     m.wait_left = 0.0
     m.confirmed = 0
@@ -308,18 +309,23 @@ cdef void motion_locate(Motion *m) noexcept nogil:
             entry_point(e, m.d, m.v, m.position)
 
 
-cdef inline bint motion_window_full(const Motion *m) noexcept nogil:
+cdef inline bint motion_window_full(Motion *m) noexcept nogil:
     """The ring holds the whole window after the current entry (its motion entries,
-    the window's count of them), the run's end, or as much as it can."""
+    the window's count of them), the run's end, or as much as it can. Once it does,
+    it does until the entry ends (the feeder only adds): asked every step, it looks at
+    the ring once per entry."""
     cdef const Entry *first
     cdef const Entry *last
-    if m.complete or m.count >= LOOK_RING:
+    if m.full_for == m.consumed + 1 or m.complete or m.count >= LOOK_RING:
         return True
     if m.count == 0:
         return False
     first = &m.ring[m.head]
     last = &m.ring[(m.head + m.count - 1) % LOOK_RING]
-    return last.motion_seq + (1 if last.kind == PART_MOTION else 0) >= first.motion_seq + m.window
+    if last.motion_seq + (1 if last.kind == PART_MOTION else 0) >= first.motion_seq + m.window:
+        m.full_for = m.consumed + 1
+        return True
+    return False
 
 
 cdef int motion_step(Motion *m, double dt) noexcept nogil:

@@ -70,7 +70,7 @@ cdef inline void profile_plan(Profile *p, const PlanNode *nd, double v_in, doubl
     p.t3 = (peak - v_out) * 2.0 * rc.half_inv_dec
 
 
-cdef void profile_at(const Profile *p, double t, double *d, double *v) noexcept nogil:
+cdef inline void profile_at(const Profile *p, double t, double *d, double *v) noexcept nogil:
     """Distance along the part and speed t seconds into the profile (at and after its
     end: its length and exit speed)."""
     cdef double rest
