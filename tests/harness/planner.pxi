@@ -33,11 +33,13 @@ cdef double planned_peak(const Program *prog, size_t k) noexcept nogil:
     cdef const PartPlan *pp = &prog.plan[k]
     cdef double v_in = prog.plan[k - 1].v_exit if k > 0 else 0.0
     cdef Segment g
-    cdef PlanNode nd
+    cdef PlanNode nd, exit
     cdef Profile pr
     cdef Reciprocals rc
     if prog.parts[k].kind != PART_MOTION or not (pp.acc > 0.0):
         return v_in
+    exit.jin = pp.v_exit
+    exit.jin2 = exit.entry2 = exit.jin * exit.jin
     segment_of_part(prog, k, &g)
     nd.length = g.length
     nd.vmax = pp.v_cap
@@ -46,7 +48,7 @@ cdef double planned_peak(const Program *prog, size_t k) noexcept nogil:
     nd.ramp = pp.ramp
     nd.brake2 = 2.0 * nd.dec * nd.length
     rc.acc = rc.dec = rc.vmax = 0.0
-    profile_plan(&pr, &nd, v_in, pp.v_exit * pp.v_exit, pp.v_exit, &rc)
+    profile_plan(&pr, &nd, v_in, &exit, &rc)
     return pr.v_peak
 
 
@@ -139,10 +141,12 @@ def profile(double length, double v_in, double cap, double v_out, double acc, do
     braking all the way allows), peak accelerations acc / dec of ramp type `ramp`:
     profile_plan, sampled with profile_at."""
     cdef Profile pr
-    cdef PlanNode nd
+    cdef PlanNode nd, exit
     cdef Reciprocals rc
     cdef double d, v
     rc.acc = rc.dec = rc.vmax = 0.0
+    exit.jin = v_out
+    exit.jin2 = exit.entry2 = v_out * v_out
     nd.length = length
     nd.vmax = cap
     nd.acc = ramp_equivalent_acc(acc, ramp)
@@ -150,7 +154,7 @@ def profile(double length, double v_in, double cap, double v_out, double acc, do
     nd.ramp = ramp
     nd.brake2 = 2.0 * nd.dec * length
     speeds = []
-    profile_plan(&pr, &nd, v_in, v_out * v_out, v_out, &rc)
+    profile_plan(&pr, &nd, v_in, &exit, &rc)
     for t in times:
         profile_at(&pr, t, &d, &v)
         speeds.append(v)

@@ -73,7 +73,8 @@ cdef void _plan_current(Motion *m) noexcept nogil:
     cdef PlanNode *nd
     cdef size_t k, last = m.count, base = <size_t>m.consumed
     cdef uint64_t window_end = cur.motion_seq + m.window
-    cdef double cap, cap_before = _cap(m, cur), length, exit2 = 0.0
+    cdef const PlanNode *next = NULL
+    cdef double cap, cap_before = _cap(m, cur), length
     if m.stopping:
         last = m.stop_entry + 1
     k = 1
@@ -101,7 +102,7 @@ cdef void _plan_current(Motion *m) noexcept nogil:
                       and e.motion_seq + (1 if e.kind == PART_MOTION else 0) < window_end)
     if k > 1:
         plan_backward(m.nodes, LOOK_RING - 1, base, base + k)
-        exit2 = m.nodes[(base + 1) % LOOK_RING].entry2
+        next = &m.nodes[(base + 1) % LOOK_RING]
     # the current entry's node: what is left of it
     nd = &m.nodes[base % LOOK_RING]
     length = entry_length(cur)
@@ -113,11 +114,11 @@ cdef void _plan_current(Motion *m) noexcept nogil:
         nd.ramp = m.stop_ramp
         if m.stop_entry == 0:
             length = m.stop_d
-            exit2 = 0.0
+            next = NULL
     nd.length = length - m.d if length > m.d else 0.0
     nd.vmax = _cap(m, cur)
     nd.brake2 = 2.0 * nd.dec * nd.length
-    profile_plan(&m.run, nd, m.v, exit2, -1.0, &m.recip)
+    profile_plan(&m.run, nd, m.v, next, &m.recip)
     m.run_t = 0.0
     m.run_d0 = m.d
     m.replan = False

@@ -174,10 +174,7 @@ cdef double _plan_node(const PlanNode *nd, double v_in, const PlanNode *next, Re
     """The plan of one node entered at v_in: its limits and its profile (next: the
     node after it in the window, or NULL: a stop at its end); its exit speed."""
     cdef Profile pr
-    if next != NULL:
-        profile_plan(&pr, nd, v_in, next.entry2, next.jin if next.entry2 == next.jin2 else -1.0, rc)
-    else:
-        profile_plan(&pr, nd, v_in, 0.0, 0.0, rc)
+    profile_plan(&pr, nd, v_in, next, rc)
     out.v_exit = _float_below(pr.v_out)  # a profile from it stays feasible
     out.time = <float>profile_time(&pr)
     out.v_cap = <float>nd.vmax          # floats already (_next_node)
@@ -322,7 +319,7 @@ cdef int _sweep(const Program *prog, const Placement *pl, const GCODE_PARAMETERS
     their placed shape, until the plan is the compile's again (head.n_head the parts
     planned). COMPILE_OK, or COMPILE_ERROR when out of memory."""
     cdef size_t n = prog.n_parts, depth, cap = 1, i = 0, made = 0, planned_made = 0, filled = first
-    cdef size_t mask, window_end
+    cdef size_t mask, window_end, room, settled
     cdef PartPlan *plan = prog.plan if head == NULL else head.head
     cdef PlanNode *ring
     cdef PlanNode *nd
@@ -349,6 +346,8 @@ cdef int _sweep(const Program *prog, const Placement *pl, const GCODE_PARAMETERS
     src.enhanced = enhanced
     src.pl = pl
     src.reshaped_end = placement_reshaped_end(prog, pl) if pl != NULL else 0
+    room = n if head == NULL else head.cap_head         # parts `plan` holds
+    settled = src.reshaped_end if head != NULL else <size_t>-1     # a head ends where it is the compile's
     cursor_init(&src.cursor, prog, params)
     if first > 0:
         cursor_settings(&src.cursor, first - 1)     # the regions before the range
@@ -388,17 +387,18 @@ cdef int _sweep(const Program *prog, const Placement *pl, const GCODE_PARAMETERS
         if made != planned_made:        # the window's end moved
             plan_backward(ring, mask, i, made)
             planned_made = made
-        if head != NULL:
+        if nd.part >= room:             # the head's plan grows (the compile's holds every part)
             if not _head_room(head, nd.part + 1):
                 free(ring)
                 return COMPILE_ERROR
             plan = head.head
+            room = head.cap_head
         if filled < nd.part:
             _plan_passing(prog, filled, nd.part, v_prev, plan)
         v_prev = _plan_node(nd, v_prev, &ring[(i + 1) & mask] if i + 1 < made else NULL, &recip, &plan[nd.part])
         filled = nd.part + 1
         i += 1
-        if head != NULL and nd.part >= src.reshaped_end:
+        if nd.part >= settled:
             # from the node after the first one the placement leaves as it was, every
             # node is the compile's: the same speed out, the same plan on
             if converging and _float_below(v_prev) == head.plan[nd.part].v_exit:

@@ -199,7 +199,7 @@ cdef bint program_add_plan_region(ProgramBuilder *build, size_t first, const GCO
 
 # one part's profile: planned from its entry speed to the highest exit allowed, and
 # sampled; the backward pass over a window of nodes (the planner's and the machine's)
-cdef void profile_plan(Profile *p, const PlanNode *nd, double v_in, double exit2, double exit_root,
+cdef void profile_plan(Profile *p, const PlanNode *nd, double v_in, const PlanNode *next,
                        Reciprocals *rc) noexcept nogil
 cdef void profile_at(const Profile *p, double t, double *d, double *v) noexcept nogil
 cdef inline double profile_time(const Profile *p) noexcept nogil:

@@ -8,24 +8,25 @@
 from libc.math cimport sqrt
 
 
-cdef inline void profile_plan(Profile *p, const PlanNode *nd, double v_in, double exit2, double exit_root,
-                       Reciprocals *rc) noexcept nogil:
+cdef inline void profile_plan(Profile *p, const PlanNode *nd, double v_in, const PlanNode *next,
+                              Reciprocals *rc) noexcept nogil:
     """The fastest profile over nd.length from v_in, under nd.vmax (above it -- a
     lowered override, a stop -- it brakes to it first), ending at most at the speed
-    whose square is exit2 (exit_root: that speed when the caller knows it, else < 0),
-    or at the lowest speed braking all the way allows when that is higher (entered
-    faster than the plan foresaw). Ramps with the equivalent accelerations nd.acc,
-    nd.dec; rc keeps their reciprocals between calls (runs of parts share them, and a
-    part that cruises into its exit takes no square root)."""
+    the node after it may be entered at (next.entry2, squared: the backward pass's;
+    NULL: rest), or at the lowest speed braking all the way allows when that is
+    higher (entered faster than the plan foresaw). Ramps with the equivalent
+    accelerations nd.acc, nd.dec; rc keeps their reciprocals between calls (runs of
+    parts share them, and a part that cruises into its junction's limit takes no
+    square root)."""
     cdef double a = nd.acc, d = nd.dec, L = nd.length, cap = nd.vmax
     cdef double in2 = v_in * v_in
-    cdef double out2 = min(exit2, in2 + 2.0 * a * L)
+    cdef double out2 = min(next.entry2 if next != NULL else 0.0, in2 + 2.0 * a * L)
     cdef double lowest2 = in2 - nd.brake2
     cdef double v_out, peak, peak2, cruise
     if out2 < lowest2 - 1e-9 * in2:   # (not where rounding alone puts it below)
         out2 = lowest2
-    if exit_root >= 0.0 and out2 == exit2:
-        v_out = exit_root
+    if next != NULL and out2 == next.jin2:
+        v_out = next.jin
     else:
         v_out = sqrt(out2)
     if a != rc.acc:
