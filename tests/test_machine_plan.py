@@ -271,3 +271,31 @@ def test_a_connection_moves_at_motion_3(api, force_mode):
     pos, enh = get_pos(lib, 0)
     assert (pos.m_calcS.x, pos.m_calcS.y) == pytest.approx((50.0, 0.0), abs=1e-9)
     assert enh.m_cncRunTime == pytest.approx(30.0 / 10.0 + 10.0 / 500.0, rel=1e-3)
+
+
+def test_cam_programs_from_elsewhere_take_GetGCodeRunTime(api):
+    """The CAM corpus (tests/cam_corpus.py, one program per style, the ISO mode on)
+    compiled at the origin and run from (7, -5, 3) at time scale 1e5: each run's
+    machine time is its simulation's from there (GetGCodeRunTime) within 0.5 %."""
+    import cam_corpus
+    lib = api
+    set_params(lib, 0, rezerva1=1)
+    away = (ctypes.c_double * 10)(7.0, -5.0, 3.0)
+    ran = 0
+    for style, name, text, _ in cam_corpus.corpus(variants=1):
+        assert lib.ToolChainCore_ResetCNC(0, 0, 10, (ctypes.c_double * 10)()) == 0
+        assert lib.ToolChainCore_CompileFromMemory(0, b"m.nc", text.encode()) == 0
+        assert wait(lib, 0, lambda s: s != 1) == -1
+        info = abi.CALLBACK_INFO()
+        if lib.ToolChainCore_GetLastError(0, ctypes.byref(info)) != 0:
+            continue                            # the styles the ISO mode does not read
+        assert lib.ToolChainCore_ResetCNC(0, 0, 10, away) == 0
+        expected = run_time_of(lib, 0)
+        assert lib.ToolChainCore_SetTimeScale(0, 1e5) == 0
+        start(lib, 0)
+        while (status := wait(lib, 0, lambda s: s not in (30, 31, 32, 33), timeout=60.0)) == -33:
+            start(lib, 0)                       # M0 / M1: go on
+        assert status == -32, style
+        assert get_pos(lib, 0)[1].m_cncRunTime == pytest.approx(expected, rel=0.005), style
+        ran += 1
+    assert ran >= 10
