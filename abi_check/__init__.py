@@ -9,6 +9,10 @@ Compares four descriptions of the library's binary interface:
 - the sizes the vendor's structures description gives on Linux x86_64
   (:data:`SPEC_SIZES`, written down apart from the header; docs/structures.md).
 
+Both systems: the header's TGM_LPCTSTR is ``char*`` on Linux and ``wchar_t*`` on
+Windows x64; :func:`check_layouts` compares the header as a mingw-w64 probe measures
+it (run under Wine) with the Windows mirror (``sf_tch.abi.mirror(windows=True)``).
+
 ``run()`` returns the list of differences (empty: conformant); ``python -m sf_tch.abi_check``
 (installed with the package; ``python -m abi_check`` in a source checkout) also prints a
 table and exits non-zero on any difference.
@@ -36,11 +40,13 @@ SPEC_SIZES = {
 # ToolChainCore_GetStructuresSize: entry [0] is the number of sizes that follow.
 STRUCTURES_SIZE_COUNT = 8
 
-# C type names as they appear in the header -> one canonical spelling.
+# C type names as they appear in the header -> one canonical spelling (Linux; on
+# Windows the host's text type is wchar_t).
 _C_ALIASES = {
     "TGM_LPCTSTR": "char*", "TGM_LPCSTR": "char*", "TGM_LPTSTR": "char*",
     "intptr_t": "int64_t", "ssize_t": "int64_t", "size_t": "uint64_t",
 }
+_WINDOWS_ALIASES = {**_C_ALIASES, "TGM_LPCTSTR": "wchar_t*", "TGM_LPTSTR": "wchar_t*"}
 
 
 # ------------------------------------------------------------------ header parsing
@@ -61,19 +67,20 @@ def _strip_comments(text: str) -> str:
     return re.sub(r"//[^\n]*", " ", text)
 
 
-def _canonical(ctype: str) -> str:
+def _canonical(ctype: str, windows: bool = False) -> str:
     """'const GCODE_PARAMETERS *' -> 'GCODE_PARAMETERS*', 'TGM_LPCSTR' -> 'char*'."""
     ctype = re.sub(r"\b(const|volatile|struct)\b", " ", ctype)
     stars = ctype.count("*")
     base = ctype.replace("*", " ").split()
     base = " ".join(base)
-    base = _C_ALIASES.get(base, base)
+    base = (_WINDOWS_ALIASES if windows else _C_ALIASES).get(base, base)
     return base + "*" * stars
 
 
-def parse_structs(header_text: str) -> dict[str, list[Field]]:
+def parse_structs(header_text: str, windows: bool = False) -> dict[str, list[Field]]:
     """Every ``typedef struct [tag] { ... } NAME;`` of the header, fields in order.
-    Handles comma-separated declarators (``double x, y;``) and arrays (``T a[8]``)."""
+    Handles comma-separated declarators (``double x, y;``) and arrays (``T a[8]``);
+    `windows`: the types as they are on Windows x64."""
     text = _strip_comments(header_text)
     structs = {}
     for match in re.finditer(r"typedef\s+struct\s*\w*\s*\{(.*?)\}\s*(\w+)\s*;", text, re.S):
@@ -92,12 +99,12 @@ def parse_structs(header_text: str) -> dict[str, list[Field]]:
                 if not dm:
                     raise ValueError(f"{name}: cannot parse declarator {d!r}")
                 stars, fname, length = dm.groups()
-                fields.append(Field(fname, _canonical(base + stars), int(length) if length else None))
+                fields.append(Field(fname, _canonical(base + stars, windows), int(length) if length else None))
         structs[name] = fields
     return structs
 
 
-def parse_prototypes(header_text: str) -> dict[str, tuple[str, list[str]]]:
+def parse_prototypes(header_text: str, windows: bool = False) -> dict[str, tuple[str, list[str]]]:
     """Every ``TOOLCHAIN_API ret TOOLCHAIN_CALLTYPE name(args);``: name -> (ret, [arg types])."""
     text = _strip_comments(header_text)
     protos = {}
@@ -110,8 +117,8 @@ def parse_prototypes(header_text: str) -> dict[str, tuple[str, list[str]]]:
                 continue
             # drop the parameter name: the last identifier when something precedes it
             m = re.match(r"(.*?[\w\*])\s*\b(\w+)$", arg)
-            types.append(_canonical(m.group(1) if m and m.group(1).strip() else arg))
-        protos[name] = (_canonical(ret), types)
+            types.append(_canonical(m.group(1) if m and m.group(1).strip() else arg, windows))
+        protos[name] = (_canonical(ret, windows), types)
     return protos
 
 
@@ -121,7 +128,7 @@ _CTYPES_NAMES = [
     (ctypes.c_int32, "int32_t"), (ctypes.c_uint32, "uint32_t"), (ctypes.c_int64, "int64_t"),
     (ctypes.c_uint64, "uint64_t"), (ctypes.c_int16, "int16_t"), (ctypes.c_uint16, "uint16_t"),
     (ctypes.c_int8, "int8_t"), (ctypes.c_uint8, "uint8_t"), (ctypes.c_double, "double"),
-    (ctypes.c_float, "float"), (ctypes.c_char_p, "char*"), (ctypes.c_void_p, "void*"),
+    (ctypes.c_float, "float"), (ctypes.c_char_p, "char*"), (ctypes.c_wchar_p, "wchar_t*"), (ctypes.c_void_p, "void*"),
     (ctypes.c_char, "char"),
 ]
 
@@ -157,10 +164,12 @@ def find_compiler() -> str | None:
     return shutil.which("cc") or shutil.which("gcc")
 
 
-def probe(header: str, structs: dict[str, list[Field]], cc: str | None = None) -> dict:
+def probe(header: str, structs: dict[str, list[Field]], cc: str | None = None, run: tuple = ()) -> dict:
     """Compiles and runs a C program that prints sizeof/_Alignof of every struct and
     offsetof/sizeof of every field, against `header`. Returns
-    {struct: {"size": n, "align": n, "fields": {name: (offset, size, align)}}}."""
+    {struct: {"size": n, "align": n, "fields": {name: (offset, size, align)}}}.
+    `cc` may be a cross compiler (mingw-w64: the program is probe.exe) and `run` the
+    command that runs its program (e.g. Wine's)."""
     cc = cc or find_compiler()
     if not cc:
         raise RuntimeError(NO_COMPILER)
@@ -175,13 +184,15 @@ def probe(header: str, structs: dict[str, list[Field]], cc: str | None = None) -
                          f"sizeof({member}), _Alignof(__typeof__({member})));")
     lines += ["  return 0;", "}", ""]
     with tempfile.TemporaryDirectory(prefix="abi_check_") as tmp:
-        src, exe = Path(tmp) / "probe.c", Path(tmp) / "probe"
+        mingw = "mingw32" in Path(cc).name
+        src, exe = Path(tmp) / "probe.c", Path(tmp) / ("probe.exe" if mingw else "probe")
         src.write_text("\n".join(lines))
-        build = subprocess.run([cc, "-std=gnu11", "-Wall", "-I", str(header.parent), str(src), "-o", str(exe)],
-                               capture_output=True, text=True)
+        build = subprocess.run([cc, "-std=gnu11", "-Wall", *(["-D__USE_MINGW_ANSI_STDIO=1"] if mingw else []),
+                                "-I", str(header.parent), str(src), "-o", str(exe)], capture_output=True, text=True)
         if build.returncode != 0:
             raise RuntimeError(f"probe does not compile against {header}:\n{build.stderr.strip()}")
-        out = subprocess.run([str(exe)], capture_output=True, text=True, check=True).stdout
+        out = subprocess.run([*run, str(exe)], stdin=subprocess.DEVNULL, capture_output=True, text=True,
+                             check=True).stdout
     result = {}
     for line in out.splitlines():
         kind, *rest = line.split()
@@ -250,30 +261,10 @@ def check(header: str | None = None, library: str | None = None, structures: dic
         structures = abi.STRUCTURES if structures is None else structures
         functions = abi.FUNCTIONS if functions is None else functions
         size_order = abi.STRUCTURES_SIZE_ORDER if size_order is None else size_order
-    spec_sizes = SPEC_SIZES if spec_sizes is None else spec_sizes
     header = header or default_header()
     report = Report()
     text = Path(header).read_text()
-    parsed = parse_structs(text)
-    try:
-        measured = probe(header, parsed)
-    except (RuntimeError, subprocess.CalledProcessError) as exc:
-        report.diff(f"C probe: {exc}")
-        measured = {}
-
-    # structures: header vs ctypes mirror vs the vendor's sizes
-    for name in sorted(set(parsed) - set(structures)):
-        report.diff(f"{name}: in the header, missing in the ctypes mirror")
-    for name in sorted(set(structures) - set(parsed)):
-        report.diff(f"{name}: in the ctypes mirror, missing in the header")
-    for name in sorted(set(spec_sizes) - set(parsed)):
-        report.diff(f"{name}: a vendor structure, missing in the header")
-    for name, fields in parsed.items():
-        c = measured.get(name)
-        cls = structures.get(name)
-        if c is None or cls is None:
-            continue
-        _compare_struct(report, name, fields, c, cls, spec_sizes.get(name))
+    measured = _compare_layouts(report, header, structures, spec_sizes, windows=False, cc=None, run=())
 
     # library: GetStructuresSize and exports
     library = library or default_library()
@@ -316,6 +307,43 @@ def check(header: str | None = None, library: str | None = None, structures: dic
         for name in sorted(s for s in exported if s.startswith("ToolChain") and s not in protos):
             report.diff(f"{name}: exported by the library, no prototype in the header")
     return report
+
+
+def check_layouts(windows: bool, cc: str | None = None, run: tuple = (), header: str | None = None) -> Report:
+    """Header vs ctypes mirror vs the vendor's sizes, structure by structure, on Linux or (windows)
+    on Windows x64: the probe compiled by `cc` (for Windows a mingw-w64 gcc) and run by
+    `run` (Wine), the mirror sf_tch.abi.mirror(windows)."""
+    from sf_tch import abi
+    report = Report()
+    structures, _ = abi.mirror(windows)
+    _compare_layouts(report, header or default_header(), structures, SPEC_SIZES, windows, cc, run)
+    return report
+
+
+def _compare_layouts(report: Report, header: str, structures: dict, spec_sizes: dict | None, windows: bool,
+                     cc: str | None, run: tuple) -> dict:
+    """The structures of `header` measured by the probe against the mirror and the
+    vendor's sizes; returns the measurements."""
+    spec_sizes = SPEC_SIZES if spec_sizes is None else spec_sizes
+    parsed = parse_structs(Path(header).read_text(), windows)
+    try:
+        measured = probe(header, parsed, cc, run)
+    except (RuntimeError, subprocess.CalledProcessError) as exc:
+        report.diff(f"C probe: {exc}")
+        measured = {}
+    for name in sorted(set(parsed) - set(structures)):
+        report.diff(f"{name}: in the header, missing in the ctypes mirror")
+    for name in sorted(set(structures) - set(parsed)):
+        report.diff(f"{name}: in the ctypes mirror, missing in the header")
+    for name in sorted(set(spec_sizes) - set(parsed)):
+        report.diff(f"{name}: a vendor structure, missing in the header")
+    for name, fields in parsed.items():
+        c = measured.get(name)
+        cls = structures.get(name)
+        if c is None or cls is None:
+            continue
+        _compare_struct(report, name, fields, c, cls, spec_sizes.get(name))
+    return measured
 
 
 def _compare_struct(report: Report, name: str, fields: list[Field], c: dict, cls, spec_size) -> None:

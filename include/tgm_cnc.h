@@ -1,5 +1,6 @@
 /*
- * tgm_cnc.h -- the C ABI of the SF_TCh CNC module library (libSF_TCh.so).
+ * tgm_cnc.h -- the C ABI of the SF_TCh CNC module library (libSF_TCh.so on Linux,
+ * SF_TCh.dll on Windows x64).
  *
  * This header is the single source of truth for the library's binary interface:
  * the Cython sources declare their structures from it, the C compiler checks every
@@ -7,7 +8,8 @@
  * Python ctypes mirror (sf_tch.abi) with it field by field.
  *
  * Layouts follow the vendor's data-structure description (natural C alignment, no
- * packing pragma). Sizes on Linux x86_64 are asserted at the end of this file.
+ * packing pragma), the same on Linux and Windows x64; the sizes are asserted at the end
+ * of this file.
  *
  * Threading (docs/threading.md): every function may be called from any thread at
  * any moment, also from inside a callback the library is running. Long work
@@ -40,10 +42,17 @@ extern "C" {
 #  define TOOLCHAIN_API __attribute__((visibility("default")))
 #endif
 
-/* File names, directories and returned texts (UTF-16 on Windows; this build is Linux). */
+/* File names, directories, the texts of the callbacks and the texts the library returns:
+ * UTF-16 (wchar_t) on Windows, UTF-8 (char) on Linux. */
+#if defined(_WIN32)
+typedef const wchar_t *TGM_LPCTSTR;
+typedef wchar_t *TGM_LPTSTR;
+#else
 typedef const char *TGM_LPCTSTR;
 typedef char *TGM_LPTSTR;
-/* G-code text and error texts: always narrow. */
+#endif
+/* G-code text, add codes, log lines and CALLBACK_INFO's error texts: always narrow
+ * (UTF-8), on both systems. */
 typedef const char *TGM_LPCSTR;
 
 /* ------------------------------------------------------------------ constants */
@@ -67,7 +76,8 @@ typedef const char *TGM_LPCSTR;
 #define TOOL_CHAIN_FILE_END     (-2) /* "__end__"     */
 #define TOOL_CHAIN_FILE_STOP    (-3) /* "__stop__"    */
 #define TOOL_CHAIN_FILE_EXEC    (-4) /* "__exec__"    */
-/* File names of this many characters or more are refused. */
+/* File names of this many bytes or more (of UTF-8; on Windows after the conversion from
+ * UTF-16) are refused. */
 #define TOOL_CHAIN_MAX_FILE_NAME 252
 
 /* Status of a core (ToolChainCore_StatusCNC, GM_PARAMS_ENHANCED.m_statusCNC); positive:
@@ -181,6 +191,11 @@ enum connect_type {
    G4 P seconds, G18 as ZX, G43 H tool length ignored, G64/G61/G80/G49 ignored, P words of
    M functions ignored, O program numbers), with a warning where it ignores something. */
 #define GCODE_REZERVA1_ISO_COMPAT 0x00000001u
+/* COMP_STRICT: tool radius compensation refuses (error 504) a tool path that crosses
+   itself or cuts into the contour where it cannot remove that part (strategy 0x80000);
+   0, the vendor's behaviour: warning 601 with the line and the depth, and the program
+   compiles (docs/compensation.md, "Crossing equidistants: warning, removal, refusal"). */
+#define GCODE_REZERVA1_COMP_STRICT 0x00000002u
 
 /* AddOutputLog tabs and flags. */
 #define OUTPUT_TAB_ERRORS 0
@@ -502,14 +517,17 @@ typedef int32_t (*TC_MathWarning)(intptr_t userData, CALLBACK_INFO *info);
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_Init(const DLL_INIT_STRUCT *p);
 
 /* Loads the core's configuration from a Windows-syntax INI file ([Modules], [CNC],
- * [GCodeParameters]) and writes the number of cores to *pnMaxCores (may be NULL).
- * Only a regular file is read (a FIFO or device never blocks the call), without the
- * core's lock; numbers have a '.' decimal point whatever the locale. Returns 0, or 1
- * (TOOL_CHAIN_XEXEC) when the file is missing, not a regular file, unreadable, larger
- * than 1 GiB, or a [GCodeParameters] value is not a number or outside the bounds of
- * SetGCodeParameters (error 16 naming the key and the line; nothing of the file is
- * applied) -- the reason via GetLastError and DispAndLocateError; -2 bad core; -1
- * while the core is busy. The file is read into a copy of the core's G-code
+ * [GCodeParameters], [Offline], [Corrections], [Smoothing]) and writes the number of
+ * cores to *pnMaxCores (may be NULL). Only a regular file is read (a FIFO or device
+ * never blocks the call), without the core's lock; numbers have a '.' decimal point
+ * whatever the locale. [Corrections] ToolTable and AxisTable1..8 name table files
+ * (relative names from the INI file's folder), read as LoadToolTable and
+ * LoadAxisCorrections read them. Returns 0, or 1 (TOOL_CHAIN_XEXEC) when the file is
+ * missing, not a regular file, unreadable, larger than 1 GiB, a [GCodeParameters] or
+ * [Smoothing] value is not a number or outside its bounds (error 16 naming the key and
+ * the line), or a table file it names is refused (that file's error) -- nothing of
+ * the file is applied then, the reason via GetLastCallError and DispAndLocateError;
+ * -2 bad core; -1 while the core is busy. The file is read into a copy of the core's G-code
  * parameters: a SetGCodeParameters from another thread during the call is replaced. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_LoadFromIni(uint32_t intIdx, TGM_LPCTSTR iniFile, uint32_t *pnMaxCores);
 
@@ -582,15 +600,16 @@ TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_CompileFromMemory(uint32_
 /* 0 idle, 1 busy (compiling, simulating, moving), -2 bad core. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_IsBusy(uint32_t intIdx);
 
-/* 0 no error (info untouched); 1 the last compilation or run failed and info is filled
- * (the strings stay valid until the next compilation or start on the core); -1 NULL.
+/* 0 no error (info untouched); 1 the last compilation or run failed and info is filled;
+ * -1 NULL. The strings are never rewritten: they stay valid until the calling thread
+ * calls GetLastError for this core again (or ends), whatever other threads do.
  * A refused call never changes it: see GetLastCallError. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GetLastError(uint32_t intIdx, CALLBACK_INFO *info);
 
 /* Beyond the vendor's list. The error of the last call on the core that was refused
  * with an error text (busy, wrong status, unreadable file, not implemented, ...):
- * 1 and info filled (strings valid until the next refused call), 0 none yet; -1 NULL,
- * -2 bad core. The same error also went to DispAndLocateError and AddOutputLog. */
+ * 1 and info filled (the strings never rewritten, valid until the calling thread calls
+ * GetLastCallError for this core again or ends), 0 none yet; -1 NULL, -2 bad core. The same error also went to DispAndLocateError and AddOutputLog. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GetLastCallError(uint32_t intIdx, CALLBACK_INFO *info);
 
 /* Index of a file name (new names get the next index, 64 per core; when the table is
@@ -636,21 +655,28 @@ TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_ResetCNC(uint32_t intIdx,
 
 /* Starts a run in the core's worker (run_regime) from the machine position; a
  * simulation or test is a dry run and does not move the machine position. addCode:
- * M functions sent first. -1 when compiling, nothing compiled, the regime cannot start
- * in this status, or inside a callback of the core's running activity. */
+ * M functions sent first (the offline machine: at status 70, one that DriverMFunc
+ * answers TC_MFUNC_LATER holds the start until ToolChainCore_ConfirmMFunc). -1 when
+ * compiling, nothing compiled, the regime cannot start in this status, or inside a
+ * callback of the core's running activity. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_StartCNCEx(uint32_t intIdx, int32_t regime, TGM_LPCSTR addCode);
 
 /* Controlled stop (simulation: -11, test: -21, motion: -31); returns at once, the
- * worker sets the status when it has stopped. -1 when nothing runs. */
+ * worker sets the status when it has stopped, after sending addCode's M functions (not
+ * in regimes 31, 32; the offline machine: at status 80, held like the start's). It also
+ * answers an M function that waits for its confirmation (it stays sent). -1 when
+ * nothing runs. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_StopCNCEx(uint32_t intIdx, TGM_LPCSTR addCode);
 
 /* Moves back onto the trajectory (connect_type): docs/api.md, docs/connect.md. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_ConnectCNCEx_Plane(uint32_t intIdx, uint32_t nType, uint32_t nCoords, const double *coords, TGM_LPCSTR addCode, uint32_t axesForCalc, uint32_t axesForConnect, int32_t stateAfter);
 
-/* Manual linear move to absolute coordinates with motion[5]. */
+/* Manual linear move to absolute coordinates with motion[5]. -1 (error 24) when its
+ * path is not finite from where the machine stands (a target that far away). */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GoToPosition(uint32_t intIdx, uint32_t nCoords, const double *coords);
 
-/* Manual move by line or arc described by dest (m_func 1/2/3, m_calcE, m_cc). */
+/* Manual move by line or arc described by dest (m_func 1/2/3, m_calcE, m_cc). -1
+ * (error 24) when its path is not finite (a target, an arc centre or a feed too large). */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GoToPositionEx(uint32_t intIdx, const SIMPLE_GM_PARAMS *dest);
 
 /* Signals M function fun->m_func to the machine while stopped. */
@@ -683,7 +709,9 @@ TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_LoadCNCCalcPlugIn(TGM_LPC
 /* Sets (fn non-NULL) or removes (fn NULL) callback fceNo (callback_number) of the core;
  * userData is passed back as the first argument. Returns once no call of the previous
  * function runs on another thread, and no later call reaches it: the host may free it
- * then. 0; -1 unknown number, or a driver number (> 1000) before LoadFromIni; -2 bad
+ * then. Called from inside any callback it returns at once (no later call reaches the
+ * old function, but one may still run on another thread): waiting there could wait for
+ * a callback that waits for this one. 0; -1 unknown number, or a driver number (> 1000) before LoadFromIni; -2 bad
  * core. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_SetCallBack(uint32_t intIdx, uint32_t fceNo, intptr_t userData, void *fn);
 
@@ -746,6 +774,21 @@ TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_SetTimeScale(uint32_t int
 #define TC_MFUNC_LATER 2
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_ConfirmMFunc(uint32_t intIdx);
 
+/* Test-only: never call it from a host. The offline machine's stepped clock, for tests
+ * that step the machine instead of sleeping. With key TC_TEST_CLOCK_KEY:
+ *   seconds > 0: the core's machine runs on a clock that only this function advances
+ *     (from now on, also in later runs: the wall clock and the time scale no longer move
+ *     it), and the run that moves -- or is starting -- runs `seconds` of machine time in
+ *     100 us steps. Returns once they have run (or the machine halted, stands at an M
+ *     function that waits for a confirmation, or nothing moves), GetPos shows them and
+ *     every driver callback they caused has returned.
+ *   seconds == 0: the stepped clock on, nothing run.   seconds < 0: the wall clock again.
+ * Any other key: -1 and nothing changes, so no host switches it on by accident.
+ * Returns 0; -1 for another key, NaN, or a call from a library thread (a callback of a
+ * running activity: it would wait for its own thread); -2 bad core. */
+#define TC_TEST_CLOCK_KEY 0x4B434F4C43545354ULL   /* "TSTCLOCK" */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_TestClock(uint32_t intIdx, uint64_t key, double seconds);
+
 /*
  * Log hook (extension)
  */
@@ -763,6 +806,106 @@ typedef void (*TC_LogHook)(intptr_t userData, uint32_t source, TGM_LPCSTR text);
  * hook must not wait for the library's threads (DestroyCNC, ResetCNC, a blocking stop).
  * Returns 0; -1 when called from inside the hook (nothing changed). */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChain_SetLogHook(intptr_t userData, void *fn);
+
+/*
+ * Correction tables and smoothing (extension)
+ *
+ * What a machine builder configures once per core: the tool correction table
+ * (docs/tool-table.md), the axis correction tables (docs/axis-correction.md) and the
+ * smoothing of the machine's output (docs/smoothing.md). Each is also an INI key of
+ * ToolChainCore_LoadFromIni ([Corrections], [Smoothing]). Any status, any thread (also
+ * inside a callback): a file is read without the core's lock, and what was in memory
+ * changes only when all of it is good. The compiler (D, &, G92 D) and the offline
+ * machine (corrections and smoothing of its output) do not use them yet: each page's
+ * "Integration status" says what applies now.
+ */
+
+/* Entries of the tool correction table: D1..D99. */
+#define TC_TOOL_ENTRIES 99
+/* Values of an entry (values[5] below; bit k of `programmed`): [0] the radius (D, what
+ * G41/G42 use; a negative radius swaps the side), [1]..[4] the length corrections of
+ * axes 1..4 (&), in mm: G92 D's R0..R4. */
+#define TC_TOOL_RADIUS  0
+#define TC_TOOL_VALUES  5
+
+/* Reads the tool correction table file fileName (the vendor's TAB0.KOR format: an
+ * optional comment, the keyword $KOR, lines "NN: R=.. X=.. Y=.. Z=.. 4=.."; any name;
+ * only a regular file, never blocking) into the core's table, replacing all 99 entries
+ * (an entry the file does not give is 0; a value its line does not give is 0).
+ * Returns 0; -1, the table unchanged and the reason through GetLastCallError, when
+ * fileName is NULL or empty, the file cannot be read (errors 1, 2, 12, 13), has no
+ * $KOR line (720) or a line that is no entry (721: the file and the line); -2 bad
+ * core. */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_LoadToolTable(uint32_t intIdx, TGM_LPCTSTR fileName);
+
+/* Copies entry `entry` (1..99) of the core's tool correction table into values[0..4]
+ * (TC_TOOL_VALUES doubles: radius, lengths of axes 1..4, mm).
+ * Returns 0; -1 for values NULL or an entry outside 1..99; -2 bad core. */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GetToolCorrection(uint32_t intIdx, uint32_t entry, double *values);
+
+/* G92 D's write into the table in memory (never into the file): for every bit k set in
+ * `programmed` (bit 0 R0 the radius, bits 1..4 R1..R4 the lengths of axes 1..4),
+ * values[k] becomes value k of entry `entry`; the values of the other bits stay.
+ * G92 D12 R0=10 R2=25.5 R3=-5 is entry 12, programmed 0x0D, values {10, -, 25.5, -5, -}.
+ * values may be NULL when programmed is 0 (nothing is written).
+ * Returns 0; -1 for bits above bit 4 in programmed or values NULL with a bit set, and,
+ * nothing written and the error through GetLastCallError, for an entry outside 1..99
+ * (722) or a value written that is NaN, infinite (14) or beyond +-1e6 mm (15, naming
+ * it as "D12 R2"); -2 bad core. */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_SetToolCorrection(uint32_t intIdx, uint32_t entry, uint32_t programmed, const double *values);
+
+/* Replaces the core's axis correction tables by the nFiles files fileNames[0..nFiles)
+ * (the vendor's binary ACHS3D??.KOR format, little-endian: a 128-byte header with the
+ * corrected axis and one to three basis axes, a definition block, the grid of FLOAT
+ * corrections; any names); nFiles 0 removes them all. At most 8 tables, each with its
+ * own number (the header's last byte); two tables of one axis add their corrections.
+ * Returns 0; -1, the tables unchanged and the reason through GetLastCallError, for
+ * fileNames NULL with nFiles > 0, a NULL or empty name, a file that cannot be read
+ * (1, 2, 12, 13), a header (730), definition block (731), size (732) or correction
+ * (733) that does not fit, more than 8 files or two tables with the same number (734):
+ * the error names the file and the field; -2 bad core. */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_LoadAxisCorrections(uint32_t intIdx, uint32_t nFiles, const TGM_LPCTSTR *fileNames);
+
+/* corrected[0..9] = position[0..9] (machine coordinates, mm, axis order x y z c b u v w
+ * a o) with the core's axis correction tables applied: each table adds to its axis the
+ * correction interpolated linearly in each basis axis between the grid points around
+ * the basis axes' positions in `position` (outside a table's range a basis axis counts
+ * at the range's edge). Without tables a copy. corrected may be position.
+ * Returns 0; -1 for NULL or a coordinate that is NaN or infinite; -2 bad core. */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_CorrectPosition(uint32_t intIdx, const double *position, double *corrected);
+
+/* The Interpolator's Command register values of the vendor's smoothing. */
+#define TC_SMOOTHING_IIR    (-1)
+#define TC_SMOOTHING_SPLINE (-2)
+
+/* Sets the smoothing of the core's output as the vendor's Command register and
+ * Command_Parameter[0..3] do, in their units (params: 4 doubles):
+ *   command -2 (spline): params[0] the buffer in steps of the machine (100 us), 0 off or
+ *     50..500 (the output's delay); params[1] the jerk limit in mm/s^3 (1,000,000 is the
+ *     vendor's advice), above 0 when the spline is on; params[2..3] unused;
+ *   command -1 (IIR filter H(s) = q / (s^2 + p s + q), s in units of 2 pi / f):
+ *     params[0] p x 1e6, params[1] q x 1e6, params[2] f x 1e6 (f in seconds),
+ *     params[3] the axes filtered, bit k axis k (bits above 9 ignored), 0 off; p, q and
+ *     f above 0 when an axis is filtered.
+ * Every value must be a number in [0, 1e12]. Returns 0; -1 for params NULL or another
+ * command, and, nothing changed and the error (740) through GetLastCallError, for a
+ * value that does not fit; -2 bad core. */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_SetSmoothing(uint32_t intIdx, int32_t command, const double *params);
+
+/* Copies the core's values of command -2 or -1 into params[0..3] (as set; the spline's
+ * params[2..3] 0). Returns 0; -1 for params NULL or another command; -2 bad core. */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GetSmoothing(uint32_t intIdx, int32_t command, double *params);
+
+/* Runs the core's smoothing (spline, then IIR filter) over nSamples positions of ten
+ * axes, samples[10 * i + axis], one per machine step of 100 us, as the machine's output
+ * would pass it: standing at samples[0..9] before the first. Writes the smoothed
+ * positions to out (the same layout; out may be samples) and to *settledFrom (may be
+ * NULL) the first sample from which on the output had settled after every sample, i.e.
+ * equals the input within 1e-6 mm and will while the input stands (nSamples: not settled
+ * at the end). Does not change the core; holds no lock while it runs.
+ * Returns 0; -1 for samples or out NULL with nSamples > 0, a sample that is NaN or
+ * infinite, or no memory for the spline's buffer; -2 bad core. */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_SmoothSamples(uint32_t intIdx, const double *samples, uint64_t nSamples, double *out, uint64_t *settledFrom);
 
 /* ------------------------------------------------------------------ layout checks */
 #if defined(__x86_64__) || defined(_M_X64)

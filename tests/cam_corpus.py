@@ -41,14 +41,16 @@ def _contour(f, x0, y0, w, h, r, arc_g="G3", feed=""):
 _radii_mm = []      # corner radii of the contours generated last, in mm (see corpus())
 
 
-def _parts(rng, n, scale=1.0):
-    """n rounded rectangles (x0, y0, w, h, r) side by side, in mm * scale."""
+def _parts(rng, n, scale=1.0, contours=True):
+    """n rounded rectangles (x0, y0, w, h, r) side by side, in mm * scale; contours: the
+    program cuts them (their corner radii count in corpus())."""
     out = []
     for k in range(n):
         w = rng.uniform(20, 80)
         h = rng.uniform(20, 60)
         r = rng.uniform(2, 8)
-        _radii_mm.append(r)
+        if contours:
+            _radii_mm.append(r)
         out.append(((k * 100.0 + rng.uniform(0, 5)) * scale, rng.uniform(0, 20) * scale, w * scale, h * scale,
                     r * scale))
     return out
@@ -176,7 +178,7 @@ def linuxcnc_subroutine(rng):
     f = _fmt(3, False)
     lines = ["(LinuxCNC sample: a hole pattern through an O-word subroutine)", "G21 G90 G17",
              "o100 sub", "G0 X#1 Y#2", "G1 Z-1 F100", "G0 Z2", "o100 endsub"]
-    for x0, y0, w, h, r in _parts(rng, rng.randint(2, 4)):
+    for x0, y0, w, h, r in _parts(rng, rng.randint(2, 4), contours=False):
         lines += [f"o100 call [{f(x0)}] [{f(y0)}]"]
     lines += ["M2"]
     return lines

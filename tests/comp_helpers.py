@@ -2,6 +2,7 @@
 and the shapely oracle (exact offset curves)."""
 import math
 import random
+import re
 
 import numpy as np
 
@@ -159,3 +160,54 @@ def random_star(rng, n, r_in=18.0, r_out=35.0):
         r = r_out if i % 2 == 0 else rng.uniform(r_in, r_out - 5)
         pts.append((r * math.cos(a), r * math.sin(a)))
     return pts
+
+
+# warning 601 in the harness's warning text (the output log's lines)
+GOUGE_WARNING = re.compile(r"line (\d+): Equidistant error on line (\d+): the tool cuts (\S+) mm into the contour")
+
+
+def gouge_warnings(warn):
+    """{line: depth in mm} of the warnings 601 (one per line)."""
+    found = {}
+    for m in GOUGE_WARNING.finditer(warn):
+        line = int(m.group(1))
+        assert int(m.group(2)) == line and line not in found, warn
+        found[line] = float(m.group(3))
+    return found
+
+
+def line_depths(out, contour, r, start_point=None, step=0.002):
+    """Shapely's oracle of warning 601: {line: how far the tool path of that line's
+    moves comes into the contour polyline, r less their least distance from it} for
+    the compensated moves after the G41/G42 block (output parts with comp 41/42),
+    without the ramps of entry strategy 1 (moves from or to start_point)."""
+    import shapely
+    from shapely.geometry import LineString
+    idx = [k for k, p in enumerate(out) if p["comp"] != 40]
+    poly = LineString(contour)
+    depths = {}
+    for k in range(idx[0] + 1, idx[-1] + 1):
+        seg = tool_path(out, k, k, step=step)
+        if start_point is not None and (np.hypot(*(seg[0] - start_point)) < 1e-6
+                                        or np.hypot(*(seg[-1] - start_point)) < 1e-6):
+            continue
+        if np.ptp(seg, axis=0).max() == 0:
+            continue                                # a removed part: no motion
+        depth = r - shapely.distance(LineString(seg), poly)
+        line = out[k]["line"]
+        depths[line] = max(depths.get(line, -math.inf), depth)
+    return depths
+
+
+def check_gouge_warnings(out, warn, contour, r, start_point=None, allowance=1e-3):
+    """The warnings 601 against shapely: every line whose tool path comes more than the
+    allowance (tolerance[1]) into the contour has one (unless the compilation's 50
+    warnings ran out), with that depth (1e-4 mm: the oracle samples arcs), and no
+    other line has one. Returns {line: depth}."""
+    warned = gouge_warnings(warn)
+    depths = line_depths(out, contour, r, start_point)
+    for line, depth in warned.items():
+        assert line in depths and abs(depth - depths[line]) < 1e-4, (line, depth, depths.get(line))
+    missed = {line: d for line, d in depths.items() if d > allowance + 1e-4 and line not in warned}
+    assert not missed or "further warnings suppressed" in warn, f"cuts into the contour without warning 601: {missed}"
+    return warned

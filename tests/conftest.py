@@ -5,7 +5,8 @@
 - ``lib_path``: its path, for ``ctypes.CDLL`` in a subprocess;
 - ``fresh_core``: every core destroyed and reset to the state of a fresh process
   (default G-code and machine parameters, no user parameters, prefix/postfix or
-  callbacks, override 1.0) before and after the test; yields ``lib``;
+  callbacks, override 1.0, the tool table all zero, no axis correction tables,
+  smoothing off) before and after the test; yields ``lib``;
 - ``run_python``: runs a Python snippet in a fresh interpreter (fresh library state)
   and returns its stdout; the snippet finds ``LIB_PATH`` predefined.
 """
@@ -81,6 +82,13 @@ def reset_core(lib, idx: int, defaults) -> None:
     assert lib.ToolChainCore_ResetCNC(idx, 0, 10, (ctypes.c_double * 10)()) == 0
     for number in abi.CALLBACK_NUMBERS:
         assert lib.ToolChainCore_SetCallBack(idx, number, 0, None) == 0
+    # the correction tables and the smoothing: none, all zero, off
+    assert lib.ToolChainCore_LoadAxisCorrections(idx, 0, None) == 0
+    for command in (abi.TC_SMOOTHING_SPLINE, abi.TC_SMOOTHING_IIR):
+        assert lib.ToolChainCore_SetSmoothing(idx, command, (ctypes.c_double * 4)()) == 0
+    zeros = (ctypes.c_double * abi.TC_TOOL_VALUES)()
+    for entry in range(1, abi.TC_TOOL_ENTRIES + 1):
+        assert lib.ToolChainCore_SetToolCorrection(idx, entry, 0x1F, zeros) == 0
 
 
 @pytest.fixture

@@ -59,7 +59,7 @@ def test_the_old_module_entry_still_runs_the_demo():
 def test_demo_reports_a_tool_too_big_for_the_slot_with_its_line():
     proc = sf_tch_cli("demo", "--radius", "6")
     assert proc.returncode == 1
-    assert re.search(r"demo\.nc:34: error 503: Arc radius 5 smaller than the tool radius 6", proc.stderr)
+    assert re.search(r"demo\.nc:34:1: error 503: Arc radius 5 smaller than the tool radius 6", proc.stderr)
     assert "Traceback" not in proc.stderr
 
 
@@ -83,6 +83,30 @@ def test_compile_error_is_file_line_column_and_exit_1(tmp_path):
     assert proc.returncode == 1
     assert proc.stderr.strip() == f"{bad}:2:10: error 100: Unknown word 'HH' at column 10"
     assert proc.stdout == ""
+
+
+def test_every_diagnostic_is_one_line_with_a_column(tmp_path):
+    # 407 (the arc's details in the JSON's fields), after a byte-order mark, in the ISO mode
+    arc = tmp_path / "arc.nc"
+    arc.write_bytes(b"\xef\xbb\xbfG21 G0 X10 Y0 F100\n  G3 X0 Y10.03 I-10 J0\n")
+    proc = sf_tch_cli("compile", str(arc), "--iso")
+    assert proc.returncode == 1 and proc.stderr.count("\n") == 1
+    assert proc.stderr.startswith(f"{arc}:2:16: error 407: Wrongly entered centre of circular interpolation XY "
+                                  "at column 16: start X = 10 Y = 0, end X = 0 Y = 10.03, radius at start")
+    doc = json.loads(sf_tch_cli("compile", str(arc), "--iso", "--json").stdout)
+    assert doc["errors"][0]["column"] == 16
+    assert doc["errors"][0]["fields"] == {"plane": "XY", "start": {"X": 10, "Y": 0}, "end": {"X": 0, "Y": 10.03},
+                                          "radius_start": 10, "radius_end": 10.03}
+    # the compensation's 504 (strict) and 601: the block's column (its first word)
+    narrow = tmp_path / "narrow.nc"
+    narrow.write_text("G0 X0 Y-5\nG41 G1 X0 Y0 F100\nG1 X10\nG1 Y0.5\nG1 X0\nG1 Y1\nG1 X20\nG40 G1 X20 Y10\n")
+    proc = sf_tch_cli("compile", str(narrow), "--radius", "2", "--strict")
+    assert proc.returncode == 1 and proc.stderr.count("\n") == 1
+    assert proc.stderr.startswith(f"{narrow}:4:1: error 504: Equidistants cross: the tool (radius 2)")
+    proc = sf_tch_cli("compile", str(narrow), "--radius", "2")
+    gouges = [line for line in proc.stderr.splitlines() if " warning 601: " in line]
+    assert proc.returncode == 0 and gouges and all(line.startswith(f"{narrow}:") for line in gouges)
+    assert [line.split(":")[2] for line in gouges] == ["1"] * len(gouges)
 
 
 def test_json_is_parsed_back(square, tmp_path):
@@ -305,6 +329,12 @@ def test_compile_reads_standard_input():
     bad = subprocess.run([sys.executable, "-m", "sf_tch", "compile", "-"], input="G1 X10 F100\nG1 Q1 W2 HH\n",
                          capture_output=True, text=True, timeout=120)
     assert bad.returncode == 1 and bad.stderr.strip() == "<stdin>:2:10: error 100: Unknown word 'HH' at column 10"
+    # the bytes as they come: a byte-order mark and a Latin-1 comment reach the library unchanged
+    marked = subprocess.run([sys.executable, "-m", "sf_tch", "compile", "-", "--iso"],
+                            input=b"\xef\xbb\xbfG21 G90 (\xb0)\nG1 X10 F100\nG1 X1.2.3\n",
+                            capture_output=True, timeout=120)
+    assert marked.returncode == 1
+    assert marked.stderr.decode().strip() == "<stdin>:3:5: error 101: Bad number '1.2.3' at column 5"
 
 
 def test_one_part_is_singular(tmp_path):

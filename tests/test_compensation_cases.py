@@ -4,7 +4,7 @@ import math
 
 import pytest
 
-from comp_helpers import polygon_elements, rounded_rectangle
+from comp_helpers import check_gouge_warnings, polygon_elements, programmed_polyline, rounded_rectangle
 from test_compensation_geometry import check_oracle, comp, harness  # noqa: F401
 
 ERR_COMP_NOT_FOUND, ERR_COMP_ON_ARC, ERR_COMP_PLANE_CHANGE = 500, 501, 502
@@ -223,22 +223,37 @@ def chamfered_pocket(ch):
     return polygon_elements(pts)
 
 
-def test_crossing_offsets_error_or_removal(harness):
+def test_crossing_offsets_warning_removal_or_error(harness):
     m0, els = chamfered_pocket(0.3)          # chamfer shorter than the inner offset trims
     for i, el in enumerate(els):
         el["line"] = 10 + i
     with pytest.raises(AssertionError, match="504"):
-        check_oracle(harness, m0, els, 2.0, 41)
+        check_oracle(harness, m0, els, 2.0, 41, strict=True)
+    with pytest.raises(AssertionError, match="Equidistant error on line 12"):
+        check_oracle(harness, m0, els, 2.0, 41)         # compiled as the offsets give it
     out = check_oracle(harness, m0, els, 2.0, 41, strategy=0x80000)
     assert any(close(p["ce"][:2], (8, 8)) for p in out)
 
 
-def test_crossing_error_names_the_line(harness):
+def test_crossing_warning_names_the_line_and_the_depth(harness):
     m0, els = chamfered_pocket(0.3)
     parts = [dict(func=1, e=(0, -30), comp=40), L(*m0)] + [dict(el, comp=41, line=20 + i) for i, el in enumerate(els)]
     parts.append(L(0, -30, comp=40))
-    out, err, _ = comp_run(parts, start=(0, -30, 0))
+    out, err, _ = comp_run(parts, start=(0, -30, 0), strict=True)
     assert err["number"] == ERR_COMP_CROSSING and err["line"] == 22     # the chamfer
+    out, err, warn = comp_run(parts, start=(0, -30, 0))
+    assert err is None
+    # as the offsets give it: the corners meet where the chamfer's offset x + y =
+    # 19.7 - 2 sqrt(2) crosses x = 8 and y = 8, and the chamfer's part runs back along
+    # it; the tool stands 10 - (11.7 - 2 sqrt(2)) from the top and the right side
+    # there: the right side, the chamfer and the top cut 3.7 - 2 sqrt(2) mm into them
+    c = 11.7 - 2 * math.sqrt(2)
+    assert [tuple(p["ce"][:2]) for p in out[3:6]] == [pytest.approx((8, c)), pytest.approx((c, 8)),
+                                                      pytest.approx((-8, 8))]
+    warned = check_gouge_warnings(out, warn, programmed_polyline(m0, els), 2.0)
+    assert warned == {21: pytest.approx(3.7 - 2 * math.sqrt(2), abs=1e-6),
+                      22: pytest.approx(3.7 - 2 * math.sqrt(2), abs=1e-6),
+                      23: pytest.approx(3.7 - 2 * math.sqrt(2), abs=1e-6)}
 
 
 def test_intersection_not_found_error_and_joins(harness):
@@ -248,10 +263,13 @@ def test_intersection_not_found_error_and_joins(harness):
              L(-20, 0.5 + math.hypot(3, 0.5)), L(-20, 20, comp=40)]
     out, err, _ = comp_run(parts, r=2.0, start=(-20, -5, 0))
     assert err["number"] == ERR_COMP_NOT_FOUND and err["line"] == 3
-    # the join passes 1.54 from the corner at (0, 0): a gouge, error 504 on its line ...
+    # the join passes 1.54 from the corner at (0, 0): a gouge, warning 601 on its line
+    # (strict: error 504) ...
     for strategy in (0x20000, 0x40000):
-        out, err, warn = comp_run(parts, r=2.0, start=(-20, -5, 0), strategy=strategy)
+        out, err, warn = comp_run(parts, r=2.0, start=(-20, -5, 0), strategy=strategy, strict=True)
         assert err["number"] == 504 and err["line"] == 3
+        out, err, warn = comp_run(parts, r=2.0, start=(-20, -5, 0), strategy=strategy)
+        assert err is None and "line 3: Equidistant error on line 3" in warn
 
 
 def test_negative_offset_arcs_error_or_removed(harness):

@@ -10,7 +10,8 @@ import pytest
 shapely = pytest.importorskip("shapely")
 from shapely.geometry import LineString  # noqa: E402
 
-from comp_helpers import contour_parts, polygon_elements, programmed_polyline, star_cases  # noqa: E402
+from comp_helpers import (check_gouge_warnings, contour_parts, polygon_elements, programmed_polyline,  # noqa: E402
+                          star_cases)
 from test_compensation_geometry import comp, harness, signed_area  # noqa: E402,F401
 from test_compensation_regions import ERR_COMP_CROSSING, JOIN_G1, REMOVE, TOL, clearance, sampled_path  # noqa: E402
 
@@ -120,31 +121,35 @@ def long_star(rng, r):
     return pts if signed_area(np.array(pts)) > 0 and shapely.Polygon(pts).is_valid else None
 
 
-def _compensate_star(harness, pts, r, g, strategy):
+def _compensate_star(harness, pts, r, g, strategy, strict=False):
     m0, els = polygon_elements(pts)
     approach = (m0[0] + 0.3, m0[1] - 80.0)
     parts = contour_parts(els, g, m0, approach)
-    out, err, warn = comp(harness, parts, r=r, strategy=strategy, start=(approach[0], approach[1], 0))
+    out, err, warn = comp(harness, parts, r=r, strategy=strategy, start=(approach[0], approach[1], 0), strict=strict)
     return out, err, warn, m0, programmed_polyline(m0, els)
 
 
 @pytest.mark.parametrize("seed", range(2))
 def test_long_chains_checked_while_they_grow(harness, seed):
     """Search depth 10 (0x100): chains of 60+ elements are checked in steps beside the
-    compiler. With 0x80000 each contour compiles, without it each one keeps the radius
-    from its contour or is error 504."""
-    compiled = 0
+    compiler, and their parts farther apart than the depth at the end. With 0x80000
+    each contour compiles and keeps the radius; without it each one compiles, warning
+    601 on exactly the lines that cut into the contour (shapely, whatever the depth),
+    and the strict mode refuses exactly those (504)."""
+    warned = 0
     cases = star_cases(25, 140 + seed, long_star, 1.0)
     for pts, r, g, mode in cases:
-        for strategy in (REMOVE | JOIN_G1 | 0x100 | mode, JOIN_G1 | 0x100 | mode):
-            out, err, _, m0, contour = _compensate_star(harness, pts, r, g, strategy)
-            if err is not None:
-                assert not strategy & REMOVE and err["number"] == ERR_COMP_CROSSING, (err, pts, r, g, hex(strategy))
-            else:
-                compiled += 1
-                path = sampled_path(out, np.asarray(m0), step=0.02)
-                assert clearance(path, contour) > r - TOL, (pts, r, g, hex(strategy))
-    assert compiled > len(cases) // 2    # not all refused: the paths were measured
+        out, err, _, m0, contour = _compensate_star(harness, pts, r, g, REMOVE | JOIN_G1 | 0x100 | mode)
+        assert err is None, (err, pts, r, g, mode)
+        assert clearance(sampled_path(out, np.asarray(m0), step=0.02), contour) > r - TOL, (pts, r, g, mode)
+        out, err, warn, m0, contour = _compensate_star(harness, pts, r, g, JOIN_G1 | 0x100 | mode)
+        assert err is None, (err, pts, r, g, mode)
+        gouges = check_gouge_warnings(out, warn, contour, r, start_point=np.asarray(m0))
+        warned += bool(gouges)
+        _, err, _, _, _ = _compensate_star(harness, pts, r, g, JOIN_G1 | 0x100 | mode, strict=True)
+        assert (err is not None) == bool(gouges), (err, gouges)
+        assert err is None or err["number"] == ERR_COMP_CROSSING
+    assert warned > len(cases) // 2      # the features smaller than the tool were measured
 
 
 @pytest.mark.parametrize("index", [38, 68, 362])

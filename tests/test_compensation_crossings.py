@@ -1,6 +1,7 @@
 """Crossings of the tool path between parts that are not neighbours (narrow necks,
-notches narrower than the tool): loops removed with strategy 0x80000 or error 504,
-within the search depth (0x700). Shapely is the oracle (see test_compensation_geometry)."""
+notches narrower than the tool): loops removed with strategy 0x80000, kept with warning
+601 without it (the strict mode: error 504); removed within the search depth (0x700),
+seen whatever it is. Shapely is the oracle (see test_compensation_geometry)."""
 import math
 
 import numpy as np
@@ -9,7 +10,8 @@ import pytest
 shapely = pytest.importorskip("shapely")
 from shapely.geometry import LineString, Point, Polygon  # noqa: E402
 
-from comp_helpers import contour_parts, polygon_elements, programmed_polyline, reverse_contour, tool_path  # noqa: E402
+from comp_helpers import (check_gouge_warnings, contour_parts, polygon_elements, programmed_polyline,  # noqa: E402
+                          reverse_contour, tool_path)
 from test_compensation_geometry import check_oracle, comp, exact_offset, harness, signed_area  # noqa: E402,F401
 
 TOL = 1e-3
@@ -26,10 +28,23 @@ NOTCH = [(-20, -10), (20, -10), (20, 10), (1.5, 10), (1.5, -2), (-1.5, -2), (-1.
 U_POCKET = [(12, -10), (12, 15), (4, 15), (4, -7), (-4, -7), (-4, 15), (-12, 15), (-12, -10)]
 
 
-def run(harness, m0, els, r, g, strategy, lines=True):
+def run(harness, m0, els, r, g, strategy, strict=False):
     approach = (m0[0] + 0.3, m0[1] - 60.0)
     parts = contour_parts(els, g, m0, approach)
-    return comp(harness, parts, r=r, strategy=strategy, start=(approach[0], approach[1], 0))
+    return comp(harness, parts, r=r, strategy=strategy, start=(approach[0], approach[1], 0), strict=strict)
+
+
+def check_kept(harness, m0, els, r, g, strategy=0):
+    """Without 0x80000 the crossing stays: the contour compiles, with warning 601 on
+    exactly the lines whose tool path cuts into it (shapely); the strict mode refuses
+    it (504) on one of them. Returns {line: depth}."""
+    out, err, warn = run(harness, m0, els, r, g, strategy)
+    assert err is None, err
+    warned = check_gouge_warnings(out, warn, programmed_polyline(m0, els), r, start_point=np.asarray(m0))
+    assert warned
+    _, err, _ = run(harness, m0, els, r, g, strategy, strict=True)
+    assert err is not None and err["number"] == ERR_COMP_CROSSING and err["line"] in warned, (err, warned)
+    return warned
 
 
 def check_split(harness, m0, els, r, g, strategy=REMOVE):
@@ -71,22 +86,25 @@ def test_dumbbell_neck_inside_splits(harness, reverse, r):
     assert max(p["ce"][0] for p in out[1:-1]) < 0
 
 
-def test_dumbbell_neck_error_names_the_later_part(harness):
+def test_dumbbell_neck_warning_or_error_names_the_later_part(harness):
     m0, els = polygon_elements(DUMBBELL)
-    out, err, _ = run(harness, m0, els, 3.0, 41, 0)
+    out, err, _ = run(harness, m0, els, 3.0, 41, 0, strict=True)
     # lines: 1 approach, 2 G41 block, 3.. the contour; the first loop closes at the
     # corner arc of the part ending at (5, 2)
     assert err["number"] == ERR_COMP_CROSSING and err["line"] == 3 + DUMBBELL.index((5, 2)) - 1
+    # without the strict mode the loop stays: the tool cuts 2 mm into the bar's walls
+    # (4 high, the tool 3 from the other one)
+    warned = check_kept(harness, m0, els, 3.0, 41)
+    assert 3 + DUMBBELL.index((5, 2)) - 1 in warned and max(warned.values()) == pytest.approx(2.0)
     # a neck wide enough: no crossing, no warning
     out, err, warn = run(harness, m0, els, 1.9, 41, 0)
-    assert err is None and "loop" not in warn
+    assert err is None and "loop" not in warn and "Equidistant" not in warn
 
 
 def test_u_pocket_narrow_channel(harness):
     m0, els = polygon_elements(U_POCKET)
     check_split(harness, m0, els, 1.8, 41)
-    out, err, _ = run(harness, m0, els, 1.8, 41, 0)
-    assert err["number"] == ERR_COMP_CROSSING
+    check_kept(harness, m0, els, 1.8, 41)
 
 
 @pytest.mark.parametrize("g,reverse", [(42, False), (41, True)])
@@ -97,7 +115,8 @@ def test_notch_narrower_than_the_tool_is_bridged(harness, g, reverse):
     for r in (1.6, 2.0, 3.0):
         check_oracle(harness, m0, els, r, g, strategy=REMOVE)
         with pytest.raises(AssertionError, match="504"):
-            check_oracle(harness, m0, els, r, g)
+            check_oracle(harness, m0, els, r, g, strict=True)
+        check_kept(harness, m0, els, r, g)
     check_oracle(harness, m0, els, 1.4, g)          # the tool fits: nothing to remove
 
 
@@ -124,8 +143,7 @@ def test_arc_contour_neck(harness):
            dict(func=1, e=(-12 + x, h)),
            dict(func=3, e=m0, cc=(-12, 0), radius=10.0)]
     check_split(harness, m0, els, 2.0, 41)
-    out, err, _ = run(harness, m0, els, 2.0, 41, 0)
-    assert err["number"] == ERR_COMP_CROSSING
+    check_kept(harness, m0, els, 2.0, 41)
 
 
 def _long_dumbbell(left=False):
@@ -139,27 +157,30 @@ def _long_dumbbell(left=False):
     return polygon_elements(pts)
 
 
-def test_search_depth_limits_the_search(harness):
+def test_search_depth_limits_only_the_search(harness):
     # the bar's bottom and top: 16 parts apart in program order, 7 round the start
     m0, els = _long_dumbbell()
     # 0x100: 10 parts back, the loop is not searched; the gouge check counts the parts
-    # round the start of the closed contour: error 504, rebuilt with 0x80000
+    # round the start of the closed contour: warning 601 (strict: 504), rebuilt with
+    # 0x80000
     out, err, warn = run(harness, m0, els, 3.0, 41, 0x100)
-    assert err["number"] == ERR_COMP_CROSSING and "loop" not in warn
+    assert err is None and "loop" not in warn
+    check_kept(harness, m0, els, 3.0, 41, 0x100)
     check_rebuilt(harness, m0, els, 3.0, 41, 0x100 | REMOVE)
     # 0x200: 50 parts: the loop is found
-    out, err, _ = run(harness, m0, els, 3.0, 41, 0x200)
-    assert err["number"] == ERR_COMP_CROSSING
+    check_kept(harness, m0, els, 3.0, 41, 0x200)
     for depth in (0x200, 0x700, 0):
         check_split(harness, m0, els, 3.0, 41, strategy=REMOVE | depth)
-    # the left square cut too: 13 parts round the start, more than 10 either way:
-    # neither the loop nor the gouge is searched, the tool passes the neck (the
-    # programmer chose the depth)
+    # the left square cut too: 13 parts round the start, more than 10 either way: the
+    # loop is not searched, but the gouge is seen all the same (the parts farther apart
+    # than the depth are measured when the chain ends): warning 601, rebuilt with
+    # 0x80000 round one of the squares
     m0, els = _long_dumbbell(left=True)
-    for strategy in (0x100, 0x100 | REMOVE):
-        out, err, warn = run(harness, m0, els, 3.0, 41, strategy)
-        assert err is None and "loop" not in warn
-        assert max(p["ce"][0] for p in out) > 10
+    out, err, warn = run(harness, m0, els, 3.0, 41, 0x100)
+    assert err is None and "loop" not in warn
+    assert max(p["ce"][0] for p in out) > 10        # the tool passes the neck ...
+    check_kept(harness, m0, els, 3.0, 41, 0x100)    # ... and cuts 2 mm into it
+    check_rebuilt(harness, m0, els, 3.0, 41, 0x100 | REMOVE)
     check_split(harness, m0, els, 3.0, 41, strategy=REMOVE | 0x200)
 
 
@@ -191,14 +212,14 @@ def check_rebuilt(harness, m0, els, r, g, strategy):
 def test_start_inside_the_loop_is_rebuilt(harness):
     # the contour starts on a wall of a notch narrower than the tool: the loop cut at
     # the notch's mouth would keep the notch; with 0x80000 the chain is rebuilt from
-    # the region outside (the notch bridged), without it the gouge is error 504
+    # the region outside (the notch bridged), without it the gouge is warning 601
+    # (strict: error 504)
     pts = [(1.5, 4), (1.5, -2), (-1.5, -2), (-1.5, 10), (-20, 10), (-20, -10), (20, -10), (20, 10), (1.5, 10)]
     m0 = (1.5, 7.0)
     els = [dict(func=1, e=p) for p in pts] + [dict(func=1, e=m0)]
     for strategy in (REMOVE, REMOVE | 0x10000):
         check_rebuilt(harness, m0, els, 2.0, 42, strategy)
-    out, err, _ = run(harness, m0, els, 2.0, 42, 0)
-    assert err is not None and err["number"] == ERR_COMP_CROSSING
+    check_kept(harness, m0, els, 2.0, 42)
 
 
 def test_a_contour_crossing_itself_is_no_loop(harness):
@@ -220,7 +241,7 @@ def test_a_contour_crossing_itself_is_no_loop(harness):
 def test_dumbbell_entered_in_the_neck_is_rebuilt(harness, reverse, r):
     # the chain starts in the bar: the loop cuts would keep the bar's offsets, which
     # lie closer than r to the other side of the bar; 0x80000 rebuilds the chain round
-    # one of the squares (both as large), without it error 504
+    # one of the squares (both as large), without it warning 601 (strict: 504)
     pts = DUMBBELL[2:] + DUMBBELL[:2]       # the first edge is the bar's bottom
     m0, els = polygon_elements(pts)
     g = 41
@@ -229,8 +250,7 @@ def test_dumbbell_entered_in_the_neck_is_rebuilt(harness, reverse, r):
         g = 42
     _, shape = check_rebuilt(harness, m0, els, r, g, REMOVE)
     assert shape.geom_type == "MultiPolygon"
-    out, err, _ = run(harness, m0, els, r, g, 0)
-    assert err is not None and err["number"] == ERR_COMP_CROSSING
+    check_kept(harness, m0, els, r, g)
 
 
 def test_dumbbell_entered_in_a_wide_neck_is_clean(harness):

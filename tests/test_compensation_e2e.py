@@ -41,10 +41,12 @@ class Hmi:
             assert time.monotonic() < deadline, f"status stuck at {status}"
             time.sleep(0.002)
 
-    def compile(self, code, r=2.0, strategy=0, abs_mode=1):
+    def compile(self, code, r=2.0, strategy=0, abs_mode=1, strict=False):
         p = abi.GCODE_PARAMETERS.from_buffer_copy(self.saved)
         p.absMode = abs_mode
         p.correctionStrategy = strategy
+        if strict:
+            p.rezerva1 |= abi.GCODE_REZERVA1_COMP_STRICT
         for i in range(8):
             p.correction[i].size = r
         assert self.lib.ToolChainCore_SetGCodeParameters(CORE, ctypes.byref(p)) == 0
@@ -128,8 +130,9 @@ def test_g41_on_a_g42_negative_radius_swaps_sides(hmi):
 def test_error_on_the_right_line(hmi):
     _compiles(hmi)
     code = "G0 X0 Y-20\nG41 G1 X0 Y-10 F1000\nX10\nY9.7\nX9.7 Y10\nX-10\nY-10\nX0\nG40 X0 Y-20\n"
-    err = hmi.compile(code)
+    err = hmi.compile(code, strict=True)
     assert err is not None and err[0] == 504 and err[1] == 5
+    assert hmi.compile(code) is None                # the vendor's default: warning 601, compiled
     assert hmi.compile(code, strategy=0x80000) is None
     ends = [tuple(round(v, 6) for v in p["e"][:2]) for p in hmi.run()]
     assert (8, 8) in ends
@@ -143,7 +146,8 @@ def test_seed_003_example_with_g42(hmi):
     _compiles(hmi)
     # read relative, the seed's arcs turn almost a full circle each and the next one
     # starts inside it: a tool of radius 0.5 on the right would cut line 6's arc
-    err = hmi.compile(SEED_PROGRAM, r=0.5, abs_mode=0)
+    # (the strict mode refuses it; by default warning 601, test_compensation_policy)
+    err = hmi.compile(SEED_PROGRAM, r=0.5, abs_mode=0, strict=True)
     assert err is not None and err[0] == 504 and err[1] == 5
     r = 0.01
     err = hmi.compile(SEED_PROGRAM, r=r, abs_mode=0)
@@ -184,8 +188,9 @@ M30
 def test_loop_at_a_narrow_neck_through_the_driver(hmi):
     # the bar between the two squares is 4 high: a tool of radius 3 does not pass it
     _compiles(hmi)
-    err = hmi.compile(DUMBBELL, r=3.0)
+    err = hmi.compile(DUMBBELL, r=3.0, strict=True)
     assert err is not None and err[0] == 504 and err[1] == 10
+    assert hmi.compile(DUMBBELL, r=3.0) is None      # the loop kept, warning 601
     assert hmi.compile(DUMBBELL, r=3.0, strategy=0x80000) is None
     parts = hmi.run()
     # only the left square is machined; the parts of the loop are zero-length moves

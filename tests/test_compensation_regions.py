@@ -1,11 +1,12 @@
 """Contours with features smaller than the tool: offsets that vanish, inside offsets
-that split, spikes whose offsets cross far from their neighbours. With 0x80000 the
-chain is rebuilt from the regions the tool fits in (the largest one is kept); without
-it a gouge is error 504. Shapely is the oracle: the distance of the sampled tool path
-from the contour, the exact offset region (test_compensation_geometry.exact_offset)
-and its components."""
+that split, spikes whose offsets cross far from their neighbours, contours that cross
+themselves. With 0x80000 the chain is rebuilt from the regions the tool fits in (the
+largest one is kept); without it a gouge is warning 601 (the strict mode: error 504).
+Shapely is the oracle: the distance of the sampled tool path from the contour, the
+exact offset region (test_compensation_geometry.exact_offset) and its components."""
 import math
 import os
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -14,13 +15,15 @@ import pytest
 shapely = pytest.importorskip("shapely")
 from shapely.geometry import LineString, Polygon  # noqa: E402
 
-from comp_helpers import contour_parts, polygon_elements, programmed_polyline, star_cases, tool_path  # noqa: E402
+from comp_helpers import (check_gouge_warnings, contour_parts, polygon_elements, programmed_polyline,  # noqa: E402
+                          star_cases, tool_path)
 from test_compensation_geometry import comp, exact_offset, harness, signed_area  # noqa: E402,F401
 
 TOL = 1e-3
 REMOVE = 0x80000
 JOIN_G1 = 0x20000
 ERR_COMP_CROSSING = 504
+ERR_COMP_GOUGE = 601
 REPRO = Path(__file__).resolve().parent / "comp_repro"     # the reproducers comp_*.nc
 REPRO_FILES = ["comp_spike_entry", "comp_zigzag", "comp_gouge_notch"]
 # search depths (0x700): 10, 50 and 2000 parts
@@ -125,18 +128,22 @@ def test_zigzag_split_regions_match_shapely(harness):
 
 
 @pytest.mark.parametrize("name", REPRO_FILES)
-def test_repro_contours_without_0x80000_never_gouge(harness, name):
+def test_repro_contours_without_0x80000_warn_where_they_gouge(harness, name):
+    """Without 0x80000 each compiles, warning 601 on exactly the lines that cut into
+    the contour (shapely); the strict mode refuses exactly those that warn (504)."""
     r = 0.15
     parts, pts, _ = read_contour(name)
     for mode in (0, 1):
-        out, err, _ = comp(harness, parts, r=r, strategy=0x20600 | mode, start=(0, 0, 0))
-        if err is not None:
-            assert err["number"] == ERR_COMP_CROSSING
-        else:
-            assert clearance(sampled_path(out, pts[0]), pts) > r - TOL
+        out, err, warn = comp(harness, parts, r=r, strategy=0x20600 | mode, start=(0, 0, 0))
+        assert err is None, err
+        warned = check_gouge_warnings(out, warn, pts, r, start_point=pts[0])
+        _, err, _ = comp(harness, parts, r=r, strategy=0x20600 | mode, start=(0, 0, 0), strict=True)
+        assert (err is not None) == bool(warned)
+        assert err is None or (err["number"] == ERR_COMP_CROSSING and err["line"] in warned)
     if name == "comp_gouge_notch":
-        _, err, _ = comp(harness, parts, r=r, strategy=0x20600, start=(0, 0, 0))
+        _, err, warn = comp(harness, parts, r=r, strategy=0x20600, start=(0, 0, 0), strict=True)
         assert err["number"] == ERR_COMP_CROSSING and err["line"] == 12
+        assert "line 12: Equidistant error on line 12" in comp(harness, parts, r=r, strategy=0x20600)[2]
 
 
 def test_repro_contours_compile_through_the_library(tmp_path):
@@ -147,7 +154,9 @@ def test_repro_contours_compile_through_the_library(tmp_path):
             text = (REPRO / f"{name}.nc").read_text()
             for strategy in (0xA0600, 0xA0601):
                 assert hmi.compile(text, r=0.15, strategy=strategy) is None, (name, hex(strategy))
-        err = hmi.compile((REPRO / "comp_gouge_notch.nc").read_text(), r=0.15, strategy=0x20600)
+        notch = (REPRO / "comp_gouge_notch.nc").read_text()
+        assert hmi.compile(notch, r=0.15, strategy=0x20600) is None
+        err = hmi.compile(notch, r=0.15, strategy=0x20600, strict=True)
         assert err is not None and err[0] == ERR_COMP_CROSSING and err[1] == 12
     finally:
         hmi.close()
@@ -184,25 +193,29 @@ def _random_contours(count, seed):
 
 def _check_random(harness, cases, depth):
     """Every contour compiles with 0x80000 and keeps the radius; without it each one
-    keeps it or is error 504. Returns how many were refused without 0x80000."""
+    compiles with warning 601 on exactly the lines that cut into the contour
+    (shapely), and the strict mode refuses (504) every one that warns (and those whose
+    offsets cross where the path keeps the radius: the ramp of strategy 1 trimmed
+    past itself). Returns how many were refused in the strict mode."""
     refused = 0
     for pts, r, g, mode in cases:
         m0, els = polygon_elements(pts)
         approach = (m0[0] + 0.3, m0[1] - 60.0)
         parts = contour_parts(els, g, m0, approach)
         contour = programmed_polyline(m0, els)
-        out, err, _ = comp(harness, parts, r=r, strategy=REMOVE | JOIN_G1 | depth | mode,
-                           start=(approach[0], approach[1], 0))
+        start = (approach[0], approach[1], 0)
+        out, err, _ = comp(harness, parts, r=r, strategy=REMOVE | JOIN_G1 | depth | mode, start=start)
         assert err is None, (err, pts, r, g, mode)
         path = sampled_path(out, np.asarray(m0), step=0.02)
         assert clearance(path, contour) > r - TOL, (pts, r, g, mode)
-        out, err, _ = comp(harness, parts, r=r, strategy=JOIN_G1 | depth | mode,
-                           start=(approach[0], approach[1], 0))
+        out, err, warn = comp(harness, parts, r=r, strategy=JOIN_G1 | depth | mode, start=start)
+        assert err is None, (err, pts, r, g, mode)
+        warned = check_gouge_warnings(out, warn, contour, r, start_point=np.asarray(m0))
+        _, err, _ = comp(harness, parts, r=r, strategy=JOIN_G1 | depth | mode, start=start, strict=True)
+        assert err is not None or not warned, (warned, pts, r, g, mode)
         if err is not None:
-            assert err["number"] == ERR_COMP_CROSSING, (err, pts, r, g, mode)
+            assert err["number"] == ERR_COMP_CROSSING and 3 <= err["line"] <= len(parts) - 1, (err, pts, r, g, mode)
             refused += 1
-        else:
-            assert clearance(sampled_path(out, np.asarray(m0), step=0.02), contour) > r - TOL, (pts, r, g, mode)
     return refused
 
 
@@ -235,9 +248,9 @@ def test_random_stars_far_from_the_origin(harness, offset):
 def test_random_stars_round_their_start(harness, index):
     """Strategy 1, depth 10: the corner arc after the first part comes closer than r
     to the last part but one (13 and 42 elements: farther apart in program order than
-    the depth, 2 round the start). Measured round the start: error 504 without
-    0x80000, rebuilt with it (both were silent gouges when only program order
-    counted)."""
+    the depth, 2 round the start). Measured round the start: warning 601 without
+    0x80000 (strict: error 504), rebuilt with it (both were silent gouges when only
+    program order counted)."""
     case = _random_contours(index + 1, 14)[index]
     assert case[3] == 1
     assert _check_random(harness, [case], 0x100) == 1
@@ -273,15 +286,18 @@ def test_start_at_an_inner_corner(harness, depth, k):
     """Strategy 0 entered at a corner where the tool path turns inwards: the last part
     ends on its perpendicular, closer than r to the first part. The first and last
     parts of a closed contour are neighbours, also when it has more parts (k = 4: 24)
-    than the search depth (10): error 504 on the first part's line at every depth;
-    with 0x80000 the chain is rebuilt round the whole offset and keeps the radius."""
+    than the search depth (10): warning 601 on the first part's line at every depth
+    (strict: error 504 there); with 0x80000 the chain is rebuilt round the whole offset
+    and keeps the radius."""
     r = 1.0
     m0 = L_POCKET[0]
     els = corner_start_elements(L_POCKET, k)
     parts = contour_parts(els, 41, m0, (5.0, 5.0))
     contour = programmed_polyline(m0, els)
-    _, err, _ = comp(harness, parts, r=r, strategy=JOIN_G1 | depth, start=(5.0, 5.0, 0))
+    _, err, _ = comp(harness, parts, r=r, strategy=JOIN_G1 | depth, start=(5.0, 5.0, 0), strict=True)
     assert err is not None and err["number"] == ERR_COMP_CROSSING and err["line"] == 3
+    out, err, warn = comp(harness, parts, r=r, strategy=JOIN_G1 | depth, start=(5.0, 5.0, 0))
+    assert err is None and 3 in check_gouge_warnings(out, warn, contour, r)
     out, err, _ = comp(harness, parts, r=r, strategy=REMOVE | JOIN_G1 | depth, start=(5.0, 5.0, 0))
     assert err is None, err
     path = sampled_path(out, np.asarray(m0))
@@ -338,8 +354,10 @@ def test_cam_program_of_stars_through_the_library(fresh_core, count):
     """The issue's CAM-like job through the library: a program of star contours with
     features smaller than the tool (radius 0.15, both sides, both entry strategies).
     With 0x80000 the whole job compiles and no contour's tool path comes closer to its
-    contour than the radius; without it the job either compiles without a gouge or
-    stops with error 504 on a line of a contour."""
+    contour than the radius; without it the job compiles, each contour's tool path
+    keeping the radius or warned about (601 on one of its lines, a GougeWarning in
+    Python), and the strict mode stops with error 504 on a line of a contour exactly
+    when there is such a warning."""
     import sf_tch
     rng_cases = star_cases(count, 77 + count, random_star, 0.15)
     cases = [(pts, 0.15, g, mode) for pts, _, g, mode in rng_cases]
@@ -349,10 +367,21 @@ def test_cam_program_of_stars_through_the_library(fresh_core, count):
             program.check()
             clear = toolpath_clearances(program, contours)
         assert clear.min() > 0.15 - TOL, [int(i) for i in np.flatnonzero(clear <= 0.15 - TOL)]
-        with sf_tch.compile(text, radius=0.15, strategy=0x20600 | mode) as program:
+        with warnings.catch_warnings(record=True) as shown:
+            warnings.simplefilter("always", sf_tch.GougeWarning)
+            program = sf_tch.compile(text, radius=0.15, strategy=0x20600 | mode)
+        with program:
+            program.check()
+            clear = toolpath_clearances(program, contours)
+            warned = {w.line for w in program.warnings if w.number == ERR_COMP_GOUGE}
+        assert len(shown) == len(warned)
+        # (49 warnings at most reach the callback: the contours after the last one are not known)
+        known = max(warned) if len(program.warnings) >= 49 else max(last for _, last, _ in contours)
+        for (first, last, _), c in zip(contours, clear):
+            assert c > 0.15 - TOL or any(first <= line <= last for line in warned) or last > known, (first, c)
+        with sf_tch.compile(text, radius=0.15, strategy=0x20600 | mode, strict=True) as program:
+            assert program.errors or not warned
             if program.errors:
                 err = program.errors[0]
                 assert err.number == ERR_COMP_CROSSING, err
                 assert any(first - 1 <= err.line <= last for first, last, _ in contours), err
-            else:
-                assert toolpath_clearances(program, contours).min() > 0.15 - TOL

@@ -45,12 +45,14 @@ def test_seed_absolute_fails_on_line_4_with_the_centre_error(host):
     r = host.compile(SEED_PROGRAM, absMode=1)
     number, line, file_idx, text, args = r.error
     assert number == 400 and line == 4
-    assert text.startswith("Wrongly entered centre of circular interpolation XY\n"
-                           "Start X = 60.6051 Y = 40.7723 | End X = 0 Y = -2.5202\nDelta (")
+    # one line: the column of the centre words, start, end, then the chord against 2 R
+    assert text.startswith("Wrongly entered centre of circular interpolation XY at column 17: "
+                           "start X = 60.6051 Y = 40.7723, end X = 0 Y = -2.5202, delta (")
+    assert "\n" not in text
     parts = args.split("\n")
-    assert parts[:9] == ["XY", "X", "60.6051", "Y", "40.7723", "X", "0", "Y", "-2.5202"]
-    assert float(parts[9]) == pytest.approx(math.hypot(60.6051, 40.7723 + 2.5202), abs=1e-6)
-    assert float(parts[10]) == pytest.approx(2 * math.hypot(3.0336, 1.2601), abs=1e-6)
+    assert parts[:10] == ["XY", "17", "X", "60.6051", "Y", "40.7723", "X", "0", "Y", "-2.5202"]
+    assert float(parts[10]) == pytest.approx(math.hypot(60.6051, 40.7723 + 2.5202), abs=1e-6)
+    assert float(parts[11]) == pytest.approx(2 * math.hypot(3.0336, 1.2601), abs=1e-6)
 
 
 # ------------------------------------------------------------ words, positions
@@ -167,7 +169,8 @@ def test_arc_tolerance(host):
     p.tolerance[0] = 0.01
     assert host.compile("G2 X10 Y0.005 I5 J0\n", params=p, start=[0] * 10).error is None
     err = host.compile("G2 X9 Y0 I5 J0\n", params=p, start=[0] * 10).error
-    assert err[0] == 407 and "Radius at start" in err[3]
+    assert err[0] == 407 and "at column 10:" in err[3] and "radius at start (5.0000000) <> radius at end (4.0000000)" in err[3]
+    assert "\n" not in err[3]
 
 
 # ------------------------------------------------------------ offsets and transforms

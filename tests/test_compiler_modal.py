@@ -97,3 +97,19 @@ def test_relative_program_moves_with_reset(host):
 def test_m_minus_5_changes_only_written_axes(host):
     # state only: no parts, no error
     assert ok(host, "M-5 X0\nM-5 Y0\nM-5 X1\n", start=[0] * 10).parts == []
+
+
+def test_a_line_runs_in_one_order_whatever_the_order_written(host):
+    """A line is read into modal groups and executed in the order of docs/compiler.md
+    ("How a line is executed"): the words of a line in any order give the same parts.
+    The oracle: the same settings written one per line before the parts' line."""
+    import itertools
+    words = ["G91", "G18", "G42", "G95", "T5", "G1 X4 Z-2", "M1001", "M52"]
+    spread = ok(host, "G1 X1 Y1 F100\nG95\nT5\nG18\nG42\nG91\nM1001 G1 X4 Z-2 M52\n", start=[0] * 10)
+
+    def parts(r):
+        return [(q.kind, q.func, q.e, q.plane, q.comp, q.per_min, q.tool) for q in r.parts[1:]]
+    assert [q[:2] for q in parts(spread)] == [("M", 1001), ("G", 1), ("M", 52)]
+    for order in itertools.islice(itertools.permutations(words), 0, None, 997):
+        r = ok(host, "G1 X1 Y1 F100\n" + " ".join(order) + "\n", start=[0] * 10)
+        assert parts(r) == parts(spread), order

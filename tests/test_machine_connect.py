@@ -2,7 +2,8 @@
 statuses 40 -> 41 -> -31 (or on forward), where the machine ends up against the
 geometry of a square (closed forms), the place a later StartCNCEx continues from,
 a failed search keeping the status, stateAfter 2, a stop on the way, and the
-ConnectPointCalc callbacks."""
+ConnectPointCalc callbacks. The machine runs on its stepped clock (ToolChainCore_TestClock,
+test-only): a test steps its time instead of sleeping."""
 import ctypes
 import time
 
@@ -20,8 +21,12 @@ def doubles(*values):
     return (ctypes.c_double * max(1, len(values)))(*values)
 
 
+MOVING = (30, 31, 32, 33, 40, 41, 50)       # the machine's statuses: its clock is stepped
+
+
 def follow(lib, limit=10.0):
-    """The statuses the core passes through until it stands; the last one."""
+    """The statuses the core passes through until it stands, the machine stepped 10 ms
+    at a time (a compilation or a simulation polled); the last one."""
     seen = []
     deadline = time.monotonic() + limit
     while True:
@@ -31,7 +36,10 @@ def follow(lib, limit=10.0):
         if status <= 0:
             return seen
         assert time.monotonic() < deadline, seen
-        time.sleep(0.0005)
+        if status in MOVING:
+            assert lib.ToolChainCore_TestClock(CORE, abi.TC_TEST_CLOCK_KEY, 0.01) == 0
+        else:
+            time.sleep(0.0005)
 
 
 def position(lib):
@@ -52,7 +60,7 @@ def square(fresh_core):
     assert lib.ToolChainCore_CompileFromMemory(CORE, b"square.nc", SQUARE) == 0
     assert follow(lib)[-1] == -1
     assert lib.ToolChainCore_ResetCNC(CORE, 1, 0, None) == 0
-    assert lib.ToolChainCore_SetTimeScale(CORE, 200.0) == 0
+    assert lib.ToolChainCore_TestClock(CORE, abi.TC_TEST_CLOCK_KEY, 0.0) == 0     # the stepped clock
     # one run from the origin places the program there (a machine that never ran stands
     # at the start of its first rapid, wherever it is)
     assert lib.ToolChainCore_StartCNCEx(CORE, 30, None) == 0
@@ -60,6 +68,7 @@ def square(fresh_core):
     yield lib
     lib.ToolChainCore_DestroyCNC(CORE)
     lib.ToolChainCore_ResetCNC(CORE, 0, 10, doubles(*[0.0] * 10))
+    assert lib.ToolChainCore_TestClock(CORE, abi.TC_TEST_CLOCK_KEY, -1.0) == 0    # the wall clock
 
 
 def gcode_index_of_line(lib, line):
@@ -173,7 +182,6 @@ def test_bad_arguments_are_refused_at_once(square):
     assert lib.ToolChainCore_ConnectCNCEx_Plane(CORE, 0, 2, doubles(float("nan"), 0.0), None, 0, 0, 0) == -1
     assert lib.ToolChainCore_ConnectCNCEx_Plane(9, 0, 0, None, None, 0, 0, 0) == -2
     # while the machine moves: refused (status 30)
-    assert lib.ToolChainCore_SetTimeScale(CORE, 1.0) == 0
     assert lib.ToolChainCore_ResetCNC(CORE, 1, 0, None) == 0
     assert lib.ToolChainCore_StartCNCEx(CORE, 30, None) == 0
     assert lib.ToolChainCore_ConnectCNCEx_Plane(CORE, 0, 2, doubles(0.0, 0.0), None, 0, 0, 0) == -1
@@ -191,13 +199,10 @@ def test_state_after_2_reports_out_of_the_trajectory(square):
 def test_a_stop_on_the_way_leaves_it_out_of_the_trajectory(square):
     lib = square
     go_off(lib, 50.0, 90.0)
-    assert lib.ToolChainCore_SetTimeScale(CORE, 0.5) == 0
     assert lib.ToolChainCore_ConnectCNCEx_Plane(CORE, 0, 2, doubles(50.0, 90.0), None, 0, 0, 0) == 0
-    deadline = time.monotonic() + 5
-    while lib.ToolChainCore_StatusCNC(CORE) != 41:
-        assert time.monotonic() < deadline
-        time.sleep(0.0005)
-    time.sleep(0.2)                             # on its way (10 mm at motion[5], half real time)
+    # on its way (10 mm at motion[5]) after 0.1 s: the search (40) takes no machine time
+    assert lib.ToolChainCore_TestClock(CORE, abi.TC_TEST_CLOCK_KEY, 0.1) == 0
+    assert lib.ToolChainCore_StatusCNC(CORE) == 41
     assert lib.ToolChainCore_StopCNCEx(CORE, None) == 0
     assert follow(lib)[-1] == -50
     x, y = position(lib)
@@ -239,3 +244,43 @@ def test_connect_point_callbacks(square):
     assert [c[1] for c in calls if c[0] == "part"] == [1, 2, 3, 5, 6]     # every motion part, in order
     assert calls[-1] == ("end", 5, 50.0, 100.0)
     assert position(lib) == pytest.approx((49.0, 100.0), abs=1e-9)
+
+
+@pytest.mark.parametrize("where, value", [("end", float("inf")), ("end", float("nan")), ("part", float("nan")),
+                                          ("part_distance", float("nan"))])
+def test_a_point_that_is_not_finite_from_the_callbacks_fails_the_connection(square, where, value):
+    """connect_callback_nonfinite.py: an infinite point from ConnectPointCalcEnd sent the
+    machine towards infinity (status 41 for ever, x NaN); a NaN one gave -31 while the
+    machine stood 5 mm from its place, and the next run jumped there. A point or
+    distance that is not finite fails the connection: error 706 naming the callback,
+    the status where it was (-50), the machine where it stood; no NaN in GetPos."""
+    lib = square
+
+    @abi.ConnectPointCalc
+    def on_part(user, part, sq_distance, point):
+        if where == "part":
+            point.contents.x = value
+        else:
+            sq_distance[0] = value
+        return 1
+
+    @abi.ConnectPointCalcEnd
+    def on_end(user, part, point):
+        point.contents.x = value
+        return 1
+
+    number, fn = ((abi.CB_CONNECT_POINT_CALC_END, on_end) if where == "end" else (abi.CB_CONNECT_POINT_CALC, on_part))
+    assert lib.ToolChainCore_SetCallBack(CORE, number, 0, ctypes.cast(fn, ctypes.c_void_p)) == 0
+    go_off(lib, 50.0, 7.0)
+    assert lib.ToolChainCore_ConnectCNCEx_Plane(CORE, 0, 2, doubles(50.0, 7.0), None, 0, 0, 0) == 0
+    assert follow(lib)[-1] == -50
+    info = abi.CALLBACK_INFO()
+    assert lib.ToolChainCore_GetLastError(CORE, ctypes.byref(info)) == 1
+    callback = b"ConnectPointCalcEnd" if where == "end" else b"ConnectPointCalc "
+    assert info.stringId == 706 and callback in info.m_fullError, info.m_fullError
+    assert position(lib) == pytest.approx((50.0, 7.0), abs=1e-9)
+    assert lib.ToolChainCore_SetCallBack(CORE, number, 0, None) == 0
+    # the next connection, without the callback, goes to the nearest point
+    assert lib.ToolChainCore_ConnectCNCEx_Plane(CORE, 0, 2, doubles(50.0, 7.0), None, 0, 0, 0) == 0
+    assert follow(lib)[-1] == -31
+    assert position(lib) == pytest.approx((50.0, 0.0), abs=1e-9)

@@ -1,4 +1,4 @@
-"""The shared segment geometry (toolchain/planner/segment.pyx): a part's length and the
+"""The shared segment geometry (toolchain/geometry.pyx): a part's length and the
 point at a path length on lines, arcs, full circles and helices against the circle's
 parametric form; the point on an arc is the one the compensation's regions use."""
 import math

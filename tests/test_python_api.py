@@ -45,7 +45,7 @@ def test_compile_a_file_and_the_seed_program(tmp_path):
         assert not program.ok
         error = program.errors[0]
         assert (error.number, error.line, error.file) == (ErrorNumber.ARC_CENTRE, 4, str(path))
-        assert str(error).startswith(f"{path}:4: error 400: Wrongly entered centre")
+        assert str(error).startswith(f"{path}:4:17: error 400: Wrongly entered centre")
         with pytest.raises(sf_tch.CncError) as caught:
             program.check()
         assert caught.value.line == 4 and caught.value.file == str(path)
@@ -57,7 +57,9 @@ def test_compile_a_file_and_the_seed_program(tmp_path):
     ("G1 X10 F100\nG1 Q1 W2 HH\n", ErrorNumber.UNKNOWN_WORD, 10),
     ("G1 X10 F100\nG4 P1\n", ErrorNumber.P_WORD, 4),                     # the P word
     ("G1 X10 F100\nG1 X1.2.3\n", ErrorNumber.BAD_NUMBER, 5),
-    ("G1 X10 F100\nG1 X1/0\n", ErrorNumber.DIVISION_BY_ZERO, None),        # no text argument: no column
+    ("G1 X10 F100\nG1 X1/0\n", ErrorNumber.DIVISION_BY_ZERO, 1),           # no column given: the block's
+    ("G1 X10 F100\n  G1 X1/0\n", ErrorNumber.DIVISION_BY_ZERO, 3),
+    ("\ufeffG1 X10 F100\nG1 X1.2.3\n", ErrorNumber.BAD_NUMBER, 5),       # a byte-order mark is no line
 ])
 def test_errors_carry_file_line_and_column(code, number, column):
     with sf_tch.compile(code, name="cols.nc") as program:

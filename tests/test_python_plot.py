@@ -69,14 +69,16 @@ def _drawn_points(ax, label):
     return xy[~np.isnan(xy).any(axis=1)]
 
 
-@pytest.mark.parametrize("as_file", [False, True])
-def test_a_failing_program_draws_the_moves_before_its_error(tmp_path, as_file):
+@pytest.mark.parametrize("given_as", ["text", "file", "bytes"])
+def test_a_failing_program_draws_the_moves_before_its_error(tmp_path, given_as):
     # line 4: the centre (13, 10) is 3 mm from the start and 7 mm from the end: error 400
     code = "G0 X0 Y0 Z0\nG1 X10 F600\nG1 Y10\nG2 X20 Y10 I3 J0\nG1 X30\nM30\n"
-    source = tmp_path / "arc.nc" if as_file else code
-    if as_file:
-        source.write_text(code)
-    with sf_tch.compile(source, name=None if as_file else "arc.nc", start=ORIGIN) as program:
+    # a file and bytes as an editor writes them: a byte-order mark, a Latin-1 comment
+    raw = b"\xef\xbb\xbf" + code.replace("\n", " (\xb0)\n", 1).encode("latin-1")
+    source = {"text": code, "file": tmp_path / "arc.nc", "bytes": raw}[given_as]
+    if given_as == "file":
+        source.write_bytes(raw)
+    with sf_tch.compile(source, name=None if given_as == "file" else "arc.nc", start=ORIGIN) as program:
         (error,) = program.errors
         fig, ax = plt.subplots()
         try:

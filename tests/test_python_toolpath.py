@@ -91,7 +91,7 @@ def test_the_sample_rapids_above_the_plate_and_its_holes_are_helical(sample):
 
 
 def test_fields_match_the_driver_callbacks_on_the_seed_program():
-    # (r 0.5 gouges: the seed's arcs turn almost a full circle; error 504, test_compensation_e2e)
+    # (r 0.5 gouges: the seed's arcs turn almost a full circle; warning 601, test_compensation_policy)
     with sf_tch.compile(SEED_PROGRAM + "\n", radius=0.01, params={"absMode": 0}, name="seed.nc") as program:
         program.check()
         _check_against_callbacks(program)

@@ -351,6 +351,60 @@ def test_a_refused_call_does_not_replace_the_programs_error(run):
     """)
 
 
+def test_an_error_text_a_thread_read_is_never_rewritten(run):
+    # tsan_lastcallerror_text.py: GetLastCallError's texts were the core's one buffer,
+    # rewritten by the next refused call on any thread while a host thread read it (torn
+    # texts; a data race under ThreadSanitizer). Each kept error is published whole by a
+    # pointer swap and stays as it was while the thread that read it holds it.
+    run("""
+        def text_pointer(info):
+            return ctypes.c_void_p.from_buffer(info, abi.CALLBACK_INFO.m_fullError.offset).value
+
+        info = abi.CALLBACK_INFO()
+        assert lib.ToolChainCore_StopCNCEx(0, None) == -1                # nothing runs
+        assert lib.ToolChainCore_GetLastCallError(0, ctypes.byref(info)) == 1
+        held = text_pointer(info)
+        text = ctypes.string_at(held)
+        assert b"StopCNCEx" in text, text
+
+        stop = threading.Event()
+        def refuser():
+            while not stop.is_set():
+                lib.ToolChainCore_StopCNCEx(0, None)     # refused: a new error each time
+                lib.ToolChainCore_ConfirmMFunc(0)        # refused: another text
+        read = {"seen": 0, "torn": []}
+        def reader():                                    # reads each new text at once
+            mine = abi.CALLBACK_INFO()
+            while not stop.is_set():
+                if lib.ToolChainCore_GetLastCallError(0, ctypes.byref(mine)) == 1:
+                    now = ctypes.string_at(text_pointer(mine))
+                    read["seen"] += 1
+                    if not (b"StopCNCEx" in now or b"M function" in now):
+                        read["torn"].append(now)
+        threads = [threading.Thread(target=refuser) for _ in range(2)] + [threading.Thread(target=reader)]
+        for t in threads:
+            t.start()
+        deadline = time.monotonic() + 1.0
+        while time.monotonic() < deadline:
+            assert ctypes.string_at(held) == text        # what this thread holds stays
+        stop.set()
+        for t in threads:
+            t.join()
+        assert read["seen"] > 0 and not read["torn"], read["torn"][:3]
+        # GetLastError: the same rule for the error of a compilation, which the next
+        # compilation replaces while this thread holds the first one
+        def compiled(text):
+            assert lib.ToolChainCore_CompileFromMemory(0, b"bad.nc", text) == 0
+            assert wait_status(lib, 0, lambda s: s != 1) == -1
+        compiled(b"G1 X1\\nQQ\\n")
+        assert lib.ToolChainCore_GetLastError(0, ctypes.byref(info)) == 1 and info.actLine == 2
+        held, text = text_pointer(info), info.m_fullError
+        compiled(b"G1 X1\\nG1 X2\\nQQ\\n")
+        assert ctypes.string_at(held) == text
+        assert lib.ToolChainCore_GetLastError(0, ctypes.byref(info)) == 1 and info.actLine == 3
+    """)
+
+
 # ------------------------------------------------------------------ callbacks removed while in flight
 
 def test_removing_a_callback_waits_for_the_call_in_flight(run):
@@ -402,6 +456,64 @@ def test_a_callback_removing_itself_does_not_deadlock(run):
         start(lib, 0)
         assert wait_status(lib, 0, lambda s: s != 10, 5) == -10
         assert calls == [1, 2], calls
+    """)
+
+
+def test_callbacks_replacing_each_others_callback_never_deadlock(run):
+    # setcallback_cross_deadlock.py: the DriverMFunc of two cores, inside at the same
+    # time, each replace the other core's DriverMFunc. Waiting for the other's call to
+    # return (as SetCallBack does outside callbacks) would wait for ever on both sides.
+    run("""
+        both_inside = threading.Barrier(2, timeout=5)
+        returned = []
+
+        def make(core):
+            def driver_m(user, part):
+                both_inside.wait()
+                rc = lib.ToolChainCore_SetCallBack(1 - core, abi.CB_DRIVER_M_FUNC, 0,
+                                                   ctypes.cast(thunks[1 - core], ctypes.c_void_p))
+                returned.append((core, rc))
+                return 0
+            return abi.DriverMFunc(driver_m)
+
+        thunks = [make(0), make(1)]
+        for core in (0, 1):
+            load_ini(lib, core)
+            set_callback(lib, core, abi.CB_DRIVER_M_FUNC, thunks[core])
+            assert compile_wait(lib, core, b"G1 X1 F6000\\nM7\\nG1 X2\\n") is None
+        for core in (0, 1):
+            start(lib, core)
+        for core in (0, 1):
+            assert wait_status(lib, core, lambda s: s != 10, 5) == -10
+        assert sorted(returned) == [(0, 0), (1, 0)], returned
+        assert lib.ToolChainCore_DestroyCNC(0) == 0 and lib.ToolChainCore_DestroyCNC(1) == 0
+    """)
+
+
+# ------------------------------------------------------------------ settings beside the machine
+
+def test_set_look_ahead_beside_the_machines_starts(run):
+    # tsan_setlookahead_race.py: SetLookAhead from a host thread while manual moves start
+    # the machine's worker, which reads the look-ahead setting (a data race under
+    # ThreadSanitizer until the worker copied it under the core's lock).
+    run("""
+        assert lib.ToolChainCore_SetTimeScale(0, 1e6) == 0
+        stop = threading.Event()
+
+        def host():
+            k = 0
+            while not stop.is_set():
+                lib.ToolChainCore_SetLookAhead(0, k % 3)
+                k += 1
+
+        setter = threading.Thread(target=host)
+        setter.start()
+        for n in range(40):
+            assert lib.ToolChainCore_GoToPosition(0, 2, (ctypes.c_double * 2)(n % 7, n % 5)) == 0
+            assert wait_status(lib, 0, lambda s: s != 50) == -50
+        stop.set()
+        setter.join()
+        assert lib.ToolChainCore_SetLookAhead(0, 0) == 0
     """)
 
 

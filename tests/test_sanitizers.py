@@ -85,7 +85,10 @@ def run_suite(library: Path, preload: list[str], options: dict, tests: list[str]
     env = dict(os.environ, SF_TCH_LIBRARY=str(library), LD_PRELOAD=" ".join(preload),
                SF_TCH_TIME_SCALE=str(time_scale), **options)
     command = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-m", "slow or not slow",
-               "--ignore", str(Path(__file__)), *tests]
+               "--ignore", str(Path(__file__)),
+               # the Windows tests build and run another binary (SF_TCh.dll under Wine), which the
+               # preloaded sanitizer runtimes would only break
+               "--ignore", str(ROOT / "tests" / "test_windows.py"), *tests]
     proc = subprocess.run(command, cwd=ROOT, env=env, capture_output=True, text=True, timeout=timeout)
     found = sorted(reports.parent.glob(reports.name + "*"))
     report_text = "\n".join(f"--- {path.name}\n{path.read_text(errors='replace')[:6000]}" for path in found[:5])

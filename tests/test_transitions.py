@@ -30,24 +30,28 @@ def wait_status(lib, predicate, timeout=10.0):
 
 
 class Gate:
-    """Callbacks that hold the core's worker until the gate opens."""
+    """Callbacks that hold the core's worker until the gate opens; an M function
+    answered "later" holds the machine's start (70) or stop (80) until it opens."""
 
     def __init__(self, lib):
         self.lib = lib
         self.event = threading.Event()
         self.progress = abi.SetStatusBarProgress(lambda user, percent: self.event.wait(10) and 0)
         self.driver = abi.DriverGFunc(lambda user, part: self.event.wait(10) and 0)
+        self.later = abi.DriverMFunc(lambda user, part: abi.TC_MFUNC_LATER)
 
     def hold(self, what):
         self.event.clear()
         number, fn = {"compile": (abi.CB_SET_STATUS_BAR_PROGRESS, self.progress),
-                      "run": (abi.CB_DRIVER_G_FUNC, self.driver)}[what]
+                      "run": (abi.CB_DRIVER_G_FUNC, self.driver),
+                      "m": (abi.CB_DRIVER_M_FUNC, self.later)}[what]
         assert self.lib.ToolChainCore_SetCallBack(CORE, number, 0, ctypes.cast(fn, ctypes.c_void_p)) == 0
 
     def open(self):
         self.event.set()
-        for number in (abi.CB_SET_STATUS_BAR_PROGRESS, abi.CB_DRIVER_G_FUNC):
+        for number in (abi.CB_SET_STATUS_BAR_PROGRESS, abi.CB_DRIVER_G_FUNC, abi.CB_DRIVER_M_FUNC):
             self.lib.ToolChainCore_SetCallBack(CORE, number, 0, None)
+        self.lib.ToolChainCore_ConfirmMFunc(CORE)
 
 
 def compile_(lib, code=GOOD):
@@ -67,6 +71,17 @@ def reach(lib, gate, status):
         return
     compile_(lib, BAD if status == "-1 failed" else PAUSED if status == -33 else GOOD)
     if status in (-1, "-1 failed"):
+        return
+    if status in (70, 80):
+        # the offline machine sending the start's (70) or the stop's (80) M functions,
+        # held there by an M7 answered "later"
+        gate.hold("m")
+        assert lib.ToolChainCore_SetTimeScale(CORE, REAL) == 0
+        assert lib.ToolChainCore_StartCNCEx(CORE, 30, b"M7" if status == 70 else None) == 0
+        if status == 80:
+            assert lib.ToolChainCore_StopCNCEx(CORE, b"M7") == 0
+        wait_status(lib, lambda s: s == status)
+        assert lib.ToolChainCore_SetTimeScale(CORE, FAST) == 0
         return
     if status in (30, -31, -32, -33):
         # the offline machine: 30 held by the gate (its notifier waits in DriverGFunc
@@ -129,7 +144,8 @@ COMMANDS = {
 # from a compiled program or a stop (-1, -10, -11, -20, -21, -30, -31, -33) to the
 # program's end (-32); backward only along a path run before (-31, -32, -33), back to
 # the program's start (-30); nothing without a program, out of the trajectory (-50)
-# or at the end (-32, forward).
+# or at the end (-32, forward). Sending the start's or the stop's M functions (70, 80,
+# held by one the driver confirms later): a stop ends it standing on the trajectory.
 R = REFUSED
 EXPECTED = {
     #            compile sim  test stop reset destroy drop out  params ini prefix fwd  no_m back skip_m
@@ -146,6 +162,8 @@ EXPECTED = {
     -30:        (-1,     -10, -20, R,   -30,  0,      0,   -50, -30,   -30, -30,  -32, -32, R,   -32),
     -50:        (-1,     -10, -20, R,   -30,  0,      0,   -50, -50,   -50, -50,  R,   R,   R,   R),
     30:         (R,      R,   R,   -31, -30,  0,      R,   R,   R,     R,  30,    R,   R,   R,   R),
+    70:         (R,      R,   R,   -31, -30,  0,      R,   R,   R,     R,  70,    R,   R,   R,   R),
+    80:         (R,      R,   R,   -31, -30,  0,      R,   R,   R,     R,  80,    R,   R,   R,   R),
     -31:        (-1,     -10, -20, R,   -30,  0,      0,   -50, -31,   -31, -31,  -32, -32, -30, -32),
     -32:        (-1,     -10, -20, R,   -30,  0,      0,   -50, -32,   -32, -32,  R,   R,   -30, R),
     -33:        (-1,     -10, -20, R,   -30,  0,      0,   -50, -33,   -33, -33,  -32, -32, -30, -32),
@@ -176,10 +194,10 @@ def test_status_table(fresh_core, status):
                 assert rc == 0, cell
                 if name == "stop":
                     gate.open()
-                if lib.ToolChainCore_StatusCNC(CORE) > 0 and not (name == "prefix" and status in (10, 20, 30)):
+                if lib.ToolChainCore_StatusCNC(CORE) > 0 and not (name == "prefix" and status in (10, 20, 30, 70, 80)):
                     gate.open()
                     wait_status(lib, lambda s: s <= 0)
-                if status in (10, 20, 30) and name == "prefix":
+                if status in (10, 20, 30, 70, 80) and name == "prefix":
                     assert lib.ToolChainCore_StatusCNC(CORE) == expected, cell
                     continue
                 assert lib.ToolChainCore_StatusCNC(CORE) == expected, cell

@@ -14,7 +14,7 @@
 #     never during file I/O, a pass over the parts, a callback or a join;
 #   - one activity (compilation or run) at a time, run by one worker thread; exactly
 #     one thread joins it (`joining`), every caller that ends it waits for the join
-#     on `changed`.
+#     on `changed` (runtime/lifecycle.pyx).
 
 cdef enum:
     MAX_FILES = 64          # file names per core (FileToIdx); recycled when full
@@ -32,6 +32,12 @@ cdef enum EndKind:
 ctypedef struct Callback:
     void *fn
     intptr_t user
+
+# An error kept for the host (GetLastError, GetLastCallError): written once, then only
+# read, freed by its last holder (runtime/last_errors.pyx).
+ctypedef struct PublishedError:
+    int32_t refs            # atomic: the core while it keeps it, each thread that read it
+    ErrorInfo info
 
 # A compiled program, immutable once published, shared by the core and every run
 # that reads it; the last release frees it (runtime/programs.pyx).
@@ -65,10 +71,10 @@ cdef struct NameChunk:
     char text[65520]
 
 ctypedef struct FileTable:
-    const char *names[64]   # into `store`
+    const char *names[MAX_FILES]    # into `store`
     NameChunk *store
-    double run_times[64]
-    uint64_t used[64]       # last use (FileToIdx, compile): the oldest unreferenced entry is recycled
+    double run_times[MAX_FILES]
+    uint64_t used[MAX_FILES]    # last use (FileToIdx, compile): the oldest unreferenced entry is recycled
     uint64_t clock
     int32_t n
 
@@ -76,7 +82,7 @@ ctypedef struct Core:
     int32_t index
     int32_t status              # cnc_status, atomic
     int32_t cancel              # atomic: the activity must end now (reset, destroy)
-    int32_t stop                # atomic: StopCNCEx during a run
+    int32_t stop                # atomic: StopCNCEx calls during the activity (0: none)
     pthread_mutex_t lock
     pthread_cond_t changed      # a worker was joined, a callback call ended
     # the activity
@@ -95,47 +101,80 @@ ctypedef struct Core:
     bint ini_loaded
     char driver[256]
     int64_t plan_window         # look-ahead of the feed planner in parts (SetLookAhead, INI lookAheadParts)
-    Callback callbacks[24]
-    int32_t in_flight[24]       # calls of each slot running now, on any thread
+    # the machine builder's tables and smoothing (any status; a run or compilation takes a copy
+    # or a reference at its start once they are wired in: docs/tool-table.md, "Integration status")
+    ToolTable tool_table        # LoadToolTable, SetToolCorrection, INI [Corrections] ToolTable
+    AxisCorrections *axis_corrections   # LoadAxisCorrections, INI AxisTable1..8; NULL none (tables.pxd: references)
+    SmoothingConfig smoothing   # SetSmoothing, INI [Smoothing]
+    Callback callbacks[N_CALLBACK_SLOTS]
+    int32_t in_flight[N_CALLBACK_SLOTS]     # calls of each slot running now, on any thread
     FileTable files
     # the file table entries the running compilation uses (never recycled meanwhile)
     int32_t compile_files[3]    # main, prefix, postfix entries of the compilation that runs
     # results
     LoadedProgram *program      # NULL: nothing compiled (or the compilation failed)
-    ErrorInfo error             # error of the last activity (GetLastError)
-    ErrorInfo call_error        # error of the last refused call (GetLastCallError)
+    PublishedError *error       # error of the last activity (GetLastError); NULL none
+    PublishedError *call_error  # error of the last refused call (GetLastCallError); NULL none
     GCODE_INFO size_info        # of `program` at the current start position
     # the machine
-    double position[10]         # machine position: where the next run and compilation start
-    double pending_position[10] # ResetCNC's coordinates, applied once the activity it ends is over
+    double position[AXES]       # machine position: where the next run and compilation start
+    double pending_position[AXES]   # ResetCNC's coordinates, applied once the activity it ends is over
     uint32_t n_pending
     void *offline               # the offline machine (machine/machine.pyx Machine), made on first run
     double time_scale           # atomic (TC_ATOMIC_*_D): the offline machine runs this many times real time
+    int32_t clock_stepped       # atomic: the offline machine runs on the test-only stepped clock (machine/clock.pyx)
     double rel_feed             # atomic (TC_ATOMIC_*_D)
     uint32_t breakpoint_line
     int32_t breakpoint_file
     Snapshot snap
+    char *stop_code             # StopCNCEx's addCode, sent once the run stands (lock; owned)
+    # the M-function handshake (runtime/session.pyx)
+    int32_t m_waiting           # the M function DriverMFunc answered TC_MFUNC_LATER for (M0: -1), 0 none (lock)
+    int32_t m_answered          # atomic: the waiting M function of the running activity was answered
 
 
-# What a worker gets from the call that started it; the worker frees it.
+# An activity's job: what its worker gets from the call that began it (the worker
+# frees it). One type per activity, each opening with the same head; the table of
+# runtime/lifecycle.pyx (activity_of) gives each command its worker and job type.
 ctypedef struct Job:
     Core *core
-    int32_t regime              # runs: StartCNCEx regime
-    char *text                  # compilations: the program text (owned); NULL: read `name`
+    int32_t command             # the transition table's command that began it
+
+ctypedef struct CompileJob:     # CompileFromFile, CompileFromMemory
+    Job head
+    char *text                  # the program text (owned); NULL: read `name`
     size_t length
-    int32_t files[3]            # compilations: file table entries of main, prefix, postfix
-    char *prefix                # compilations: GCodePrefixPostfix texts at the start (owned)
+    int32_t files[3]            # file table entries of main, prefix, postfix
+    char *prefix                # GCodePrefixPostfix texts at the start (owned)
     char *postfix
     char name[252]
-    char *add_code              # runs: StartCNCEx addCode (owned, may be NULL)
-    SIMPLE_GM_PARAMS dest       # manual moves: line (m_func 1) or arc (2, 3) to m_calcE, as GoToPositionEx
+
+ctypedef struct RunJob:         # StartCNCEx 10, 20, 30-33
+    Job head
+    int32_t regime
+    char *add_code              # StartCNCEx addCode (owned, may be NULL)
+
+ctypedef struct GotoJob:        # GoToPosition, GoToPositionEx
+    Job head
+    SIMPLE_GM_PARAMS dest       # line (m_func 1) or arc (2, 3) to m_calcE, as GoToPositionEx
     uint32_t n_dest             # ... of which the first n_dest axes move (GoToPosition)
-    uint32_t n_type             # connections: ConnectCNCEx_Plane's arguments
+
+ctypedef struct ConnectJob:     # ConnectCNCEx_Plane's arguments
+    Job head
+    uint32_t n_type
     double coords[11]
     uint32_t n_coords
     uint32_t axes_calc, axes_connect
     int32_t state_after
-    int32_t status_before       # ... and the status it was called in
+    int32_t status_before       # the status it was called in
+    char *add_code              # owned, may be NULL
+
+ctypedef struct Activity:       # a row of the lifecycle's table
+    void *(*body)(void *) noexcept nogil            # the worker, given its Job
+    size_t job_size             # sizeof its job type
+    bint needs_program          # refused (ERR_NOTHING_COMPILED) without a compiled program
+    bint (*prepare)(Core *core, Job *job, ErrorInfo *err) noexcept nogil    # under core.lock before
+                                # the worker starts (NULL: nothing); False refuses it (err set)
 
 
 # ---- what other stages call
@@ -154,22 +193,13 @@ cdef inline void core_set_status(Core *core, int32_t status) noexcept nogil:
     TC_ATOMIC_STORE(&core.status, status)
 
 # errors: a refused call (number and text argument: GetLastCallError, reported), a
-# call the transition table refuses in `status`, GetLastError / GetLastCallError
+# call the transition table refuses in `status`
 cdef int32_t core_fail(Core *core, int32_t number, const char *text_arg) noexcept nogil
 cdef void core_fail_with(Core *core, const ErrorInfo *err) noexcept nogil
 cdef int32_t core_refuse(Core *core, const char *what, int32_t status) noexcept nogil
-cdef int32_t core_read_error(Core *core, const ErrorInfo *slot, CALLBACK_INFO *info) noexcept nogil
-# an activity: a job for its worker; its start (the transition table's `command`, the
-# worker running `body`); the worker's last step (an event of the table; or, when it
-# gave up before it changed anything, back to the status it began in); the calls that
-# end it (DestroyCNC, ResetCNC, ResetStatusCNC: an EndKind)
-cdef Job *job_new() noexcept nogil
-cdef void job_free(Job *job) noexcept nogil
-cdef int32_t core_begin(Core *core, int32_t command, const char *what,
-                        void *(*body)(void *) noexcept nogil, Job *job) noexcept nogil
-cdef void core_finish(Core *core, int32_t event) noexcept nogil
-cdef void core_finish_to(Core *core, int32_t status) noexcept nogil
-cdef int32_t core_end(Core *core, int32_t kind, const char *what, uint32_t n_coords,
-                      const double *coords) noexcept nogil
-# CompileFromFile (text NULL: the worker reads the file `name`) and CompileFromMemory
+# CompileFromFile (text NULL: the worker reads the file `name`) and CompileFromMemory;
+# the lifecycle's row of a compilation (runtime/lifecycle.pyx): its worker, and what is
+# made ready under core.lock before it starts (a CompileJob)
 cdef int32_t core_start_compile(Core *core, const char *name, char *text, size_t length) noexcept nogil
+cdef void *compile_body(void *arg) noexcept nogil
+cdef bint compile_prepare(Core *core, Job *job, ErrorInfo *err) noexcept nogil

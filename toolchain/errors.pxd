@@ -18,8 +18,8 @@ ctypedef struct ErrorInfo:
     int32_t file_idx
     int32_t line            # 1-based, 0 unknown
     int32_t n_lines
-    char text[1024]         # full English text
-    char args[512]          # arguments separated by '\n'
+    char text[ERROR_TEXT_BYTES] # full English text
+    char args[ERROR_ARGS_BYTES] # arguments separated by '\n'
 
 # One argument of an error format: a number, or a string when text is not NULL.
 ctypedef struct ErrArg:

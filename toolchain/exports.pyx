@@ -1,6 +1,9 @@
 # The exported C functions of include/tgm_cnc.h. Each one checks its arguments
 # (core index, NULL pointers, status), then calls into the core. The C compiler
-# checks every signature here against the header's prototype.
+# checks every signature here against the header's prototype. The host's texts
+# (TGM_LPCTSTR: UTF-16 on Windows) are converted here once, to UTF-8 on the way in
+# (text_from_host) and back on the way out (text_to_host_kept); inside, every text
+# is UTF-8 (platform.pxd).
 from libc.string cimport memset, memcpy, strlen, strdup
 from libc.stdlib cimport free, malloc
 
@@ -15,22 +18,76 @@ cdef extern from *:
 
 cdef public int32_t ToolChainCore_Init(const DLL_INIT_STRUCT *p) noexcept nogil:
     global g_core_mode
+    cdef char *owned_dll_dir
+    cdef char *owned_macros_dir
+    cdef const char *dll_dir
+    cdef const char *macros_dir
     core_get(0)
     if p == NULL or p.CNC_Dll_Dir == NULL or p.Macros_Dir == NULL or p.Comm_Int2_Dir == NULL:
         return TOOL_CHAIN_ERROR
     if p.Local_Core_Mode < 0 or p.Local_Core_Mode > 2:
         return TOOL_CHAIN_ERROR
-    g_core_mode = p.Local_Core_Mode
-    log_set_dir(p.CNC_Dll_Dir)
-    strncpy(g_macros_dir, p.Macros_Dir, sizeof(g_macros_dir) - 1)
-    return TOOL_CHAIN_SUCCESS
+    dll_dir = text_from_host(p.CNC_Dll_Dir, &owned_dll_dir)
+    macros_dir = text_from_host(p.Macros_Dir, &owned_macros_dir)
+    if dll_dir != NULL and macros_dir != NULL:      # else out of memory
+        g_core_mode = p.Local_Core_Mode
+        log_set_dir(dll_dir)
+        strncpy(g_macros_dir, macros_dir, sizeof(g_macros_dir) - 1)
+    free(owned_dll_dir)
+    free(owned_macros_dir)
+    return TOOL_CHAIN_SUCCESS if dll_dir != NULL and macros_dir != NULL else TOOL_CHAIN_ERROR
+
+
+cdef int32_t _ini_read_tables(IniSettings *settings, ToolTable *tool_table, bint *has_tool_table,
+                              AxisCorrections **axis_tables, bint *has_axis_tables, ErrorInfo *err) noexcept nogil:
+    """LoadFromIni, once every key is good: the smoothing's values together, then the
+    files of [Corrections]. 0, or an error number (err set) and nothing kept."""
+    cdef ErrorInfo why
+    cdef ErrArg a[3]
+    cdef char text[400]
+    cdef const char *names[8]
+    cdef uint32_t n = 0
+    cdef int k
+    if not smoothing_check(&settings.smoothing, SMOOTHING_COMMAND_SPLINE, &why) \
+            or not smoothing_check(&settings.smoothing, SMOOTHING_COMMAND_IIR, &why):
+        c_snprintf(text, sizeof(text), "[Smoothing]: %s", why.text)
+        a[0].num = 0
+        a[0].text = settings.path
+        a[1].num = 0
+        a[1].text = NULL
+        a[2].num = 0
+        a[2].text = text
+        set_error(err, ERR_INI_VALUE, -1, 0, a, 3)
+        return ERR_INI_VALUE
+    has_tool_table[0] = settings.tool_table_file != NULL
+    if has_tool_table[0] and not tool_table_read(settings.tool_table_file, tool_table, err):
+        return err.number
+    for k in range(AXIS_TABLES_MAX):
+        if settings.axis_table_files[k] != NULL:
+            names[n] = settings.axis_table_files[k]
+            n += 1
+    has_axis_tables[0] = n > 0
+    if has_axis_tables[0] and not axis_corrections_read(names, n, axis_tables, err):
+        return err.number
+    return 0
 
 
 cdef public int32_t ToolChainCore_LoadFromIni(uint32_t intIdx, TGM_LPCTSTR iniFile, uint32_t *pnMaxCores) noexcept nogil:
+    cdef char *owned
+    cdef int32_t result = _load_from_ini(intIdx, text_from_host(iniFile, &owned), pnMaxCores)
+    free(owned)
+    return result
+
+
+cdef int32_t _load_from_ini(uint32_t intIdx, const char *iniFile, uint32_t *pnMaxCores) noexcept nogil:
     cdef Core *core = core_get(intIdx)
     cdef IniSettings settings
     cdef ErrorInfo err
     cdef int32_t result
+    cdef ToolTable *tool_table
+    cdef AxisCorrections *axis_tables = NULL
+    cdef AxisCorrections *old_axis_tables = NULL
+    cdef bint has_tool_table = False, has_axis_tables = False
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
     if iniFile == NULL:
@@ -45,15 +102,26 @@ cdef public int32_t ToolChainCore_LoadFromIni(uint32_t intIdx, TGM_LPCTSTR iniFi
     settings.params = core.params
     settings.plan_window = core.plan_window
     settings.time_scale = TC_ATOMIC_LOAD_D(&core.time_scale)
+    settings.smoothing = core.smoothing
     memcpy(settings.driver, core.driver, sizeof(settings.driver))
     pthread_mutex_unlock(&core.lock)
+    settings.tool_table_file = NULL
+    memset(settings.axis_table_files, 0, sizeof(settings.axis_table_files))
     settings.path = iniFile
     settings.err = &err
     clear_error(&err)
+    tool_table = <ToolTable *>malloc(sizeof(ToolTable))
+    if tool_table == NULL:
+        core_fail(core, ERR_OUT_OF_MEMORY, NULL)
+        return TOOL_CHAIN_XEXEC
     result = ini_read(iniFile, ini_apply_setting, &settings)
+    if result != 0 and err.number == 0:     # the file's reading failed, not one of its keys
+        set_error_text(&err, ERR_INI_OPEN if result == ERR_FILE_OPEN else result, -1, 0, iniFile)
+    if result == 0:
+        result = _ini_read_tables(&settings, tool_table, &has_tool_table, &axis_tables, &has_axis_tables, &err)
+    ini_settings_free(&settings)
     if result != 0:
-        if result != ERR_INI_VALUE:
-            set_error_text(&err, ERR_INI_OPEN if result == ERR_FILE_OPEN else result, -1, 0, iniFile)
+        free(tool_table)
         core_fail_with(core, &err)
         return TOOL_CHAIN_XEXEC
     normalise_gcode_parameters(&settings.params)
@@ -62,8 +130,16 @@ cdef public int32_t ToolChainCore_LoadFromIni(uint32_t intIdx, TGM_LPCTSTR iniFi
     core.plan_window = settings.plan_window
     TC_ATOMIC_STORE_D(&core.time_scale, settings.time_scale)
     memcpy(core.driver, settings.driver, sizeof(core.driver))
+    core.smoothing = settings.smoothing
+    if has_tool_table:
+        core.tool_table = tool_table[0]
+    if has_axis_tables:
+        old_axis_tables = core.axis_corrections
+        core.axis_corrections = axis_tables
     core.ini_loaded = True
     pthread_mutex_unlock(&core.lock)
+    free(tool_table)
+    axis_corrections_release(old_axis_tables)
     if pnMaxCores != NULL:
         pnMaxCores[0] = TOOL_CHAIN_MAX_CORES
     return TOOL_CHAIN_SUCCESS
@@ -78,8 +154,8 @@ cdef public int32_t ToolChainCore_DestroyCNC(uint32_t intIdx) noexcept nogil:
 
 cdef public TGM_LPCTSTR ToolChainCore_GetVersionString(uint32_t intIdx) noexcept nogil:
     if core_get(intIdx) == NULL:
-        return ""
-    return TC_VERSION_STRING
+        return text_to_host_kept("")
+    return text_to_host_kept(TC_VERSION_STRING)
 
 
 cdef public int32_t ToolChainCore_GetStructuresSize(uint32_t intIdx, uint32_t nItems, uint32_t *items) noexcept nogil:
@@ -229,6 +305,13 @@ cdef public int32_t ToolChainCore_GCodePrefixPostfix(uint32_t intIdx, TGM_LPCSTR
 # ------------------------------------------------------------------ compilation
 
 cdef public int32_t ToolChainCore_CompileFromFile(uint32_t intIdx, TGM_LPCTSTR fileName) noexcept nogil:
+    cdef char *owned
+    cdef int32_t result = _compile_from_file(intIdx, text_from_host(fileName, &owned))
+    free(owned)
+    return result
+
+
+cdef int32_t _compile_from_file(uint32_t intIdx, const char *fileName) noexcept nogil:
     cdef Core *core = core_get(intIdx)
     cdef int32_t unreadable
     if core == NULL:
@@ -248,6 +331,13 @@ cdef public int32_t ToolChainCore_CompileFromFile(uint32_t intIdx, TGM_LPCTSTR f
 
 
 cdef public int32_t ToolChainCore_CompileFromMemory(uint32_t intIdx, TGM_LPCTSTR fileName, TGM_LPCSTR code) noexcept nogil:
+    cdef char *owned
+    cdef int32_t result = _compile_from_memory(intIdx, text_from_host(fileName, &owned), code)
+    free(owned)
+    return result
+
+
+cdef int32_t _compile_from_memory(uint32_t intIdx, const char *fileName, const char *code) noexcept nogil:
     cdef Core *core = core_get(intIdx)
     cdef char *source
     if core == NULL:
@@ -274,7 +364,7 @@ cdef public int32_t ToolChainCore_GetLastError(uint32_t intIdx, CALLBACK_INFO *i
         return TOOL_CHAIN_BAD_INTR_INDEX
     if info == NULL:
         return TOOL_CHAIN_ERROR
-    return core_read_error(core, &core.error, info)
+    return core_read_error(core, False, info)
 
 
 cdef public int32_t ToolChainCore_GetLastCallError(uint32_t intIdx, CALLBACK_INFO *info) noexcept nogil:
@@ -283,7 +373,7 @@ cdef public int32_t ToolChainCore_GetLastCallError(uint32_t intIdx, CALLBACK_INF
         return TOOL_CHAIN_BAD_INTR_INDEX
     if info == NULL:
         return TOOL_CHAIN_ERROR
-    return core_read_error(core, &core.call_error, info)
+    return core_read_error(core, True, info)
 
 
 cdef public int32_t ToolChain_GetLastError(CALLBACK_INFO *info) noexcept nogil:
@@ -292,16 +382,20 @@ cdef public int32_t ToolChain_GetLastError(CALLBACK_INFO *info) noexcept nogil:
 
 cdef public int32_t ToolChainCore_FileToIdx(uint32_t intIdx, TGM_LPCTSTR fileName) noexcept nogil:
     cdef Core *core = core_get(intIdx)
+    cdef char *owned
+    cdef int32_t result
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
-    return core_file_to_idx(core, fileName)
+    result = core_file_to_idx(core, text_from_host(fileName, &owned))
+    free(owned)
+    return result
 
 
 cdef public TGM_LPCTSTR ToolChainCore_IdxToFile(uint32_t intIdx, int32_t fileIdx) noexcept nogil:
     cdef Core *core = core_get(intIdx)
     if core == NULL:
-        return "__unknown__"
-    return core_idx_to_file(core, fileIdx)
+        return text_to_host_kept("__unknown__")
+    return text_to_host_kept(core_idx_to_file(core, fileIdx))
 
 
 cdef public TGM_LPCTSTR ToolChain_IdxToFile(int32_t fileIdx) noexcept nogil:
@@ -374,16 +468,9 @@ cdef public int32_t ToolChainCore_StartCNCEx(uint32_t intIdx, int32_t regime, TG
 
 cdef public int32_t ToolChainCore_StopCNCEx(uint32_t intIdx, TGM_LPCSTR addCode) noexcept nogil:
     cdef Core *core = core_get(intIdx)
-    cdef int32_t status
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
-    status = core_status(core)
-    if status_after(status, CMD_STOP, False) == TC_REFUSED:
-        return core_refuse(core, "StopCNCEx", status)
-    if addCode != NULL and addCode[0] != 0:
-        machine_keep_stop_code(core, addCode)
-    TC_ATOMIC_STORE(&core.stop, 1)
-    return TOOL_CHAIN_SUCCESS
+    return core_stop(core, addCode)
 
 
 cdef int32_t not_implemented(uint32_t intIdx, const char *what) noexcept nogil:
@@ -424,7 +511,7 @@ cdef public int32_t ToolChainCore_GoToPositionEx(uint32_t intIdx, const SIMPLE_G
         return TOOL_CHAIN_BAD_INTR_INDEX
     if dest == NULL or dest.m_func < 1 or dest.m_func > 3:
         return TOOL_CHAIN_ERROR
-    if not coordinates_finite(<const double *>&dest.m_calcE, 10) or not coordinates_finite(<const double *>&dest.m_cc, 10):
+    if not coordinates_finite(<const double *>&dest.m_calcE, AXES) or not coordinates_finite(<const double *>&dest.m_cc, AXES):
         return TOOL_CHAIN_ERROR
     return core_goto(core, dest, 10, <const double *>&dest.m_calcE)
 
@@ -435,7 +522,7 @@ cdef public int32_t ToolChainCore_MFunc(uint32_t intIdx, const SIMPLE_GM_PARAMS 
         return TOOL_CHAIN_BAD_INTR_INDEX
     if fun == NULL:
         return TOOL_CHAIN_ERROR
-    return machine_send_m(core, fun)
+    return session_standing_m(core, fun)
 
 
 cdef public int32_t ToolChainCore_SetRelFeed(uint32_t intIdx, double relFeed) noexcept nogil:
@@ -500,12 +587,18 @@ cdef public int32_t ToolChainCore_GetPos(uint32_t intIdx, int32_t reserved, SIMP
 cdef public int32_t ToolChainCore_LoadCNCCalcPlugIn(TGM_LPCTSTR fileName, uint32_t flags, int64_t userValue) noexcept nogil:
     # Plug-ins (kinematics) are not supported yet: the documented error code.
     cdef int i
+    cdef char *owned
+    cdef const char *name
+    cdef bint unloading
     if fileName == NULL:
         return TOOL_CHAIN_ERROR
     for i in range(TOOL_CHAIN_MAX_CORES):
         if core_status(core_get(i)) > 0:
             return TOOL_CHAIN_ERROR
-    if fileName[0] == 0:
+    name = text_from_host(fileName, &owned)
+    unloading = name != NULL and name[0] == 0
+    free(owned)
+    if unloading:
         return 1                          # unloading: nothing is loaded
     return not_implemented(0, "LoadCNCCalcPlugIn")     # no core argument: reported on core 0
 
@@ -587,7 +680,14 @@ cdef public int32_t ToolChainCore_ConfirmMFunc(uint32_t intIdx) noexcept nogil:
     cdef Core *core = core_get(intIdx)
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
-    return machine_confirm_m(core)
+    return session_confirm(core)
+
+
+cdef public int32_t ToolChainCore_TestClock(uint32_t intIdx, uint64_t key, double seconds) noexcept nogil:
+    cdef Core *core = core_get(intIdx)
+    if core == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX
+    return machine_test_clock(core, key, seconds)
 
 
 # ------------------------------------------------------------------ toolpath (extension)
@@ -600,3 +700,188 @@ cdef public int32_t ToolChainCore_GetToolpath(uint32_t intIdx, TC_TOOLPATH_RECOR
     if (out == NULL and capacity > 0) or core_status(core) == CNC_STATUS_COMPILING:
         return TOOL_CHAIN_ERROR
     return toolpath_copy(core, out, capacity, first, total)
+
+
+# ------------------------------------------------------------------ correction tables and smoothing (extension)
+
+cdef public int32_t ToolChainCore_LoadToolTable(uint32_t intIdx, TGM_LPCTSTR fileName) noexcept nogil:
+    cdef char *owned
+    cdef int32_t result = _load_tool_table(intIdx, text_from_host(fileName, &owned))
+    free(owned)
+    return result
+
+
+cdef int32_t _load_tool_table(uint32_t intIdx, const char *fileName) noexcept nogil:
+    cdef Core *core = core_get(intIdx)
+    cdef ToolTable *table
+    cdef ErrorInfo err
+    if core == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX
+    if fileName == NULL:
+        return core_fail(core, ERR_FILE_OPEN, "(null)")
+    if fileName[0] == 0:
+        return core_fail(core, ERR_FILE_OPEN, fileName)
+    table = <ToolTable *>malloc(sizeof(ToolTable))
+    if table == NULL:
+        return core_fail(core, ERR_OUT_OF_MEMORY, NULL)
+    if not tool_table_read(fileName, table, &err):      # read without the lock
+        free(table)
+        core_fail_with(core, &err)
+        return TOOL_CHAIN_ERROR
+    pthread_mutex_lock(&core.lock)
+    core.tool_table = table[0]
+    pthread_mutex_unlock(&core.lock)
+    free(table)
+    return TOOL_CHAIN_SUCCESS
+
+
+cdef public int32_t ToolChainCore_GetToolCorrection(uint32_t intIdx, uint32_t entry, double *values) noexcept nogil:
+    cdef Core *core = core_get(intIdx)
+    if core == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX
+    if values == NULL or entry < 1 or entry > TOOL_ENTRIES:
+        return TOOL_CHAIN_ERROR
+    pthread_mutex_lock(&core.lock)
+    memcpy(values, core.tool_table.entry[entry].value, sizeof(core.tool_table.entry[entry].value))
+    pthread_mutex_unlock(&core.lock)
+    return TOOL_CHAIN_SUCCESS
+
+
+cdef public int32_t ToolChainCore_SetToolCorrection(uint32_t intIdx, uint32_t entry, uint32_t programmed,
+                                                    const double *values) noexcept nogil:
+    cdef Core *core = core_get(intIdx)
+    cdef ErrorInfo err
+    cdef bint good
+    if core == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX
+    if programmed >> TOOL_VALUES or (values == NULL and programmed != 0):
+        return TOOL_CHAIN_ERROR
+    pthread_mutex_lock(&core.lock)
+    good = tool_table_set(&core.tool_table, entry, programmed, values, &err)
+    pthread_mutex_unlock(&core.lock)
+    if not good:
+        core_fail_with(core, &err)
+        return TOOL_CHAIN_ERROR
+    return TOOL_CHAIN_SUCCESS
+
+
+cdef public int32_t ToolChainCore_LoadAxisCorrections(uint32_t intIdx, uint32_t nFiles,
+                                                      const TGM_LPCTSTR *fileNames) noexcept nogil:
+    # the names as UTF-8 (the first nine: a ninth is named in the error of too many)
+    cdef const char *names[AXIS_TABLES_MAX + 1]
+    cdef char *owned[AXIS_TABLES_MAX + 1]
+    cdef uint32_t n = nFiles if nFiles <= AXIS_TABLES_MAX + 1 else AXIS_TABLES_MAX + 1
+    cdef uint32_t k
+    cdef int32_t result
+    if nFiles > 0 and fileNames == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX if core_get(intIdx) == NULL else TOOL_CHAIN_ERROR
+    for k in range(n):
+        names[k] = text_from_host(fileNames[k], &owned[k])
+    result = _load_axis_corrections(intIdx, nFiles, names)
+    for k in range(n):
+        free(owned[k])
+    return result
+
+
+cdef int32_t _load_axis_corrections(uint32_t intIdx, uint32_t nFiles, const char *const *fileNames) noexcept nogil:
+    cdef Core *core = core_get(intIdx)
+    cdef AxisCorrections *tables = NULL
+    cdef AxisCorrections *old
+    cdef ErrorInfo err
+    cdef uint32_t k
+    if core == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX
+    for k in range(nFiles if nFiles <= AXIS_TABLES_MAX + 1 else AXIS_TABLES_MAX + 1):
+        if fileNames[k] == NULL:
+            return core_fail(core, ERR_FILE_OPEN, "(null)")
+        if fileNames[k][0] == 0:
+            return core_fail(core, ERR_FILE_OPEN, fileNames[k])
+    if not axis_corrections_read(fileNames, nFiles, &tables, &err):     # read without the lock
+        core_fail_with(core, &err)
+        return TOOL_CHAIN_ERROR
+    pthread_mutex_lock(&core.lock)
+    old = core.axis_corrections
+    core.axis_corrections = tables
+    pthread_mutex_unlock(&core.lock)
+    axis_corrections_release(old)
+    return TOOL_CHAIN_SUCCESS
+
+
+cdef public int32_t ToolChainCore_CorrectPosition(uint32_t intIdx, const double *position, double *corrected) noexcept nogil:
+    cdef Core *core = core_get(intIdx)
+    cdef AxisCorrections *tables
+    if core == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX
+    if position == NULL or corrected == NULL or not coordinates_finite(position, 10):
+        return TOOL_CHAIN_ERROR
+    pthread_mutex_lock(&core.lock)
+    tables = axis_corrections_ref(core.axis_corrections)
+    pthread_mutex_unlock(&core.lock)
+    axis_correction_apply(tables, position, corrected)
+    axis_corrections_release(tables)
+    return TOOL_CHAIN_SUCCESS
+
+
+cdef public int32_t ToolChainCore_SetSmoothing(uint32_t intIdx, int32_t command, const double *params) noexcept nogil:
+    cdef Core *core = core_get(intIdx)
+    cdef ErrorInfo err
+    cdef bint good
+    if core == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX
+    if params == NULL or (command != SMOOTHING_COMMAND_SPLINE and command != SMOOTHING_COMMAND_IIR):
+        return TOOL_CHAIN_ERROR
+    pthread_mutex_lock(&core.lock)
+    good = smoothing_set(&core.smoothing, command, params, &err)
+    pthread_mutex_unlock(&core.lock)
+    if not good:
+        core_fail_with(core, &err)
+        return TOOL_CHAIN_ERROR
+    return TOOL_CHAIN_SUCCESS
+
+
+cdef public int32_t ToolChainCore_GetSmoothing(uint32_t intIdx, int32_t command, double *params) noexcept nogil:
+    cdef Core *core = core_get(intIdx)
+    if core == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX
+    if params == NULL or (command != SMOOTHING_COMMAND_SPLINE and command != SMOOTHING_COMMAND_IIR):
+        return TOOL_CHAIN_ERROR
+    pthread_mutex_lock(&core.lock)
+    if command == SMOOTHING_COMMAND_SPLINE:
+        params[0] = core.smoothing.spline[0]
+        params[1] = core.smoothing.spline[1]
+        params[2] = params[3] = 0.0
+    else:
+        memcpy(params, core.smoothing.iir, sizeof(core.smoothing.iir))
+    pthread_mutex_unlock(&core.lock)
+    return TOOL_CHAIN_SUCCESS
+
+
+cdef public int32_t ToolChainCore_SmoothSamples(uint32_t intIdx, const double *samples, uint64_t nSamples,
+                                                double *out, uint64_t *settledFrom) noexcept nogil:
+    cdef Core *core = core_get(intIdx)
+    cdef SmoothingConfig config
+    cdef Smoother smoother
+    cdef double sample[10]
+    cdef uint64_t i, settled_from = 0
+    if core == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX
+    if nSamples > 0 and (samples == NULL or out == NULL):
+        return TOOL_CHAIN_ERROR
+    for i in range(nSamples):
+        if not coordinates_finite(samples + 10 * i, 10):
+            return TOOL_CHAIN_ERROR
+    if nSamples > 0:
+        pthread_mutex_lock(&core.lock)
+        config = core.smoothing
+        pthread_mutex_unlock(&core.lock)
+        if not smoother_init(&smoother, &config, STEP_US * 1e-6, samples):
+            return core_fail(core, ERR_OUT_OF_MEMORY, NULL)
+        for i in range(nSamples):
+            memcpy(sample, samples + 10 * i, sizeof(sample))     # out may be samples
+            smoother_push(&smoother, sample, out + 10 * i)
+            if not smoother_settled(&smoother):
+                settled_from = i + 1
+        smoother_free(&smoother)
+    if settledFrom != NULL:
+        settledFrom[0] = settled_from
+    return TOOL_CHAIN_SUCCESS

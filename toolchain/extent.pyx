@@ -3,7 +3,6 @@
 # the extent by a range of parts (extent_range), so that it may also be measured range
 # by range beside the stage that writes the parts (pipeline.pyx).
 from libc.string cimport memcpy
-from libc.math cimport sqrt
 
 
 cdef inline void _widen(GCODE_SIZE *size, const double *point, int axes) noexcept nogil:
@@ -27,22 +26,15 @@ cdef inline void _widen_axis(GCODE_SIZE *size, int k, double value) noexcept nog
         hi[k] = value
 
 
-cdef inline int _quadrant(double x, double y) noexcept nogil:
-    # quadrant q of a direction whose angle lies in [q * 90, (q + 1) * 90) degrees
-    if y >= 0:
-        return 0 if x > 0 else (1 if y > 0 else 2)
-    return 2 if x < 0 else 3
-
-
 cdef void _widen_arc(GCODE_SIZE *size, const double *s, const double *e, const double *cc,
                      double radius, int first, int second, bint ccw) noexcept nogil:
-    """Adds the axis points (0, 90, 180, 270 degrees) the arc passes through, its
-    ends included. They follow from the quadrants of its ends (no angles); start =
-    end, within the angular tolerance of arc_sweep, is a full circle."""
-    cdef double sx, sy, ex, ey, cross
-    cdef int q, qs, qe, n, k, k0
+    """Adds the axis points (0, 90, 180, 270 degrees) the arc passes through
+    (geometry.pxd arc_axis_points: no angles; start = end, within ANGLE_EPS, is a full
+    circle); its ends widen the extent already."""
+    cdef unsigned passes
     cdef const double *lo = <const double *>&size.m_minimalPos
     cdef const double *hi = <const double *>&size.m_maximalPos
+    cdef int q
     if radius <= 0:
         return
     # its whole circle inside the extent so far: the arc cannot widen it (most arcs
@@ -50,26 +42,13 @@ cdef void _widen_arc(GCODE_SIZE *size, const double *s, const double *e, const d
     if (cc[first] - radius >= lo[first] and cc[first] + radius <= hi[first]
             and cc[second] - radius >= lo[second] and cc[second] + radius <= hi[second]):
         return
-    sx = s[first] - cc[first]; sy = s[second] - cc[second]
-    ex = e[first] - cc[first]; ey = e[second] - cc[second]
-    if not ccw:
-        # a clockwise arc covers the same points as the counter-clockwise one from e to s
-        sx, sy, ex, ey = ex, ey, sx, sy
-    qs = _quadrant(sx, sy)
-    qe = _quadrant(ex, ey)
-    n = (qe - qs) & 3
-    if n == 0:
-        cross = sx * ey - sy * ex
-        if cross <= 1e-12 * sqrt((sx * sx + sy * sy) * (ex * ex + ey * ey)):
-            n = 4       # the end is not ahead of the start: all the way round
-    # a start exactly on an axis counts too (the ends already widen the extent, but
-    # the axis point, centre + radius, may differ from them in the last bits)
-    k0 = 0 if n < 4 and (sy == 0 if qs % 2 == 0 else sx == 0) else 1
+    passes = arc_axis_points(s[first] - cc[first], s[second] - cc[second],
+                             e[first] - cc[first], e[second] - cc[second], ccw, -1.0)
     # the axis points differ from the ends only in the plane axes
-    for k in range(k0, n + 1):
-        q = (qs + k) & 3
-        _widen_axis(size, first, cc[first] + (radius if q == 0 else (-radius if q == 2 else 0.0)))
-        _widen_axis(size, second, cc[second] + (radius if q == 1 else (-radius if q == 3 else 0.0)))
+    for q in range(4):
+        if (passes >> q) & 1:
+            _widen_axis(size, first, cc[first] + (radius if q == 0 else (-radius if q == 2 else 0.0)))
+            _widen_axis(size, second, cc[second] + (radius if q == 1 else (-radius if q == 3 else 0.0)))
 
 
 cdef inline void _start_size(GCODE_SIZE *size, const double *start) noexcept nogil:
@@ -82,15 +61,10 @@ cdef inline void _start_size(GCODE_SIZE *size, const double *start) noexcept nog
 cdef inline void _unrotate(const Program *prog, uint16_t rot_idx, double *point) noexcept nogil:
     """The point as written in the program: the inverse (transpose) of its G168 rotation."""
     cdef const double *r
-    cdef double q[3]
-    cdef int a
     if rot_idx == 0:
         return
     r = prog.rotations + 12 * rot_idx
-    for a in range(3):
-        q[a] = point[a] - r[a]
-    for a in range(3):
-        point[a] = r[a] + r[3 + a] * q[0] + r[6 + a] * q[1] + r[9 + a] * q[2]
+    rotate_about(r, r + 3, True, point)
 
 
 cdef size_t extent_range(const Program *prog, size_t first, size_t end, GCODE_SIZE *programmed,
@@ -111,7 +85,7 @@ cdef size_t extent_range(const Program *prog, size_t first, size_t end, GCODE_SI
     cdef double cc_buf[3]
     cdef double cs[3]
     cdef double ce[3]
-    cdef double other[10]
+    cdef double other[AXES]
     cdef double dx, dy
     cdef int first_axis, second_axis, normal
     cdef bint arc
@@ -140,13 +114,13 @@ cdef size_t extent_range(const Program *prog, size_t first, size_t end, GCODE_SI
             axes_idx = p.axes_idx
             part_end(prog, p, other)
             other[0] = e[0]; other[1] = e[1]; other[2] = e[2]
-            _widen(programmed, other, 10)
+            _widen(programmed, other, AXES)
         _widen(programmed, e, 3)
         arc = (p.func == 2 or p.func == 3) and plane_axes(p.plane, &first_axis, &second_axis, &normal)
         if arc:
             dx = s[first_axis] - cc[first_axis]
             dy = s[second_axis] - cc[second_axis]
-            _widen_arc(programmed, s, e, cc, sqrt(dx * dx + dy * dy), first_axis, second_axis, p.func == 3)
+            _widen_arc(programmed, s, e, cc, distance2d(dx, dy), first_axis, second_axis, p.func == 3)
         if not prog.compensated:
             continue
         ce[0] = p.ce[0]; ce[1] = p.ce[1]; ce[2] = p.ce[2]
@@ -191,7 +165,7 @@ cdef void _extent_end(const Program *prog, size_t last, GCODE_SIZE *programmed, 
     if not rotated:
         _unrotate(prog, prog.parts[last].rot_idx, tool_end)
     tool.m_endPos = programmed.m_endPos
-    for k in range(3, 10):
+    for k in range(3, AXES):
         (<double *>&tool.m_minimalPos)[k] = (<double *>&programmed.m_minimalPos)[k]
         (<double *>&tool.m_maximalPos)[k] = (<double *>&programmed.m_maximalPos)[k]
     memcpy(&tool.m_endPos, tool_end, sizeof(tool_end))

@@ -4,7 +4,7 @@
 
 cdef enum:
     MAX_FILE_BYTES = 1 << 30        # 1 GiB: larger files are refused (ERR_FILE_TOO_LARGE)
-    FILE_READ_CHUNK = 1 << 16       # growth step for files whose size fstat does not tell
+    FILE_READ_CHUNK = 1 << 16       # growth step for files whose size the open does not tell
 
 
 # 0 when `path` can be read (else the error number); its bytes, NUL-terminated

@@ -12,22 +12,25 @@
 from libc.stdint cimport int8_t, int16_t, int32_t, int64_t, uint8_t, uint16_t, uint32_t, uint64_t, intptr_t, INT32_MAX
 from includes.tgm_cnc cimport *
 from includes.system cimport *
+from includes.platform cimport *
 
 include "arrays.pxd"
 include "numbers.pxd"
 include "errors.pxd"
-include "geometry.pxd"
 include "program.pxd"
+include "placement.pxd"
+include "geometry.pxd"
 include "compiler/compiler.pxd"
 include "compensation/compensation.pxd"
 include "extent.pxd"
-include "placement.pxd"
 include "planner/planner.pxd"
 include "pipeline.pxd"
 include "logging.pxd"
 include "files.pxd"
 include "ini.pxd"
+include "smoothing/smoothing.pxd"
 include "parameters.pxd"
+include "tables/tables.pxd"
 include "core.pxd"
 include "runtime/runtime.pxd"
 include "machine/machine.pxd"

@@ -1,11 +1,10 @@
 # The library's log: a bit mask of sources and outputs (LOG_* in tgm_cnc.h), a
 # file SF_TCh.log in the log directory, and stderr for the console outputs.
 # Callable from any thread: one mutex guards the file.
-from libc.stdio cimport FILE, fopen, fclose, fputs, fflush, fprintf, stderr, snprintf
+from libc.stdio cimport FILE, fclose, fputs, fflush, fprintf, stderr, snprintf
 from libc.stdlib cimport getenv
 from libc.string cimport strlen, strncpy
-from posix.time cimport clock_gettime, timespec, CLOCK_REALTIME, time_t
-from libc.time cimport tm, localtime_r, strftime
+from libc.time cimport tm, strftime
 
 
 cdef extern from *:
@@ -15,7 +14,7 @@ cdef extern from *:
     """
     int tc_in_log_hook
 
-cdef pthread_mutex_t g_log_lock   # zero-initialised == PTHREAD_MUTEX_INITIALIZER (glibc)
+cdef pthread_mutex_t g_log_lock   # zero-initialised == PTHREAD_MUTEX_INITIALIZER (glibc, platform.h)
 cdef FILE *g_log_file
 cdef char g_log_dir[1024]         # empty: $SF_TCH_LOG_DIR or the current directory
 cdef char g_log_path[1100]
@@ -63,24 +62,21 @@ cdef void log_line(uint32_t source, const char *text) noexcept nogil:
     (source 0: always, e.g. ToolChain_LogANSI)."""
     global g_log_file
     cdef char stamp[64]
-    cdef timespec now
     cdef tm local
-    cdef time_t seconds
+    cdef long milliseconds
     if text == NULL:
         return
     pthread_mutex_lock(&g_log_lock)
     if source != 0 and not (g_log_mask & source):
         pthread_mutex_unlock(&g_log_lock)
         return
-    clock_gettime(CLOCK_REALTIME, &now)
-    seconds = now.tv_sec
-    localtime_r(&seconds, &local)
+    tc_local_time_now(&local, &milliseconds)
     strftime(stamp, sizeof(stamp), "%Y-%m-%d %H:%M:%S", &local)
     if g_log_mask & LOG_TO_FILE:
         if g_log_file == NULL:
-            g_log_file = fopen(log_file_path(), "a")
+            g_log_file = tc_fopen(log_file_path(), "a")
         if g_log_file != NULL:
-            fprintf(g_log_file, "%s.%03ld %s\n", stamp, <long>(now.tv_nsec // 1000000), text)
+            fprintf(g_log_file, "%s.%03ld %s\n", stamp, milliseconds, text)
     if g_log_mask & (LOG_TO_CONSOLE | LOG_TO_TGM):
         fprintf(stderr, "SF_TCh %s %s\n", stamp, text)
     pthread_mutex_unlock(&g_log_lock)

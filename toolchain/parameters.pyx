@@ -2,8 +2,10 @@
 # machine parameters (MACHINE_PARAMETERS). Their documented defaults, the bounds
 # every value must keep (SetGCodeParameters, SetMachineParameters and the INI refuse
 # anything else, so no NaN, infinity or absurd size ever reaches the compiler, the
-# compensation or a callback), and the [GCodeParameters] keys of the INI file.
-from libc.string cimport memset, strncpy, strcasecmp
+# compensation or a callback), and the keys of the INI file: [GCodeParameters], [Offline],
+# and the files of [Corrections] and the values of [Smoothing] (tables/, smoothing/).
+from libc.string cimport memset, memcpy, strncpy, strcasecmp, strlen, strcpy, strdup
+from libc.stdlib cimport malloc, free
 
 cdef extern from *:
     """
@@ -11,7 +13,6 @@ cdef extern from *:
     #define TC_MAX_RATE 1e9         /* mm/min, mm/s^2: feeds, accelerations */
     #define TC_MAX_ANGLE 360.0      /* degrees */
     """
-    double TC_MAX_LENGTH
     double TC_MAX_RATE
     double TC_MAX_ANGLE
 
@@ -153,7 +154,7 @@ cdef bint check_gcode_parameters(const GCODE_PARAMETERS *p, ErrorInfo *err) noex
             and _in_bounds(err, "GCODE_PARAMETERS.dynamicG42Correction_percent", p.dynamicG42Correction_percent,
                            -1000.0, 1000.0, False)):
         return False
-    for i in range(10):
+    for i in range(AXES):
         if not (_indexed_in_bounds(err, "GCODE_PARAMETERS.axisLimits[%d].maxFeed", i, p.axisLimits[i].maxFeed,
                                    0.0, TC_MAX_RATE, False)
                 and _indexed_in_bounds(err, "GCODE_PARAMETERS.axisLimits[%d].maxAcc", i, p.axisLimits[i].maxAcc,
@@ -174,7 +175,7 @@ cdef bint _axes_in_bounds(ErrorInfo *err, const char *field, const P10DOUBLE *va
     cdef const char *axes = "xyzcbuvwao"
     cdef char name[96]
     cdef int i
-    for i in range(10):
+    for i in range(AXES):
         c_snprintf(name, sizeof(name), "MACHINE_PARAMETERS.%s.%c", field, axes[i])
         if not _in_bounds(err, name, v[i], lo, hi, False):
             return False
@@ -230,7 +231,7 @@ cdef int gcode_parameter_from_ini(GCODE_PARAMETERS *p, const char *key, const ch
     the radii correction0..correction7: 1 set, 0 unknown key (ignored), -1 a value
     that is not a number of the field's kind (nothing set)."""
     cdef double d = 0.0
-    cdef long i = 0
+    cdef long long i = 0
     cdef bint is_double = c_parse_double(value, &d)
     cdef bint is_int = c_parse_long(value, -2147483647 - 1, 2147483647, &i)
     if strcasecmp(key, "correctionStrategy") == 0:
@@ -245,6 +246,14 @@ cdef int gcode_parameter_from_ini(GCODE_PARAMETERS *p, const char *key, const ch
             p.rezerva1 = p.rezerva1 | <int32_t>GCODE_REZERVA1_ISO_COMPAT
         else:
             p.rezerva1 = p.rezerva1 & ~<int32_t>GCODE_REZERVA1_ISO_COMPAT
+        return 1
+    if strcasecmp(key, "strictCompensation") == 0:      # docs/compensation.md: crossing equidistants refused
+        if not c_parse_long(value, 0, 1, &i):
+            return -1
+        if i:
+            p.rezerva1 = p.rezerva1 | <int32_t>GCODE_REZERVA1_COMP_STRICT
+        else:
+            p.rezerva1 = p.rezerva1 & ~<int32_t>GCODE_REZERVA1_COMP_STRICT
         return 1
     if strcasecmp(key, "absMode") == 0 or strcasecmp(key, "swapG2G3") == 0 or strcasecmp(key, "forceMode") == 0 \
             or strcasecmp(key, "calcTime") == 0 or strcasecmp(key, "insertArcMode") == 0:
@@ -284,17 +293,100 @@ cdef int32_t _ini_fail(IniSettings *s, int32_t line, const char *what) noexcept 
     return ERR_INI_VALUE
 
 
+cdef char *_ini_file_path(const char *ini, const char *name) noexcept nogil:
+    """A file an INI key names (malloc'ed; NULL out of memory): an absolute name as it
+    is, a relative one in the INI file's folder."""
+    cdef size_t folder = strlen(ini)
+    cdef char *path
+    if name[0] == b'/' or name[0] == b'\\' or (b'a' <= (name[0] | 0x20) <= b'z' and name[1] == b':'):
+        return strdup(name)
+    while folder > 0 and ini[folder - 1] != b'/' and ini[folder - 1] != b'\\':
+        folder -= 1
+    path = <char *>malloc(folder + strlen(name) + 1)
+    if path != NULL:
+        memcpy(path, ini, folder)
+        strcpy(path + folder, name)
+    return path
+
+
+cdef void ini_settings_free(IniSettings *s) noexcept nogil:
+    """Frees the file names LoadFromIni's reading kept."""
+    cdef int k
+    free(s.tool_table_file)
+    s.tool_table_file = NULL
+    for k in range(AXIS_TABLES_MAX):
+        free(s.axis_table_files[k])
+        s.axis_table_files[k] = NULL
+
+
+cdef int32_t _ini_file_key(IniSettings *s, int32_t line, const char *key, const char *value,
+                           char **slot) noexcept nogil:
+    """[Corrections] key = a file name into *slot."""
+    cdef char text[400]
+    if value[0] == 0:
+        c_snprintf(text, sizeof(text), "[Corrections] %s names no file", key)
+        return _ini_fail(s, line, text)
+    free(slot[0])
+    slot[0] = _ini_file_path(s.path, value)
+    if slot[0] == NULL:
+        set_error(s.err, ERR_OUT_OF_MEMORY, -1, line, NULL, 0)
+        return ERR_OUT_OF_MEMORY
+    return 0
+
+
+cdef int32_t _ini_smoothing_key(IniSettings *s, int32_t line, const char *key, const char *value) noexcept nogil:
+    """[Smoothing] key = a register value of the Interpolator's command -2 or -1
+    (docs/smoothing.md); 0 also for an unknown key (ignored)."""
+    cdef ErrorInfo why
+    cdef char text[400]
+    cdef int32_t command = SMOOTHING_COMMAND_SPLINE
+    cdef int index
+    cdef long long whole
+    cdef double number
+    if strcasecmp(key, "SplinePoints") == 0: index = 0
+    elif strcasecmp(key, "SplineJerk") == 0: index = 1
+    else:
+        command = SMOOTHING_COMMAND_IIR
+        if strcasecmp(key, "IirP") == 0: index = 0
+        elif strcasecmp(key, "IirQ") == 0: index = 1
+        elif strcasecmp(key, "IirF") == 0: index = 2
+        elif strcasecmp(key, "IirAxes") == 0: index = 3
+        else:
+            return 0
+    if index == 3 and c_parse_long(value, 0, 4294967295, &whole):   # a mask may be written 0x...
+        number = <double>whole
+    elif not c_parse_double(value, &number):
+        c_snprintf(text, sizeof(text), "[Smoothing] %s = '%.200s' is not a number", key, value)
+        return _ini_fail(s, line, text)
+    if not smoothing_check_parameter(command, index, number, &why):
+        c_snprintf(text, sizeof(text), "[Smoothing] %s: %s", key, why.text)
+        return _ini_fail(s, line, text)
+    if command == SMOOTHING_COMMAND_SPLINE:
+        s.smoothing.spline[index] = number
+    else:
+        s.smoothing.iir[index] = number
+    return 0
+
+
 cdef int32_t ini_apply_setting(void *ctx, const char *section, const char *key, const char *value,
                                int32_t line) noexcept nogil:
-    """ini_visitor of LoadFromIni: [CNC] Driver and [GCodeParameters] keys into the
-    IniSettings; ERR_INI_VALUE (s.err naming the key and the line) for a bad value."""
+    """ini_visitor of LoadFromIni: [CNC] Driver, [GCodeParameters], [Offline],
+    [Corrections] and [Smoothing] keys into the IniSettings; ERR_INI_VALUE (s.err naming
+    the key and the line) for a bad value."""
     cdef IniSettings *s = <IniSettings *>ctx
     cdef GCODE_PARAMETERS candidate
     cdef ErrorInfo why
     cdef char text[400]
     cdef int known
-    cdef long window
+    cdef long long window
     cdef double scale
+    if strcasecmp(section, "Corrections") == 0 and strcasecmp(key, "ToolTable") == 0:
+        return _ini_file_key(s, line, key, value, &s.tool_table_file)
+    if strcasecmp(section, "Corrections") == 0 and strncasecmp_prefix(key, "AxisTable") \
+            and b'1' <= key[9] <= b'8' and key[10] == 0:
+        return _ini_file_key(s, line, key, value, &s.axis_table_files[<int>key[9] - 49])
+    if strcasecmp(section, "Smoothing") == 0:
+        return _ini_smoothing_key(s, line, key, value)
     if strcasecmp(section, "Offline") == 0 and strcasecmp(key, "TimeScale") == 0:
         if not c_parse_double(value, &scale) or not (0.0 < scale <= 1e6):
             return _ini_fail(s, line, "[Offline] TimeScale: the offline machine's speed against real time, in (0, 1e6]")

@@ -3,11 +3,12 @@
 # follow it (Program.start_gindex). Owns Placement, the difference a reader applies
 # (the program itself is never rewritten). Called by the core (GetGCodeSizeInfo), the
 # planner (a placed run's plan), the simulator, the machine, the connection search and
-# the toolpath.
+# the toolpath; how far a run moves a part, and its geometry there: geometry.pxd
+# (placement_shift, segment_of_placed_part).
 
 ctypedef struct Placement:
-    double start[10]        # where the run starts (machine position)
-    double delta[10]        # start - the compile's start
+    double start[AXES]      # where the run starts (machine position)
+    double delta[AXES]      # start - the compile's start
     bint moved              # some delta is not 0
 
 

@@ -13,7 +13,7 @@ cdef void placement_init(Placement *pl, const Program *prog, const double *start
     cdef int k
     memcpy(pl.start, start, sizeof(pl.start))
     pl.moved = False
-    for k in range(10):
+    for k in range(AXES):
         pl.delta[k] = start[k] - prog.start[k]
         if pl.delta[k] != 0.0:
             pl.moved = True
@@ -29,7 +29,7 @@ cdef size_t placement_reshaped_end(const Program *prog, const Placement *pl) noe
     cdef int k
     if not pl.moved or prog.n_parts == 0:
         return 0
-    for k in range(10):
+    for k in range(AXES):
         if pl.delta[k] != 0.0 and prog.start_gindex[k] != INT32_MAX and prog.start_gindex[k] > until:
             until = prog.start_gindex[k]
     while i < prog.n_parts and prog.parts[i - 1].gcode_index < until:
@@ -39,33 +39,26 @@ cdef size_t placement_reshaped_end(const Program *prog, const Placement *pl) noe
 
 cdef void placed_part_to_gm(const Program *prog, size_t i, const Placement *pl,
                             SIMPLE_GM_PARAMS *gm) noexcept nogil:
-    """part_to_gm for a run from pl.start: the axes that follow the start moved."""
+    """part_to_gm for a run from pl.start: the axes that follow the start moved
+    (geometry.pyx placement_shift)."""
     cdef const Part *p = &prog.parts[i]
-    cdef const Part *prev = &prog.parts[i - 1] if i > 0 else NULL
     cdef bint arc = p.kind == PART_MOTION and (p.func == 2 or p.func == 3)
-    cdef bint reshaped = False
-    cdef bint s_moves, e_moves
-    cdef double d
+    cdef double start_shift[AXES]
+    cdef double end_shift[AXES]
+    cdef bint reshaped
     cdef int k
     part_to_gm(prog, i, gm)
     if not pl.moved:
         return
-    for k in range(10):
-        d = pl.delta[k]
-        if d == 0.0:
-            continue
-        s_moves = prev == NULL or follows_start(prog, prev, k)
-        e_moves = follows_start(prog, p, k)
-        if s_moves:
-            (<double *>&gm.m_s)[k] += d
-            (<double *>&gm.m_calcS)[k] += d
-            if arc and k < 3:
-                (<double *>&gm.m_cc)[k] += d     # the centre is relative to the start
-        if e_moves:
-            (<double *>&gm.m_e)[k] += d
-            (<double *>&gm.m_calcE)[k] += d
-        reshaped = reshaped or s_moves != e_moves
+    reshaped = placement_shift(prog, i, pl, start_shift, end_shift)
+    for k in range(AXES):
+        (<double *>&gm.m_s)[k] += start_shift[k]
+        (<double *>&gm.m_calcS)[k] += start_shift[k]
+        (<double *>&gm.m_e)[k] += end_shift[k]
+        (<double *>&gm.m_calcE)[k] += end_shift[k]
     if arc:
+        for k in range(3):
+            (<double *>&gm.m_cc)[k] += start_shift[k]     # the centre is relative to the start
         gm.m_pars.I = <float>gm.m_cc.x
         gm.m_pars.J = <float>gm.m_cc.y
         gm.m_pars.K = <float>gm.m_cc.z
@@ -74,7 +67,7 @@ cdef void placed_part_to_gm(const Program *prog, size_t i, const Placement *pl,
             gm.m_e = gm.m_s                  # an M function stands where the motion ended
             gm.m_calcE = gm.m_calcS
         elif not arc:
-            gm.m_pars.N = <float>segment_length(<double *>&gm.m_calcS, <double *>&gm.m_calcE)
+            gm.m_pars.N = <float>placed_part_length(prog, i, pl)
 
 
 cdef void _size_union(GCODE_INFO *into, const GCODE_INFO *later) noexcept nogil:
@@ -85,7 +78,7 @@ cdef void _size_union(GCODE_INFO *into, const GCODE_INFO *later) noexcept nogil:
     for s in range(4):
         lo = <double *>&into.m_size[s].m_minimalPos
         hi = <double *>&into.m_size[s].m_maximalPos
-        for k in range(10):
+        for k in range(AXES):
             if (<double *>&later.m_size[s].m_minimalPos)[k] < lo[k]:
                 lo[k] = (<double *>&later.m_size[s].m_minimalPos)[k]
             if (<double *>&later.m_size[s].m_maximalPos)[k] > hi[k]:
@@ -96,7 +89,7 @@ cdef void _size_union(GCODE_INFO *into, const GCODE_INFO *later) noexcept nogil:
 cdef void _size_shift(GCODE_INFO *info, const double *delta) noexcept nogil:
     cdef int s, k
     for s in range(4):
-        for k in range(10):
+        for k in range(AXES):
             (<double *>&info.m_size[s].m_startPos)[k] += delta[k]
             (<double *>&info.m_size[s].m_endPos)[k] += delta[k]
             (<double *>&info.m_size[s].m_minimalPos)[k] += delta[k]
@@ -110,15 +103,15 @@ cdef bint placed_extent(const Program *prog, const Placement *pl, GCODE_INFO *in
     copied and moved; the rest is measured where it is. False when out of memory.
     (C..O named only later than the first part are measured where the compilation
     left them.)"""
-    cdef double whole[10]           # axes every part takes from the start
-    cdef double head_delta[10]      # axes only the head takes from the start
+    cdef double whole[AXES]         # axes every part takes from the start
+    cdef double head_delta[AXES]    # axes only the head takes from the start
     cdef int32_t head_until = 0     # gcode index where the head ends
     cdef size_t head = 0, i
     cdef Program part_view
     cdef Part *copy
     cdef GCODE_INFO rest
     cdef int k
-    for k in range(10):
+    for k in range(AXES):
         whole[k] = 0.0
         head_delta[k] = 0.0
         if pl.delta[k] == 0.0 or prog.start_gindex[k] == 0:
@@ -133,7 +126,7 @@ cdef bint placed_extent(const Program *prog, const Placement *pl, GCODE_INFO *in
         head += 1
     # measured in the frame of the compilation for the `whole` axes, shifted at the end
     part_view = prog[0]
-    for k in range(10):
+    for k in range(AXES):
         part_view.start[k] = pl.start[k] - whole[k]
     if head > 0:
         copy = <Part *>malloc(head * sizeof(Part))
@@ -153,7 +146,7 @@ cdef bint placed_extent(const Program *prog, const Placement *pl, GCODE_INFO *in
         part_view.start[0] = copy[head - 1].e[0]
         part_view.start[1] = copy[head - 1].e[1]
         part_view.start[2] = copy[head - 1].e[2]
-        memcpy(&part_view.start[3], &prog.axes[7 * copy[head - 1].axes_idx], 7 * sizeof(double))
+        memcpy(&part_view.start[3], &prog.axes[OTHER_AXES * copy[head - 1].axes_idx], OTHER_AXES * sizeof(double))
         free(copy)
         if head < prog.n_parts:
             part_view.parts = prog.parts + head

@@ -9,6 +9,7 @@
 
 cdef enum:
     AXES = 10               # x y z c b u v w a o
+    OTHER_AXES = 7          # c b u v w a o: a Part holds x y z, Program.axes these
     PLC_MEMORY_BYTES = 524288
 
 # Part.kind
@@ -41,7 +42,7 @@ ctypedef struct Part:
     uint32_t pars_off       # offset of this part's addresses in Program.pars (see pars_mask)
     uint32_t pars_mask      # bit (letter - 'A') set for every address written on the line
     uint32_t aux            # PART_PRINT: offset of its text in Program.texts
-    uint32_t axes_idx       # the end's other seven axes (c b u v w a o): Program.axes[7 * axes_idx ...]
+    uint32_t axes_idx       # the end's other seven axes (c b u v w a o): Program.axes[OTHER_AXES * axes_idx ...]
     uint16_t zero_idx       # index into Program.zeros (active zero offset)
     uint16_t rot_idx        # index into Program.rotations (G168), 0 = not rotated
     uint16_t tool           # T
@@ -73,7 +74,7 @@ ctypedef struct StrategyRegion:   # G172 / G173: the compensation strategy from 
 ctypedef struct PlanRegion:
     size_t first
     GCODE_FEED motion[8]    # G900 S20..S70
-    AXIS_LIMITS axisLimits[10]  # G900 S7
+    AXIS_LIMITS axisLimits[AXES]    # G900 S7
     double startAngle, endAngle, minAngleFeed   # G900 S9
     uint32_t ignore_angle   # G900 S10: axes left out of the junction angle
     uint32_t ignore_feed    # G900 S11: axes left out of the feed's length
@@ -124,11 +125,11 @@ ctypedef struct Program:
     size_t n_texts
     double *axes            # positions of the axes c b u v w a o, 7 doubles per entry (Part.axes_idx):
     size_t n_axes           # a new entry only when one of them moves, so most programs have one
-    double start[10]        # machine position before the first part
+    double start[AXES]      # machine position before the first part
     int32_t main_file_idx
     uint32_t n_lines        # lines of the main file
     bint compensated        # some part has comp != 40
-    int32_t start_gindex[10]    # parts whose gcode_index is below it take axis k relative to the
+    int32_t start_gindex[AXES]  # parts whose gcode_index is below it take axis k relative to the
                                 # machine position a run starts from (the axis not yet named
                                 # absolutely: G91 moves, or not named at all); INT32_MAX: every part
     ArcRegion *arc_regions  # G167 changes, in part order (compensation/insert_arcs.pyx)
@@ -194,7 +195,7 @@ ctypedef struct CompileInput:
     int32_t postfix_idx
     GCODE_PARAMETERS params
     double user_params[100] # P00..P99 at the start
-    double start[10]        # machine position at the start
+    double start[AXES]      # machine position at the start
     uint8_t *plc            # PLC memory (PLC_MEMORY_BYTES), shared with the host
     int32_t *cancel         # set non-zero (atomically) to interrupt: the compiler returns COMPILE_CANCELLED
     progress_fn progress
@@ -235,10 +236,10 @@ cdef void program_advise_huge(void *buf, size_t size) noexcept nogil
 cdef bint program_prefault(ProgramBuilder *build, size_t first, size_t count, size_t limit) noexcept nogil
 
 # a part's programmed end and start (all ten axes; x y z of the start), its
-# compensated start, its tool path length, and its API view (SIMPLE_GM_PARAMS)
+# compensated start, and its API view (SIMPLE_GM_PARAMS); its length: geometry.pxd
 cdef inline void part_end(const Program *prog, const Part *p, double *out) noexcept nogil:
     out[0] = p.e[0]; out[1] = p.e[1]; out[2] = p.e[2]
-    memcpy(out + 3, &prog.axes[7 * p.axes_idx], 7 * sizeof(double))
+    memcpy(out + 3, &prog.axes[OTHER_AXES * p.axes_idx], OTHER_AXES * sizeof(double))
 
 
 cdef inline const double *part_start_xyz(const Program *prog, size_t i) noexcept nogil:
@@ -248,5 +249,4 @@ cdef inline const double *part_start_xyz(const Program *prog, size_t i) noexcept
     return prog.start
 
 cdef void part_calc_start(const Program *prog, size_t i, double *out) noexcept nogil
-cdef double part_length(const Program *prog, size_t i) noexcept nogil
 cdef void part_to_gm(const Program *prog, size_t i, SIMPLE_GM_PARAMS *gm) noexcept nogil

@@ -2,7 +2,6 @@
 # texts, and the one place a Part becomes a SIMPLE_GM_PARAMS.
 from libc.stdlib cimport free
 from libc.string cimport memset, memcpy, memcmp
-from libc.math cimport sqrt, fabs
 from includes.tgm_cnc cimport SIMPLE_GM_PARAMS, P10DOUBLE, P26FLOAT
 
 
@@ -263,13 +262,13 @@ cdef bint program_set_end(ProgramBuilder *build, Part *p, const double *end) noe
     cdef double *last
     p.e[0] = end[0]; p.e[1] = end[1]; p.e[2] = end[2]
     if prog.n_axes > 0:
-        last = &prog.axes[7 * (prog.n_axes - 1)]
-        if memcmp(last, end + 3, 7 * sizeof(double)) == 0:
+        last = &prog.axes[OTHER_AXES * (prog.n_axes - 1)]
+        if memcmp(last, end + 3, OTHER_AXES * sizeof(double)) == 0:
             p.axes_idx = <uint32_t>(prog.n_axes - 1)
             return True
-    if not grow(<void **>&prog.axes, &build.cap_axes, 7 * (prog.n_axes + 1), sizeof(double)):
+    if not grow(<void **>&prog.axes, &build.cap_axes, OTHER_AXES * (prog.n_axes + 1), sizeof(double)):
         return False
-    memcpy(&prog.axes[7 * prog.n_axes], end + 3, 7 * sizeof(double))
+    memcpy(&prog.axes[OTHER_AXES * prog.n_axes], end + 3, OTHER_AXES * sizeof(double))
     p.axes_idx = <uint32_t>prog.n_axes
     prog.n_axes += 1
     return True
@@ -280,7 +279,7 @@ cdef inline void part_start(const Program *prog, size_t i, double *out) noexcept
     if i > 0:
         part_end(prog, &prog.parts[i - 1], out)
     else:
-        memcpy(out, prog.start, 10 * sizeof(double))
+        memcpy(out, prog.start, AXES * sizeof(double))
 
 
 cdef void part_calc_start(const Program *prog, size_t i, double *out) noexcept nogil:
@@ -294,30 +293,6 @@ cdef void part_calc_start(const Program *prog, size_t i, double *out) noexcept n
         out[2] = prev.ce[2]
 
 
-cdef double part_length(const Program *prog, size_t i) noexcept nogil:
-    """Path length of the tool (compensated) for part i; 0 for M functions."""
-    cdef const Part *p = &prog.parts[i]
-    cdef double s[10]
-    cdef double e[10]
-    cdef int first, second, normal, k
-    cdef double sweep, planar, rest
-    if p.kind != PART_MOTION:
-        return 0.0
-    part_calc_start(prog, i, s)
-    part_end(prog, p, e)
-    e[0] = p.ce[0]; e[1] = p.ce[1]; e[2] = p.ce[2]
-    if (p.func == 2 or p.func == 3) and p.radius > 0 and plane_axes(p.plane, &first, &second, &normal):
-        sweep = arc_sweep(s[first], s[second], e[first], e[second], p.cc[first], p.cc[second],
-                          p.func == 3)
-        planar = fabs(sweep) * p.radius
-        rest = 0.0
-        for k in range(10):
-            if k != first and k != second:
-                rest += (e[k] - s[k]) * (e[k] - s[k])
-        return sqrt(planar * planar + rest)
-    return segment_length(s, e)
-
-
 cdef inline void _p10(P10DOUBLE *dst, const double *src) noexcept nogil:
     memcpy(dst, src, sizeof(P10DOUBLE))
 
@@ -328,7 +303,7 @@ cdef void part_to_gm(const Program *prog, size_t i, SIMPLE_GM_PARAMS *gm) noexce
     cdef float *cells = <float *>&gm.m_pars
     cdef int letter
     cdef size_t k
-    cdef double e[10]
+    cdef double e[AXES]
     cdef const double *start
     cdef int first, second, normal
     part_start(prog, i, <double *>&gm.m_s)

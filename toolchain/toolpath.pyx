@@ -29,18 +29,30 @@ cdef inline uint32_t _record_flags(const Part *p) noexcept nogil:
     return flags
 
 
+cdef void _place_record(const Program *prog, size_t i, const Placement *pl, TC_TOOLPATH_RECORD *r) noexcept nogil:
+    """Moves record r of part i to a run from pl (geometry.pyx placement_shift); a
+    motion whose ends move apart is measured again (placed_part_length)."""
+    cdef double shift[2 * AXES]          # the start's, then the end's
+    cdef bint arc = r.kind == PART_MOTION and (r.number == 2 or r.number == 3)
+    cdef int k
+    if placement_shift(prog, i, pl, shift, shift + AXES) and r.kind == PART_MOTION:
+        r.length = placed_part_length(prog, i, pl)
+    for k in range(3):
+        r.start[k] += shift[k]
+        if arc:
+            r.centre[k] += shift[k]     # the centre is relative to the start
+        r.end[k] += shift[AXES + k]
+        r.tool_end[k] += shift[AXES + k]
+
+
 cdef void toolpath_record(const Program *prog, size_t i, const Placement *pl, TC_TOOLPATH_RECORD *r) noexcept nogil:
     """Record of part i: the fields as include/tgm_cnc.h documents them, placed at the
     machine position (placement.pyx)."""
     cdef const Part *p = &prog.parts[i]
-    cdef bint arc = p.kind == PART_MOTION and (p.func == 2 or p.func == 3)
-    cdef bint start_moves, end_moves, reshaped = False
-    cdef SIMPLE_GM_PARAMS gm
-    cdef int k
     memcpy(r.start, part_start_xyz(prog, i), 3 * sizeof(double))
     memcpy(r.end, p.e, 3 * sizeof(double))
     memcpy(r.tool_end, p.ce, 3 * sizeof(double))
-    if arc:
+    if p.kind == PART_MOTION and (p.func == 2 or p.func == 3):
         memcpy(r.centre, p.cc, 3 * sizeof(double))
         r.radius = p.radius
     else:
@@ -62,20 +74,7 @@ cdef void toolpath_record(const Program *prog, size_t i, const Placement *pl, TC
     r.spindle = p.spindle
     r.feed_factor = p.fp
     if pl.moved:
-        for k in range(3):
-            start_moves = i == 0 or follows_start(prog, &prog.parts[i - 1], k)
-            if start_moves:
-                r.start[k] += pl.delta[k]
-                if arc:
-                    r.centre[k] += pl.delta[k]
-            end_moves = follows_start(prog, p, k)
-            if end_moves:
-                r.end[k] += pl.delta[k]
-                r.tool_end[k] += pl.delta[k]
-            reshaped = reshaped or (start_moves != end_moves and pl.delta[k] != 0.0)
-        if reshaped and p.kind == PART_MOTION:
-            placed_part_to_gm(prog, i, pl, &gm)     # the length of a part whose ends moved apart
-            r.length = gm.m_pars.N
+        _place_record(prog, i, pl, r)
 
 
 cdef int32_t toolpath_copy(Core *core, TC_TOOLPATH_RECORD *out, uint64_t capacity, uint64_t first,

@@ -13,9 +13,10 @@ this package ships it and adds a Pythonic layer over ``ctypes``:
 - :func:`forward_library_log` -- the library's log lines to a :mod:`logging` logger.
 """
 import os
+import sys
 from pathlib import Path
 
-LIBRARY_NAME = "libSF_TCh.so"
+LIBRARY_NAME = "SF_TCh.dll" if sys.platform == "win32" else "libSF_TCh.so"   # docs/hosts.md, "Windows"
 LIBRARY_ENV = "SF_TCH_LIBRARY"
 
 _PACKAGE_DIR = Path(__file__).resolve().parent
@@ -71,8 +72,8 @@ def header_path() -> str:
 
 from .enums import (Callback, Compensation, ErrorNumber, GFunction, MFunction, PartKind, Plane,  # noqa: E402
                     Regime, ReturnCode, Status, ToolpathFlag)
-from .errors import (Cancelled, CncError, Diagnostic, LibraryNotFoundError, NoFreeCoreError,  # noqa: E402
-                     SfTchError)
+from .errors import (Cancelled, CncError, Diagnostic, GougeWarning, LibraryNotFoundError,  # noqa: E402
+                     NoFreeCoreError, SfTchError)
 from .logs import LibraryLog, LogSource, forward_library_log  # noqa: E402
 
 # The numpy side (Core, Program, Toolpath) is imported on first use: a host that only
@@ -115,7 +116,7 @@ def __dir__() -> list[str]:
 
 __all__ = [
     "__version__", "library_path", "header_path", "compile", "start_compile", "CompileJob", "Program",
-    "Core", "RunResult", "Toolpath", "Run", "TOOLPATH_DTYPE", "Diagnostic", "SfTchError", "CncError",
+    "Core", "RunResult", "Toolpath", "Run", "TOOLPATH_DTYPE", "Diagnostic", "GougeWarning", "SfTchError", "CncError",
     "Cancelled", "LibraryNotFoundError", "NoFreeCoreError", "Callback", "Compensation", "ErrorNumber",
     "GFunction", "MFunction", "PartKind", "Plane", "Regime", "ReturnCode", "Status", "ToolpathFlag",
     "default_ini", "sample_program", "forward_library_log", "LibraryLog", "LogSource",

@@ -61,6 +61,7 @@ class ErrorNumber(enum.IntEnum):
     BAD_REGIME = 21  # StartCNCEx: unknown regime
     NO_M_PENDING = 22  # No M function waits for a confirmation
     M_PENDING = 23  # An M function still waits for its confirmation (ToolChainCore_ConfirmMFunc)
+    PATH_NOT_FINITE = 24  # %s: the move's path is not finite (%s)
     UNKNOWN_WORD = 100  # Unknown word '%s' at column %d
     BAD_NUMBER = 101  # Bad number '%s' at column %d
     MISSING_VALUE = 102  # Address %s at column %d without a value
@@ -72,6 +73,7 @@ class ErrorNumber(enum.IntEnum):
     NUMBER_OVERFLOW = 108  # Number '%s' at column %d is too large
     P_WORD = 110  # Word '%s' at column %d: P is reserved for parameters P00..P99 (Pnn = value); %s
     NOT_TG = 111  # '%s' at column %d is not TG G-code: %s
+    NGC_UNSUPPORTED = 112  # '%s' at column %d is not supported in the ISO compatibility mode: %s
     DIVISION_BY_ZERO = 200  # Division by zero
     BAD_PARAMETER = 201  # Parameter P%g at column %d does not exist (P00..P99)
     BAD_EXPRESSION = 202  # Syntax error in expression '%s' at column %d
@@ -80,6 +82,10 @@ class ErrorNumber(enum.IntEnum):
     BAD_PLC_ADDRESS = 205  # PLC address %g out of range (1..%d)
     PARAM_STACK = 206  # G900 parameter stack %s
     NOT_FINITE_RESULT = 207  # Expression '%s' does not give a finite number
+    NGC_UNDEFINED = 208  # Named parameter '%s' at column %d is not defined
+    NGC_UNREADABLE = 209  # Parameter '%s' at column %d cannot be read: %s
+    NGC_PARAMETER = 210  # Parameter #%g at column %d does not exist (#1..#5601)
+    NGC_READ_ONLY = 211  # Parameter '%s' at column %d is read-only
     UNDEFINED_LABEL = 300  # Undefined label '%s'
     DUPLICATE_LABEL = 301  # Label '%s' defined twice (first on line %d)
     UNBALANCED_END = 302  # END without FOR, WHILE or IF
@@ -90,15 +96,21 @@ class ErrorNumber(enum.IntEnum):
     BREAK_OUTSIDE_LOOP = 307  # %s outside a loop
     BAD_CONDITION = 308  # Bad condition '%s' at column %d
     PART_LIMIT = 309  # More than %d parts: program too large
-    ARC_CENTRE = 400  # Wrongly entered centre of circular interpolation %s\nStart %s = %g %s = %g | End %s = %g %s = %g\nDelta (%.7f) > 2*R (%.7f)
+    O_WORD = 310  # O-word '%s' at column %d: %s
+    O_UNDEFINED = 311  # Subroutine '%s' at column %d is not defined before its call
+    ARC_CENTRE = 400  # Wrongly entered centre of circular interpolation %s at column %d: start %s = %g %s = %g, end %s = %g %s = %g, delta (%.7f) > 2*R (%.7f)
     ARC_RADIUS = 401  # Arc radius %g too small for chord %g
     ARC_NO_CENTRE = 402  # Arc without centre (I J K or R)
     BAD_PLANE = 403  # Bad plane G%d
     BAD_G = 404  # Unknown G function G%g at column %d
     BAD_M = 405  # Bad M function M%g at column %d
     MACHINE_LIMIT = 406  # Axis %s position %g outside the machine limits <%g, %g>
-    ARC_RADII = 407  # Wrongly entered centre of circular interpolation %s\nStart %s = %g %s = %g | End %s = %g %s = %g\nRadius at start (%.7f) <> radius at end (%.7f)
+    ARC_RADII = 407  # Wrongly entered centre of circular interpolation %s at column %d: start %s = %g %s = %g, end %s = %g %s = %g, radius at start (%.7f) <> radius at end (%.7f)
     ISO_G = 408  # G%g at column %d is not TG G-code: %s
+    NO_FEED = 410  # G%g at column %d with feed 0: no F word was given (LinuxCNC refuses it)
+    NO_MOTION_MODE = 411  # Axis word '%s' at column %d without a motion mode (G0 G1 G2 G3 or a canned cycle)
+    NGC_G = 412  # G%g at column %d: %s
+    NGC_WORD = 413  # '%s' at column %d: %s
     COMP_NOT_FOUND = 500  # Intersection of equidistants not found
     COMP_ON_ARC = 501  # Compensation switched on or off on an arc
     COMP_PLANE_CHANGE = 502  # Plane changed while tool radius compensation is active
@@ -106,10 +118,15 @@ class ErrorNumber(enum.IntEnum):
     COMP_CROSSING = 504  # Equidistants cross: the tool (radius %g) does not fit the contour
     COMP_LOOKAHEAD = 505  # More than %d blocks without motion in the compensation plane
     COMPENSATION_WARNING = 600  # Tool radius compensation: %s
+    COMPENSATION_GOUGE = 601  # Equidistant error on line %d: the tool cuts %g mm into the contour
     WARN_G43_H = 610  # G43 with H at column %d: TG's G43 switches on tool radius compensation with correction[2], it is no tool length offset (isoCompat: ignored)
     WARN_O_AT_START = 611  # O%g at column %d at the start of the program moves the O axis; a program number? (isoCompat: ignored)
     WARN_G18_ARC = 612  # G18 arc at column %d after an ISO header (G21 / G90): TG's G18 is the XZ plane with arcs turning the other way than ISO's ZX plane, which is TG's G-18 (isoCompat: G18 is read as G-18)
     WARN_ZERO_WITH_MOVE = 613  # G%g at column %d with axis words sets the zero offset to them; the axes do not move (isoCompat: G54..G59 keep the offset and the line moves)
+    WARN_NO_FEED = 614  # G%g at column %d at feed 0 (no F word yet, or F0) moves at GCODE_PARAMETERS motion[1].feed; LinuxCNC refuses a feed of 0 (isoCompat: error 410)
+    WARN_BARE_AXES = 615  # Axis words at column %d before any G0..G3 move as G1; LinuxCNC refuses axis words without a motion mode (isoCompat: error 411)
+    WARN_DWELL_WITH_MOTION = 616  # G4 at column %d with G%g: the line dwells and does not move (isoCompat: the dwell, then the move)
+    WARN_G90_MOVES_G1 = 617  # G%g at column %d with axis words moves as G1; ISO moves with the modal G%g (isoCompat)
     WARN_ISO_IGNORED = 620  # '%s' at column %d ignored (ISO compatibility mode)
     CONNECT_BAD_ARGUMENT = 700  # ConnectCNCEx_Plane: %s = %g: %s
     CONNECT_NO_LINE = 701  # ConnectCNCEx_Plane: no part at line %d of file %d
@@ -117,3 +134,13 @@ class ErrorNumber(enum.IntEnum):
     CONNECT_NO_MFUNC = 703  # ConnectCNCEx_Plane: occurrence n = %d of M%d not found (%d in that direction)
     CONNECT_OFF_PART = 704  # ConnectCNCEx_Plane: the point lies %g mm from the part with G-code index %d (tolerance %g mm)
     CONNECT_NO_MOTION = 705  # ConnectCNCEx_Plane: no motion to connect to in parts %d to %d (the program has %d)
+    CONNECT_NOT_FINITE = 706  # ConnectCNCEx_Plane: %s gave a point that is not finite
+    TOOL_TABLE_NO_KEYWORD = 720  # Tool table '%s' has no line $KOR
+    TOOL_TABLE_LINE = 721  # Tool table '%s' line %d: %s
+    TOOL_ENTRY = 722  # Tool correction D%g does not exist (D1..D99)
+    AXIS_TABLE_HEADER = 730  # Axis correction table '%s', header: %s
+    AXIS_TABLE_DEFINITION = 731  # Axis correction table '%s', definition of basis axis %s: %s
+    AXIS_TABLE_SIZE = 732  # Axis correction table '%s' has %.0f bytes; its header and definition block ask for %.0f
+    AXIS_TABLE_VALUE = 733  # Axis correction table '%s', grid point %.0f: %s
+    AXIS_TABLES = 734  # Axis correction table '%s': %s
+    SMOOTHING = 740  # Smoothing, Command %d, Command_Parameter[%d] = %g: %s

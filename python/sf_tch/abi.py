@@ -3,9 +3,38 @@ same fields in the same order, plus the constants an HMI needs.
 
 ``abi_check`` and the tests compare every size and offset here with the C header
 and with the library's ``ToolChainCore_GetStructuresSize``.
+
+The header's TGM_LPCTSTR (file names, directories, callback texts, the texts the
+library returns) is UTF-16 ``wchar_t`` on Windows and UTF-8 ``char`` on Linux: here
+:data:`TSTR` (``c_wchar_p``, str, on Windows; ``c_char_p``, bytes, elsewhere), and
+:func:`mirror` gives the structures and functions of either system.
 """
 import ctypes
-from ctypes import c_char_p, c_double, c_float, c_int32, c_int64, c_ssize_t, c_uint32, c_uint64, c_void_p
+import sys
+from ctypes import c_char_p, c_double, c_float, c_int32, c_int64, c_ssize_t, c_uint32, c_uint64, c_void_p, c_wchar_p
+
+WINDOWS = sys.platform == "win32"
+
+
+def text_type(windows: bool = WINDOWS):
+    """The ctypes type of TGM_LPCTSTR on Windows (``c_wchar_p``) or Linux (``c_char_p``)."""
+    return c_wchar_p if windows else c_char_p
+
+
+TSTR = text_type()
+
+
+def host_text(text: str):
+    """A Python str as this system's TGM_LPCTSTR argument: itself on Windows, UTF-8 elsewhere."""
+    return text if WINDOWS else text.encode()
+
+
+def library_text(value: bytes | str | None) -> str:
+    """A text the library returns as str: UTF-8 bytes, or already str (TGM_LPCTSTR on
+    Windows); None as ''."""
+    if isinstance(value, str):
+        return value
+    return (value or b"").decode(errors="replace")
 
 # return codes
 TOOL_CHAIN_BAD_INTR_INDEX = -2
@@ -18,6 +47,7 @@ TOOL_CHAIN_MAX_FILE_NAME = 252
 INVALID_VALUE = 1e38
 PLC_MEMORY_BYTES = 524288
 GCODE_REZERVA1_ISO_COMPAT = 0x1   # GCODE_PARAMETERS.rezerva1: the ISO compatibility mode (docs/compiler.md)
+GCODE_REZERVA1_COMP_STRICT = 0x2  # ... crossing equidistants refused (error 504; docs/compensation.md)
 
 AXES = ("x", "y", "z", "c", "b", "u", "v", "w", "a", "o")
 LETTERS = tuple(chr(ord("A") + i) for i in range(26))
@@ -35,13 +65,16 @@ class P26FLOAT(ctypes.Structure):
     _fields_ = [(name, c_float) for name in LETTERS]
 
 
-class DLL_INIT_STRUCT(ctypes.Structure):
-    _fields_ = [
-        ("CNC_Dll_Dir", c_char_p),
-        ("Macros_Dir", c_char_p),
-        ("Comm_Int2_Dir", c_char_p),
+def _dll_init_struct(tstr):
+    return type("DLL_INIT_STRUCT", (ctypes.Structure,), {"_fields_": [
+        ("CNC_Dll_Dir", tstr),
+        ("Macros_Dir", tstr),
+        ("Comm_Int2_Dir", tstr),
         ("Local_Core_Mode", c_int32),
-    ]
+    ], "__module__": __name__})
+
+
+DLL_INIT_STRUCT = _dll_init_struct(TSTR)
 
 
 class SIMPLE_GM_PARAMS(ctypes.Structure):
@@ -240,16 +273,28 @@ class TC_TOOLPATH_RECORD(ctypes.Structure):
     ]
 
 
+# Correction tables and smoothing (extension): include/tgm_cnc.h documents each.
+TC_TOOL_ENTRIES = 99
+TC_TOOL_RADIUS = 0
+TC_TOOL_VALUES = 5
+TC_SMOOTHING_IIR = -1
+TC_SMOOTHING_SPLINE = -2
+
+
+def _structures(dll_init_struct) -> dict:
+    return {
+        cls.__name__: cls
+        for cls in (
+            P10DOUBLE, P10BOOL, P26FLOAT, dll_init_struct, SIMPLE_GM_PARAMS, GM_PARAMS_ENHANCED,
+            CALLBACK_INFO, GCODE_SIZE, GCODE_INFO, MACHINE_PARAMETERS, MACHINE_STATUS, GCODE_FEED,
+            GCODE_CORRECTION, ARC_FEED_TABLE, INTERNAL_MFUNC_INSERT_TABLE, AXIS_LIMITS, GCODE_PARAMETERS,
+            TC_TOOLPATH_RECORD,
+        )
+    }
+
+
 # Every structure of the header, by name (abi_check walks this).
-STRUCTURES = {
-    cls.__name__: cls
-    for cls in (
-        P10DOUBLE, P10BOOL, P26FLOAT, DLL_INIT_STRUCT, SIMPLE_GM_PARAMS, GM_PARAMS_ENHANCED,
-        CALLBACK_INFO, GCODE_SIZE, GCODE_INFO, MACHINE_PARAMETERS, MACHINE_STATUS, GCODE_FEED,
-        GCODE_CORRECTION, ARC_FEED_TABLE, INTERNAL_MFUNC_INSERT_TABLE, AXIS_LIMITS, GCODE_PARAMETERS,
-        TC_TOOLPATH_RECORD,
-    )
-}
+STRUCTURES = _structures(DLL_INIT_STRUCT)
 
 # Order of ToolChainCore_GetStructuresSize entries [1..8].
 STRUCTURES_SIZE_ORDER = (
@@ -319,10 +364,10 @@ CB_MATH_WARNING = 2001
 CALLBACK_NUMBERS = (1, 2, 3, 4, 5, 6, 7, 10, 11, 12, 13, 14, 17, 18, 31, 32,
                     1001, 1002, 1003, 1004, 1005, 1006, 1007, 2001)
 
-AddOutputLog = ctypes.CFUNCTYPE(c_int32, c_ssize_t, c_uint32, c_char_p, ctypes.POINTER(CALLBACK_INFO))
-SetStatusBarText = ctypes.CFUNCTYPE(c_int32, c_ssize_t, c_uint32, c_char_p, ctypes.POINTER(CALLBACK_INFO))
+AddOutputLog = ctypes.CFUNCTYPE(c_int32, c_ssize_t, c_uint32, TSTR, ctypes.POINTER(CALLBACK_INFO))
+SetStatusBarText = ctypes.CFUNCTYPE(c_int32, c_ssize_t, c_uint32, TSTR, ctypes.POINTER(CALLBACK_INFO))
 SetStatusBarProgress = ctypes.CFUNCTYPE(c_int32, c_ssize_t, c_uint32)
-DispAndLocateError = ctypes.CFUNCTYPE(c_int32, c_ssize_t, c_uint32, c_int32, c_char_p, ctypes.POINTER(CALLBACK_INFO))
+DispAndLocateError = ctypes.CFUNCTYPE(c_int32, c_ssize_t, c_uint32, c_int32, TSTR, ctypes.POINTER(CALLBACK_INFO))
 DriverInitialize = ctypes.CFUNCTYPE(c_int32, c_ssize_t, ctypes.POINTER(c_double), c_uint32, c_int32)
 DriverGFunc = ctypes.CFUNCTYPE(c_int32, c_ssize_t, ctypes.POINTER(SIMPLE_GM_PARAMS))
 DriverMFunc = ctypes.CFUNCTYPE(c_int32, c_ssize_t, ctypes.POINTER(SIMPLE_GM_PARAMS))
@@ -336,63 +381,94 @@ MathWarning = ctypes.CFUNCTYPE(c_int32, c_ssize_t, ctypes.POINTER(CALLBACK_INFO)
 LogHook = ctypes.CFUNCTYPE(None, c_ssize_t, c_uint32, c_char_p)
 
 _P = ctypes.POINTER
-# Every exported function: (name, restype, argtypes). The loader applies them.
-FUNCTIONS = (
-    ("ToolChainCore_Init", c_int32, (_P(DLL_INIT_STRUCT),)),
-    ("ToolChainCore_LoadFromIni", c_int32, (c_uint32, c_char_p, _P(c_uint32))),
-    ("ToolChainCore_DestroyCNC", c_int32, (c_uint32,)),
-    ("ToolChainCore_GetVersionString", c_char_p, (c_uint32,)),
-    ("ToolChainCore_GetStructuresSize", c_int32, (c_uint32, c_uint32, _P(c_uint32))),
-    ("ToolChainCore_SetGCodeParameters", c_int32, (c_uint32, _P(GCODE_PARAMETERS))),
-    ("ToolChainCore_GetGCodeParameters", c_int32, (c_uint32, _P(GCODE_PARAMETERS))),
-    ("ToolChainCore_GetMachineParameters", c_int32, (c_uint32, _P(MACHINE_PARAMETERS))),
-    ("ToolChainCore_SetMachineParameters", c_int32, (c_uint32, _P(MACHINE_PARAMETERS))),
-    ("ToolChainCore_SetUserParams", c_int32, (c_uint32, _P(c_double), c_uint32)),
-    ("ToolChainCore_GCodePrefixPostfix", c_int32, (c_uint32, c_char_p, c_char_p)),
-    ("ToolChainCore_CompileFromFile", c_int32, (c_uint32, c_char_p)),
-    ("ToolChainCore_CompileFromMemory", c_int32, (c_uint32, c_char_p, c_char_p)),
-    ("ToolChainCore_IsBusy", c_int32, (c_uint32,)),
-    ("ToolChainCore_GetLastError", c_int32, (c_uint32, _P(CALLBACK_INFO))),
-    ("ToolChainCore_GetLastCallError", c_int32, (c_uint32, _P(CALLBACK_INFO))),
-    ("ToolChainCore_FileToIdx", c_int32, (c_uint32, c_char_p)),
-    ("ToolChainCore_IdxToFile", c_char_p, (c_uint32, c_int32)),
-    ("ToolChainCore_GetGCodeSizeInfo", c_int32, (c_uint32, _P(GCODE_INFO))),
-    ("ToolChainCore_GetGCodeRunTime", c_double, (c_uint32, c_int32)),
-    ("ToolChainCore_SetGCodeRunTime", c_int32, (c_uint32, c_int32, c_double)),
-    ("ToolChain_GetLastError", c_int32, (_P(CALLBACK_INFO),)),
-    ("ToolChain_IdxToFile", c_char_p, (c_int32,)),
-    ("ToolChainCore_ResetCNC", c_int32, (c_uint32, c_int32, c_uint32, _P(c_double))),
-    ("ToolChainCore_StartCNCEx", c_int32, (c_uint32, c_int32, c_char_p)),
-    ("ToolChainCore_StopCNCEx", c_int32, (c_uint32, c_char_p)),
-    ("ToolChainCore_ConnectCNCEx_Plane", c_int32,
-     (c_uint32, c_uint32, c_uint32, _P(c_double), c_char_p, c_uint32, c_uint32, c_int32)),
-    ("ToolChainCore_GoToPosition", c_int32, (c_uint32, c_uint32, _P(c_double))),
-    ("ToolChainCore_GoToPositionEx", c_int32, (c_uint32, _P(SIMPLE_GM_PARAMS))),
-    ("ToolChainCore_MFunc", c_int32, (c_uint32, _P(SIMPLE_GM_PARAMS), c_int32)),
-    ("ToolChainCore_SetRelFeed", c_int32, (c_uint32, c_double)),
-    ("ToolChainCore_SetBreakpoint", c_int32, (c_uint32, c_uint32, c_int32)),
-    ("ToolChainCore_ResetStatusCNC", c_int32, (c_uint32, c_uint32)),
-    ("ToolChainCore_StatusCNC", c_int32, (c_uint32,)),
-    ("ToolChainCore_GetPos", c_int32, (c_uint32, c_int32, _P(SIMPLE_GM_PARAMS), _P(GM_PARAMS_ENHANCED))),
-    ("ToolChainCore_LoadCNCCalcPlugIn", c_int32, (c_char_p, c_uint32, c_int64)),
-    ("ToolChainCore_SetCallBack", c_int32, (c_uint32, c_uint32, c_ssize_t, c_void_p)),
-    ("ToolChainCore_SetLogValue", c_int32, (c_uint32,)),
-    ("ToolChainCore_GetLogValue", c_uint32, ()),
-    ("ToolChain_LogANSI", None, (c_char_p,)),
-    ("ToolChain_FlushLogFile", None, ()),
-    ("ToolChainCore_GetToolpath", c_int32,
-     (c_uint32, _P(TC_TOOLPATH_RECORD), c_uint64, c_uint64, _P(c_uint64))),
-    ("ToolChainCore_SetLookAhead", c_int32, (c_uint32, c_int32)),
-    ("ToolChain_SetLogHook", c_int32, (c_ssize_t, c_void_p)),
-    ("ToolChainCore_SetTimeScale", c_int32, (c_uint32, c_double)),
-    ("ToolChainCore_ConfirmMFunc", c_int32, (c_uint32,)),
-)
+
+
+def _functions(tstr, dll_init_struct) -> tuple:
+    """Every exported function: (name, restype, argtypes), tstr the type of TGM_LPCTSTR."""
+    return (
+        ("ToolChainCore_Init", c_int32, (_P(dll_init_struct),)),
+        ("ToolChainCore_LoadFromIni", c_int32, (c_uint32, tstr, _P(c_uint32))),
+        ("ToolChainCore_DestroyCNC", c_int32, (c_uint32,)),
+        ("ToolChainCore_GetVersionString", tstr, (c_uint32,)),
+        ("ToolChainCore_GetStructuresSize", c_int32, (c_uint32, c_uint32, _P(c_uint32))),
+        ("ToolChainCore_SetGCodeParameters", c_int32, (c_uint32, _P(GCODE_PARAMETERS))),
+        ("ToolChainCore_GetGCodeParameters", c_int32, (c_uint32, _P(GCODE_PARAMETERS))),
+        ("ToolChainCore_GetMachineParameters", c_int32, (c_uint32, _P(MACHINE_PARAMETERS))),
+        ("ToolChainCore_SetMachineParameters", c_int32, (c_uint32, _P(MACHINE_PARAMETERS))),
+        ("ToolChainCore_SetUserParams", c_int32, (c_uint32, _P(c_double), c_uint32)),
+        ("ToolChainCore_GCodePrefixPostfix", c_int32, (c_uint32, c_char_p, c_char_p)),
+        ("ToolChainCore_CompileFromFile", c_int32, (c_uint32, tstr)),
+        ("ToolChainCore_CompileFromMemory", c_int32, (c_uint32, tstr, c_char_p)),
+        ("ToolChainCore_IsBusy", c_int32, (c_uint32,)),
+        ("ToolChainCore_GetLastError", c_int32, (c_uint32, _P(CALLBACK_INFO))),
+        ("ToolChainCore_GetLastCallError", c_int32, (c_uint32, _P(CALLBACK_INFO))),
+        ("ToolChainCore_FileToIdx", c_int32, (c_uint32, tstr)),
+        ("ToolChainCore_IdxToFile", tstr, (c_uint32, c_int32)),
+        ("ToolChainCore_GetGCodeSizeInfo", c_int32, (c_uint32, _P(GCODE_INFO))),
+        ("ToolChainCore_GetGCodeRunTime", c_double, (c_uint32, c_int32)),
+        ("ToolChainCore_SetGCodeRunTime", c_int32, (c_uint32, c_int32, c_double)),
+        ("ToolChain_GetLastError", c_int32, (_P(CALLBACK_INFO),)),
+        ("ToolChain_IdxToFile", tstr, (c_int32,)),
+        ("ToolChainCore_ResetCNC", c_int32, (c_uint32, c_int32, c_uint32, _P(c_double))),
+        ("ToolChainCore_StartCNCEx", c_int32, (c_uint32, c_int32, c_char_p)),
+        ("ToolChainCore_StopCNCEx", c_int32, (c_uint32, c_char_p)),
+        ("ToolChainCore_ConnectCNCEx_Plane", c_int32,
+         (c_uint32, c_uint32, c_uint32, _P(c_double), c_char_p, c_uint32, c_uint32, c_int32)),
+        ("ToolChainCore_GoToPosition", c_int32, (c_uint32, c_uint32, _P(c_double))),
+        ("ToolChainCore_GoToPositionEx", c_int32, (c_uint32, _P(SIMPLE_GM_PARAMS))),
+        ("ToolChainCore_MFunc", c_int32, (c_uint32, _P(SIMPLE_GM_PARAMS), c_int32)),
+        ("ToolChainCore_SetRelFeed", c_int32, (c_uint32, c_double)),
+        ("ToolChainCore_SetBreakpoint", c_int32, (c_uint32, c_uint32, c_int32)),
+        ("ToolChainCore_ResetStatusCNC", c_int32, (c_uint32, c_uint32)),
+        ("ToolChainCore_StatusCNC", c_int32, (c_uint32,)),
+        ("ToolChainCore_GetPos", c_int32, (c_uint32, c_int32, _P(SIMPLE_GM_PARAMS), _P(GM_PARAMS_ENHANCED))),
+        ("ToolChainCore_LoadCNCCalcPlugIn", c_int32, (tstr, c_uint32, c_int64)),
+        ("ToolChainCore_SetCallBack", c_int32, (c_uint32, c_uint32, c_ssize_t, c_void_p)),
+        ("ToolChainCore_SetLogValue", c_int32, (c_uint32,)),
+        ("ToolChainCore_GetLogValue", c_uint32, ()),
+        ("ToolChain_LogANSI", None, (c_char_p,)),
+        ("ToolChain_FlushLogFile", None, ()),
+        ("ToolChainCore_GetToolpath", c_int32,
+         (c_uint32, _P(TC_TOOLPATH_RECORD), c_uint64, c_uint64, _P(c_uint64))),
+        ("ToolChainCore_SetLookAhead", c_int32, (c_uint32, c_int32)),
+        ("ToolChain_SetLogHook", c_int32, (c_ssize_t, c_void_p)),
+        ("ToolChainCore_SetTimeScale", c_int32, (c_uint32, c_double)),
+        ("ToolChainCore_ConfirmMFunc", c_int32, (c_uint32,)),
+        ("ToolChainCore_LoadToolTable", c_int32, (c_uint32, tstr)),
+        ("ToolChainCore_GetToolCorrection", c_int32, (c_uint32, c_uint32, _P(c_double))),
+        ("ToolChainCore_SetToolCorrection", c_int32, (c_uint32, c_uint32, c_uint32, _P(c_double))),
+        ("ToolChainCore_LoadAxisCorrections", c_int32, (c_uint32, c_uint32, _P(tstr))),
+        ("ToolChainCore_CorrectPosition", c_int32, (c_uint32, _P(c_double), _P(c_double))),
+        ("ToolChainCore_SetSmoothing", c_int32, (c_uint32, c_int32, _P(c_double))),
+        ("ToolChainCore_GetSmoothing", c_int32, (c_uint32, c_int32, _P(c_double))),
+        ("ToolChainCore_SmoothSamples", c_int32, (c_uint32, _P(c_double), c_uint64, _P(c_double), _P(c_uint64))),
+        ("ToolChainCore_TestClock", c_int32, (c_uint32, c_uint64, c_double)),
+    )
+
+
+FUNCTIONS = _functions(TSTR, DLL_INIT_STRUCT)
+
+
+def mirror(windows: bool) -> tuple[dict, tuple]:
+    """(STRUCTURES, FUNCTIONS) of Windows x64 or of Linux, whichever system this is."""
+    if windows == WINDOWS:
+        return STRUCTURES, FUNCTIONS
+    dll_init_struct = _dll_init_struct(text_type(windows))
+    return _structures(dll_init_struct), _functions(text_type(windows), dll_init_struct)
 
 
 # Beyond the vendor's list (docs/api.md, "Extensions"): the structures and functions this library adds.
 EXTENSION_STRUCTURES = ("TC_TOOLPATH_RECORD",)
 EXTENSION_FUNCTIONS = ("ToolChainCore_GetLastCallError", "ToolChainCore_GetToolpath", "ToolChainCore_SetLookAhead",
-                       "ToolChain_SetLogHook", "ToolChainCore_SetTimeScale", "ToolChainCore_ConfirmMFunc")
+                       "ToolChain_SetLogHook", "ToolChainCore_SetTimeScale", "ToolChainCore_ConfirmMFunc",
+                       "ToolChainCore_LoadToolTable", "ToolChainCore_GetToolCorrection",
+                       "ToolChainCore_SetToolCorrection", "ToolChainCore_LoadAxisCorrections",
+                       "ToolChainCore_CorrectPosition", "ToolChainCore_SetSmoothing", "ToolChainCore_GetSmoothing",
+                       "ToolChainCore_SmoothSamples", "ToolChainCore_TestClock")
+# DriverMFunc's answer "the host confirms later" (ToolChainCore_ConfirmMFunc)
+TC_MFUNC_LATER = 2
+# ToolChainCore_TestClock's key: the test-only stepped clock of the offline machine
+TC_TEST_CLOCK_KEY = 0x4B434F4C43545354
 
 
 # Readable repr() and to_dict() of every structure (added to the classes above,

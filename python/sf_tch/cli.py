@@ -10,9 +10,11 @@
     sf-tch --version
 
 Options of the commands that compile: --radius MM, --strategy BITS, --ini FILE,
---core N, --relative, --iso (the ISO compatibility mode, docs/compiler.md), --look-ahead N,
---json (one JSON document on stdout instead of text, also when the command fails:
-then with ``"ok": false``, ``"error"`` and ``"exit_code"``).
+--core N, --relative, --iso (the ISO compatibility mode, docs/compiler.md), --strict (tool
+radius compensation refuses a tool path that cuts into the contour: error 504 instead of
+warning 601, docs/compensation.md), --look-ahead N, --json (one JSON document on stdout
+instead of text, also when the command fails: then with ``"ok": false``, ``"error"`` and
+``"exit_code"``). Warnings go to stderr as file:line: warning N: text, then their count.
 
 Exit codes: 0 success; 1 the program has errors (compile or run); 2 bad usage (bad
 arguments, a missing, unreadable or not regular file, no library); 130 interrupted
@@ -30,14 +32,15 @@ import os
 import sys
 import threading
 import time
+import warnings
 from pathlib import Path
 from typing import TYPE_CHECKING, Sequence
 
 import sf_tch
 
 from . import abi, library_path
-from .enums import Regime
-from .errors import Cancelled, CncError, SfTchError
+from .enums import ErrorNumber, Regime
+from .errors import Cancelled, CncError, GougeWarning, SfTchError
 from .library import load
 
 if TYPE_CHECKING:
@@ -180,7 +183,8 @@ STDIN = "-"
 def _compile(args, path: str) -> Program:
     """Compiles the file `path` ("-": the G-code on standard input) with the
     command's options, a progress bar meanwhile (a missing file, a directory, a
-    device or an unreadable file raise OSError: exit 2)."""
+    device or an unreadable file raise OSError: exit 2); its warnings to stderr
+    (text output), then how many there are."""
     from .program import start_compile
     if path == STDIN:
         source, name, title = sys.stdin.buffer.read(), "<stdin>", "standard input"
@@ -190,14 +194,23 @@ def _compile(args, path: str) -> Program:
     params = {"absMode": 0} if args.relative else None
     try:
         job = start_compile(source, radius=args.radius, strategy=args.strategy, ini=args.ini, params=params,
-                            core=args.core, name=name, progress=bar, iso=args.iso, look_ahead=args.look_ahead)
+                            core=args.core, name=name, progress=bar, iso=args.iso, strict=args.strict,
+                            look_ahead=args.look_ahead)
         try:
-            return job.result()
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", GougeWarning)     # printed below, as every warning
+                program = job.result()
         except BaseException:
             job.core.close()
             raise
     finally:
         bar.close()
+    if not args.json:
+        for warning in program.warnings:
+            print(str(warning), file=sys.stderr)
+        if program.warnings:
+            print(_warning_count(program), file=sys.stderr)
+    return program
 
 
 def _parts(count: int) -> str:
@@ -220,6 +233,17 @@ def _summary(program: Program) -> list[str]:
     return lines
 
 
+def _warning_count(program: Program) -> str:
+    """The summary line after the warnings: how many, and how many gouges (601)."""
+    count = len(program.warnings)
+    gouges = sum(w.number == ErrorNumber.COMPENSATION_GOUGE for w in program.warnings)
+    text = f"sf-tch: {count} warning{'s' if count != 1 else ''}"
+    if gouges:
+        text += (f", {gouges} where the tool cuts into the contour (warning 601; --strict refuses "
+                 f"such a program)")
+    return text
+
+
 def _print_json(document: dict, code: int) -> int:
     """The command's one JSON document on stdout, with its exit code."""
     print(json.dumps({**document, "exit_code": code}, indent=2))
@@ -231,8 +255,6 @@ def _report(program: Program, args, extra: Sequence[str] = ()) -> int:
     code = EXIT_OK if program.ok else EXIT_PROGRAM_ERRORS
     if args.json:
         return _print_json(program.to_dict(), code)
-    for warning in program.warnings:
-        print(str(warning), file=sys.stderr)
     if not program.ok:
         for error in program.errors:
             print(str(error), file=sys.stderr)
@@ -375,7 +397,7 @@ def cmd_info(args) -> int:
     lib.ToolChainCore_GetStructuresSize(0, 9, sizes)
     structures = {name: {"library": sizes[k], "mirror": ctypes.sizeof(abi.STRUCTURES[name])}
                   for k, name in enumerate(abi.STRUCTURES_SIZE_ORDER, start=1)}
-    info = {"version": lib.ToolChainCore_GetVersionString(0).decode(), "package": sf_tch.__version__,
+    info = {"version": abi.library_text(lib.ToolChainCore_GetVersionString(0)), "package": sf_tch.__version__,
             "library": library_path(), "cores": abi.TOOL_CHAIN_MAX_CORES, "structures": structures}
     if args.json:
         print(json.dumps(info, indent=2))
@@ -429,6 +451,9 @@ def parser() -> argparse.ArgumentParser:
         p.add_argument("--relative", action="store_true", help="absMode 0 (relative coordinates)")
         p.add_argument("--iso", action="store_true",
                        help="ISO compatibility mode: G20/G21, G4 P seconds, G18 as ISO, G43 H a tool length, ...")
+        p.add_argument("--strict", action="store_true",
+                       help="compensation refuses a tool path that cuts into the contour (error 504; "
+                            "default: warning 601 and the path as its offsets give it)")
         p.add_argument("--look-ahead", type=_look_ahead, default=None, metavar="N",
                        help="parts the feed planner looks ahead: 0 the vendor's 8 (default), -1 unlimited")
         p.add_argument("--json", action="store_true", help="one JSON document on stdout")

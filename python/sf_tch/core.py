@@ -132,10 +132,6 @@ def sample_program() -> str:
     return str(resources.files("sf_tch") / "data" / "demo.nc")
 
 
-def _text(value: bytes | None) -> str:
-    return (value or b"").decode(errors="replace")
-
-
 class _Events:
     """The four callbacks every Core sets (output log, progress, warnings, errors)
     and the Python listeners behind them. The ctypes thunks reference this object,
@@ -164,13 +160,13 @@ class _Events:
         return 0
 
     def diagnostic(self, severity: str, info) -> Diagnostic:
-        args = _text(info.m_errorArguments)
-        file = _text(self.lib.ToolChainCore_IdxToFile(self.index, info.fileIdx))
-        return Diagnostic(severity, _number(info.stringId), file, info.actLine, _text(info.m_fullError),
+        args = abi.library_text(info.m_errorArguments)
+        file = abi.library_text(self.lib.ToolChainCore_IdxToFile(self.index, info.fileIdx))
+        return Diagnostic(severity, _number(info.stringId), file, info.actLine, abi.library_text(info.m_fullError),
                           tuple(args.split("\n")) if args else ())
 
     def _on_output(self, user, tab, text, info) -> int:
-        line = _text(text)
+        line = abi.library_text(text)
         level = logging.ERROR if tab == OutputTab.ERRORS else logging.INFO if tab == OutputTab.PRINT else logging.DEBUG
         LOG.log(level, "core %d: %s", self.index, line)
         return self._emit(Callback.ADD_OUTPUT_LOG, int(tab), line)
@@ -201,7 +197,8 @@ class Core:
         self._events = _Events(self.lib, self.index)
         try:
             n = ctypes.c_uint32()
-            rc = self.lib.ToolChainCore_LoadFromIni(self.index, str(ini or default_ini()).encode(), ctypes.byref(n))
+            rc = self.lib.ToolChainCore_LoadFromIni(self.index, abi.host_text(str(ini or default_ini())),
+                                                   ctypes.byref(n))
             if rc != abi.TOOL_CHAIN_SUCCESS:
                 raise self.last_error() or RuntimeError(f"LoadFromIni failed ({rc})")
             self.cores = n.value
@@ -341,15 +338,17 @@ class Core:
         """Interrupts a compilation or run (ResetCNC marking the start only)."""
         self.lib.ToolChainCore_ResetCNC(self.index, 1, 0, None)
 
-    def start_compile_text(self, code: str, name: str = "program.nc") -> None:
-        """Starts compiling G-code text in the core's thread and returns at once."""
-        self._check(self.lib.ToolChainCore_CompileFromMemory(self.index, name.encode(), code.encode()))
+    def start_compile_text(self, code: str | bytes, name: str = "program.nc") -> None:
+        """Starts compiling G-code text (a str is sent as UTF-8, bytes as they are) in
+        the core's thread and returns at once."""
+        data = code if isinstance(code, bytes) else code.encode()
+        self._check(self.lib.ToolChainCore_CompileFromMemory(self.index, abi.host_text(name), data))
 
     def start_compile_file(self, path) -> None:
         """Starts compiling a file in the core's thread and returns at once."""
-        self._check(self.lib.ToolChainCore_CompileFromFile(self.index, str(path).encode()))
+        self._check(self.lib.ToolChainCore_CompileFromFile(self.index, abi.host_text(str(path))))
 
-    def compile_text(self, code: str, name: str = "program.nc") -> None:
+    def compile_text(self, code: str | bytes, name: str = "program.nc") -> None:
         """Compiles G-code text; raises :class:`CncError` on the first error."""
         self.start_compile_text(code, name)
         self._finish()
@@ -377,11 +376,11 @@ class Core:
 
     def file_name(self, index: int) -> str:
         """IdxToFile: the name of a file index (special names for -1..-4)."""
-        return _text(self.lib.ToolChainCore_IdxToFile(self.index, index))
+        return abi.library_text(self.lib.ToolChainCore_IdxToFile(self.index, index))
 
     def file_index(self, name: str) -> int:
         """FileToIdx: the index of a file name (a new name gets the next index)."""
-        return self.lib.ToolChainCore_FileToIdx(self.index, name.encode())
+        return self.lib.ToolChainCore_FileToIdx(self.index, abi.host_text(name))
 
     # -- results -------------------------------------------------------------
     def toolpath(self) -> Toolpath:

@@ -43,11 +43,35 @@ class Diagnostic:
         return f"{place} {self.severity} {int(self.number)}: {self.text}"
 
     def to_dict(self) -> dict:
-        """Plain types only (JSON-ready)."""
+        """Plain types only (JSON-ready); ``fields``: the details of the longer messages
+        by name (an arc's start and end, radii)."""
         return {"severity": self.severity, "number": int(self.number),
                 "name": self.number.name if isinstance(self.number, ErrorNumber) else None,
                 "file": self.file, "line": self.line, "column": self.column, "text": self.text,
-                "arguments": list(self.arguments)}
+                "arguments": list(self.arguments), "fields": _fields(self.number, self.arguments)}
+
+
+def _fields(number: int, arguments: tuple) -> dict:
+    """The arguments of a message by name, where they are more than a word and its column."""
+    a = arguments
+    try:
+        if number in (ErrorNumber.ARC_CENTRE, ErrorNumber.ARC_RADII) and len(a) == 12:
+            fields = {"plane": a[0], "start": {a[2]: float(a[3]), a[4]: float(a[5])},
+                      "end": {a[6]: float(a[7]), a[8]: float(a[9])}}
+            if number == ErrorNumber.ARC_CENTRE:
+                fields.update(chord=float(a[10]), diameter=float(a[11]))
+            else:
+                fields.update(radius_start=float(a[10]), radius_end=float(a[11]))
+            return fields
+        if number == ErrorNumber.ARC_RADIUS and len(a) == 2:
+            return {"radius": float(a[0]), "chord": float(a[1])}
+        if number == ErrorNumber.COMP_NEGATIVE_ARC and len(a) == 2:
+            return {"arc_radius": float(a[0]), "tool_radius": float(a[1])}
+        if number == ErrorNumber.COMP_CROSSING and len(a) == 1:
+            return {"tool_radius": float(a[0])}
+    except ValueError:
+        pass
+    return {}
 
 
 # Errors whose first argument is text of the line as written (a word, a number, an
@@ -63,21 +87,29 @@ _LIBRARY_COLUMN = re.compile(r" at column (\d+)")
 
 
 def locate_column(source_line: str | None, number: int, arguments: tuple, text: str = "") -> int | None:
-    """1-based column of an error in its source line: the one the library's text gives
-    ("... at column N"), else where the error's text argument occurs in the line, when
-    it occurs there exactly once; else None."""
+    """1-based column of a diagnostic in its source line: the one the library's text gives
+    ("... at column N"), else where its text argument occurs in the line, when it occurs
+    there exactly once, else the block's: the first word of the line (an error of the
+    whole move, like the compensation's); None without the line."""
     given = _LIBRARY_COLUMN.search(text)
     if given:
         return int(given.group(1))
-    if not source_line or number not in _SOURCE_TEXT_ARGUMENT or not arguments or not arguments[0]:
+    if source_line is None:
         return None
-    if source_line.count(arguments[0]) != 1:
-        return None
-    return source_line.index(arguments[0]) + 1
+    if number in _SOURCE_TEXT_ARGUMENT and arguments and arguments[0] and source_line.count(arguments[0]) == 1:
+        return source_line.index(arguments[0]) + 1
+    stripped = source_line.lstrip(" \t")
+    return len(source_line) - len(stripped) + 1 if stripped.strip() else None
 
 
 class SfTchError(Exception):
     """Base of the exceptions of this package."""
+
+
+class GougeWarning(UserWarning):
+    """Warning 601 of a compilation: the compensated tool path cuts into the contour
+    (``warnings.simplefilter("error", GougeWarning)`` makes it an exception; or
+    compile with ``strict=True``, which refuses such a program with error 504)."""
 
 
 class LibraryNotFoundError(SfTchError, FileNotFoundError):

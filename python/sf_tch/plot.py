@@ -141,7 +141,7 @@ def _drawing(program: Program) -> _Drawing:
     for _ in range(_RETRIES):
         if line <= 1:
             break
-        kept = "".join(lines[:line - 1])
+        kept = (b"" if lines and isinstance(lines[0], bytes) else "").join(lines[:line - 1])
         before = _compile_again(program, program.compile_args(source=kept, name=program.name, radius=0.0),
                                 keep_errors=True)
         if isinstance(before, list):            # the shorter text fails too: before that error's line
@@ -169,19 +169,20 @@ def _compile_again(program: Program, arguments: dict, keep_errors: bool = False)
         return None
 
 
-def _source_lines(program: Program, error: Diagnostic) -> list[str] | None:
+def _source_lines(program: Program, error: Diagnostic) -> list[str] | list[bytes] | None:
     """The lines (with their line breaks) of the program's own text, when the error
-    is in it; None for an error in another file."""
+    is in it, as it was given (a file's and bytes as bytes: the first lines compile as
+    they did in the whole); None for an error in another file."""
     source = program.compile_args()["source"]
     if error.file != program.name:
         return None
     try:
         if isinstance(source, bytes):
-            text = source.decode("latin-1")
+            text = source
         elif isinstance(source, str) and ("\n" in source or "\r" in source):
             text = source
         else:
-            text = Path(source).read_text(encoding="latin-1")
+            text = Path(source).read_bytes()
     except OSError:
         return None
     return text.splitlines(keepends=True)

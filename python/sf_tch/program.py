@@ -15,6 +15,7 @@ from __future__ import annotations
 import os
 import re
 import threading
+import warnings
 from pathlib import Path
 from typing import Callable, Iterator, Sequence
 
@@ -23,7 +24,7 @@ import numpy as np
 from . import abi
 from .core import Core, RunResult, attach_column
 from .enums import Callback, ErrorNumber, OutputTab, Regime
-from .errors import CncError, Diagnostic
+from .errors import CncError, Diagnostic, GougeWarning
 from .toolpath import TOOLPATH_DTYPE, Toolpath, read_chunks, summarize
 
 Source = str | bytes | os.PathLike
@@ -34,12 +35,13 @@ Source = str | bytes | os.PathLike
 _LOOKS_LIKE_G_CODE = re.compile(r"\s*(?:[GMN]\s*-?\d|[XYZABCUVWIJKF]\s*[-+]?[\d.(]|P\d+\s*=|[(;%])", re.I)
 
 
-def _read_source(source: Source, name: str | None) -> tuple[str | None, Path | None, str]:
+def _read_source(source: Source, name: str | None) -> tuple[str | bytes | None, Path | None, str]:
     """(text, path, name): text for G-code given as text, path for a file. A str
     with a line break, or bytes, is G-code; any other str or a PathLike is a file
-    (a str without a line break is never guessed to be G-code: the message says so)."""
+    (a str without a line break is never guessed to be G-code: the message says so).
+    Bytes stay bytes: the library gets them as they are (a byte-order mark too)."""
     if isinstance(source, bytes):
-        return source.decode("latin-1"), None, name or "program.nc"
+        return source, None, name or "program.nc"
     if isinstance(source, str) and ("\n" in source or "\r" in source):
         return source, None, name or "program.nc"
     path = Path(source)
@@ -85,12 +87,13 @@ class CompileJob:
     progress in percent (0..100, each value once), :meth:`cancel` it, or wait for
     its :meth:`result`. Made by :func:`start_compile`."""
 
-    def __init__(self, core: Core, text: str | None, path: Path | None, name: str,
+    def __init__(self, core: Core, text: str | bytes | None, path: Path | None, name: str,
                  progress: Callable[[int], object] | None = None, cancel=None, arguments: dict | None = None):
         self.core = core
         self.name = name
         self._text = text
         self._path = path
+        self._lines: list[str] | None = None      # the source's lines, read for the first diagnostic
         self._cancel_event = cancel
         self._progress = _Progress()
         self.warnings: list[Diagnostic] = []
@@ -148,27 +151,41 @@ class CompileJob:
             if last is not None and not any(e.number == last.number and e.line == last.line for e in self.errors):
                 self.errors.append(last.diagnostic)
             errors = [attach_column(e, self._source_lines(e)) for e in self.errors]
-            self._program = Program(self.core, self.name, errors, list(self.warnings), self._arguments)
+            located = [attach_column(w, self._source_lines(w)) for w in self.warnings]
+            self._program = Program(self.core, self.name, errors, located, self._arguments)
+            for warning in located:
+                if warning.number == ErrorNumber.COMPENSATION_GOUGE:
+                    # the part would be damaged: shown by Python itself, at the G-code line
+                    # (strict=True refuses it)
+                    warnings.warn_explicit(f"warning {int(warning.number)}: {warning.text}", GougeWarning,
+                                           warning.file, warning.line, module="sf_tch")
         return self._program
 
     def _source_lines(self, diagnostic: Diagnostic) -> list[str] | None:
         """The lines of the source a diagnostic points into (only read when there is
         one), None for another file (a prefix, a called file)."""
-        if diagnostic.file != self.name:
+        if diagnostic.file != self.name or diagnostic.line <= 0:
             return None
-        if self._text is not None:
-            return self._text.splitlines()
-        try:
-            return self._path.read_text(encoding="latin-1").splitlines() if self._path else None
-        except OSError:
-            return None
+        if self._lines is None:
+            text = self._text.decode("latin-1") if isinstance(self._text, bytes) else self._text
+            if text is None:
+                try:
+                    text = self._path.read_text(encoding="latin-1") if self._path else None
+                except OSError:
+                    return None
+            # the library counts columns after a UTF-8 byte-order mark
+            for bom in ("\ufeff", "\xef\xbb\xbf"):
+                if text is not None and text.startswith(bom):
+                    text = text[len(bom):]
+            self._lines = text.split("\n") if text is not None else None     # (lines as the library counts them)
+        return self._lines
 
 
 def start_compile(source: Source, radius: float | None = None, strategy: int | None = None,
                   ini: str | os.PathLike | None = None, params: dict | None = None, core: int | None = None,
                   name: str | None = None, progress: Callable[[int], object] | None = None,
                   cancel=None, start: Sequence[float] | None = None, look_ahead: int | None = None,
-                  iso: bool = False) -> CompileJob:
+                  iso: bool = False, strict: bool = False) -> CompileJob:
     """Starts compiling and returns the running :class:`CompileJob`; the arguments
     are those of :func:`compile`."""
     if radius is not None and not radius >= 0:
@@ -180,11 +197,12 @@ def start_compile(source: Source, radius: float | None = None, strategy: int | N
     try:
         fields = dict(params or {})
         fields.setdefault("calcTime", 1)
-        if iso or "rezerva1" not in fields:
-            # the mode is this call's (a core keeps its parameters from one user to the next)
+        if iso or strict or "rezerva1" not in fields:
+            # the modes are this call's (a core keeps its parameters from one user to the next)
             base = fields.get("rezerva1", handle.params.rezerva1)
-            iso_bit = abi.GCODE_REZERVA1_ISO_COMPAT
-            fields["rezerva1"] = base | iso_bit if iso else base & ~iso_bit
+            for bit, on in ((abi.GCODE_REZERVA1_ISO_COMPAT, iso), (abi.GCODE_REZERVA1_COMP_STRICT, strict)):
+                base = base | bit if on else base & ~bit
+            fields["rezerva1"] = base
         if strategy is not None:
             fields["correctionStrategy"] = strategy
         handle.update_params(**fields)
@@ -195,7 +213,7 @@ def start_compile(source: Source, radius: float | None = None, strategy: int | N
         if look_ahead is not None:
             handle.set_look_ahead(look_ahead)
         arguments = {"source": source, "radius": radius, "strategy": strategy, "ini": ini, "params": params,
-                     "name": name, "start": start, "look_ahead": look_ahead, "iso": iso}
+                     "name": name, "start": start, "look_ahead": look_ahead, "iso": iso, "strict": strict}
         return CompileJob(handle, text, path, name, progress, cancel, arguments)
     except BaseException:
         handle.close()
@@ -206,7 +224,7 @@ def compile(source: Source, radius: float | None = None, strategy: int | None = 
             ini: str | os.PathLike | None = None, params: dict | None = None, core: int | None = None,
             name: str | None = None, progress: Callable[[int], object] | None = None,
             cancel=None, start: Sequence[float] | None = None, look_ahead: int | None = None,
-            iso: bool = False) -> Program:
+            iso: bool = False, strict: bool = False) -> Program:
     """Compiles G-code and returns the :class:`Program`; errors of the G-code are in
     ``program.errors`` (``program.check()`` raises the first).
 
@@ -222,6 +240,10 @@ def compile(source: Source, radius: float | None = None, strategy: int | None = 
       where the core's machine stands (set by ResetCNC, or 0);
     - ``iso``: the ISO compatibility mode (G20/G21, ``G4 P`` seconds, G18 as ISO, G43 H
       as a tool length, ... docs/compiler.md), off by default;
+    - ``strict``: tool radius compensation refuses a tool path that cuts into the
+      contour where it cannot remove that part (error 504); by default such a part
+      is compiled as its offsets give it, with warning 601 (line, depth in mm), which
+      Python also shows as a :class:`GougeWarning` (docs/compensation.md);
     - ``look_ahead``: parts the feed planner looks ahead (0 the vendor's 8, -1
       unlimited; default what the core has, see ToolChainCore_SetLookAhead);
     - ``progress``: called with the percent from the library's thread; ``cancel``:
@@ -229,7 +251,8 @@ def compile(source: Source, radius: float | None = None, strategy: int | None = 
     Raises FileNotFoundError / IsADirectoryError / OSError for a bad path (a
     missing one that looks like G-code says it needs a line break), ValueError for
     a negative radius, :class:`Cancelled` when cancelled."""
-    job = start_compile(source, radius, strategy, ini, params, core, name, progress, cancel, start, look_ahead, iso)
+    job = start_compile(source, radius, strategy, ini, params, core, name, progress, cancel, start, look_ahead, iso,
+                        strict)
     try:
         return job.result()
     except BaseException:

@@ -1,6 +1,6 @@
 """The test-only module `stages` (stages.pyx: the library's stages with Python entry
-points into the compensation, the planner, the connection search and the offline
-machine), built once per source state and shared by every test process.
+points into the geometry, the compensation, the planner, the connection search and
+the offline machine), built once per source state and shared by every test process.
 
 The build is cached under $SF_TCH_HARNESS_CACHE, else $XDG_CACHE_HOME/sf_tch-harness
 (~/.cache/sf_tch-harness), in a directory named by a hash of toolchain/, include/,
@@ -35,6 +35,7 @@ def cache_dir() -> Path:
 def source_key(opt: str) -> str:
     digest = hashlib.sha256()
     sources = sorted([*ROOT.glob("toolchain/**/*.pyx"), *ROOT.glob("toolchain/**/*.pxd"),
+                      *ROOT.glob("toolchain/**/*.pxi"), *ROOT.glob("toolchain/**/*.h"),
                       *ROOT.glob("include/*.h"), *HERE.glob("*.py*")])
     for path in sources:
         digest.update(str(path.relative_to(ROOT)).encode())
@@ -55,8 +56,8 @@ def _build(target: Path, opt: str) -> None:
                         str(HERE / "stages.pyx"), "-o", str(c_file)], check=True)
         so = scratch / f"stages{sysconfig.get_config_var('EXT_SUFFIX')}"
         subprocess.run([os.environ.get("CC", "gcc"), *opt.split(), "-shared", "-fPIC", "-w",
-                        "-I", str(ROOT / "include"), "-I", sysconfig.get_paths()["include"],
-                        str(c_file), "-o", str(so), "-lpthread", "-lm"], check=True)
+                        "-I", str(ROOT / "include"), "-I", str(ROOT / "toolchain" / "includes"),
+                        "-I", sysconfig.get_paths()["include"], str(c_file), "-o", str(so), "-lpthread", "-lm"], check=True)
         c_file.unlink()
         scratch.rename(target)
     finally:

@@ -18,9 +18,10 @@ cdef void _collect(void *ctx, int tab, const char *text) noexcept nogil:
         strncat(buf, b"\n", 65535)
 
 
-def compensate(list parts, start, long long strategy=0, corrections=(), tolerances=()):
+def compensate(list parts, start, long long strategy=0, corrections=(), tolerances=(), bint strict=False):
     """parts: dicts with kind (1 motion, 2 M), func, e (3..10 values), cc, radius,
-    comp (40/41/42), slot, plane, line. Returns (parts, error, warnings)."""
+    comp (40/41/42), slot, plane, line; strict: GCODE_REZERVA1_COMP_STRICT. Returns
+    (parts, error, warnings)."""
     cdef ProgramBuilder build
     cdef Program *prog = &build.prog
     cdef GCODE_PARAMETERS params
@@ -34,6 +35,8 @@ def compensate(list parts, start, long long strategy=0, corrections=(), toleranc
     memset(&params, 0, sizeof(params))
     memset(&err, 0, sizeof(err))
     params.correctionStrategy = <uint32_t>strategy
+    if strict:
+        params.rezerva1 = <int32_t>GCODE_REZERVA1_COMP_STRICT
     for k, r in enumerate(corrections):
         params.correction[k].size = r
     for k, t in enumerate(tolerances):

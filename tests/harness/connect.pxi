@@ -19,12 +19,6 @@ cdef _hit(const ConnectHit *hit):
                 point=[hit.point[k] for k in range(10)], distance=hit.distance)
 
 
-cdef void _fill(double *out, values, int n) except *:
-    cdef int k
-    for k in range(n):
-        out[k] = float(values[k]) if k < len(values) else 0.0
-
-
 cdef class Compiled:
     """A compiled program, its placement (the compile's start until place()), and
     one index (build_index)."""
@@ -66,7 +60,7 @@ cdef class Compiled:
         return out
 
     def segment(self, size_t i, bint via_record=False):
-        """placed_segment of part i, or (via_record) segment_of_gm of placed_part_to_gm."""
+        """segment_of_placed_part of part i, or (via_record) segment_of_gm of placed_part_to_gm."""
         cdef Segment g
         cdef SIMPLE_GM_PARAMS gm
         if i >= self.build.prog.n_parts:
@@ -75,7 +69,7 @@ cdef class Compiled:
             placed_part_to_gm(&self.build.prog, i, &self.pl, &gm)
             segment_of_gm(&gm, &g)
         else:
-            placed_segment(&self.build.prog, &self.pl, i, &g)
+            segment_of_placed_part(&self.build.prog, i, &self.pl, &g)
         out = dict(length=g.length, n_axes=g.n_axes, start=[g.start[k] for k in range(g.n_axes)],
                    end=[g.end[k] for k in range(g.n_axes)], arc=g.arc)
         if g.arc:

@@ -135,11 +135,16 @@ def run(int core_idx, int regime, double stop_at=-1.0, overrides=(), double max_
     cdef Entry *e
     cdef list steps = [], entries = []
     cdef list pending = sorted(overrides)
+    cdef Job job
+    cdef ErrorInfo refusal
     memset(&f, 0, sizeof(f))
+    memset(&job, 0, sizeof(job))
+    job.command = CMD_FORWARD
     pthread_mutex_lock(&core.lock)
-    if core.program == NULL or not machine_prepare(core):
+    if core.program == NULL or not machine_prepare(core, &job, &refusal):
         pthread_mutex_unlock(&core.lock)
         raise RuntimeError("nothing compiled")
+    session_forget_locked(core)         # as an activity begins: no M function waits
     m = <Machine *>core.offline
     params = core.params
     f.params = &params
@@ -159,6 +164,7 @@ def run(int core_idx, int regime, double stop_at=-1.0, overrides=(), double max_
             motion_stop(mo)
         if n_steps % feed_every == 0:
             _feed(&f)
+        _take_answer(core, mo)
         events = motion_step(mo, dt)
         motion_locate(mo)               # the pacer does it once per tick; here after every step
         n_steps += 1

@@ -174,7 +174,7 @@ def arc_factor(table, double radius, int state=-1):
 def segment_points(text, size_t part, distances, params=None):
     """Compiles `text` (absolute coordinates unless params say otherwise) and returns
     (length, [point (10 axes) at each path length of `distances`]) of motion part
-    `part` (planner/segment.pyx segment_of_part, segment_point_at)."""
+    `part` (geometry.pyx segment_of_part, segment_point_at)."""
     cdef int32_t cancel = 0
     cdef bytes src = text.encode("latin-1")
     cdef CompileInput *inp = _input_for(src, params, &cancel)

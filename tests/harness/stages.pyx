@@ -26,6 +26,14 @@ def default_params():
     return (<char *>&p)[:sizeof(GCODE_PARAMETERS)]
 
 
+cdef void _fill(double *out, values, int n) except *:
+    """out[0..n) = values, padded with zeros."""
+    cdef int k
+    for k in range(n):
+        out[k] = float(values[k]) if k < len(values) else 0.0
+
+
+include "geometry.pxi"
 include "compensation.pxi"
 include "planner.pxi"
 include "connect.pxi"

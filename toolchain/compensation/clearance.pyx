@@ -1,9 +1,11 @@
 # Clearance of the tool path (the general gouge check): every piece of a chain's final
 # tool path (each compensated part's move and each inserted corner part) must keep the
-# tool radius, less tolerance[1], from the programmed contour of the chain within the
-# search window (parts at most `depth` apart, counted round a closed contour). A piece
-# that comes closer gouges: error 504 on its line, or with 0x80000 the chain is rebuilt
-# from its regions (regions.pyx).
+# tool radius, less tolerance[1], from the programmed contour of the chain: parts at
+# most `depth` apart (counted round a closed contour) while the chain grows, the
+# farther ones when it ends (_cl_far_check). A piece that comes closer gouges: error
+# 504 on its line, with 0x80000 the chain is rebuilt from its regions (regions.pyx),
+# and a lenient chain goes on with warning 601 and how deep the piece cuts
+# (_cl_gouge).
 #
 # The path is read back from the parts and the queued insertions, so the check sees
 # exactly what the merge will write: while the chain grows, the parts a loop cut can no
@@ -15,26 +17,16 @@
 # and CL_G1 * CL_G1 elements; CL_BATCH consecutive pieces share one search of the boxes.
 # Cheap proofs (_cl_far) settle most pairs, the rest is measured exactly
 # (_cl_piece_gap): O(n) on ordinary contours.
-from libc.stdlib cimport free
+from libc.stdlib cimport malloc, free
 from libc.string cimport memmove, memcpy
 from libc.math cimport fabs, sqrt, M_PI
-
-
-cdef inline double _cl_sweep(int direction, const double *s, const double *e, const double *c) noexcept nogil:
-    """A stand-in for the sweep of an arc from s to e round c, in (0, 2pi]: monotone in
-    the true one and equal to it at every quarter turn (what the boxes and _cl_within
-    compare it with), without trigonometry; a full circle when s = e."""
-    cdef double d = x_pseudo(e[0] - c[0], direction * (e[1] - c[1])) - x_pseudo(s[0] - c[0], direction * (s[1] - c[1]))
-    if d <= 0:
-        d += 4.0
-    return d * (0.5 * M_PI)
 
 
 cdef inline bint _cl_within(const XPiece *q, double x, double y) noexcept nogil:
     """Whether the direction of point (x, y) from arc piece q's centre lies within the
     arc (cross products, no angles: this is the check's inner loop)."""
     cdef double ax, ay, px, py, bx, by
-    if q.sweep >= 2.0 * M_PI - 1e-12:
+    if q.sweep >= 2.0 * M_PI - ANGLE_EPS:
         return True
     ax = q.s[0] - q.c[0]; ay = q.s[1] - q.c[1]
     bx = q.e[0] - q.c[0]; by = q.e[1] - q.c[1]
@@ -108,7 +100,7 @@ cdef double _cl_arc_arc_inner(const XPiece *p, const XPiece *q, double stop) noe
     cdef double pp[4]
     cdef double qq[4]
     cdef int i, j, n_p = 0, n_q = 0
-    if D <= 1e-12:
+    if D <= ROUNDING_EPS:
         return stop             # concentric: the ends decide
     ux = dx / D; uy = dy / D
     if D <= p.r + q.r and D >= fabs(p.r - q.r):
@@ -175,6 +167,27 @@ cdef inline void cl_box_empty(double *b) noexcept nogil:
     b[0] = 1e300; b[1] = 1e300; b[2] = -1e300; b[3] = -1e300
 
 
+cdef inline double *_cl_group(Clearance *C, size_t part) noexcept nogil:
+    """The boxes of the group of the chain's parts that holds `part` (C.gbox); NULL:
+    no memory."""
+    cdef size_t g = (part - C.first) >> C.group_shift
+    if g < C.n_gbox:
+        return &C.gbox[8 * g]
+    return _cl_group_add(C, g)
+
+
+cdef double *_cl_group_add(Clearance *C, size_t g) noexcept nogil:
+    """_cl_group for a group beyond the last one: empty boxes up to group g."""
+    cdef size_t k
+    if not grow(<void **>&C.gbox, &C.cap_gbox, g + 1, 8 * sizeof(double)):
+        return NULL
+    for k in range(C.n_gbox, g + 1):
+        cl_box_empty(&C.gbox[8 * k])
+        cl_box_empty(&C.gbox[8 * k + 4])
+    C.n_gbox = g + 1
+    return &C.gbox[8 * g]
+
+
 cdef bint cl_element(const CompState *S, size_t k, XPiece *g) noexcept nogil:
     """The programmed element of part k in the plane (a line or an arc, removed parts
     included: the tool keeps away from them too) with its exact box; False when part
@@ -194,13 +207,13 @@ cdef bint cl_element(const CompState *S, size_t k, XPiece *g) noexcept nogil:
     if p.func == 2 or p.func == 3:
         g.c[0] = p.cc[S.first]; g.c[1] = p.cc[S.second]
         g.r = distance2d(g.s[0] - g.c[0], g.s[1] - g.c[1])
-        if g.r <= 1e-9:
+        if g.r <= LENGTH_EPS:
             return False
         g.kind = EL_ARC
         g.dir = 1 if p.func == 3 else -1
-        g.sweep = _cl_sweep(g.dir, g.s, g.e, g.c)
+        g.sweep = pseudo_sweep(g.s[0] - g.c[0], g.s[1] - g.c[1], g.e[0] - g.c[0], g.e[1] - g.c[1], g.dir)
     else:
-        if (g.e[0] - g.s[0]) * (g.e[0] - g.s[0]) + (g.e[1] - g.s[1]) * (g.e[1] - g.s[1]) <= 1e-18:
+        if (g.e[0] - g.s[0]) * (g.e[0] - g.s[0]) + (g.e[1] - g.s[1]) * (g.e[1] - g.s[1]) <= LENGTH_EPS * LENGTH_EPS:
             return False
         g.kind = EL_LINE
         g.dir = 0
@@ -236,7 +249,7 @@ cdef bint _cl_slide(CompState *S, Clearance *C, size_t lo, size_t hi) noexcept n
 cdef inline bint _cl_read(CompState *S, Clearance *C, size_t lo, size_t hi) noexcept nogil:
     """Appends the contour elements of parts lo..hi to the window."""
     cdef XPiece *el
-    cdef size_t k, c1, c2
+    cdef size_t k, c1, c2, n0 = C.n
     for k in range(lo, hi + 1):
         if C.n == C.cap:
             # the two arrays grow alike from the same capacity
@@ -250,6 +263,29 @@ cdef inline bint _cl_read(CompState *S, Clearance *C, size_t lo, size_t hi) noex
         el = &C.el[C.n]
         C.off[C.n] = fabs(distance2d(el.e[0] - el.c[0], el.e[1] - el.c[1]) - el.r) if el.kind == EL_ARC else 0.0
         C.n += 1
+    return not C.grouping or _cl_group_elements(C, n0)
+
+
+cdef bint _cl_group_elements(Clearance *C, size_t n0) noexcept nogil:
+    """The boxes of the window's elements from n0 on into the element boxes of their
+    groups (False: no memory)."""
+    cdef double box[4]
+    cdef double *gb
+    cdef size_t k, g, cur = <size_t>-1, cur_part = 0
+    for k in range(n0, C.n + 1):
+        g = (C.el[k].part - C.first) >> C.group_shift if k < C.n else <size_t>-2
+        if g == cur:
+            box_union(box, C.el[k].box)
+            continue
+        if cur != <size_t>-1:
+            gb = _cl_group(C, cur_part)
+            if gb == NULL:
+                return False
+            box_union(&gb[4], box)
+        if k < C.n:
+            cur = g
+            cur_part = C.el[k].part
+            box[0] = C.el[k].box[0]; box[1] = C.el[k].box[1]; box[2] = C.el[k].box[2]; box[3] = C.el[k].box[3]
     return True
 
 
@@ -356,8 +392,10 @@ cdef bint _cl_cross(const XPiece *a, const XPiece *b) noexcept nogil:
     m = x_meet(a, b, 0.0, pts)
     for k in range(m):
         if x_on(a, pts[2 * k], pts[2 * k + 1], 0.0, &pos) and x_on(b, pts[2 * k], pts[2 * k + 1], 0.0, &pos) \
-                and not ((x_near(a.s, pts[2 * k], pts[2 * k + 1], 1e-9) or x_near(a.e, pts[2 * k], pts[2 * k + 1], 1e-9))
-                         and (x_near(b.s, pts[2 * k], pts[2 * k + 1], 1e-9) or x_near(b.e, pts[2 * k], pts[2 * k + 1], 1e-9))):
+                and not ((x_near(a.s, pts[2 * k], pts[2 * k + 1], LENGTH_EPS)
+                          or x_near(a.e, pts[2 * k], pts[2 * k + 1], LENGTH_EPS))
+                         and (x_near(b.s, pts[2 * k], pts[2 * k + 1], LENGTH_EPS)
+                              or x_near(b.e, pts[2 * k], pts[2 * k + 1], LENGTH_EPS))):
             return True
     return False
 
@@ -369,7 +407,7 @@ cdef inline double _cl_element_gap(const Clearance *C, const XPiece *t, const XP
     where it counts and is below `stop` (else `stop`; see cl_gap). loose: set when
     g does not count because t's own element crosses it."""
     cdef double d
-    if g.part == skip_a or g.part == skip_b or not _cl_in_window(C, g.part, t.part, depth) \
+    if g.part == skip_a or g.part == skip_b or _cl_in_window(C, g.part, t.part, depth) == C.only_far \
             or _cl_far(t, g, stop):
         return stop
     d = _cl_piece_gap(t, g, stop)
@@ -441,11 +479,10 @@ cdef int64_t _cl_flush(Clearance *C, size_t depth) noexcept nogil:
     the whole batch (the pieces of neighbouring parts meet the same few elements)."""
     cdef double box[4]
     cdef double bb[4]
-    cdef double x0, y0, x1, y1
-    cdef const double *cb
     cdef ClPiece *q
-    cdef size_t b, m, n = C.n_batch
+    cdef size_t b, n = C.n_batch
     C.n_batch = 0
+    C.n_measured = n
     if n == 0:
         return -1
     cl_box_empty(box)
@@ -453,9 +490,36 @@ cdef int64_t _cl_flush(Clearance *C, size_t depth) noexcept nogil:
         q = &C.batch[b]
         bb[0] = q.t.box[0] - q.r; bb[1] = q.t.box[1] - q.r; bb[2] = q.t.box[2] + q.r; bb[3] = q.t.box[3] + q.r
         box_union(box, bb)
-    if not _cl_collect(C, box):
+    if not _cl_collect(C, box) or (C.grouping and not _cl_group_pieces(C, box)):
         return -2
-    for b in range(n):
+    return _cl_scan(C, 0, depth)
+
+
+cdef bint _cl_group_pieces(Clearance *C, const double *box) noexcept nogil:
+    """The batch's box (its pieces grown by their radius) into the piece boxes of the
+    groups its pieces belong to (False: no memory)."""
+    cdef size_t b, g, last_g = <size_t>-1
+    cdef double *gb
+    for b in range(C.n_measured):
+        g = (C.batch[b].t.part - C.first) >> C.group_shift
+        if g == last_g:
+            continue
+        last_g = g
+        gb = _cl_group(C, C.batch[b].t.part)
+        if gb == NULL:
+            return False
+        box_union(gb, box)
+    return True
+
+
+cdef inline int64_t _cl_scan(Clearance *C, size_t first, size_t depth) noexcept nogil:
+    """The first piece of the batch _cl_flush measures, from `first` on, that comes
+    closer than its `stop` to a candidate; -1 none."""
+    cdef double x0, y0, x1, y1
+    cdef const double *cb
+    cdef ClPiece *q
+    cdef size_t b, m
+    for b in range(first, C.n_measured):
         q = &C.batch[b]
         x0 = q.t.box[0] - q.r; y0 = q.t.box[1] - q.r; x1 = q.t.box[2] + q.r; y1 = q.t.box[3] + q.r
         for m in range(C.n_cand):
@@ -465,6 +529,27 @@ cdef int64_t _cl_flush(Clearance *C, size_t depth) noexcept nogil:
                                     &C.loose) < q.stop:
                 return <int64_t>b
     return -1
+
+
+cdef double _cl_least(Clearance *C, size_t b, size_t depth) noexcept nogil:
+    """The least distance of piece b of the measured batch from the candidates that
+    count, below its stop: _cl_element_gap again with the distance found as the bound
+    until nothing is closer (the values it compares are finitely many)."""
+    cdef ClPiece *q = &C.batch[b]
+    cdef double best = q.stop, d
+    cdef double x0 = q.t.box[0] - q.r, y0 = q.t.box[1] - q.r, x1 = q.t.box[2] + q.r, y1 = q.t.box[3] + q.r
+    cdef const double *cb
+    cdef size_t m
+    for m in range(C.n_cand):
+        cb = &C.cbox[4 * m]
+        if not (cb[0] <= x1 and x0 <= cb[2] and cb[1] <= y1 and y0 <= cb[3]):
+            continue
+        while True:
+            d = _cl_element_gap(C, &q.t, &C.el[C.cand[m]], q.own, q.skip_a, q.skip_b, depth, best, &C.loose)
+            if d >= best:
+                break
+            best = d
+    return best
 
 
 cdef inline int64_t _cl_queue(Clearance *C, const XPiece *own, size_t skip_a, size_t skip_b,
@@ -495,7 +580,7 @@ cdef inline bint _cl_arc(XPiece *t, const double *a, const double *b, const doub
     """An arc piece from a to b round c in `direction`; False for no piece. full: a
     part's arc (a = b: a full circle), with its exact box; else a corner arc (a = b:
     nothing), with its circle's box."""
-    if r <= 1e-12 or (not full and distance2d(b[0] - a[0], b[1] - a[1]) <= 1e-12):
+    if r <= ROUNDING_EPS or (not full and distance2d(b[0] - a[0], b[1] - a[1]) <= ROUNDING_EPS):
         return False
     t.kind = EL_ARC
     t.dir = direction
@@ -503,7 +588,7 @@ cdef inline bint _cl_arc(XPiece *t, const double *a, const double *b, const doub
     t.e[0] = b[0]; t.e[1] = b[1]
     t.c[0] = c[0]; t.c[1] = c[1]
     t.r = r
-    t.sweep = _cl_sweep(direction, a, b, c)
+    t.sweep = pseudo_sweep(a[0] - c[0], a[1] - c[1], b[0] - c[0], b[1] - c[1], direction)
     t.part = part
     if full:
         x_geometry(t)
@@ -526,7 +611,9 @@ cdef bint _cl_side_change(const CompState *S, size_t k, size_t last) noexcept no
 
 cdef bint _cl_gouge(CompState *S, int64_t found, size_t k) noexcept nogil:
     """The result of _cl_queue / _cl_flush: False with S.xs.err_* filled when a piece
-    gouges (504 on its part's line, the tool radius) or on no memory (at part k)."""
+    gouges (504 on its part's line, the tool radius) or on no memory (at part k). A
+    lenient chain goes on: warning 601 for each piece of the batch that gouges, with
+    how deep it cuts."""
     cdef const ClPiece *q
     if found == -1:
         return True
@@ -534,6 +621,12 @@ cdef bint _cl_gouge(CompState *S, int64_t found, size_t k) noexcept nogil:
         S.xs.err_number = ERR_OUT_OF_MEMORY
         S.xs.err_part = k
         return False
+    if S.lenient:
+        while found >= 0:
+            q = &S.cl.batch[found]
+            comp_gouge(S, q.t.part, q.r - _cl_least(&S.cl, <size_t>found, S.cl.depth))
+            found = _cl_scan(&S.cl, <size_t>found + 1, S.cl.depth)
+        return True
     q = &S.cl.batch[found]
     S.xs.err_number = ERR_COMP_CROSSING
     S.xs.err_part = q.t.part
@@ -556,13 +649,21 @@ cdef void cl_chain_open(CompState *S, size_t first, size_t ins0) noexcept nogil:
     C.depth = S.cfg.depth
     C.span = 0
     C.closed = False
+    C.only_far = False
+    C.grouping = False
+    C.n_gbox = 0
+    # groups of at most a quarter of the depth: the parts of a group and of its
+    # neighbours are near each other (16 .. CL_GROUP parts)
+    C.group_shift = 4
+    while (<size_t>4 << C.group_shift) <= C.depth and (1 << C.group_shift) < CL_GROUP:
+        C.group_shift += 1
 
 
 cdef inline void _cl_start(CompState *S, size_t at) noexcept nogil:
     """Where the tool stands before part `at` of the chain (the last part before it
     with a position, after the insertions queued there) and the next insertion."""
     cdef Clearance *C = &S.cl
-    cdef size_t j = at, rec = C.ins0
+    cdef size_t j = at, rec = 0, hi = S.n_ins, mid
     while j > 0 and S.role[j - 1] == ROLE_FOLLOW:
         j -= 1
     if j > 0:
@@ -570,10 +671,13 @@ cdef inline void _cl_start(CompState *S, size_t at) noexcept nogil:
         C.cur[0] = S.prog.parts[j].ce[S.first]; C.cur[1] = S.prog.parts[j].ce[S.second]
     else:
         C.cur[0] = S.prog.start[S.first]; C.cur[1] = S.prog.start[S.second]
-    while rec > 0 and S.ins[rec - 1].after >= j:
-        rec -= 1
-    while rec < S.n_ins and S.ins[rec].after < j:
-        rec += 1                # inside the chain (_cl_seam): the queue is in part order
+    # the first insertion after part j or later (the queue is in part order)
+    while rec < hi:
+        mid = rec + (hi - rec) / 2
+        if S.ins[mid].after < j:
+            rec = mid + 1
+        else:
+            hi = mid
     while rec < S.n_ins and S.ins[rec].after < at:
         C.cur[0] = S.ins[rec].end[0]; C.cur[1] = S.ins[rec].end[1]
         rec += 1
@@ -631,7 +735,7 @@ cdef bint _cl_run(CompState *S, size_t upto, size_t end, bint strict, bint skip_
                 c[0] = p.cc[S.first]; c[1] = p.cc[S.second]
                 have = _cl_arc(t, C.cur, end_pt, c, p.radius, 1 if p.func == 3 else -1, k, True)
             else:
-                have = distance2d(end_pt[0] - C.cur[0], end_pt[1] - C.cur[1]) > 1e-12
+                have = distance2d(end_pt[0] - C.cur[0], end_pt[1] - C.cur[1]) > ROUNDING_EPS
                 if have:
                     _cl_line(t, C.cur, end_pt, k)
             skip = (C.first_piece and skip_first) or (k == last_el and skip_last)
@@ -639,9 +743,13 @@ cdef bint _cl_run(CompState *S, size_t upto, size_t end, bint strict, bint skip_
             # a line on the offset of a line keeps the radius from it and, past a corner
             # of the chain (an intersection or an arc), from a line next to it (not from
             # a removed one: the corner joined an earlier part)
+            # (a piece running back along its line, kept by a lenient chain, does not)
             nb = <size_t>-1
             if have and not skip and t.kind == EL_LINE and p.func == 1 and C.ei > C.el0 \
-                    and S.prog.parts[C.el[C.ei - 1].part].func == 1 and S.role[C.el[C.ei - 1].part] == ROLE_SET:
+                    and S.prog.parts[C.el[C.ei - 1].part].func == 1 and S.role[C.el[C.ei - 1].part] == ROLE_SET \
+                    and (not S.lenient or not has_own or
+                         (t.e[0] - t.s[0]) * (C.el[C.ei].e[0] - C.el[C.ei].s[0])
+                         + (t.e[1] - t.s[1]) * (C.el[C.ei].e[1] - C.el[C.ei].s[1]) > 0):
                 nb = C.el[C.ei - 1].part
             if have and not skip and \
                     not _cl_gouge(S, _cl_queue(C, own, k, nb, r, r - C.allow, depth), k):
@@ -653,7 +761,7 @@ cdef bint _cl_run(CompState *S, size_t upto, size_t end, bint strict, bint skip_
             have = False
             if not S.ins[C.rec].no_centre:
                 if S.ins[C.rec].func == INS_G1:
-                    have = distance2d(end_pt[0] - C.cur[0], end_pt[1] - C.cur[1]) > 1e-12 \
+                    have = distance2d(end_pt[0] - C.cur[0], end_pt[1] - C.cur[1]) > ROUNDING_EPS \
                         and not _cl_side_change(S, k, end)
                     if have:
                         _cl_line(t, C.cur, end_pt, k)
@@ -692,6 +800,7 @@ cdef bint cl_chain_upto(CompState *S, size_t written) noexcept nogil:
         k -= 1
     if k <= S.cl.next:
         return True
+    S.cl.grouping = True        # more parts than the depth: the far check will need the boxes
     return _cl_run(S, k - 1, written - 1, False, S.chain_fixed, False, <size_t>-1)
 
 
@@ -750,17 +859,131 @@ cdef bint cl_chain_close(CompState *S, size_t last, bint skip_first, bint skip_l
     cdef Clearance *C = &S.cl
     cdef const double *st = part_start_xyz(S.prog, C.first)
     cdef const Part *p = &S.prog.parts[last]
-    cdef bint is_open = distance2d(st[S.first] - p.e[S.first], st[S.second] - p.e[S.second]) > 1e-6
+    cdef bint is_open = distance2d(st[S.first] - p.e[S.first], st[S.second] - p.e[S.second]) > CLOSED_EPS
     cdef size_t last_el = last
     cdef XPiece g
     if not is_open and C.loose:
         cl_chain_open(S, C.first, C.ins0)
+    if C.next == C.first:
+        C.grouping = _cl_far_needed(C, last, not is_open)    # nothing measured yet
     while last_el > C.first and (S.role[last_el] != ROLE_SET or not cl_element(S, last_el, &g)):
         last_el -= 1
     if not _cl_run(S, last, last, not is_open, skip_first, skip_last, last_el) or \
             not _cl_gouge(S, _cl_flush(C, C.depth), last):
         return False
-    return is_open or _cl_seam(S, last, skip_first, skip_last, last_el)
+    if not is_open and not _cl_seam(S, last, skip_first, skip_last, last_el):
+        return False
+    return _cl_far_check(S, last, not is_open, skip_first, skip_last, last_el)
+
+
+cdef inline bint _cl_all_near(const Clearance *C, size_t a0, size_t a1, size_t b0, size_t b1) noexcept nogil:
+    """Whether every part of a0..a1 lies at most the depth from every part of b0..b1
+    (C.closed: round the chain, C.span parts)."""
+    cdef size_t lo, hi
+    if a0 > b0:
+        a0, a1, b0, b1 = b0, b1, a0, a1
+    lo = b0 - a1 if b0 > a1 else 0
+    hi = b1 - a0
+    return hi <= C.depth or (C.closed and lo + C.depth >= C.span)
+
+
+cdef inline bint _cl_far_needed(const Clearance *C, size_t last, bint closed) noexcept nogil:
+    """Whether the chain of parts C.first..last has parts farther apart than the depth
+    (both ways round when closed)."""
+    cdef size_t span = last - C.first + 1
+    return (span / 2 if closed else span - 1) > C.depth
+
+
+cdef bint _cl_far_check(CompState *S, size_t last, bint closed, bint skip_first, bint skip_last,
+                        size_t last_el) noexcept nogil:
+    """The chain's path against the contour of the parts farther apart than the search
+    depth (both ways round a closed contour), which the walks above leave out: the
+    depth bounds how far back parts may be removed, not where a gouge is seen. Per
+    group of parts (C.group_shift), the box of its pieces grown by their radius is tested
+    against the boxes of the far groups' elements (coarse groups of CL_SUPER first);
+    only a group whose box meets one is walked again, against those groups' elements,
+    the near ones not counted (C.only_far). Nothing on a chain that short. False with
+    S.xs.err_* filled."""
+    cdef Clearance *C = &S.cl
+    cdef size_t first = C.first, span = last - first + 1, n = C.n_gbox, G = (<size_t>1) << C.group_shift
+    cdef size_t ns, a, b, bs, a0, a1, b0, b1
+    cdef double *cbox = NULL
+    cdef uint8_t *hot = NULL
+    cdef const double *pa
+    cdef bint ok = True, any_hot
+    if not _cl_far_needed(C, last, closed):
+        return True
+    ns = (n + CL_SUPER - 1) / CL_SUPER
+    cbox = <double *>malloc(4 * ns * sizeof(double))
+    hot = <uint8_t *>malloc(n)
+    if cbox == NULL or hot == NULL:
+        free(cbox)
+        free(hot)
+        S.xs.err_number = ERR_OUT_OF_MEMORY
+        S.xs.err_part = last
+        return False
+    for bs in range(ns):
+        cl_box_empty(&cbox[4 * bs])
+    for b in range(n):
+        box_union(&cbox[4 * (b / CL_SUPER)], &C.gbox[8 * b + 4])
+    C.span = span
+    C.closed = closed
+    for a in range(n):
+        pa = &C.gbox[8 * a]
+        a0 = first + a * G
+        a1 = a0 + G - 1 if a0 + G - 1 < last else last
+        any_hot = False
+        for bs in range(ns):
+            b0 = first + bs * CL_SUPER * G
+            b1 = b0 + CL_SUPER * G - 1 if b0 + CL_SUPER * G - 1 < last else last
+            if not box_hit(&cbox[4 * bs], pa, 0.0) or _cl_all_near(C, a0, a1, b0, b1):
+                for b in range(bs * CL_SUPER, min((bs + 1) * CL_SUPER, n)):
+                    hot[b] = False
+                continue
+            for b in range(bs * CL_SUPER, min((bs + 1) * CL_SUPER, n)):
+                b0 = first + b * G
+                b1 = b0 + G - 1 if b0 + G - 1 < last else last
+                hot[b] = box_hit(&C.gbox[8 * b + 4], pa, 0.0) and not _cl_all_near(C, a0, a1, b0, b1)
+                any_hot = any_hot or hot[b]
+        if not any_hot:
+            continue
+        # the window: the far groups the pieces may come close to and the group's own
+        # elements (its pieces' own and next elements), in part order
+        hot[a] = True
+        C.n = 0
+        for b in range(n):
+            if hot[b]:
+                b0 = first + b * G
+                if b == a:
+                    C.el0 = C.n
+                ok = _cl_read(S, C, b0, b0 + G - 1 if b0 + G - 1 < last else last)
+                if b == a:
+                    C.el_end = C.n
+                if not ok:
+                    break
+        if not ok or not _cl_boxes(C):
+            S.xs.err_number = ERR_OUT_OF_MEMORY
+            S.xs.err_part = a0
+            ok = False
+            break
+        C.only_far = True
+        C.in_block = True       # the window stays (no block moves it)
+        C.bhi = last
+        C.allow = S.cfg.slack + S.cfg.min_arc + C.max_off
+        C.ei = C.el0
+        _cl_start(S, a0)
+        C.next = a0
+        ok = _cl_run(S, a1, last, closed, skip_first, skip_last, last_el) and \
+            _cl_gouge(S, _cl_flush(C, C.depth), a1)
+        C.only_far = False
+        if not ok:
+            break
+    C.only_far = False
+    C.closed = False
+    C.n = 0                     # the next window is read afresh
+    free(cbox)
+    free(hot)
+    return ok
 
 
 cdef bint cl_check_chain(CompState *S, size_t first, size_t last, size_t ins0, bint skip_first,
@@ -787,6 +1010,10 @@ cdef void cl_free(Clearance *C) noexcept nogil:
     C.cbox = NULL
     free(C.g1)
     free(C.g2)
+    free(C.gbox)
+    C.gbox = NULL
+    C.n_gbox = 0
+    C.cap_gbox = 0
     C.el = NULL
     C.g1 = NULL
     C.g2 = NULL

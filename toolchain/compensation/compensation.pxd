@@ -95,7 +95,7 @@ ctypedef struct XPiece:
 ctypedef struct XState:
     XPiece *pc
     size_t n, cap, base     # pieces [base, n) are searched
-    double *g[6]            # boxes of the groups of each level (XLEV)
+    double *g[XLEV]         # boxes of the groups of each level
     size_t last_part        # part of the chain's last element (set when the chain ends)
     double start[2]         # programmed start of the chain's first element
     size_t *prov            # parts whose corner cross_join joined by a G1 (FIFO)
@@ -109,6 +109,8 @@ cdef enum:
     CL_BLOCK = 16384        # parts of the chain whose contour window is held at a time
     CL_G1 = 16              # contour elements per small box; a large box holds CL_G1 small ones
     CL_BATCH = 16           # pieces of the path that share one search of the boxes
+    CL_GROUP = 256          # at most so many parts of the chain per group of the far check's boxes
+    CL_SUPER = 16           # groups per coarse group (_cl_far_check)
 
 ctypedef struct ClPiece:
     XPiece t                # a piece of the tool path waiting for its batch's search
@@ -134,7 +136,16 @@ ctypedef struct Clearance:
     size_t n_cand, cap_cand
     ClPiece batch[CL_BATCH] # pieces queued by _cl_queue
     size_t n_batch
+    size_t n_measured       # pieces of the batch _cl_flush measures (_cl_scan goes on after a gouge)
     bint loose              # an element was not measured because the piece's own crosses it
+    bint only_far           # _cl_far_check: only parts farther apart than the depth count
+    # per `group` parts of the chain from `first` on: the box of its measured pieces
+    # grown by their radius (0..3) and the box of its contour elements (4..7); kept
+    # only while `grouping` (a chain long enough for the far check)
+    double *gbox
+    size_t n_gbox, cap_gbox
+    int group_shift         # a group holds 1 << group_shift parts
+    bint grouping
     # the chain being checked (cl_chain_open): parts before `next` are done, the tool
     # stands at `cur`, insertion `rec` is the next one; the block of parts [blo, bhi]
     size_t first, next, ins0, rec, blo, bhi, ei
@@ -157,6 +168,7 @@ ctypedef struct RSub:
     size_t n0, n1           # nodes at its ends
     int64_t next            # the sub-piece the kept loop goes on with, -1 none
     uint8_t valid
+    uint8_t on_part         # the kept loop: a tool side piece written to its element's part (else inserted)
     uint32_t seen           # the walk that reached it (_r_best_loop), 0 none
 
 ctypedef struct Regions:
@@ -189,7 +201,9 @@ cdef enum:
     PIECE_VERTEX = 2        # an arc of a vertex circle
 
 cdef enum:
-    REGIONS_NOT_APPLICABLE = 1  # not closed, several radii, no region, a loop not in program order
+    REGIONS_NOT_APPLICABLE = 1  # not closed, several radii, no region, an arc not in program order
+    KEPT_ON_PART = 1            # regions_rebuild: an element's piece written to its own part
+    KEPT_INSERTED = 2           # ... inserted after a later part only
 
 # ---- compensation.pyx: the pass
 cdef enum:
@@ -215,9 +229,11 @@ ctypedef struct InsRec:
 # that ends the compilation (a callback may then call back into the library, even
 # DestroyCNC, as it may from the compiler's callbacks).
 ctypedef struct CompWarning:
-    const char *what        # a literal of this stage; NULL: "further warnings suppressed"
+    const char *what        # WARN_COMP: a literal of this stage
+    double depth            # WARN_COMP_GOUGE: how far the tool cuts into the contour, mm
     uint32_t line
     int32_t file_idx
+    int32_t number          # WARN_COMP, WARN_COMP_GOUGE; 0: "further warnings suppressed"
 
 ctypedef struct CompState:
     ProgramBuilder *build   # the merge grows its parts
@@ -228,6 +244,12 @@ ctypedef struct CompState:
     warn_fn warn
     void *ctx
     CompCfg cfg
+    bint strict             # GCODE_REZERVA1_COMP_STRICT: what cannot be removed is error 504
+    # the chain being read keeps what crosses as the offsets give it (no error 504, no
+    # rebuild): warning 601 where the tool cuts into the contour. Without 0x80000 and
+    # the strict switch; with 0x80000, the second reading of a chain (_chain_retry)
+    bint lenient
+    bint retrying           # _chain_retry reads the chain again
     int first, second, normal
     uint8_t *role
     CompEl *st              # stack of open elements of the current chain
@@ -251,6 +273,7 @@ ctypedef struct CompState:
     size_t chain_first, chain_last
     int64_t chain_entry     # its entry ramp (a part ending where the chain starts), -1 none
     bint chain_fixed        # it starts at an uncompensated point (strategy 1)
+    bint chain_entry_arc    # ... on an arc right after the G41/G42 block (S.entry_arc)
     bint chain_exit_fixed   # it ends at an uncompensated point (strategy 1 before G40)
     size_t chain_ins0       # insertions queued before it
     int chain_warn0         # warnings kept before it

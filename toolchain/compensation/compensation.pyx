@@ -10,7 +10,10 @@
 #      chains between the entry ramp (G41 block or G0) and the exit (G40 block or G0);
 #   3. each new element resolves its corner with the top of a stack of open elements;
 #      an element the corners trimmed past itself (crossing offsets) is popped and the
-#      corner recomputed with the one before, at most `depth` times (strategy 0x700);
+#      corner recomputed with the one before, at most `depth` times (strategy 0x700;
+#      0x80000), or kept as the offsets give it (a lenient chain: the default, the
+#      vendor's, with warning 601 where the path cuts into the contour), or error 504
+#      (the strict mode);
 #   4. elements deeper than the search depth are final: their ends are written to the
 #      parts and their corner insertions queued;
 #   5. one merge pass rebuilds the part array with the insertions and gives the parts
@@ -25,18 +28,24 @@ cdef void _comp_deliver(CompState *S) noexcept nogil:
     """The kept warnings, in order, to `output` (text) and `warn` (numbered)."""
     cdef char text[300]
     cdef ErrorInfo info
-    cdef ErrArg arg
+    cdef ErrArg args[2]
     cdef const CompWarning *w
     cdef int k
     for k in range(S.n_warnings):
         w = &S.warnings[k]
-        if w.what == NULL:
+        if w.number == 0:
             snprintf(text, sizeof(text), "Warning: tool radius compensation: further warnings suppressed")
         else:
-            snprintf(text, sizeof(text), "Warning: tool radius compensation, line %u: %s", w.line, w.what)
+            if w.number == WARN_COMP:
+                args[0].num = 0; args[0].text = w.what
+                set_error(&info, WARN_COMP, w.file_idx, <int32_t>w.line, args, 1)
+                snprintf(text, sizeof(text), "Warning: tool radius compensation, line %u: %s", w.line, w.what)
+            else:
+                args[0].num = w.line; args[0].text = NULL
+                args[1].num = w.depth; args[1].text = NULL
+                set_error(&info, w.number, w.file_idx, <int32_t>w.line, args, 2)
+                snprintf(text, sizeof(text), "Warning: tool radius compensation, line %u: %s", w.line, info.text)
             if S.warn != NULL:
-                arg.num = 0; arg.text = w.what
-                set_error(&info, WARN_COMP, w.file_idx, <int32_t>w.line, &arg, 1)
                 info.n_lines = <int32_t>S.prog.n_lines
                 S.warn(S.ctx, &info)
         if S.output != NULL:
@@ -54,7 +63,9 @@ cdef bint _write_el(CompState *S, const CompEl *el) noexcept nogil:
     p.ce[S.second] = el.pe[1]
     if el.kind == EL_ARC:
         # a trimmed arc of no length would read as a full circle: it becomes a point
-        p.radius = el.ro if el_path_sweep(el) > 1e-9 else 0.0
+        # (one trimmed past itself, kept by a lenient chain, turns the long way round:
+        # what its offset gives from its start to its end)
+        p.radius = el.ro if fabs(el_path_sweep(el)) > TURN_EPS else 0.0
     S.role[el.part] = ROLE_SET
     if el.first and S.entry_part >= 0:
         entry = &S.prog.parts[S.entry_part]
@@ -145,6 +156,8 @@ cdef int _chain_add(CompState *S, CompEl *b) noexcept nogil:
         if el_path_length(a) < -S.cfg.slack:
             # the corners trimmed a past itself: the offsets cross here
             if not (S.cfg.strategy & CORR_REMOVE_CROSSING) or not _can_pop(S, a) or pops >= S.cfg.depth:
+                if S.lenient:
+                    break           # a stays as the offsets give it: the gouge check measures it
                 return comp_fail(S, ERR_COMP_CROSSING, a.part, fabs(a.d), 0)
             comp_warn(S, a.part, "crossing part removed from the path")
             comp_discard(S, a.part)
@@ -173,6 +186,8 @@ cdef int _chain_end_corners(CompState *S, bint fixed_end) noexcept nogil:
             break
         if not (S.cfg.strategy & CORR_REMOVE_CROSSING) or not (S.cfg.strategy & CORR_ALLOW_FIRST_LAST_CROSS) \
                 or S.n_st == 1:
+            if S.lenient:
+                break
             return comp_fail(S, ERR_COMP_CROSSING, a.part, fabs(a.d), 0)
         comp_warn(S, a.part, "crossing last part removed from the path")
         comp_discard(S, a.part)
@@ -194,20 +209,24 @@ cdef void _chain_open(CompState *S, size_t k) noexcept nogil:
     S.chain_last = k
     S.chain_entry = S.entry_part
     S.chain_fixed = S.next_fixed
+    S.chain_entry_arc = S.entry_arc
     S.chain_ins0 = S.n_ins
     S.chain_warn0 = S.n_warnings
+    if not S.retrying:
+        S.lenient = not S.strict and not (S.cfg.strategy & CORR_REMOVE_CROSSING)
     cl_chain_open(S, k, S.n_ins)
 
 
 cdef int _chain_fallback(CompState *S, int res) noexcept nogil:
     """A failure of the chain of corners: with 0x80000 a crossing or gouge it could
-    not cut (504, 500) makes the chain global (rebuilt from its regions at its end)."""
+    not cut (504, 500) makes the chain global (rebuilt from its regions at its end;
+    a lenient chain is not)."""
     if res == COMPILE_OK:
         return res
     if S.xs.err_number != 0:
         comp_fail(S, S.xs.err_number, S.xs.err_part, S.xs.err_arg, 0)
         S.xs.err_number = 0
-    if not (S.cfg.strategy & CORR_REMOVE_CROSSING) or not S.chain_open or \
+    if not (S.cfg.strategy & CORR_REMOVE_CROSSING) or not S.chain_open or S.lenient or \
             (S.err.number != ERR_COMP_CROSSING and S.err.number != ERR_COMP_NOT_FOUND):
         return res
     memcpy(&S.chain_err, S.err, sizeof(ErrorInfo))
@@ -221,27 +240,72 @@ cdef int _chain_fallback(CompState *S, int res) noexcept nogil:
 
 
 cdef int _chain_rebuild(CompState *S) noexcept nogil:
-    """The global chain from its regions, its path checked; else the error that made
-    it global."""
+    """The global chain from its regions, its path checked (a gouge left: warning 601,
+    strict: error 504); REGIONS_NOT_APPLICABLE when the regions do not give a path."""
     cdef int res = regions_rebuild(S)
-    if res == REGIONS_NOT_APPLICABLE:
-        memcpy(S.err, &S.chain_err, sizeof(ErrorInfo))
-        return COMPILE_ERROR
+    cdef bint lenient = S.lenient
     if res != COMPILE_OK:
         return res
     S.chain_rebuilt = True
     # the rebuilt path keeps the radius from the whole contour, not only within the depth
+    S.lenient = not S.strict
     if not cl_check_chain(S, S.chain_first, S.chain_last, S.chain_ins0, False, False,
                           S.chain_last - S.chain_first):
         res = comp_fail(S, S.xs.err_number, S.xs.err_part, S.xs.err_arg, 0)
         S.xs.err_number = 0
+    S.lenient = lenient
+    return res
+
+
+cdef int _chain_retry(CompState *S, bint fixed_end, bint exit_fixed) noexcept nogil:
+    """0x80000 without the strict switch: a chain its regions cannot rebuild (an open
+    one, one that changes its radius, ...) is read again from its first part, lenient:
+    the corners and the loop search remove what they can, the rest stays as the
+    offsets give it, with warning 601 where the tool cuts into the contour. Everything
+    the first reading wrote for the chain's parts is written again."""
+    cdef size_t k, last = S.chain_last
+    cdef int res = COMPILE_OK
+    cdef Part *p
+    cdef const double *st
+    S.n_ins = S.chain_ins0
+    S.n_warnings = S.chain_warn0
+    for k in range(S.chain_first, last + 1):
+        p = &S.prog.parts[k]
+        if p.kind == PART_MOTION and (p.func == 2 or p.func == 3):
+            # a removed arc (radius 0) is an arc again (_in_plane_motion)
+            st = part_start_xyz(S.prog, k)
+            p.radius = distance2d(st[S.first] - p.cc[S.first], st[S.second] - p.cc[S.second])
+    S.entry_part = S.chain_entry
+    S.next_fixed = S.chain_fixed
+    S.entry_arc = S.chain_entry_arc
+    S.idle = 0
+    S.n_st = 0
+    S.xs.n = 0
+    S.xs.base = 0
+    S.xs.n_prov = 0
+    S.xs.head_prov = 0
+    S.xs.err_number = 0
+    S.xs.last_part = <size_t>-1
+    S.chain_open = False
+    S.chain_global = False
+    S.retrying = True
+    S.lenient = True
+    k = S.chain_first
+    while k <= last and res == COMPILE_OK:
+        res = _run_part(S, k)
+        k += 1
+    if res == COMPILE_OK:
+        res = _chain_end(S, fixed_end, exit_fixed)
+    S.retrying = False
     return res
 
 
 cdef int _chain_end(CompState *S, bint fixed_end, bint exit_fixed) noexcept nogil:
     """Closes the chain (fixed_end: its last line ends at its programmed end;
     exit_fixed: strategy 1 before G40), checks that its path keeps the tool radius
-    from the contour, and rebuilds it from its regions when it does not (0x80000)."""
+    from the contour, and rebuilds it from its regions when it does not (0x80000);
+    when they do not apply, the error that made it global stands (strict) or the
+    chain is read again, lenient (_chain_retry)."""
     cdef int res = COMPILE_OK
     S.chain_rebuilt = False
     S.chain_exit_fixed = exit_fixed
@@ -253,6 +317,11 @@ cdef int _chain_end(CompState *S, bint fixed_end, bint exit_fixed) noexcept nogi
         res = _chain_fallback(S, res)
     if res == COMPILE_OK and S.chain_global:
         res = _chain_rebuild(S)
+        if res == REGIONS_NOT_APPLICABLE and S.strict:
+            memcpy(S.err, &S.chain_err, sizeof(ErrorInfo))
+            res = COMPILE_ERROR
+        elif res == REGIONS_NOT_APPLICABLE:
+            return _chain_retry(S, fixed_end, exit_fixed)
     S.chain_open = False
     S.chain_global = False
     S.n_st = 0
@@ -274,7 +343,7 @@ cdef bint _in_plane_motion(const CompState *S, size_t k, bint *is_arc) noexcept 
     s = part_start_xyz(S.prog, k)
     dx = p.e[S.first] - s[S.first]
     dy = p.e[S.second] - s[S.second]
-    return dx * dx + dy * dy > 1e-18        # longer than 1e-9
+    return dx * dx + dy * dy > LENGTH_EPS * LENGTH_EPS
 
 
 cdef int _run_begin(CompState *S, size_t i) noexcept nogil:
@@ -350,8 +419,8 @@ cdef int _run_part(CompState *S, size_t k) noexcept nogil:
     if S.chain_global:
         return COMPILE_OK           # rebuilt from the regions at the chain's end
     if is_arc:
-        if el.ro <= 1e-9 * el.R:
-            if el.ro < -1e-9 * el.R:
+        if el.ro <= LENGTH_EPS * el.R:
+            if el.ro < -LENGTH_EPS * el.R:
                 if not (S.cfg.strategy & CORR_DROP_NEGATIVE_ARCS):
                     return comp_fail(S, ERR_COMP_NEGATIVE_ARC, k, el.R, fabs(el.d))
                 comp_warn(S, k, "arc with negative equidistant removed")
@@ -555,6 +624,7 @@ cdef void compensate_begin(CompState *S, ProgramBuilder *build, const GCODE_PARA
     S.output = output
     S.warn = warn
     S.ctx = ctx
+    S.strict = (<uint32_t>params.rezerva1 & GCODE_REZERVA1_COMP_STRICT) != 0
     S.xs.last_part = <size_t>-1
     comp_config(&S.host, params)
     S.cfg = S.host

@@ -6,7 +6,7 @@
 #   3. outer corner: an arc about the programmed corner (radius = tool radius), or with
 #      CORR_CORNER_INTERSECTION the intersection of the extended offsets when it lies
 #      closer than factor x radius to the corner.
-from libc.math cimport atan2, fabs, M_PI
+from libc.math cimport fabs
 
 
 cdef int corner_resolve(CompEl *a, CompEl *b, const CompCfg *cfg) noexcept nogil:
@@ -30,7 +30,7 @@ cdef int corner_resolve(CompEl *a, CompEl *b, const CompCfg *cfg) noexcept nogil
             a.ins = INS_G1
             a.ins_end[0] = b.os[0]; a.ins_end[1] = b.os[1]
         return CORNER_OK
-    if distance2d(a.e[0] - b.s[0], a.e[1] - b.s[1]) > 1e-9:
+    if distance2d(a.e[0] - b.s[0], a.e[1] - b.s[1]) > LENGTH_EPS:
         # parts between them were removed: no common corner to go round, only the
         # intersection of the two offsets joins them
         ref[0] = 0.5 * (a.oe[0] + b.os[0])

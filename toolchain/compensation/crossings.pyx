@@ -11,18 +11,20 @@
 # A crossing at X of a later piece P (part B) with an earlier piece Q (part A) means a
 # loop: with 0x80000 the path is cut there (Q ends at X, P starts at X, the parts
 # between are removed and turned into zero-length moves, their insertions dropped) and
-# a warning given; without it error 504 on B's line. When P is B's inserted corner arc,
-# B's own piece is removed too and the rest of its corner arc becomes an insertion
-# after A. A cut that leaves nothing of the chain's first part needs 0x10000 (else 504).
+# a warning given; without it error 504 on B's line, or in a lenient chain the loop
+# stays (the gouge check warns where it cuts into the contour; without 0x80000 the
+# search does not run then). When P is B's inserted corner arc, B's own piece is
+# removed too and the rest of its corner arc becomes an insertion after A. A cut that
+# leaves nothing of the chain's first part needs 0x10000 (else 504, or kept).
 # Not loops: a crossing where the programmed elements cross too (the contour itself
 # crosses, the tool has to), and the crossing of the last part of a closed contour with
 # the first one (a start at an inner corner: the entry and exit rules).
 # At the chain's end its whole path is checked against the contour (clearance.pyx): a
 # cut that kept the wrong side (a chain started inside a neck narrower than the tool)
-# is error 504, or the chain is rebuilt from its regions (0x80000, regions.pyx).
+# is a gouge, and the chain is rebuilt from its regions (0x80000, regions.pyx).
 from libc.stdlib cimport malloc, free
 from libc.string cimport memmove, memcpy, memset
-from libc.math cimport fabs, sqrt, atan2, M_PI
+from libc.math cimport fabs, M_PI
 
 cdef extern from *:
     int __builtin_ctzll(unsigned long long) nogil
@@ -41,10 +43,7 @@ cdef inline void box_union(double *a, const double *b) noexcept nogil:
 
 cdef inline double _x_angle(const XPiece *q, double x, double y) noexcept nogil:
     """Angle of point (x, y) from q's start in q's direction, in [0, 2pi)."""
-    cdef double a = q.dir * vector_turn(q.s[0] - q.c[0], q.s[1] - q.c[1], x - q.c[0], y - q.c[1])
-    if a < 0:
-        a += 2.0 * M_PI
-    return a
+    return turn_from(q.s[0] - q.c[0], q.s[1] - q.c[1], x - q.c[0], y - q.c[1], q.dir)
 
 
 cdef inline void _x_sweep(XPiece *q) noexcept nogil:
@@ -53,23 +52,11 @@ cdef inline void _x_sweep(XPiece *q) noexcept nogil:
         q.sweep = _x_angle(q, q.e[0], q.e[1])
 
 
-cdef inline double x_pseudo(double x, double y) noexcept nogil:
-    """A monotone stand-in for the angle of (x, y) in [0, 4): k at the k-th axis
-    direction (+x, +y, -x, -y), no trigonometry."""
-    if y >= 0:
-        if x >= 0:
-            return y / (x + y) if x + y > 0 else 0.0
-        return 1.0 - x / (y - x)
-    if x < 0:
-        return 2.0 - y / (-x - y)
-    return 3.0 + x / (x - y)
-
-
 cdef void x_geometry(XPiece *q) noexcept nogil:
-    """Bounding box from s, e (and c, r, dir for arcs); an arc's sweep <= 0 is computed
-    (== 0) or left for _x_sweep (< 0: only for arcs of at most a half turn)."""
-    cdef double ps, d, t, sy, ey
-    cdef int i
+    """Bounding box from s, e (and c, r, dir for arcs: the axis points it passes,
+    geometry.pxd arc_axis_points); an arc's sweep == 0 is computed, one < 0 (only
+    corner arcs of at most a half turn) left for _x_sweep."""
+    cdef unsigned passes
     q.box[0] = q.s[0] if q.s[0] < q.e[0] else q.e[0]
     q.box[2] = q.e[0] if q.s[0] < q.e[0] else q.s[0]
     q.box[1] = q.s[1] if q.s[1] < q.e[1] else q.e[1]
@@ -78,38 +65,19 @@ cdef void x_geometry(XPiece *q) noexcept nogil:
         return
     if q.sweep == 0:
         q.sweep = _x_angle(q, q.e[0], q.e[1])
-    # the axis points the arc passes: pseudo-angles in the arc's direction (CW arcs
-    # mirrored in x), the span from s to e disambiguated by the sweep
-    sy = q.dir * (q.s[1] - q.c[1])
-    ey = q.dir * (q.e[1] - q.c[1])
-    ps = x_pseudo(q.s[0] - q.c[0], sy)
-    d = x_pseudo(q.e[0] - q.c[0], ey) - ps
-    if d < 0:
-        d += 4.0
-    if q.sweep < 0 and d < 1e-6:
-        q.sweep = _x_angle(q, q.e[0], q.e[1])     # ends (nearly) together: which way?
-    if q.sweep > 0:
-        if q.sweep > M_PI and d < 2.0:
-            d += 4.0
-        elif q.sweep <= M_PI and d > 2.0:
-            d -= 4.0
-    for i in range(4):
-        t = i - ps
-        if t < 0:
-            t += 4.0
-        # generous at both ends: a larger box only costs a closer look
-        if t <= d + 1e-9 or t >= 4.0 - 1e-9:
-            if i == 0: q.box[2] = q.c[0] + q.r
-            elif i == 2: q.box[0] = q.c[0] - q.r
-            elif (i == 1) == (q.dir > 0): q.box[3] = q.c[1] + q.r
-            else: q.box[1] = q.c[1] - q.r
+    passes = arc_axis_points(q.s[0] - q.c[0], q.s[1] - q.c[1], q.e[0] - q.c[0], q.e[1] - q.c[1],
+                             q.dir > 0, q.sweep)
+    if passes & 1: q.box[2] = q.c[0] + q.r
+    if passes & 2: q.box[3] = q.c[1] + q.r
+    if passes & 4: q.box[0] = q.c[0] - q.r
+    if passes & 8: q.box[1] = q.c[1] - q.r
 
 
 cdef bint x_on(const XPiece *q, double x, double y, double slack, double *pos) noexcept nogil:
     """Whether a point of q's line / circle lies on the piece; pos = distance along it."""
     cdef double L, t, a
     if q.kind == EL_LINE:
-        L = sqrt((q.e[0] - q.s[0]) * (q.e[0] - q.s[0]) + (q.e[1] - q.s[1]) * (q.e[1] - q.s[1]))
+        L = distance2d(q.e[0] - q.s[0], q.e[1] - q.s[1])
         if L <= 0:
             return False
         t = ((x - q.s[0]) * (q.e[0] - q.s[0]) + (y - q.s[1]) * (q.e[1] - q.s[1])) / L
@@ -124,14 +92,15 @@ cdef bint x_on(const XPiece *q, double x, double y, double slack, double *pos) n
 
 cdef int x_meet(const XPiece *p, const XPiece *q, double slack, double *pts) noexcept nogil:
     """Points where the line / circle of p meets that of q (0, 1 or 2, in pts)."""
-    cdef double dx, dy, ex, ey, den, t, L, wx, wy, b, disc, sq, dist, a, h2, h, mx, my
+    cdef double dx, dy, ex, ey, den, t, L
+    cdef double u[2]
     cdef const XPiece *ln
     cdef const XPiece *ci
     if p.kind == EL_LINE and q.kind == EL_LINE:
         dx = p.e[0] - p.s[0]; dy = p.e[1] - p.s[1]
         ex = q.e[0] - q.s[0]; ey = q.e[1] - q.s[1]
         den = dx * ey - dy * ex
-        if den * den <= 1e-24 * (dx * dx + dy * dy) * (ex * ex + ey * ey) + 1e-300:
+        if den * den <= ANGLE_EPS * ANGLE_EPS * (dx * dx + dy * dy) * (ex * ex + ey * ey) + 1e-300:
             return 0
         # both ends of one on the same side of the other: no crossing
         t = (q.s[0] - p.s[0]) * dy - (q.s[1] - p.s[1]) * dx
@@ -145,32 +114,12 @@ cdef int x_meet(const XPiece *p, const XPiece *q, double slack, double *pts) noe
     if p.kind == EL_LINE or q.kind == EL_LINE:
         ln = p if p.kind == EL_LINE else q
         ci = q if p.kind == EL_LINE else p
-        L = sqrt((ln.e[0] - ln.s[0]) * (ln.e[0] - ln.s[0]) + (ln.e[1] - ln.s[1]) * (ln.e[1] - ln.s[1]))
+        L = distance2d(ln.e[0] - ln.s[0], ln.e[1] - ln.s[1])
         if L <= 0:
             return 0
-        dx = (ln.e[0] - ln.s[0]) / L; dy = (ln.e[1] - ln.s[1]) / L
-        wx = ln.s[0] - ci.c[0]; wy = ln.s[1] - ci.c[1]
-        b = wx * dx + wy * dy
-        disc = b * b - (wx * wx + wy * wy - ci.r * ci.r)
-        if disc < 0:
-            return 0
-        sq = sqrt(disc)
-        pts[0] = ln.s[0] + (-b + sq) * dx; pts[1] = ln.s[1] + (-b + sq) * dy
-        pts[2] = ln.s[0] + (-b - sq) * dx; pts[3] = ln.s[1] + (-b - sq) * dy
-        return 2
-    dx = q.c[0] - p.c[0]; dy = q.c[1] - p.c[1]
-    dist = distance2d(dx, dy)
-    if dist < 1e-12:
-        return 0
-    a = (p.r * p.r - q.r * q.r + dist * dist) / (2.0 * dist)
-    h2 = p.r * p.r - a * a
-    if h2 < 0:
-        return 0
-    h = sqrt(h2)
-    mx = p.c[0] + a * dx / dist; my = p.c[1] + a * dy / dist
-    pts[0] = mx - h * dy / dist; pts[1] = my + h * dx / dist
-    pts[2] = mx + h * dy / dist; pts[3] = my - h * dx / dist
-    return 2
+        u[0] = (ln.e[0] - ln.s[0]) / L; u[1] = (ln.e[1] - ln.s[1]) / L
+        return 2 if line_circle(ln.s, u, ci.c, ci.r, 0.0, pts) else 0
+    return 2 if circle_circle(p.c, p.r, q.c, q.r, 0.0, pts) else 0
 
 
 cdef inline bint x_near(const double *a, double x, double y, double slack) noexcept nogil:
@@ -387,6 +336,8 @@ cdef int _x_crossing(CompState *S, XPiece *pp, size_t b_part, bint closing, doub
     if not (S.cfg.strategy & CORR_REMOVE_CROSSING) or \
             (X.pc[qi[0]].first and x_near(X.pc[qi[0]].s, at[0], at[1], S.cfg.slack)
              and not (S.cfg.strategy & CORR_ALLOW_FIRST_LAST_CROSS)):
+        if S.lenient:
+            return X_WRITE              # the loop stays: the gouge check measures it
         X.err_number = ERR_COMP_CROSSING
         X.err_part = b_part
         X.err_arg = fabs(comp_distance(S, &S.prog.parts[b_part]))
@@ -404,13 +355,15 @@ cdef int cross_write(CompState *S, CompEl *el) noexcept nogil:
     cdef int res
     cdef InsRec *rec
     cdef bint closing
+    if S.lenient and not (S.cfg.strategy & CORR_REMOVE_CROSSING):
+        return X_WRITE                  # nothing is cut: the gouge check measures the path
     if el.first:
         X.n = 0
         X.base = 0
         X.start[0] = el.s[0]; X.start[1] = el.s[1]
     # the last part of a closed contour crosses the first one where they meet (an inner
     # corner): the start and end rules of the chain, no loop
-    closing = el.part == X.last_part and distance2d(el.e[0] - X.start[0], el.e[1] - X.start[1]) < 1e-9
+    closing = el.part == X.last_part and distance2d(el.e[0] - X.start[0], el.e[1] - X.start[1]) < LENGTH_EPS
     # the element's own piece
     pb.part = el.part
     pb.after = 0
@@ -433,7 +386,7 @@ cdef int cross_write(CompState *S, CompEl *el) noexcept nogil:
         pb.sweep = el_path_sweep(el)
         if pb.sweep > 2.0 * M_PI:
             pb.sweep = 2.0 * M_PI
-        if pb.sweep < 1e-9 or pb.r <= 0:
+        if pb.sweep < TURN_EPS or pb.r <= 0:
             pb.kind = EL_LINE
             pb.gprog = False
     x_geometry(&pb)
@@ -473,8 +426,8 @@ cdef int cross_write(CompState *S, CompEl *el) noexcept nogil:
         X.head_prov += 1
     if X.head_prov < X.n_prov and X.prov[X.head_prov] == el.part:
         X.head_prov += 1
-        pi.prov = el.ins == INS_G1
-    if distance2d(pi.e[0] - pi.s[0], pi.e[1] - pi.s[1]) < 1e-12:
+        pi.prov = el.ins == INS_G1 and not S.lenient    # lenient: a join left is measured, not refused
+    if distance2d(pi.e[0] - pi.s[0], pi.e[1] - pi.s[1]) < ROUNDING_EPS:
         return X_WRITE
     x_geometry(&pi)
     res = _x_crossing(S, &pi, el.part, False, at, &qi)
@@ -509,7 +462,7 @@ cdef bint cross_join(CompState *S, const CompEl *a, const CompEl *b) noexcept no
     search must remove it, else error 500 on a's line (at the chain's end or once it
     is farther back than the search depth)."""
     cdef XState *X = &S.xs
-    if not (S.cfg.strategy & CORR_REMOVE_CROSSING) or distance2d(a.e[0] - b.s[0], a.e[1] - b.s[1]) <= 1e-9:
+    if not (S.cfg.strategy & CORR_REMOVE_CROSSING) or distance2d(a.e[0] - b.s[0], a.e[1] - b.s[1]) <= LENGTH_EPS:
         return False
     if X.head_prov == X.n_prov:
         X.head_prov = 0

@@ -51,11 +51,11 @@ cdef bint _ia_in_plane_line(const Program *prog, size_t k, int a, int b) noexcep
     cdef int i
     if p.kind != PART_MOTION or p.func != 1:
         return False
-    segment_of_part(prog, k, &g)        # planner/segment.pyx
+    segment_of_part(prog, k, &g)
     for i in range(g.n_axes):
-        if i != a and i != b and fabs(g.end[i] - g.start[i]) > 1e-9:
+        if i != a and i != b and fabs(g.end[i] - g.start[i]) > LENGTH_EPS:
             return False
-    return distance2d(g.end[a] - g.start[a], g.end[b] - g.start[b]) > 1e-9
+    return distance2d(g.end[a] - g.start[a], g.end[b] - g.start[b]) > LENGTH_EPS
 
 
 cdef int insert_arcs(ProgramBuilder *build, const GCODE_PARAMETERS *params, ErrorInfo *err) noexcept nogil:
@@ -126,8 +126,8 @@ cdef int insert_arcs(ProgramBuilder *build, const GCODE_PARAMETERS *params, Erro
             cross = u0[0] * u1[1] - u0[1] * u1[0]
             dot = u0[0] * u1[0] + u0[1] * u1[1]
             t = atan2(fabs(cross), dot)                 # deflection, 0..pi
-            if t > 1e-9 and t * 180.0 / M_PI > min_angle and t * 180.0 / M_PI <= max_angle + 1e-9 \
-                    and t < M_PI - 1e-9:
+            if t > TURN_EPS and t * 180.0 / M_PI > min_angle and t * 180.0 / M_PI <= max_angle + TURN_EPS \
+                    and t < M_PI - TURN_EPS:
                 ct = cos(t / 2.0)
                 tt = tan(t / 2.0)
                 d = tol_max
@@ -138,7 +138,7 @@ cdef int insert_arcs(ProgramBuilder *build, const GCODE_PARAMETERS *params, Erro
                     tang = half
                     rad = tang / tt
                     d = rad * (1.0 - ct) / ct
-                if d >= tol_min - 1e-12 and rad > 1e-9:
+                if d >= tol_min - ROUNDING_EPS and rad > LENGTH_EPS:
                     if not grow(<void **>&ins, &cap_ins, n_ins + 1, sizeof(ArcIns)):
                         free(ins)
                         set_error(err, ERR_OUT_OF_MEMORY, prog.main_file_idx, 0, NULL, 0)

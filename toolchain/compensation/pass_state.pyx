@@ -1,21 +1,51 @@
 # The state of one compensation pass (CompState, compensation.pxd) and what every
-# step of the pass does with it: keep a warning, fail, queue an insertion, discard a
-# part from the path, read a part's offset element. Shared by the crossings, the
-# clearance, the regions and the pass itself (compensation.pyx).
+# step of the pass does with it: keep a warning (600, or 601 where the tool cuts into
+# the contour), fail, queue an insertion, discard a part from the path, read a part's
+# offset element. Shared by the crossings, the clearance, the regions and the pass
+# itself (compensation.pyx).
 from libc.string cimport memset
-from libc.math cimport fabs, M_PI
+from libc.math cimport fabs
+
+
+cdef CompWarning *_comp_warning(CompState *S, size_t part, int32_t number) noexcept nogil:
+    """A new kept warning about part `part`, NULL when no more are kept (the last slot
+    says so)."""
+    cdef CompWarning *w
+    if S.n_warnings >= MAX_WARNINGS:
+        return NULL
+    w = &S.warnings[S.n_warnings]
+    S.n_warnings += 1
+    w.number = number if S.n_warnings < MAX_WARNINGS else 0
+    w.what = NULL
+    w.depth = 0.0
+    w.line = S.prog.parts[part].line
+    w.file_idx = S.prog.parts[part].file_idx
+    return w if w.number != 0 else NULL
 
 
 cdef void comp_warn(CompState *S, size_t part, const char *what) noexcept nogil:
     """Keeps a warning about part `part` (`what`: a literal) for _comp_deliver."""
+    cdef CompWarning *w = _comp_warning(S, part, WARN_COMP)
+    if w != NULL:
+        w.what = what
+
+
+cdef void comp_gouge(CompState *S, size_t part, double depth) noexcept nogil:
+    """Keeps warning 601: the tool path of part `part` cuts `depth` mm into the
+    contour. One per line of the chain, with the deepest cut of its pieces (the check
+    may measure a piece twice: round a closed contour's start)."""
     cdef CompWarning *w
-    if S.n_warnings >= MAX_WARNINGS:
-        return
-    w = &S.warnings[S.n_warnings]
-    S.n_warnings += 1
-    w.what = what if S.n_warnings < MAX_WARNINGS else NULL
-    w.line = S.prog.parts[part].line
-    w.file_idx = S.prog.parts[part].file_idx
+    cdef const Part *p = &S.prog.parts[part]
+    cdef int k
+    for k in range(S.chain_warn0, S.n_warnings):
+        w = &S.warnings[k]
+        if w.number == WARN_COMP_GOUGE and w.line == p.line and w.file_idx == p.file_idx:
+            if depth > w.depth:
+                w.depth = depth
+            return
+    w = _comp_warning(S, part, WARN_COMP_GOUGE)
+    if w != NULL:
+        w.depth = depth
 
 
 cdef int comp_fail(CompState *S, int32_t number, size_t part, double a0, double a1) noexcept nogil:
@@ -101,15 +131,10 @@ cdef bint comp_part_element(const CompState *S, size_t k, CompEl *el) noexcept n
     pe[0] = p.e[S.first]; pe[1] = p.e[S.second]
     if p.func == 2 or p.func == 3:
         pc[0] = p.cc[S.first]; pc[1] = p.cc[S.second]
-        if distance2d(ps[0] - pc[0], ps[1] - pc[1]) <= 1e-9:
+        if distance2d(ps[0] - pc[0], ps[1] - pc[1]) <= LENGTH_EPS:
             return False
-        # sweep in the arc's direction, a full circle when start = end (as arc_sweep)
-        sweep = vector_turn(ps[0] - pc[0], ps[1] - pc[1], pe[0] - pc[0], pe[1] - pc[1])
-        if p.func == 3 and sweep <= 1e-12:
-            sweep += 2.0 * M_PI
-        elif p.func == 2 and sweep >= -1e-12:
-            sweep -= 2.0 * M_PI
+        sweep = arc_sweep(ps[0] - pc[0], ps[1] - pc[1], pe[0] - pc[0], pe[1] - pc[1], p.func == 3)
         return el_init(el, k, EL_ARC, 1 if p.func == 3 else -1, comp_distance(S, p), ps, pe, pc, sweep)
-    if (pe[0] - ps[0]) * (pe[0] - ps[0]) + (pe[1] - ps[1]) * (pe[1] - ps[1]) <= 1e-18:
+    if (pe[0] - ps[0]) * (pe[0] - ps[0]) + (pe[1] - ps[1]) * (pe[1] - ps[1]) <= LENGTH_EPS * LENGTH_EPS:
         return False
     return el_init(el, k, EL_LINE, 0, comp_distance(S, p), ps, pe, pc, 0.0)

@@ -20,11 +20,13 @@
 # the outer border (not a pocket the contour nearly closes, nor the far side).
 #
 # The path enters the loop at the first element (program order) whose tool side offset
-# has a piece in it; the elements keep their pieces in program order (else the rebuild
-# does not apply), vertex arcs and far side lines become inserted parts, elements
-# without a piece are removed (warning 600 on their lines).
+# has a piece in it; the elements keep their pieces in program order, vertex arcs, far
+# side lines and the tool side lines the loop reaches out of program order (a contour
+# that crosses itself) become inserted parts (an arc out of order: the rebuild does not
+# apply), elements without a piece on their own part are removed (warning 600 on their
+# lines).
 from libc.stdlib cimport malloc, free, qsort
-from libc.math cimport fabs, fmax, sin, sqrt, atan2, M_PI
+from libc.math cimport fabs, fmax, sin, sqrt, M_PI
 from libc.float cimport DBL_EPSILON
 
 
@@ -55,7 +57,7 @@ cdef void _r_point(const XPiece *q, double t, double *out) noexcept nogil:
         out[0] = q.s[0] + (q.e[0] - q.s[0]) * t / L
         out[1] = q.s[1] + (q.e[1] - q.s[1]) * t / L
         return
-    arc_point_at(q.c, q.r, q.s[0], q.s[1], q.dir * t / q.r, out)     # planner/segment.pyx
+    arc_point_at(q.c, q.r, q.s[0], q.s[1], q.dir * t / q.r, out)
 
 
 cdef void regions_free(Regions *R) noexcept nogil:
@@ -102,22 +104,13 @@ cdef bint _r_offset_piece(Regions *R, size_t j, double d, int ptype) noexcept no
     """The offset of element j by d (PIECE_FAR: run backwards); nodes 4j + 0/1 (tool
     side start / end), 4j + 2/3 (far side)."""
     cdef const CompEl *a = &R.els[j]
-    cdef double ro, s[2], e[2], f
+    cdef double ro, s[2], e[2]
     cdef size_t n0 = 4 * j + (0 if ptype == PIECE_TOOL else 2)
     cdef XPiece *q
-    if a.kind == EL_LINE:
-        s[0] = a.s[0] - d * a.u[1]; s[1] = a.s[1] + d * a.u[0]
-        e[0] = a.e[0] - d * a.u[1]; e[1] = a.e[1] + d * a.u[0]
-        ro = 1.0
-    else:
-        ro = a.R - d * a.dir
-        if fabs(ro) <= 1e-12:
-            R.alias[n0 + 1] = n0        # a point: both ends are one node
-            return True
-        f = ro / a.R
-        s[0] = a.c[0] + (a.s[0] - a.c[0]) * f; s[1] = a.c[1] + (a.s[1] - a.c[1]) * f
-        f = ro / distance2d(a.e[0] - a.c[0], a.e[1] - a.c[1])
-        e[0] = a.c[0] + (a.e[0] - a.c[0]) * f; e[1] = a.c[1] + (a.e[1] - a.c[1]) * f
+    ro = el_offset_ends(a, d, s, e)
+    if a.kind == EL_ARC and fabs(ro) <= ROUNDING_EPS:
+        R.alias[n0 + 1] = n0            # a point: both ends are one node
+        return True
     if ptype == PIECE_TOOL:
         q = _r_new_piece(R, j, ptype, n0, n0 + 1)
     else:
@@ -149,7 +142,6 @@ cdef bint _r_vertex(Regions *R, size_t j, double d) noexcept nogil:
     cdef double tmp_a, t_[2]
     cdef size_t tmp_n, i, k, m = 0
     cdef int direction = -1 if d > 0 else 1
-    cdef double base
     cdef XPiece *q
     cdef double c[2]
     cdef const CompEl *b = &R.els[jn]
@@ -169,7 +161,7 @@ cdef bint _r_vertex(Regions *R, size_t j, double d) noexcept nogil:
         else:
             t_[0] = c[0] + d * tb[1]; t_[1] = c[1] - d * tb[0]; tmp_n = 4 * jn + 2
         for k in range(m):
-            if distance2d(pts[2 * k] - t_[0], pts[2 * k + 1] - t_[1]) <= 1e-9:
+            if distance2d(pts[2 * k] - t_[0], pts[2 * k + 1] - t_[1]) <= LENGTH_EPS:
                 R.alias[_r_node(R, tmp_n)] = _r_node(R, nodes[k])     # touching ends: one node
                 break
         else:
@@ -177,13 +169,8 @@ cdef bint _r_vertex(Regions *R, size_t j, double d) noexcept nogil:
             nodes[m] = tmp_n
             m += 1
     # in the circle's direction from the first point
-    base = atan2(pts[1] - c[1], pts[0] - c[0])
     for i in range(m):
-        ang[i] = direction * (atan2(pts[2 * i + 1] - c[1], pts[2 * i] - c[0]) - base)
-        while ang[i] < 0:
-            ang[i] += 2.0 * M_PI
-        while ang[i] >= 2.0 * M_PI:
-            ang[i] -= 2.0 * M_PI
+        ang[i] = turn_from(pts[0] - c[0], pts[1] - c[1], pts[2 * i] - c[0], pts[2 * i + 1] - c[1], direction)
     for i in range(1, m):
         k = i
         while k > 0 and ang[k] < ang[k - 1]:
@@ -281,7 +268,7 @@ cdef bint _r_crossings(Regions *R, size_t *n_nodes) noexcept nogil:
     cdef size_t i, k, gi, ng, n = R.n_pc
     cdef double pts[4]
     cdef double pi_, pk, Li, Lk
-    cdef double eps = 1e-9
+    cdef double eps = LENGTH_EPS
     cdef int m, h
     cdef XPiece *a
     cdef XPiece *b
@@ -493,7 +480,7 @@ cdef bint _r_chain_elements(CompState *S, Regions *R, double *d) noexcept nogil:
     if R.n_els == 0:
         return False
     d[0] = R.els[0].d
-    return distance2d(R.els[0].s[0] - R.els[R.n_els - 1].e[0], R.els[0].s[1] - R.els[R.n_els - 1].e[1]) <= 1e-6
+    return distance2d(R.els[0].s[0] - R.els[R.n_els - 1].e[0], R.els[0].s[1] - R.els[R.n_els - 1].e[1]) <= CLOSED_EPS
 
 
 cdef double _r_contour_area(const Regions *R) noexcept nogil:
@@ -522,7 +509,7 @@ cdef int regions_rebuild(CompState *S) noexcept nogil:
     cdef RSub *u
     cdef XPiece *q
     cdef Part *p
-    cdef bint *kept
+    cdef uint8_t *kept          # per element: KEPT_ON_PART, KEPT_INSERTED or 0 (no piece)
     cdef size_t key, prev_key, prev_piece, first_el
     if not _r_chain_elements(S, R, &d):
         return REGIONS_NOT_APPLICABLE
@@ -552,13 +539,17 @@ cdef int regions_rebuild(CompState *S) noexcept nogil:
             start = k
     if start == n_loop:
         return REGIONS_NOT_APPLICABLE   # no element to hang the arcs on
-    # the elements in program order, each once; far side pieces only of lines
+    # the tool side pieces go to their elements' parts in program order; one that comes
+    # out of order (a contour that crosses itself: the border passes its elements twice
+    # or backwards) is inserted after the last part written, as far side pieces are:
+    # both only of lines (an inserted arc has the tool radius)
     first_el = R.pel[R.sub[R.loop[start]].piece]
     prev_key = 0
     prev_piece = R.n_pc
     for j in range(n_loop):
         u = &R.sub[R.loop[(start + j) % n_loop]]
         el_i = R.pel[u.piece]
+        u.on_part = False
         if R.pconn[u.piece] == PIECE_FAR and R.els[el_i].kind != EL_LINE:
             return REGIONS_NOT_APPLICABLE
         if R.pconn[u.piece] == PIECE_TOOL:
@@ -566,16 +557,19 @@ cdef int regions_rebuild(CompState *S) noexcept nogil:
                 return REGIONS_NOT_APPLICABLE
             key = el_i if el_i >= first_el else el_i + R.n_els
             if u.piece == prev_piece:
-                pass                    # the same run goes on
-            elif j > 0 and key <= prev_key:
+                u.on_part = R.sub[R.loop[(start + j - 1) % n_loop]].on_part      # the same run goes on
+            else:
+                u.on_part = j == 0 or key > prev_key
+            if u.on_part:
+                prev_key = key
+            elif R.els[el_i].kind != EL_LINE:
                 return REGIONS_NOT_APPLICABLE
-            prev_key = key
         prev_piece = u.piece
-    kept = <bint *>malloc(R.n_els * sizeof(bint))
+    kept = <uint8_t *>malloc(R.n_els)
     if kept == NULL:
         return comp_fail(S, ERR_OUT_OF_MEMORY, S.chain_first, 0, 0)
     for j in range(R.n_els):
-        kept[j] = False
+        kept[j] = 0
     # the queued insertions of the chain and the warnings of the failed attempt go
     S.n_ins = S.chain_ins0
     S.n_warnings = S.chain_warn0
@@ -592,23 +586,26 @@ cdef int regions_rebuild(CompState *S) noexcept nogil:
         u = &R.sub[R.loop[(start + j) % n_loop]]
         q = &R.pc[u.piece]
         el_i = R.pel[u.piece]
-        if R.pconn[u.piece] != PIECE_TOOL:
-            if not ins_arc(S, last_part, u.p1, q.c, INS_G1 if R.pconn[u.piece] == PIECE_FAR else
-                            (INS_G3 if q.dir > 0 else INS_G2)):
+        if not u.on_part:
+            if not ins_arc(S, last_part, u.p1, q.c, INS_G1 if R.pconn[u.piece] != PIECE_VERTEX else
+                           (INS_G3 if q.dir > 0 else INS_G2)):
                 free(kept)
                 return comp_fail(S, ERR_OUT_OF_MEMORY, last_part, 0, 0)
+            if R.pconn[u.piece] == PIECE_TOOL and not kept[el_i]:
+                kept[el_i] = KEPT_INSERTED
             continue
         last_part = R.els[el_i].part
-        kept[el_i] = True
+        kept[el_i] = KEPT_ON_PART
         p = &S.prog.parts[last_part]
         p.ce[S.first] = u.p1[0]; p.ce[S.second] = u.p1[1]
         if R.els[el_i].kind == EL_ARC:
             p.radius = R.els[el_i].ro
         S.role[last_part] = ROLE_SET
     for j in range(R.n_els):
-        if not kept[j]:
+        if kept[j] != KEPT_ON_PART:
             comp_discard(S, R.els[j].part)
-            comp_warn(S, R.els[j].part, "part skipped: the tool does not fit there")
+            comp_warn(S, R.els[j].part, "part skipped: the tool does not fit there" if not kept[j] else
+                      "part's tool path cut after a later line (the contour crosses itself)")
     free(kept)
     if S.chain_exit_fixed:
         at[0] = R.els[R.n_els - 1].e[0]; at[1] = R.els[R.n_els - 1].e[1]

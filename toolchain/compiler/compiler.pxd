@@ -7,7 +7,13 @@
 #   labels.pyx       jump targets (labels, G29 comments, N numbers), found on the first jump
 #   flow.pyx         IF / WHILE / FOR / BREAK / CONTINUE, calls and jumps
 #   emit.pyx         the parts of a line's words, in machine coordinates
-#   compiler.pyx     the line loop: words, modal G and M functions, the parts
+#   ngc_params.pyx   ISO mode: LinuxCNC's numbered and named parameters, [ ] expressions
+#   words.pyx        the words of one line (LineWords), evaluated at once
+#   dialects.pyx     the TG hints for ISO G functions; how the ISO mode reads a line
+#   ngc_flow.pyx     ISO mode: O-word subroutines, branches and loops
+#   ngc_motion.pyx   ISO mode: work offsets, G28 / G30, G53, canned cycles
+#   block.pyx        one line's G and M functions by modal group (Block), run in one order
+#   compiler.pyx     the line loop: units, lines, the run to the end
 # Owns CState and its records; reads CompileInput and writes the Program through its
 # builder (program.pxd). Called by the core's compile worker (compile_program).
 
@@ -87,6 +93,84 @@ ctypedef struct LineWords:
     const char *text        # M29 / PRINT text
     int text_len
     bint has_text
+    bint has_polar_r, has_polar_a   # ISO mode: LinuxCNC's polar words @ (distance) and ^ (angle)
+    double polar_r, polar_a
+    int polar_col
+
+# ---- ngc_params.pyx, ngc_flow.pyx, ngc_motion.pyx: the ISO compatibility mode's state
+# LinuxCNC's RS274/NGC as the ISO mode reads it: numbered and named parameters, O-word
+# flow, work offsets, home positions and canned cycles. Allocated once per compilation
+# in the ISO mode (CState.ngc), so the TG dialect pays nothing for it.
+cdef enum:
+    NGC_PARAMS = 5602           # numbered parameters #1 .. #5601 (LinuxCNC's table)
+    NGC_ARGS = 30               # #1 .. #30: a call's arguments, local to the call
+    NGC_CALL_LEVELS = 10        # LinuxCNC's nesting limit of O-word calls (level 0 = the program)
+    NGC_FRAMES = 256            # open O-word loops and calls
+    NGC_LINE_SETTINGS = 50      # parameter settings on one line
+    NGC_NAME_CHARS = 64         # longest parameter or subroutine name
+
+# O-word frames
+cdef enum:
+    OF_CALL = 1
+    OF_WHILE = 2
+    OF_DO = 3
+    OF_REPEAT = 4
+
+ctypedef struct NgcLabel:       # the number (o100) or name (o<name>) of an O word
+    int64_t number              # -1 for a name
+    int len
+    char name[NGC_NAME_CHARS]   # lower case, without blanks
+
+ctypedef struct NgcName:        # a named parameter
+    int level                   # call level that owns a local one; -1: global (#<_name>)
+    int len
+    char name[NGC_NAME_CHARS]
+    double value
+
+ctypedef struct NgcSub:         # a subroutine whose definition was read
+    NgcLabel label
+    const char *text            # the source (unit) holding it
+    size_t pos                  # the line after `sub`
+    uint32_t line
+
+ctypedef struct NgcFrame:       # an open O-word call or loop
+    int kind                    # OF_*
+    NgcLabel label
+    size_t pos                  # call: the line to return to; while: its own line; do, repeat: the line after it
+    uint32_t line
+    int64_t count               # repeat: passes left
+
+ctypedef struct NgcSetting:     # a parameter setting read on the line, done after the line is read
+    int number                  # #number, or 0 for a named one
+    int len
+    char name[NGC_NAME_CHARS]
+    double value
+
+ctypedef struct NgcState:
+    double params[NGC_PARAMS]
+    NgcName *names
+    size_t n_names, cap_names
+    NgcSub *subs
+    size_t n_subs, cap_subs
+    NgcFrame frames[NGC_FRAMES]
+    int n_frames
+    int level                   # call level: 0 in the program
+    double saved[NGC_CALL_LEVELS][NGC_ARGS]     # the callers' #1 .. #30
+    NgcSetting settings[NGC_LINE_SETTINGS]
+    int n_settings
+    double value                # #<_value>: what the last return / endsub returned
+    bint value_returned
+    int coord                   # 1 .. 9: G54 .. G59.3
+    int retract                 # 98 / 99
+    bint ijk_absolute           # G90.1
+    bint inverse_time           # G93: F is 1 / minutes per move
+    int col                     # column of the O word of the statement being executed
+    int spindle                 # 3 clockwise, 4 counter-clockwise, 0 stopped
+    bint mist, flood
+    # canned cycles (LinuxCNC keeps R, Z, Q, P from one line of a cycle to the next)
+    double cycle_r, cycle_cc, cycle_q, cycle_p
+    double cycle_il             # the level before the series of cycles (G98 returns there)
+    bint cycle_il_set
 
 ctypedef struct CState:
     const CompileInput *inp
@@ -98,10 +182,10 @@ ctypedef struct CState:
     int n_pstack
     double P[100]
     # positions: machine = rotate(mirror(ppos)) + zero + shift
-    double ppos[10]
-    double mpos[10]
-    double zero[10]
-    double shift[10]
+    double ppos[AXES]
+    double mpos[AXES]
+    double zero[AXES]
+    double shift[AXES]
     int zero_idx
     int mirror                              # bit 0 X, 1 Y, 2 Z
     bint rot_on
@@ -111,7 +195,7 @@ ctypedef struct CState:
     double rot_m[9]
     bint absolute
     int plane
-    int motion                              # modal 0 1 2 3 33
+    int motion                              # modal 0 1 2 3 33; ISO mode: also 73 81..89, -1 none (G80)
     bint per_min
     bint lathe_radius                       # G24
     bint css                                # G96
@@ -126,8 +210,8 @@ ctypedef struct CState:
     uint32_t g900_ignore_angle, g900_ignore_feed
     int32_t g900_stop_mode, g900_arc_table
     int32_t gindex
-    bint fixed[10]                          # the axis no longer follows the start (named absolutely)
-    bint shift_follows[10]                  # a G92 on the axis while it followed the start
+    bint fixed[AXES]                        # the axis no longer follows the start (named absolutely)
+    bint shift_follows[AXES]                # a G92 on the axis while it followed the start
     bint program_end
     int64_t blocks, block_limit
     Frame frames[FRAME_DEPTH]
@@ -146,6 +230,9 @@ ctypedef struct CState:
     double unit_scale                       # 1, or 25.4 after an ISO G20 (inches)
     bint iso_header                         # G21, or G90 before the first part: written for ISO?
     bint warned_g18                         # the G18 arc warning is given once
+    bint warned_feed, warned_bare_axes      # warnings 614 / 615 are given once
+    bint motion_given                       # a G0 .. G3 (or ISO cycle) was written
+    NgcState *ngc                           # ISO mode: parameters, O-words, offsets, cycles (else NULL)
     int n_warnings
     char word[64]                           # text of an offending word for messages
     LineWords lw                            # words of the current line
@@ -158,6 +245,95 @@ cdef enum:
 cdef enum:
     # X Y Z C B U V W A O as letter bits
     AXIS_LETTERS = (1 << 23) | (1 << 24) | (1 << 25) | (1 << 2) | (1 << 1) | (1 << 20) | (1 << 21) | (1 << 22) | (1 << 0) | (1 << 14)
+
+# ---- ngc_params.pyx
+cdef enum:
+    NGC_DEPTH = 64              # nesting of [ ] and functions (stack safety on garbage input)
+
+# binary operators by precedence (LinuxCNC's): ** ; * / MOD ; + - ; EQ NE GT GE LT LE ; AND OR XOR
+cdef enum:
+    OP_NONE = 0
+    OP_POWER = 1
+    OP_TIMES = 2
+    OP_DIVIDE = 3
+    OP_MOD = 4
+    OP_PLUS = 5
+    OP_MINUS = 6
+    OP_EQ = 7
+    OP_NE = 8
+    OP_GT = 9
+    OP_GE = 10
+    OP_LT = 11
+    OP_LE = 12
+    OP_AND = 13
+    OP_OR = 14
+    OP_XOR = 15
+
+# ---- words.pyx: what reading one word leaves
+cdef enum:
+    WORDS_MORE = 0          # a word was read; more may follow
+    WORDS_DONE = 1          # the rest of the line holds no words (REM, G29's comment, M29's text)
+
+# ---- ngc_flow.pyx
+cdef enum:
+    R_NOT_O = 3                 # ow_statement: the line is no O-word statement
+
+cdef enum:
+    OW_SUB = 1
+    OW_ENDSUB = 2
+    OW_CALL = 3
+    OW_RETURN = 4
+    OW_IF = 5
+    OW_ELSEIF = 6
+    OW_ELSE = 7
+    OW_ENDIF = 8
+    OW_WHILE = 9
+    OW_ENDWHILE = 10
+    OW_DO = 11
+    OW_REPEAT = 12
+    OW_ENDREPEAT = 13
+    OW_BREAK = 14
+    OW_CONTINUE = 15
+
+# ---- block.pyx
+# What one line says, by modal group: cp_read_block fills it from the G functions in
+# the order written (a later G of the same group replaces an earlier one); cp_block
+# executes the groups in the order block.pyx documents. 0 / -1: not on the line.
+ctypedef struct Block:
+    int motion              # 0 1 2 3 33; ISO mode: also 73 74 81 .. 86 89 (cycles), 80 (cancel); -1 none
+    int plane               # 17 18 19 -18
+    int units               # 21 (TG: an ISO header)
+    int comp                # 40 .. 48
+    int zero                # 53 .. 57, 59 (TG's zero offsets)
+    int zero_col            # its column
+    int rotation            # 168 on, 169 off
+    int distance            # 90 / 91
+    int feed_mode           # 94 / 95
+    int css                 # 96 / 97
+    int shift               # 92 / 98
+    int strategy            # 172 / 173
+    int jump                # 25 26 27
+    int jump_col            # its column
+    int g900_col            # G900's column
+    bint dwell              # G4
+    bint lathe_radius       # G24
+    bint g167               # automatic arcs
+    uint32_t consumed       # letters the line's functions use: no axis moves
+    # the ISO compatibility mode (ngc_*.pyx): LinuxCNC's G functions of the line
+    int home                # 28 30 (go home), 281 282 (G28.1 / G30.1: store)
+    int coord               # 1 .. 9: G54 .. G59.3
+    int retract             # 98 / 99
+    int ijk                 # 901 (G90.1 absolute centres) / 911 (G91.1 relative)
+    int shift_reset         # 1 2 3: G92.1, G92.2, G92.3
+    bint machine            # G53: this line moves in machine coordinates
+    bint g10                # G10 L2 / L20 (L and P words)
+    bint ngc_p              # a G function of the line takes its P word (dwell, cycle, G10, G64)
+
+# which M functions of a line a pass of block.pyx runs
+cdef enum:
+    M_ALL = 0
+    M_BEFORE = 1
+    M_STOPS = 2
 
 
 # ---- what other stages call

@@ -125,25 +125,36 @@ cdef inline double val(const LineWords *lw, char letter) noexcept nogil:
 
 
 cdef int em_arc_error(CState *st, int fa, int sa, const double *s, const double *e, double rs,
-                      double re) noexcept nogil:
-    cdef ErrArg a[11]
+                      double re, int col) noexcept nogil:
+    """Error 400 or 407 on one line: plane, column, start and end, the chord or the radii."""
+    cdef ErrArg a[12]
     cdef double chord = distance2d(e[fa] - s[fa], e[sa] - s[sa])
     cdef int i
-    for i in range(11):
+    for i in range(12):
         a[i].text = NULL
         a[i].num = 0
     a[0].text = plane_name(st.plane)
-    a[1].text = axis_name(fa); a[2].num = s[fa]
-    a[3].text = axis_name(sa); a[4].num = s[sa]
-    a[5].text = axis_name(fa); a[6].num = e[fa]
-    a[7].text = axis_name(sa); a[8].num = e[sa]
+    a[1].num = col
+    a[2].text = axis_name(fa); a[3].num = s[fa]
+    a[4].text = axis_name(sa); a[5].num = s[sa]
+    a[6].text = axis_name(fa); a[7].num = e[fa]
+    a[8].text = axis_name(sa); a[9].num = e[sa]
     if chord > 2.0 * rs:
-        a[9].num = chord; a[10].num = 2.0 * rs
-        set_error(st.err, ERR_ARC_CENTRE, st.unit.file_idx, st.line, a, 11)
+        a[10].num = chord; a[11].num = 2.0 * rs
+        set_error(st.err, ERR_ARC_CENTRE, st.unit.file_idx, st.line, a, 12)
     else:
-        a[9].num = rs; a[10].num = re
-        set_error(st.err, ERR_ARC_RADII, st.unit.file_idx, st.line, a, 11)
+        a[10].num = rs; a[11].num = re
+        set_error(st.err, ERR_ARC_RADII, st.unit.file_idx, st.line, a, 12)
     return R_ERR
+
+
+cdef bint ngc_arc_off(const CState *st, double rs, double re) noexcept nogil:
+    """ISO mode: LinuxCNC's test of an arc's end against its centre: the radii differ by
+    more than 0.5 mm (0.05 inch in an inch program), or by more than 0.005 mm (0.0005
+    inch) and 0.1 % of the radius."""
+    cdef double err = fabs(rs - re)
+    cdef double small = 0.005 if st.unit_scale == 1.0 else 0.0005 * 25.4
+    return err > 100.0 * small or (err > small and err > 0.001 * rs)
 
 
 cdef int em_arc(CState *st, const LineWords *lw, Part *p, int *func, const double *s,
@@ -152,8 +163,10 @@ cdef int em_arc(CState *st, const LineWords *lw, Part *p, int *func, const doubl
     cdef int fa, sa, na, a, dir = func[0]
     cdef double sx, sy, ex, ey, cx, cy, r, d, h, sgn, rs, re, tol
     cdef char li, lj
-    cdef double c[10]
-    cdef double cm[10]
+    cdef bint absolute
+    cdef int col = 1
+    cdef double c[AXES]
+    cdef double cm[AXES]
     cdef ErrArg args[2]
     if not plane_axes(st.plane, &fa, &sa, &na):
         return cerr_num(st, ERR_BAD_PLANE, st.plane)
@@ -183,7 +196,14 @@ cdef int em_arc(CState *st, const LineWords *lw, Part *p, int *func, const doubl
         cx = (sx + ex) * 0.5 - sgn * h * (ey - sy) / d
         cy = (sy + ey) * 0.5 + sgn * h * (ex - sx) / d
     elif has(lw, li) or has(lw, lj):
-        if has(lw, b'Q') and val(lw, b'Q') == 70.0:
+        col = lw.col[<int>li - 65] if has(lw, li) else lw.col[<int>lj - 65]
+        if has(lw, li) and has(lw, lj) and lw.col[<int>lj - 65] < col:
+            col = lw.col[<int>lj - 65]
+        # Q70 (TG) or G90.1 (ISO mode): the centre is absolute
+        absolute = (has(lw, b'Q') and val(lw, b'Q') == 70.0) or (st.ngc != NULL and st.ngc.ijk_absolute)
+        if absolute and st.ngc != NULL and st.ngc.ijk_absolute and not (has(lw, li) and has(lw, lj)):
+            return cerr(st, ERR_ARC_NO_CENTRE)      # LinuxCNC: G90.1 needs both
+        if absolute:
             cx = val(lw, li) if has(lw, li) else sx
             cy = val(lw, lj) if has(lw, lj) else sy
         else:
@@ -195,9 +215,9 @@ cdef int em_arc(CState *st, const LineWords *lw, Part *p, int *func, const doubl
     re = distance2d(ex - cx, ey - cy)
     if rs == 0.0:
         return cerr(st, ERR_ARC_NO_CENTRE)
-    if fabs(rs - re) > tol:
-        return em_arc_error(st, fa, sa, s, e, rs, re)
-    for a in range(10):
+    if (fabs(rs - re) > tol and not st.iso) or (st.iso and ngc_arc_off(st, rs, re)):
+        return em_arc_error(st, fa, sa, s, e, rs, re, col)
+    for a in range(AXES):
         c[a] = s[a]
         if a != fa and a != sa and e[a] != s[a]:
             p.flags |= FLAG_HELIX
@@ -205,7 +225,9 @@ cdef int em_arc(CState *st, const LineWords *lw, Part *p, int *func, const doubl
     c[sa] = cy
     to_machine(st, c, cm)
     p.cc[0] = cm[0]; p.cc[1] = cm[1]; p.cc[2] = cm[2]
-    p.radius = rs
+    # ISO mode: an end off the start's circle (within the tolerance) is run as LinuxCNC
+    # runs it, a spiral from the one radius to the other: the mean radius, its length
+    p.radius = 0.5 * (rs + re) if st.iso else rs
     # mirroring one axis of the plane reverses the direction on the machine
     if fa < 3 and sa < 3 and (((st.mirror >> fa) ^ (st.mirror >> sa)) & 1):
         dir = 5 - dir
@@ -213,32 +235,85 @@ cdef int em_arc(CState *st, const LineWords *lw, Part *p, int *func, const doubl
     return 0
 
 
-cdef int em_motion(CState *st, const LineWords *lw, int func) noexcept nogil:
-    """G0 G1 G2 G3 G33 to the axis words of the line (modal, absolute or relative)."""
-    cdef double newp[10]
-    cdef double e[10]
-    cdef int a, bit, f = func
-    cdef bint any_axis = False
-    cdef Part *p
+cdef int motion_column(const LineWords *lw, int func) noexcept nogil:
+    """The column a message about a motion names: its G word, else its first axis word."""
+    cdef int i
+    for i in range(lw.ng):
+        if lw.g[i] == func:
+            return lw.gcol[i]
+    return axis_column(lw, AXIS_LETTERS)
+
+
+cdef void em_fix_axis(CState *st, int a) noexcept nogil:
+    """Axis a is named absolutely from the next part on: it no longer follows the start."""
+    if not st.fixed[a] and not st.shift_follows[a]:
+        st.fixed[a] = True
+        st.prog.start_gindex[a] = st.gindex
+
+
+cdef inline int em_motion(CState *st, const LineWords *lw, int func, int col) noexcept nogil:
+    """G0 G1 G2 G3 G33 to the axis words of the line (modal, absolute or relative); col:
+    the column messages name (0: found when needed)."""
+    cdef double newp[AXES]
+    cdef int a, bit
     cdef uint32_t words = lw.mask & AXIS_LETTERS
     memcpy(newp, st.ppos, sizeof(newp))
-    any_axis = words != 0
+    if words == 0:
+        if func != 2 and func != 3:
+            return R_NEXT
+        if not (has(lw, b'I') or has(lw, b'J') or has(lw, b'K')):
+            return R_NEXT       # bare G2/G3: only the modal change
     while words:                # only the axis letters written on the line
         bit = SF_CTZ(words)
         words &= words - 1
         a = axis_of_letter(<char>(65 + bit))
         if st.absolute:
             newp[a] = lw.v[bit]
-            if not st.fixed[a] and not st.shift_follows[a]:
-                st.fixed[a] = True      # from this part on the axis is where the program says
-                st.prog.start_gindex[a] = st.gindex
+            em_fix_axis(st, a)
         else:
             newp[a] += lw.v[bit]
-    if not any_axis:
-        if func != 2 and func != 3:
-            return R_NEXT
-        if not (has(lw, b'I') or has(lw, b'J') or has(lw, b'K')):
-            return R_NEXT       # bare G2/G3: only the modal change
+    return em_move(st, lw, func, newp, col)
+
+
+cdef inline int em_feed_check(CState *st, const LineWords *lw, int func, int col) noexcept nogil:
+    """A feed move (G1 G2 G3) at feed 0: an error in the ISO mode (LinuxCNC refuses it),
+    once a warning in the TG dialect, whose moves then run at motion[1].feed. ISO G93:
+    every feed move has its F. col: the column to name, 0: the motion's G word, else
+    its first axis word."""
+    cdef ErrArg a[3]
+    cdef bint inverse_time = st.ngc != NULL and st.ngc.inverse_time
+    if not (func == 1 or func == 2 or func == 3):
+        return 0
+    if inverse_time:
+        if has(lw, b'F') and val(lw, b'F') > 0.0:
+            return 0
+    elif st.feed != 0.0:
+        return 0
+    if col == 0:
+        col = motion_column(lw, func)       # only a message needs it
+    a[0].num = func; a[0].text = NULL
+    a[1].num = col; a[1].text = NULL
+    if inverse_time:
+        a[2].num = 0; a[2].text = "inverse time (G93) wants an F above 0 on every feed move"
+        set_error(st.err, ERR_NGC_G, st.unit.file_idx, st.line, a, 3)
+        return R_ERR
+    if st.iso:
+        set_error(st.err, ERR_NO_FEED, st.unit.file_idx, st.line, a, 2)
+        return R_ERR
+    if st.def_feed <= 0.0 and st.params.forceMode == 0 and not st.warned_feed:
+        st.warned_feed = True
+        cwarn(st, WARN_NO_FEED, a, 2)
+    return 0
+
+
+cdef int em_move(CState *st, const LineWords *lw, int func, const double *newp, int col) noexcept nogil:
+    """A motion part from the current point to newp (program coordinates, ten axes); lw
+    holds the arc's centre words and the addresses the part carries."""
+    cdef double e[AXES]
+    cdef int f = func
+    cdef Part *p
+    if em_feed_check(st, lw, func, col) != 0:
+        return R_ERR
     to_machine(st, newp, e)
     p = em_part(st, PART_MOTION, func, e)
     if p == NULL:
@@ -255,8 +330,11 @@ cdef int em_motion(CState *st, const LineWords *lw, int func) noexcept nogil:
             p.value = val(lw, b'K')
         elif has(lw, b'F'):
             p.value = val(lw, b'F')
-    memcpy(st.ppos, newp, sizeof(newp))
+    memcpy(st.ppos, newp, AXES * sizeof(double))
     memcpy(st.mpos, e, sizeof(e))
+    if st.ngc != NULL and st.ngc.inverse_time and (func == 1 or func == 2 or func == 3):
+        # G93: the move takes 1 / F minutes (F in 1/min, never converted from inches)
+        p.feed = val(lw, b'F') / st.unit_scale * part_length(st.prog, st.prog.n_parts - 1)
     return em_pars(st, lw, p.func, -10000)
 
 
@@ -274,6 +352,14 @@ cdef int em_dwell(CState *st, const LineWords *lw) noexcept nogil:
     elif has(lw, b'T'):
         p.value = val(lw, b'T')
     return em_pars(st, lw, 4, -10000)
+
+
+cdef int em_dwell_seconds(CState *st, double seconds) noexcept nogil:
+    """A dwell of its own (a canned cycle's): the part G4 H seconds."""
+    cdef LineWords words
+    words.mask = 1u << 7
+    words.v[7] = seconds
+    return em_dwell(st, &words)
 
 
 cdef int em_mfunc(CState *st, const LineWords *lw, int m, bint continuous) noexcept nogil:

@@ -99,6 +99,7 @@ cdef int lb_build(CState *st, Unit *u) noexcept nogil:
     cdef int n
     cdef int64_t v
     cdef int status
+    pos = lx_bom(base, u.len)
     while pos < u.len:
         eol = <const char *>memchr(base + pos, b'\n', u.len - pos)
         if eol == NULL:

@@ -56,6 +56,15 @@ cdef inline int lx_ident_run(const char *p, const char *eol) noexcept nogil:
     return n
 
 
+cdef inline size_t lx_bom(const char *text, size_t n) noexcept nogil:
+    """Length of a UTF-8 byte-order mark at the start of a text (Windows editors, CAM
+    posts write one): 3, or 0 without."""
+    if n >= 3 and <unsigned char>text[0] == 0xEF and <unsigned char>text[1] == 0xBB \
+            and <unsigned char>text[2] == 0xBF:
+        return 3
+    return 0
+
+
 cdef bint lx_eq(const char *p, int n, const char *kw) noexcept nogil:
     """Case-insensitive: p[0:n] equals the upper-case keyword kw."""
     cdef int i = 0
@@ -76,7 +85,7 @@ cdef bint lx_same_name(const char *a, int na, const char *b, int nb) noexcept no
     return True
 
 
-cdef const char *lx_skip_gap(const char *p, const char *eol, int *status) noexcept nogil:
+cdef inline const char *lx_skip_gap(const char *p, const char *eol, int *status) noexcept nogil:
     """Skips blanks and comments between words: '( ... )' inline; '//' and ';' end
     the line. status: 0 ok, 1 unterminated '('."""
     cdef const char *q

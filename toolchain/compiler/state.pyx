@@ -54,6 +54,24 @@ cdef const char *plane_name(int plane) noexcept nogil:
     return "ZX"
 
 
+cdef int g_column(const LineWords *lw, double g) noexcept nogil:
+    """Column of G function g on the line (1 when it is modal, not written)."""
+    cdef int i
+    for i in range(lw.ng):
+        if lw.g[i] == g:
+            return lw.gcol[i]
+    return 1
+
+
+cdef int axis_column(const LineWords *lw, uint32_t letters) noexcept nogil:
+    """Column of the first of the given address letters written on the line (1: none)."""
+    cdef int col = 0, bit
+    for bit in range(26):
+        if (letters >> bit) & 1 and (lw.mask >> bit) & 1 and (col == 0 or lw.col[bit] < col):
+            col = lw.col[bit]
+    return col if col > 0 else 1
+
+
 # --------------------------------------------------------------- errors
 
 cdef int cerr(CState *st, int32_t number) noexcept nogil:
@@ -137,6 +155,15 @@ cdef int cerr_num_at(CState *st, int32_t number, double value, int column) noexc
     return R_ERR
 
 
+cdef int cerr_bad_value(CState *st, double v, const char *letter) noexcept nogil:
+    """Error 106: value v of address `letter` out of its range."""
+    cdef ErrArg a[2]
+    a[0].num = v; a[0].text = NULL
+    a[1].num = 0; a[1].text = letter
+    set_error(st.err, ERR_BAD_VALUE, st.unit.file_idx, st.line, a, 2)
+    return R_ERR
+
+
 cdef int cerr_open_comment(CState *st, const char *p, const char *eol) noexcept nogil:
     """Error 104 for the gap [p, eol) that holds a '(' without ')': comments do not
     nest, so it is the first '(' after the last ')'."""
@@ -191,35 +218,27 @@ cdef void to_machine(const CState *st, const double *pp, double *out) noexcept n
     """Program coordinates -> machine: mirror (M81..M87), rotation (G168), then the
     zero offset and the G92 shift."""
     cdef int a
-    cdef double q[3]
     if st.identity:
-        memcpy(out, pp, 10 * sizeof(double))
+        memcpy(out, pp, AXES * sizeof(double))
         return
-    for a in range(10):
+    for a in range(AXES):
         out[a] = pp[a]
     if st.mirror & 1: out[0] = -out[0]
     if st.mirror & 2: out[1] = -out[1]
     if st.mirror & 4: out[2] = -out[2]
     if st.rot_on:
-        for a in range(3):
-            q[a] = out[a] - st.rot_c[a]
-        for a in range(3):
-            out[a] = st.rot_c[a] + st.rot_m[3 * a] * q[0] + st.rot_m[3 * a + 1] * q[1] + st.rot_m[3 * a + 2] * q[2]
-    for a in range(10):
+        rotate_about(st.rot_c, st.rot_m, False, out)
+    for a in range(AXES):
         out[a] += st.zero[a] + st.shift[a]
 
 
 cdef void to_program(const CState *st, const double *mp, double *out) noexcept nogil:
     """Inverse of to_machine."""
     cdef int a
-    cdef double q[3]
-    for a in range(10):
+    for a in range(AXES):
         out[a] = mp[a] - st.zero[a] - st.shift[a]
     if st.rot_on:
-        for a in range(3):
-            q[a] = out[a] - st.rot_c[a]
-        for a in range(3):   # transpose = inverse of a rotation
-            out[a] = st.rot_c[a] + st.rot_m[a] * q[0] + st.rot_m[3 + a] * q[1] + st.rot_m[6 + a] * q[2]
+        rotate_about(st.rot_c, st.rot_m, True, out)
     if st.mirror & 1: out[0] = -out[0]
     if st.mirror & 2: out[1] = -out[1]
     if st.mirror & 4: out[2] = -out[2]
@@ -229,17 +248,24 @@ cdef void update_identity(CState *st) noexcept nogil:
     """to_machine is a plain copy while no offset, mirroring or rotation is active."""
     cdef int a
     st.identity = st.mirror == 0 and not st.rot_on
-    for a in range(10):
+    for a in range(AXES):
         if st.zero[a] != 0.0 or st.shift[a] != 0.0:
             st.identity = False
 
 
+cdef void cp_reframe(CState *st) noexcept nogil:
+    """After a change of zero offset, mirroring or rotation the machine stays where
+    it is: its program coordinates are recomputed."""
+    update_identity(st)
+    to_program(st, st.mpos, st.ppos)
+
+
 cdef bint update_zero(CState *st) noexcept nogil:
     """Registers the active offset (zero + shift) with the program; False = no memory."""
-    cdef double total[10]
+    cdef double total[AXES]
     cdef int a, idx
     update_identity(st)
-    for a in range(10):
+    for a in range(AXES):
         total[a] = st.zero[a] + st.shift[a]
     idx = program_add_zero(st.build, total)
     if idx < 0:

@@ -1,49 +1,7 @@
-# C declarations of the system libraries the library uses that Cython's own
-# includes lack: POSIX threads, memory advice and atomics. Gathered here, declared once.
+# C declarations of the compiler's builtins the library uses that Cython's own
+# includes lack: atomics and streaming stores. Gathered here, declared once (what
+# comes from the operating system: platform.pxd).
 from libc.stdint cimport int32_t, int64_t
-
-cdef extern from "<pthread.h>" nogil:
-    ctypedef struct pthread_t:
-        pass
-    ctypedef struct pthread_attr_t:
-        pass
-    ctypedef struct pthread_mutex_t:
-        pass
-    ctypedef struct pthread_mutexattr_t:
-        pass
-    ctypedef struct pthread_cond_t:
-        pass
-    ctypedef struct pthread_condattr_t:
-        pass
-    ctypedef struct pthread_once_t:
-        pass
-    pthread_mutex_t PTHREAD_MUTEX_INITIALIZER
-    pthread_once_t PTHREAD_ONCE_INIT
-    int pthread_create(pthread_t *thread, const pthread_attr_t *attr,
-                       void *(*start)(void *) noexcept nogil, void *arg)
-    int pthread_join(pthread_t thread, void **retval)
-    int pthread_mutex_init(pthread_mutex_t *m, const pthread_mutexattr_t *a)
-    int pthread_mutex_lock(pthread_mutex_t *m)
-    int pthread_mutex_unlock(pthread_mutex_t *m)
-    int pthread_cond_init(pthread_cond_t *c, const pthread_condattr_t *a)
-    int pthread_cond_wait(pthread_cond_t *c, pthread_mutex_t *m)
-    int pthread_cond_broadcast(pthread_cond_t *c)
-    int pthread_cond_destroy(pthread_cond_t *c)
-    int pthread_mutex_destroy(pthread_mutex_t *m)
-    int pthread_once(pthread_once_t *once, void (*init)() noexcept nogil)
-
-# Memory advice: transparent huge pages for the large arrays, and faulting pages in
-# ahead of their writer (Linux 5.14; older kernels refuse it, a hint less).
-cdef extern from *:
-    """
-    #include <sys/mman.h>
-    #ifndef MADV_POPULATE_WRITE
-    #define MADV_POPULATE_WRITE 23
-    #endif
-    """
-    int madvise(void *addr, size_t length, int advice) nogil
-    int MADV_HUGEPAGE
-    int MADV_POPULATE_WRITE
 
 # GCC/Clang atomic builtins on int32 flags shared between the host's threads and
 # the core's worker thread (status, cancel requests).
@@ -57,6 +15,16 @@ cdef extern from *:
     int32_t TC_ATOMIC_LOAD(int32_t *p) nogil
     void TC_ATOMIC_STORE(int32_t *p, int32_t v) nogil
     bint TC_ATOMIC_CAS(int32_t *p, int32_t *expected, int32_t desired) nogil
+
+# ... as reference counts of what threads share read-only (a compiled program, the
+# axis correction tables): the count after the change; the one that reaches 0 frees.
+cdef extern from *:
+    """
+    #define TC_REF_ADD(p) __atomic_add_fetch((p), 1, __ATOMIC_RELAXED)
+    #define TC_REF_SUB(p) __atomic_sub_fetch((p), 1, __ATOMIC_ACQ_REL)
+    """
+    int32_t TC_REF_ADD(int32_t *p) nogil
+    int32_t TC_REF_SUB(int32_t *p) nogil
 
 # ... and on doubles set by one thread and read by others (the feed override).
 cdef extern from *:

@@ -1,6 +1,6 @@
 # The ABI structures and constants, declared from include/tgm_cnc.h (the C compiler
 # uses the header's definitions; these lines only tell Cython the field names).
-from libc.stdint cimport int32_t, uint32_t, int64_t, intptr_t
+from libc.stdint cimport int32_t, uint32_t, int64_t, uint64_t, intptr_t
 
 cdef extern from "tgm_cnc.h" nogil:
     int TOOL_CHAIN_BAD_INTR_INDEX
@@ -14,6 +14,9 @@ cdef extern from "tgm_cnc.h" nogil:
     double INVALID_VALUE
     float INVALID_VALUE_F
     uint32_t GCODE_REZERVA1_ISO_COMPAT
+    uint32_t GCODE_REZERVA1_COMP_STRICT
+    int32_t TC_MFUNC_LATER
+    uint64_t TC_TEST_CLOCK_KEY
     # the log mask's sources and destinations (SetLogValue)
     uint32_t LOG_TO_CONSOLE, LOG_TO_FILE, LOG_TO_TGM
     uint32_t LOG_DEBUG, LOG_VERBOSE, LOG_WORKER, LOG_TOOLCHAIN, LOG_DRIVER, LOG_COMPILER
@@ -33,8 +36,10 @@ cdef extern from "tgm_cnc.h" nogil:
         CORR_G0_NEVER_COMPENSATED
         CORR_OLD_COMPATIBILITY
 
-    ctypedef const char *TGM_LPCTSTR
-    ctypedef char *TGM_LPTSTR
+    # char on Linux, wchar_t on Windows: opaque here, so that every text of the host
+    # goes through platform.pxd's text_from_host / text_to_host
+    ctypedef const void *TGM_LPCTSTR
+    ctypedef void *TGM_LPTSTR
     ctypedef const char *TGM_LPCSTR
 
     ctypedef struct P10DOUBLE:

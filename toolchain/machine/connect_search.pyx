@@ -27,9 +27,9 @@
 # maxConnectionDistance (ABI.md, the vendor's text): a part farther than it from the
 # point counts by its two end points only, so a far point connects to a vertex of
 # the trajectory, never into the middle of a part; <= 0 (or not finite) = no limit.
-from libc.math cimport sqrt, fabs, sin, cos, atan2, acos, fmod, floor, hypot, isfinite, INFINITY, M_PI
+from libc.math cimport sqrt, floor, isfinite, INFINITY
 from libc.stdlib cimport malloc, free
-from libc.string cimport memcpy, memset
+from libc.string cimport memset
 
 
 # ---- errors ------------------------------------------------------------------------
@@ -93,7 +93,7 @@ cdef bint _cs_whole(const double *coords, int k, double lo, double hi, int64_t *
 
 cdef bint _cs_finite_point(const double *point, uint32_t axes, ErrorInfo *err) noexcept nogil:
     cdef int k
-    for k in range(10):
+    for k in range(AXES):
         if (axes >> k) & 1 and not isfinite(point[k]):
             _cs_bad_coord(err, k, point[k], "not a finite number")
             return False
@@ -104,210 +104,37 @@ cdef inline uint32_t _cs_mask(uint32_t axes) noexcept nogil:
     return CONNECT_ALL_AXES if axes == 0 else axes
 
 
-# ---- the placed geometry of one part -----------------------------------------------------
+# ---- where a part stands as the run places it (a motion part: geometry.pyx
+# segment_of_placed_part) ------------------------------------------------------------------
 
 cdef void _cs_part_position(const Program *prog, const Placement *pl, size_t i,
                          double *out) noexcept nogil:
     """Where a part that does not move (M function, dwell, text) stands: the
     compensated end of the motion before it, as the run places it."""
-    cdef SIMPLE_GM_PARAMS gm
+    cdef double start_shift[AXES]
+    cdef double end_shift[AXES]
+    cdef int k
+    part_calc_start(prog, i, out)
     if pl.moved:
-        placed_part_to_gm(prog, i, pl, &gm)
-        memcpy(out, &gm.m_calcS, 10 * sizeof(double))
-    else:
-        part_calc_start(prog, i, out)
+        placement_shift(prog, i, pl, start_shift, end_shift)
+        for k in range(AXES):
+            out[k] += start_shift[k]
 
 
-cdef double _cs_d2_at(const Segment *g, double s, uint32_t axes, const double *q,
-                   double *point) noexcept nogil:
-    """Squared distance in the axes of `axes` from q to the point at path length s
-    (written to `point`, ten axes)."""
-    cdef double d2 = 0.0, d
-    cdef int k
-    segment_point_at(g, s, point)
-    for k in range(10):
-        if (axes >> k) & 1:
-            d = point[k] - q[k]
-            d2 += d * d
-    return d2
-
-
-# ---- the nearest point of one part -----------------------------------------------------
-
-cdef double _cs_line_nearest(const Segment *g, uint32_t axes, const double *q) noexcept nogil:
-    """Path length of the point of a line nearest q in the axes: the projection onto
-    the line, clamped to its ends."""
-    cdef double dd = 0.0, dw = 0.0, d
-    cdef int k
-    for k in range(10):
-        if (axes >> k) & 1:
-            d = g.end[k] - g.start[k]
-            dd += d * d
-            dw += d * (q[k] - g.start[k])
-    if dd <= 0.0 or dw <= 0.0:
-        return 0.0
-    if dw >= dd:
-        return g.length
-    return g.length * (dw / dd)
-
-
-# The squared distance from q to an arc (helix) at turn theta in [0, T], T = |sweep|:
-#   f(theta) = P(chi) + L2 theta^2 - 2 b theta + const,   chi = chi0 + sigma theta,
-# where the axes of the mask off the plane move linearly (L2 = sum of their squared
-# rates per radian, b = sum rate * (q - start)) and P is the plane's share:
-#   both plane axes in the mask: P = rho^2 + r^2 - 2 r rho cos(chi)   (rho, angle of q)
-#   one plane axis:              P = (u - r cos(chi))^2               (u = q - centre)
-#   none:                        P = 0
-# f'' is a polynomial of degree <= 2 in cos(chi), so its zeros split [0, T] into
-# pieces where f' is monotonic: each holds at most one minimum, where f' turns from
-# negative to positive; with the two ends they are every candidate.
-cdef inline double _cs_arc_df(const ArcDistanceFn *f, double theta) noexcept nogil:
-    cdef double chi = f.chi0 + f.sigma * theta
-    cdef double d = 2.0 * (f.L2 * theta - f.b)
-    if f.plane_axes == 2:
-        d += 2.0 * f.r * f.rho * f.sigma * sin(chi)
-    elif f.plane_axes == 1:
-        d += 2.0 * f.sigma * f.r * sin(chi) * (f.u - f.r * cos(chi))
-    return d
-
-
-cdef inline double _cs_arc_ddf(const ArcDistanceFn *f, double theta) noexcept nogil:
-    cdef double t = cos(f.chi0 + f.sigma * theta)
-    if f.plane_axes == 2:
-        return 2.0 * (f.r * f.rho * t + f.L2)
-    if f.plane_axes == 1:
-        return 2.0 * (f.r * f.r - 2.0 * f.r * f.r * t * t + f.u * f.r * t + f.L2)
-    return 2.0 * f.L2
-
-
-cdef int _cs_add_turns(const ArcDistanceFn *f, double t, double T, double *at, int n) noexcept nogil:
-    """Appends the theta in (0, T) where cos(chi) = t."""
-    cdef double base, theta
-    cdef int sign
-    if not (t > -1.0 and t < 1.0):
-        return n
-    for sign in range(2):
-        base = acos(t) if sign == 0 else -acos(t)
-        theta = fmod(f.sigma * (base - f.chi0), 2.0 * M_PI)
-        if theta < 0.0:
-            theta += 2.0 * M_PI
-        while theta < T and n < 12:
-            if theta > 0.0:
-                at[n] = theta
-                n += 1
-            theta += 2.0 * M_PI
-    return n
-
-
-cdef double _cs_root(const ArcDistanceFn *f, double lo, double hi) noexcept nogil:
-    """The zero of f' in [lo, hi], where f' rises from < 0 to >= 0: Newton steps kept
-    inside the bracket, bisection otherwise."""
-    cdef double x = 0.5 * (lo + hi), fx, ddf, step
-    cdef int it
-    for it in range(100):
-        fx = _cs_arc_df(f, x)
-        if fx == 0.0:
-            return x
-        if fx < 0.0:
-            lo = x
-        else:
-            hi = x
-        ddf = _cs_arc_ddf(f, x)
-        step = x - fx / ddf if ddf > 0.0 else lo - 1.0
-        if not (step > lo and step < hi):
-            step = 0.5 * (lo + hi)
-        if fabs(step - x) <= 1e-15 * (1.0 + fabs(x)) or hi - lo <= 1e-15 * (1.0 + fabs(x)):
-            return step
-        x = step
-    return x
-
-
-cdef double _cs_arc_nearest(const Segment *g, uint32_t axes, const double *q) noexcept nogil:
-    """Path length of the point of an arc (helix) nearest q in the axes (see ArcDistanceFn)."""
-    cdef ArcDistanceFn f
-    cdef double T = fabs(g.sweep)
-    cdef double at[14]
-    cdef double point[10]
-    cdef double rate, beta = 0.0, best_d2, d2, best_theta, x, lo, hi, disc, t
-    cdef bint in_first = (axes >> g.first) & 1, in_second = (axes >> g.second) & 1
-    cdef int n = 0, k, j
-    f.r = g.radius
-    f.sigma = 1.0 if g.sweep > 0.0 else -1.0
-    f.L2 = 0.0
-    f.b = 0.0
-    f.rho = 0.0
-    f.u = 0.0
-    for k in range(10):
-        if k == g.first or k == g.second or not (axes >> k) & 1:
-            continue
-        rate = (g.end[k] - g.start[k]) / T
-        f.L2 += rate * rate
-        f.b += rate * (q[k] - g.start[k])
-    if in_first and in_second:
-        f.plane_axes = 2
-        f.rho = hypot(q[g.first] - g.centre[0], q[g.second] - g.centre[1])
-        beta = atan2(q[g.second] - g.centre[1], q[g.first] - g.centre[0])
-    elif in_first or in_second:
-        f.plane_axes = 1
-        if in_first:
-            f.u = q[g.first] - g.centre[0]
-        else:
-            f.u = q[g.second] - g.centre[1]
-            beta = 0.5 * M_PI          # sin(psi) = cos(psi - pi/2)
-    else:
-        f.plane_axes = 0
-    f.chi0 = atan2(g.start[g.second] - g.centre[1], g.start[g.first] - g.centre[0]) - beta
-    # the pieces where f' is monotonic
-    if f.plane_axes == 2 and f.r * f.rho > 0.0:
-        n = _cs_add_turns(&f, -f.L2 / (f.r * f.rho), T, at, n)
-    elif f.plane_axes == 1 and f.r > 0.0:
-        disc = sqrt(f.u * f.u + 8.0 * (f.r * f.r + f.L2))
-        n = _cs_add_turns(&f, (f.u + disc) / (4.0 * f.r), T, at, n)
-        n = _cs_add_turns(&f, (f.u - disc) / (4.0 * f.r), T, at, n)
-    at[n] = 0.0
-    at[n + 1] = T
-    n += 2
-    for k in range(1, n):               # insertion sort of at most 14
-        x = at[k]
-        j = k - 1
-        while j >= 0 and at[j] > x:
-            at[j + 1] = at[j]
-            j -= 1
-        at[j + 1] = x
-    best_theta = 0.0
-    best_d2 = _cs_d2_at(g, 0.0, axes, q, point)
-    for k in range(n - 1):
-        lo = at[k]
-        hi = at[k + 1]
-        if hi <= lo or not (_cs_arc_df(&f, lo) < 0.0 and _cs_arc_df(&f, hi) >= 0.0):
-            continue
-        x = _cs_root(&f, lo, hi)
-        d2 = _cs_d2_at(g, g.length * (x / T), axes, q, point)
-        if d2 < best_d2:
-            best_d2 = d2
-            best_theta = x
-    if _cs_d2_at(g, g.length, axes, q, point) < best_d2:
-        return g.length
-    return g.length * (best_theta / T)
-
+# ---- the nearest point of one part (geometry.pyx segment_nearest) ------------------------
 
 cdef double _cs_part_nearest(const Segment *g, uint32_t axes, const double *q,
                           double max_d2, double *s) noexcept nogil:
     """Squared distance from q to the part by the vendor's rule (beyond max_d2 the
     nearer end counts) and the path length s of that point."""
-    cdef double point[10]
+    cdef double point[AXES]
     cdef double d2, d2_start, d2_end
-    if g.length <= 0.0:
-        s[0] = 0.0
-    elif g.arc:
-        s[0] = _cs_arc_nearest(g, axes, q)
-    else:
-        s[0] = _cs_line_nearest(g, axes, q)
-    d2 = _cs_d2_at(g, s[0], axes, q, point)
+    s[0] = segment_nearest(g, axes, q)
+    d2 = segment_distance2_at(g, s[0], axes, q, point)
     if d2 <= max_d2:
         return d2
-    d2_start = _cs_d2_at(g, 0.0, axes, q, point)
-    d2_end = _cs_d2_at(g, g.length, axes, q, point)
+    d2_start = segment_distance2_at(g, 0.0, axes, q, point)
+    d2_end = segment_distance2_at(g, g.length, axes, q, point)
     if d2_end < d2_start:
         s[0] = g.length
         return d2_end
@@ -324,7 +151,7 @@ cdef void _cs_hit_at(const Program *prog, const Placement *pl, size_t i, bint at
     hit.part = i
     hit.distance = 0.0
     if prog.parts[i].kind == PART_MOTION:
-        placed_segment(prog, pl, i, &g)
+        segment_of_placed_part(prog, i, pl, &g)
         hit.length = g.length
         hit.s = g.length if at_end else 0.0
         segment_point_at(&g, hit.s, hit.point)
@@ -342,15 +169,15 @@ cdef void _cs_hit_nearest(const Program *prog, const Placement *pl, size_t i, ui
     cdef int k
     hit.part = i
     if prog.parts[i].kind == PART_MOTION:
-        placed_segment(prog, pl, i, &g)
+        segment_of_placed_part(prog, i, pl, &g)
         _cs_part_nearest(&g, axes, q, max_d2, &hit.s)
         hit.length = g.length
-        d2 = _cs_d2_at(&g, hit.s, axes, q, hit.point)
+        d2 = segment_distance2_at(&g, hit.s, axes, q, hit.point)
     else:
         hit.length = 0.0
         hit.s = 0.0
         _cs_part_position(prog, pl, i, hit.point)
-        for k in range(10):
+        for k in range(AXES):
             if (axes >> k) & 1:
                 d = hit.point[k] - q[k]
                 d2 += d * d
@@ -414,7 +241,7 @@ cdef void _cs_choose_dims(ConnectIndex *ix) noexcept nogil:
     cdef int k
     ix.n_dims = 0
     ix.n_fixed = 0
-    for k in range(10):
+    for k in range(AXES):
         if not (ix.axes >> k) & 1:
             continue
         if k < 3:
@@ -425,7 +252,7 @@ cdef void _cs_choose_dims(ConnectIndex *ix) noexcept nogil:
         lo = prog.start[k]
         hi = lo
         for e in range(prog.n_axes):
-            v = prog.axes[7 * e + k - 3]
+            v = prog.axes[OTHER_AXES * e + k - 3]
             lo = min(lo, v)
             hi = max(hi, v)
         if delta != 0.0 or lo != hi:
@@ -437,44 +264,16 @@ cdef void _cs_choose_dims(ConnectIndex *ix) noexcept nogil:
             ix.n_fixed += 1
 
 
-cdef inline bint _cs_covers(double angle, double start, double sigma, double turn) noexcept nogil:
-    """The arc from `start` turning `turn` radians in direction sigma passes `angle`."""
-    cdef double d = fmod(sigma * (angle - start), 2.0 * M_PI)
-    if d < 0.0:
-        d += 2.0 * M_PI
-    return d <= turn + 1e-12 or d >= 2.0 * M_PI - 1e-12
-
-
 cdef void _cs_part_box(const Segment *g, const int *dims, int n_dims, double *box) noexcept nogil:
-    """The box (low corner, then high) of a part in the axes dims: its ends, and for an
-    arc's plane axes the circle at the ends' angles and at the quadrants it passes."""
-    cdef double lo, hi, c, a0, a1, sigma, turn, quadrant, v
-    cdef int d, k, q
+    """The box (low corner, then high) of a part in the axes dims (geometry.pyx
+    segment_box: an arc's true extremes)."""
+    cdef double lo[AXES]
+    cdef double hi[AXES]
+    cdef int d
+    segment_box(g, lo, hi)
     for d in range(n_dims):
-        k = dims[d]
-        lo = min(g.start[k], g.end[k])
-        hi = max(g.start[k], g.end[k])
-        if g.arc and (k == g.first or k == g.second):
-            sigma = 1.0 if g.sweep > 0.0 else -1.0
-            turn = fabs(g.sweep)
-            a0 = atan2(g.start[g.second] - g.centre[1], g.start[g.first] - g.centre[0])
-            a1 = a0 + g.sweep
-            c = g.centre[0] if k == g.first else g.centre[1]
-            # the interior points lie on the circle of the tool path's radius
-            v = c + g.radius * (cos(a0) if k == g.first else sin(a0))
-            lo = min(lo, v)
-            hi = max(hi, v)
-            v = c + g.radius * (cos(a1) if k == g.first else sin(a1))
-            lo = min(lo, v)
-            hi = max(hi, v)
-            for q in range(4):
-                quadrant = 0.5 * M_PI * q
-                if _cs_covers(quadrant, a0, sigma, turn):
-                    v = c + g.radius * (cos(quadrant) if k == g.first else sin(quadrant))
-                    lo = min(lo, v)
-                    hi = max(hi, v)
-        box[d] = lo
-        box[n_dims + d] = hi
+        box[d] = lo[dims[d]]
+        box[n_dims + d] = hi[dims[d]]
 
 
 cdef inline uint64_t _cs_spread3(uint64_t x) noexcept nogil:
@@ -624,7 +423,7 @@ cdef int connect_index_build(ConnectIndex *ix, const Program *prog, const Placem
     for i in range(n):
         if prog.parts[i].kind != PART_MOTION:
             continue
-        placed_segment(prog, pl, i, &g)
+        segment_of_placed_part(prog, i, pl, &g)
         _cs_part_box(&g, ix.dims, D, &part_box[width * j])
         order[j] = <uint32_t>i
         j += 1
@@ -736,7 +535,7 @@ cdef int connect_nearest(const ConnectIndex *ix, const double *point, double max
                 r += 1
                 if i < first or i >= end:
                     continue
-                placed_segment(prog, &ix.pl, i, &g)
+                segment_of_placed_part(prog, i, &ix.pl, &g)
                 d2 = _cs_part_nearest(&g, ix.axes, point, max_d2, &s)
                 if d2 < best_d2 or (d2 == best_d2 and i < best_part):
                     best_d2 = d2

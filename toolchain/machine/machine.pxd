@@ -3,13 +3,14 @@
 # StartCNCEx 30-33, StopCNCEx, the M-function handshake, breakpoints, manual moves,
 # ConnectCNCEx_Plane. Its files:
 #   motion.pyx          the interpolator as a pure step: motion_step(m, dt) along a ring of entries
+#   clock.pyx           the machine's time: the wall clock times the scale, or the test-only stepped clock
 #   machine.pyx         a run: the feeder and notifier (the activity's worker) and the pacer thread
 #   connect_search.pyx  where on a program ConnectCNCEx_Plane connects to (pure, typed)
 #   connect.pyx         the connection as an activity: search, move there, run on
 # Owns Machine (the machine of one core, Core.offline: its place on the program
-# outlives the runs), Motion and the search's index. Called by the core (prepare and
-# forget a core's machine), the simulator (core_start_run starts a machine run) and
-# the exports (GoTo, M confirmations, ConnectCNCEx_Plane, StopCNCEx's addCode).
+# outlives the runs), Motion and the search's index. Called by the lifecycle
+# (runtime/lifecycle.pyx: prepare and forget a core's machine, its workers) and the
+# exports (GoTo, M confirmations, ConnectCNCEx_Plane, StopCNCEx's addCode).
 
 # ---- motion.pyx: the step and its ring of entries
 cdef enum:
@@ -59,8 +60,8 @@ ctypedef struct Entry:
     int dyn_first, dyn_second   # the plane's axes
 
 ctypedef struct Motion:
-    Entry ring[64]              # entry k of the run at ring[k % LOOK_RING]
-    PlanNode nodes[64]          # the entries as the backward pass sees them, at the same index
+    Entry ring[LOOK_RING]       # entry k of the run at ring[k % LOOK_RING]
+    PlanNode nodes[LOOK_RING]   # the entries as the backward pass sees them, at the same index
     uint64_t produced           # atomic: entries written (the feeder)
     uint64_t consumed           # atomic: entries done (the step)
     int32_t fed_all             # atomic: the feeder wrote its last entry
@@ -94,20 +95,24 @@ ctypedef struct Motion:
     double stop_dec
     int32_t stop_ramp
     # what the run did (GetPos)
-    double position[10]
+    double position[AXES]
     double cut_len, rapid_len, run_time
     # what happened since the machine's thread last read it (the driver callbacks)
     int32_t n_log
-    int32_t log_kind[256]       # ME_ENTRY, ME_MFUNC, ME_PRINT
-    size_t log_part[256]
+    int32_t log_kind[LOG_SIZE]  # ME_ENTRY, ME_MFUNC, ME_PRINT
+    size_t log_part[LOG_SIZE]
 
 # ---- machine.pyx: a run's threads and the machine's place on the program
 cdef enum:
     EVENT_QUEUE = 1024          # events between the pacer and the notifier
     HISTORY_DEPTH = 100000      # motion parts a backward run can retrace
     PART_NONE = -1              # an entry that is no part of the program (a manual move)
-    MFUNC_LATER = 2             # DriverMFunc's answer: the host confirms with ToolChainCore_ConfirmMFunc
     RUN_MANUAL = 50             # the regime of a manual move (GoToPosition), as its status
+
+cdef enum PacerState:            # what the stepped clock's stepper waits for (clock.pyx)
+    PACER_NONE = 0              # no pacer runs
+    PACER_BUSY = 1              # running the steps it was granted (or starting)
+    PACER_IDLE = 2              # it ran them (or stands at a waiting M function): waits for more
 
 ctypedef struct MachineEvent:
     int32_t kind                # ME_ENTRY, ME_MFUNC, ME_PRINT
@@ -117,14 +122,12 @@ ctypedef struct Machine:
     Motion motion
     pthread_t pacer
     int32_t pacer_done          # atomic: the pacer has left its loop
-    int32_t regime              # of the run (30 31 32 33), CMD_GOTO's 50
     # where the machine is on the program (outlives the runs)
     LoadedProgram *program      # the program the place refers to (a reference); NULL: none
     Placement placement         # where that program runs (the machine position of its first start)
     PlacedPlan plan             # its plan as a run placed there sees it (made by the first run)
     bint plan_made
     int64_t cur_motion          # the motion part it runs or ran last (PART_NONE: none)
-    char *stop_code             # StopCNCEx addCode, sent once the machine stands (core.lock)
     size_t part                 # the part it is in (n_parts: after the last)
     double part_s               # path length done along that part
     bint began                  # the part's start was reported (DriverGFunc)
@@ -132,14 +135,20 @@ ctypedef struct Machine:
     size_t n_history, cap_history
     bint history_lost           # older ones were dropped (HISTORY_DEPTH)
     double cut_len, rapid_len, run_time
-    # the M-function handshake
-    int32_t m_pending           # atomic: a DriverMFunc answered "later": ConfirmMFunc ends it
+    RunCounts counts            # GetPos's counters (the pacer's while a run moves)
+    # the run's driver session (the worker's: feeder and notifier)
+    Session session
     # pacer -> notifier
     pthread_mutex_t lock
-    pthread_cond_t wake         # the notifier sleeps on it until the pacer has news
+    pthread_cond_t wake         # the notifier sleeps on it until the pacer has news; the stepper too
     bint news                   # events queued, entries consumed or the pacer done (lock)
-    MachineEvent events[1024]
+    MachineEvent events[EVENT_QUEUE]
     size_t ev_first, ev_n
+    bint notifying              # the notifier is inside an event's callbacks (lock)
+    # the stepped clock (clock.pyx), under lock
+    uint64_t granted            # steps granted and not taken yet
+    int32_t pacer_state         # PacerState
+    uint64_t pacer_runs         # pacers started
 
 ctypedef struct Feeder:         # what the notifier thread reads parts with
     Core *core
@@ -173,7 +182,7 @@ ctypedef struct ConnectHit:
     size_t part                 # index into prog.parts
     double s                    # path length from the part's start (mm, the compensated path)
     double length               # the part's length (0 for M functions, dwells, texts)
-    double point[10]            # the point, machine coordinates of the run, all ten axes
+    double point[AXES]          # the point, machine coordinates of the run, all ten axes
     double distance             # from the asked point in the chosen axes (0 for lookups)
 
 # A bounding-volume hierarchy over the motion parts' boxes in the chosen axes that
@@ -187,22 +196,15 @@ ctypedef struct ConnectIndex:
     Placement pl
     uint32_t axes               # axesForCalc, 0x3FF for all
     int n_dims                  # axes of the boxes: X Y Z of the mask, and the others
-    int dims[10]                # of the mask that the program moves
+    int dims[AXES]              # of the mask that the program moves
     int n_fixed                 # axes of the mask that stand still everywhere: their
-    int fixed[10]               # distance is the same to every part
-    double fixed_at[10]
+    int fixed[AXES]             # distance is the same to every part
+    double fixed_at[AXES]
     size_t n_items              # motion parts
     uint32_t *items             # their indexes, in Morton order
     size_t first_leaf           # a power of two; nodes 1 .. 2 * first_leaf - 1
     double *boxes               # node k: low corner at boxes[2 * n_dims * k], high after it
     uint32_t *span              # node k: lowest part index span[2k], highest span[2k + 1]
-
-# The squared distance to an arc (helix) as a function of its turn (connect_search.pyx).
-ctypedef struct ArcDistanceFn:
-    int plane_axes              # 0, 1 or 2 of the plane's axes in the mask
-    double r, rho, u            # radius; |q - centre| in the plane (2); q - centre (1)
-    double chi0, sigma          # chi at theta = 0, direction
-    double L2, b
 
 # A look at each part's candidate: `d2` (squared distance) and `point` (ten axes) may
 # be changed; True = use the changed values (ConnectPointCalc, callback 1005).
@@ -212,6 +214,7 @@ ctypedef struct PartCalc:          # what the ConnectPointCalc hook needs
     Core *core
     Machine *m
     Callback cb
+    bint not_finite             # the host gave a point or distance that is not finite
 
 
 # ---- what other stages call
@@ -221,19 +224,22 @@ cdef inline bint machine_moving(int32_t status) noexcept nogil:
             or status == CNC_STATUS_CONNECT_MOVING or status == CNC_STATUS_MANUAL_MOVE)
 
 
-# the core, with core.lock held: the core's machine made ready for a run (False: out
-# of memory); its place on the program dropped (ResetCNC, a new program, DestroyCNC)
-cdef bint machine_prepare(Core *core) noexcept nogil
+# the lifecycle, with core.lock held: the core's machine made ready for an activity
+# (False: refused, err set); its place on the program dropped (ResetCNC, a new program,
+# DestroyCNC). The workers of its table: a run (RunJob), a manual move (GotoJob), a
+# connection (ConnectJob)
+cdef bint machine_prepare(Core *core, Job *job, ErrorInfo *err) noexcept nogil
 cdef void machine_forget(Core *core) noexcept nogil
-# the simulator: the transition table's command of StartCNCEx 30-33, and the worker
-# of such a run
-cdef int32_t machine_command(int32_t regime) noexcept nogil
-cdef void *machine_body(void *arg) noexcept nogil
-# the exports: GoToPosition(Ex), StopCNCEx's addCode, MFunc, ConfirmMFunc, ConnectCNCEx_Plane
+cdef void *machine_run_body(void *arg) noexcept nogil
+cdef void *machine_goto_body(void *arg) noexcept nogil
+cdef void *connect_body(void *arg) noexcept nogil
+# the exports: GoToPosition(Ex), ConnectCNCEx_Plane, ToolChainCore_TestClock (test-only)
 cdef int32_t core_goto(Core *core, const SIMPLE_GM_PARAMS *dest, uint32_t n_dest, const double *coords) noexcept nogil
-cdef void machine_keep_stop_code(Core *core, const char *code) noexcept nogil
-cdef int32_t machine_send_m(Core *core, const SIMPLE_GM_PARAMS *fun) noexcept nogil
-cdef int32_t machine_confirm_m(Core *core) noexcept nogil
+# the connection: why its straight way from `start` at motion class cls cannot run in
+# finite numbers (NULL: it can)
+cdef const char *manual_path_not_finite(const double *start, const SIMPLE_GM_PARAMS *dest, uint32_t n_dest,
+                                        const GCODE_FEED *cls) noexcept nogil
+cdef int32_t machine_test_clock(Core *core, uint64_t key, double seconds) noexcept nogil
 cdef int32_t core_connect(Core *core, uint32_t n_type, uint32_t n_coords, const double *coords,
                           const char *add_code, uint32_t axes_calc, uint32_t axes_connect,
                           int32_t state_after) noexcept nogil

@@ -6,7 +6,7 @@
 #     into look-ahead entries (placed geometry, limits, the plan's speeds, the
 #     breakpoint question), and it makes every driver callback (DriverInitialize,
 #     DriverGFunc as a part begins, DriverMFunc, PRINT, DriverEnd);
-#   - the *pacer* wakes every millisecond on CLOCK_MONOTONIC, runs the 100 us steps
+#   - the *pacer* wakes every millisecond on the monotonic clock, runs the 100 us steps
 #     of motion.pyx that the elapsed time (times the core's time scale) calls for,
 #     hands what happened to the notifier and publishes GetPos once.
 # Neither waits for the other: the ring of entries and the event queue are the only
@@ -14,8 +14,7 @@
 # ran, for backward) outlives the run, so the next StartCNCEx continues there.
 from libc.stdlib cimport malloc, calloc, free
 from libc.string cimport memset, memcpy, memmove, strdup
-from libc.math cimport fabs
-from posix.time cimport clock_gettime, nanosleep, timespec, CLOCK_MONOTONIC
+from libc.math cimport fabs, isfinite
 
 
 cdef Machine *machine_of(Core *core) noexcept nogil:
@@ -49,7 +48,7 @@ cdef void machine_forget(Core *core) noexcept nogil:
     m.n_history = 0
     m.history_lost = False
     m.cut_len = m.rapid_len = m.run_time = 0.0
-    TC_ATOMIC_STORE(&m.m_pending, 0)
+    memset(&m.counts, 0, sizeof(RunCounts))
 
 
 cdef void machine_history_push(Machine *m, size_t part) noexcept nogil:
@@ -110,7 +109,7 @@ cdef void _entry_identity(Feeder *f, Entry *e, const Part *p, size_t part) noexc
     e.dwell = 0.0
     e.s_from = e.s_to = 0.0
     e.vmax = e.v_ceiling = e.jin = 0.0
-    e.acc = e.dec = 1e12
+    e.acc = e.dec = NO_LIMIT
     e.ramp = RAMP_TRAPEZOID
     e.dyn_extra = 0.0
 
@@ -139,8 +138,8 @@ cdef void _entry_limits(Entry *e, const PartPlan *pp) noexcept nogil:
     e.vmax = pp.v_cap if pp.v_cap > 0.0 else 1.0 / 60.0
     e.v_ceiling = max(<double>pp.v_ceiling, e.vmax)
     e.jin = pp.v_junction
-    e.acc = pp.acc if pp.acc > 0.0 else 1e12
-    e.dec = pp.dec if pp.dec > 0.0 else 1e12
+    e.acc = pp.acc if pp.acc > 0.0 else NO_LIMIT
+    e.dec = pp.dec if pp.dec > 0.0 else NO_LIMIT
     e.ramp = pp.ramp
 
 
@@ -157,9 +156,9 @@ cdef void _class_limits(Entry *e, const GCODE_FEED *cls) noexcept nogil:
 cdef void _class_ramps(Entry *e, const GCODE_FEED *cls) noexcept nogil:
     """A motion class's ramps (an acceleration of 0: the entry's own)."""
     e.ramp = RAMP_SINE if cls.rampType == RAMP_SINE else RAMP_TRAPEZOID
-    if 0.0 < cls.acc < 1e12:
+    if 0.0 < cls.acc < NO_LIMIT:
         e.acc = ramp_equivalent_acc(cls.acc, e.ramp)
-    if 0.0 < cls.dec < 1e12:
+    if 0.0 < cls.dec < NO_LIMIT:
         e.dec = ramp_equivalent_acc(cls.dec, e.ramp)
 
 
@@ -187,7 +186,7 @@ cdef bint _forward_entry(Feeder *f, Entry *e) noexcept nogil:
             e.waits = True
         elif p.kind == PART_MOTION:
             f.any_motion = True
-            placed_segment(prog, &f.m.placement, k, &e.seg)
+            segment_of_placed_part(prog, k, &f.m.placement, &e.seg)
             e.s_from = 0.0
             e.s_to = e.seg.length
             _entry_limits(e, placed_plan_part(&f.m.plan, k))
@@ -216,7 +215,7 @@ cdef bint _backward_entry(Feeder *f, Entry *e) noexcept nogil:
             return False
         k = m.history[m.n_history - 1 - back]
     _entry_identity(f, e, &prog.parts[k], k)
-    placed_segment(prog, &m.placement, k, &e.seg)
+    segment_of_placed_part(prog, k, &m.placement, &e.seg)
     e.s_from = from_s if from_s >= 0.0 else e.seg.length
     e.s_to = 0.0
     _entry_limits(e, placed_plan_part(&m.plan, k))
@@ -249,87 +248,64 @@ cdef void _feed(Feeder *f) noexcept nogil:
 
 # ------------------------------------------------------------------ the pacer
 
-cdef inline double _now() noexcept nogil:
-    cdef timespec ts
-    clock_gettime(CLOCK_MONOTONIC, &ts)
-    return <double>ts.tv_sec + <double>ts.tv_nsec * 1e-9
-
-
 cdef void _publish(Core *core, Machine *m) noexcept nogil:
-    """GetPos from the machine's state (the pacer's thread)."""
+    """GetPos from the machine's state (the pacer's thread; the worker's before and
+    after the pacer runs): its cells as the run's session shows them."""
     cdef Motion *mo = &m.motion
     cdef SnapshotData view
-    cdef Entry *e
-    cdef float *cells = <float *>&view.pos.m_pars
-    cdef int k
+    cdef Entry *e = motion_entry(mo, 0) if mo.count > 0 else NULL
     memset(&view, 0, sizeof(view))
-    for k in range(26):
-        cells[k] = INVALID_VALUE_F
     view.pos.m_fileIdx = -1
     memcpy(&view.pos.m_calcS, mo.position, sizeof(P10DOUBLE))
     view.pos.m_calcE = view.pos.m_calcS
-    for k in range(10):
-        cells[_AXIS_CELLS[k]] = <float>mo.position[k]
-    if mo.count > 0:
-        e = motion_entry(mo, 0)
-        view.pos.m_func = e.func if e.kind != PART_MFUNC else e.func + 10000
+    session_cells(&view, e.kind if e != NULL else -1, e.func if e != NULL else 0,
+                  e != NULL and mo.state == MS_WAIT_M, mo.position)
+    if e != NULL:
         view.pos.m_editorLine = e.line
         view.pos.m_fileIdx = e.file_idx
         view.pos.m_gCodeIndex = e.gcode_index
         if e.kind == PART_MOTION:
-            view.pos.m_pars.G = <float>e.func
             view.enh.m_actPartLen = entry_length(e)
             view.enh.m_actPartRemain = entry_length(e) - mo.d
             view.enh.m_setFeed = e.feed
             view.enh.m_calcFeed = e.vmax * 60.0
-        elif e.kind == PART_MFUNC and mo.state == MS_WAIT_M:
-            view.pos.m_pars.M = <float>e.func
         if m.program != NULL and e.file_idx == m.program.prog.main_file_idx:
             view.enh.m_MasterEditorLine = e.line
-    view.pos.m_pars.N = <float>mo.cut_len
-    view.pos.m_pars.T = <float>mo.rapid_len
-    view.pos.m_pars.P = <float>(100.0 * min(mo.count, m.motion.window) / m.motion.window) if m.motion.window > 0 else 0.0
+    session_lengths(&view, &m.counts, mo.cut_len, mo.rapid_len,
+                    100.0 * min(mo.count, mo.window) / mo.window if mo.window > 0 else 0.0)
     view.enh.m_actFeed = mo.v * 60.0 * (mo.ovr if mo.ovr_timing else 1.0)
     view.enh.m_relFeed = mo.ovr
-    view.enh.m_actWorkPartsLen = mo.cut_len
-    view.enh.m_actG00PartsLen = mo.rapid_len
-    view.enh.m_actPartsLen = mo.cut_len + mo.rapid_len
     view.enh.m_MasterFileIdx = <uint32_t>(m.program.prog.main_file_idx if m.program != NULL else -1)
     view.enh.m_statusCNC = core_status(core)
     view.enh.m_cncRunTime = mo.run_time
     snapshot_publish(&core.snap, &view)
 
 
-cdef extern from *:
-    """
-    /* m_pars cells of the ten axes X Y Z C B U V W A O (letter - 'A') */
-    static const int tc_axis_cells[10] = {23, 24, 25, 2, 1, 20, 21, 22, 0, 14};
-    """
-    const int *_AXIS_CELLS "tc_axis_cells"
-
-
 cdef void *_pacer_body(void *arg) noexcept nogil:
+    """The pacer: each tick (a millisecond of wall time, or a grant of the stepped
+    clock) runs the steps its time calls for, hands what happened to the notifier
+    and publishes GetPos. A tick's work ends after a millisecond of wall time, so at
+    any time scale GetPos moves, and a stop or an end is seen, every millisecond."""
     cdef Core *core = <Core *>arg
     cdef Machine *m = <Machine *>core.offline
     cdef Motion *mo = &m.motion
-    cdef double last = _now(), now, budget = 0.0, scale
+    cdef double last = clock_now(), budget = 0.0, scale, tick_end
     cdef double dt = STEP_US * 1e-6
-    cdef timespec nap
     cdef int events
-    cdef bint halted = False
+    cdef uint32_t n_steps = 0
+    cdef bint halted = False, cut
     cdef uint64_t told = mo.consumed     # entries done when the notifier was last woken
-    nap.tv_sec = 0
-    nap.tv_nsec = 1000000
     while not halted and not TC_ATOMIC_LOAD(&core.cancel):
-        now = _now()
+        budget += clock_take(core, m, &last)
+        tick_end = last + 1e-3
         scale = TC_ATOMIC_LOAD_D(&core.time_scale)
-        budget += (now - last) * scale
-        last = now
-        if budget > 1.0 * scale:            # the thread was held up: the machine does not jump
-            budget = 1.0 * scale
+        if budget > 1.0 * scale and not clock_stepped(core):
+            budget = 1.0 * scale            # the thread was held up: the machine does not jump
         mo.ovr_target = TC_ATOMIC_LOAD_D(&core.rel_feed)
         if TC_ATOMIC_LOAD(&core.stop):
             motion_stop(mo)
+        _take_answer(core, mo)
+        cut = False
         while budget >= dt and mo.state < MS_STOPPED:
             motion_sync(mo)
             if mo.consumed - told >= LOOK_RING // 4:
@@ -352,31 +328,48 @@ cdef void *_pacer_body(void *arg) noexcept nogil:
                 break
             if TC_ATOMIC_LOAD(&core.stop):
                 motion_stop(mo)
+            n_steps += 1
+            if n_steps % 256 == 0 and clock_now() > tick_end:
+                cut = True                  # the rest in the next tick, after GetPos
+                break
         halted = halted or mo.state >= MS_STOPPED
         motion_locate(mo)
         _hand_over(m, mo.consumed != told or halted)
         told = mo.consumed
         _publish(core, m)
-        if not halted:
-            nanosleep(&nap, NULL)
+        if not halted and not cut:
+            clock_pause(core, m, &budget, mo.n_log == 0)
     motion_locate(mo)
     TC_ATOMIC_STORE(&m.pacer_done, 1)
     _hand_over(m, True)
+    clock_pacer_ends(m)
     return NULL
 
 
+cdef inline void _take_answer(Core *core, Motion *mo) noexcept nogil:
+    """The step stands at a waiting M function the session got an answer for
+    (DriverMFunc's 0, ConfirmMFunc): it goes on."""
+    if mo.state == MS_WAIT_M and session_take_answer(core):
+        TC_ATOMIC_STORE(&mo.confirmed, 1)
+
+
 cdef void _hand_over(Machine *m, bint wake) noexcept nogil:
-    """The step's log into the notifier's queue (as much as fits); wakes the
-    notifier when there is news for it (events, or room in the ring: `wake`)."""
+    """The step's log into the notifier's queue (as much as fits), each part that
+    began counted for GetPos; wakes the notifier when there is news for it (events,
+    or room in the ring: `wake`)."""
     cdef Motion *mo = &m.motion
     cdef int32_t k = 0, n = mo.n_log
+    cdef size_t part
     if n == 0 and not wake:
         return
     pthread_mutex_lock(&m.lock)
     while k < n and m.ev_n < EVENT_QUEUE:
+        part = mo.log_part[k]
         m.events[(m.ev_first + m.ev_n) % EVENT_QUEUE].kind = mo.log_kind[k]
-        m.events[(m.ev_first + m.ev_n) % EVENT_QUEUE].part = mo.log_part[k]
+        m.events[(m.ev_first + m.ev_n) % EVENT_QUEUE].part = part
         m.ev_n += 1
+        if mo.log_kind[k] == ME_ENTRY and m.program != NULL and part < m.program.prog.n_parts:
+            session_count(&m.counts, &m.program.prog.parts[part])
         k += 1
     m.news = True
     pthread_cond_broadcast(&m.wake)
@@ -390,48 +383,41 @@ cdef void _hand_over(Machine *m, bint wake) noexcept nogil:
 # ------------------------------------------------------------------ the notifier
 
 cdef void _notify(Feeder *f, const MachineEvent *ev) noexcept nogil:
-    """One event as the vendor's driver gets it."""
-    cdef Core *core = f.core
+    """One event to the run's session: a move or a dwell as it begins, an M function
+    or a PRINT as the machine reaches it (an M part's own ME_ENTRY says nothing)."""
     cdef Machine *m = f.m
     cdef const Part *p
     cdef SIMPLE_GM_PARAMS gm
-    cdef Callback cb
-    cdef int32_t answer = 0
     if f.prog == NULL or ev.part >= f.prog.n_parts:
         return
     p = &f.prog.parts[ev.part]
-    if ev.kind == ME_PRINT:
-        core_output(core, 2, f.prog.texts + p.aux)
+    if ev.kind == ME_ENTRY and p.kind != PART_MOTION and p.kind != PART_DWELL:
         return
     placed_part_to_gm(f.prog, ev.part, &m.placement, &gm)
-    if ev.kind == ME_ENTRY:
-        if p.kind == PART_MOTION or p.kind == PART_DWELL:
-            if callback_enter(core, SLOT_DRIVER_G_FUNC, &cb):
-                (<TC_DriverGFunc>cb.fn)(cb.user, &gm)
-                callback_leave(core, SLOT_DRIVER_G_FUNC)
-        return
-    # an M function: a waiting one is confirmed by DriverMFunc's 0, or later by ConfirmMFunc
-    if callback_enter(core, SLOT_DRIVER_M_FUNC, &cb):
-        answer = (<TC_DriverMFunc>cb.fn)(cb.user, &gm)
-        callback_leave(core, SLOT_DRIVER_M_FUNC)
-    if p.flags & FLAG_CONTINUOUS_M or p.func == 0:
-        return
-    if answer == MFUNC_LATER:
-        TC_ATOMIC_STORE(&m.m_pending, p.func if p.func != 0 else -1)
-    else:
-        TC_ATOMIC_STORE(&m.motion.confirmed, 1)
+    session_part(&m.session, f.prog, ev.part, &gm)
 
 
 cdef bint _next_event(Machine *m, MachineEvent *ev) noexcept nogil:
+    """The next queued event (False: none); the notifier is then inside it until
+    _notified (the stepped clock waits for that)."""
     cdef bint got = False
     pthread_mutex_lock(&m.lock)
     if m.ev_n > 0:
         ev[0] = m.events[m.ev_first]
         m.ev_first = (m.ev_first + 1) % EVENT_QUEUE
         m.ev_n -= 1
+        m.notifying = True
         got = True
     pthread_mutex_unlock(&m.lock)
     return got
+
+
+cdef void _notified(Machine *m) noexcept nogil:
+    pthread_mutex_lock(&m.lock)
+    m.notifying = False
+    if m.ev_n == 0:
+        pthread_cond_broadcast(&m.wake)
+    pthread_mutex_unlock(&m.lock)
 
 
 cdef int32_t _finish_event(Machine *m, int32_t regime) noexcept nogil:
@@ -504,17 +490,20 @@ cdef void _drain(Feeder *f) noexcept nogil:
                 machine_history_push(m, <size_t>m.cur_motion)
             m.cur_motion = <int64_t>ev.part
         _notify(f, &ev)
+        _notified(m)
 
 
-cdef void _motion_setup(Core *core, Motion *mo, const GCODE_PARAMETERS *params, const double *start) noexcept nogil:
-    """An empty motion at `start` with the run's settings (override, stop)."""
+cdef void _motion_setup(Core *core, Motion *mo, const Feeder *f, const double *start) noexcept nogil:
+    """An empty motion at `start` with the run's settings (override, stop), its
+    look-ahead one entry (a run sets the plan's window)."""
+    cdef const GCODE_PARAMETERS *params = f.params
     motion_reset(mo, start)
     mo.window = 1
     mo.ovr = TC_ATOMIC_LOAD_D(&core.rel_feed) if TC_ATOMIC_LOAD_D(&core.rel_feed) > 0 else 1.0
     mo.ovr_inc = params.overrideInc if 0.0 < params.overrideInc <= 0.1 else 0.001
     mo.ovr_timing = (params.interpolatorConfig0 & 1) != 0
     mo.ovr_off_in_rapids = params.disableG0FeedOverride == 1
-    mo.stop_dec = params.motion[6].dec if 0.0 < params.motion[6].dec < 1e12 else 1e12
+    mo.stop_dec = limit_or_none(params.motion[6].dec)
     mo.stop_ramp = RAMP_SINE if params.motion[6].rampType == RAMP_SINE else RAMP_TRAPEZOID
 
 
@@ -532,9 +521,9 @@ cdef int32_t machine_manual_move(Core *core, Machine *m, Feeder *f, const SIMPLE
     follows it."""
     cdef Motion *mo = &m.motion
     cdef int32_t finish
-    cdef double start[10]
+    cdef double start[AXES]
     memcpy(start, mo.position, sizeof(start))
-    _motion_setup(core, mo, f.params, start)
+    _motion_setup(core, mo, f, start)
     mo.window = 1
     mo.ovr = 1.0
     _manual_entry(mo, dest, n_dest, cls)
@@ -561,7 +550,8 @@ cdef void _run_setup(Core *core, Machine *m, Feeder *f, int32_t regime, const do
     if not m.plan_made:                 # the first run where the placement holds: its plan
         placed_plan_make(&m.plan, prog, &m.placement)
         m.plan_made = True
-    _motion_setup(core, mo, f.params, start)
+    session_open(&m.session, core, regime, True)
+    _motion_setup(core, mo, f, start)
     mo.window = _window(prog.planned_with.window)
     mo.d = m.part_s if regime != RUN_BACKWARD else 0.0
     mo.started = m.began and regime != RUN_BACKWARD
@@ -572,8 +562,16 @@ cdef void _run_setup(Core *core, Machine *m, Feeder *f, int32_t regime, const do
 
 cdef void _run_keep(Core *core, Machine *m, const Feeder *f) noexcept nogil:
     """With core.lock held, after a run along the program: the machine's place, its
-    lengths and times, and the core's position follow the run."""
+    lengths and times, and the core's position follow the run. Stopped at a waiting
+    M function the driver was given, the stop answered it: the place is after it."""
+    cdef Entry *e
     _keep_place(m, f)
+    if m.motion.count > 0 and m.motion.state == MS_STOPPED:
+        e = motion_entry(&m.motion, 0)
+        if e.kind == PART_MFUNC and e.waits and m.session.signalled_m == e.part:
+            m.part = e.part + 1
+            m.part_s = 0.0
+            m.began = False
     m.cut_len = m.motion.cut_len
     m.rapid_len = m.motion.rapid_len
     m.run_time = m.motion.run_time
@@ -582,35 +580,33 @@ cdef void _run_keep(Core *core, Machine *m, const Feeder *f) noexcept nogil:
 
 cdef int32_t machine_program_run(Core *core, Machine *m, Feeder *f, int32_t regime, const char *add_code) noexcept nogil:
     """A run along the program (regimes 30-33) from the machine's place; the place
-    and the machine position follow it."""
+    and the machine position follow it. Its session: DriverInitialize; the start's
+    M functions (status 70 while they are sent: one answered TC_MFUNC_LATER holds the
+    start until it is confirmed); the parts; after a stop StopCNCEx's M functions
+    (status 80, held the same way); DriverEnd. 31 and 32 send no M functions."""
     cdef Motion *mo = &m.motion
-    cdef Callback cb
-    cdef int32_t finish
+    cdef int32_t finish = EV_STOPPED
     cdef char *stop_code
-    cdef double start[10]
+    cdef bint sends_m = regime != RUN_FORWARD_NO_M and regime != RUN_BACKWARD
+    cdef double start[AXES]
     memcpy(start, mo.position, sizeof(start))
     _run_setup(core, m, f, regime, start)
     _feed(f)
     motion_sync(mo)
     _publish(core, m)                   # GetPos shows this run from its start, not the last activity's
-    if callback_enter(core, SLOT_DRIVER_INITIALIZE, &cb):
-        (<TC_DriverInitialize>cb.fn)(cb.user, start, 10, regime)
-        callback_leave(core, SLOT_DRIVER_INITIALIZE)
-    if regime != RUN_FORWARD_NO_M and regime != RUN_BACKWARD:
-        send_add_code(core, add_code, start)
-    finish = _pace(core, m, f)
+    session_begin(&m.session, start)
+    if not sends_m or session_add_code(&m.session, add_code, start, CNC_STATUS_SENDING_START_M, False):
+        if core_status(core) == CNC_STATUS_SENDING_START_M:
+            core_set_status(core, regime)           # the start's M functions are done: it moves
+        finish = _pace(core, m, f)
     pthread_mutex_lock(&core.lock)
     _run_keep(core, m, f)
-    stop_code = m.stop_code
-    m.stop_code = NULL
     pthread_mutex_unlock(&core.lock)
-    if (finish == EV_STOPPED and stop_code != NULL and not TC_ATOMIC_LOAD(&core.cancel)
-            and regime != RUN_FORWARD_NO_M and regime != RUN_BACKWARD):
-        send_add_code(core, stop_code, mo.position)
+    stop_code = session_take_stop_code(core)
+    if finish == EV_STOPPED and sends_m and not TC_ATOMIC_LOAD(&core.cancel):
+        session_add_code(&m.session, stop_code, mo.position, CNC_STATUS_SENDING_STOP_M, True)
     free(stop_code)
-    if callback_enter(core, SLOT_DRIVER_END, &cb):
-        (<TC_DriverEnd>cb.fn)(cb.user)
-        callback_leave(core, SLOT_DRIVER_END)
+    session_end(&m.session)
     return finish
 
 
@@ -626,27 +622,40 @@ cdef Machine *machine_worker_begin(Job *job, Feeder *f) noexcept nogil:
     m = <Machine *>core.offline           # machine_prepare made it and its place
     if f.params != NULL:
         f.params[0] = core.params
-    else:
-        set_error(&core.error, ERR_OUT_OF_MEMORY, -1, 0, NULL, 0)
     pthread_mutex_unlock(&core.lock)
+    if f.params == NULL:
+        core_keep_error(core, False, NULL)         # out of memory
     f.core = core
     f.m = m
     return m if f.params != NULL else NULL
 
 
-cdef void *machine_body(void *arg) noexcept nogil:
-    cdef Job *job = <Job *>arg
-    cdef Core *core = job.core
+cdef void *machine_run_body(void *arg) noexcept nogil:
+    """The worker of a run along the program (StartCNCEx 30-33, a RunJob)."""
+    cdef RunJob *job = <RunJob *>arg
+    cdef Core *core = job.head.core
     cdef Feeder f
-    cdef Machine *m = machine_worker_begin(job, &f)
+    cdef Machine *m = machine_worker_begin(&job.head, &f)
     cdef int32_t finish = EV_STOPPED
     if m != NULL:
-        if job.regime == RUN_MANUAL:
-            finish = machine_manual_move(core, m, &f, &job.dest, job.n_dest, &f.params.motion[5])
-        else:
-            finish = machine_program_run(core, m, &f, job.regime, job.add_code)
+        finish = machine_program_run(core, m, &f, job.regime, job.add_code)
     free(f.params)
-    job_free(job)
+    job_free(&job.head)
+    core_finish(core, finish)
+    return NULL
+
+
+cdef void *machine_goto_body(void *arg) noexcept nogil:
+    """The worker of a manual move (GoToPosition, GoToPositionEx: a GotoJob)."""
+    cdef GotoJob *job = <GotoJob *>arg
+    cdef Core *core = job.head.core
+    cdef Feeder f
+    cdef Machine *m = machine_worker_begin(&job.head, &f)
+    cdef int32_t finish = EV_STOPPED
+    if m != NULL:
+        finish = machine_manual_move(core, m, &f, &job.dest, job.n_dest, &f.params.motion[5])
+    free(f.params)
+    job_free(&job.head)
     core_finish(core, finish)
     return NULL
 
@@ -657,11 +666,11 @@ cdef int32_t _pace(Core *core, Machine *m, Feeder *f) noexcept nogil:
     cdef bint started
     m.news = False
     TC_ATOMIC_STORE(&m.pacer_done, 0)
+    clock_pacer_begins(m)
     started = pthread_create(&m.pacer, NULL, _pacer_body, core) == 0
     if not started:
-        pthread_mutex_lock(&core.lock)
-        set_error(&core.error, ERR_OUT_OF_MEMORY, -1, 0, NULL, 0)
-        pthread_mutex_unlock(&core.lock)
+        clock_pacer_ends(m)
+        core_keep_error(core, False, NULL)         # out of memory
         return EV_STOPPED
     while not TC_ATOMIC_LOAD(&m.pacer_done):
         if f.prog != NULL:
@@ -677,21 +686,18 @@ cdef int32_t _pace(Core *core, Machine *m, Feeder *f) noexcept nogil:
     return _finish_event(m, f.regime)
 
 
-cdef void _manual_entry(Motion *mo, const SIMPLE_GM_PARAMS *dest, uint32_t n_dest,
-                        const GCODE_FEED *cls) noexcept nogil:
-    """The one entry of a manual move from where the machine stands: a line to the
-    first n_dest axes of dest.m_calcE (the others stay), or an arc round dest.m_cc in
-    the plane of m_planeTool's low 16 bits; the feed of m_cc.a, else the class's."""
-    cdef Entry *e = &mo.ring[0]
-    cdef SIMPLE_GM_PARAMS gm
+cdef void _manual_gm(const double *start, const SIMPLE_GM_PARAMS *dest, uint32_t n_dest,
+                     SIMPLE_GM_PARAMS *gm) noexcept nogil:
+    """The path of a manual move from `start`: a line to the first n_dest axes of
+    dest.m_calcE (the others stay), or an arc round dest.m_cc in the plane of
+    m_planeTool's low 16 bits."""
     cdef double *end = <double *>&gm.m_calcE
     cdef const double *centre = <const double *>&dest.m_cc
     cdef int first, second, normal
     cdef int16_t plane = <int16_t>(dest.m_planeTool & 0xFFFF)
-    cdef double feed
-    memset(&gm, 0, sizeof(gm))
-    memcpy(&gm.m_calcS, mo.position, sizeof(P10DOUBLE))
-    memcpy(end, mo.position, sizeof(P10DOUBLE))
+    memset(gm, 0, sizeof(SIMPLE_GM_PARAMS))
+    memcpy(&gm.m_calcS, start, sizeof(P10DOUBLE))
+    memcpy(end, start, sizeof(P10DOUBLE))
     memcpy(end, &dest.m_calcE, n_dest * sizeof(double))
     gm.m_func = dest.m_func
     if dest.m_func == 2 or dest.m_func == 3:
@@ -700,7 +706,45 @@ cdef void _manual_entry(Motion *mo, const SIMPLE_GM_PARAMS *dest, uint32_t n_des
         gm.m_planeTool = plane
         gm.m_cc = dest.m_cc
         if plane_axes(plane, &first, &second, &normal):
-            gm.m_cc.c = distance2d(mo.position[first] - centre[first], mo.position[second] - centre[second])
+            gm.m_cc.c = distance2d(start[first] - centre[first], start[second] - centre[second])
+
+
+cdef inline double _manual_feed(const SIMPLE_GM_PARAMS *dest, const GCODE_FEED *cls) noexcept nogil:
+    """mm/min: m_cc.a when not 0, else the motion class's."""
+    return dest.m_cc.a if dest.m_cc.a > 0.0 else cls.feed
+
+
+cdef const char *manual_path_not_finite(const double *start, const SIMPLE_GM_PARAMS *dest, uint32_t n_dest,
+                                        const GCODE_FEED *cls) noexcept nogil:
+    """Why a manual move from `start` at the motion class cls cannot run in finite
+    numbers (NULL: it can): its length, its points (an arc's centre far away), or its
+    feed (squared by the ramps)."""
+    cdef SIMPLE_GM_PARAMS gm
+    cdef Segment seg
+    cdef double point[AXES]
+    cdef double v = _manual_feed(dest, cls) / 60.0
+    cdef int k
+    _manual_gm(start, dest, n_dest, &gm)
+    segment_of_gm(&gm, &seg)
+    if not isfinite(seg.length) or not coordinates_finite(<const double *>&gm.m_cc, AXES):
+        return "its length"
+    for k in range(9):
+        segment_point_at(&seg, seg.length * k / 8.0, point)
+        if not coordinates_finite(point, AXES):
+            return "its points"
+    if not isfinite(v * v) or (v > 0.0 and not isfinite(seg.length / v)):
+        return "its feed"
+    return NULL
+
+
+cdef void _manual_entry(Motion *mo, const SIMPLE_GM_PARAMS *dest, uint32_t n_dest,
+                        const GCODE_FEED *cls) noexcept nogil:
+    """The one entry of a manual move from where the machine stands (_manual_gm) at
+    the feed of m_cc.a, else the motion class's."""
+    cdef Entry *e = &mo.ring[0]
+    cdef SIMPLE_GM_PARAMS gm
+    cdef double feed
+    _manual_gm(mo.position, dest, n_dest, &gm)
     memset(e, 0, sizeof(Entry))
     e.part = <size_t>PART_NONE
     e.kind = PART_MOTION
@@ -709,11 +753,11 @@ cdef void _manual_entry(Motion *mo, const SIMPLE_GM_PARAMS *dest, uint32_t n_des
     segment_of_gm(&gm, &e.seg)          # the host's record of the move
     e.s_from = 0.0
     e.s_to = e.seg.length
-    feed = dest.m_cc.a if dest.m_cc.a > 0.0 else cls.feed
+    feed = _manual_feed(dest, cls)
     e.vmax = feed / 60.0 if feed > 0.0 else 1.0 / 60.0
     e.v_ceiling = e.vmax
     e.feed = feed
-    e.acc = e.dec = 1e12
+    e.acc = e.dec = NO_LIMIT
     _class_ramps(e, cls)
     TC_STORE_U64(&mo.produced, 1)
     TC_ATOMIC_STORE(&mo.fed_all, 1)
@@ -721,71 +765,33 @@ cdef void _manual_entry(Motion *mo, const SIMPLE_GM_PARAMS *dest, uint32_t n_des
 
 cdef int32_t core_goto(Core *core, const SIMPLE_GM_PARAMS *dest, uint32_t n_dest, const double *coords) noexcept nogil:
     """GoToPosition / GoToPositionEx: a manual move; 50, then -50."""
-    cdef Job *job = job_new()
+    cdef GotoJob *job = <GotoJob *>job_new(CMD_GOTO)
     if job == NULL:
         return core_fail(core, ERR_OUT_OF_MEMORY, NULL)
-    job.regime = RUN_MANUAL
     job.dest = dest[0]
-    memcpy(&job.dest.m_calcE, coords, n_dest * sizeof(double))
+    if n_dest > 0:                      # GoToPosition(core, 0, NULL) moves nothing
+        memcpy(&job.dest.m_calcE, coords, n_dest * sizeof(double))
     job.n_dest = n_dest
-    return core_begin(core, CMD_GOTO, "GoToPosition", machine_body, job)
+    return core_start(core, &job.head, "GoToPosition")
 
 
-cdef void machine_keep_stop_code(Core *core, const char *code) noexcept nogil:
-    """StopCNCEx's addCode, sent by the run once the machine stands."""
-    cdef Machine *m
-    cdef char *copy = strdup(code)
-    pthread_mutex_lock(&core.lock)
-    m = <Machine *>core.offline
-    if m != NULL:
-        free(m.stop_code)
-        m.stop_code = copy
-        copy = NULL
-    pthread_mutex_unlock(&core.lock)
-    free(copy)
-
-
-cdef int32_t machine_send_m(Core *core, const SIMPLE_GM_PARAMS *fun) noexcept nogil:
-    """ToolChainCore_MFunc: an M function to the machine (DriverMFunc) while it
-    stands; answered TC_MFUNC_LATER, it is pending until ToolChainCore_ConfirmMFunc."""
-    cdef int32_t status = core_status(core)
-    cdef Machine *m
-    cdef Callback cb
-    cdef int32_t answer = 0
-    if status > 0:
-        return core_refuse(core, "MFunc", status)
-    pthread_mutex_lock(&core.lock)
-    m = machine_of(core)
-    pthread_mutex_unlock(&core.lock)
-    if m == NULL:
-        return core_fail(core, ERR_OUT_OF_MEMORY, NULL)
-    if TC_ATOMIC_LOAD(&m.m_pending) != 0:
-        return core_fail(core, ERR_M_PENDING, NULL)
-    if callback_enter(core, SLOT_DRIVER_M_FUNC, &cb):
-        answer = (<TC_DriverMFunc>cb.fn)(cb.user, fun)
-        callback_leave(core, SLOT_DRIVER_M_FUNC)
-    if answer == MFUNC_LATER:
-        TC_ATOMIC_STORE(&m.m_pending, fun.m_func if fun.m_func != 0 else -1)
-    return TOOL_CHAIN_SUCCESS
-
-
-cdef int32_t machine_command(int32_t regime) noexcept nogil:
-    """The transition table's command of StartCNCEx 30-33."""
-    if regime == RUN_FORWARD:
-        return CMD_FORWARD
-    if regime == RUN_FORWARD_NO_M:
-        return CMD_FORWARD_NO_M
-    if regime == RUN_BACKWARD:
-        return CMD_BACKWARD
-    return CMD_FORWARD_SKIP_M
-
-
-cdef bint machine_prepare(Core *core) noexcept nogil:
-    """With core.lock held, before a run starts (core_begin): the machine exists and
-    its place refers to the core's program (a new program: its start)."""
+cdef bint machine_prepare(Core *core, Job *job, ErrorInfo *err) noexcept nogil:
+    """The lifecycle's preparation of the machine's activities, with core.lock held
+    before the worker starts: the machine exists and its place refers to the core's
+    program (a new program: its start); a manual move's path is finite from where the
+    machine stands. False (err set) refuses the activity."""
     cdef Machine *m = machine_of(core)
+    cdef GotoJob *go = <GotoJob *>job
+    cdef ErrArg args[2]
     if m == NULL:
+        set_error(err, ERR_OUT_OF_MEMORY, -1, 0, NULL, 0)
         return False
+    if job.command == CMD_GOTO:
+        args[1].text = manual_path_not_finite(core.position, &go.dest, go.n_dest, &core.params.motion[5])
+        if args[1].text != NULL:
+            args[0].text = "GoToPosition"
+            set_error(err, ERR_PATH_NOT_FINITE, -1, 0, args, 2)
+            return False
     if m.program != core.program:
         machine_forget(core)
         m.program = loaded_program_ref(core.program)
@@ -795,19 +801,3 @@ cdef bint machine_prepare(Core *core) noexcept nogil:
         m.plan_made = False
     memcpy(m.motion.position, core.position, sizeof(core.position))
     return True
-
-
-# ------------------------------------------------------------------ M functions
-
-cdef int32_t machine_confirm_m(Core *core) noexcept nogil:
-    """ToolChainCore_ConfirmMFunc: ends the M function that waits for the host."""
-    cdef Machine *m
-    cdef int32_t pending
-    pthread_mutex_lock(&core.lock)
-    m = <Machine *>core.offline         # never freed once made
-    pthread_mutex_unlock(&core.lock)
-    pending = TC_ATOMIC_LOAD(&m.m_pending) if m != NULL else 0
-    if pending == 0 or not TC_ATOMIC_CAS(&m.m_pending, &pending, 0):
-        return core_fail(core, ERR_NO_M_PENDING, NULL)
-    TC_ATOMIC_STORE(&m.motion.confirmed, 1)
-    return TOOL_CHAIN_SUCCESS

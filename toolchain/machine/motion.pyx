@@ -32,7 +32,7 @@ cdef void entry_point(const Entry *e, double d, double v, double *out) noexcept 
     correction moves it sideways by dyn_extra (1 - v / vmax), towards the side the
     tool is compensated to: all of it at rest, none at the entry's full speed."""
     cdef double s, extra
-    cdef double t[10]
+    cdef double t[AXES]
     if e.kind != PART_MOTION:
         return
     s = e.s_from + d if e.s_to >= e.s_from else e.s_from - d
@@ -40,7 +40,7 @@ cdef void entry_point(const Entry *e, double d, double v, double *out) noexcept 
     if e.dyn_extra == 0.0 or e.seg.length <= 0.0:
         return
     extra = e.dyn_extra * (1.0 - min(v / e.vmax, 1.0)) if e.vmax > 0.0 else e.dyn_extra
-    segment_tangent(&e.seg, s / e.seg.length, t)
+    segment_tangent(&e.seg, s, t)
     # the way's own direction (not the traverse's): a backward run keeps the side
     out[e.dyn_first] -= e.dyn_side * extra * t[e.dyn_second]
     out[e.dyn_second] += e.dyn_side * extra * t[e.dyn_first]
@@ -151,7 +151,7 @@ cdef void motion_reset(Motion *m, const double *position) noexcept nogil:
     m.ovr_target = 1.0
     m.recip.acc = m.recip.dec = m.recip.vmax = 0.0      # none yet: every value differs from 0
     m.cut_len = m.rapid_len = m.run_time = 0.0
-    for k in range(10):
+    for k in range(AXES):
         m.position[k] = position[k]
 
 

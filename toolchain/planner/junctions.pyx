@@ -10,16 +10,16 @@ cdef double junction_cosine(const double *t_end, const double *t_start, uint32_t
     cdef double dot = 0.0, n0 = 0.0, n1 = 0.0, c
     cdef int k
     if ignored == 0:
-        for k in range(10):
+        for k in range(AXES):
             dot += t_end[k] * t_start[k]
         return dot
-    for k in range(10):
+    for k in range(AXES):
         if (ignored >> k) & 1:
             continue
         dot += t_end[k] * t_start[k]
         n0 += t_end[k] * t_end[k]
         n1 += t_start[k] * t_start[k]
-    if n0 <= 1e-24 or n1 <= 1e-24:
+    if n0 <= ANGLE_EPS * ANGLE_EPS or n1 <= ANGLE_EPS * ANGLE_EPS:
         return 1.0
     return dot / sqrt(n0 * n1)
 

@@ -56,7 +56,7 @@ cdef bint program_add_plan_region(ProgramBuilder *build, size_t first, const GCO
 cdef inline bint _axes_limited(const PlanRegion *s) noexcept nogil:
     """Some axis has a limit that is on."""
     cdef int k
-    for k in range(10):
+    for k in range(AXES):
         if not ((s.limits_off >> k) & 1) and (s.axisLimits[k].maxFeed > 0.0 or s.axisLimits[k].maxAcc > 0.0
                                                or s.axisLimits[k].maxDec > 0.0):
             return True
@@ -163,22 +163,20 @@ cdef void part_limits(const Segment *g, const Part *p, const GCODE_PARAMETERS *p
                       const PlanRegion *s, bint axes_limited, uint32_t enhanced, PartLimits *out) noexcept nogil:
     """The static limits of a motion part with geometry g (axes_limited: _axes_limited(s))."""
     cdef const GCODE_FEED *cls
-    cdef double reach[10]
-    cdef double v, feed_len, curvature, factor
+    cdef double reach[AXES]
+    cdef double v, feed_len, factor
     cdef uint32_t ignore_feed = s.ignore_feed | ((enhanced >> ENH_FEED_SHIFT) & AXIS_MASK)
     cdef int k
     out.rapid = p.func == 0
     cls = &s.motion[0] if out.rapid else &s.motion[1]
     out.length = g.length
     out.ramp = RAMP_SINE if cls.rampType == RAMP_SINE else RAMP_TRAPEZOID
-    # acc/dec 0 (or nonsense): no limit of the class, 1e12 mm/s^2 (instant ramps in
-    # practice); the cap keeps the closed forms finite
-    out.acc = cls.acc if 0.0 < cls.acc < 1e12 else 1e12
-    out.dec = cls.dec if 0.0 < cls.dec < 1e12 else 1e12
+    out.acc = limit_or_none(cls.acc)
+    out.dec = limit_or_none(cls.dec)
     v = part_feed(p, params) / 60.0
     out.v_ceiling = HUGE_VAL
     feed_len = segment_feed_length(g, ignore_feed)
-    if feed_len > 1e-12 and feed_len < g.length:
+    if feed_len > ROUNDING_EPS and feed_len < g.length:
         v = v * g.length / feed_len     # the feed holds on the other axes: the path runs faster
     if g.arc and not out.rapid:
         factor = arc_feed_factor(params, s.arc_table, g.radius)
@@ -186,16 +184,15 @@ cdef void part_limits(const Segment *g, const Part *p, const GCODE_PARAMETERS *p
             v = v * factor
             out.v_ceiling = v           # the table's speed for this radius is a limit, not a feed
         if params.centripetalAcc > 0.0:
-            curvature = g.radius / (g.radius * g.radius + g.lead * g.lead)
-            out.v_ceiling = min(out.v_ceiling, sqrt(params.centripetalAcc / curvature))
+            out.v_ceiling = min(out.v_ceiling, sqrt(params.centripetalAcc / segment_curvature(g)))
             v = min(v, out.v_ceiling)
     if not axes_limited:
         out.vmax = v if v > 0.0 else 1.0 / 60.0
         out.v_ceiling = max(out.v_ceiling, out.vmax)
         return
     segment_axis_reach(g, reach)
-    for k in range(10):
-        if (s.limits_off >> k) & 1 or reach[k] <= 1e-12:
+    for k in range(AXES):
+        if (s.limits_off >> k) & 1 or reach[k] <= ANGLE_EPS:
             continue
         if s.axisLimits[k].maxFeed > 0.0:
             out.v_ceiling = min(out.v_ceiling, s.axisLimits[k].maxFeed / 60.0 / reach[k])

@@ -50,14 +50,14 @@ cdef void _take_classes(NodeSource *src, const PlanRegion *s) noexcept nogil:
         cls = &s.motion[c]
         ramp = RAMP_SINE if cls.rampType == RAMP_SINE else RAMP_TRAPEZOID
         src.class_ramp[c] = ramp
-        src.class_acc[c] = _float_below(ramp_equivalent_acc(cls.acc if 0.0 < cls.acc < 1e12 else 1e12, ramp))
-        src.class_dec[c] = _float_below(ramp_equivalent_acc(cls.dec if 0.0 < cls.dec < 1e12 else 1e12, ramp))
+        src.class_acc[c] = _float_below(ramp_equivalent_acc(limit_or_none(cls.acc), ramp))
+        src.class_dec[c] = _float_below(ramp_equivalent_acc(limit_or_none(cls.dec), ramp))
 
 
 cdef inline void _node_segment(const NodeSource *src, size_t k, Segment *g) noexcept nogil:
     """Part k's geometry: as compiled, or as the placed run sees it where it may differ."""
     if src.pl != NULL and k < src.reshaped_end:
-        placed_segment(src.prog, src.pl, k, g)
+        segment_of_placed_part(src.prog, k, src.pl, g)
     else:
         segment_of_part(src.prog, k, g)
 
@@ -69,7 +69,7 @@ cdef bint _general_node(NodeSource *src, size_t k, const PlanRegion *s, bint wan
     cdef Segment g
     cdef PartLimits lim
     _node_segment(src, k, &g)
-    if g.length <= 1e-9:
+    if g.length <= LENGTH_EPS:
         return False
     part_limits(&g, &src.prog.parts[k], src.params, s, src.cursor.axes_limited, src.enhanced, &lim)
     node.length = g.length
@@ -80,14 +80,14 @@ cdef bint _general_node(NodeSource *src, size_t k, const PlanRegion *s, bint wan
     node.ramp = lim.ramp
     if want_tangent:
         segment_tangent(&g, 0.0, t_start)
-        segment_tangent(&g, 1.0, t_end)
+        segment_tangent(&g, g.length, t_end)
     return True
 
 
 cdef void _end_tangent(const NodeSource *src, size_t k, double *t) noexcept nogil:
     cdef Segment g
     _node_segment(src, k, &g)
-    segment_tangent(&g, 1.0, t)
+    segment_tangent(&g, g.length, t)
 
 
 cdef bint _next_node(NodeSource *src, PlanNode *node) noexcept nogil:
@@ -96,8 +96,8 @@ cdef bint _next_node(NodeSource *src, PlanNode *node) noexcept nogil:
     cdef const Part *p = &src.prog.parts[k]
     cdef const Part *prev
     cdef const PlanRegion *s = cursor_settings(&src.cursor, k)
-    cdef double t0[10]
-    cdef double t1[10]
+    cdef double t0[AXES]
+    cdef double t1[AXES]
     cdef double jin, cosine, vmax, d0, d1, d2, inv
     cdef bint rapid, want_tangent, plain
     cdef int c
@@ -120,7 +120,7 @@ cdef bint _next_node(NodeSource *src, PlanNode *node) noexcept nogil:
         d1 = p.ce[1] - prev.ce[1]
         d2 = p.ce[2] - prev.ce[2]
         node.length = sqrt(d0 * d0 + d1 * d1 + d2 * d2)     # segment_of_part's
-        if node.length <= 1e-9:
+        if node.length <= LENGTH_EPS:
             return False                        # no motion: the speed passes through
         vmax = part_feed(p, src.params) / 60.0  # part_limits' limits of a plain line
         node.vmax = _float_below(vmax if vmax > 0.0 else 1.0 / 60.0)
@@ -134,7 +134,7 @@ cdef bint _next_node(NodeSource *src, PlanNode *node) noexcept nogil:
             t0[0] = d0 * inv
             t0[1] = d1 * inv
             t0[2] = d2 * inv
-            for c in range(3, 10):
+            for c in range(3, AXES):
                 t0[c] = 0.0
     elif not _general_node(src, k, s, want_tangent, node, t0, t1):
         return False

@@ -1,7 +1,7 @@
 # Face of the feed planner (planner/): every motion part gets a peak and an exit
 # speed such that the machine can still stop at the end of what it sees (the look-
-# ahead window), and M functions the plan inserts where it slows down. Its files:
-#   segment.pyx       a part's geometry as the tool runs it (the machine moves along it too)
+# ahead window), and M functions the plan inserts where it slows down (a part's
+# geometry, its Segment: geometry.pxd). Its files:
 #   limits.pyx        static limits of a part: feed, arc table, centripetal, axes; G900 / M-5 regions
 #   junctions.pyx     junction speeds: the angle slow-down, exact stops
 #   mfunc_insert.pyx  mFuncInsertTable: continuous M functions inserted where the plan slows down
@@ -13,24 +13,9 @@
 # limits the plan holds. Owns Program.plan (PartPlan per part) and the records of the
 # passes. Called by the pipeline (plan a compiled program, whole or in two ranges),
 # the compiler (G900 / M-5 regions), the simulator (part times), the machine (the
-# profile, the backward pass, a placed run's plan, segments) and the compensation's
-# regions and G167 arcs (segment geometry).
+# profile, the backward pass, a placed run's plan).
 
-from libc.math cimport atan2, cos, sin, M_PI, HUGE_VAL
-
-
-# ---- segment.pyx: a part as the tool runs it
-ctypedef struct Segment:
-    double length
-    int n_axes              # 3: only x y z may move (the other seven as the part before), else 10
-    double start[10]        # compensated start, axes [0, n_axes)
-    double end[10]
-    bint arc                # a circular (or helical) part with a plane and a radius
-    int first, second, normal   # plane axes of an arc
-    double radius           # of the tool path (compensated)
-    double centre[2]        # in the plane (first, second)
-    double sweep            # signed, + = counter-clockwise
-    double lead             # off-plane travel per radian of turn (helix), >= 0
+from libc.math cimport cos, sin, M_PI, HUGE_VAL
 
 # ---- speed ramps between two speeds, closed forms. rampType 1: trapezoid, constant
 # acceleration a. rampType 2: sine, the acceleration is a half sine wave that starts
@@ -118,7 +103,7 @@ ctypedef struct NodeSource:     # makes the nodes, parts in order
     double prev_vmax
     size_t prev_part            # the last node's part
     bint prev_tangent_known     # prev_tangent holds its end tangent
-    double prev_tangent[10]
+    double prev_tangent[AXES]
     size_t class_region         # cursor.region the values below were taken at
     bint plain_lines            # no axis limit, no axis ignored for the feed: a line's limits are
                                 # its feed and its motion class (part_limits' result, cheaper)
@@ -145,15 +130,6 @@ ctypedef struct PlacedPlan:
 
 
 # ---- what other stages call
-cdef inline void arc_point_at(const double *centre, double radius, double start_a, double start_b,
-                              double turn, double *out) noexcept nogil:
-    """The point of the circle (centre, radius) `turn` radians (+ = counter-clockwise)
-    on from the point (start_a, start_b) of it, in the plane."""
-    cdef double theta = atan2(start_b - centre[1], start_a - centre[0]) + turn
-    out[0] = centre[0] + radius * cos(theta)
-    out[1] = centre[1] + radius * sin(theta)
-
-
 cdef inline double ramp_equivalent_acc(double acc, int32_t ramp_type) noexcept nogil:
     """The constant acceleration with the same time and distance as the ramp (a ramp
     from v0 to v1 takes |v1 - v0| / it seconds, (v0 + v1) / 2 times that mm)."""
@@ -183,14 +159,6 @@ cdef inline double ramp_distance_in(double v0, double v1, double T, int32_t ramp
         return v0 * t + (v1 - v0) * 0.5 * (t - T / M_PI * sin(M_PI * t / T))
     return v0 * t + (v1 - v0) * 0.5 * t * t / T
 
-
-# a part (compiled, placed where a run starts, or as the API gives it) as a Segment;
-# its point at path length s; its unit tangent at the fraction u of its length
-cdef void segment_of_part(const Program *prog, size_t i, Segment *g) noexcept nogil
-cdef void placed_segment(const Program *prog, const Placement *pl, size_t i, Segment *g) noexcept nogil
-cdef void segment_of_gm(const SIMPLE_GM_PARAMS *gm, Segment *g) noexcept nogil
-cdef void segment_point_at(const Segment *g, double s, double *out) noexcept nogil
-cdef void segment_tangent(const Segment *g, double u, double *t) noexcept nogil
 
 # the compiler: G900 / M-5 settings from programmed part `first` on
 cdef bint program_add_plan_region(ProgramBuilder *build, size_t first, const GCODE_PARAMETERS *p,

@@ -1,19 +1,22 @@
 # The host's callbacks of a core. Every call is counted while it runs (in_flight,
 # under core.lock; and per thread, for calls nested in a callback), so that
 # SetCallBack can return only once no call of the slot runs on another thread: a
-# host may free its function as soon as it has removed it. A worker looks a callback
-# up at each call, never caching it across calls.
+# host may free its function as soon as it has removed it (SetCallBack made inside a
+# callback does not wait). A worker looks a callback up at each call, never caching it
+# across calls. Text arguments reach the host in its text type (TGM_LPCTSTR: UTF-16 on
+# Windows), converted for the call (text_to_host).
 from libc.string cimport memset
 from libc.stdio cimport snprintf
+from libc.stdlib cimport free
 
 cdef extern from *:
     """
-    /* The core whose worker runs on this thread (NULL on the host's threads), and the
-       callback calls this thread is inside of, per core and slot. */
+    /* The core whose worker runs on this thread (NULL on the host's threads), and how
+       many callback calls this thread is inside of. */
     static __thread void *tc_worker_core = 0;
-    static __thread int tc_own_calls[3][24];
+    static __thread int tc_in_callbacks = 0;
     """
-    int tc_own_calls[3][24]
+    int tc_in_callbacks
 
 
 cdef void worker_thread_mark(Core *core) noexcept nogil:
@@ -54,6 +57,7 @@ cdef int32_t callback_slot(uint32_t number) noexcept nogil:
 cdef bint callback_enter(Core *core, int32_t slot, Callback *cb) noexcept nogil:
     """The callback of `slot` for one call (False when none is set); the call must be
     closed with callback_leave."""
+    global tc_in_callbacks
     pthread_mutex_lock(&core.lock)
     cb[0] = core.callbacks[slot]
     if cb.fn != NULL:
@@ -61,12 +65,13 @@ cdef bint callback_enter(Core *core, int32_t slot, Callback *cb) noexcept nogil:
     pthread_mutex_unlock(&core.lock)
     if cb.fn == NULL:
         return False
-    tc_own_calls[core.index][slot] += 1
+    tc_in_callbacks += 1
     return True
 
 
 cdef void callback_leave(Core *core, int32_t slot) noexcept nogil:
-    tc_own_calls[core.index][slot] -= 1
+    global tc_in_callbacks
+    tc_in_callbacks -= 1
     pthread_mutex_lock(&core.lock)
     core.in_flight[slot] -= 1
     if core.in_flight[slot] == 0:
@@ -76,12 +81,13 @@ cdef void callback_leave(Core *core, int32_t slot) noexcept nogil:
 
 cdef void callback_set(Core *core, int32_t slot, void *fn, intptr_t user) noexcept nogil:
     """SetCallBack: the new function is used by every later call; returns once the
-    calls of the old one on other threads have returned (this thread's own calls,
-    when it changes a callback from inside one, are not waited for)."""
+    calls of the old one on other threads have returned. Made from inside a callback
+    it does not wait: two callbacks that each replace the other's function would
+    wait for each other for ever."""
     pthread_mutex_lock(&core.lock)
     core.callbacks[slot].fn = fn
     core.callbacks[slot].user = user if fn != NULL else 0
-    while core.in_flight[slot] > tc_own_calls[core.index][slot]:
+    while tc_in_callbacks == 0 and core.in_flight[slot] > 0:
         pthread_cond_wait(&core.changed, &core.lock)
     pthread_mutex_unlock(&core.lock)
 
@@ -99,11 +105,13 @@ cdef void core_output(Core *core, uint32_t tab, const char *text) noexcept nogil
     """A line for the host's output log (AddOutputLog), e.g. PRINT text on tab 2."""
     cdef Callback cb
     cdef CALLBACK_INFO info
+    cdef void *owned
     memset(&info, 0, sizeof(info))
     info.stringId = -1
     info.fileIdx = -1
     if callback_enter(core, SLOT_ADD_OUTPUT_LOG, &cb):
-        (<TC_AddOutputLog>cb.fn)(cb.user, tab, text, &info)
+        (<TC_AddOutputLog>cb.fn)(cb.user, tab, text_to_host(text, &owned), &info)
+        free(owned)
         callback_leave(core, SLOT_ADD_OUTPUT_LOG)
     log_line(LOG_TOOLCHAIN, text)
 
@@ -114,12 +122,15 @@ cdef void core_report_error(Core *core, const ErrorInfo *err) noexcept nogil:
     cdef Callback cb
     cdef CALLBACK_INFO info
     cdef char line[1400]
+    cdef void *owned
     fill_callback_info(err, &info)
     if callback_enter(core, SLOT_DISP_AND_LOCATE_ERROR, &cb):
-        (<TC_DispAndLocateError>cb.fn)(cb.user, <uint32_t>err.line, err.file_idx, err.text, &info)
+        (<TC_DispAndLocateError>cb.fn)(cb.user, <uint32_t>err.line, err.file_idx, text_to_host(err.text, &owned), &info)
+        free(owned)
         callback_leave(core, SLOT_DISP_AND_LOCATE_ERROR)
     if callback_enter(core, SLOT_ADD_OUTPUT_LOG, &cb):
-        (<TC_AddOutputLog>cb.fn)(cb.user, 0, err.text, &info)
+        (<TC_AddOutputLog>cb.fn)(cb.user, 0, text_to_host(err.text, &owned), &info)
+        free(owned)
         callback_leave(core, SLOT_ADD_OUTPUT_LOG)
     snprintf(line, sizeof(line), "core %d: error %d at file %d line %d: %s",
              core.index, err.number, err.file_idx, err.line, err.text)
@@ -136,12 +147,14 @@ cdef void core_progress(Core *core, uint32_t percent) noexcept nogil:
 cdef void core_status_text(Core *core, const char *text, int32_t file_idx, int32_t n_lines) noexcept nogil:
     cdef Callback cb
     cdef CALLBACK_INFO info
+    cdef void *owned
     memset(&info, 0, sizeof(info))
     info.stringId = -1
     info.fileIdx = file_idx
     info.nLines = n_lines
     if callback_enter(core, SLOT_SET_STATUS_BAR_TEXT, &cb):
-        (<TC_SetStatusBarText>cb.fn)(cb.user, 0, text, &info)
+        (<TC_SetStatusBarText>cb.fn)(cb.user, 0, text_to_host(text, &owned), &info)
+        free(owned)
         callback_leave(core, SLOT_SET_STATUS_BAR_TEXT)
 
 

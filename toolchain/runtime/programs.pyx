@@ -5,14 +5,6 @@
 # release does.
 from libc.stdlib cimport calloc, free
 
-cdef extern from *:
-    """
-    #define TC_REF_ADD(p) __atomic_add_fetch((p), 1, __ATOMIC_RELAXED)
-    #define TC_REF_SUB(p) __atomic_sub_fetch((p), 1, __ATOMIC_ACQ_REL)
-    """
-    int32_t TC_REF_ADD(int32_t *p) nogil
-    int32_t TC_REF_SUB(int32_t *p) nogil
-
 
 cdef LoadedProgram *loaded_program_new(Program *prog, const GCODE_INFO *extent,
                                        const int32_t *files) noexcept nogil:

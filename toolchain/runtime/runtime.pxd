@@ -4,6 +4,9 @@
 #   snapshot.pyx     the GetPos view: a double-buffered seqlock readers never wait on
 #   programs.pyx     compiled programs with an owner count (published, shared, released)
 #   callbacks.pyx    the host's callbacks: counted while they run, the reports they carry
+#   last_errors.pyx  GetLastError / GetLastCallError: errors published by pointer swap
+#   lifecycle.pyx    the activities: command -> worker table, begin, end, join
+#   session.pyx      a run's driver session: callbacks in order, addCode, M handshakes, GetPos cells
 #   file_names.pyx   the file table (FileToIdx / IdxToFile)
 # The data it works on belongs to the core (core.pxd: Core, its Snapshot, FileTable,
 # Callback and LoadedProgram); the runtime owns the commands of the status machine and
@@ -68,6 +71,26 @@ cdef enum CallbackSlot:
     SLOT_MATH_WARNING = 23
 
 
+# ---- session.pyx: a run's driver session
+ctypedef struct RunCounts:      # GetPos's counters of a run so far
+    int32_t n_work, n_rapid     # moves begun: G1 G2 G3, and G0
+    int32_t rapid_to_work, work_to_rapid
+    int32_t n_m                 # M functions
+    int32_t last_motion         # the last move: 0 none yet, 1 a rapid, 2 a cut
+
+ctypedef struct Session:
+    Core *core
+    int32_t regime              # StartCNCEx's
+    bint holds                  # waiting M functions hold the run until answered (the machine)
+    size_t signalled_m          # the part of the last waiting M function DriverMFunc got (-1: none)
+
+
+cdef inline bint m_function_waits(int32_t m, bint continuous) noexcept nogil:
+    """The machine stands at a waiting M function until it is answered: every M but
+    M0 (a pause) and the continuous ones (M1001 and above)."""
+    return m != 0 and not continuous
+
+
 # ---- what other stages call
 # the status `command` leads to from `status`: a status, TC_KEEP or TC_REFUSED
 cdef int32_t status_after(int32_t status, int32_t command, bint has_program) noexcept nogil
@@ -98,6 +121,61 @@ cdef void core_report_error(Core *core, const ErrorInfo *err) noexcept nogil
 cdef void core_progress(Core *core, uint32_t percent) noexcept nogil
 cdef void core_status_text(Core *core, const char *text, int32_t file_idx, int32_t n_lines) noexcept nogil
 cdef void core_warning(Core *core, const ErrorInfo *warning) noexcept nogil
+
+# the errors a core keeps (GetLastError: of_calls False; GetLastCallError: True): a
+# copy to publish (err number 0: none, NULL; err NULL: "out of memory"), a reference
+# dropped, one published, one swapped in with core.lock held (the old one returned,
+# to release after unlocking), one read for the host (the calling thread holds it
+# until it reads again)
+cdef PublishedError *published_error_new(const ErrorInfo *err) noexcept nogil
+cdef void published_error_release(PublishedError *e) noexcept nogil
+cdef void core_keep_error(Core *core, bint of_calls, const ErrorInfo *err) noexcept nogil
+cdef PublishedError *core_swap_error_locked(Core *core, bint of_calls, PublishedError *e) noexcept nogil
+cdef int32_t core_read_error(Core *core, bint of_calls, CALLBACK_INFO *info) noexcept nogil
+
+# the activities (lifecycle.pyx): the table's row of a command (False: it begins no
+# activity); the command of a StartCNCEx regime (-1: none); an empty job of a command
+# and its release; StartCNCEx; an activity started (takes the job; `what` names the
+# call in errors); StopCNCEx; the worker's last step (an event of the table; or, when it gave up
+# before it changed anything, back to the status it began in); the calls that end it
+# (DestroyCNC, ResetCNC, ResetStatusCNC: an EndKind)
+cdef bint activity_of(int32_t command, Activity *a) noexcept nogil
+cdef int32_t run_command(int32_t regime) noexcept nogil
+cdef Job *job_new(int32_t command) noexcept nogil
+cdef void job_free(Job *job) noexcept nogil
+cdef int32_t core_start_run(Core *core, int32_t regime, const char *add_code) noexcept nogil
+cdef int32_t core_start(Core *core, Job *job, const char *what) noexcept nogil
+cdef int32_t core_stop(Core *core, const char *add_code) noexcept nogil
+cdef void core_finish(Core *core, int32_t event) noexcept nogil
+cdef void core_finish_to(Core *core, int32_t status) noexcept nogil
+cdef int32_t core_end(Core *core, int32_t kind, const char *what, uint32_t n_coords,
+                      const double *coords) noexcept nogil
+
+# a run's driver session (session.pyx): opened for a run in a regime (holds: waiting M
+# functions hold it until answered); DriverInitialize, DriverEnd; a part as it begins
+# (DriverMFunc's answer); an addCode sent with the core in `status` (0: unchanged;
+# after_stop: StopCNCEx's; False: a stop or an end came meanwhile); StopCNCEx's addCode kept, taken (the caller
+# frees it). The handshake: the machine's step takes an answer; ConfirmMFunc; MFunc
+# while nothing runs; none waits and no stop addCode is kept (an activity begins or
+# ends). GetPos: a part began (the counters); the cells where the machine stands; the
+# counters, lengths and the look-ahead's fill
+cdef void session_open(Session *s, Core *core, int32_t regime, bint holds) noexcept nogil
+cdef void session_begin(Session *s, const double *start) noexcept nogil
+cdef void session_end(Session *s) noexcept nogil
+cdef int32_t session_part(Session *s, const Program *prog, size_t i, const SIMPLE_GM_PARAMS *gm) noexcept nogil
+cdef bint session_add_code(Session *s, const char *code, const double *position, int32_t status,
+                           bint after_stop) noexcept nogil
+cdef void session_keep_stop_code(Core *core, const char *code) noexcept nogil
+cdef char *session_take_stop_code(Core *core) noexcept nogil
+cdef bint session_take_answer(Core *core) noexcept nogil
+cdef int32_t session_confirm(Core *core) noexcept nogil
+cdef int32_t session_standing_m(Core *core, const SIMPLE_GM_PARAMS *fun) noexcept nogil
+cdef void session_forget_locked(Core *core) noexcept nogil
+cdef void session_count(RunCounts *c, const Part *p) noexcept nogil
+cdef void session_cells(SnapshotData *view, int32_t kind, int32_t func, bint waiting,
+                        const double *position) noexcept nogil
+cdef void session_lengths(SnapshotData *view, const RunCounts *c, double cut_len, double rapid_len,
+                          double fill) noexcept nogil
 
 # the file table: FileToIdx, IdxToFile
 cdef int32_t core_file_to_idx(Core *core, const char *name) noexcept nogil

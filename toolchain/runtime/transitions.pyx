@@ -40,9 +40,9 @@ cdef extern from *:
     /*   50 */            {    R,    R,    R,    K,    S,    0,    R,    R,    R,    R,    K,  -50,  -50,    R,    R,    R,    R,    R,    R,    R },
     /*  -50 */            {    1,   10,   20,    R,    S,    0,    0,  -50,    K,    K,    K,    R,    R,    R,    R,    R,    R,   50,   40,    R },
     /*   60 */            {    R,    R,    R,    R,    S,    0,    R,    R,    R,    R,    K,    R,    R,    R,    R,    R,    R,    R,    R,    R },
-    /*   70 */            {    R,    R,    R,    R,    S,    0,    R,    R,    R,    R,    K,    R,    R,    R,    R,    R,    R,    R,    R,    R },
-    /*   80 */            {    R,    R,    R,    R,    S,    0,    R,    R,    R,    R,    K,    R,    R,    R,    R,    R,    R,    R,    R,    R },
-    /*   90 */            {    R,    R,    R,    R,    S,    0,    R,    R,    R,    R,    K,    R,    R,    R,    R,    R,    R,    R,    R,    R },
+    /*   70 */            {    R,    R,    R,    K,    S,    0,    R,    R,    R,    R,    K,    R,  -31,    R,    R,    R,    R,    R,    R,    R },
+    /*   80 */            {    R,    R,    R,    K,    S,    0,    R,    R,    R,    R,    K,    R,  -31,    R,    R,    R,    R,    R,    R,    R },
+    /*   90 */            {    R,    R,    R,    K,    S,    0,    R,    R,    R,    R,    K,  -31,  -31,    R,    R,    R,    R,    R,    R,    R },
     /* -1234 */           {    R,    R,    R,    R,    R,    R,    R,    R,    R,    R,    R,    R,    R,    R,    R,    R,    R,    R,    R,    R }};
     _Static_assert(sizeof(tc_transitions) / sizeof(tc_transitions[0]) == TC_N_STATUSES,
                    "tc_transitions: one row for every status of enum cnc_status");

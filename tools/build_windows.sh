@@ -1,0 +1,68 @@
+#!/usr/bin/env bash
+# Builds SF_TCh.dll for Windows x64 (mingw-w64 cross build: cmake/mingw-w64-x86_64.cmake)
+# and runs the Wine tests: the C panel tests/windows/panel.c, cross-built too, loads the
+# DLL under Wine and writes its report. tests/test_windows.py runs this script, runs
+# the same panel on the Linux library and compares the reports.
+#
+#   tools/build_windows.sh [BUILD_DIR]      (default: build-windows)
+#
+# Writes BUILD_DIR/SF_TCh.dll, SF_TCh.lib (import library), SF_TCh.def (exports),
+# panel.exe, and in BUILD_DIR/wine-run/ the panel's reports (UTF-8, LF line ends):
+# report.txt, and decimal-comma.txt of a run in a German locale. Needs Debian's
+# gcc-mingw-w64-x86-64 and wine64 (apt-get install --no-install-recommends
+# gcc-mingw-w64-x86-64 wine64); without them it says so and exits 77. $PYTHON (with
+# Cython) runs Cython, default python3; $WINEPREFIX defaults to BUILD_DIR/wineprefix.
+set -euo pipefail
+ROOT="$(cd "$(dirname "$0")/.." && pwd)"
+BUILD="$(realpath -m "${1:-$ROOT/build-windows}")"
+PYTHON="${PYTHON:-python3}"
+
+MINGW_CC="$(command -v x86_64-w64-mingw32-gcc-win32 || command -v x86_64-w64-mingw32-gcc || true)"
+WINE="$(command -v wine64 || true)"
+[ -z "$WINE" ] && [ -x /usr/lib/wine/wine64 ] && WINE=/usr/lib/wine/wine64
+if [ -z "$MINGW_CC" ] || [ -z "$WINE" ]; then
+    echo "build_windows: needs mingw-w64 and Wine (apt-get install --no-install-recommends" \
+         "gcc-mingw-w64-x86-64 wine64): not installed, nothing built" >&2
+    exit 77
+fi
+
+GENERATOR=()
+command -v ninja > /dev/null && GENERATOR=(-G Ninja)
+cmake -S "$ROOT" -B "$BUILD" "${GENERATOR[@]}" -DCMAKE_BUILD_TYPE=Release \
+      -DCMAKE_TOOLCHAIN_FILE="$ROOT/cmake/mingw-w64-x86_64.cmake" -DPython_EXECUTABLE="$(command -v "$PYTHON")" > /dev/null
+cmake --build "$BUILD"
+"$MINGW_CC" -std=gnu11 -O2 -Wall -Wextra -Werror -D__USE_MINGW_ANSI_STDIO=1 -I "$ROOT/include" \
+    "$ROOT/tests/windows/panel.c" -o "$BUILD/panel.exe" -static-libgcc
+
+# the panel runs in a fresh directory holding the DLL and the bundled INI and program
+RUN="$BUILD/wine-run"
+rm -rf "$RUN"
+mkdir -p "$RUN"
+cp "$BUILD/SF_TCh.dll" "$BUILD/panel.exe" "$ROOT/python/sf_tch/data/SF_TCh.ini" "$ROOT/python/sf_tch/data/demo.nc" "$RUN/"
+# a preloaded library (a sanitizer runtime, say) is a Linux one: Wine would fail to start with it
+unset LD_PRELOAD
+export WINEPREFIX="${WINEPREFIX:-$BUILD/wineprefix}" WINEDEBUG=-all WINEDLLOVERRIDES="mscoree,mshtml="
+mkdir -p "$WINEPREFIX"
+
+# run_panel REPORT ARGS...: the panel under Wine, its report with LF line ends
+run_panel() {
+    local report="$1"
+    shift
+    (cd "$RUN" && timeout 600 "$WINE" panel.exe SF_TCh.dll "$@" < /dev/null > "$report.crlf" 2> "$report.stderr") || {
+        status=$?
+        echo "build_windows: the panel failed under Wine (exit $status):" >&2
+        cat "$RUN/$report.stderr" >&2
+        exit 1
+    }
+    tr -d '\r' < "$RUN/$report.crlf" > "$RUN/$report"
+    rm "$RUN/$report.crlf"
+}
+# the first run creates the prefix (wineboot, some 10 s); its messages are not the panel's
+run_panel report.txt
+# the same library in a host whose CRT locale writes a decimal comma, on every thread
+run_panel decimal-comma.txt --decimal-comma German_Germany.1252
+# Wine's server lingers a few seconds after the last program: wait for it to end
+WINESERVER="$(dirname "$WINE")/wineserver"
+[ -x "$WINESERVER" ] || WINESERVER="$(command -v wineserver || true)"
+[ -n "$WINESERVER" ] && "$WINESERVER" -w
+echo "build_windows: $BUILD/SF_TCh.dll; the panel's report under Wine: $RUN/report.txt ($(wc -l < "$RUN/report.txt") lines)"
