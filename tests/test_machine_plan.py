@@ -233,21 +233,20 @@ def test_the_vendors_arc_feed_table_examples_run(mh, table, expected):
 # ------------------------------------------------------------------ through the exports
 
 def test_the_first_move_after_ResetCNC_through_the_api(api):
-    """The reproducer's program through the exports at time scale 1000: the run after
-    ResetCNC(0, 0, NULL) ends (-32) with the run time its simulation gives, not
-    crawling back at 1 mm/min."""
+    """The reproducer's program through the exports, the machine on its stepped clock:
+    the run after ResetCNC(0, 0, NULL) ends (-32) with the run time its simulation
+    gives, not crawling back at 1 mm/min."""
     lib = api
     set_params(lib, 0, motion=(abi.GCODE_FEED * 8)(*[abi.GCODE_FEED(6000.0, 1000.0, 1000.0, 1)] * 8),
                startAngle=10.0, endAngle=90.0, minAngleFeed=0.0)     # the reversal stops
     compile_on(lib, 0, RESTART)
-    assert lib.ToolChainCore_SetTimeScale(0, 1000.0) == 0
     start(lib, 0)
     assert poll_run(lib, 0)[1] == -32
     assert lib.ToolChainCore_ResetCNC(0, 0, 0, None) == 0
     expected = run_time_of(lib, 0)
     assert expected == pytest.approx(2 * (1.0 + 0.1), rel=1e-6)     # 100 mm back, 100 mm on
     start(lib, 0)
-    assert poll_run(lib, 0, timeout=20.0)[1] == -32
+    assert poll_run(lib, 0, limit=20.0)[1] == -32
     assert get_pos(lib, 0)[1].m_cncRunTime == pytest.approx(expected, rel=0.005)
 
 
@@ -261,13 +260,12 @@ def test_a_connection_moves_at_motion_3(api, force_mode):
     classes[3] = abi.GCODE_FEED(600.0, 500.0, 500.0, 1)
     set_params(lib, 0, motion=classes, forceMode=force_mode, maxConnectionDistance=1000.0)
     compile_on(lib, 0, "G1 X100 F6000\n")
-    assert lib.ToolChainCore_SetTimeScale(0, 50.0) == 0
     start(lib, 0)
     assert poll_run(lib, 0)[1] == -32
     assert lib.ToolChainCore_GoToPosition(0, 2, (ctypes.c_double * 2)(50.0, 30.0)) == 0
     assert poll_run(lib, 0, running=(50,))[1] == -50
     assert lib.ToolChainCore_ConnectCNCEx_Plane(0, 0, 2, (ctypes.c_double * 2)(50.0, 30.0), None, 0, 0, 0) == 0
-    assert wait(lib, 0, lambda s: s <= 0) == -31
+    assert poll_run(lib, 0, running=(40, 41))[1] == -31
     pos, enh = get_pos(lib, 0)
     assert (pos.m_calcS.x, pos.m_calcS.y) == pytest.approx((50.0, 0.0), abs=1e-9)
     assert enh.m_cncRunTime == pytest.approx(30.0 / 10.0 + 10.0 / 500.0, rel=1e-3)
@@ -275,8 +273,9 @@ def test_a_connection_moves_at_motion_3(api, force_mode):
 
 def test_cam_programs_from_elsewhere_take_GetGCodeRunTime(api):
     """The CAM corpus (tests/cam_corpus.py, one program per style, the ISO mode on)
-    compiled at the origin and run from (7, -5, 3) at time scale 1e5: each run's
-    machine time is its simulation's from there (GetGCodeRunTime) within 0.5 %."""
+    compiled at the origin and run from (7, -5, 3), the machine stepped a second at a
+    time: each run's machine time is its simulation's from there (GetGCodeRunTime)
+    within 0.5 %."""
     import cam_corpus
     lib = api
     set_params(lib, 0, rezerva1=1)
@@ -291,9 +290,8 @@ def test_cam_programs_from_elsewhere_take_GetGCodeRunTime(api):
             continue                            # the styles the ISO mode does not read
         assert lib.ToolChainCore_ResetCNC(0, 0, 10, away) == 0
         expected = run_time_of(lib, 0)
-        assert lib.ToolChainCore_SetTimeScale(0, 1e5) == 0
         start(lib, 0)
-        while (status := wait(lib, 0, lambda s: s not in (30, 31, 32, 33), timeout=60.0)) == -33:
+        while (status := poll_run(lib, 0, dt=1.0)[1]) == -33:
             start(lib, 0)                       # M0 / M1: go on
         assert status == -32, style
         assert get_pos(lib, 0)[1].m_cncRunTime == pytest.approx(expected, rel=0.005), style
