@@ -17,6 +17,8 @@ it (run under Wine) with the Windows mirror (``sf_tch.abi.mirror(windows=True)``
 (installed with the package; ``python -m abi_check`` in a source checkout) also prints a
 table and exits non-zero on any difference.
 """
+from __future__ import annotations
+
 import ctypes
 import os
 import re

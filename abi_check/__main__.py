@@ -1,5 +1,7 @@
 """python -m sf_tch.abi_check (python -m abi_check in a source checkout)
 [--header PATH] [--library PATH] [--diff-only]"""
+from __future__ import annotations
+
 import argparse
 import sys
 

@@ -1,5 +1,5 @@
 """Every host loads the same libSF_TCh.so (docs/hosts.md): the library needs no Python;
-bare ctypes in each CPython >= 3.11 on the machine and the C example
+bare ctypes in each CPython >= 3.9 on the machine and the C example
 examples/c_hmi (dlopen, no libpython) get the results of the package's own run
 (sf_tch.core.Core in this process) on the bundled sample and on the seed program."""
 import functools
@@ -393,7 +393,7 @@ def find_cpython(minor: int) -> str | None:
     return None
 
 
-@pytest.mark.parametrize("minor", [11, 12, 13, 14])
+@pytest.mark.parametrize("minor", [9, 10, 11, 12, 13, 14])
 @pytest.mark.parametrize("case", CASES)
 def test_bare_ctypes_in_each_cpython_gets_the_package_results(fresh_core, lib_path, seed_file, tmp_path,
                                                                 case, minor):

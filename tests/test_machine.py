@@ -1154,6 +1154,8 @@ def test_three_cores_run_at_once_each_on_its_own_path(api):
         continuous_on_path(samples[core], records[core], fastest)
         end, enh = get_pos(lib, core)
         assert math.dist(xyz(end), tuple(records[core][-1].tool_end)) <= EPS
+        # the simulation from where the run started
+        assert lib.ToolChainCore_ResetCNC(core, 0, 10, (ctypes.c_double * 10)()) == 0
         assert enh.m_cncRunTime == pytest.approx(run_time_of(lib, core), rel=0.005)
 
 

@@ -1,7 +1,7 @@
 """The distributable wheel: built by tools/build_wheel.py as the README says (Zig's C
 compiler against glibc 2.17, `pip wheel`, auditwheel without patchelf) from an interpreter
 whose venv is not on PATH, a manylinux_2_17 wheel (the library references no Python
-symbol: py3-none, one wheel for every CPython >= 3.11; no glibc symbol newer than 2.17),
+symbol: py3-none, one wheel for every CPython >= 3.9; no glibc symbol newer than 2.17),
 installed into a fresh venv and run from there."""
 import io
 import os
@@ -91,3 +91,17 @@ def test_manylinux_wheel_installs_and_runs(tmp_path):
     assert '"status_name": "AT_END"' in run.stdout
     check = _run([venv / "bin" / "python", "-m", "sf_tch.abi_check", "--diff-only"], tmp_path)
     assert "0 difference(s)" in check.stdout
+
+    # the same wheel in the oldest CPythons the package supports, when the machine has them
+    from test_hosts import find_cpython
+    for minor in (9, 10):
+        exe = find_cpython(minor)
+        if exe is None:
+            continue
+        old = tmp_path / f"venv3{minor}"
+        _run([exe, "-m", "venv", old], tmp_path)
+        _run([old / "bin" / "python", "-m", "pip", "install", "-q", repaired], tmp_path)
+        demo = _run([old / "bin" / "sf-tch", "demo"], tmp_path)
+        assert re.search(r"^errors:\s+none$", demo.stdout, re.M), (minor, demo.stdout)
+        check = _run([old / "bin" / "python", "-m", "sf_tch.abi_check", "--diff-only"], tmp_path)
+        assert "0 difference(s)" in check.stdout, (minor, check.stdout)

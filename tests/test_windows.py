@@ -43,7 +43,8 @@ def windows_build(tmp_path_factory):
     build = tmp_path_factory.mktemp("windows") / "build"
     # cmake and ninja may come with the test extras, beside this Python
     path = os.pathsep.join([str(Path(sys.executable).parent), os.environ.get("PATH", "")])
-    proc = subprocess.run(["bash", str(SCRIPT), str(build)], env={**os.environ, "PYTHON": sys.executable, "PATH": path},
+    proc = subprocess.run(["bash", str(SCRIPT), str(build)],
+                          env={**panel_environment(), "PYTHON": sys.executable, "PATH": path},
                           capture_output=True, text=True, timeout=1800)
     if proc.returncode == 77:
         pytest.skip(proc.stderr.strip())
@@ -55,6 +56,12 @@ def windows_build(tmp_path_factory):
     if server.exists():
         subprocess.run([str(server), "-w"], env={**os.environ, "WINEPREFIX": str(prefix)}, timeout=120)
     shutil.rmtree(prefix, ignore_errors=True)
+
+
+def panel_environment() -> dict:
+    """The suite's environment without SF_TCH_LOG_DIR (conftest's log directory per
+    process): the panel checks that the log goes to Init's directory."""
+    return {k: v for k, v in os.environ.items() if k != "SF_TCH_LOG_DIR"}
 
 
 def linux_report(lib_path: str, tmp: Path) -> str:
@@ -69,7 +76,7 @@ def linux_report(lib_path: str, tmp: Path) -> str:
     run.mkdir()
     for name in ("SF_TCh.ini", "demo.nc"):
         shutil.copy(DATA / name, run / name)
-    proc = subprocess.run([str(exe), lib_path], cwd=run, capture_output=True, timeout=600)
+    proc = subprocess.run([str(exe), lib_path], cwd=run, capture_output=True, timeout=600, env=panel_environment())
     assert proc.returncode == 0, proc.stderr.decode(errors="replace")
     return proc.stdout.decode()
 

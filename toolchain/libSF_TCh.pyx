@@ -45,6 +45,7 @@ include "extent.pyx"
 include "planner/limits.pyx"
 include "planner/junctions.pyx"
 include "planner/mfunc_insert.pyx"
+include "planner/profile.pyx"
 include "planner/passes.pyx"
 include "pipeline.pyx"                  # the stages side by side
 include "placement.pyx"                 # a program where a run starts

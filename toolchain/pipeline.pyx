@@ -250,7 +250,7 @@ cdef int plan_in_two(Program *prog, const GCODE_PARAMETERS *params, uint32_t enh
     cdef pthread_t thread
     cdef bint started
     cdef int result
-    if not plan_alloc(prog):
+    if not plan_alloc(prog, params, enhanced, window):
         if extent != NULL:
             program_extent(prog, extent)
         return COMPILE_ERROR

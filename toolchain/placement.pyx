@@ -19,6 +19,24 @@ cdef void placement_init(Placement *pl, const Program *prog, const double *start
             pl.moved = True
 
 
+cdef size_t placement_reshaped_end(const Program *prog, const Placement *pl) noexcept nogil:
+    """The parts a run from pl.start may reshape are before this one: a part changes
+    its shape where its start follows the run's start in an axis and its end does not
+    (the first part, the part where the axis is first named absolutely); after the
+    last such part every part only moves (or stays). 0 when nothing moves."""
+    cdef int32_t until = 0
+    cdef size_t i = 1
+    cdef int k
+    if not pl.moved or prog.n_parts == 0:
+        return 0
+    for k in range(AXES):
+        if pl.delta[k] != 0.0 and prog.start_gindex[k] != INT32_MAX and prog.start_gindex[k] > until:
+            until = prog.start_gindex[k]
+    while i < prog.n_parts and prog.parts[i - 1].gcode_index < until:
+        i += 1
+    return i
+
+
 cdef void placed_part_to_gm(const Program *prog, size_t i, const Placement *pl,
                             SIMPLE_GM_PARAMS *gm) noexcept nogil:
     """part_to_gm for a run from pl.start: the axes that follow the start moved

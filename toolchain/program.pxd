@@ -82,12 +82,31 @@ ctypedef struct PlanRegion:
     int32_t stop_mode       # G900 S12 A
     int32_t arc_table       # G900 S13 A: -1 never given (the host's table), 0 off, else on
 
-# The feed plan of one part (planner/): speeds in mm/s, the entry is the previous
-# part's exit (0 for the first part). M functions and dwells: the speed through them.
+# The feed plan of one part (planner/), the one speed model of the compile and the
+# run: its limits, and the speed it leaves with. Its profile -- from its entry speed
+# (the previous part's exit, 0 for the first part) up to at most v_cap, a cruise,
+# down to v_exit -- follows from them and the part's length (planner/profile.pyx),
+# for the compile and for the offline machine alike, which plans a part again from
+# these limits only where the host changed something (the start position, the
+# override, a stop). 32 bytes: floats (7 digits), the limits each the float at or
+# below the value it came from, and the plan made with them. Speeds mm/s,
+# accelerations mm/s^2; M functions, dwells and parts without length pass the speed
+# through (v_cap: that speed; acc, dec: 0).
 ctypedef struct PartPlan:
-    double v_peak           # highest speed inside the part
-    double v_exit           # speed at its end
-    double time             # seconds (dwell: its time)
+    float v_exit            # speed at its end
+    float time              # seconds (dwell: its time)
+    float v_cap             # its speed limit at 100 % override: feed, arc feed table, centripetal, axes
+    float v_ceiling         # the limit no feed override passes: axes' maxFeed, centripetal, arc feed table (inf: none)
+    float v_junction        # the junction limit at its start (0: the machine stands there; inf: none)
+    float acc, dec          # equivalent constant accelerations of its ramps (planner.pxd)
+    int32_t ramp            # rampType of its ramps (1 trapezoid, 2 sine)
+
+# What a plan was made with: a run that plans parts again (placed elsewhere) plans
+# them with the same settings.
+ctypedef struct PlanSettings:
+    GCODE_PARAMETERS params
+    uint32_t enhanced       # MACHINE_PARAMETERS.enhancedInterpolatorParameters
+    int64_t window          # look-ahead in motion parts: 0 the vendor's 8, < 0 unlimited
 
 cdef struct Follow                  # the stage beside the compiler (pipeline.pxd)
 
@@ -118,6 +137,7 @@ ctypedef struct Program:
     PlanRegion *plan_regions    # G900 / M-5 changes, in part order (compiler; planner/)
     size_t n_plan_regions
     PartPlan *plan          # one per part once planned (planner/plan_program), else NULL
+    PlanSettings planned_with
 
 # A Program while it is being compiled: the stages that add to its arrays (the
 # compiler, the compensation's merge, insert_arcs, the planner's insertions) grow them
@@ -183,7 +203,7 @@ ctypedef struct CompileInput:
     warn_fn warn            # numbered compile warnings (errors.pxd 610..): MathWarning; may be NULL
     void *ctx
     int64_t max_blocks      # limit of executed blocks (endless loops); 0 = default
-    int64_t plan_window     # look-ahead of the feed planner in parts: 0 the vendor's 8, -1 unlimited
+    int64_t plan_window     # look-ahead of the feed planner in motion parts: 0 the vendor's 8, -1 unlimited
 
 cdef enum CompileResult:
     COMPILE_OK = 0

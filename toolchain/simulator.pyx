@@ -81,6 +81,7 @@ cdef void *simulation_body(void *arg) noexcept nogil:
     cdef double start[AXES]
     cdef double lengths[2]              # rapids, cuts
     cdef Placement placement
+    cdef PlacedPlan plan
     cdef double run_time = 0.0, t
     cdef bint testing = job.regime == RUN_TEST
     cdef bint stopped = False, complete = False
@@ -104,6 +105,7 @@ cdef void *simulation_body(void *arg) noexcept nogil:
         prog = &loaded.prog
         n = prog.n_parts
         placement_init(&placement, prog, start)
+        placed_plan_make(&plan, prog, &placement)      # the times of a run from here
         view.pos.m_fileIdx = -1
         view.enh.m_relFeed = TC_ATOMIC_LOAD_D(&core.rel_feed)
         snapshot_publish(&core.snap, view)
@@ -121,8 +123,8 @@ cdef void *simulation_body(void *arg) noexcept nogil:
                 break
             p = &prog.parts[i]
             placed_part_to_gm(prog, i, &placement, &gm)
-            if params.calcTime:
-                t = plan_part_time(prog, i)
+            if params.calcTime and prog.plan != NULL:
+                t = placed_plan_part(&plan, i).time
                 if t > 0:
                     run_time += t
             if testing and p.kind == PART_MOTION:
@@ -146,6 +148,7 @@ cdef void *simulation_body(void *arg) noexcept nogil:
         if params.calcTime and complete and 0 <= prog.main_file_idx < MAX_FILES:
             core.files.run_times[prog.main_file_idx] = run_time
         pthread_mutex_unlock(&core.lock)
+        placed_plan_free(&plan)
     loaded_program_release(loaded)
     free(params)
     free(machine)

@@ -9,6 +9,8 @@ library returns) is UTF-16 ``wchar_t`` on Windows and UTF-8 ``char`` on Linux: h
 :data:`TSTR` (``c_wchar_p``, str, on Windows; ``c_char_p``, bytes, elsewhere), and
 :func:`mirror` gives the structures and functions of either system.
 """
+from __future__ import annotations
+
 import ctypes
 import sys
 from ctypes import c_char_p, c_double, c_float, c_int32, c_int64, c_ssize_t, c_uint32, c_uint64, c_void_p, c_wchar_p

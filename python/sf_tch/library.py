@@ -6,6 +6,8 @@ into Python) and applies the argument and result types of
 :data:`sf_tch.abi.FUNCTIONS`. A host that opens the same path with its own
 ``ctypes.CDLL`` shares the same library state.
 """
+from __future__ import annotations
+
 import ctypes
 import functools
 

@@ -6,6 +6,8 @@ says; ``ToolChain_SetLogHook`` (an extension of the header) also hands each line
 C function. :func:`forward_library_log` installs a ctypes function there that passes
 every line on to a :class:`logging.Logger`, beside the file.
 """
+from __future__ import annotations
+
 import atexit
 import ctypes
 import enum

@@ -17,7 +17,7 @@ import re
 import threading
 import warnings
 from pathlib import Path
-from typing import Callable, Iterator, Sequence
+from typing import Callable, Iterator, Sequence, Union
 
 import numpy as np
 
@@ -27,7 +27,7 @@ from .enums import Callback, ErrorNumber, OutputTab, Regime
 from .errors import CncError, Diagnostic, GougeWarning
 from .toolpath import TOOLPATH_DTYPE, Toolpath, read_chunks, summarize
 
-Source = str | bytes | os.PathLike
+Source = Union[str, bytes, os.PathLike]   # (not `|`: CPython 3.9 evaluates it)
 
 
 # a str that starts like a line of G-code: a G, M or N word, an axis or feed word, a

@@ -57,14 +57,25 @@ def toolpath(int core_idx):
 
 
 def plan(int core_idx):
-    """The compiled plan per part: (v_peak, v_exit, time), mm/s and s."""
+    """The compiled plan per part: (peak of its profile, v_exit, time), mm/s and s."""
     cdef Core *core = core_get(core_idx)
     cdef const Program *prog
     cdef size_t k
     if core.program == NULL or core.program.prog.plan == NULL:
         return []
     prog = &core.program.prog
-    return [(prog.plan[k].v_peak, prog.plan[k].v_exit, prog.plan[k].time) for k in range(prog.n_parts)]
+    return [(planned_peak(prog, k), prog.plan[k].v_exit, prog.plan[k].time) for k in range(prog.n_parts)]
+
+
+def part_plans(int core_idx):
+    """The compiled PartPlan of every part as dicts (mm/s, mm/s^2, s)."""
+    cdef Core *core = core_get(core_idx)
+    cdef const Program *prog
+    cdef size_t k
+    if core.program == NULL or core.program.prog.plan == NULL:
+        return []
+    prog = &core.program.prog
+    return [dict(prog.plan[k]) for k in range(prog.n_parts)]
 
 
 def set_breakpoint(int core_idx, unsigned int line):
@@ -81,6 +92,21 @@ def forget(int core_idx):
     cdef double origin[10]
     memset(origin, 0, sizeof(origin))
     ToolChainCore_ResetCNC(core_idx, 0, 10, origin)
+
+
+def reset(int core_idx, position=None):
+    """ResetCNC: the machine's place dropped (the next run starts at the program's
+    start), the machine at `position` (10 floats), or where it stands (None)."""
+    cdef double at[10]
+    cdef int k
+    if position is None:
+        if ToolChainCore_ResetCNC(core_idx, 0, 0, NULL) != 0:
+            raise RuntimeError("ResetCNC refused")
+        return
+    for k in range(10):
+        at[k] = position[k]
+    if ToolChainCore_ResetCNC(core_idx, 0, 10, at) != 0:
+        raise RuntimeError("ResetCNC refused")
 
 
 STATE_NAMES = {MS_RUNNING: "running", MS_WAIT_M: "wait_m", MS_DWELL: "dwell", MS_STARVED: "starved",
@@ -122,8 +148,6 @@ def run(int core_idx, int regime, double stop_at=-1.0, overrides=(), double max_
     m = <Machine *>core.offline
     params = core.params
     f.params = &params
-    f.enhanced = <uint32_t>core.machine.enhancedInterpolatorParameters
-    f.plan_window = core.plan_window
     memcpy(start, m.motion.position, sizeof(start))
     pthread_mutex_unlock(&core.lock)
     mo = &m.motion

@@ -26,6 +26,32 @@ cdef CompileInput *_input_for(bytes src, params, int32_t *cancel) except NULL:
     return inp
 
 
+cdef double planned_peak(const Program *prog, size_t k) noexcept nogil:
+    """The highest speed of part k's planned profile: the profile the machine runs
+    (profile.pyx profile_plan) from its entry speed to its exit under the limits the
+    plan holds, over its length; the speed through for a part without motion."""
+    cdef const PartPlan *pp = &prog.plan[k]
+    cdef double v_in = prog.plan[k - 1].v_exit if k > 0 else 0.0
+    cdef Segment g
+    cdef PlanNode nd, exit
+    cdef Profile pr
+    cdef Reciprocals rc
+    if prog.parts[k].kind != PART_MOTION or not (pp.acc > 0.0):
+        return v_in
+    exit.jin = pp.v_exit
+    exit.jin2 = exit.entry2 = exit.jin * exit.jin
+    segment_of_part(prog, k, &g)
+    nd.length = g.length
+    nd.vmax = pp.v_cap
+    nd.acc = pp.acc
+    nd.dec = pp.dec
+    nd.ramp = pp.ramp
+    nd.brake2 = 2.0 * nd.dec * nd.length
+    rc.acc = rc.dec = rc.vmax = 0.0
+    profile_plan(&pr, &nd, v_in, &exit, &rc)
+    return pr.v_peak
+
+
 def plan_text(text, params=None, long long window=0, unsigned int enhanced=0, bint detail=True,
               long long split_near=-1):
     """Compiles `text` (str) with GCODE_PARAMETERS `params` (bytes, else the defaults),
@@ -91,8 +117,8 @@ def plan_text(text, params=None, long long window=0, unsigned int enhanced=0, bi
     elif rc == COMPILE_OK:
         for k in range(prog.n_parts):
             out.append(dict(kind=prog.parts[k].kind, func=prog.parts[k].func, line=prog.parts[k].line,
-                            length=part_length(prog, k), v_in=plan_entry_speed(prog, k),
-                            v_peak=prog.plan[k].v_peak, v_out=prog.plan[k].v_exit,
+                            length=part_length(prog, k), v_in=prog.plan[k - 1].v_exit if k > 0 else 0.0,
+                            v_peak=planned_peak(prog, k), v_out=prog.plan[k].v_exit,
                             time=prog.plan[k].time, calc_feed=plan_calc_feed(prog, k)))
     error = None if rc == COMPILE_OK else (err.number, err.line, err.text.decode("latin-1"))
     program_builder_free(&build)
@@ -101,24 +127,38 @@ def plan_text(text, params=None, long long window=0, unsigned int enhanced=0, bi
 
 
 def ramp(double v0, double v1, double acc, int ramp_type, double t=-1.0):
-    """(time, distance) of a ramp, or (speed, distance) t seconds into it."""
+    """(time, distance) of a ramp with peak acceleration acc (planner.pxd: its time
+    with the equivalent acceleration), or (speed, distance) t seconds into it."""
+    cdef double T = fabs(v1 - v0) / ramp_equivalent_acc(acc, ramp_type)
     if t < 0.0:
-        return ramp_time(v0, v1, acc, ramp_type), ramp_distance(v0, v1, acc, ramp_type)
-    return ramp_speed_at(v0, v1, acc, ramp_type, t), ramp_distance_at(v0, v1, acc, ramp_type, t)
+        return T, ramp_distance_in(v0, v1, T, ramp_type, T)
+    return ramp_speed_in(v0, v1, T, ramp_type, t), ramp_distance_in(v0, v1, T, ramp_type, t)
 
 
-def profile(double length, double v_in, double v_peak, double v_out, double acc, double dec, int ramp, times):
-    """(duration, peak, speeds at `times`) of the profile the offline machine runs over
-    a part planned (v_in, v_peak, v_out): machine/motion.pyx run_plan capped by the
-    plan's peak and exit, sampled with run_at."""
-    cdef Run r
+def profile(double length, double v_in, double cap, double v_out, double acc, double dec, int ramp, times):
+    """(duration, peak, speeds at `times`) of planner/profile.pyx's profile over a part
+    of `length` entered at v_in, under `cap`, ending at most at v_out (or as low as
+    braking all the way allows), peak accelerations acc / dec of ramp type `ramp`:
+    profile_plan, sampled with profile_at."""
+    cdef Profile pr
+    cdef PlanNode nd, exit
+    cdef Reciprocals rc
     cdef double d, v
+    rc.acc = rc.dec = rc.vmax = 0.0
+    exit.jin = v_out
+    exit.jin2 = exit.entry2 = v_out * v_out
+    nd.length = length
+    nd.vmax = cap
+    nd.acc = ramp_equivalent_acc(acc, ramp)
+    nd.dec = ramp_equivalent_acc(dec, ramp)
+    nd.ramp = ramp
+    nd.brake2 = 2.0 * nd.dec * length
     speeds = []
-    run_plan(&r, length, v_in, v_peak, v_out, acc, dec, ramp)
+    profile_plan(&pr, &nd, v_in, &exit, &rc)
     for t in times:
-        run_at(&r, t, &d, &v)
+        profile_at(&pr, t, &d, &v)
         speeds.append(v)
-    return run_time_total(&r), r.v_peak, speeds
+    return profile_time(&pr), pr.v_peak, speeds
 
 
 def arc_factor(table, double radius, int state=-1):

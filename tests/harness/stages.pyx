@@ -9,6 +9,7 @@
 include "libSF_TCh.pyx"
 
 from libc.string cimport strncat
+from libc.math cimport fabs
 from posix.time cimport clock_gettime, timespec
 
 cdef extern from "<time.h>" nogil:

@@ -1,11 +1,12 @@
 # ConnectCNCEx_Plane: the offline machine goes back onto its trajectory. One
 # activity of the core: status 40 while the place is searched (connect_search.pyx,
 # the ConnectPointCalc callbacks 1004-1006), 41 while the machine moves there in a
-# straight line at motion[5] (the axes of axesForConnect), 90 while addCode's M
-# functions are sent there (one answered TC_MFUNC_LATER holds it until confirmed),
-# then -31 on the trajectory (stateAfter 2: -50), or, for the types that continue
-# (10 11 12 40 41 42 44), on into a forward run from there (status 30). The search
-# failing leaves the status where it was, the error in GetLastError.
+# straight line at motion[3] (connect to the trajectory; the axes of axesForConnect),
+# 90 while addCode's M functions are sent there (one answered TC_MFUNC_LATER holds
+# it until confirmed), then -31 on the trajectory (stateAfter 2: -50), or, for the
+# types that continue (10 11 12 40 41 42 44), on into a forward run from there
+# (status 30). The search failing leaves the status where it was, the error in
+# GetLastError.
 
 cdef inline bint _connect_continues(uint32_t n_type) noexcept nogil:
     return n_type in (10, 11, 12, 40, 41, 42, 44)
@@ -148,7 +149,7 @@ cdef void *connect_body(void *arg) noexcept nogil:
             for k in range(AXES):
                 if (moving >> k) & 1:
                     (<double *>&dest.m_calcE)[k] = hit.point[k]
-            args[1].text = manual_path_not_finite(m.motion.position, &dest, 10, f.params) if rc == CONNECT_FOUND else NULL
+            args[1].text = manual_path_not_finite(m.motion.position, &dest, AXES, &f.params.motion[3]) if rc == CONNECT_FOUND else NULL
             if args[1].text != NULL:
                 args[0].text = "ConnectCNCEx_Plane"
                 set_error(err, ERR_PATH_NOT_FINITE, -1, 0, args, 2)
@@ -159,7 +160,7 @@ cdef void *connect_body(void *arg) noexcept nogil:
             end_status = job.status_before
         elif not TC_ATOMIC_LOAD(&core.cancel):
             core_set_status(core, CNC_STATUS_CONNECT_MOVING)
-            finish = machine_manual_move(core, m, &f, &dest, AXES)
+            finish = machine_manual_move(core, m, &f, &dest, AXES, &f.params.motion[3])
             if finish == EV_DONE:
                 pthread_mutex_lock(&core.lock)
                 _connect_place(m, &hit)

@@ -36,6 +36,7 @@ cdef enum MotionEvent:          # motion_step's report (bits; the entries in Mot
 
 ctypedef struct Entry:
     size_t part
+    uint64_t motion_seq         # motion entries of the run before it (the window counts motion parts)
     int32_t kind                # PartKind
     int32_t func                # G or M number
     uint32_t line               # of the part (GetPos)
@@ -49,33 +50,29 @@ ctypedef struct Entry:
     double dwell                # seconds
     Segment seg                 # placed geometry of a motion part
     double s_from, s_to         # the traverse along seg: forward 0 -> length, backward s -> 0
-    double vmax                 # mm/s: the highest speed in it (the plan's peak, or the regime's feed)
-    double exit_cap             # mm/s at its end (the plan's junction speed)
-    double acc, dec             # peak accelerations of its ramps
+    double vmax                 # mm/s: its limit at 100 % override (the plan's v_cap, or the regime's feed)
+    double v_ceiling            # mm/s no override passes (the plan's)
+    double jin                  # mm/s: the junction limit at its start, the way it runs (the plan's)
+    double acc, dec             # equivalent accelerations of its ramps (planner.pxd)
     int32_t ramp
     double dyn_extra            # the dynamic G41/G42 correction at rest, mm (0: none)
     int32_t dyn_side            # +1 G41 (the tool left of its way), -1 G42
     int dyn_first, dyn_second   # the plane's axes
 
-ctypedef struct Run:            # the profile of the current entry from where it was planned
-    double v_in, v_peak, v_out
-    double a1, a3               # peak acceleration of the first and the last ramp
-    double t1, t2, t3           # ramp, cruise, ramp
-    double d1, d2, d3
-    int32_t ramp
-
 ctypedef struct Motion:
     Entry ring[LOOK_RING]       # entry k of the run at ring[k % LOOK_RING]
+    PlanNode nodes[LOOK_RING]   # the entries as the backward pass sees them, at the same index
     uint64_t produced           # atomic: entries written (the feeder)
     uint64_t consumed           # atomic: entries done (the step)
     int32_t fed_all             # atomic: the feeder wrote its last entry
     size_t head                 # ring index of the current entry (consumed % LOOK_RING)
     size_t count                # entries in the ring, the current one included (motion_sync)
     bint complete               # no entry will follow the ring's last
-    size_t window               # parts the look-ahead sees (the plan's window)
+    size_t window               # motion parts the look-ahead sees (the plan's window)
     int32_t state
     # the current entry
-    Run run
+    Profile run                 # planned from where it was planned (planner/profile.pyx)
+    Reciprocals recip
     double run_t                # seconds into `run`
     double run_d0               # distance along the entry where `run` was planned
     double d                    # distance along the entry done
@@ -83,6 +80,7 @@ ctypedef struct Motion:
     bint replan                 # plan the current entry again before the next step
     bint window_short           # its exit was limited by the ring's end: plan again when more arrives
     size_t planned_count        # `count` when it was planned
+    uint64_t full_for           # consumed + 1 when the ring was found to hold its window (0: not yet)
     bint started                # the current entry began (ME_ENTRY reported)
     double wait_left            # dwell seconds left
     int32_t confirmed           # a waiting M function was confirmed (set by the machine's thread)
@@ -127,6 +125,8 @@ ctypedef struct Machine:
     # where the machine is on the program (outlives the runs)
     LoadedProgram *program      # the program the place refers to (a reference); NULL: none
     Placement placement         # where that program runs (the machine position of its first start)
+    PlacedPlan plan             # its plan as a run placed there sees it (made by the first run)
+    bint plan_made
     int64_t cur_motion          # the motion part it runs or ran last (PART_NONE: none)
     size_t part                 # the part it is in (n_parts: after the last)
     double part_s               # path length done along that part
@@ -155,11 +155,10 @@ ctypedef struct Feeder:         # what the notifier thread reads parts with
     Machine *m
     const Program *prog
     GCODE_PARAMETERS *params
-    PlanCursor cursor
-    uint32_t enhanced
-    int64_t plan_window         # the core's look-ahead setting when the run began (SetLookAhead)
     int32_t regime
     size_t next                 # forward: next part; backward: entries made so far
+    uint64_t motions            # motion entries made so far
+    size_t back_last            # backward: the part of the last entry made
     bint any_motion             # regime 33: a motion part was fed
     uint32_t last_line          # the breakpoint question is asked once per line
     int32_t last_file
@@ -236,9 +235,10 @@ cdef void *machine_goto_body(void *arg) noexcept nogil
 cdef void *connect_body(void *arg) noexcept nogil
 # the exports: GoToPosition(Ex), ConnectCNCEx_Plane, ToolChainCore_TestClock (test-only)
 cdef int32_t core_goto(Core *core, const SIMPLE_GM_PARAMS *dest, uint32_t n_dest, const double *coords) noexcept nogil
-# the connection: why its straight way from `start` cannot run in finite numbers (NULL: it can)
+# the connection: why its straight way from `start` at motion class cls cannot run in
+# finite numbers (NULL: it can)
 cdef const char *manual_path_not_finite(const double *start, const SIMPLE_GM_PARAMS *dest, uint32_t n_dest,
-                                        const GCODE_PARAMETERS *params) noexcept nogil
+                                        const GCODE_FEED *cls) noexcept nogil
 cdef int32_t machine_test_clock(Core *core, uint64_t key, double seconds) noexcept nogil
 cdef int32_t core_connect(Core *core, uint32_t n_type, uint32_t n_coords, const double *coords,
                           const char *add_code, uint32_t axes_calc, uint32_t axes_connect,

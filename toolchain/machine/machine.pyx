@@ -38,6 +38,8 @@ cdef void machine_forget(Core *core) noexcept nogil:
     if m == NULL:
         return
     loaded_program_release(m.program)
+    placed_plan_free(&m.plan)
+    m.plan_made = False
     m.cur_motion = PART_NONE
     m.program = NULL
     m.part = 0
@@ -89,8 +91,11 @@ cdef bint _is_breakpoint(Feeder *f, const Part *p) noexcept nogil:
     return hit
 
 
-cdef void _entry_identity(Entry *e, const Part *p, size_t part) noexcept nogil:
+cdef void _entry_identity(Feeder *f, Entry *e, const Part *p, size_t part) noexcept nogil:
     e.part = part
+    e.motion_seq = f.motions
+    if p.kind == PART_MOTION:
+        f.motions += 1
     e.kind = p.kind
     e.func = p.func
     e.line = p.line
@@ -103,7 +108,7 @@ cdef void _entry_identity(Entry *e, const Part *p, size_t part) noexcept nogil:
     e.break_before = False
     e.dwell = 0.0
     e.s_from = e.s_to = 0.0
-    e.vmax = e.exit_cap = 0.0
+    e.vmax = e.v_ceiling = e.jin = 0.0
     e.acc = e.dec = NO_LIMIT
     e.ramp = RAMP_TRAPEZOID
     e.dyn_extra = 0.0
@@ -126,14 +131,42 @@ cdef void _dynamic_correction(Entry *e, const Part *p, const GCODE_PARAMETERS *p
     e.dyn_side = 1 if p.comp == 41 else -1
 
 
+cdef void _entry_limits(Entry *e, const PartPlan *pp) noexcept nogil:
+    """A motion entry's limits as the plan holds them (the profile is made from them).
+    A part the plan passed through without length has none: only a placed plan that
+    could not be made (out of memory) leaves one with length, which then creeps."""
+    e.vmax = pp.v_cap if pp.v_cap > 0.0 else 1.0 / 60.0
+    e.v_ceiling = max(<double>pp.v_ceiling, e.vmax)
+    e.jin = pp.v_junction
+    e.acc = pp.acc if pp.acc > 0.0 else NO_LIMIT
+    e.dec = pp.dec if pp.dec > 0.0 else NO_LIMIT
+    e.ramp = pp.ramp
+
+
+cdef void _class_limits(Entry *e, const GCODE_FEED *cls) noexcept nogil:
+    """A motion class's feed (when set) caps the entry, its ramps replace the plan's
+    (motion[2] backward, motion[4] regime 31)."""
+    if cls.feed > 0.0:
+        e.vmax = min(e.vmax, cls.feed / 60.0)
+        e.v_ceiling = min(e.v_ceiling, e.vmax)
+        e.jin = min(e.jin, e.vmax)
+    _class_ramps(e, cls)
+
+
+cdef void _class_ramps(Entry *e, const GCODE_FEED *cls) noexcept nogil:
+    """A motion class's ramps (an acceleration of 0: the entry's own)."""
+    e.ramp = RAMP_SINE if cls.rampType == RAMP_SINE else RAMP_TRAPEZOID
+    if 0.0 < cls.acc < NO_LIMIT:
+        e.acc = ramp_equivalent_acc(cls.acc, e.ramp)
+    if 0.0 < cls.dec < NO_LIMIT:
+        e.dec = ramp_equivalent_acc(cls.dec, e.ramp)
+
+
 cdef bint _forward_entry(Feeder *f, Entry *e) noexcept nogil:
     """The next part as a forward entry; False when the program ends. Parts the
     regime leaves out are skipped."""
     cdef const Program *prog = f.prog
     cdef const Part *p
-    cdef PartLimits lim
-    cdef const PlanRegion *s
-    cdef const GCODE_FEED *cls
     cdef size_t k
     while f.next < prog.n_parts:
         k = f.next
@@ -142,7 +175,7 @@ cdef bint _forward_entry(Feeder *f, Entry *e) noexcept nogil:
         if p.kind == PART_MFUNC and (f.regime == RUN_FORWARD_NO_M
                                      or (f.regime == RUN_FORWARD_SKIP_FIRST_M and not f.any_motion)):
             continue
-        _entry_identity(e, p, k)
+        _entry_identity(f, e, p, k)
         e.break_before = _is_breakpoint(f, p)
         f.first = False
         if p.kind == PART_MFUNC:
@@ -156,41 +189,21 @@ cdef bint _forward_entry(Feeder *f, Entry *e) noexcept nogil:
             segment_of_placed_part(prog, k, &f.m.placement, &e.seg)
             e.s_from = 0.0
             e.s_to = e.seg.length
-            s = cursor_settings(&f.cursor, k)
-            part_limits(&e.seg, p, f.params, s, f.cursor.axes_limited, f.enhanced, &lim)
-            e.acc = lim.acc
-            e.dec = lim.dec
-            e.ramp = lim.ramp
-            e.vmax = prog.plan[k].v_peak if prog.plan != NULL else lim.vmax
-            e.exit_cap = prog.plan[k].v_exit if prog.plan != NULL else 0.0
+            _entry_limits(e, placed_plan_part(&f.m.plan, k))
             if f.regime == RUN_FORWARD_NO_M:
-                cls = &f.params.motion[4]
-                if cls.feed > 0.0:
-                    e.vmax = min(lim.vmax, cls.feed / 60.0)
-                    e.exit_cap = min(e.exit_cap, e.vmax)
-                _class_ramps(e, cls)
-            if not (e.vmax > 0.0):
-                e.vmax = 1.0 / 60.0
+                _class_limits(e, &f.params.motion[4])
             _dynamic_correction(e, p, f.params)
         return True
     return False
 
 
-cdef void _class_ramps(Entry *e, const GCODE_FEED *cls) noexcept nogil:
-    """Accelerations and ramp of a motion class (motion[2] backward, [4] no M, [5] manual)."""
-    if 0.0 < cls.acc < NO_LIMIT:
-        e.acc = cls.acc
-    if 0.0 < cls.dec < NO_LIMIT:
-        e.dec = cls.dec
-    e.ramp = RAMP_SINE if cls.rampType == RAMP_SINE else RAMP_TRAPEZOID
-
-
 cdef bint _backward_entry(Feeder *f, Entry *e) noexcept nogil:
     """The next part back along the executed path; False when what the machine
-    remembers ends. With `back_current`, entry 0 is the rest of the part it stands in."""
+    remembers ends. With `back_current`, entry 0 is the rest of the part it stands in.
+    Its junction limit is the one where it meets the part retraced before it (that
+    part's start)."""
     cdef Machine *m = f.m
     cdef const Program *prog = f.prog
-    cdef const GCODE_FEED *cls = &f.params.motion[2]
     cdef size_t k, back
     cdef double from_s = -1.0
     if f.back_current and f.next == 0:
@@ -201,17 +214,16 @@ cdef bint _backward_entry(Feeder *f, Entry *e) noexcept nogil:
         if back >= m.n_history:
             return False
         k = m.history[m.n_history - 1 - back]
-    f.next += 1
-    _entry_identity(e, &prog.parts[k], k)
+    _entry_identity(f, e, &prog.parts[k], k)
     segment_of_placed_part(prog, k, &m.placement, &e.seg)
     e.s_from = from_s if from_s >= 0.0 else e.seg.length
     e.s_to = 0.0
-    e.vmax = cls.feed / 60.0 if cls.feed > 0.0 else 1.0 / 60.0
-    if prog.plan != NULL and prog.plan[k].v_peak > 0.0:
-        e.vmax = min(e.vmax, prog.plan[k].v_peak)
-    e.exit_cap = min(plan_entry_speed(prog, k), e.vmax)
-    _class_ramps(e, cls)
+    _entry_limits(e, placed_plan_part(&m.plan, k))
+    e.jin = placed_plan_part(&m.plan, f.back_last).v_junction if f.next > 0 else 0.0
+    _class_limits(e, &f.params.motion[2])
     _dynamic_correction(e, &prog.parts[k], f.params)
+    f.back_last = k
+    f.next += 1
     return True
 
 
@@ -482,13 +494,11 @@ cdef void _drain(Feeder *f) noexcept nogil:
 
 
 cdef void _motion_setup(Core *core, Motion *mo, const Feeder *f, const double *start) noexcept nogil:
-    """An empty motion at `start` with the run's settings (window, override, stop)."""
+    """An empty motion at `start` with the run's settings (override, stop), its
+    look-ahead one entry (a run sets the plan's window)."""
     cdef const GCODE_PARAMETERS *params = f.params
     motion_reset(mo, start)
-    mo.window = <size_t>(f.plan_window if f.plan_window > 0 else
-                         (LOOK_RING if f.plan_window < 0 else VENDOR_WINDOW))
-    if mo.window > LOOK_RING - LOOK_RING // 4 - 1:
-        mo.window = LOOK_RING - LOOK_RING // 4 - 1  # the ring holds it and the feeder's slack
+    mo.window = 1
     mo.ovr = TC_ATOMIC_LOAD_D(&core.rel_feed) if TC_ATOMIC_LOAD_D(&core.rel_feed) > 0 else 1.0
     mo.ovr_inc = params.overrideInc if 0.0 < params.overrideInc <= 0.1 else 0.001
     mo.ovr_timing = (params.interpolatorConfig0 & 1) != 0
@@ -497,10 +507,18 @@ cdef void _motion_setup(Core *core, Motion *mo, const Feeder *f, const double *s
     mo.stop_ramp = RAMP_SINE if params.motion[6].rampType == RAMP_SINE else RAMP_TRAPEZOID
 
 
+cdef size_t _window(int64_t planned) noexcept nogil:
+    """The motion parts the machine's look-ahead sees: the window the program was
+    planned with, as far as the ring holds it and the feeder's slack."""
+    cdef size_t w = <size_t>planned if planned > 0 else (LOOK_RING if planned < 0 else VENDOR_WINDOW)
+    return min(w, <size_t>(LOOK_RING - LOOK_RING // 4 - 1))
+
+
 cdef int32_t machine_manual_move(Core *core, Machine *m, Feeder *f, const SIMPLE_GM_PARAMS *dest,
-                          uint32_t n_dest) noexcept nogil:
-    """A move off the program (GoToPosition, the way to a connection point) at
-    motion[5], without override; the machine position follows it."""
+                          uint32_t n_dest, const GCODE_FEED *cls) noexcept nogil:
+    """A move off the program at the motion class cls (GoToPosition: motion[5]; the
+    way to a connection point: motion[3]), without override; the machine position
+    follows it."""
     cdef Motion *mo = &m.motion
     cdef int32_t finish
     cdef double start[AXES]
@@ -508,7 +526,7 @@ cdef int32_t machine_manual_move(Core *core, Machine *m, Feeder *f, const SIMPLE
     _motion_setup(core, mo, f, start)
     mo.window = 1
     mo.ovr = 1.0
-    _manual_entry(mo, dest, n_dest, f.params)
+    _manual_entry(mo, dest, n_dest, cls)
     f.regime = RUN_MANUAL
     finish = _pace(core, m, f)
     pthread_mutex_lock(&core.lock)
@@ -526,13 +544,15 @@ cdef void _run_setup(Core *core, Machine *m, Feeder *f, int32_t regime, const do
     f.regime = regime
     f.first = True
     f.any_motion = False
-    cursor_init(&f.cursor, prog, f.params)
+    f.motions = 0
     f.next = m.part if regime != RUN_BACKWARD else 0
     f.back_current = m.part < prog.n_parts and m.part_s > 0.0 and prog.parts[m.part].kind == PART_MOTION
-    if regime != RUN_BACKWARD:
-        cursor_settings(&f.cursor, m.part if m.part < prog.n_parts else 0)
+    if not m.plan_made:                 # the first run where the placement holds: its plan
+        placed_plan_make(&m.plan, prog, &m.placement)
+        m.plan_made = True
     session_open(&m.session, core, regime, True)
     _motion_setup(core, mo, f, start)
+    mo.window = _window(prog.planned_with.window)
     mo.d = m.part_s if regime != RUN_BACKWARD else 0.0
     mo.started = m.began and regime != RUN_BACKWARD
     mo.cut_len = m.cut_len
@@ -602,8 +622,6 @@ cdef Machine *machine_worker_begin(Job *job, Feeder *f) noexcept nogil:
     m = <Machine *>core.offline           # machine_prepare made it and its place
     if f.params != NULL:
         f.params[0] = core.params
-    f.enhanced = <uint32_t>core.machine.enhancedInterpolatorParameters
-    f.plan_window = core.plan_window
     pthread_mutex_unlock(&core.lock)
     if f.params == NULL:
         core_keep_error(core, False, NULL)         # out of memory
@@ -635,7 +653,7 @@ cdef void *machine_goto_body(void *arg) noexcept nogil:
     cdef Machine *m = machine_worker_begin(&job.head, &f)
     cdef int32_t finish = EV_STOPPED
     if m != NULL:
-        finish = machine_manual_move(core, m, &f, &job.dest, job.n_dest)
+        finish = machine_manual_move(core, m, &f, &job.dest, job.n_dest, &f.params.motion[5])
     free(f.params)
     job_free(&job.head)
     core_finish(core, finish)
@@ -691,19 +709,20 @@ cdef void _manual_gm(const double *start, const SIMPLE_GM_PARAMS *dest, uint32_t
             gm.m_cc.c = distance2d(start[first] - centre[first], start[second] - centre[second])
 
 
-cdef inline double _manual_feed(const SIMPLE_GM_PARAMS *dest, const GCODE_PARAMETERS *params) noexcept nogil:
-    """mm/min: m_cc.a when not 0, else motion[5]'s."""
-    return dest.m_cc.a if dest.m_cc.a > 0.0 else params.motion[5].feed
+cdef inline double _manual_feed(const SIMPLE_GM_PARAMS *dest, const GCODE_FEED *cls) noexcept nogil:
+    """mm/min: m_cc.a when not 0, else the motion class's."""
+    return dest.m_cc.a if dest.m_cc.a > 0.0 else cls.feed
 
 
 cdef const char *manual_path_not_finite(const double *start, const SIMPLE_GM_PARAMS *dest, uint32_t n_dest,
-                                        const GCODE_PARAMETERS *params) noexcept nogil:
-    """Why a manual move from `start` cannot run in finite numbers (NULL: it can): its
-    length, its points (an arc's centre far away), or its feed (squared by the ramps)."""
+                                        const GCODE_FEED *cls) noexcept nogil:
+    """Why a manual move from `start` at the motion class cls cannot run in finite
+    numbers (NULL: it can): its length, its points (an arc's centre far away), or its
+    feed (squared by the ramps)."""
     cdef SIMPLE_GM_PARAMS gm
     cdef Segment seg
     cdef double point[AXES]
-    cdef double v = _manual_feed(dest, params) / 60.0
+    cdef double v = _manual_feed(dest, cls) / 60.0
     cdef int k
     _manual_gm(start, dest, n_dest, &gm)
     segment_of_gm(&gm, &seg)
@@ -719,9 +738,9 @@ cdef const char *manual_path_not_finite(const double *start, const SIMPLE_GM_PAR
 
 
 cdef void _manual_entry(Motion *mo, const SIMPLE_GM_PARAMS *dest, uint32_t n_dest,
-                        const GCODE_PARAMETERS *params) noexcept nogil:
+                        const GCODE_FEED *cls) noexcept nogil:
     """The one entry of a manual move from where the machine stands (_manual_gm) at
-    the feed of m_cc.a, else motion[5]'s."""
+    the feed of m_cc.a, else the motion class's."""
     cdef Entry *e = &mo.ring[0]
     cdef SIMPLE_GM_PARAMS gm
     cdef double feed
@@ -731,14 +750,15 @@ cdef void _manual_entry(Motion *mo, const SIMPLE_GM_PARAMS *dest, uint32_t n_des
     e.kind = PART_MOTION
     e.func = dest.m_func
     e.file_idx = -1
-    segment_of_gm(&gm, &e.seg)
+    segment_of_gm(&gm, &e.seg)          # the host's record of the move
     e.s_from = 0.0
     e.s_to = e.seg.length
-    feed = _manual_feed(dest, params)
+    feed = _manual_feed(dest, cls)
     e.vmax = feed / 60.0 if feed > 0.0 else 1.0 / 60.0
+    e.v_ceiling = e.vmax
     e.feed = feed
     e.acc = e.dec = NO_LIMIT
-    _class_ramps(e, &params.motion[5])
+    _class_ramps(e, cls)
     TC_STORE_U64(&mo.produced, 1)
     TC_ATOMIC_STORE(&mo.fed_all, 1)
 
@@ -767,7 +787,7 @@ cdef bint machine_prepare(Core *core, Job *job, ErrorInfo *err) noexcept nogil:
         set_error(err, ERR_OUT_OF_MEMORY, -1, 0, NULL, 0)
         return False
     if job.command == CMD_GOTO:
-        args[1].text = manual_path_not_finite(core.position, &go.dest, go.n_dest, &core.params)
+        args[1].text = manual_path_not_finite(core.position, &go.dest, go.n_dest, &core.params.motion[5])
         if args[1].text != NULL:
             args[0].text = "GoToPosition"
             set_error(err, ERR_PATH_NOT_FINITE, -1, 0, args, 2)
@@ -777,5 +797,7 @@ cdef bint machine_prepare(Core *core, Job *job, ErrorInfo *err) noexcept nogil:
         m.program = loaded_program_ref(core.program)
     if m.program != NULL and m.part == 0 and m.part_s == 0.0 and m.n_history == 0:
         placement_init(&m.placement, &m.program.prog, core.position)    # a run from the start
+        placed_plan_free(&m.plan)       # the run makes the plan of this placement
+        m.plan_made = False
     memcpy(m.motion.position, core.position, sizeof(core.position))
     return True

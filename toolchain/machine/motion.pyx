@@ -3,14 +3,15 @@
 # happened (an entry began, an M function waits, the run ended). No threads, no
 # locks, no callbacks: machine.pyx paces it and talks to the host.
 #
-# Each entry is one part of the program (or, backward, one part retraced). When an
-# entry begins -- or when what governs its speed changes (override, stop, more
-# look-ahead) -- its speed profile is planned again from the machine's present speed
-# in closed form (the ramps of planner.pxd): up to the entry's cap, cruise, down to the highest
-# exit that every entry visible after it can still brake from. With the window full
-# and no override, that profile is the compiled plan's own: a run takes
-# GetGCodeRunTime.
-from libc.math cimport sqrt, fabs
+# Each entry is one part of the program (or, backward, one part retraced), with the
+# limits the compiled plan holds for it (PartPlan). When an entry begins -- or when
+# what the host governs changes: the override, a stop, a breakpoint, more look-ahead
+# in the ring -- its profile is planned again from the machine's present speed with
+# the planner's own functions: the backward pass over the entries the window sees
+# (plan_backward) and the part's profile (profile_plan), sampled by profile_at. The
+# window counts motion entries as the plan's does, so with nothing changed the
+# profile is the plan's: a run takes GetGCodeRunTime.
+from libc.math cimport fabs, HUGE_VAL
 
 cdef extern from *:
     # 64-bit counters shared by the feeder and the step (system.pxd's macros)
@@ -45,149 +46,79 @@ cdef void entry_point(const Entry *e, double d, double v, double *out) noexcept 
     out[e.dyn_second] += e.dyn_side * extra * t[e.dyn_first]
 
 
-cdef void run_plan(Run *r, double length, double v_in, double cap, double out_cap,
-                   double acc, double dec, int32_t ramp) noexcept nogil:
-    """The fastest profile over `length` from v_in that stays under cap and ends at
-    most at out_cap (or at the lowest speed braking with dec allows, if that is
-    higher); both ramps with the ramp shape `ramp`."""
-    cdef double ae = _eq(acc, ramp), de = _eq(dec, ramp)
-    cdef double out, hi2 = v_in * v_in + 2.0 * ae * length, lo2 = v_in * v_in - 2.0 * de * length
-    cdef double peak, up, down
-    out = min(out_cap, sqrt(hi2))
-    if lo2 > out * out:
-        out = sqrt(lo2)
-    if v_in <= cap:
-        if out > cap:
-            out = cap
-        up = (cap * cap - v_in * v_in) / (2.0 * ae)
-        down = (cap * cap - out * out) / (2.0 * de)
-        if up + down <= length:
-            peak = cap
-        else:
-            peak = sqrt((2.0 * ae * de * length + de * v_in * v_in + ae * out * out) / (ae + de))
-            peak = max(peak, max(v_in, out))
-    else:                               # above the cap (a lowered override): brake to it first
-        up = (v_in * v_in - cap * cap) / (2.0 * de)
-        down = (cap * cap - out * out) / (2.0 * de) if out <= cap else 0.0
-        if up + down <= length and out <= cap:
-            peak = cap
-        else:
-            peak = v_in
-    r.v_in = v_in
-    r.v_peak = peak
-    r.v_out = out
-    r.ramp = ramp
-    r.a1 = acc if peak >= v_in else dec
-    r.a3 = dec if peak >= out else acc
-    r.t1 = ramp_time(v_in, peak, r.a1, ramp)
-    r.t3 = ramp_time(peak, out, r.a3, ramp)
-    r.d1 = 0.5 * (v_in + peak) * r.t1
-    r.d3 = 0.5 * (peak + out) * r.t3
-    r.d2 = length - r.d1 - r.d3
-    if r.d2 < 0.0:
-        r.d2 = 0.0
-    r.t2 = r.d2 / peak if peak > 0.0 else 0.0
-
-
-cdef inline double run_time_total(const Run *r) noexcept nogil:
-    return r.t1 + r.t2 + r.t3
-
-
-cdef void run_at(const Run *r, double t, double *d, double *v) noexcept nogil:
-    """Distance and speed t seconds into the profile."""
-    if t < r.t1:
-        d[0] = ramp_distance_at(r.v_in, r.v_peak, r.a1, r.ramp, t)
-        v[0] = ramp_speed_at(r.v_in, r.v_peak, r.a1, r.ramp, t)
-        return
-    t -= r.t1
-    if t < r.t2:
-        d[0] = r.d1 + r.v_peak * t
-        v[0] = r.v_peak
-        return
-    t -= r.t2
-    if t >= r.t3:
-        d[0] = r.d1 + r.d2 + r.d3
-        v[0] = r.v_out
-        return
-    d[0] = r.d1 + r.d2 + ramp_distance_at(r.v_peak, r.v_out, r.a3, r.ramp, t)
-    v[0] = ramp_speed_at(r.v_peak, r.v_out, r.a3, r.ramp, t)
-
-
 cdef inline Entry *motion_entry(Motion *m, size_t k) noexcept nogil:
     """The k-th entry from the current one."""
     return &m.ring[(m.head + k) % LOOK_RING]
 
 
 cdef inline double _cap(const Motion *m, const Entry *e) noexcept nogil:
-    """The entry's speed cap under the override (when it only acts on the feed)."""
+    """The entry's speed limit under the override: its feed scaled, never past the
+    limits no override passes (axes, centripetal acceleration, arc feed table); not
+    scaled in rapids with disableG0FeedOverride, nor when the override scales time."""
     if m.ovr_timing or (e.rapid and m.ovr_off_in_rapids):
         return e.vmax
-    return e.vmax * m.ovr
-
-
-cdef double _exit_limit(Motion *m) noexcept nogil:
-    """The highest speed the current entry may end with: what every entry the
-    look-ahead sees after it can still brake from (to rest at the window's end, the
-    ring's end, a stop, a breakpoint, a waiting M function), and its own junction
-    speed. Sets window_short when the ring's end, not the window, limited it."""
-    cdef Entry *cur = motion_entry(m, 0)
-    cdef Entry *e
-    cdef size_t k, last = m.count
-    cdef double v2 = 0.0, dec, length, cap
-    if m.stopping:
-        last = m.stop_entry + 1
-    m.window_short = False
-    # the visible entries: those whose part is inside the window (backward: the same count)
-    k = 1
-    while k < last:
-        e = motion_entry(m, k)
-        if e.s_to >= e.s_from and e.part >= cur.part + m.window:
-            break
-        if k >= m.window:
-            break
-        k += 1
-    if k == m.count and not m.complete and not m.stopping:
-        m.window_short = True
-    last = k
-    # backward over them: v2 is the squared speed allowed at the start of entry k
-    while k > 1:
-        k -= 1
-        e = motion_entry(m, k)
-        length = entry_length(e)
-        if m.stopping and k == m.stop_entry:
-            length = m.stop_d
-        if e.kind == PART_MOTION:
-            dec = m.stop_dec if m.stopping else e.dec
-            cap = _cap(m, e)
-            v2 = min(v2 + 2.0 * _eq(dec, e.ramp if not m.stopping else m.stop_ramp) * length, cap * cap)
-        elif e.waits or e.m0:
-            v2 = 0.0
-        if e.break_before:
-            v2 = 0.0
-        # the junction before it
-        e = motion_entry(m, k - 1)
-        if e.kind == PART_MOTION:
-            v2 = min(v2, e.exit_cap * e.exit_cap)
-    if m.stopping and m.stop_entry == 0:
-        return 0.0
-    return min(sqrt(v2), cur.exit_cap)
+    return min(e.vmax * m.ovr, e.v_ceiling)
 
 
 cdef void _plan_current(Motion *m) noexcept nogil:
-    """Plans the current motion entry again from where the machine is."""
-    cdef Entry *e = motion_entry(m, 0)
-    cdef double length = entry_length(e)
-    cdef double dec = e.dec
-    cdef int32_t ramp = e.ramp
-    if m.stopping and m.stop_entry == 0:
-        length = m.stop_d
-        dec = m.stop_dec
-        ramp = m.stop_ramp
-    elif m.stopping:
-        dec = m.stop_dec
-        ramp = m.stop_ramp
-    run_plan(&m.run, length - m.d if length > m.d else 0.0, m.v, _cap(m, e), _exit_limit(m),
-             e.acc, dec, ramp)
+    """Plans the current motion entry again from where the machine is: the nodes of
+    the entries the window sees after it (motion entries up to the window's count,
+    the ring's end, or a stop's end), their limits under the override, stops where
+    the machine stands (waiting M functions, dwells, M0, breakpoints); the backward
+    pass over them gives the highest exit, and the profile of what is left of the
+    entry runs from the present speed to it. Sets window_short when the ring's end,
+    not the window's, ended what it saw."""
+    cdef Entry *cur = motion_entry(m, 0)
+    cdef Entry *e
+    cdef PlanNode *nd
+    cdef size_t k, last = m.count, base = <size_t>m.consumed
+    cdef uint64_t window_end = cur.motion_seq + m.window
+    cdef const PlanNode *next = NULL
+    cdef double cap, cap_before = _cap(m, cur), length
+    if m.stopping:
+        last = m.stop_entry + 1
+    k = 1
+    while k < last:
+        e = motion_entry(m, k)
+        if e.motion_seq >= window_end:
+            break
+        nd = &m.nodes[(base + k) % LOOK_RING]
+        nd.entry2 = -1.0                # the nodes changed: the pass computes them all
+        length = entry_length(e)
+        if m.stopping and k == m.stop_entry:
+            length = m.stop_d
+        if e.kind == PART_MOTION and entry_length(e) > 0.0:
+            cap = _cap(m, e)
+            nd.jin = 0.0 if e.break_before else min(e.jin, min(cap_before, cap))
+            nd.brake2 = 2.0 * (_eq(m.stop_dec, m.stop_ramp) if m.stopping else e.dec) * length
+            cap_before = cap
+        else:                           # the speed passes through, or the machine stands there
+            nd.jin = 0.0 if e.waits or e.m0 or e.kind == PART_DWELL or e.break_before else HUGE_VAL
+            nd.brake2 = 0.0
+        nd.jin2 = nd.jin * nd.jin
+        k += 1
+    e = motion_entry(m, k - 1)
+    m.window_short = (k == m.count and not m.complete and not m.stopping
+                      and e.motion_seq + (1 if e.kind == PART_MOTION else 0) < window_end)
+    if k > 1:
+        plan_backward(m.nodes, LOOK_RING - 1, base, base + k)
+        next = &m.nodes[(base + 1) % LOOK_RING]
+    # the current entry's node: what is left of it
+    nd = &m.nodes[base % LOOK_RING]
+    length = entry_length(cur)
+    nd.acc = cur.acc
+    nd.dec = cur.dec
+    nd.ramp = cur.ramp
+    if m.stopping:
+        nd.dec = _eq(m.stop_dec, m.stop_ramp)
+        nd.ramp = m.stop_ramp
+        if m.stop_entry == 0:
+            length = m.stop_d
+            next = NULL
+    nd.length = length - m.d if length > m.d else 0.0
+    nd.vmax = _cap(m, cur)
+    nd.brake2 = 2.0 * nd.dec * nd.length
+    profile_plan(&m.run, nd, m.v, next, &m.recip)
     m.run_t = 0.0
     m.run_d0 = m.d
     m.replan = False
@@ -211,12 +142,14 @@ cdef void motion_reset(Motion *m, const double *position) noexcept nogil:
     m.run_d0 = 0.0
     m.replan = True
     m.window_short = False
+    m.full_for = 0
     m.started = False
     m.wait_left = 0.0
     m.confirmed = 0
     m.stopping = False
     m.ovr = 1.0
     m.ovr_target = 1.0
+    m.recip.acc = m.recip.dec = m.recip.vmax = 0.0      # none yet: every value differs from 0
     m.cut_len = m.rapid_len = m.run_time = 0.0
     for k in range(AXES):
         m.position[k] = position[k]
@@ -309,7 +242,7 @@ cdef int motion_begin_entry(Motion *m) noexcept nogil:
             m.started = True
             _log(m, ME_ENTRY, e.part)
             events |= ME_ENTRY
-        if e.kind == PART_MOTION:
+        if e.kind == PART_MOTION and entry_length(e) > m.d:
             m.state = MS_RUNNING
             if m.replan:
                 _plan_current(m)
@@ -319,7 +252,9 @@ cdef int motion_begin_entry(Motion *m) noexcept nogil:
             m.state = MS_STOPPED
             m.v = 0.0
             return events | ME_HALT
-        if e.kind == PART_PRINT:
+        if e.kind == PART_MOTION:
+            entry_point(e, m.d, m.v, m.position)    # no way left in it: the speed passes through
+        elif e.kind == PART_PRINT:
             _log(m, ME_PRINT, e.part)
             events |= ME_PRINT
         elif e.kind == PART_MFUNC:
@@ -347,6 +282,9 @@ cdef void _move_override(Motion *m, double dt) noexcept nogil:
     cdef double step = m.ovr_inc * dt / (STEP_US * 1e-6)
     cdef double target = m.ovr_target
     cdef Entry *e
+    if m.ovr_timing and target > 1.0:
+        target = 1.0                    # scaled time would take every speed and ramp past its limit
+        m.ovr = min(m.ovr, 1.0)
     if m.count > 0:
         e = motion_entry(m, 0)
         if e.rapid and m.ovr_off_in_rapids:
@@ -372,9 +310,23 @@ cdef void motion_locate(Motion *m) noexcept nogil:
             entry_point(e, m.d, m.v, m.position)
 
 
-cdef inline bint motion_window_full(const Motion *m) noexcept nogil:
-    """The ring holds the whole window after the current entry (or the run's end)."""
-    return m.complete or m.count > m.window
+cdef inline bint motion_window_full(Motion *m) noexcept nogil:
+    """The ring holds the whole window after the current entry (its motion entries,
+    the window's count of them), the run's end, or as much as it can. Once it does,
+    it does until the entry ends (the feeder only adds): asked every step, it looks at
+    the ring once per entry."""
+    cdef const Entry *first
+    cdef const Entry *last
+    if m.full_for == m.consumed + 1 or m.complete or m.count >= LOOK_RING:
+        return True
+    if m.count == 0:
+        return False
+    first = &m.ring[m.head]
+    last = &m.ring[(m.head + m.count - 1) % LOOK_RING]
+    if last.motion_seq + (1 if last.kind == PART_MOTION else 0) >= first.motion_seq + m.window:
+        m.full_for = m.consumed + 1
+        return True
+    return False
 
 
 cdef int motion_step(Motion *m, double dt) noexcept nogil:
@@ -411,17 +363,17 @@ cdef int motion_step(Motion *m, double dt) noexcept nogil:
         e = motion_entry(m, 0)
         if m.replan or (m.window_short and m.count != m.planned_count):
             _plan_current(m)
-        total = run_time_total(&m.run)
+        total = profile_time(&m.run)
         before = m.d
         if m.run_t + tau < total:
             m.run_t += tau
-            run_at(&m.run, m.run_t, &d, &v)
+            profile_at(&m.run, m.run_t, &d, &v)
             m.d = m.run_d0 + d
             m.v = v
             tau = 0.0
         else:
             tau -= total - m.run_t
-            m.d = m.run_d0 + m.run.d1 + m.run.d2 + m.run.d3
+            m.d = m.run_d0 + m.run.length
             m.v = m.run.v_out
             m.run_t = total
         if e.rapid:

@@ -1,7 +1,7 @@
 # Static limits of each part, before any look-ahead: the programmed feed, the arc
 # feed table, the centripetal acceleration and the axes' limits projected on the
 # tangent over the whole part; the planning settings in force (PlanRegion).
-from libc.math cimport sqrt, cos, M_PI
+from libc.math cimport sqrt, cos, M_PI, HUGE_VAL
 from libc.string cimport memcpy, memcmp, memset
 
 
@@ -80,11 +80,15 @@ cdef void cursor_init(PlanCursor *c, const Program *prog, const GCODE_PARAMETERS
     c.cos_start = _cos_start(&c.cur)
 
 
-cdef const PlanRegion *cursor_settings(PlanCursor *c, size_t part) noexcept nogil:
+cdef inline const PlanRegion *cursor_settings(PlanCursor *c, size_t part) noexcept nogil:
     """The settings part `part` runs with; parts in increasing order."""
-    cdef const Program *prog = c.prog
-    if c.region == prog.n_plan_regions:    # nothing left to apply: no need to count
+    if c.region == c.prog.n_plan_regions:  # nothing left to apply: no need to count (every part)
         return &c.cur
+    return _cursor_advance(c, part)
+
+
+cdef const PlanRegion *_cursor_advance(PlanCursor *c, size_t part) noexcept nogil:
+    cdef const Program *prog = c.prog
     while c.next_part <= part:
         if not (prog.parts[c.next_part].flags & FLAG_INSERTED):
             while c.region < prog.n_plan_regions and prog.plan_regions[c.region].first <= c.programmed:
@@ -115,34 +119,44 @@ cdef double part_feed(const Part *p, const GCODE_PARAMETERS *params) noexcept no
 
 
 cdef double arc_feed_factor(const GCODE_PARAMETERS *params, int32_t state, double radius) noexcept nogil:
-    """Relative feed of an arc of `radius` from arcFeedTable: radii up to the smallest
-    entry take its value, between two entries linear in the radius, above the largest
-    entry full feed (1). The table ends at the first r <= 0; off when empty or G900 S13 A0."""
+    """Relative feed of an arc of `radius` by arcFeedTable, 0 when the table is off
+    (empty, or G900 S13 A0). Its entries are [radius, relative feed]; the first of
+    radius 0 is the last (it counts when its feed is not 0: it reaches down to radius
+    0, so (0, 0.5) alone runs every arc at 50 %; a negative or NaN radius ends the
+    table without counting). Sorted by radius: an arc at or above the largest entry's
+    radius takes its feed, at or below the smallest's its feed, between two entries
+    the feed linear in the radius -- (10, 1.25), (0.9, 0.1): 125 % from R10 on, down
+    to 10 % at R0.9 and below."""
     cdef double r[5]
     cdef double f[5]
     cdef int n = 0, i, j
-    cdef double tr, tf
+    cdef double tr, tf, rel
     if state == 0:
-        return 1.0
-    while n < 5 and params.arcFeedTable[n].m_r > 0.0:
-        r[n] = params.arcFeedTable[n].m_r
-        f[n] = params.arcFeedTable[n].m_relFeed
-        if f[n] < 0.001:
-            f[n] = 0.001
+        return 0.0
+    for i in range(5):
+        rel = params.arcFeedTable[i].m_relFeed
+        if not (params.arcFeedTable[i].m_r >= 0.0):
+            break
+        if params.arcFeedTable[i].m_r == 0.0 and not (rel > 0.0):
+            break
+        r[n] = params.arcFeedTable[i].m_r
+        f[n] = rel if rel >= 0.001 and rel < 1e6 else (1e6 if rel >= 1e6 else 0.001)
         j = n
         while j > 0 and r[j - 1] > r[j]:            # keep them sorted by radius
             tr = r[j]; r[j] = r[j - 1]; r[j - 1] = tr
             tf = f[j]; f[j] = f[j - 1]; f[j - 1] = tf
             j -= 1
         n += 1
+        if params.arcFeedTable[i].m_r == 0.0:
+            break
     if n == 0:
-        return 1.0
+        return 0.0
     if radius <= r[0]:
         return f[0]
     for i in range(1, n):
         if radius <= r[i]:
             return f[i - 1] + (f[i] - f[i - 1]) * (radius - r[i - 1]) / (r[i] - r[i - 1])
-    return 1.0
+    return f[n - 1]
 
 
 cdef void part_limits(const Segment *g, const Part *p, const GCODE_PARAMETERS *params,
@@ -150,7 +164,7 @@ cdef void part_limits(const Segment *g, const Part *p, const GCODE_PARAMETERS *p
     """The static limits of a motion part with geometry g (axes_limited: _axes_limited(s))."""
     cdef const GCODE_FEED *cls
     cdef double reach[AXES]
-    cdef double v, feed_len
+    cdef double v, feed_len, factor
     cdef uint32_t ignore_feed = s.ignore_feed | ((enhanced >> ENH_FEED_SHIFT) & AXIS_MASK)
     cdef int k
     out.rapid = p.func == 0
@@ -160,22 +174,29 @@ cdef void part_limits(const Segment *g, const Part *p, const GCODE_PARAMETERS *p
     out.acc = limit_or_none(cls.acc)
     out.dec = limit_or_none(cls.dec)
     v = part_feed(p, params) / 60.0
+    out.v_ceiling = HUGE_VAL
     feed_len = segment_feed_length(g, ignore_feed)
     if feed_len > ROUNDING_EPS and feed_len < g.length:
         v = v * g.length / feed_len     # the feed holds on the other axes: the path runs faster
     if g.arc and not out.rapid:
-        v = v * arc_feed_factor(params, s.arc_table, g.radius)
+        factor = arc_feed_factor(params, s.arc_table, g.radius)
+        if factor > 0.0:
+            v = v * factor
+            out.v_ceiling = v           # the table's speed for this radius is a limit, not a feed
         if params.centripetalAcc > 0.0:
-            v = min(v, sqrt(params.centripetalAcc / segment_curvature(g)))
+            out.v_ceiling = min(out.v_ceiling, sqrt(params.centripetalAcc / segment_curvature(g)))
+            v = min(v, out.v_ceiling)
     if not axes_limited:
         out.vmax = v if v > 0.0 else 1.0 / 60.0
+        out.v_ceiling = max(out.v_ceiling, out.vmax)
         return
     segment_axis_reach(g, reach)
     for k in range(AXES):
         if (s.limits_off >> k) & 1 or reach[k] <= ANGLE_EPS:
             continue
         if s.axisLimits[k].maxFeed > 0.0:
-            v = min(v, s.axisLimits[k].maxFeed / 60.0 / reach[k])
+            out.v_ceiling = min(out.v_ceiling, s.axisLimits[k].maxFeed / 60.0 / reach[k])
+            v = min(v, out.v_ceiling)
         if s.axisLimits[k].maxAcc > 0.0:
             out.acc = min(out.acc, s.axisLimits[k].maxAcc / reach[k])
         if s.axisLimits[k].maxDec > 0.0:
@@ -183,3 +204,4 @@ cdef void part_limits(const Segment *g, const Part *p, const GCODE_PARAMETERS *p
     if not (v > 0.0):
         v = 1.0 / 60.0                  # no feed anywhere: 1 mm/min rather than never arriving
     out.vmax = v
+    out.v_ceiling = max(out.v_ceiling, v)

@@ -1,21 +1,41 @@
 # The look-ahead: every motion part gets an entry, peak and exit speed such that
 # the machine can still stop at the end of what it sees. The vendor's interpolator
-# sees the current part and the next 7 (its look-ahead table, docs/vendor-sources.md), so the
-# default window is 8 parts (M functions count); a deeper window only lets parts
-# run faster. One sweep over the program with a ring of the visible parts:
+# sees the current section and the next 7 (its look-ahead table, docs/vendor-sources.md;
+# a section is a motion, continuous M functions ride inside one), so the default window
+# is 8 motion parts; a deeper window only lets parts run faster. One sweep over the
+# program with a ring of the visible parts:
 #   backward: from a stop at the window's end (or the program's end), the highest
 #             entry speed of each visible part (its junction limit, or what it can
-#             still brake away within its length);
-#   forward:  from the previous exit, accelerate within the part, exit at most at
-#             the next part's backward limit.
+#             still brake away within its length): plan_backward, which the offline
+#             machine runs over its own look-ahead too;
+#   forward:  from the previous exit, the part's profile (profile.pyx), exiting at
+#             most at the next part's backward limit.
 # The backward limits are recomputed only when the window's end moves (an
 # unlimited window: once), and only back to the first that does not change: at most
 # O(parts x window), O(parts) where the junctions' limits bind. The sweep may start
 # and end at a part where the machine stands (plan_range): two ranges plan at once
 # (pipeline.pyx) and give the same plan.
 from libc.stdlib cimport malloc, free
-from libc.math cimport sqrt
+from libc.math cimport sqrt, HUGE_VAL
 from libc.string cimport memcpy
+
+cdef extern from *:
+    """
+    /* the float nearest x from below, x >= 0 (or inf): one step down when the
+       conversion rounded up */
+    static inline float tc_float_below(double x) {
+        float f = (float)x;
+        uint32_t bits;
+        if (f > x) {
+            memcpy(&bits, &f, sizeof(bits));
+            bits -= 1;
+            memcpy(&f, &bits, sizeof(f));
+        }
+        return f;
+    }
+    """
+    # the limits a node plans with, as PartPlan keeps them: the plan is made with what it holds
+    float _float_below "tc_float_below" (double x) noexcept nogil
 
 
 cdef void _take_classes(NodeSource *src, const PlanRegion *s) noexcept nogil:
@@ -29,33 +49,44 @@ cdef void _take_classes(NodeSource *src, const PlanRegion *s) noexcept nogil:
     for c in range(2):
         cls = &s.motion[c]
         ramp = RAMP_SINE if cls.rampType == RAMP_SINE else RAMP_TRAPEZOID
-        src.class_acc[c] = ramp_equivalent_acc(limit_or_none(cls.acc), ramp)
-        src.class_dec[c] = ramp_equivalent_acc(limit_or_none(cls.dec), ramp)
+        src.class_ramp[c] = ramp
+        src.class_acc[c] = _float_below(ramp_equivalent_acc(limit_or_none(cls.acc), ramp))
+        src.class_dec[c] = _float_below(ramp_equivalent_acc(limit_or_none(cls.dec), ramp))
+
+
+cdef inline void _node_segment(const NodeSource *src, size_t k, Segment *g) noexcept nogil:
+    """Part k's geometry: as compiled, or as the placed run sees it where it may differ."""
+    if src.pl != NULL and k < src.reshaped_end:
+        segment_of_placed_part(src.prog, k, src.pl, g)
+    else:
+        segment_of_part(src.prog, k, g)
 
 
 cdef bint _general_node(NodeSource *src, size_t k, const PlanRegion *s, bint want_tangent,
                         PlanNode *node, double *t_start, double *t_end) noexcept nogil:
-    """Length and limits of a motion part that is not a plain line (segment_of_part,
+    """Length and limits of a motion part that is not a plain line (its segment,
     part_limits), its end tangents when want_tangent; False when it has no length."""
     cdef Segment g
     cdef PartLimits lim
-    segment_of_part(src.prog, k, &g)
+    _node_segment(src, k, &g)
     if g.length <= LENGTH_EPS:
         return False
     part_limits(&g, &src.prog.parts[k], src.params, s, src.cursor.axes_limited, src.enhanced, &lim)
     node.length = g.length
-    node.vmax = lim.vmax
-    node.acc = ramp_equivalent_acc(lim.acc, lim.ramp)
-    node.dec = ramp_equivalent_acc(lim.dec, lim.ramp)
+    node.vmax = _float_below(lim.vmax)
+    node.ceiling = _float_below(lim.v_ceiling)
+    node.acc = _float_below(ramp_equivalent_acc(lim.acc, lim.ramp))
+    node.dec = _float_below(ramp_equivalent_acc(lim.dec, lim.ramp))
+    node.ramp = lim.ramp
     if want_tangent:
         segment_tangent(&g, 0.0, t_start)
         segment_tangent(&g, g.length, t_end)
     return True
 
 
-cdef void _end_tangent(const Program *prog, size_t k, double *t) noexcept nogil:
+cdef void _end_tangent(const NodeSource *src, size_t k, double *t) noexcept nogil:
     cdef Segment g
-    segment_of_part(prog, k, &g)
+    _node_segment(src, k, &g)
     segment_tangent(&g, g.length, t)
 
 
@@ -75,12 +106,14 @@ cdef bint _next_node(NodeSource *src, PlanNode *node) noexcept nogil:
         if part_stops_motion(p):
             src.stop_pending = True
         return False
+    node.seq = src.motions
+    src.motions += 1
     if src.class_region != src.cursor.region:
         _take_classes(src, s)
     want_tangent = s.startAngle < 180.0         # below 180 some angle slows down
     rapid = p.func == 0
     plain = (src.plain_lines and p.func != 2 and p.func != 3 and k > 0
-             and src.prog.parts[k - 1].axes_idx == p.axes_idx)
+             and src.prog.parts[k - 1].axes_idx == p.axes_idx and k >= src.reshaped_end)
     if plain:                                   # a line over x y z
         prev = &src.prog.parts[k - 1]
         d0 = p.ce[0] - prev.ce[0]
@@ -90,10 +123,12 @@ cdef bint _next_node(NodeSource *src, PlanNode *node) noexcept nogil:
         if node.length <= LENGTH_EPS:
             return False                        # no motion: the speed passes through
         vmax = part_feed(p, src.params) / 60.0  # part_limits' limits of a plain line
-        node.vmax = vmax if vmax > 0.0 else 1.0 / 60.0
+        node.vmax = _float_below(vmax if vmax > 0.0 else 1.0 / 60.0)
+        node.ceiling = HUGE_VAL                 # no axis limit, no arc
         c = 0 if rapid else 1
         node.acc = src.class_acc[c]
         node.dec = src.class_dec[c]
+        node.ramp = src.class_ramp[c]
         if want_tangent:                        # segment_tangent's unit vector
             inv = 1.0 / node.length
             t0[0] = d0 * inv
@@ -110,14 +145,14 @@ cdef bint _next_node(NodeSource *src, PlanNode *node) noexcept nogil:
         jin = min(src.prev_vmax, node.vmax)
     else:
         if not src.prev_tangent_known:  # the slow-down came on at this junction
-            _end_tangent(src.prog, src.prev_part, src.prev_tangent)
+            _end_tangent(src, src.prev_part, src.prev_tangent)
         jin = min(src.prev_vmax, node.vmax)
         cosine = junction_cosine(src.prev_tangent, t0,
                                  s.ignore_angle | ((src.enhanced >> ENH_ANGLE_SHIFT) & AXIS_MASK))
         if not (cosine >= src.cursor.cos_start):      # beyond startAngle (acos only there)
-            jin = angle_feed(junction_degrees(cosine), jin, s)
-    node.jin = jin
-    node.jin2 = jin * jin
+            jin = _float_below(angle_feed(junction_degrees(cosine), jin, s))
+    node.jin = jin                      # 0, the lower of two limits, or rounded above
+    node.jin2 = node.jin * node.jin
     node.brake2 = 2.0 * node.dec * node.length
     node.entry2 = -1.0                  # not computed yet
     node.barrier = node.jin2 <= node.brake2
@@ -134,52 +169,62 @@ cdef bint _next_node(NodeSource *src, PlanNode *node) noexcept nogil:
     return True
 
 
-cdef void _plan_node(const PlanNode *nd, double v_in, const PlanNode *next, Reciprocals *rc,
-                     PartPlan *out) noexcept nogil:
-    """Entry v_in, exit as fast as allowed (next: the node after it in the window, or
-    NULL: a stop), peak and time of one node (closed forms; a part that cruises into
-    its junction's limit takes no square root)."""
-    cdef double a = nd.acc, d = nd.dec, L = nd.length
-    cdef double in2 = v_in * v_in
-    cdef double exit2 = next.entry2 if next != NULL else 0.0
-    cdef double out2 = min(exit2, in2 + 2.0 * a * L)
-    cdef double peak = nd.vmax, peak2 = nd.vmax * nd.vmax, cruise, v_out
-    if next != NULL and out2 == next.jin2:
-        v_out = next.jin
-    else:
-        v_out = sqrt(out2)
-    if a != rc.acc:
-        rc.acc = a
-        rc.half_inv_acc = 0.5 / a
-    if d != rc.dec:
-        rc.dec = d
-        rc.half_inv_dec = 0.5 / d
-    if peak != rc.vmax:
-        rc.vmax = peak
-        rc.inv_vmax = 1.0 / peak
-    cruise = L - (peak2 - in2) * rc.half_inv_acc - (peak2 - out2) * rc.half_inv_dec
-    if cruise >= 0.0:
-        out.time = cruise * rc.inv_vmax
-    else:                               # no room to cruise: the ramps meet below the limit
-        peak2 = (2.0 * a * d * L + d * in2 + a * out2) / (a + d)
-        peak = sqrt(peak2)
-        if peak < v_in:
-            peak = v_in
-        if peak < v_out:
-            peak = v_out
-        out.time = 0.0
-    out.v_peak = peak
-    out.v_exit = v_out
-    out.time += (peak - v_in) * 2.0 * rc.half_inv_acc + (peak - v_out) * 2.0 * rc.half_inv_dec
+cdef double _plan_node(const PlanNode *nd, double v_in, const PlanNode *next, Reciprocals *rc,
+                       PartPlan *out) noexcept nogil:
+    """The plan of one node entered at v_in: its limits and its profile (next: the
+    node after it in the window, or NULL: a stop at its end); its exit speed."""
+    cdef Profile pr
+    profile_plan(&pr, nd, v_in, next, rc)
+    out.v_exit = _float_below(pr.v_out)  # a profile from it stays feasible
+    out.time = <float>profile_time(&pr)
+    out.v_cap = <float>nd.vmax          # floats already (_next_node)
+    out.v_ceiling = <float>nd.ceiling
+    out.v_junction = <float>nd.jin
+    out.acc = <float>nd.acc
+    out.dec = <float>nd.dec
+    out.ramp = nd.ramp
+    return pr.v_out
+
+
+cdef inline void plan_backward(PlanNode *ring, size_t mask, size_t first, size_t end) noexcept nogil:
+    """The backward pass over a window: each node j of (first, end) -- node j at
+    ring[j & mask], node `first` the one being planned -- gets entry2, the highest
+    squared speed it may be entered at: its junction's limit, or what it and the
+    nodes after it can still brake away to rest at the window's end. The values only
+    grow as the window's end moves on, and where one does not change none before it
+    does: the pass stops there (a caller whose nodes changed sets entry2 < 0 first)."""
+    cdef double v2 = 0.0
+    cdef size_t j = end
+    cdef PlanNode *nj
+    while j > first + 1:
+        j -= 1
+        nj = &ring[j & mask]
+        v2 = min(nj.jin2, v2 + nj.brake2)
+        if v2 == nj.entry2:
+            break
+        nj.entry2 = v2
 
 
 cdef void _plan_passing(const Program *prog, size_t first, size_t end, double v, PartPlan *plan) noexcept nogil:
-    """Parts without motion in [first, end): the speed passes through; dwells take their time."""
+    """Parts without motion (or length) in [first, end): the speed passes through
+    (none where the machine stands); dwells take their time."""
     cdef size_t k
+    cdef const Part *p
+    cdef PartPlan through
+    through.v_exit = _float_below(v)
+    through.time = 0.0
+    through.v_cap = _float_below(v)
+    through.v_ceiling = <float>HUGE_VAL
+    through.v_junction = <float>HUGE_VAL
+    through.acc = through.dec = 0.0
+    through.ramp = RAMP_TRAPEZOID
     for k in range(first, end):
-        plan[k].v_peak = v
-        plan[k].v_exit = v
-        plan[k].time = prog.parts[k].value if prog.parts[k].kind == PART_DWELL else 0.0
+        p = &prog.parts[k]
+        plan[k] = through
+        if p.kind == PART_DWELL:
+            plan[k].time = <float>p.value
+        if part_stops_motion(p):
+            plan[k].v_junction = 0.0
 
 
 cdef PlanNode *_ring_grow(PlanNode *ring, size_t cap, size_t first, size_t end) noexcept nogil:
@@ -198,7 +243,7 @@ cdef int plan_program(ProgramBuilder *build, const GCODE_PARAMETERS *params, uin
                       int64_t window) noexcept nogil:
     """Plans every part into build.prog.plan (replaced). window: parts the look-ahead sees
     (0 the vendor's 8, < 0 unlimited). With mFuncInsertTable on, inserts its M functions
-    where the plan slows down and plans again (they count in the window).
+    where the plan slows down and plans again.
     COMPILE_OK, or COMPILE_ERROR when out of memory."""
     cdef int result = _plan_once(&build.prog, params, enhanced, window)
     if result == COMPILE_OK and mfunc_insert_wanted(params):
@@ -210,7 +255,7 @@ cdef int plan_program(ProgramBuilder *build, const GCODE_PARAMETERS *params, uin
 
 cdef int _plan_once(Program *prog, const GCODE_PARAMETERS *params, uint32_t enhanced,
                     int64_t window) noexcept nogil:
-    if not plan_alloc(prog):
+    if not plan_alloc(prog, params, enhanced, window):
         return COMPILE_ERROR
     if plan_range(prog, params, enhanced, window, 0, prog.n_parts) != COMPILE_OK:
         plan_drop(prog)
@@ -218,9 +263,13 @@ cdef int _plan_once(Program *prog, const GCODE_PARAMETERS *params, uint32_t enha
     return COMPILE_OK
 
 
-cdef bint plan_alloc(Program *prog) noexcept nogil:
-    """A new, unfilled plan for every part in prog.plan (the old one freed);
-    False when out of memory."""
+cdef bint plan_alloc(Program *prog, const GCODE_PARAMETERS *params, uint32_t enhanced,
+                     int64_t window) noexcept nogil:
+    """A new, unfilled plan for every part in prog.plan (the old one freed), to be
+    made with these settings (kept in prog.planned_with); False when out of memory."""
+    prog.planned_with.params = params[0]
+    prog.planned_with.enhanced = enhanced
+    prog.planned_with.window = window
     free(prog.plan)
     prog.plan = NULL
     if prog.n_parts == 0:
@@ -256,16 +305,28 @@ cdef int plan_range(const Program *prog, const GCODE_PARAMETERS *params, uint32_
     (every motion before it ends at rest, the next one starts from rest), so the window
     may end there: the plan is the same as the whole program's. Two ranges may be
     planned at once. COMPILE_OK, or COMPILE_ERROR when out of memory."""
+    return _sweep(prog, NULL, params, enhanced, window, first, end, NULL)
+
+
+cdef bint _head_room(PlacedPlan *head, size_t need) noexcept nogil:
+    return grow(<void **>&head.head, &head.cap_head, need, sizeof(PartPlan))
+
+
+cdef int _sweep(const Program *prog, const Placement *pl, const GCODE_PARAMETERS *params,
+                uint32_t enhanced, int64_t window, size_t first, size_t end, PlacedPlan *head) noexcept nogil:
+    """The look-ahead over parts [first, end) into prog.plan; or, with `head` (and the
+    placement pl), from the program's start into head.head, the parts pl reshapes with
+    their placed shape, until the plan is the compile's again (head.n_head the parts
+    planned). COMPILE_OK, or COMPILE_ERROR when out of memory."""
     cdef size_t n = prog.n_parts, depth, cap = 1, i = 0, made = 0, planned_made = 0, filled = first
-    cdef size_t mask, window_end
-    cdef PartPlan *plan = prog.plan
+    cdef size_t mask, window_end, room, settled
+    cdef PartPlan *plan = prog.plan if head == NULL else head.head
     cdef PlanNode *ring
     cdef PlanNode *nd
-    cdef PlanNode *nj
     cdef NodeSource src
     cdef Reciprocals recip
-    cdef double v_prev = 0.0, v2
-    cdef size_t j
+    cdef double v_prev = 0.0
+    cdef bint converging = False, converged = False
     if end <= first:
         return COMPILE_OK
     if window == 0:
@@ -283,10 +344,15 @@ cdef int plan_range(const Program *prog, const GCODE_PARAMETERS *params, uint32_
     src.prog = prog
     src.params = params
     src.enhanced = enhanced
+    src.pl = pl
+    src.reshaped_end = placement_reshaped_end(prog, pl) if pl != NULL else 0
+    room = n if head == NULL else head.cap_head         # parts `plan` holds
+    settled = src.reshaped_end if head != NULL else <size_t>-1     # a head ends where it is the compile's
     cursor_init(&src.cursor, prog, params)
     if first > 0:
         cursor_settings(&src.cursor, first - 1)     # the regions before the range
     src.scan = first
+    src.motions = 0
     src.have_prev = False
     src.stop_pending = False
     src.prev_rapid = False
@@ -304,9 +370,10 @@ cdef int plan_range(const Program *prog, const GCODE_PARAMETERS *params, uint32_
         if made <= i:
             break
         nd = &ring[i & mask]
-        # the window: parts up to node i's part + depth, or up to a barrier (the same limits)
-        window_end = nd.part + depth
-        while (src.scan < end and src.scan < window_end
+        # the window: nd and the motion parts after it, depth in all, or up to a
+        # barrier (the same limits)
+        window_end = nd.seq + depth
+        while (src.scan < end and src.motions < window_end
                and not (made > i + 1 and ring[(made - 1) & mask].barrier)):
             if made - i == cap:
                 ring = _ring_grow(ring, cap, i, made)
@@ -317,43 +384,70 @@ cdef int plan_range(const Program *prog, const GCODE_PARAMETERS *params, uint32_
                 nd = &ring[i & mask]
             if _next_node(&src, &ring[made & mask]):
                 made += 1
-        if made != planned_made:        # the window's end moved: backward pass over the window
-            # squared speeds; the limits only grow with the window, and where one did not
-            # change, none before it does
-            v2 = 0.0
-            j = made
-            while j > i + 1:
-                j -= 1
-                nj = &ring[j & mask]
-                v2 = min(nj.jin2, v2 + nj.brake2)
-                if v2 == nj.entry2:
-                    break
-                nj.entry2 = v2
+        if made != planned_made:        # the window's end moved
+            plan_backward(ring, mask, i, made)
             planned_made = made
+        if nd.part >= room:             # the head's plan grows (the compile's holds every part)
+            if not _head_room(head, nd.part + 1):
+                free(ring)
+                return COMPILE_ERROR
+            plan = head.head
+            room = head.cap_head
         if filled < nd.part:
             _plan_passing(prog, filled, nd.part, v_prev, plan)
-        _plan_node(nd, v_prev, &ring[(i + 1) & mask] if i + 1 < made else NULL, &recip, &plan[nd.part])
-        v_prev = plan[nd.part].v_exit
+        v_prev = _plan_node(nd, v_prev, &ring[(i + 1) & mask] if i + 1 < made else NULL, &recip, &plan[nd.part])
         filled = nd.part + 1
         i += 1
-    _plan_passing(prog, filled, end, v_prev, plan)
+        if nd.part >= settled:
+            # from the node after the first one the placement leaves as it was, every
+            # node is the compile's: the same speed out, the same plan on
+            if converging and _float_below(v_prev) == head.plan[nd.part].v_exit:
+                converged = True
+                break
+            converging = True
+    if head == NULL:
+        _plan_passing(prog, filled, end, v_prev, plan)
+    else:
+        if not converged:               # the program ended first: its rest too
+            if not _head_room(head, end):
+                free(ring)
+                return COMPILE_ERROR
+            _plan_passing(prog, filled, end, v_prev, head.head)
+            filled = end
+        head.n_head = filled
     free(ring)
     return COMPILE_OK
 
 
-cdef double plan_part_time(const Program *prog, size_t i) noexcept nogil:
-    """Planned seconds of part i (0 when the program has no plan)."""
-    return prog.plan[i].time if prog.plan != NULL else 0.0
+cdef bint placed_plan_make(PlacedPlan *pp, const Program *prog, const Placement *pl) noexcept nogil:
+    """The plan of a run from pl.start: where the placement reshapes parts (a first
+    move from elsewhere than the compile's start, the part where an axis is first
+    named absolutely), those parts are planned again with the settings of the
+    compilation, and the parts after them until their speeds are the compile's
+    again; the rest is the compile's plan. False when out of memory (pp then
+    gives the compile's plan)."""
+    pp.plan = prog.plan
+    pp.head = NULL
+    pp.n_head = 0
+    pp.cap_head = 0
+    if not pl.moved or prog.plan == NULL or prog.n_parts == 0:
+        return True
+    if _sweep(prog, pl, &prog.planned_with.params, prog.planned_with.enhanced, prog.planned_with.window,
+              0, prog.n_parts, pp) != COMPILE_OK:
+        placed_plan_free(pp)
+        pp.plan = prog.plan
+        return False
+    return True
 
 
-cdef double plan_entry_speed(const Program *prog, size_t i) noexcept nogil:
-    """mm/s at the start of part i."""
-    if prog.plan == NULL or i == 0:
-        return 0.0
-    return prog.plan[i - 1].v_exit
+cdef void placed_plan_free(PlacedPlan *pp) noexcept nogil:
+    free(pp.head)
+    pp.head = NULL
+    pp.n_head = 0
+    pp.cap_head = 0
 
 
 cdef double plan_calc_feed(const Program *prog, size_t i) noexcept nogil:
-    """The planned feed of part i, mm/min: the highest speed it reaches
+    """The planned feed of part i, mm/min: its speed limit at 100 % override
     (GM_PARAMS_ENHANCED.m_calcFeed)."""
-    return prog.plan[i].v_peak * 60.0 if prog.plan != NULL else 0.0
+    return prog.plan[i].v_cap * 60.0 if prog.plan != NULL else 0.0
