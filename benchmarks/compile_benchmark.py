@@ -1,7 +1,7 @@
 """Compiler throughput, memory and host responsiveness on a large cutting program,
 with and without tool radius compensation.
 
-    python benchmarks/compile_benchmark.py [--lines 1000000] [--runs 7] [--keep FILE] [--cam-only]
+    python benchmarks/compile_benchmark.py [--lines 1000000] [--runs 7] [--pause 3] [--keep FILE] [--cam-only]
 
 1. Writes a cutting program of --lines lines to a temporary file: parts cut one after
    the other (a contour of lines, tangent and cornered arcs, a notch; N numbers,
@@ -22,7 +22,10 @@ with and without tool radius compensation.
    --cam-only runs this step alone.
 Every compile runs --runs times and the floor as often: the best counts (this shared VM
 backs fresh memory at very different speeds, so single runs vary up to 3x); the
-median is printed too.
+median is printed too. Each compile process starts --pause seconds after the last one
+ended: cold, as a host's compile is (on a VM whose balloon reports freed memory to the
+host, memory freed less than about 2 s before comes back cheaply, and back-to-back runs
+measure that instead; benchmarks/fresh_memory.py).
 Targets: compile <= 1.5 x floor, peak RSS < 300 MB; with compensation the compile may
 exceed its target by at most 20 %: <= 1.8 x floor. The CAM job: radius 0 <= 1.3 x
 floor, radius 0.15 <= 1.6 x floor (medians), peak RSS <= 150 MB. On a VM whose balloon reports free
@@ -172,11 +175,15 @@ def median(results: list) -> float:
     return statistics.median(r["seconds"] for r in results)
 
 
+PAUSE = 3.0     # s before each compile process (--pause)
+
+
 def compile_runs(prog: Path, runs: int, radius: float = 0.0, strategy: int | None = None) -> list:
-    """Each compile in a fresh process (cold: its memory is faulted in afresh)."""
+    """Each compile in a fresh process, PAUSE seconds after the last one (cold)."""
     results = []
     extra = [] if strategy is None else [hex(strategy)]
     for _ in range(runs):
+        time.sleep(PAUSE)
         res = subprocess.run([sys.executable, "-c", CHILD, str(prog), str(radius)] + extra, check=True,
                              capture_output=True, text=True)
         results.append(json.loads(res.stdout.strip().splitlines()[-1]))
@@ -217,12 +224,15 @@ def cam_rows(tmp: Path, lines: int, runs: int) -> None:
 
 
 def main():
+    global PAUSE
     ap = argparse.ArgumentParser()
     ap.add_argument("--lines", type=int, default=1_000_000)
     ap.add_argument("--runs", type=int, default=7)
     ap.add_argument("--keep", help="also copy the generated program here")
     ap.add_argument("--cam-only", action="store_true", help="only the CAM job of many contours (step 6)")
+    ap.add_argument("--pause", type=float, default=PAUSE, help="seconds before each compile process (cold)")
     args = ap.parse_args()
+    PAUSE = args.pause
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
         if args.cam_only:
