@@ -109,7 +109,7 @@ cdef void _entry_identity(Entry *e, const Part *p, size_t part) noexcept nogil:
     e.dyn_extra = 0.0
 
 
-cdef void _dynamic_correction(Entry *e, const Part *p, const GCODE_PARAMETERS *params) noexcept nogil:
+cdef void _dynamic_correction(Entry *e, const Program *prog, const Part *p, const GCODE_PARAMETERS *params) noexcept nogil:
     """dynamicG41/G42Correction_mm and _percent (of the tool radius in use) of a
     compensated motion part: how far the machine moves the tool further out at rest
     (motion.pyx entry_point; none at the part's full speed)."""
@@ -119,7 +119,7 @@ cdef void _dynamic_correction(Entry *e, const Part *p, const GCODE_PARAMETERS *p
         return
     mm = params.dynamicG41Correction_mm if p.comp == 41 else params.dynamicG42Correction_mm
     percent = params.dynamicG41Correction_percent if p.comp == 41 else params.dynamicG42Correction_percent
-    radius = fabs(params.correction[p.comp_slot & 7].size)
+    radius = fabs(part_tool_radius(prog, params, p))
     e.dyn_extra = mm + percent * 0.01 * radius
     if not plane_axes(p.plane, &e.dyn_first, &e.dyn_second, &normal) or not (e.dyn_extra == e.dyn_extra):
         e.dyn_extra = 0.0
@@ -171,7 +171,7 @@ cdef bint _forward_entry(Feeder *f, Entry *e) noexcept nogil:
                 _class_ramps(e, cls)
             if not (e.vmax > 0.0):
                 e.vmax = 1.0 / 60.0
-            _dynamic_correction(e, p, f.params)
+            _dynamic_correction(e, prog, p, f.params)
         return True
     return False
 
@@ -211,7 +211,7 @@ cdef bint _backward_entry(Feeder *f, Entry *e) noexcept nogil:
         e.vmax = min(e.vmax, prog.plan[k].v_peak)
     e.exit_cap = min(plan_entry_speed(prog, k), e.vmax)
     _class_ramps(e, cls)
-    _dynamic_correction(e, &prog.parts[k], f.params)
+    _dynamic_correction(e, prog, &prog.parts[k], f.params)
     return True
 
 
