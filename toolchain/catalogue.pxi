@@ -113,6 +113,7 @@ cdef enum ErrorNumber:
     ERR_TOOL_TABLE_NO_KEYWORD = 720  # Tool table '%s' has no line $KOR
     ERR_TOOL_TABLE_LINE = 721        # Tool table '%s' line %d: %s
     ERR_TOOL_ENTRY = 722             # Tool correction D%g does not exist (D1..D99)
+    ERR_TOOL_WORD = 723              # Tool correction '%s' at column %d: %s
     ERR_AXIS_TABLE_HEADER = 730      # Axis correction table '%s', header: %s
     ERR_AXIS_TABLE_DEFINITION = 731  # Axis correction table '%s', definition of basis axis %s: %s
     ERR_AXIS_TABLE_SIZE = 732        # Axis correction table '%s' has %.0f bytes; its header and definition block ask for %.0f
@@ -221,6 +222,7 @@ cdef extern from *:
         case 720: return "Tool table '%s' has no line $KOR";
         case 721: return "Tool table '%s' line %d: %s";
         case 722: return "Tool correction D%g does not exist (D1..D99)";
+        case 723: return "Tool correction '%s' at column %d: %s";
         case 730: return "Axis correction table '%s', header: %s";
         case 731: return "Axis correction table '%s', definition of basis axis %s: %s";
         case 732: return "Axis correction table '%s' has %.0f bytes; its header and definition block ask for %.0f";

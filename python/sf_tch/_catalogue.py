@@ -138,6 +138,7 @@ class ErrorNumber(enum.IntEnum):
     TOOL_TABLE_NO_KEYWORD = 720  # Tool table '%s' has no line $KOR
     TOOL_TABLE_LINE = 721  # Tool table '%s' line %d: %s
     TOOL_ENTRY = 722  # Tool correction D%g does not exist (D1..D99)
+    TOOL_WORD = 723  # Tool correction '%s' at column %d: %s
     AXIS_TABLE_HEADER = 730  # Axis correction table '%s', header: %s
     AXIS_TABLE_DEFINITION = 731  # Axis correction table '%s', definition of basis axis %s: %s
     AXIS_TABLE_SIZE = 732  # Axis correction table '%s' has %.0f bytes; its header and definition block ask for %.0f
