@@ -12,6 +12,7 @@
 #   dialects.pyx     the TG hints for ISO G functions; how the ISO mode reads a line
 #   ngc_flow.pyx     ISO mode: O-word subroutines, branches and loops
 #   ngc_motion.pyx   ISO mode: work offsets, G28 / G30, G53, canned cycles
+#   tools.pyx        the tool table in programs: D, &, G92 D (ISO: G43 H, G49)
 #   block.pyx        one line's G and M functions by modal group (Block), run in one order
 #   compiler.pyx     the line loop: units, lines, the run to the end
 # Owns CState and its records; reads CompileInput and writes the Program through its
