@@ -21,6 +21,8 @@ cdef void program_free(Program *prog) noexcept nogil:
     free(prog.strategy_regions)
     free(prog.plan_regions)
     free(prog.plan)
+    free(prog.radii)
+    free(prog.tool_writes)
     program_init(prog)
 
 
@@ -240,6 +242,35 @@ cdef int program_add_rotation(ProgramBuilder *build, const double *centre, const
     memcpy(r + 3, matrix, 9 * sizeof(double))
     prog.n_rotations += 1
     return <int>prog.n_rotations - 1
+
+
+cdef int program_add_radius(ProgramBuilder *build, double radius) noexcept nogil:
+    """Index (>= 1) of a D word's signed radius (reusing the last one when equal); -1
+    out of memory. The compensation reads the radii beside the compiler: the array
+    moves only while it waits."""
+    cdef Program *prog = &build.prog
+    if prog.n_radii > 1 and prog.radii[prog.n_radii - 1] == radius:
+        return <int>prog.n_radii - 1
+    if prog.n_radii >= 65535:
+        return -1
+    if not program_grow_shared(build, <void **>&prog.radii, &build.cap_radii, prog.n_radii + 2, sizeof(double)):
+        return -1
+    if prog.n_radii == 0:
+        prog.radii[0] = 0.0                 # entry 0: correction[] of the part's slot
+        prog.n_radii = 1
+    prog.radii[prog.n_radii] = radius
+    prog.n_radii += 1
+    return <int>prog.n_radii - 1
+
+
+cdef bint program_add_tool_write(ProgramBuilder *build, const ToolWrite *write) noexcept nogil:
+    """Appends a G92 D of the program; False = no memory."""
+    cdef Program *prog = &build.prog
+    if not grow(<void **>&prog.tool_writes, &build.cap_tool_writes, prog.n_tool_writes + 1, sizeof(ToolWrite)):
+        return False
+    prog.tool_writes[prog.n_tool_writes] = write[0]
+    prog.n_tool_writes += 1
+    return True
 
 
 cdef int64_t program_add_text(ProgramBuilder *build, const char *text, size_t n) noexcept nogil:

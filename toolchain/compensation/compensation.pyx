@@ -511,11 +511,12 @@ cdef void _compatibility(Program *prog) noexcept nogil:
                 for b in range(k + 1, m):
                     prog.parts[b].comp = p.comp
                     prog.parts[b].comp_slot = p.comp_slot
+                    prog.parts[b].radius_idx = p.radius_idx
         k += 1
 
 
 cdef void _inserted_part(Part *q, const Part *p, const Part *src, const InsRec *rec,
-                         const GCODE_PARAMETERS *params) noexcept nogil:
+                         const Program *prog, const GCODE_PARAMETERS *params) noexcept nogil:
     """An inserted part after p (its programmed end is p's end), with the line, feed
     and compensation of src; an arc goes round its corner (rec.cc) with p's tool radius."""
     cdef int first, second, normal, a
@@ -535,7 +536,7 @@ cdef void _inserted_part(Part *q, const Part *p, const Part *src, const InsRec *
         # the remainder of a corner arc behind an earlier part
         q.cc[first] = rec.cc[0]; q.cc[second] = rec.cc[1]
     if rec.func != INS_G1:
-        q.radius = fabs(params.correction[p.comp_slot & 7].size)
+        q.radius = fabs(part_tool_radius(prog, params, p))
     q.gcode_index = p.gcode_index + 1
     q.feed = src.feed
     q.fp = src.fp
@@ -550,6 +551,7 @@ cdef void _inserted_part(Part *q, const Part *p, const Part *src, const InsRec *
     q.flags = FLAG_INSERTED | (src.flags & FLAG_FEED_PER_MIN)
     q.comp = src.comp
     q.comp_slot = src.comp_slot
+    q.radius_idx = src.radius_idx
 
 
 cdef inline size_t _next_follow(const CompState *S, size_t k, size_t n) noexcept nogil:
@@ -568,7 +570,7 @@ cdef size_t _ins_after(void *ctx, size_t rec) noexcept nogil:
 cdef void _ins_make(void *ctx, size_t rec, Part *out, const Part *before, const Part *after) noexcept nogil:
     cdef CompState *S = <CompState *>ctx
     cdef const InsRec *r = &S.ins[rec]
-    _inserted_part(out, before, after if r.src_next else before, r, S.params)
+    _inserted_part(out, before, after if r.src_next else before, r, S.prog, S.params)
 
 
 cdef void _settle(void *ctx, size_t first, size_t end, size_t rec) noexcept nogil:

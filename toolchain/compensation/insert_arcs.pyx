@@ -217,3 +217,4 @@ cdef void _ia_part(Part *q, const Part *prev, const Part *src, const ArcIns *x) 
     q.kind = PART_MOTION
     q.flags = FLAG_INSERTED | (src.flags & FLAG_FEED_PER_MIN)
     q.comp_slot = src.comp_slot
+    q.radius_idx = src.radius_idx

@@ -114,7 +114,7 @@ cdef void _entry_identity(Feeder *f, Entry *e, const Part *p, size_t part) noexc
     e.dyn_extra = 0.0
 
 
-cdef void _dynamic_correction(Entry *e, const Part *p, const GCODE_PARAMETERS *params) noexcept nogil:
+cdef void _dynamic_correction(Entry *e, const Program *prog, const Part *p, const GCODE_PARAMETERS *params) noexcept nogil:
     """dynamicG41/G42Correction_mm and _percent (of the tool radius in use) of a
     compensated motion part: how far the machine moves the tool further out at rest
     (motion.pyx entry_point; none at the part's full speed)."""
@@ -124,7 +124,7 @@ cdef void _dynamic_correction(Entry *e, const Part *p, const GCODE_PARAMETERS *p
         return
     mm = params.dynamicG41Correction_mm if p.comp == 41 else params.dynamicG42Correction_mm
     percent = params.dynamicG41Correction_percent if p.comp == 41 else params.dynamicG42Correction_percent
-    radius = fabs(params.correction[p.comp_slot & 7].size)
+    radius = fabs(part_tool_radius(prog, params, p))
     e.dyn_extra = mm + percent * 0.01 * radius
     if not plane_axes(p.plane, &e.dyn_first, &e.dyn_second, &normal) or not (e.dyn_extra == e.dyn_extra):
         e.dyn_extra = 0.0
@@ -192,7 +192,7 @@ cdef bint _forward_entry(Feeder *f, Entry *e) noexcept nogil:
             _entry_limits(e, placed_plan_part(&f.m.plan, k))
             if f.regime == RUN_FORWARD_NO_M:
                 _class_limits(e, &f.params.motion[4])
-            _dynamic_correction(e, p, f.params)
+            _dynamic_correction(e, prog, p, f.params)
         return True
     return False
 
@@ -221,7 +221,7 @@ cdef bint _backward_entry(Feeder *f, Entry *e) noexcept nogil:
     _entry_limits(e, placed_plan_part(&m.plan, k))
     e.jin = placed_plan_part(&m.plan, f.back_last).v_junction if f.next > 0 else 0.0
     _class_limits(e, &f.params.motion[2])
-    _dynamic_correction(e, &prog.parts[k], f.params)
+    _dynamic_correction(e, prog, &prog.parts[k], f.params)
     f.back_last = k
     f.next += 1
     return True

@@ -6,10 +6,11 @@
 #   axis_correction.pyx  the axis correction tables ACHS3D??.KOR: one axis corrected
 #                        from a grid over up to three basis axes
 # Owns ToolTable and AxisCorrections (the core holds one of each: core.pxd). Called
-# by the exports and LoadFromIni (loading, G92 D's write, correcting a position); the
-# compiler (D, &, G92 D) and the offline machine (the corrections of its output) call
-# them once they are wired in (docs/tool-table.md, docs/axis-correction.md,
-# "Integration status").
+# by the exports and LoadFromIni (loading, G92 D's write, correcting a position) and
+# the compiler (D, &, G92 D on its copy of the table, compiler/tools.pyx); the offline
+# machine (the corrections of its output) calls them once it is wired in
+# (docs/axis-correction.md, "Integration status"). Its face comes before program.pxd:
+# a CompileInput carries the core's ToolTable.
 
 # ------------------------------------------------------------------ tool_table.pyx
 
