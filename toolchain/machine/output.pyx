@@ -134,7 +134,4 @@ cdef void output_view(const Output *o, const Motion *mo, SIMPLE_GM_PARAMS *pos) 
         memcpy(&pos.m_calcS, o.smoothed, sizeof(P10DOUBLE))
     else:
         memcpy(&pos.m_calcS, mo.position, sizeof(P10DOUBLE))
-    if o.tables != NULL:
-        axis_correction_apply(o.tables, <const double *>&pos.m_calcS, <double *>&pos.m_calcE)
-    else:
-        pos.m_calcE = pos.m_calcS
+    axis_correction_apply(o.tables, <const double *>&pos.m_calcS, <double *>&pos.m_calcE)
