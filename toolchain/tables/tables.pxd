@@ -7,10 +7,9 @@
 #                        from a grid over up to three basis axes
 # Owns ToolTable and AxisCorrections (the core holds one of each: core.pxd). Called
 # by the exports and LoadFromIni (loading, G92 D's write, correcting a position) and
-# the compiler (D, &, G92 D on its copy of the table, compiler/tools.pyx); the offline
-# machine (the corrections of its output) calls them once it is wired in
-# (docs/axis-correction.md, "Integration status"). Its face comes before program.pxd:
-# a CompileInput carries the core's ToolTable.
+# the compiler (D, &, G92 D on its copy of the table, compiler/tools.pyx) and the offline
+# machine (the corrections of its output: machine/output.pyx). Its face comes before
+# program.pxd: a CompileInput carries the core's ToolTable.
 
 # ------------------------------------------------------------------ tool_table.pyx
 
@@ -35,7 +34,7 @@ cdef enum:
     AXIS_TABLE_HEADER = 128     # bytes of a file's header
 
 # One table: the corrected axis gets the correction interpolated from a regular grid
-# over its basis axes at their current (commanded) positions.
+# over its basis axes at their current positions (uncorrected: the machine's filtered output).
 ctypedef struct AxisTable:
     int32_t axis                # the corrected axis, 0..9 (x y z c b u v w a o)
     int32_t n_bases             # 1..3
