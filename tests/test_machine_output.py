@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 
 from sf_tch import abi, default_ini
+from test_smoothing import step_response     # the closed form of H(s), the filter's oracle
 
 CORE = 0
 KEY = abi.TC_TEST_CLOCK_KEY
@@ -189,23 +190,6 @@ def test_the_corrections_read_the_filtered_basis_axes(machine, tmp_path):
 
 
 # ------------------------------------------------------------------ the IIR filter
-
-def step_response(p, q, f, t):
-    """The unit step response of H(s) = q / ((s/w)^2 + p (s/w) + q), w = 2 pi / f, and
-    its derivative (the textbook forms in wn = sqrt(q) w, z = p / (2 sqrt(q)))."""
-    wn = math.sqrt(q) * 2 * math.pi / f
-    z = p / (2 * math.sqrt(q))
-    if abs(z - 1) < 1e-12:
-        return 1 - (1 + wn * t) * np.exp(-wn * t), wn * wn * t * np.exp(-wn * t)
-    if z < 1:
-        wd = wn * math.sqrt(1 - z * z)
-        decay = np.exp(-z * wn * t)
-        y = 1 - decay * (np.cos(wd * t) + z / math.sqrt(1 - z * z) * np.sin(wd * t))
-        return y, decay * wn / math.sqrt(1 - z * z) * np.sin(wd * t)
-    r1, r2 = -wn * (z - math.sqrt(z * z - 1)), -wn * (z + math.sqrt(z * z - 1))
-    y = 1 - (r2 * np.exp(r1 * t) - r1 * np.exp(r2 * t)) / (r2 - r1)
-    return y, -r1 * r2 * (np.exp(r1 * t) - np.exp(r2 * t)) / (r2 - r1)
-
 
 def filtered(u, start, p, q, f):
     """The continuous filter's output and speed after each step, its input held at
