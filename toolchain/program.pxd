@@ -274,3 +274,6 @@ cdef inline double part_tool_radius(const Program *prog, const GCODE_PARAMETERS 
 
 cdef void part_calc_start(const Program *prog, size_t i, double *out) noexcept nogil
 cdef void part_to_gm(const Program *prog, size_t i, SIMPLE_GM_PARAMS *gm) noexcept nogil
+# a part a stage inserts after `after` (starting at its end, its programmed end there),
+# with the line, feed, tool and compensation of `src`; the caller sets its geometry
+cdef void part_inserted(Part *q, const Part *after, const Part *src, int32_t func, int16_t plane) noexcept nogil

@@ -313,6 +313,32 @@ cdef inline void part_start(const Program *prog, size_t i, double *out) noexcept
         memcpy(out, prog.start, AXES * sizeof(double))
 
 
+cdef void part_inserted(Part *q, const Part *after, const Part *src, int32_t func, int16_t plane) noexcept nogil:
+    """A motion part inserted after `after`: it starts where `after` ends (compensated),
+    its programmed end is `after`'s (an inserted part adds no programmed move), and it
+    belongs to src's line with src's feed, tool and compensation."""
+    memset(q, 0, sizeof(Part))
+    memcpy(q.e, after.e, sizeof(q.e))
+    memcpy(q.ce, after.ce, sizeof(q.ce))
+    q.axes_idx = after.axes_idx
+    q.rot_idx = after.rot_idx       # under the G168 rotation of its corner
+    q.gcode_index = after.gcode_index + 1
+    q.func = func
+    q.plane = plane
+    q.kind = PART_MOTION
+    q.flags = FLAG_INSERTED | (src.flags & FLAG_FEED_PER_MIN)
+    q.feed = src.feed
+    q.fp = src.fp
+    q.spindle = src.spindle
+    q.line = src.line
+    q.zero_idx = src.zero_idx
+    q.tool = src.tool
+    q.file_idx = src.file_idx
+    q.comp = src.comp
+    q.comp_slot = src.comp_slot
+    q.radius_idx = src.radius_idx
+
+
 cdef void part_calc_start(const Program *prog, size_t i, double *out) noexcept nogil:
     """Compensated start of part i (all ten axes)."""
     cdef const Part *prev

@@ -519,16 +519,11 @@ cdef void _inserted_part(Part *q, const Part *p, const Part *src, const InsRec *
                          const Program *prog, const GCODE_PARAMETERS *params) noexcept nogil:
     """An inserted part after p (its programmed end is p's end), with the line, feed
     and compensation of src; an arc goes round its corner (rec.cc) with p's tool radius."""
-    cdef int first, second, normal, a
-    memset(q, 0, sizeof(Part))
+    cdef int first, second, normal
+    part_inserted(q, p, src, rec.func, src.plane)
     plane_axes(p.plane, &first, &second, &normal)
-    memcpy(q.e, p.e, sizeof(q.e))
-    q.axes_idx = p.axes_idx
-    q.rot_idx = p.rot_idx           # under the G168 rotation of its corner
-    for a in range(3):
-        q.ce[a] = p.ce[a]
-        q.cc[a] = p.e[a]
     q.ce[first] = rec.end[0]; q.ce[second] = rec.end[1]
+    memcpy(q.cc, p.e, sizeof(q.cc))
     if rec.no_centre:
         q.cc[first] = 0.0; q.cc[second] = 0.0
     else:
@@ -537,21 +532,6 @@ cdef void _inserted_part(Part *q, const Part *p, const Part *src, const InsRec *
         q.cc[first] = rec.cc[0]; q.cc[second] = rec.cc[1]
     if rec.func != INS_G1:
         q.radius = fabs(part_tool_radius(prog, params, p))
-    q.gcode_index = p.gcode_index + 1
-    q.feed = src.feed
-    q.fp = src.fp
-    q.spindle = src.spindle
-    q.func = rec.func
-    q.line = src.line
-    q.zero_idx = src.zero_idx
-    q.tool = src.tool
-    q.file_idx = src.file_idx
-    q.plane = src.plane
-    q.kind = PART_MOTION
-    q.flags = FLAG_INSERTED | (src.flags & FLAG_FEED_PER_MIN)
-    q.comp = src.comp
-    q.comp_slot = src.comp_slot
-    q.radius_idx = src.radius_idx
 
 
 cdef inline size_t _next_follow(const CompState *S, size_t k, size_t n) noexcept nogil:
