@@ -188,8 +188,9 @@ enum connect_type {
 
 /* GCODE_PARAMETERS.rezerva1 bits (beyond the vendor's list; 0 = the vendor's behaviour).
    ISO_COMPAT: the compiler reads ISO/LinuxCNC constructs of CAM programs (G20/G21 units,
-   G4 P seconds, G18 as ZX, G43 H tool length ignored, G64/G61/G80/G49 ignored, P words of
-   M functions ignored, O program numbers), with a warning where it ignores something. */
+   G4 P seconds, G18 as ZX, G43 H / G49 tool lengths from the tool table, G64/G61 ignored,
+   P words of M functions ignored, O program numbers), with a warning where it ignores
+   something. */
 #define GCODE_REZERVA1_ISO_COMPAT 0x00000001u
 /* COMP_STRICT: tool radius compensation refuses (error 504) a tool path that crosses
    itself or cuts into the contour where it cannot remove that part (strategy 0x80000);
@@ -815,9 +816,10 @@ TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChain_SetLogHook(intptr_t userData,
  * smoothing of the machine's output (docs/smoothing.md). Each is also an INI key of
  * ToolChainCore_LoadFromIni ([Corrections], [Smoothing]). Any status, any thread (also
  * inside a callback): a file is read without the core's lock, and what was in memory
- * changes only when all of it is good. The compiler (D, &, G92 D) and the offline
- * machine (corrections and smoothing of its output) do not use them yet: each page's
- * "Integration status" says what applies now.
+ *  * changes only when all of it is good. Programs use the tool table (D, &, G92 D: a
+ * compilation works on a copy taken when it starts; docs/tool-table.md, "In programs");
+ * the offline machine does not apply the axis corrections and the smoothing to its
+ * output yet: those pages' "Integration status" says what applies now.
  */
 
 /* Entries of the tool correction table: D1..D99. */

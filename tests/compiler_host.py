@@ -29,6 +29,7 @@ class Part:
     comp: int
     fp: float
     zero: tuple
+    ce: tuple                  # the compensated end (m_calcE): the tool centre's path
 
     @property
     def feed(self):
@@ -89,7 +90,7 @@ def _part(kind, gm):
     return Part(kind, gm.m_func, p10(gm.m_s), p10(gm.m_e), p10(gm.m_cc)[:4], pars,
                 ctypes.c_int16(gm.m_planeTool & 0xFFFF).value, gm.m_planeTool >> 16, gm.m_editorLine,
                 gm.m_fileIdx, gm.m_gCodeIndex, gm.m_bFeedIsMin & 0xFFFF, gm.m_bFeedIsMin >> 16, gm.m_fp,
-                p10(gm.m_zero))
+                p10(gm.m_zero), p10(gm.m_calcE))
 
 
 class Host:

@@ -186,7 +186,9 @@ def check_program(ph, rng):
                 ts = np.linspace(t0_, t1_, 64)
                 vs = [speed(t) for t in ts]
                 slopes = np.abs(np.diff(vs)) / np.diff(ts)
-                assert slopes.max() <= a * (1 + 1e-6)
+                # a short ramp's differences are near the speeds' last bits: their rounding allowed
+                rounding = 4 * np.finfo(float).eps * max(map(abs, vs)) / np.diff(ts).min()
+                assert slopes.max() <= a * (1 + 1e-6) + rounding
         prev_motion = (limit, tangent(kind, g, 1.0))
         prev_out = v_out
     assert prev_out == 0.0                                      # the end of the program

@@ -1,7 +1,9 @@
 """The tool correction table (docs/tool-table.md): the vendor's example TAB0.KOR read
 exactly, every malformed field refused with its line and the table kept, any bytes read
 safely, numbers independent of the locale, G92 D's write (the example of entry 12),
-the INI key."""
+the INI key; in programs: D (radii against shapely's offsets), & (exact lengths), G92 D
+(the example of entry 12 again), bad entries, a table change between compile and run,
+the ISO mode's G41 D / G43 H / G49."""
 import ctypes
 import random
 from ctypes import byref
@@ -302,3 +304,236 @@ def test_an_ini_whose_table_is_bad_applies_nothing(fresh_core, tmp_path):
         ini.write_text(f"[Corrections]\nToolTable={value}\n")
         assert fresh_core.ToolChainCore_LoadFromIni(0, str(ini).encode(), None) == abi.TOOL_CHAIN_XEXEC
         assert why in call_error(fresh_core)[2]
+
+
+# ------------------------------------------------------------------ in programs: D, &, G92 D
+#
+# The compilation works on a copy of the core's table taken when it starts; D selects the
+# radius of G41 / G42, & the lengths of axes 1..4 (x y z c), G92 D writes the copy and, once
+# the program compiled, the core's table. Expected values are closed forms (the inner offset
+# of a rectangle, programmed position + length) and shapely's offsets.
+
+from shapely.geometry import LineString, Point, Polygon  # noqa: E402
+
+from compiler_host import Host  # noqa: E402
+
+ERR_MISSING_VALUE, ERR_TOOL_WORD = 102, 723
+RECT = Polygon([(0, 0), (100, 0), (100, 60), (0, 60)])
+
+
+def rectangle(select, comp="G41"):
+    """The rectangle RECT counter-clockwise from the middle of its bottom edge, led in from
+    its centre: G41 keeps the tool inside, G42 outside."""
+    return (f"G0 X50 Y30\n{select} {comp} G1 X50 Y0 F1000\nG1 X100 Y0\nG1 X100 Y60\nG1 X0 Y60\n"
+            "G1 X0 Y0\nG1 X50 Y0\nG40 G1 X50 Y30\nM30\n")
+
+
+@pytest.fixture
+def host(fresh_core, tmp_path):
+    """Core 0 through the ctypes test host; fresh_core gives the table back all zero."""
+    h = Host(0, tmp_path)
+    yield h
+
+
+def compile_ok(host, code, **kw):
+    r = host.compile(code, **kw)
+    assert r.error is None, r.error
+    return r
+
+
+def tool_run(parts):
+    """(x, y) of the tool centre's path through the compensated parts, from the start of
+    the first one."""
+    g = [p for p in parts if p.kind == "G"]
+    first = next(i for i, p in enumerate(g) if p.comp != 40)
+    last = max(i for i, p in enumerate(g) if p.comp != 40)
+    return [g[first - 1].ce[:2]] + [p.ce[:2] for p in g[first:last + 1]]
+
+
+@pytest.mark.parametrize("entry, radius", [(1, 0.0), (2, 0.8), (3, 0.8), (25, 0.0), (95, 0.0)])
+def test_d_selects_the_radius_of_the_vendor_examples_entries(host, tmp_path, entry, radius):
+    """The manual's example table (entry 01 is zeroed by its second $KOR block): D n G41
+    inside the rectangle follows the inner offset at entry n's radius (not the 5 mm of
+    correction[0]) — shapely's mitred buffer, corner by corner."""
+    assert load(host.lib, write(tmp_path, VENDOR_EXAMPLE)) == 0
+    params = host.params()
+    params.correction[0].size = 5.0             # the default without D: not what D n gives
+    run = tool_run(compile_ok(host, rectangle(f"D{entry}"), params=params).parts)
+    inner = RECT.buffer(-radius, join_style=2) if radius > 0 else RECT
+    corners = {(round(x, 9), round(y, 9)) for x, y in inner.exterior.coords}
+    assert run[1] == pytest.approx((50.0, radius), abs=1e-9)           # on the perpendicular of the first edge
+    for x, y in run[2:6]:
+        assert (round(x, 9), round(y, 9)) in corners
+    path = LineString(run[1:])
+    assert path.hausdorff_distance(inner.exterior) < 1e-9
+
+
+def test_a_negative_radius_swaps_the_side(host, tmp_path):
+    """Entry 8 (R=-3) under G41 runs exactly as entry 9 (R=3) under G42: outside the
+    rectangle, every corner of the path 3 mm from it."""
+    assert load(host.lib, write(tmp_path, "$KOR\n08: R=-3\n09: R=3\n")) == 0
+    left = compile_ok(host, rectangle("D8", "G41")).parts
+    right = compile_ok(host, rectangle("D9", "G42")).parts
+    assert [(p.func, p.comp, p.ce) for p in left] == [(p.func, p.comp, p.ce) for p in right]
+    run = tool_run(left)
+    assert {p.comp for p in left if p.comp != 40} == {42}
+    for point in run[1:-1]:
+        assert RECT.exterior.distance(Point(point)) == pytest.approx(3.0, abs=1e-9)
+        assert not RECT.contains(Point(point))
+
+
+def test_without_d_the_correction_parameters_stay_the_default_and_d0_is_no_radius(host, tmp_path):
+    assert load(host.lib, write(tmp_path, "$KOR\n05: R=7\n")) == 0
+    params = host.params()
+    params.correction[0].size = 2.0
+    assert tool_run(compile_ok(host, rectangle(""), params=params).parts)[2] == pytest.approx((98, 2), abs=1e-9)
+    assert tool_run(compile_ok(host, rectangle("D5"), params=params).parts)[2] == pytest.approx((93, 7), abs=1e-9)
+    assert tool_run(compile_ok(host, rectangle("D0"), params=params).parts)[2] == pytest.approx((100, 0), abs=1e-9)
+    # D is modal: a D on an earlier line holds; G43 .. G48 keep their correction[] slots
+    params.correction[2].size = 4.0
+    code = "D5\n" + rectangle("").replace("G41", "G43")
+    assert tool_run(compile_ok(host, code, params=params).parts)[2] == pytest.approx((96, 4), abs=1e-9)
+    code = "D5\n" + rectangle("")
+    assert tool_run(compile_ok(host, code, params=params).parts)[2] == pytest.approx((93, 7), abs=1e-9)
+
+
+def test_a_d_the_line_s_function_takes_selects_nothing(host, tmp_path):
+    """M6's D is the tool's diameter, G172's D drops small arcs, G92's D names the entry it
+    writes: none of them is a selection (and none is checked as an entry)."""
+    assert load(host.lib, write(tmp_path, "$KOR\n05: R=7\n")) == 0
+    params = host.params()
+    params.correction[0].size = 2.0
+    for line in ("M6 T1 D150", "G172 D1", "G92 D5"):
+        run = tool_run(compile_ok(host, line + "\n" + rectangle(""), params=params).parts)
+        assert run[2] == pytest.approx((98, 2), abs=1e-9), line
+
+
+LENGTHS = "$KOR\n01: R=10.0 X=20.0 Y=30.0 Z=40.0\n40: X=1.5 Y=-2.25 Z=3.125 4=7.5\n95: R=0.0 1=12.55 2=0.0 3=0.0 4=0.0\n"
+
+
+def test_ampersand_adds_the_lengths_of_axes_1_to_4(host, tmp_path):
+    """& n adds entry n's lengths to x y z c of every programmed position from the next
+    move on (the line's own move included); the machine does not move when & changes,
+    relative moves go on from where it stands, &0 cancels; b stays as programmed."""
+    assert load(host.lib, write(tmp_path, LENGTHS)) == 0
+    code = ("G0 X0 Y0 Z0 C0 B0\n&40\nG1 X10 Y20 Z30 C40 B50 F1000\nG91 G1 X1\nG90\n"
+            "&95\nG1 X10\nG1 Y20 Z30 C40\n&1 G1 X0 Y0\n&0\nG1 Z5\n")
+    g = [p.e[:5] for p in compile_ok(host, code).g]
+    assert g == [pytest.approx(e, abs=1e-12) for e in [
+        (0, 0, 0, 0, 0),
+        (11.5, 17.75, 33.125, 47.5, 50),       # + (1.5, -2.25, 3.125, 7.5)
+        (12.5, 17.75, 33.125, 47.5, 50),       # G91: one more in x
+        (22.55, 17.75, 33.125, 47.5, 50),      # &95: x + 12.55; y z c not named stay
+        (22.55, 20, 30, 40, 50),               # &95's y z c lengths are 0
+        (20, 30, 30, 40, 50),                  # &1: x y + (20, 30) on the same line's move, z stays
+        (20, 30, 5, 40, 50),                   # &0: programmed positions again
+    ]]
+
+
+def test_ampersand_moves_the_extent_and_the_zero_offset_parts_carry(host, tmp_path):
+    """The parts (machine coordinates) and the program's extent carry the corrected
+    positions; a part's m_zero includes the lengths, so m_e - m_zero is the position as
+    written."""
+    assert load(host.lib, write(tmp_path, LENGTHS)) == 0
+    r = compile_ok(host, "G54 X100\n&1\nG0 X0 Y0 Z0\nG1 X10 Y5 Z-2 F1000\n")
+    last = r.g[-1]
+    assert last.e[:3] == pytest.approx((130, 35, 38), abs=1e-12)
+    assert last.zero[:4] == pytest.approx((120, 30, 40, 0), abs=1e-12)
+    assert [e - z for e, z in zip(last.e[:3], last.zero[:3])] == pytest.approx([10, 5, -2], abs=1e-12)
+    info = abi.GCODE_INFO()
+    assert host.lib.ToolChainCore_GetGCodeSizeInfo(0, byref(info)) == 0
+    size = info.m_size[0]
+    assert (size.m_maximalPos.x, size.m_maximalPos.y, size.m_maximalPos.z) == pytest.approx((130, 35, 40))
+    assert (size.m_minimalPos.x, size.m_minimalPos.y, size.m_minimalPos.z) == pytest.approx((0, 0, 0))
+
+
+def test_g92_d_in_a_program_writes_its_values_from_the_next_line_and_into_the_core(host, tmp_path):
+    """The manual's example N10 G92 D12 R0=10.0 R2=25.5 R3=-5.0 in a program: the active
+    &12 takes the new lengths from the next line; once compiled, the core's entry 12 has
+    the programmed values and keeps R1 and R4; the file is never written."""
+    path = write(tmp_path, "$KOR\n12: R=1 X=2 Y=3 Z=4 4=5\n")
+    content = path.read_bytes()
+    assert load(host.lib, path) == 0
+    code = ("G0 X0 Y0 Z0 C0\n&12\nG1 X1 Y1 Z1 C1 F1000\nN10 G92 D12 R0=10.0 R2=25.5 R3=-5.0\n"
+            "G1 X1 Y1 Z1 C1\n")
+    r = host.compile(code, run=False)
+    assert r.error is None, r.error
+    assert table(host.lib)[12] == (10.0, 2.0, 25.5, -5.0, 5.0)
+    assert path.read_bytes() == content
+    g = [p.e[:4] for p in host.run().g]
+    assert g[1:] == [pytest.approx((3, 4, 5, 6)), pytest.approx((3, 26.5, -4, 6))]
+
+
+def test_g92_d_changes_the_radius_of_the_next_contour(host, tmp_path):
+    assert load(host.lib, write(tmp_path, "$KOR\n12: R=1\n")) == 0
+    code = rectangle("D12").replace("M30\n", "") + "G92 D12 R0=5\n" + rectangle("")
+    g = compile_ok(host, code).g
+    second = next(i for i, p in enumerate(g) if p.line == 10)       # the second contour's G0
+    first_run = {(round(p.ce[0], 9), round(p.ce[1], 9)) for p in g[:second] if p.comp != 40}
+    second_run = {(round(p.ce[0], 9), round(p.ce[1], 9)) for p in g[second:] if p.comp != 40}
+    assert {(99, 1), (99, 59), (1, 59), (1, 1)} <= first_run        # the first contour: 1 mm
+    assert {(95, 5), (95, 55), (5, 55), (5, 5)} <= second_run       # the second: 5 mm
+
+
+def test_a_program_that_fails_writes_nothing_into_the_core(host, tmp_path):
+    assert load(host.lib, write(tmp_path, "$KOR\n12: R=1\n")) == 0
+    r = host.compile("G92 D12 R0=3\nG1 X1/0\n")
+    assert r.error is not None and r.error[0] == 200
+    assert table(host.lib)[12] == (1, 0, 0, 0, 0)
+
+
+def test_a_table_change_between_compile_and_run(host, tmp_path):
+    """A compiled program keeps the table it was compiled with: the run follows the
+    radius of the compilation, the core's table keeps the host's change (the run writes
+    nothing), the next compilation takes it."""
+    assert load(host.lib, write(tmp_path, "$KOR\n05: R=5\n")) == 0
+    code = rectangle("D5").replace("M30\n", "") + "G92 D12 R0=10\n"
+    assert host.compile(code, run=False).error is None
+    assert table(host.lib)[12][0] == 10.0
+    assert set_correction(host.lib, 5, 1, (2.0, 0, 0, 0, 0)) == 0
+    assert set_correction(host.lib, 12, 1, (3.0, 0, 0, 0, 0)) == 0
+    assert tool_run(host.run().parts)[2] == pytest.approx((95, 5), abs=1e-9)
+    assert table(host.lib)[5][0] == 2.0 and table(host.lib)[12][0] == 3.0
+    assert tool_run(compile_ok(host, code).parts)[2] == pytest.approx((98, 2), abs=1e-9)
+
+
+@pytest.mark.parametrize("code, number, column, text", [
+    ("D100 G41 G1 X1 F100", ERR_TOOL_WORD, 1, "'D100' at column 1: the table has the entries 1..99 (0: none)"),
+    ("G1 X1 F100 D-1", ERR_TOOL_WORD, 12, "'D-1'"),
+    ("G1 X1 F100 D1.5", ERR_TOOL_WORD, 12, "'D1.5'"),
+    ("&100", ERR_TOOL_WORD, 1, "'&100'"),
+    ("G1 X1 F100 & -1", ERR_TOOL_WORD, 12, "'&'"),
+    ("&", ERR_MISSING_VALUE, 1, "Address & at column 1 without a value"),
+    ("G92 D0 R0=1", ERR_TOOL_WORD, 5, "'D0' at column 5: G92 D writes the entries 1..99"),
+    ("G92 D100 R0=1", ERR_TOOL_WORD, 5, "'D100'"),
+    ("G92 D1 R5=1", ERR_TOOL_WORD, 8, "'R5' at column 8: G92 D writes R0 (the radius) .. R4"),
+    ("G92 D1 R12=1", ERR_TOOL_WORD, 8, "'R12'"),
+    ("G1 X1 F100 R0=1", ERR_TOOL_WORD, 12, "'R0=1' at column 12: R0= .. R4= write the tool table on a line with G92 D"),
+    ("G92 R0=1", ERR_TOOL_WORD, 5, "G92 D n names the entry"),
+    ("G92 D1 R0=", ERR_MISSING_VALUE, 8, "Address R0 at column 8 without a value"),
+    ("G92 D1 R0=2000000", ERR_OUT_OF_RANGE, None, "D1 R0 = 2e+06 is outside"),
+])
+def test_bad_entries_and_values_are_errors_with_their_column(host, code, number, column, text):
+    r = host.compile("G0 X0\n" + code + "\n")
+    assert r.error is not None
+    got_number, line, _, message, _ = r.error
+    assert (got_number, line) == (number, 2), r.error
+    assert text in message
+    if column is not None:
+        assert f"at column {column}" in message
+
+
+def test_iso_mode_g41_d_and_g43_h_use_the_table(host, tmp_path):
+    """ISO mode: G41 D n takes entry n's radius (D0: LinuxCNC's tool 0, nothing to
+    compensate); G43 H n is & n (LinuxCNC applies every offset of tool n's row: here the
+    lengths of x y z c), G43 without H takes the tool T, G49 cancels."""
+    assert load(host.lib, write(tmp_path, "$KOR\n02: R=2.5\n07: Z=12.5\n08: X=1 Z=-3\n")) == 0
+    rezerva1 = host.defaults.rezerva1 | abi.GCODE_REZERVA1_ISO_COMPAT
+    run = tool_run(compile_ok(host, rectangle("D2"), rezerva1=rezerva1).parts)
+    assert run[2] == pytest.approx((97.5, 2.5), abs=1e-9)
+    assert {p.comp for p in compile_ok(host, rectangle("D0"), rezerva1=rezerva1).g} == {40}
+    code = "G0 X0 Y0 Z0\nG43 H7\nG1 X1 Y2 Z3 F100\nT8 M6\nG43\nG1 Z3\nG49\nG1 Z3\n"
+    g = [p.e[:3] for p in compile_ok(host, code, rezerva1=rezerva1).g]
+    assert g == [pytest.approx(e) for e in [(0, 0, 0), (1, 2, 15.5), (1, 2, 0), (1, 2, 3)]]
+    r = host.compile("G43 H100\n", rezerva1=rezerva1)
+    assert r.error[0] == ERR_TOOL_WORD and "'H100' at column 5" in r.error[3]

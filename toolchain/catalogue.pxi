@@ -92,7 +92,7 @@ cdef enum ErrorNumber:
     # Warnings (600..699)
     WARN_COMP = 600                  # Tool radius compensation: %s
     WARN_COMP_GOUGE = 601            # Equidistant error on line %d: the tool cuts %g mm into the contour
-    WARN_G43_H = 610                 # G43 with H at column %d: TG's G43 switches on tool radius compensation with correction[2], it is no tool length offset (isoCompat: ignored)
+    WARN_G43_H = 610                 # G43 with H at column %d: TG's G43 switches on tool radius compensation with correction[2], it is no tool length offset (TG: & n; isoCompat: G43 H n is & n)
     WARN_O_AT_START = 611            # O%g at column %d at the start of the program moves the O axis; a program number? (isoCompat: ignored)
     WARN_G18_ARC = 612               # G18 arc at column %d after an ISO header (G21 / G90): TG's G18 is the XZ plane with arcs turning the other way than ISO's ZX plane, which is TG's G-18 (isoCompat: G18 is read as G-18)
     WARN_ZERO_WITH_MOVE = 613        # G%g at column %d with axis words sets the zero offset to them; the axes do not move (isoCompat: G54..G59 keep the offset and the line moves)
@@ -113,6 +113,7 @@ cdef enum ErrorNumber:
     ERR_TOOL_TABLE_NO_KEYWORD = 720  # Tool table '%s' has no line $KOR
     ERR_TOOL_TABLE_LINE = 721        # Tool table '%s' line %d: %s
     ERR_TOOL_ENTRY = 722             # Tool correction D%g does not exist (D1..D99)
+    ERR_TOOL_WORD = 723              # Tool correction '%s' at column %d: %s
     ERR_AXIS_TABLE_HEADER = 730      # Axis correction table '%s', header: %s
     ERR_AXIS_TABLE_DEFINITION = 731  # Axis correction table '%s', definition of basis axis %s: %s
     ERR_AXIS_TABLE_SIZE = 732        # Axis correction table '%s' has %.0f bytes; its header and definition block ask for %.0f
@@ -202,7 +203,7 @@ cdef extern from *:
         case 505: return "More than %d blocks without motion in the compensation plane";
         case 600: return "Tool radius compensation: %s";
         case 601: return "Equidistant error on line %d: the tool cuts %g mm into the contour";
-        case 610: return "G43 with H at column %d: TG's G43 switches on tool radius compensation with correction[2], it is no tool length offset (isoCompat: ignored)";
+        case 610: return "G43 with H at column %d: TG's G43 switches on tool radius compensation with correction[2], it is no tool length offset (TG: & n; isoCompat: G43 H n is & n)";
         case 611: return "O%g at column %d at the start of the program moves the O axis; a program number? (isoCompat: ignored)";
         case 612: return "G18 arc at column %d after an ISO header (G21 / G90): TG's G18 is the XZ plane with arcs turning the other way than ISO's ZX plane, which is TG's G-18 (isoCompat: G18 is read as G-18)";
         case 613: return "G%g at column %d with axis words sets the zero offset to them; the axes do not move (isoCompat: G54..G59 keep the offset and the line moves)";
@@ -221,6 +222,7 @@ cdef extern from *:
         case 720: return "Tool table '%s' has no line $KOR";
         case 721: return "Tool table '%s' line %d: %s";
         case 722: return "Tool correction D%g does not exist (D1..D99)";
+        case 723: return "Tool correction '%s' at column %d: %s";
         case 730: return "Axis correction table '%s', header: %s";
         case 731: return "Axis correction table '%s', definition of basis axis %s: %s";
         case 732: return "Axis correction table '%s' has %.0f bytes; its header and definition block ask for %.0f";

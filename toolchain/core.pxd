@@ -101,8 +101,9 @@ ctypedef struct Core:
     bint ini_loaded
     char driver[256]
     int64_t plan_window         # look-ahead of the feed planner in parts (SetLookAhead, INI lookAheadParts)
-    # the machine builder's tables and smoothing (any status; a run or compilation takes a copy
-    # or a reference at its start once they are wired in: docs/tool-table.md, "Integration status")
+    # the machine builder's tables and smoothing (any status; the offline machine takes a copy
+    # and a reference as an activity begins, machine/output.pyx; the compiler the tool table
+    # once it is wired in: docs/tool-table.md, "Integration status")
     ToolTable tool_table        # LoadToolTable, SetToolCorrection, INI [Corrections] ToolTable
     AxisCorrections *axis_corrections   # LoadAxisCorrections, INI AxisTable1..8; NULL none (tables.pxd: references)
     SmoothingConfig smoothing   # SetSmoothing, INI [Smoothing]

@@ -158,6 +158,7 @@ cdef int _compile_job(Core *core, CompileJob *job, ProgramBuilder *build, GCODE_
     if core.has_user_params:
         memcpy(inp.user_params, core.user_params, sizeof(inp.user_params))
     memcpy(inp.start, core.position, sizeof(inp.start))
+    inp.tools = core.tool_table
     inp.plan_window = core.plan_window
     machine_bits = <uint32_t>core.machine.enhancedInterpolatorParameters
     pthread_mutex_unlock(&core.lock)
@@ -192,6 +193,16 @@ cdef int _compile_job(Core *core, CompileJob *job, ProgramBuilder *build, GCODE_
     return result
 
 
+cdef void _apply_tool_writes(Core *core, const Program *prog) noexcept nogil:
+    """With core.lock held: the program's G92 D writes into the core's tool table, in
+    the order written, once it compiled (the compiler checked every value)."""
+    cdef ErrorInfo unused
+    cdef size_t k
+    for k in range(prog.n_tool_writes):
+        tool_table_set(&core.tool_table, prog.tool_writes[k].entry, prog.tool_writes[k].programmed,
+                       prog.tool_writes[k].values, &unused)
+
+
 cdef void *compile_body(void *arg) noexcept nogil:
     """The worker of a compilation: compiles, compensates and plans the CompileJob's
     program, then publishes it (or its error)."""
@@ -224,6 +235,7 @@ cdef void *compile_body(void *arg) noexcept nogil:
     core.program = loaded
     if loaded != NULL:
         core.size_info = loaded.extent
+        _apply_tool_writes(core, &loaded.prog)
     else:
         memset(&core.size_info, 0, sizeof(GCODE_INFO))
     kept = core_swap_error_locked(core, False, kept)

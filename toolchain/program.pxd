@@ -52,6 +52,7 @@ ctypedef struct Part:
     uint8_t flags           # PartFlags
     uint8_t comp            # 40 41 42 (side after the sign of the radius), see m_bFeedIsMin
     uint8_t comp_slot       # 0..7: index of correction[] used (G41 -> 0, G42 -> 1, G43 -> 2, ...)
+    uint16_t radius_idx     # 0: the radius is correction[comp_slot]'s; else Program.radii[radius_idx] (a D word's)
 
 # G167 automatic arcs from the program: the settings in force from part `first` on
 # (index among the programmed parts, i.e. not counting inserted ones).
@@ -68,6 +69,13 @@ ctypedef struct StrategyRegion:   # G172 / G173: the compensation strategy from 
     double corner_distance  # R: outer corners take the offsets' intersection when it lies this close (mm)
     double depth            # C: search depth in parts (0 = the host's)
     bint drop_arcs          # D1: drop arcs whose offset radius becomes negative (D0 keeps the host's bit)
+
+# G92 D from the program: the values `programmed` (bit k: values[k], G92 D's Rk) of
+# tool table entry `entry`, in the order the program wrote them (docs/tool-table.md).
+ctypedef struct ToolWrite:
+    int32_t entry           # 1..99
+    uint32_t programmed
+    double values[TOOL_VALUES]
 
 # Planning settings the program changes (G900, M-5), from programmed part `first` on
 # (not counting inserted parts); before the first region the host's GCODE_PARAMETERS hold.
@@ -138,6 +146,10 @@ ctypedef struct Program:
     size_t n_plan_regions
     PartPlan *plan          # one per part once planned (planner/plan_program), else NULL
     PlanSettings planned_with
+    double *radii           # signed tool radii of D words (Part.radius_idx); entry 0 unused
+    size_t n_radii
+    ToolWrite *tool_writes  # the program's G92 D, for the core's table once compiled
+    size_t n_tool_writes
 
 # A Program while it is being compiled: the stages that add to its arrays (the
 # compiler, the compensation's merge, insert_arcs, the planner's insertions) grow them
@@ -149,7 +161,7 @@ ctypedef struct ProgramBuilder:
     Program prog
     size_t cap_parts, cap_pars, cap_zeros, cap_rotations    # allocated items of each array
     size_t cap_strategy_regions, cap_texts, cap_axes        # (axes, rotations: doubles)
-    size_t cap_arc_regions, cap_plan_regions
+    size_t cap_arc_regions, cap_plan_regions, cap_radii, cap_tool_writes
     Follow *follow          # while a stage reads the parts beside the compiler, else NULL
     size_t prefaulted       # parts [0, prefaulted) of the capacity are faulted in (program_prefault)
 
@@ -193,6 +205,7 @@ ctypedef struct CompileInput:
     GCODE_PARAMETERS params
     double user_params[100] # P00..P99 at the start
     double start[AXES]      # machine position at the start
+    ToolTable tools         # the core's tool table when the compilation started (D, &, G92 D)
     uint8_t *plc            # PLC memory (PLC_MEMORY_BYTES), shared with the host
     int32_t *cancel         # set non-zero (atomically) to interrupt: the compiler returns COMPILE_CANCELLED
     progress_fn progress
@@ -225,6 +238,9 @@ cdef bint program_set_end(ProgramBuilder *build, Part *p, const double *end) noe
 cdef int program_add_zero(ProgramBuilder *build, const double *offset) noexcept nogil
 cdef int program_add_rotation(ProgramBuilder *build, const double *centre, const double *matrix) noexcept nogil
 cdef int64_t program_add_text(ProgramBuilder *build, const char *text, size_t n) noexcept nogil
+# ... a D word's signed radius (index >= 1; -1 out of memory), a G92 D (False: no memory)
+cdef int program_add_radius(ProgramBuilder *build, double radius) noexcept nogil
+cdef bint program_add_tool_write(ProgramBuilder *build, const ToolWrite *write) noexcept nogil
 # a stage inserts parts in one backward pass (the callbacks above); False: out of memory
 cdef bint program_merge(ProgramBuilder *build, size_t n_ins, void *ctx, inserted_after_fn after_of,
                         make_inserted_fn make, settle_parts_fn settle, const MergeWatch *watch) noexcept nogil
@@ -244,5 +260,16 @@ cdef inline const double *part_start_xyz(const Program *prog, size_t i) noexcept
         return prog.parts[i - 1].e
     return prog.start
 
+# the signed tool radius of a compensated part: its D word's, else correction[] of its
+# slot (params: the G-code parameters the stage runs with)
+cdef inline double part_tool_radius(const Program *prog, const GCODE_PARAMETERS *params,
+                                    const Part *p) noexcept nogil:
+    if p.radius_idx != 0:
+        return prog.radii[p.radius_idx]
+    return params.correction[p.comp_slot & 7].size
+
 cdef void part_calc_start(const Program *prog, size_t i, double *out) noexcept nogil
 cdef void part_to_gm(const Program *prog, size_t i, SIMPLE_GM_PARAMS *gm) noexcept nogil
+# a part a stage inserts after `after` (starting at its end, its programmed end there),
+# with the line, feed, tool and compensation of `src`; the caller sets its geometry
+cdef void part_inserted(Part *q, const Part *after, const Part *src, int32_t func, int16_t plane) noexcept nogil

@@ -21,6 +21,8 @@ cdef void program_free(Program *prog) noexcept nogil:
     free(prog.strategy_regions)
     free(prog.plan_regions)
     free(prog.plan)
+    free(prog.radii)
+    free(prog.tool_writes)
     program_init(prog)
 
 
@@ -231,6 +233,35 @@ cdef int program_add_rotation(ProgramBuilder *build, const double *centre, const
     return <int>prog.n_rotations - 1
 
 
+cdef int program_add_radius(ProgramBuilder *build, double radius) noexcept nogil:
+    """Index (>= 1) of a D word's signed radius (reusing the last one when equal); -1
+    out of memory. The compensation reads the radii beside the compiler: the array
+    moves only while it waits."""
+    cdef Program *prog = &build.prog
+    if prog.n_radii > 1 and prog.radii[prog.n_radii - 1] == radius:
+        return <int>prog.n_radii - 1
+    if prog.n_radii >= 65535:
+        return -1
+    if not program_grow_shared(build, <void **>&prog.radii, &build.cap_radii, prog.n_radii + 2, sizeof(double)):
+        return -1
+    if prog.n_radii == 0:
+        prog.radii[0] = 0.0                 # entry 0: correction[] of the part's slot
+        prog.n_radii = 1
+    prog.radii[prog.n_radii] = radius
+    prog.n_radii += 1
+    return <int>prog.n_radii - 1
+
+
+cdef bint program_add_tool_write(ProgramBuilder *build, const ToolWrite *write) noexcept nogil:
+    """Appends a G92 D of the program; False = no memory."""
+    cdef Program *prog = &build.prog
+    if not grow(<void **>&prog.tool_writes, &build.cap_tool_writes, prog.n_tool_writes + 1, sizeof(ToolWrite)):
+        return False
+    prog.tool_writes[prog.n_tool_writes] = write[0]
+    prog.n_tool_writes += 1
+    return True
+
+
 cdef int64_t program_add_text(ProgramBuilder *build, const char *text, size_t n) noexcept nogil:
     """Stores a NUL-terminated copy of text[0:n]; its offset, -1 out of memory."""
     cdef Program *prog = &build.prog
@@ -269,6 +300,32 @@ cdef inline void part_start(const Program *prog, size_t i, double *out) noexcept
         part_end(prog, &prog.parts[i - 1], out)
     else:
         memcpy(out, prog.start, AXES * sizeof(double))
+
+
+cdef void part_inserted(Part *q, const Part *after, const Part *src, int32_t func, int16_t plane) noexcept nogil:
+    """A motion part inserted after `after`: it starts where `after` ends (compensated),
+    its programmed end is `after`'s (an inserted part adds no programmed move), and it
+    belongs to src's line with src's feed, tool and compensation."""
+    memset(q, 0, sizeof(Part))
+    memcpy(q.e, after.e, sizeof(q.e))
+    memcpy(q.ce, after.ce, sizeof(q.ce))
+    q.axes_idx = after.axes_idx
+    q.rot_idx = after.rot_idx       # under the G168 rotation of its corner
+    q.gcode_index = after.gcode_index + 1
+    q.func = func
+    q.plane = plane
+    q.kind = PART_MOTION
+    q.flags = FLAG_INSERTED | (src.flags & FLAG_FEED_PER_MIN)
+    q.feed = src.feed
+    q.fp = src.fp
+    q.spindle = src.spindle
+    q.line = src.line
+    q.zero_idx = src.zero_idx
+    q.tool = src.tool
+    q.file_idx = src.file_idx
+    q.comp = src.comp
+    q.comp_slot = src.comp_slot
+    q.radius_idx = src.radius_idx
 
 
 cdef void part_calc_start(const Program *prog, size_t i, double *out) noexcept nogil:

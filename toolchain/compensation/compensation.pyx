@@ -559,23 +559,19 @@ cdef void _compatibility(Program *prog) noexcept nogil:
                 for b in range(k + 1, m):
                     prog.parts[b].comp = p.comp
                     prog.parts[b].comp_slot = p.comp_slot
+                    prog.parts[b].radius_idx = p.radius_idx
         k += 1
 
 
 cdef void _inserted_part(Part *q, const Part *p, const Part *src, const InsRec *rec,
-                         const GCODE_PARAMETERS *params) noexcept nogil:
+                         const Program *prog, const GCODE_PARAMETERS *params) noexcept nogil:
     """An inserted part after p (its programmed end is p's end), with the line, feed
     and compensation of src; an arc goes round its corner (rec.cc) with p's tool radius."""
-    cdef int first, second, normal, a
-    memset(q, 0, sizeof(Part))
+    cdef int first, second, normal
+    part_inserted(q, p, src, rec.func, src.plane)
     plane_axes(p.plane, &first, &second, &normal)
-    memcpy(q.e, p.e, sizeof(q.e))
-    q.axes_idx = p.axes_idx
-    q.rot_idx = p.rot_idx           # under the G168 rotation of its corner
-    for a in range(3):
-        q.ce[a] = p.ce[a]
-        q.cc[a] = p.e[a]
     q.ce[first] = rec.end[0]; q.ce[second] = rec.end[1]
+    memcpy(q.cc, p.e, sizeof(q.cc))
     if rec.no_centre:
         q.cc[first] = 0.0; q.cc[second] = 0.0
     else:
@@ -583,21 +579,7 @@ cdef void _inserted_part(Part *q, const Part *p, const Part *src, const InsRec *
         # the remainder of a corner arc behind an earlier part
         q.cc[first] = rec.cc[0]; q.cc[second] = rec.cc[1]
     if rec.func != INS_G1:
-        q.radius = fabs(params.correction[p.comp_slot & 7].size)
-    q.gcode_index = p.gcode_index + 1
-    q.feed = src.feed
-    q.fp = src.fp
-    q.spindle = src.spindle
-    q.func = rec.func
-    q.line = src.line
-    q.zero_idx = src.zero_idx
-    q.tool = src.tool
-    q.file_idx = src.file_idx
-    q.plane = src.plane
-    q.kind = PART_MOTION
-    q.flags = FLAG_INSERTED | (src.flags & FLAG_FEED_PER_MIN)
-    q.comp = src.comp
-    q.comp_slot = src.comp_slot
+        q.radius = fabs(part_tool_radius(prog, params, p))
 
 
 cdef inline size_t _next_follow(const CompState *S, size_t k, size_t n) noexcept nogil:
@@ -616,7 +598,7 @@ cdef size_t _ins_after(void *ctx, size_t rec) noexcept nogil:
 cdef void _ins_make(void *ctx, size_t rec, Part *out, const Part *before, const Part *after) noexcept nogil:
     cdef CompState *S = <CompState *>ctx
     cdef const InsRec *r = &S.ins[rec]
-    _inserted_part(out, before, after if r.src_next else before, r, S.params)
+    _inserted_part(out, before, after if r.src_next else before, r, S.prog, S.params)
 
 
 cdef void _settle(void *ctx, size_t first, size_t end, size_t rec) noexcept nogil:

@@ -193,27 +193,9 @@ cdef void _ia_part(Part *q, const Part *prev, const Part *src, const ArcIns *x) 
     """The arc after prev (the shortened first line), with the attributes of src (the
     second line)."""
     cdef int a, b, c
-    memset(q, 0, sizeof(Part))
-    memcpy(q.e, prev.e, sizeof(q.e))
-    q.axes_idx = prev.axes_idx
-    q.rot_idx = prev.rot_idx
-    q.ce[0] = prev.ce[0]; q.ce[1] = prev.ce[1]; q.ce[2] = prev.ce[2]
+    part_inserted(q, prev, src, x.func, x.plane)
     plane_axes(x.plane, &a, &b, &c)
-    q.comp = src.comp
     _ia_set(q, a, b, x.end[0], x.end[1])
     q.cc[0] = q.ce[0]; q.cc[1] = q.ce[1]; q.cc[2] = q.ce[2]
     q.cc[a] = x.cc[0]; q.cc[b] = x.cc[1]
     q.radius = x.radius
-    q.gcode_index = prev.gcode_index + 1
-    q.feed = src.feed
-    q.fp = src.fp
-    q.spindle = src.spindle
-    q.func = x.func
-    q.line = src.line
-    q.zero_idx = src.zero_idx
-    q.tool = src.tool
-    q.file_idx = src.file_idx
-    q.plane = x.plane
-    q.kind = PART_MOTION
-    q.flags = FLAG_INSERTED | (src.flags & FLAG_FEED_PER_MIN)
-    q.comp_slot = src.comp_slot

@@ -58,8 +58,8 @@ cdef int comp_fail(CompState *S, int32_t number, size_t part, double a0, double 
 
 
 cdef double comp_distance(const CompState *S, const Part *p) noexcept nogil:
-    """Signed offset distance of a part: left (41) positive, |correction| of its slot."""
-    cdef double r = fabs(S.params.correction[p.comp_slot & 7].size)
+    """Signed offset distance of a part: left (41) positive, |its tool radius|."""
+    cdef double r = fabs(part_tool_radius(S.prog, S.params, p))
     return r if p.comp == 41 else -r
 
 

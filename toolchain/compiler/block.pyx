@@ -9,7 +9,7 @@
 #    3. F S T           modal values, FF, FP
 #    4. plane           G17 G18 G19 G-18
 #    5. units           G21 (TG: nothing; an ISO header) [G20 / G21: iso_units]
-#    6. compensation    G40 .. G48
+#    6. compensation    D, G40 .. G48, & (tools.pyx) [G43 H / G49: tool length offsets]
 #    7. coordinates     G53 .. G57, G59 (zero offsets), G168 / G169 (rotation)
 #                       [G54 .. G59.3: the work offsets]
 #    8. path            G167 (automatic arcs), G172 / G173 (compensation strategy)
@@ -20,7 +20,8 @@
 #                       stops M0 M1 M2 M30 M60], then the dwell (G4) or the motion
 #                       (G0 G1 G2 G3 G33, modal) [the dwell, then G28 / G30, a canned
 #                       cycle, G53's move or the motion]
-#   12. M functions     the others, in the order written (M2 / M30 end the program)
+#   12. M functions     the others, in the order written (M2 / M30 end the program),
+#                       then G92 D's write of the tool table (in force from the next line)
 #   13. flow            G25 / G26 / G27 jumps and calls, M17 return
 #
 # Settings (1-10) come before every part of the line, so each part carries them.
@@ -169,21 +170,6 @@ cdef bint cp_plan_region(CState *st) noexcept nogil:
                                    st.g900_ignore_feed, st.limits_off, st.g900_stop_mode, st.g900_arc_table)
 
 
-cdef void cp_comp(CState *st, int g) noexcept nogil:
-    """G40 off; G41..G48: side 41/42 (a negative radius swaps it), slot 0..7."""
-    cdef int slot, side
-    if g == 40:
-        st.comp = 40
-        st.comp_slot = 0
-        return
-    slot = g - 41
-    side = 41 if (slot & 1) == 0 else 42
-    if st.params.correction[slot].size < 0.0:
-        side = 83 - side
-    st.comp = side
-    st.comp_slot = slot
-
-
 cdef bint _is_m(const GCODE_PARAMETERS *pr, int m, int32_t number) noexcept nogil:
     return number != 0 and m == number
 
@@ -251,6 +237,8 @@ cdef int cp_read_g(CState *st, const LineWords *lw, int i, Block *b) noexcept no
         b.distance = g
     elif g == 92 or g == 98:
         b.consumed |= axes
+        if g == 92:
+            b.consumed |= bit_of(b'D')      # G92 D: the entry its R0= .. R4= write
         b.shift = g
     elif g == 94 or g == 95:
         b.feed_mode = g
@@ -285,8 +273,10 @@ cdef int cp_read_m(CState *st, const LineWords *lw, int i, Block *b) noexcept no
     if st.iso and m == 98:
         return cerr_hint(st, ERR_NGC_UNSUPPORTED, word_at_column(st, lw.mcol[i]), lw.mcol[i],
                          "Fanuc-style subprograms (M98 / M99); an o-word call is read")
-    if m == -5 or _is_m(pr, m, pr.M06_changeTool):
+    if m == -5:
         b.consumed |= axes_mask()
+    elif _is_m(pr, m, pr.M06_changeTool):
+        b.consumed |= axes_mask() | bit_of(b'D')    # D: the tool's diameter
     elif m == -6:
         b.consumed |= bit_of(b'A') | bit_of(b'S')
     elif _is_m(pr, m, pr.M99_defFeed):
@@ -312,6 +302,9 @@ cdef inline int cp_read_block(CState *st, LineWords *lw, Block *b) noexcept nogi
     for i in range(lw.nm):
         if cp_read_m(st, lw, i, b) != 0:
             return R_ERR
+    if lw.tool_values != 0 and b.shift != 92:
+        return cerr_hint(st, ERR_TOOL_WORD, word_at_column(st, lw.tool_values_col), lw.tool_values_col,
+                         "R0= .. R4= write the tool table on a line with G92 D")
     return 0
 
 
@@ -599,10 +592,8 @@ cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
         st.plane = b.plane
     if b.units == 21:
         st.iso_header = True
-    if b.comp != 0:
-        cp_comp(st, b.comp)
-        if st.iso and st.comp != 40 and st.params.correction[st.comp_slot].size == 0.0:
-            st.comp = 40                # ISO: a radius of 0 compensates nothing (LinuxCNC's tool 0)
+    if (b.comp != 0 or b.length != 0 or lw.has_amp or has(lw, b'D')) and tl_select(st, lw, &b) != 0:
+        return R_ERR
     if (b.zero != 0 or b.rotation != 0 or b.coord != 0) and _x_coordinates(st, lw, &b) != 0:
         return R_ERR
     if (b.g167 or b.strategy != 0) and _x_path(st, lw, &b) != 0:
@@ -624,6 +615,8 @@ cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
     if _x_parts(st, lw, &b) != 0:
         return R_ERR
     if lw.nm > 0 and _x_m_functions(st, lw, M_STOPS if st.iso else M_ALL, &ret, &end) != 0:
+        return R_ERR
+    if b.shift == 92 and (lw.tool_values != 0 or has(lw, b'D')) and tl_write(st, lw) != 0:
         return R_ERR
     if end:
         return R_END

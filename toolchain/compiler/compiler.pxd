@@ -12,6 +12,7 @@
 #   dialects.pyx     the TG hints for ISO G functions; how the ISO mode reads a line
 #   ngc_flow.pyx     ISO mode: O-word subroutines, branches and loops
 #   ngc_motion.pyx   ISO mode: work offsets, G28 / G30, G53, canned cycles
+#   tools.pyx        the tool table in programs: D, &, G92 D (ISO: G43 H, G49)
 #   block.pyx        one line's G and M functions by modal group (Block), run in one order
 #   compiler.pyx     the line loop: units, lines, the run to the end
 # Owns CState and its records; reads CompileInput and writes the Program through its
@@ -96,6 +97,12 @@ ctypedef struct LineWords:
     bint has_polar_r, has_polar_a   # ISO mode: LinuxCNC's polar words @ (distance) and ^ (angle)
     double polar_r, polar_a
     int polar_col
+    bint has_amp                # & n: the length corrections of tool table entry n
+    double amp
+    int amp_col
+    uint32_t tool_values        # G92 D's R0= .. R4=: bit k for Rk (TG)
+    double tool_value[TOOL_VALUES]
+    int tool_values_col         # the first one's column
 
 # ---- ngc_params.pyx, ngc_flow.pyx, ngc_motion.pyx: the ISO compatibility mode's state
 # LinuxCNC's RS274/NGC as the ISO mode reads it: numbered and named parameters, O-word
@@ -181,7 +188,7 @@ ctypedef struct CState:
     GCODE_PARAMETERS pstack[PARAM_STACK_DEPTH]
     int n_pstack
     double P[100]
-    # positions: machine = rotate(mirror(ppos)) + zero + shift
+    # positions: machine = rotate(mirror(ppos)) + zero + shift + length (&)
     double ppos[AXES]
     double mpos[AXES]
     double zero[AXES]
@@ -203,7 +210,14 @@ ctypedef struct CState:
     bint ff_set
     float spindle
     int tool
-    int comp, comp_slot
+    int comp, comp_slot                     # the side (40 41 42 after the radius's sign), correction[] slot
+    int comp_g                              # G40 .. G48 in force, as written
+    int radius_idx                          # Program.radii of the D radius parts carry (0: correction[])
+    double comp_radius                      # the signed radius in force
+    ToolTable tools                         # the compilation's tool table (the core's at the start; G92 D writes it)
+    int tool_d                              # D in force: -1 none (correction[] of the slot), 0 radius 0, 1..99
+    int tool_len                            # & in force: 0 none, 1..99
+    double length[AXES]                     # the lengths of & (axes 1..4: x y z c), added like an offset
     bint g167_on
     double g167[4]                          # E A U Q
     uint32_t limits_off                     # M-5: axes whose limits are disabled
@@ -311,6 +325,7 @@ ctypedef struct Block:
     int feed_mode           # 94 / 95
     int css                 # 96 / 97
     int shift               # 92 / 98
+    int length              # ISO mode: 43 (G43 H, a tool length offset) / 49 (cancel)
     int strategy            # 172 / 173
     int jump                # 25 26 27
     int jump_col            # its column

@@ -174,6 +174,9 @@ cdef void cp_init(CState *st, const CompileInput *inp, ProgramBuilder *build, Er
     st.per_min = True
     st.fp = 1.0
     st.comp = 40
+    st.comp_g = 40
+    st.tools = inp.tools
+    st.tool_d = -1
     st.last_percent = -1
     st.iso = (<uint32_t>inp.params.rezerva1 & GCODE_REZERVA1_ISO_COMPAT) != 0
     if st.iso:

@@ -12,7 +12,7 @@ cdef const char *iso_g_hint(double gv) noexcept nogil:
     if gv == 28.0 or gv == 30.0:
         return "returns to a home position do not exist in TG (G98 is TG's reference run; isoCompat reads G28 / G30)"
     if gv == 49.0 or gv == 43.1:
-        return "TG has no tool length offsets (isoCompat ignores G43 H and G49)"
+        return "TG's tool length corrections are & n of the tool table, & 0 cancels them (isoCompat reads G43 H n and G49)"
     if gv == 61.0 or gv == 61.1 or gv == 64.0:
         return "path blending is set by GCODE_PARAMETERS (isoCompat ignores G61 and G64)"
     if gv == 80.0:
@@ -120,7 +120,10 @@ cdef int iso_read_g(CState *st, const LineWords *lw, int i, Block *b) noexcept n
         b.ngc_p = True
         if not lw.has_pword:
             b.consumed |= bit_of(b'W') | bit_of(b'H') | bit_of(b'X') | bit_of(b'T')
-    elif gv == 43.0 or gv == 44.0 or gv == 49.0 or gv == 61.0 or gv == 61.1 or gv == 64.0:
+    elif gv == 43.0 or gv == 49.0:
+        b.length = g                # tools.pyx: G43 H n is & n, G49 is & 0
+        b.consumed |= bit_of(b'H')
+    elif gv == 44.0 or gv == 61.0 or gv == 61.1 or gv == 64.0:
         cwarn_at(st, WARN_ISO_IGNORED, word_at_column(st, col), col)
         b.ngc_p = b.ngc_p or gv == 64.0
     elif gv == 80.0 or gv == 73.0 or gv == 74.0 or (gv >= 81.0 and gv <= 86.0 and gv == <double>g) or gv == 89.0:

@@ -34,6 +34,7 @@ cdef Part *em_part(CState *st, int kind, int func, const double *end) noexcept n
     p.plane = <int16_t>st.plane
     p.comp = <uint8_t>st.comp
     p.comp_slot = <uint8_t>st.comp_slot
+    p.radius_idx = <uint16_t>st.radius_idx
     if st.comp != 40:
         prog.compensated = True
     if st.per_min:

@@ -88,7 +88,7 @@ cdef int ngc_g10(CState *st, const LineWords *lw, int col) noexcept nogil:
             if l == 2.0:
                 n.params[base + k] = lw.v[bit]
             else:
-                n.params[base + k] = st.mpos[a] - st.shift[a] - lw.v[bit]
+                n.params[base + k] = st.mpos[a] - st.shift[a] - st.length[a] - lw.v[bit]
     if coord == n.coord:
         return ngc_use_offsets(st)
     return 0

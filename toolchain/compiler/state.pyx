@@ -216,7 +216,7 @@ cdef void cwarn_at(CState *st, int32_t number, const char *word, int column) noe
 
 cdef void to_machine(const CState *st, const double *pp, double *out) noexcept nogil:
     """Program coordinates -> machine: mirror (M81..M87), rotation (G168), then the
-    zero offset and the G92 shift."""
+    zero offset, the G92 shift and the tool's lengths (&)."""
     cdef int a
     if st.identity:
         memcpy(out, pp, AXES * sizeof(double))
@@ -229,14 +229,14 @@ cdef void to_machine(const CState *st, const double *pp, double *out) noexcept n
     if st.rot_on:
         rotate_about(st.rot_c, st.rot_m, False, out)
     for a in range(AXES):
-        out[a] += st.zero[a] + st.shift[a]
+        out[a] += st.zero[a] + st.shift[a] + st.length[a]
 
 
 cdef void to_program(const CState *st, const double *mp, double *out) noexcept nogil:
     """Inverse of to_machine."""
     cdef int a
     for a in range(AXES):
-        out[a] = mp[a] - st.zero[a] - st.shift[a]
+        out[a] = mp[a] - st.zero[a] - st.shift[a] - st.length[a]
     if st.rot_on:
         rotate_about(st.rot_c, st.rot_m, True, out)
     if st.mirror & 1: out[0] = -out[0]
@@ -249,7 +249,7 @@ cdef void update_identity(CState *st) noexcept nogil:
     cdef int a
     st.identity = st.mirror == 0 and not st.rot_on
     for a in range(AXES):
-        if st.zero[a] != 0.0 or st.shift[a] != 0.0:
+        if st.zero[a] != 0.0 or st.shift[a] != 0.0 or st.length[a] != 0.0:
             st.identity = False
 
 
@@ -261,12 +261,13 @@ cdef void cp_reframe(CState *st) noexcept nogil:
 
 
 cdef bint update_zero(CState *st) noexcept nogil:
-    """Registers the active offset (zero + shift) with the program; False = no memory."""
+    """Registers the active offset (zero + shift + the tool's lengths) with the program;
+    False = no memory."""
     cdef double total[AXES]
     cdef int a, idx
     update_identity(st)
     for a in range(AXES):
-        total[a] = st.zero[a] + st.shift[a]
+        total[a] = st.zero[a] + st.shift[a] + st.length[a]
     idx = program_add_zero(st.build, total)
     if idx < 0:
         return False

@@ -82,6 +82,8 @@ cdef void _words_clear(LineWords *lw) noexcept nogil:
     lw.first_is_o = False
     lw.has_polar_r = False
     lw.has_polar_a = False
+    lw.has_amp = False
+    lw.tool_values = 0
 
 
 cdef bint _jump_read(const LineWords *lw) noexcept nogil:
@@ -239,6 +241,56 @@ cdef int _word_polar(CState *st, const char **pp, const char *eol, LineWords *lw
     return WORDS_MORE
 
 
+cdef int _word_amp(CState *st, const char **pp, const char *eol, LineWords *lw) noexcept nogil:
+    """& n: the length corrections of tool table entry n (block.pyx judges n)."""
+    cdef const char *w = pp[0]
+    cdef const char *q = lx_skip_ws(w + 1, eol)
+    if not _value_starts(st, q, eol):
+        return cerr_at(st, ERR_MISSING_VALUE, "&", column_of(st, w))
+    if _word_value(st, &q, eol, &lw.amp) != 0:
+        return R_ERR
+    lw.has_amp = True
+    lw.amp_col = column_of(st, w)
+    pp[0] = q
+    return WORDS_MORE
+
+
+cdef inline bint _is_r_assignment(const char *p, const char *eol) noexcept nogil:
+    """TG: R digits = (G92 D's R0= .. R4=), not R digits == (a comparison)."""
+    cdef const char *q = p + 1
+    if q >= eol or not lx_is_digit(q[0]):
+        return False
+    while q < eol and lx_is_digit(q[0]):
+        q += 1
+    q = lx_skip_ws(q, eol)
+    return q < eol and q[0] == b'=' and not (q + 1 < eol and q[1] == b'=')
+
+
+cdef int _word_r_assignment(CState *st, const char **pp, const char *eol, LineWords *lw) noexcept nogil:
+    """Rk = value: value k of the tool table entry a G92 D on the line writes (block.pyx
+    checks that it is there); k 0..4."""
+    cdef const char *w = pp[0]
+    cdef const char *q = w + 1
+    cdef int k = 0, col = column_of(st, w)
+    while lx_is_digit(q[0]):
+        if k < 100:
+            k = 10 * k + (q[0] - 48)
+        q += 1
+    if k >= TOOL_VALUES or q - w > 2:
+        return cerr_hint(st, ERR_TOOL_WORD, cword(st, w, eol, <int>(q - w)), col,
+                         "G92 D writes R0 (the radius) .. R4 (the length of axis 4)")
+    q = lx_skip_ws(lx_skip_ws(q, eol) + 1, eol)
+    if not _value_starts(st, q, eol):
+        return cerr_at(st, ERR_MISSING_VALUE, cword(st, w, eol, 2), col)
+    if _word_value(st, &q, eol, &lw.tool_value[k]) != 0:
+        return R_ERR
+    if lw.tool_values == 0:
+        lw.tool_values_col = col
+    lw.tool_values |= 1u << k
+    pp[0] = q
+    return WORDS_MORE
+
+
 cdef int cp_words(CState *st, const char *p, const char *eol, LineWords *lw) noexcept nogil:
     """Reads the words of a line into lw, in the order written."""
     cdef int status, r
@@ -257,12 +309,16 @@ cdef int cp_words(CState *st, const char *p, const char *eol, LineWords *lw) noe
                 r = ngc_setting_read(st, &p, eol)   # taken after the line is read
             elif st.iso and (p[0] == b'@' or p[0] == b'^'):
                 r = _word_polar(st, &p, eol, lw)
+            elif p[0] == b'&':
+                r = _word_amp(st, &p, eol, lw)
             else:
                 return cp_bad_word(st, p, eol, column_of(st, p), lw)
         elif p + 1 < eol and lx_is_alpha(p[1]):
             r = _word_of_letters(st, &p, eol, lx_alpha_run(p, eol), lw)
         elif lx_upper(p[0]) == b'P':
             r = _word_p(st, &p, eol, lw)
+        elif lx_upper(p[0]) == b'R' and not st.iso and _is_r_assignment(p, eol):
+            r = _word_r_assignment(st, &p, eol, lw)
         else:
             r = _word_address(st, &p, eol, lw, first)
         if r == WORDS_DONE:

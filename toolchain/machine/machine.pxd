@@ -4,6 +4,8 @@
 # ConnectCNCEx_Plane. Its files:
 #   motion.pyx          the interpolator as a pure step: motion_step(m, dt) along a ring of entries
 #   clock.pyx           the machine's time: the wall clock times the scale, or the test-only stepped clock
+#   output.pyx          the output stage: each step's position through the spline, the IIR filter and
+#                       the axis corrections to the drives (and GetPos); the spline's delay of the events
 #   machine.pyx         a run: the feeder and notifier (the activity's worker) and the pacer thread
 #   connect_search.pyx  where on a program ConnectCNCEx_Plane connects to (pure, typed)
 #   connect.pyx         the connection as an activity: search, move there, run on
@@ -102,6 +104,25 @@ ctypedef struct Motion:
     int32_t log_kind[LOG_SIZE]  # ME_ENTRY, ME_MFUNC, ME_PRINT
     size_t log_part[LOG_SIZE]
 
+# ---- output.pyx: the output stage (interpolator -> spline -> IIR -> axis corrections -> drives)
+ctypedef struct OutputEvent:    # a motion event held back by the spline's delay
+    uint64_t due                # the output step it is told at
+    int32_t kind                # ME_ENTRY, ME_MFUNC, ME_PRINT
+    size_t part
+
+ctypedef struct Output:
+    # the activity's settings (output_configure, under core.lock)
+    SmoothingConfig config
+    AxisCorrections *tables     # a reference; NULL: none
+    # the filters over one pacer's steps (output_start .. output_stop)
+    bint filtering              # a filter is on: every step's position passes the smoother
+    Smoother smoother
+    double smoothed[AXES]       # the filters' last output
+    uint64_t steps              # steps since output_start
+    uint64_t delay              # the spline's delay of the events, steps (0: none)
+    OutputEvent *events         # events[first .. first + n) wait for their step
+    size_t first, n, cap
+
 # ---- machine.pyx: a run's threads and the machine's place on the program
 cdef enum:
     EVENT_QUEUE = 1024          # events between the pacer and the notifier
@@ -120,6 +141,7 @@ ctypedef struct MachineEvent:
 
 ctypedef struct Machine:
     Motion motion
+    Output output               # the step's position to the drives (output.pyx)
     pthread_t pacer
     int32_t pacer_done          # atomic: the pacer has left its loop
     # where the machine is on the program (outlives the runs)

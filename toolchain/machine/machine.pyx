@@ -40,6 +40,7 @@ cdef void machine_forget(Core *core) noexcept nogil:
     loaded_program_release(m.program)
     placed_plan_free(&m.plan)
     m.plan_made = False
+    output_forget(&m.output)            # output stage: no filter state, no tables
     m.cur_motion = PART_NONE
     m.program = NULL
     m.part = 0
@@ -114,7 +115,7 @@ cdef void _entry_identity(Feeder *f, Entry *e, const Part *p, size_t part) noexc
     e.dyn_extra = 0.0
 
 
-cdef void _dynamic_correction(Entry *e, const Part *p, const GCODE_PARAMETERS *params) noexcept nogil:
+cdef void _dynamic_correction(Entry *e, const Program *prog, const Part *p, const GCODE_PARAMETERS *params) noexcept nogil:
     """dynamicG41/G42Correction_mm and _percent (of the tool radius in use) of a
     compensated motion part: how far the machine moves the tool further out at rest
     (motion.pyx entry_point; none at the part's full speed)."""
@@ -124,7 +125,7 @@ cdef void _dynamic_correction(Entry *e, const Part *p, const GCODE_PARAMETERS *p
         return
     mm = params.dynamicG41Correction_mm if p.comp == 41 else params.dynamicG42Correction_mm
     percent = params.dynamicG41Correction_percent if p.comp == 41 else params.dynamicG42Correction_percent
-    radius = fabs(params.correction[p.comp_slot & 7].size)
+    radius = fabs(part_tool_radius(prog, params, p))
     e.dyn_extra = mm + percent * 0.01 * radius
     if not plane_axes(p.plane, &e.dyn_first, &e.dyn_second, &normal) or not (e.dyn_extra == e.dyn_extra):
         e.dyn_extra = 0.0
@@ -192,7 +193,7 @@ cdef bint _forward_entry(Feeder *f, Entry *e) noexcept nogil:
             _entry_limits(e, placed_plan_part(&f.m.plan, k))
             if f.regime == RUN_FORWARD_NO_M:
                 _class_limits(e, &f.params.motion[4])
-            _dynamic_correction(e, p, f.params)
+            _dynamic_correction(e, prog, p, f.params)
         return True
     return False
 
@@ -221,7 +222,7 @@ cdef bint _backward_entry(Feeder *f, Entry *e) noexcept nogil:
     _entry_limits(e, placed_plan_part(&m.plan, k))
     e.jin = placed_plan_part(&m.plan, f.back_last).v_junction if f.next > 0 else 0.0
     _class_limits(e, &f.params.motion[2])
-    _dynamic_correction(e, &prog.parts[k], f.params)
+    _dynamic_correction(e, prog, &prog.parts[k], f.params)
     f.back_last = k
     f.next += 1
     return True
@@ -256,10 +257,9 @@ cdef void _publish(Core *core, Machine *m) noexcept nogil:
     cdef Entry *e = motion_entry(mo, 0) if mo.count > 0 else NULL
     memset(&view, 0, sizeof(view))
     view.pos.m_fileIdx = -1
-    memcpy(&view.pos.m_calcS, mo.position, sizeof(P10DOUBLE))
-    view.pos.m_calcE = view.pos.m_calcS
+    output_view(&m.output, mo, &view.pos)       # output stage: commanded, smoothed, corrected
     session_cells(&view, e.kind if e != NULL else -1, e.func if e != NULL else 0,
-                  e != NULL and mo.state == MS_WAIT_M, mo.position)
+                  e != NULL and mo.state == MS_WAIT_M, <const double *>&view.pos.m_calcS)
     if e != NULL:
         view.pos.m_editorLine = e.line
         view.pos.m_fileIdx = e.file_idx
@@ -291,7 +291,6 @@ cdef void *_pacer_body(void *arg) noexcept nogil:
     cdef Motion *mo = &m.motion
     cdef double last = clock_now(), budget = 0.0, scale, tick_end
     cdef double dt = STEP_US * 1e-6
-    cdef int events
     cdef uint32_t n_steps = 0
     cdef bint halted = False, cut
     cdef uint64_t told = mo.consumed     # entries done when the notifier was last woken
@@ -302,37 +301,38 @@ cdef void *_pacer_body(void *arg) noexcept nogil:
         if budget > 1.0 * scale and not clock_stepped(core):
             budget = 1.0 * scale            # the thread was held up: the machine does not jump
         mo.ovr_target = TC_ATOMIC_LOAD_D(&core.rel_feed)
-        if TC_ATOMIC_LOAD(&core.stop):
+        if TC_ATOMIC_LOAD(&core.stop) and mo.state < MS_STOPPED:
             motion_stop(mo)
         _take_answer(core, mo)
         cut = False
-        while budget >= dt and mo.state < MS_STOPPED:
+        # output stage: the steps go on after the interpolator halted until the output settled
+        while budget >= dt and not output_halted(&m.output, mo):
             motion_sync(mo)
             if mo.consumed - told >= LOOK_RING // 4:
                 _hand_over(m, True)         # room in the ring: the feeder refills it
                 told = mo.consumed
-            if not motion_window_full(mo) and mo.state != MS_WAIT_M:
+            if not motion_window_full(mo) and mo.state != MS_WAIT_M and mo.state < MS_STOPPED:
                 break                       # time waits for the feeder (the plan needs its window)
             if mo.n_log > LOG_SIZE - 8:
                 _hand_over(m, True)
                 if mo.n_log > LOG_SIZE - 8:
                     break                   # the notifier is behind: the step waits for it
-            events = motion_step(mo, dt)
+            output_step(&m.output, mo, dt)      # output stage: the interpolator's step and its output
             budget -= dt
-            if events & ME_HALT:
+            if output_halted(&m.output, mo):
                 halted = True
                 break
-            if mo.state == MS_WAIT_M:       # it stands until the host confirms: no steps to run
-                _hand_over(m, True)
+            if mo.state == MS_WAIT_M and output_settled(&m.output):
+                _hand_over(m, True)         # it stands until the host confirms: no steps to run
                 budget = 0.0
                 break
-            if TC_ATOMIC_LOAD(&core.stop):
+            if TC_ATOMIC_LOAD(&core.stop) and mo.state < MS_STOPPED:
                 motion_stop(mo)
             n_steps += 1
             if n_steps % 256 == 0 and clock_now() > tick_end:
                 cut = True                  # the rest in the next tick, after GetPos
                 break
-        halted = halted or mo.state >= MS_STOPPED
+        halted = halted or output_halted(&m.output, mo)
         motion_locate(mo)
         _hand_over(m, mo.consumed != told or halted)
         told = mo.consumed
@@ -498,6 +498,7 @@ cdef void _motion_setup(Core *core, Motion *mo, const Feeder *f, const double *s
     look-ahead one entry (a run sets the plan's window)."""
     cdef const GCODE_PARAMETERS *params = f.params
     motion_reset(mo, start)
+    output_start(&f.m.output, core, start)      # output stage: the filters stand at the start
     mo.window = 1
     mo.ovr = TC_ATOMIC_LOAD_D(&core.rel_feed) if TC_ATOMIC_LOAD_D(&core.rel_feed) > 0 else 1.0
     mo.ovr_inc = params.overrideInc if 0.0 < params.overrideInc <= 0.1 else 0.001
@@ -622,6 +623,8 @@ cdef Machine *machine_worker_begin(Job *job, Feeder *f) noexcept nogil:
     m = <Machine *>core.offline           # machine_prepare made it and its place
     if f.params != NULL:
         f.params[0] = core.params
+    if m != NULL:
+        output_configure(&m.output, core)       # output stage: the core's smoothing and tables
     pthread_mutex_unlock(&core.lock)
     if f.params == NULL:
         core_keep_error(core, False, NULL)         # out of memory
@@ -682,6 +685,7 @@ cdef int32_t _pace(Core *core, Machine *m, Feeder *f) noexcept nogil:
         m.news = False
         pthread_mutex_unlock(&m.lock)
     pthread_join(m.pacer, NULL)
+    output_stop(&m.output)              # output stage: the filters' state ends with the pacer
     _drain(f)
     return _finish_event(m, f.regime)
 

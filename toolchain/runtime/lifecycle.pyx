@@ -221,7 +221,8 @@ cdef int32_t _end_command(int32_t kind) noexcept nogil:
 
 
 cdef void _publish_position(Core *core, const double *position) noexcept nogil:
-    """GetPos after an end: standing at `position`, counters cleared."""
+    """With core.lock held, GetPos after an end: standing at `position` (m_calcE: with
+    the axis corrections, what the drives are sent), counters cleared."""
     cdef SnapshotData *data = <SnapshotData *>calloc(1, sizeof(SnapshotData))
     if data == NULL:
         return
@@ -229,7 +230,7 @@ cdef void _publish_position(Core *core, const double *position) noexcept nogil:
     memcpy(&data.pos.m_s, position, sizeof(P10DOUBLE))
     data.pos.m_e = data.pos.m_s
     data.pos.m_calcS = data.pos.m_s
-    data.pos.m_calcE = data.pos.m_s
+    axis_correction_apply(core.axis_corrections, position, <double *>&data.pos.m_calcE)
     snapshot_publish(&core.snap, data)
     free(data)
 

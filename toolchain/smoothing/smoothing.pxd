@@ -7,8 +7,8 @@
 #                   Command_Parameter[0..3]), the spline, the IIR filter, the predicate
 # Owns SmoothingConfig (the core's: core.pxd; LoadFromIni's: parameters.pxd) and
 # Smoother. Called by the exports and LoadFromIni (configuration,
-# ToolChainCore_SmoothSamples); the offline machine runs its output through it once
-# it is wired in.
+# ToolChainCore_SmoothSamples) and the offline machine, whose every step's position
+# passes it (machine/output.pyx).
 
 cdef enum:
     SMOOTHING_COMMAND_IIR = -1          # the Interpolator's Command register: IIR filter parameters

@@ -6,10 +6,10 @@
 #   axis_correction.pyx  the axis correction tables ACHS3D??.KOR: one axis corrected
 #                        from a grid over up to three basis axes
 # Owns ToolTable and AxisCorrections (the core holds one of each: core.pxd). Called
-# by the exports and LoadFromIni (loading, G92 D's write, correcting a position); the
-# compiler (D, &, G92 D) and the offline machine (the corrections of its output) call
-# them once they are wired in (docs/tool-table.md, docs/axis-correction.md,
-# "Integration status").
+# by the exports and LoadFromIni (loading, G92 D's write, correcting a position) and
+# the compiler (D, &, G92 D on its copy of the table, compiler/tools.pyx) and the offline
+# machine (the corrections of its output: machine/output.pyx). Its face comes before
+# program.pxd: a CompileInput carries the core's ToolTable.
 
 # ------------------------------------------------------------------ tool_table.pyx
 
@@ -34,7 +34,7 @@ cdef enum:
     AXIS_TABLE_HEADER = 128     # bytes of a file's header
 
 # One table: the corrected axis gets the correction interpolated from a regular grid
-# over its basis axes at their current (commanded) positions.
+# over its basis axes at their current positions (uncorrected: the machine's filtered output).
 ctypedef struct AxisTable:
     int32_t axis                # the corrected axis, 0..9 (x y z c b u v w a o)
     int32_t n_bases             # 1..3
