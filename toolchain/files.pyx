@@ -52,8 +52,6 @@ cdef char *read_whole_file(const char *path, size_t *length, int32_t *error) noe
         tc_file_close(file)
         error[0] = ERR_OUT_OF_MEMORY
         return NULL
-    if capacity >= HUGE_ADVICE_MIN:
-        program_advise_huge(buf, capacity)
     while True:
         if used + 1 >= capacity:    # full: the file grew, or its size read 0
             if used > MAX_FILE_BYTES:

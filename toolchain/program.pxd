@@ -165,9 +165,6 @@ ctypedef struct ProgramBuilder:
     Follow *follow          # while a stage reads the parts beside the compiler, else NULL
     size_t prefaulted       # parts [0, prefaulted) of the capacity are faulted in (program_prefault)
 
-cdef enum:
-    HUGE_ADVICE_MIN = 4194304   # bytes: arrays from this size on ask for huge pages (program_advise_huge)
-
 # The merge of parts a stage inserts (program.pyx program_merge): where insertion
 # `rec` goes (after which part), and how it is built from the part before it and the
 # part after it (NULL after the last part).
@@ -247,8 +244,7 @@ cdef bint program_add_tool_write(ProgramBuilder *build, const ToolWrite *write) 
 # a stage inserts parts in one backward pass (the callbacks above); False: out of memory
 cdef bint program_merge(ProgramBuilder *build, size_t n_ins, void *ctx, inserted_after_fn after_of,
                         make_inserted_fn make, settle_parts_fn settle, const MergeWatch *watch) noexcept nogil
-# memory hints for large arrays: huge pages; pages faulted in ahead of their writer
-cdef void program_advise_huge(void *buf, size_t size) noexcept nogil
+# a memory hint for the parts: pages faulted in ahead of their writer
 cdef bint program_prefault(ProgramBuilder *build, size_t first, size_t count, size_t limit) noexcept nogil
 
 # a part's programmed end and start (all ten axes; x y z of the start), its

@@ -142,17 +142,6 @@ cdef bint program_merge(ProgramBuilder *build, size_t n_ins, void *ctx, inserted
     return True
 
 
-cdef void program_advise_huge(void *buf, size_t size) noexcept nogil:
-    """Asks for transparent huge pages for a large array about to be written: fresh
-    4 KiB pages cost about four times as much to fault in. Every page the buffer
-    touches, not only its 2 MiB-aligned middle: advising part of the mapping splits
-    it, and realloc's mremap refuses a range over several mappings (it then copies
-    the whole array, e.g. when compensation inserts parts). Only a hint."""
-    cdef size_t start = <size_t>buf & ~(<size_t>0xFFF)
-    cdef size_t end = (<size_t>buf + size + 0xFFF) & ~(<size_t>0xFFF)
-    madvise(<void *>start, end - start, MADV_HUGEPAGE)
-
-
 cdef int32_t g_no_populate      # the kernel refused MADV_POPULATE_WRITE (before 5.14): a hint less
 
 

@@ -271,6 +271,7 @@ ctypedef struct CompState:
     bint chain_global
     bint chain_rebuilt      # the chain that just ended was rebuilt
     size_t chain_first, chain_last
+    double chain_radius     # the largest tool radius of its elements (0: its path is its contour, not measured)
     int64_t chain_entry     # its entry ramp (a part ending where the chain starts), -1 none
     bint chain_fixed        # it starts at an uncompensated point (strategy 1)
     bint chain_entry_arc    # ... on an arc right after the G41/G42 block (S.entry_arc)

@@ -100,7 +100,7 @@ cdef bint _push(CompState *S, const CompEl *el) noexcept nogil:
     # path that can no longer change is checked at once, beside the compiler
     if S.cfg.depth < (<size_t>-1) / 8 and S.n_st > 4 * S.cfg.depth + 2:
         return _flush(S, S.cfg.depth + 1) and \
-            (not S.chain_open or S.chain_global or cl_chain_upto(S, S.st[0].part))
+            (not S.chain_open or S.chain_global or S.chain_radius == 0 or cl_chain_upto(S, S.st[0].part))
     return True
 
 
@@ -171,6 +171,49 @@ cdef int _chain_add(CompState *S, CompEl *b) noexcept nogil:
     return COMPILE_OK if _push(S, b) else comp_fail(S, ERR_OUT_OF_MEMORY, b.part, 0, 0)
 
 
+cdef void _chain_close_corner(CompState *S) noexcept nogil:
+    """0x80000: a closed contour entered and left on perpendiculars (strategy 0, or
+    a G0) at a corner where its tool path turns inwards: the last element's end and
+    the first one's start cross there, the tool cutting into both lines. They are
+    trimmed to the offsets' intersection, the entry ramp ends there and the exit
+    leaves from there, as for any two neighbours whose offsets cross (what the
+    regions would give, without rebuilding). Only while the first element is still
+    open (a chain of at most 4 x depth + 2 elements); otherwise, or when the trim
+    would take either element past itself, the gouge check and the regions decide."""
+    cdef CompEl *a
+    cdef CompEl *b
+    cdef double ta[2]
+    cdef double tb[2]
+    cdef double ref[2]
+    cdef double x[2]
+    cdef double a_pe[2]
+    cdef double b_ps[2]
+    cdef double cr
+    if not (S.cfg.strategy & CORR_REMOVE_CROSSING) or S.lenient or S.n_st < 2 or S.entry_part < 0:
+        return
+    a = &S.st[S.n_st - 1]
+    b = &S.st[0]
+    if not b.first or b.fixed_start or a.d != b.d or a.ins != INS_NONE \
+            or distance2d(a.e[0] - b.s[0], a.e[1] - b.s[1]) > 1e-9:
+        return
+    el_tangent(a, True, ta)
+    el_tangent(b, False, tb)
+    cr = ta[0] * tb[1] - ta[1] * tb[0]
+    if a.d * cr <= 0 or fabs(cr) < S.cfg.sin_tol:
+        return                      # tangent, or the tool outside the turn: no crossing
+    ref[0] = 0.5 * (a.oe[0] + b.os[0])
+    ref[1] = 0.5 * (a.oe[1] + b.os[1])
+    if not el_intersect(a, b, ref, S.cfg.slack, x):
+        return
+    a_pe[0] = a.pe[0]; a_pe[1] = a.pe[1]
+    b_ps[0] = b.ps[0]; b_ps[1] = b.ps[1]
+    a.pe[0] = x[0]; a.pe[1] = x[1]
+    b.ps[0] = x[0]; b.ps[1] = x[1]
+    if el_path_length(a) < -S.cfg.slack or el_path_length(b) < -S.cfg.slack:
+        a.pe[0] = a_pe[0]; a.pe[1] = a_pe[1]
+        b.ps[0] = b_ps[0]; b.ps[1] = b_ps[1]
+
+
 cdef int _chain_end_corners(CompState *S, bint fixed_end) noexcept nogil:
     """Closes the chain of corners: the last element ends on its perpendicular, or
     (strategy 1, before G40) at its programmed end."""
@@ -192,6 +235,8 @@ cdef int _chain_end_corners(CompState *S, bint fixed_end) noexcept nogil:
         comp_warn(S, a.part, "crossing last part removed from the path")
         comp_discard(S, a.part)
         S.n_st -= 1
+    if not fixed_end:
+        _chain_close_corner(S)
     S.xs.last_part = S.st[S.n_st - 1].part if S.n_st > 0 else <size_t>-1
     if not _flush(S, 0):
         return comp_fail(S, ERR_OUT_OF_MEMORY, S.prog.main_file_idx, 0, 0)
@@ -212,6 +257,7 @@ cdef void _chain_open(CompState *S, size_t k) noexcept nogil:
     S.chain_entry_arc = S.entry_arc
     S.chain_ins0 = S.n_ins
     S.chain_warn0 = S.n_warnings
+    S.chain_radius = 0.0
     if not S.retrying:
         S.lenient = not S.strict and not (S.cfg.strategy & CORR_REMOVE_CROSSING)
     cl_chain_open(S, k, S.n_ins)
@@ -311,7 +357,7 @@ cdef int _chain_end(CompState *S, bint fixed_end, bint exit_fixed) noexcept nogi
     S.chain_exit_fixed = exit_fixed
     if not S.chain_global:
         res = _chain_end_corners(S, fixed_end)
-        if res == COMPILE_OK and S.chain_open and \
+        if res == COMPILE_OK and S.chain_open and S.chain_radius > 0 and \
                 not cl_chain_close(S, S.chain_last, S.chain_fixed, fixed_end):
             res = COMPILE_ERROR
         res = _chain_fallback(S, res)
@@ -416,6 +462,8 @@ cdef int _run_part(CompState *S, size_t k) noexcept nogil:
     if not S.chain_open:
         _chain_open(S, k)
     S.chain_last = k
+    if fabs(el.d) > S.chain_radius:
+        S.chain_radius = fabs(el.d)
     if S.chain_global:
         return COMPILE_OK           # rebuilt from the regions at the chain's end
     if is_arc:

@@ -18,7 +18,8 @@
 # leaves nothing of the chain's first part needs 0x10000 (else 504, or kept).
 # Not loops: a crossing where the programmed elements cross too (the contour itself
 # crosses, the tool has to), and the crossing of the last part of a closed contour with
-# the first one (a start at an inner corner: the entry and exit rules).
+# the first one (a start at an inner corner: the entry and exit rules; with 0x80000
+# compensation.pyx _chain_close_corner trims both to their intersection).
 # At the chain's end its whole path is checked against the contour (clearance.pyx): a
 # cut that kept the wrong side (a chain started inside a neck narrower than the tool)
 # is a gouge, and the chain is rebuilt from its regions (0x80000, regions.pyx).

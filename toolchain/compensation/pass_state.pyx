@@ -68,8 +68,6 @@ cdef bint ins_add(CompState *S, const CompEl *el) noexcept nogil:
     if S.n_ins == S.cap_ins:
         if not grow(<void **>&S.ins, &S.cap_ins, S.n_ins + 1, sizeof(InsRec)):
             return False
-        if S.cap_ins * sizeof(InsRec) >= HUGE_ADVICE_MIN:
-            program_advise_huge(S.ins, S.cap_ins * sizeof(InsRec))
     rec = &S.ins[S.n_ins]
     S.n_ins += 1
     rec.after = el.part

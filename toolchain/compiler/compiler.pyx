@@ -189,18 +189,16 @@ cdef void cp_init(CState *st, const CompileInput *inp, ProgramBuilder *build, Er
 cdef void reserve_parts(ProgramBuilder *build, uint32_t lines) noexcept nogil:
     """Reserves room for about one part per line up front (one allocation instead of
     a doubling series), and half as many again for the parts the compensation may
-    insert at corners (address space only until written: the array need not move),
-    and asks for transparent huge pages: on large programs most of the compile time
-    is otherwise spent faulting in fresh 4 KiB pages. Only a hint; the arrays still
+    insert at corners (address space only until written: the array need not move).
+    No transparent huge pages: on the project's VM a cold 2 MiB page costs several
+    times what its 4 KiB pages do (docs/benchmarks.md, 2026-11-26). The arrays still
     grow on demand."""
     cdef Program *prog = &build.prog
     cdef size_t n = <size_t>lines + 64
     if lines < 100000:
         return
-    if grow(<void **>&prog.parts, &build.cap_parts, n + n // 2, sizeof(Part)):
-        program_advise_huge(prog.parts, build.cap_parts * sizeof(Part))
-    if grow(<void **>&prog.pars, &build.cap_pars, n * 4, sizeof(float)):
-        program_advise_huge(prog.pars, build.cap_pars * sizeof(float))
+    grow(<void **>&prog.parts, &build.cap_parts, n + n // 2, sizeof(Part))
+    grow(<void **>&prog.pars, &build.cap_pars, n * 4, sizeof(float))
 
 
 cdef int compile_program(const CompileInput *inp, ProgramBuilder *build, ErrorInfo *err) noexcept nogil:

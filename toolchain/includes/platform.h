@@ -9,7 +9,7 @@
  *               InitOnce and fiber-local storage, with no pthread library: a
  *               zero-initialised mutex, condition or once is valid on both systems,
  *               as the library's static ones rely on
- *   memory      madvise hints (huge pages, prefault); no-ops refused on Windows
+ *   memory      the madvise prefault hint; refused on Windows
  *   time        a monotonic clock in seconds, sleeps, the local wall-clock time
  *   files       regular files opened without blocking (a FIFO, a device, a console
  *               is refused before any read) by UTF-8 names; fopen by UTF-8 name
@@ -144,14 +144,14 @@ static inline int pthread_setspecific(pthread_key_t key, const void *value) {
 }
 
 /* ------------------------------------------------------------------ memory advice */
-/* Windows has no such hints for heap memory: MADV_HUGEPAGE is ignored (the advice is
-   only a hint), MADV_POPULATE_WRITE is refused, so the library stops asking. */
-#define MADV_HUGEPAGE 14
+/* Windows has no such hint for heap memory: MADV_POPULATE_WRITE is refused, so the
+   library stops asking. */
 #define MADV_POPULATE_WRITE 23
 static inline int madvise(void *addr, size_t length, int advice) {
     (void)addr;
     (void)length;
-    return advice == MADV_HUGEPAGE ? 0 : -1;
+    (void)advice;
+    return -1;
 }
 
 /* ------------------------------------------------------------------ time */

@@ -46,10 +46,9 @@ cdef extern from "platform.h" nogil:
     int pthread_key_delete(pthread_key_t key)
     int pthread_setspecific(pthread_key_t key, const void *value)
 
-    # memory advice: transparent huge pages for the large arrays, and faulting pages in
-    # ahead of their writer; only hints (a refused one is a hint less)
+    # memory advice: faulting pages in ahead of their writer; only a hint (refused: a
+    # hint less)
     int madvise(void *addr, size_t length, int advice)
-    int MADV_HUGEPAGE
     int MADV_POPULATE_WRITE
 
     # time

@@ -275,8 +275,6 @@ cdef bint plan_alloc(Program *prog, const GCODE_PARAMETERS *params, uint32_t enh
     if prog.n_parts == 0:
         return True
     prog.plan = <PartPlan *>malloc(prog.n_parts * sizeof(PartPlan))
-    if prog.plan != NULL and prog.n_parts * sizeof(PartPlan) >= HUGE_ADVICE_MIN:
-        program_advise_huge(prog.plan, prog.n_parts * sizeof(PartPlan))
     return prog.plan != NULL
 
 
