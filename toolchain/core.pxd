@@ -102,8 +102,8 @@ ctypedef struct Core:
     char driver[256]
     int64_t plan_window         # look-ahead of the feed planner in parts (SetLookAhead, INI lookAheadParts)
     # the machine builder's tables and smoothing (any status; the offline machine takes a copy
-    # and a reference as an activity begins, machine/output.pyx; the compiler the tool table
-    # once it is wired in: docs/tool-table.md, "Integration status")
+    # and a reference as an activity begins, machine/output.pyx; a compilation a copy of the
+    # tool table, compiler/tools.pyx, docs/tool-table.md "In programs")
     ToolTable tool_table        # LoadToolTable, SetToolCorrection, INI [Corrections] ToolTable
     AxisCorrections *axis_corrections   # LoadAxisCorrections, INI AxisTable1..8; NULL none (tables.pxd: references)
     SmoothingConfig smoothing   # SetSmoothing, INI [Smoothing]
