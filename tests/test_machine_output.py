@@ -73,37 +73,74 @@ def axes(p10):
 
 
 class Run:
-    """A run sampled after every step: commanded (m_s), output (m_calcS), drives
-    (m_calcE) as (steps, 10) arrays, m_func and the status after each step, and the
-    step of every DriverMFunc call (the callbacks a step causes return inside its
-    TestClock call). Step k (from 1) is sample k - 1."""
+    """A run sampled after every TestClock call of one step: commanded (m_s), output
+    (m_calcS), drives (m_calcE) as (samples, 10) arrays, m_func and the status after
+    each call, and the sample of every DriverMFunc call (the callbacks a step causes
+    return inside its TestClock call). Each call runs step k (from 1) as sample
+    k - 1, except while the machine stands at an M function answered
+    TC_MFUNC_LATER: there the calls run steps only until the output settled.
+    `m_answer(m)` is DriverMFunc's answer; an M answered TC_MFUNC_LATER is confirmed
+    (ConfirmMFunc) `confirm_after` calls after its own, and `confirmed` lists the
+    first sample after each confirmation. StopCNCEx(`stop_code`) before call
+    `stop_at`. The run starts from the origin unless `origin` is False, and is
+    sampled while its status is one of `running`."""
 
-    def __init__(self, lib, regime=30, limit_s=30.0, stop_at=None):
-        self.m_calls = []                    # (M number, the step it was called in)
+    def __init__(self, lib, regime=30, limit_s=30.0, stop_at=None, stop_code=None, origin=True,
+                 m_answer=lambda m: 0, confirm_after=None, running=(30, 31, 32, 33)):
+        self.m_calls = []                    # (M number, the sample it was called in)
+        self.m_seen = []                     # (status, output) the driver saw at each M
+        self.confirmed = []
         self.step = 0
+        self.lib, self.m_answer = lib, m_answer
         thunk = abi.DriverMFunc(self._m)
         assert lib.ToolChainCore_SetCallBack(CORE, abi.CB_DRIVER_M_FUNC, 0, ctypes.cast(thunk, ctypes.c_void_p)) == 0
         rows, self.funcs, self.status = [], [], []
         pos = abi.SIMPLE_GM_PARAMS()
-        assert lib.ToolChainCore_ResetCNC(CORE, 0, 10, (ctypes.c_double * 10)()) == 0     # at the origin
+        if origin:
+            assert lib.ToolChainCore_ResetCNC(CORE, 0, 10, (ctypes.c_double * 10)()) == 0
         assert lib.ToolChainCore_StartCNCEx(CORE, regime, None) == 0
-        while lib.ToolChainCore_StatusCNC(CORE) > 0:
+        waiting = None                       # the sample of the M answered later
+        while lib.ToolChainCore_StatusCNC(CORE) in running:
             assert self.step * T < limit_s, "the run does not end"
             if self.step == stop_at:
-                assert lib.ToolChainCore_StopCNCEx(CORE, None) == 0
+                assert lib.ToolChainCore_StopCNCEx(CORE, stop_code) == 0
+            if waiting is not None and self.step - waiting == confirm_after:
+                self._stands(lib)
+                assert lib.ToolChainCore_ConfirmMFunc(CORE) == 0
+                self.confirmed.append(self.step)
+                waiting = None
             self.step += 1
+            calls = len(self.m_calls)
             assert lib.ToolChainCore_TestClock(CORE, KEY, T) == 0
+            if len(self.m_calls) > calls and m_answer(self.m_calls[-1][0]) == abi.TC_MFUNC_LATER:
+                waiting = self.step
             assert lib.ToolChainCore_GetPos(CORE, 0, ctypes.byref(pos), None) == 0
             rows.append([axes(pos.m_s), axes(pos.m_calcS), axes(pos.m_calcE)])
             self.funcs.append(pos.m_func)
             self.status.append(lib.ToolChainCore_StatusCNC(CORE))
-        assert lib.ToolChainCore_SetCallBack(CORE, abi.CB_DRIVER_M_FUNC, 0, None) == 0
+        self.thunk = thunk                   # alive while a stop's M functions may come (80)
+        if lib.ToolChainCore_StatusCNC(CORE) < 0:
+            assert lib.ToolChainCore_SetCallBack(CORE, abi.CB_DRIVER_M_FUNC, 0, None) == 0
         data = np.array(rows)
         self.commanded, self.output, self.drives = data[:, 0], data[:, 1], data[:, 2]
 
+    @staticmethod
+    def _stands(lib):
+        """Standing at the M answered later, settled: seconds more change nothing."""
+        before, after = abi.SIMPLE_GM_PARAMS(), abi.SIMPLE_GM_PARAMS()
+        assert lib.ToolChainCore_GetPos(CORE, 0, ctypes.byref(before), None) == 0
+        for _ in range(3):
+            assert lib.ToolChainCore_TestClock(CORE, KEY, 1.0) == 0
+            assert lib.ToolChainCore_StatusCNC(CORE) == 30
+        assert lib.ToolChainCore_GetPos(CORE, 0, ctypes.byref(after), None) == 0
+        assert bytes(before) == bytes(after)
+
     def _m(self, user, part):
+        pos = abi.SIMPLE_GM_PARAMS()
+        assert self.lib.ToolChainCore_GetPos(CORE, 0, ctypes.byref(pos), None) == 0
         self.m_calls.append((part.contents.m_func, self.step))
-        return 0
+        self.m_seen.append((self.lib.ToolChainCore_StatusCNC(CORE), axes(pos.m_s), axes(pos.m_calcS)))
+        return self.m_answer(part.contents.m_func)
 
 
 # ------------------------------------------------------------------ axis corrections
@@ -362,3 +399,104 @@ def test_ResetCNC_clears_the_filters_to_the_position(machine, tmp_path):
     assert lib.ToolChainCore_GetPos(CORE, 0, ctypes.byref(pos), None) == 0
     assert pos.m_s.x - pos.m_calcS.x < 1e-3 and pos.m_calcS.x >= 5.0
     assert pos.m_calcS.y == 2.0
+
+
+# ------------------------------------------------------------------ the run's halts through the filters
+
+WAIT_PROGRAM = "G1 X10 Y5 F6000\nM7\nG1 X20 Y-5\n"
+FEED = 100.0                                 # mm/s, F6000
+
+
+def delayed(u, n, start):
+    """The spline's oracle under an unreachable jerk limit: each sample n steps late,
+    the start before."""
+    return np.concatenate([np.repeat(start[None, :], n, axis=0), u[:len(u) - n]]) if n else u
+
+
+def settled_iir(u, y, v, wn):
+    """The settled predicate of the filtered axes at each sample."""
+    return np.all((np.abs(y - u) <= SETTLED_MM) & (np.abs(v) <= SETTLED_MM * wn), axis=1)
+
+
+def assert_no_jump(output, bound):
+    """Consecutive samples of the output move at most `bound` mm (on X and Y)."""
+    moved = np.linalg.norm(np.diff(output[:, :2], axis=0), axis=1)
+    assert moved.max() <= bound, moved.max()
+
+
+@pytest.mark.parametrize("points", [50, 200])
+def test_a_waiting_m_answered_later_reaches_the_driver_with_the_spline_s_output(machine, points):
+    """M7 answered TC_MFUNC_LATER through a spline of N steps (jerk limit unreached):
+    the driver hears of it N steps after the plain run's driver does, with the output
+    standing where the interpolator stands; the machine then stands (status 30, no
+    position moves, however much time is granted) until ConfirmMFunc; the rest of the
+    path is the plain run's, the output N steps behind it, bit for bit; no sample
+    moves more than the feed allows; the run ends settled at the end."""
+    lib = machine
+    n = points
+    compile_program(lib, WAIT_PROGRAM)
+    plain = Run(lib)
+    (_, m7), = plain.m_calls
+    spline(lib, n, 1e12)
+    hold = n + 50
+    r = Run(lib, m_answer=lambda m: abi.TC_MFUNC_LATER, confirm_after=hold)
+    assert plain.status[-1] == r.status[-1] == -32
+    assert [m for m, _ in r.m_calls] == [7]
+    called = r.m_calls[0][1]
+    assert called == m7 + n
+    assert r.m_seen[0][0] == 30
+    assert np.array_equal(r.output[called - 1], plain.commanded[m7 - 1])
+    assert not np.array_equal(r.output[called - 2], plain.commanded[m7 - 1])   # it arrived then
+    # before the confirmation: the plain run's path until M7, the output N steps late
+    confirmed, = r.confirmed
+    assert np.array_equal(r.commanded[:m7], plain.commanded[:m7])
+    assert np.all(r.commanded[m7 - 1:confirmed] == plain.commanded[m7 - 1])
+    assert np.array_equal(r.output[:confirmed], delayed(r.commanded[:confirmed], n, np.zeros(10)))
+    assert all(s == 30 for s in r.status[:-1])
+    # standing: more time changed nothing (Run._stands); after the confirmation: the plain run's rest, the output N steps late from the standing position
+    rest = r.commanded[confirmed:]
+    assert np.array_equal(rest[:plain.step - m7], plain.commanded[m7:])
+    assert np.array_equal(r.output[confirmed:], delayed(rest, n, plain.commanded[m7 - 1]))
+    assert r.output[-1][:2] == pytest.approx([20, -5], abs=0)
+    assert_no_jump(r.output, FEED * T * (1 + 1e-9))
+
+
+def test_a_waiting_m_answered_later_holds_the_IIR_filtered_machine_until_confirmed(machine):
+    """M7 answered TC_MFUNC_LATER, a critically damped IIR filter on X and Y: the
+    driver hears of M7 when the interpolator reaches it (the filter delays no event);
+    the steps go on exactly until the output settled there, then the machine stands
+    until ConfirmMFunc. Over the steps that ran, the output is the closed form of H(s)
+    (within 1e-9 mm); it never moves more than the feed in a step (a filter whose
+    impulse response is positive never overshoots the input's speed)."""
+    lib = machine
+    p, q, f = 2.0, 1.0, 0.02
+    wn = math.sqrt(q) * 2 * math.pi / f
+    compile_program(lib, WAIT_PROGRAM)
+    plain = Run(lib)
+    (_, m7), = plain.m_calls
+    iir(lib, p, q, f, 0b11)
+    r = Run(lib, m_answer=lambda m: abi.TC_MFUNC_LATER, confirm_after=1500)
+    assert r.status[-1] == -32 and all(s == 30 for s in r.status[:-1])
+    assert r.m_calls == [(7, m7)]
+    confirmed, = r.confirmed
+    assert np.array_equal(r.commanded[:confirmed][:m7], plain.commanded[:m7])
+    assert np.all(r.commanded[m7 - 1:confirmed] == plain.commanded[m7 - 1])
+    # the steps before the confirmation as if each call ran one: the first settled one is the last that ran
+    y = np.empty((confirmed, 2))
+    v = np.empty((confirmed, 2))
+    for axis in (0, 1):
+        y[:, axis], v[:, axis] = filtered(r.commanded[:confirmed, axis], 0.0, p, q, f)
+    settled = settled_iir(r.commanded[:confirmed, :2], y, v, wn)
+    last = m7 - 1 + int(np.argmax(settled[m7 - 1:]))
+    assert settled[last] and m7 + 10 < last < confirmed - 100
+    assert np.abs(r.output[:last + 1, :2] - y[:last + 1]).max() < 1e-9
+    assert np.all(r.output[last:confirmed] == r.output[last])          # standing: no step ran
+    # the steps that ran: those until `last`, then the rest after the confirmation
+    ran = np.concatenate([r.commanded[:last + 1], r.commanded[confirmed:]])
+    assert np.array_equal(r.commanded[confirmed:][:plain.step - m7], plain.commanded[m7:])
+    for axis in (0, 1):
+        y_all, _ = filtered(ran[:, axis], 0.0, p, q, f)
+        assert np.abs(r.output[confirmed:, axis] - y_all[last + 1:]).max() < 1e-9
+    assert np.abs(r.output[-1] - r.commanded[-1]).max() <= SETTLED_MM
+    assert r.commanded[-1][:2] == pytest.approx([20, -5], abs=1e-12)
+    assert_no_jump(r.output, FEED * T * (1 + 1e-9))
