@@ -500,3 +500,130 @@ def test_a_waiting_m_answered_later_holds_the_IIR_filtered_machine_until_confirm
     assert np.abs(r.output[-1] - r.commanded[-1]).max() <= SETTLED_MM
     assert r.commanded[-1][:2] == pytest.approx([20, -5], abs=1e-12)
     assert_no_jump(r.output, FEED * T * (1 + 1e-9))
+
+
+SPLINE_N, IIR_PQF = 100, (3.0, 3.0, 0.02)      # the filters of the halts below: a spline, a Bessel filter
+
+
+def filters_on(lib):
+    spline(lib, SPLINE_N, 1e12)
+    iir(lib, *IIR_PQF, 0b11)
+
+
+def through_filters(commanded, start):
+    """The oracle of filters_on: the commanded samples SPLINE_N steps late (the spline
+    under an unreachable jerk limit), through the closed form of H(s) on X and Y;
+    the output and its speed."""
+    u = delayed(commanded, SPLINE_N, start)
+    y, v = u.copy(), np.zeros_like(u)
+    for axis in (0, 1):
+        y[:, axis], v[:, axis] = filtered(u[:, axis], start[axis], *IIR_PQF)
+    return y, v
+
+
+def filters_bound():
+    """How far the filters may move the output in a step at the feed: the spline
+    delays, H(s) moves at most its speed times the integral of |h| (the closed form's
+    derivative, brute force over 20 f)."""
+    p, q, f = IIR_PQF
+    t = np.arange(0, 20 * f, T / 10)
+    _, h = step_response(p, q, f, t)
+    return FEED * T * np.abs(h).sum() * T / 10 * (1 + 1e-6)
+
+
+def assert_halts_once_settled(r, start, halt):
+    """The output is the filters' oracle at every step (within 1e-9 mm); the run halts
+    with `halt` at the first step after the interpolator stood where the output
+    settled (the spline's buffer and its last three samples at the interpolator's
+    position, the filtered axes within 1e-6 mm of it and slower than 1e-6 mm x wn)."""
+    y, v = through_filters(r.commanded, start)
+    assert np.abs(r.output - y).max() < 1e-9
+    assert r.status[-1] == halt and all(s > 0 for s in r.status[:-1])
+    p, q, f = IIR_PQF
+    settled = settled_iir(r.commanded[:, :2], y[:, :2], v[:, :2], math.sqrt(q) * 2 * math.pi / f)
+    stood = np.nonzero(np.any(np.diff(r.commanded, axis=0) != 0, axis=1))[0][-1] + 1
+    settled[:stood + SPLINE_N + 3] = False       # the spline's buffer not yet at the position
+    assert settled[-1] and not settled[:-1].any()
+    assert np.abs(r.output[-1] - r.commanded[-1]).max() <= SETTLED_MM
+
+
+def test_M0_pauses_once_the_filtered_output_settled_and_a_start_goes_on(machine):
+    """M0 through the spline and the IIR filter: -33 only once the output settled at
+    M0's position; StartCNCEx goes on from there to the end, the output never jumping."""
+    lib = machine
+    filters_on(lib)
+    compile_program(lib, "G1 X10 Y5 F6000\nM0\nG1 X20 Y-5\n")
+    r = Run(lib)
+    assert_halts_once_settled(r, np.zeros(10), -33)
+    assert r.commanded[-1][:2] == pytest.approx([10, 5], abs=1e-12)
+    assert [m for m, _ in r.m_calls] == [0]
+    rest = Run(lib, origin=False)
+    assert_halts_once_settled(rest, r.commanded[-1], -32)
+    assert rest.commanded[-1][:2] == pytest.approx([20, -5], abs=1e-12)
+    assert_no_jump(np.concatenate([r.output, rest.output]), filters_bound())
+
+
+def test_a_breakpoint_halts_once_the_filtered_output_settled(machine):
+    """SetBreakpoint at line 3 through the spline and the IIR filter: -31 once the
+    output settled at line 2's end, GetPos at line 3; the next start goes on."""
+    lib = machine
+    filters_on(lib)
+    compile_program(lib, "G1 X10 Y0 F6000\nG1 X10 Y5\nG1 X0 Y5\n")
+    assert lib.ToolChainCore_SetBreakpoint(CORE, 3, lib.ToolChainCore_FileToIdx(CORE, b"out.nc")) == 0
+    r = Run(lib)
+    assert_halts_once_settled(r, np.zeros(10), -31)
+    assert r.commanded[-1][:2] == pytest.approx([10, 5], abs=1e-12)
+    pos = abi.SIMPLE_GM_PARAMS()
+    assert lib.ToolChainCore_GetPos(CORE, 0, ctypes.byref(pos), None) == 0
+    assert pos.m_editorLine == 3
+    rest = Run(lib, origin=False)
+    assert_halts_once_settled(rest, r.commanded[-1], -32)
+    assert rest.commanded[-1][:2] == pytest.approx([0, 5], abs=1e-12)
+
+
+def test_backward_through_the_filters_retraces_the_path_and_settles_at_the_start(machine):
+    """Backward (32, motion[2] at 25 mm/s) after a run to the end, the spline and the
+    IIR filter on: the commanded path retraces the program's polyline, the output is
+    the filters' oracle of it (so within the filters' lag of the path), never jumps,
+    and the run ends -30 once it settled at the start."""
+    lib = machine
+    p = abi.GCODE_PARAMETERS()
+    assert lib.ToolChainCore_GetGCodeParameters(CORE, ctypes.byref(p)) == 0
+    p.motion[2].feed = 1500.0
+    assert lib.ToolChainCore_SetGCodeParameters(CORE, ctypes.byref(p)) == 0
+    filters_on(lib)
+    compile_program(lib, "G1 X10 Y0 F6000\nG1 X10 Y5\nG1 X0 Y5\n")
+    forward = Run(lib)
+    assert forward.status[-1] == -32
+    back = Run(lib, regime=32, origin=False)
+    assert_halts_once_settled(back, forward.commanded[-1], -30)
+    corners = np.array([[0.0, 0.0], [10.0, 0.0], [10.0, 5.0], [0.0, 5.0]])
+    assert polyline_distance(back.commanded[:, :2], corners).max() <= 1e-9
+    assert back.commanded[-1][:2] == pytest.approx([0, 0], abs=1e-9)
+    assert np.ptp(back.commanded[:, 0]) == pytest.approx(10, abs=1e-9)     # the whole path
+    assert_no_jump(back.output, filters_bound())
+
+
+def test_a_stop_s_m_functions_reach_the_driver_once_the_filtered_output_settled(machine):
+    """StopCNCEx("M8 M9") while filtered, DriverMFunc answering TC_MFUNC_LATER: the
+    machine brakes, the output settles, and only then the status is 80 and M8 comes
+    (the output standing there); M9 after its confirmation, -31 after M9's."""
+    from test_machine import wait
+    lib = machine
+    filters_on(lib)
+    compile_program(lib, "G1 X40 Y10 F6000\n")
+    r = Run(lib, stop_at=2000, stop_code=b"M8 M9", m_answer=lambda m: abi.TC_MFUNC_LATER, running=(30,))
+    assert r.status[-1] == 80
+    r.status[-1] = -31                           # the halt the oracle checks: the motion's
+    assert_halts_once_settled(r, np.zeros(10), -31)
+    assert wait(lib, CORE, lambda s: len(r.m_calls) == 1) == 80
+    (m8, called), = r.m_calls
+    assert m8 == 8 and called == r.step          # after the last step
+    status, commanded, output = r.m_seen[0]
+    assert status == 80 and commanded == list(r.commanded[-1]) and output == list(r.output[-1])
+    assert lib.ToolChainCore_ConfirmMFunc(CORE) == 0
+    assert wait(lib, CORE, lambda s: len(r.m_calls) == 2) == 80
+    assert r.m_calls[1] == (9, r.step) and r.m_seen[1][2] == output
+    assert lib.ToolChainCore_ConfirmMFunc(CORE) == 0
+    assert wait(lib, CORE, lambda s: s != 80) == -31
+    assert lib.ToolChainCore_SetCallBack(CORE, abi.CB_DRIVER_M_FUNC, 0, None) == 0
