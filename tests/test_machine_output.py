@@ -73,37 +73,74 @@ def axes(p10):
 
 
 class Run:
-    """A run sampled after every step: commanded (m_s), output (m_calcS), drives
-    (m_calcE) as (steps, 10) arrays, m_func and the status after each step, and the
-    step of every DriverMFunc call (the callbacks a step causes return inside its
-    TestClock call). Step k (from 1) is sample k - 1."""
+    """A run sampled after every TestClock call of one step: commanded (m_s), output
+    (m_calcS), drives (m_calcE) as (samples, 10) arrays, m_func and the status after
+    each call, and the sample of every DriverMFunc call (the callbacks a step causes
+    return inside its TestClock call). Each call runs step k (from 1) as sample
+    k - 1, except while the machine stands at an M function answered
+    TC_MFUNC_LATER: there the calls run steps only until the output settled.
+    `m_answer(m)` is DriverMFunc's answer; an M answered TC_MFUNC_LATER is confirmed
+    (ConfirmMFunc) `confirm_after` calls after its own, and `confirmed` lists the
+    first sample after each confirmation. StopCNCEx(`stop_code`) before call
+    `stop_at`. The run starts from the origin unless `origin` is False, and is
+    sampled while its status is one of `running`."""
 
-    def __init__(self, lib, regime=30, limit_s=30.0, stop_at=None):
-        self.m_calls = []                    # (M number, the step it was called in)
+    def __init__(self, lib, regime=30, limit_s=30.0, stop_at=None, stop_code=None, origin=True,
+                 m_answer=lambda m: 0, confirm_after=None, running=(30, 31, 32, 33)):
+        self.m_calls = []                    # (M number, the sample it was called in)
+        self.m_seen = []                     # (status, output) the driver saw at each M
+        self.confirmed = []
         self.step = 0
+        self.lib, self.m_answer = lib, m_answer
         thunk = abi.DriverMFunc(self._m)
         assert lib.ToolChainCore_SetCallBack(CORE, abi.CB_DRIVER_M_FUNC, 0, ctypes.cast(thunk, ctypes.c_void_p)) == 0
         rows, self.funcs, self.status = [], [], []
         pos = abi.SIMPLE_GM_PARAMS()
-        assert lib.ToolChainCore_ResetCNC(CORE, 0, 10, (ctypes.c_double * 10)()) == 0     # at the origin
+        if origin:
+            assert lib.ToolChainCore_ResetCNC(CORE, 0, 10, (ctypes.c_double * 10)()) == 0
         assert lib.ToolChainCore_StartCNCEx(CORE, regime, None) == 0
-        while lib.ToolChainCore_StatusCNC(CORE) > 0:
+        waiting = None                       # the sample of the M answered later
+        while lib.ToolChainCore_StatusCNC(CORE) in running:
             assert self.step * T < limit_s, "the run does not end"
             if self.step == stop_at:
-                assert lib.ToolChainCore_StopCNCEx(CORE, None) == 0
+                assert lib.ToolChainCore_StopCNCEx(CORE, stop_code) == 0
+            if waiting is not None and self.step - waiting == confirm_after:
+                self._stands(lib)
+                assert lib.ToolChainCore_ConfirmMFunc(CORE) == 0
+                self.confirmed.append(self.step)
+                waiting = None
             self.step += 1
+            calls = len(self.m_calls)
             assert lib.ToolChainCore_TestClock(CORE, KEY, T) == 0
+            if len(self.m_calls) > calls and m_answer(self.m_calls[-1][0]) == abi.TC_MFUNC_LATER:
+                waiting = self.step
             assert lib.ToolChainCore_GetPos(CORE, 0, ctypes.byref(pos), None) == 0
             rows.append([axes(pos.m_s), axes(pos.m_calcS), axes(pos.m_calcE)])
             self.funcs.append(pos.m_func)
             self.status.append(lib.ToolChainCore_StatusCNC(CORE))
-        assert lib.ToolChainCore_SetCallBack(CORE, abi.CB_DRIVER_M_FUNC, 0, None) == 0
+        self.thunk = thunk                   # alive while a stop's M functions may come (80)
+        if lib.ToolChainCore_StatusCNC(CORE) < 0:
+            assert lib.ToolChainCore_SetCallBack(CORE, abi.CB_DRIVER_M_FUNC, 0, None) == 0
         data = np.array(rows)
         self.commanded, self.output, self.drives = data[:, 0], data[:, 1], data[:, 2]
 
+    @staticmethod
+    def _stands(lib):
+        """Standing at the M answered later, settled: seconds more change nothing."""
+        before, after = abi.SIMPLE_GM_PARAMS(), abi.SIMPLE_GM_PARAMS()
+        assert lib.ToolChainCore_GetPos(CORE, 0, ctypes.byref(before), None) == 0
+        for _ in range(3):
+            assert lib.ToolChainCore_TestClock(CORE, KEY, 1.0) == 0
+            assert lib.ToolChainCore_StatusCNC(CORE) == 30
+        assert lib.ToolChainCore_GetPos(CORE, 0, ctypes.byref(after), None) == 0
+        assert bytes(before) == bytes(after)
+
     def _m(self, user, part):
+        pos = abi.SIMPLE_GM_PARAMS()
+        assert self.lib.ToolChainCore_GetPos(CORE, 0, ctypes.byref(pos), None) == 0
         self.m_calls.append((part.contents.m_func, self.step))
-        return 0
+        self.m_seen.append((self.lib.ToolChainCore_StatusCNC(CORE), axes(pos.m_s), axes(pos.m_calcS)))
+        return self.m_answer(part.contents.m_func)
 
 
 # ------------------------------------------------------------------ axis corrections
@@ -362,3 +399,231 @@ def test_ResetCNC_clears_the_filters_to_the_position(machine, tmp_path):
     assert lib.ToolChainCore_GetPos(CORE, 0, ctypes.byref(pos), None) == 0
     assert pos.m_s.x - pos.m_calcS.x < 1e-3 and pos.m_calcS.x >= 5.0
     assert pos.m_calcS.y == 2.0
+
+
+# ------------------------------------------------------------------ the run's halts through the filters
+
+WAIT_PROGRAM = "G1 X10 Y5 F6000\nM7\nG1 X20 Y-5\n"
+FEED = 100.0                                 # mm/s, F6000
+
+
+def delayed(u, n, start):
+    """The spline's oracle under an unreachable jerk limit: each sample n steps late,
+    the start before."""
+    return np.concatenate([np.repeat(start[None, :], n, axis=0), u[:len(u) - n]]) if n else u
+
+
+def settled_iir(u, y, v, wn):
+    """The settled predicate of the filtered axes at each sample."""
+    return np.all((np.abs(y - u) <= SETTLED_MM) & (np.abs(v) <= SETTLED_MM * wn), axis=1)
+
+
+def assert_no_jump(output, bound):
+    """Consecutive samples of the output move at most `bound` mm (on X and Y)."""
+    moved = np.linalg.norm(np.diff(output[:, :2], axis=0), axis=1)
+    assert moved.max() <= bound, moved.max()
+
+
+@pytest.mark.parametrize("points", [50, 200])
+def test_a_waiting_m_answered_later_reaches_the_driver_with_the_spline_s_output(machine, points):
+    """M7 answered TC_MFUNC_LATER through a spline of N steps (jerk limit unreached):
+    the driver hears of it N steps after the plain run's driver does, with the output
+    standing where the interpolator stands; the machine then stands (status 30, no
+    position moves, however much time is granted) until ConfirmMFunc; the rest of the
+    path is the plain run's, the output N steps behind it, bit for bit; no sample
+    moves more than the feed allows; the run ends settled at the end."""
+    lib = machine
+    n = points
+    compile_program(lib, WAIT_PROGRAM)
+    plain = Run(lib)
+    (_, m7), = plain.m_calls
+    spline(lib, n, 1e12)
+    hold = n + 50
+    r = Run(lib, m_answer=lambda m: abi.TC_MFUNC_LATER, confirm_after=hold)
+    assert plain.status[-1] == r.status[-1] == -32
+    assert [m for m, _ in r.m_calls] == [7]
+    called = r.m_calls[0][1]
+    assert called == m7 + n
+    assert r.m_seen[0][0] == 30
+    assert np.array_equal(r.output[called - 1], plain.commanded[m7 - 1])
+    assert not np.array_equal(r.output[called - 2], plain.commanded[m7 - 1])   # it arrived then
+    # before the confirmation: the plain run's path until M7, the output N steps late
+    confirmed, = r.confirmed
+    assert np.array_equal(r.commanded[:m7], plain.commanded[:m7])
+    assert np.all(r.commanded[m7 - 1:confirmed] == plain.commanded[m7 - 1])
+    assert np.array_equal(r.output[:confirmed], delayed(r.commanded[:confirmed], n, np.zeros(10)))
+    assert all(s == 30 for s in r.status[:-1])
+    # standing: more time changed nothing (Run._stands); after the confirmation: the plain run's rest, the output N steps late from the standing position
+    rest = r.commanded[confirmed:]
+    assert np.array_equal(rest[:plain.step - m7], plain.commanded[m7:])
+    assert np.array_equal(r.output[confirmed:], delayed(rest, n, plain.commanded[m7 - 1]))
+    assert r.output[-1][:2] == pytest.approx([20, -5], abs=0)
+    assert_no_jump(r.output, FEED * T * (1 + 1e-9))
+
+
+def test_a_waiting_m_answered_later_holds_the_IIR_filtered_machine_until_confirmed(machine):
+    """M7 answered TC_MFUNC_LATER, a critically damped IIR filter on X and Y: the
+    driver hears of M7 when the interpolator reaches it (the filter delays no event);
+    the steps go on exactly until the output settled there, then the machine stands
+    until ConfirmMFunc. Over the steps that ran, the output is the closed form of H(s)
+    (within 1e-9 mm); it never moves more than the feed in a step (a filter whose
+    impulse response is positive never overshoots the input's speed)."""
+    lib = machine
+    p, q, f = 2.0, 1.0, 0.02
+    wn = math.sqrt(q) * 2 * math.pi / f
+    compile_program(lib, WAIT_PROGRAM)
+    plain = Run(lib)
+    (_, m7), = plain.m_calls
+    iir(lib, p, q, f, 0b11)
+    r = Run(lib, m_answer=lambda m: abi.TC_MFUNC_LATER, confirm_after=1500)
+    assert r.status[-1] == -32 and all(s == 30 for s in r.status[:-1])
+    assert r.m_calls == [(7, m7)]
+    confirmed, = r.confirmed
+    assert np.array_equal(r.commanded[:confirmed][:m7], plain.commanded[:m7])
+    assert np.all(r.commanded[m7 - 1:confirmed] == plain.commanded[m7 - 1])
+    # the steps before the confirmation as if each call ran one: the first settled one is the last that ran
+    y = np.empty((confirmed, 2))
+    v = np.empty((confirmed, 2))
+    for axis in (0, 1):
+        y[:, axis], v[:, axis] = filtered(r.commanded[:confirmed, axis], 0.0, p, q, f)
+    settled = settled_iir(r.commanded[:confirmed, :2], y, v, wn)
+    last = m7 - 1 + int(np.argmax(settled[m7 - 1:]))
+    assert settled[last] and m7 + 10 < last < confirmed - 100
+    assert np.abs(r.output[:last + 1, :2] - y[:last + 1]).max() < 1e-9
+    assert np.all(r.output[last:confirmed] == r.output[last])          # standing: no step ran
+    # the steps that ran: those until `last`, then the rest after the confirmation
+    ran = np.concatenate([r.commanded[:last + 1], r.commanded[confirmed:]])
+    assert np.array_equal(r.commanded[confirmed:][:plain.step - m7], plain.commanded[m7:])
+    for axis in (0, 1):
+        y_all, _ = filtered(ran[:, axis], 0.0, p, q, f)
+        assert np.abs(r.output[confirmed:, axis] - y_all[last + 1:]).max() < 1e-9
+    assert np.abs(r.output[-1] - r.commanded[-1]).max() <= SETTLED_MM
+    assert r.commanded[-1][:2] == pytest.approx([20, -5], abs=1e-12)
+    assert_no_jump(r.output, FEED * T * (1 + 1e-9))
+
+
+SPLINE_N, IIR_PQF = 100, (3.0, 3.0, 0.02)      # the filters of the halts below: a spline, a Bessel filter
+
+
+def filters_on(lib):
+    spline(lib, SPLINE_N, 1e12)
+    iir(lib, *IIR_PQF, 0b11)
+
+
+def through_filters(commanded, start):
+    """The oracle of filters_on: the commanded samples SPLINE_N steps late (the spline
+    under an unreachable jerk limit), through the closed form of H(s) on X and Y;
+    the output and its speed."""
+    u = delayed(commanded, SPLINE_N, start)
+    y, v = u.copy(), np.zeros_like(u)
+    for axis in (0, 1):
+        y[:, axis], v[:, axis] = filtered(u[:, axis], start[axis], *IIR_PQF)
+    return y, v
+
+
+def filters_bound():
+    """How far the filters may move the output in a step at the feed: the spline
+    delays, H(s) moves at most its speed times the integral of |h| (the closed form's
+    derivative, brute force over 20 f)."""
+    p, q, f = IIR_PQF
+    t = np.arange(0, 20 * f, T / 10)
+    _, h = step_response(p, q, f, t)
+    return FEED * T * np.abs(h).sum() * T / 10 * (1 + 1e-6)
+
+
+def assert_halts_once_settled(r, start, halt):
+    """The output is the filters' oracle at every step (within 1e-9 mm); the run halts
+    with `halt` at the first step after the interpolator stood where the output
+    settled (the spline's buffer and its last three samples at the interpolator's
+    position, the filtered axes within 1e-6 mm of it and slower than 1e-6 mm x wn)."""
+    y, v = through_filters(r.commanded, start)
+    assert np.abs(r.output - y).max() < 1e-9
+    assert r.status[-1] == halt and all(s > 0 for s in r.status[:-1])
+    p, q, f = IIR_PQF
+    settled = settled_iir(r.commanded[:, :2], y[:, :2], v[:, :2], math.sqrt(q) * 2 * math.pi / f)
+    stood = np.nonzero(np.any(np.diff(r.commanded, axis=0) != 0, axis=1))[0][-1] + 1
+    settled[:stood + SPLINE_N + 3] = False       # the spline's buffer not yet at the position
+    assert settled[-1] and not settled[:-1].any()
+    assert np.abs(r.output[-1] - r.commanded[-1]).max() <= SETTLED_MM
+
+
+def test_M0_pauses_once_the_filtered_output_settled_and_a_start_goes_on(machine):
+    """M0 through the spline and the IIR filter: -33 only once the output settled at
+    M0's position; StartCNCEx goes on from there to the end, the output never jumping."""
+    lib = machine
+    filters_on(lib)
+    compile_program(lib, "G1 X10 Y5 F6000\nM0\nG1 X20 Y-5\n")
+    r = Run(lib)
+    assert_halts_once_settled(r, np.zeros(10), -33)
+    assert r.commanded[-1][:2] == pytest.approx([10, 5], abs=1e-12)
+    assert [m for m, _ in r.m_calls] == [0]
+    rest = Run(lib, origin=False)
+    assert_halts_once_settled(rest, r.commanded[-1], -32)
+    assert rest.commanded[-1][:2] == pytest.approx([20, -5], abs=1e-12)
+    assert_no_jump(np.concatenate([r.output, rest.output]), filters_bound())
+
+
+def test_a_breakpoint_halts_once_the_filtered_output_settled(machine):
+    """SetBreakpoint at line 3 through the spline and the IIR filter: -31 once the
+    output settled at line 2's end, GetPos at line 3; the next start goes on."""
+    lib = machine
+    filters_on(lib)
+    compile_program(lib, "G1 X10 Y0 F6000\nG1 X10 Y5\nG1 X0 Y5\n")
+    assert lib.ToolChainCore_SetBreakpoint(CORE, 3, lib.ToolChainCore_FileToIdx(CORE, b"out.nc")) == 0
+    r = Run(lib)
+    assert_halts_once_settled(r, np.zeros(10), -31)
+    assert r.commanded[-1][:2] == pytest.approx([10, 5], abs=1e-12)
+    pos = abi.SIMPLE_GM_PARAMS()
+    assert lib.ToolChainCore_GetPos(CORE, 0, ctypes.byref(pos), None) == 0
+    assert pos.m_editorLine == 3
+    rest = Run(lib, origin=False)
+    assert_halts_once_settled(rest, r.commanded[-1], -32)
+    assert rest.commanded[-1][:2] == pytest.approx([0, 5], abs=1e-12)
+
+
+def test_backward_through_the_filters_retraces_the_path_and_settles_at_the_start(machine):
+    """Backward (32, motion[2] at 25 mm/s) after a run to the end, the spline and the
+    IIR filter on: the commanded path retraces the program's polyline, the output is
+    the filters' oracle of it (so within the filters' lag of the path), never jumps,
+    and the run ends -30 once it settled at the start."""
+    lib = machine
+    p = abi.GCODE_PARAMETERS()
+    assert lib.ToolChainCore_GetGCodeParameters(CORE, ctypes.byref(p)) == 0
+    p.motion[2].feed = 1500.0
+    assert lib.ToolChainCore_SetGCodeParameters(CORE, ctypes.byref(p)) == 0
+    filters_on(lib)
+    compile_program(lib, "G1 X10 Y0 F6000\nG1 X10 Y5\nG1 X0 Y5\n")
+    forward = Run(lib)
+    assert forward.status[-1] == -32
+    back = Run(lib, regime=32, origin=False)
+    assert_halts_once_settled(back, forward.commanded[-1], -30)
+    corners = np.array([[0.0, 0.0], [10.0, 0.0], [10.0, 5.0], [0.0, 5.0]])
+    assert polyline_distance(back.commanded[:, :2], corners).max() <= 1e-9
+    assert back.commanded[-1][:2] == pytest.approx([0, 0], abs=1e-9)
+    assert np.ptp(back.commanded[:, 0]) == pytest.approx(10, abs=1e-9)     # the whole path
+    assert_no_jump(back.output, filters_bound())
+
+
+def test_a_stop_s_m_functions_reach_the_driver_once_the_filtered_output_settled(machine):
+    """StopCNCEx("M8 M9") while filtered, DriverMFunc answering TC_MFUNC_LATER: the
+    machine brakes, the output settles, and only then the status is 80 and M8 comes
+    (the output standing there); M9 after its confirmation, -31 after M9's."""
+    from test_machine import wait
+    lib = machine
+    filters_on(lib)
+    compile_program(lib, "G1 X40 Y10 F6000\n")
+    r = Run(lib, stop_at=2000, stop_code=b"M8 M9", m_answer=lambda m: abi.TC_MFUNC_LATER, running=(30,))
+    assert r.status[-1] == 80
+    r.status[-1] = -31                           # the halt the oracle checks: the motion's
+    assert_halts_once_settled(r, np.zeros(10), -31)
+    assert wait(lib, CORE, lambda s: len(r.m_calls) == 1) == 80
+    (m8, called), = r.m_calls
+    assert m8 == 8 and called == r.step          # after the last step
+    status, commanded, output = r.m_seen[0]
+    assert status == 80 and commanded == list(r.commanded[-1]) and output == list(r.output[-1])
+    assert lib.ToolChainCore_ConfirmMFunc(CORE) == 0
+    assert wait(lib, CORE, lambda s: len(r.m_calls) == 2) == 80
+    assert r.m_calls[1] == (9, r.step) and r.m_seen[1][2] == output
+    assert lib.ToolChainCore_ConfirmMFunc(CORE) == 0
+    assert wait(lib, CORE, lambda s: s != 80) == -31
+    assert lib.ToolChainCore_SetCallBack(CORE, abi.CB_DRIVER_M_FUNC, 0, None) == 0

@@ -307,6 +307,9 @@ cdef void *_pacer_body(void *arg) noexcept nogil:
         cut = False
         # output stage: the steps go on after the interpolator halted until the output settled
         while budget >= dt and not output_halted(&m.output, mo):
+            if mo.state == MS_WAIT_M and not TC_ATOMIC_LOAD(&mo.confirmed) and output_settled(&m.output):
+                budget = 0.0                # settled at an unconfirmed M: it stands, no steps
+                break
             motion_sync(mo)
             if mo.consumed - told >= LOOK_RING // 4:
                 _hand_over(m, True)         # room in the ring: the feeder refills it
