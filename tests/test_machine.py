@@ -370,6 +370,16 @@ def test_the_override_moves_by_overrideInc_per_step(mh, timing):
     assert (steps[k + 100][9] - steps[k][9]) / (100 * DT) == pytest.approx(50.0, rel=1e-6)
 
 
+def run_at_override(mh, rel_feed, core=0):
+    """A forward run (30) of the harness's machine at feed override `rel_feed`, the
+    override set back to 1.0 afterwards."""
+    mh.set_rel_feed(core, rel_feed)
+    try:
+        return mh.run(core, 30)
+    finally:
+        mh.set_rel_feed(core, 1.0)
+
+
 @pytest.mark.parametrize("timing, expected", [(0, 100 / 50 + 50 / 500), (1, 2 * (100 / 100 + 100 / 500))],
                          ids=["feed_cap", "time_scale"])
 def test_a_constant_override_by_interpolatorConfig0(mh, timing, expected):
@@ -377,11 +387,7 @@ def test_a_constant_override_by_interpolatorConfig0(mh, timing, expected):
     capped at 50 mm/s, the ramps keep 500 mm/s^2: L / v + v / a. Bit 0 set: the whole
     profile runs at half speed in time, ramps included: twice 1.2 s."""
     load(mh, "G1 X100 F6000\n", interpolatorConfig0=timing)
-    mh.set_rel_feed(0, 0.5)
-    try:
-        run = mh.run(0, 30)
-    finally:
-        mh.set_rel_feed(0, 1.0)
+    run = run_at_override(mh, 0.5)
     assert run["finish"] == "done"
     assert run["run_time"] == pytest.approx(expected, abs=2 * DT)
     steps = run["steps"]

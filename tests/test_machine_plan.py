@@ -15,7 +15,7 @@ import pytest
 
 from sf_tch import abi
 from test_machine import (ARCS, DT, LINES, SQUARE_G42, api, circle_chords, compile_on, get_pos,  # noqa: F401
-                          load, params, poll_run, run_time_of, set_params, start, wait)
+                          load, params, poll_run, run_at_override, run_time_of, set_params, start, wait)
 from test_planner import ruckig_time
 
 
@@ -146,11 +146,7 @@ def test_an_override_of_200_percent_stays_under_every_hard_limit(mh):
     centripetal acceleration (nor X's speed); where no hard limit binds, the Y line
     of F1500, the override doubles the feed."""
     assert mh.compile_text(0, HARD, hard_params(mh), 0, [0.0] * 10) is None
-    mh.set_rel_feed(0, 2.0)
-    try:
-        run = mh.run(0, 30)
-    finally:
-        mh.set_rel_feed(0, 1.0)
+    run = run_at_override(mh, 2.0)
     assert run["finish"] == "done"
     assert max(axis_speeds(run, 0, 0)) <= 50.0 * (1 + 1e-6)
     assert peak_in(run, 0) == pytest.approx(50.0, rel=1e-6)
@@ -172,11 +168,7 @@ def test_an_override_of_200_percent_stays_under_the_arc_feed_table(mh):
     p.arcFeedTable[0].m_r, p.arcFeedTable[0].m_relFeed = 0.0, 0.5
     assert mh.compile_text(0, "G1 X60 F3000\nG4 H0.05\nG3 X60 Y20 I0 J10 F6000\n", bytes(p), 0,
                            [0.0] * 10) is None
-    mh.set_rel_feed(0, 2.0)
-    try:
-        run = mh.run(0, 30)
-    finally:
-        mh.set_rel_feed(0, 1.0)
+    run = run_at_override(mh, 2.0)
     assert run["finish"] == "done"
     assert peak_in(run, 0) == pytest.approx(100.0, rel=1e-6)
     assert peak_in(run, 2) == pytest.approx(50.0, rel=1e-6)
@@ -186,11 +178,7 @@ def test_an_override_that_scales_time_stops_at_100_percent(mh):
     """interpolatorConfig0 bit 0: the override scales time, speeds and ramps alike;
     above 100 % it would pass every limit the plan keeps: it stays at 1."""
     assert mh.compile_text(0, HARD, hard_params(mh, interpolatorConfig0=1), 0, [0.0] * 10) is None
-    mh.set_rel_feed(0, 2.0)
-    try:
-        run = mh.run(0, 30)
-    finally:
-        mh.set_rel_feed(0, 1.0)
+    run = run_at_override(mh, 2.0)
     assert run["finish"] == "done"
     assert max(s[4] for s in run["steps"]) <= 1.0
     assert max(axis_speeds(run, 0, 0)) <= 50.0 * (1 + 1e-6)
