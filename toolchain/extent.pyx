@@ -80,6 +80,7 @@ cdef size_t extent_range(const Program *prog, size_t first, size_t end, GCODE_SI
     cdef const double *s
     cdef const double *e
     cdef const double *cc
+    cdef const PartExtra *x
     cdef double s_buf[3]
     cdef double e_buf[3]
     cdef double cc_buf[3]
@@ -97,7 +98,8 @@ cdef size_t extent_range(const Program *prog, size_t first, size_t end, GCODE_SI
         last = i
         s = part_start_xyz(prog, i)
         e = p.e
-        cc = p.cc
+        x = part_extra(prog, p)
+        cc = x.cc
         prev_rot = prog.parts[i - 1].rot_idx if i > 0 else 0
         if not rotated and (prev_rot != 0 or p.rot_idx != 0):
             memcpy(s_buf, s, sizeof(s_buf))
@@ -135,7 +137,7 @@ cdef size_t extent_range(const Program *prog, size_t first, size_t end, GCODE_SI
                     _unrotate(prog, prev_rot, cs)
             else:
                 cs[0] = s[0]; cs[1] = s[1]; cs[2] = s[2]
-            _widen_arc(tool, cs, ce, cc, p.radius, first_axis, second_axis, p.func == 3)
+            _widen_arc(tool, cs, ce, cc, x.radius, first_axis, second_axis, p.func == 3)
     return last
 
 

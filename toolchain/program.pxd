@@ -27,13 +27,12 @@ cdef enum PartFlags:
     FLAG_HELIX = 0x08            # arc with off-plane motion
     FLAG_CSS = 0x10              # G96 with G95: `value` holds the spindle speed (rev/min) S gives there
 
+# What every part needs; what only some carry is in its PartExtra. 112 bytes: a CAM
+# job's parts are most of a compiled program's memory (docs/benchmarks.md).
 ctypedef struct Part:
     double e[3]             # programmed end x y z, machine coordinates (program + zero offset); M parts: current position
     double ce[3]            # compensated end x y z (the other axes as programmed); = e when not compensated
-    double cc[3]            # arc centre x y z (machine coordinates), programmed
-    double radius           # arc radius of the tool path (compensated); 0 for lines
     double feed             # F in mm/min (G94) or mm/rev (G95) after forceMode/M99; rapid: motion[0].feed
-    double value            # dwell seconds (G4), thread pitch (G33), spindle rev/min under G96 (FLAG_CSS)
     float fp                # FP relative feed (1.0)
     float spindle           # S
     int32_t func            # G number (0 1 2 3 4 33) or M number
@@ -41,7 +40,8 @@ ctypedef struct Part:
     uint32_t line           # 1-based line in its file
     uint32_t pars_off       # offset of this part's addresses in Program.pars (see pars_mask)
     uint32_t pars_mask      # bit (letter - 'A') set for every address written on the line
-    uint32_t aux            # PART_PRINT: offset of its text in Program.texts
+    uint32_t extra          # its PartExtra in Program.extras (0: none, read as all zero: part_extra);
+                            # PART_PRINT: the offset of its text in Program.texts
     uint32_t axes_idx       # the end's other seven axes (c b u v w a o): Program.axes[OTHER_AXES * axes_idx ...]
     uint16_t zero_idx       # index into Program.zeros (active zero offset)
     uint16_t rot_idx        # index into Program.rotations (G168), 0 = not rotated
@@ -53,6 +53,14 @@ ctypedef struct Part:
     uint8_t comp            # 40 41 42 (side after the sign of the radius), see m_bFeedIsMin
     uint8_t comp_slot       # 0..7: index of correction[] used (G41 -> 0, G42 -> 1, G43 -> 2, ...)
     uint16_t radius_idx     # 0: the radius is correction[comp_slot]'s; else Program.radii[radius_idx] (a D word's)
+
+# What only some parts carry, in Program.extras (Part.extra): an arc's centre and
+# radius, the value of a dwell, a thread or a G96 part. Parts without one (lines,
+# M functions) read the zero record (part_extra): radius 0, value 0.
+ctypedef struct PartExtra:
+    double cc[3]            # arc centre x y z (machine coordinates), programmed
+    double radius           # arc radius of the tool path (compensated); 0: a removed arc, or no arc
+    double value            # dwell seconds (G4), thread pitch (G33), spindle rev/min under G96 (FLAG_CSS)
 
 # G167 automatic arcs from the program: the settings in force from part `first` on
 # (index among the programmed parts, i.e. not counting inserted ones).
@@ -121,6 +129,8 @@ cdef struct Follow                  # the stage beside the compiler (pipeline.px
 ctypedef struct Program:
     Part *parts
     size_t n_parts
+    PartExtra *extras       # Part.extra's records; entry 0 unused (part_extra reads NO_EXTRA)
+    size_t n_extras
     float *pars             # addresses of all parts, packed in letter order per part
     size_t n_pars
     P10DOUBLE *zeros        # zero offsets referenced by Part.zero_idx (zeros[0] = none)
@@ -162,6 +172,7 @@ ctypedef struct ProgramBuilder:
     size_t cap_parts, cap_pars, cap_zeros, cap_rotations    # allocated items of each array
     size_t cap_strategy_regions, cap_texts, cap_axes        # (axes, rotations: doubles)
     size_t cap_arc_regions, cap_plan_regions, cap_radii, cap_tool_writes
+    size_t cap_extras, reserved_extras     # reserved_extras: what program_merge set aside for its makers
     Follow *follow          # while a stage reads the parts beside the compiler, else NULL
     size_t prefaulted       # parts [0, prefaulted) of the capacity are faulted in (program_prefault)
 
@@ -244,6 +255,10 @@ cdef bint program_add_tool_write(ProgramBuilder *build, const ToolWrite *write) 
 # a stage inserts parts in one backward pass (the callbacks above); False: out of memory
 cdef bint program_merge(ProgramBuilder *build, size_t n_ins, void *ctx, inserted_after_fn after_of,
                         make_inserted_fn make, settle_parts_fn settle, const MergeWatch *watch) noexcept nogil
+# the PartExtra of part p, added when it has none (NULL: out of memory); a stage beside
+# the compiler may read the records while the compiler adds (program_grow_shared). The
+# makers of program_merge take theirs from the room the merge reserved (never NULL).
+cdef PartExtra *program_part_extra(ProgramBuilder *build, Part *p) noexcept nogil
 # a memory hint for the parts: pages faulted in ahead of their writer
 cdef bint program_prefault(ProgramBuilder *build, size_t first, size_t count, size_t limit) noexcept nogil
 
@@ -252,6 +267,21 @@ cdef bint program_prefault(ProgramBuilder *build, size_t first, size_t count, si
 cdef inline void part_end(const Program *prog, const Part *p, double *out) noexcept nogil:
     out[0] = p.e[0]; out[1] = p.e[1]; out[2] = p.e[2]
     memcpy(out + 3, &prog.axes[OTHER_AXES * p.axes_idx], OTHER_AXES * sizeof(double))
+
+
+# the zero record of the parts without a PartExtra (zero-initialised, never written)
+cdef PartExtra NO_EXTRA
+
+cdef inline const PartExtra *part_extra(const Program *prog, const Part *p) noexcept nogil:
+    if p.extra == 0 or p.kind == PART_PRINT:
+        return &NO_EXTRA
+    return &prog.extras[p.extra]
+
+
+# a compensated arc's tool-path radius (a part without a record is no arc: nothing to set)
+cdef inline void part_set_radius(Program *prog, const Part *p, double radius) noexcept nogil:
+    if p.extra != 0 and p.kind != PART_PRINT:
+        prog.extras[p.extra].radius = radius
 
 
 cdef inline const double *part_start_xyz(const Program *prog, size_t i) noexcept nogil:

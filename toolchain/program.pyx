@@ -12,6 +12,7 @@ cdef void program_init(Program *prog) noexcept nogil:
 
 cdef void program_free(Program *prog) noexcept nogil:
     free(prog.parts)
+    free(prog.extras)
     free(prog.axes)
     free(prog.pars)
     free(prog.zeros)
@@ -38,7 +39,7 @@ cdef void program_builder_free(ProgramBuilder *build) noexcept nogil:
 
 
 cdef void program_builder_trim(ProgramBuilder *build) noexcept nogil:
-    """Gives back the spare room of the two large arrays (parts, addresses) before the
+    """Gives back the spare room of the large arrays (parts, extras, addresses) before the
     program is published: their reserve (reserve_parts) and the memory the thread
     beside the compiler faulted in ahead (up to PREFAULT_AHEAD parts). A shrink copies
     nothing in glibc (the tail is split off or unmapped): about 0.1 ms on a million
@@ -47,6 +48,9 @@ cdef void program_builder_trim(ProgramBuilder *build) noexcept nogil:
     if prog.n_parts > 0 and build.cap_parts > prog.n_parts:
         if resize(<void **>&prog.parts, prog.n_parts, sizeof(Part)):
             build.cap_parts = prog.n_parts
+    if prog.n_extras > 0 and build.cap_extras > prog.n_extras:
+        if resize(<void **>&prog.extras, prog.n_extras, sizeof(PartExtra)):
+            build.cap_extras = prog.n_extras
     if prog.n_pars > 0 and build.cap_pars > prog.n_pars:
         if resize(<void **>&prog.pars, prog.n_pars, sizeof(float)):
             build.cap_pars = prog.n_pars
@@ -85,6 +89,27 @@ cdef Part *program_add_part(ProgramBuilder *build) noexcept nogil:
     return p
 
 
+cdef PartExtra *program_part_extra(ProgramBuilder *build, Part *p) noexcept nogil:
+    """The record of part p, a zeroed one added when it has none (entry 0 stays unused)."""
+    cdef Program *prog = &build.prog
+    cdef size_t need
+    if p.extra != 0:
+        return &prog.extras[p.extra]
+    need = prog.n_extras + 1 if prog.n_extras > 0 else 2
+    if need > build.cap_extras:
+        if build.reserved_extras > 0:
+            return NULL                 # a maker took more than the merge reserved: a bug
+        if not program_grow_shared(build, <void **>&prog.extras, &build.cap_extras, need, sizeof(PartExtra)):
+            return NULL
+    if prog.n_extras == 0:
+        memset(&prog.extras[0], 0, sizeof(PartExtra))
+        prog.n_extras = 1
+    p.extra = <uint32_t>prog.n_extras
+    prog.n_extras += 1
+    memset(&prog.extras[p.extra], 0, sizeof(PartExtra))
+    return &prog.extras[p.extra]
+
+
 cdef bint program_merge(ProgramBuilder *build, size_t n_ins, void *ctx, inserted_after_fn after_of,
                         make_inserted_fn make, settle_parts_fn settle, const MergeWatch *watch) noexcept nogil:
     """Inserts n_ins parts (in part order: after_of non-decreasing) in one backward pass
@@ -102,8 +127,14 @@ cdef bint program_merge(ProgramBuilder *build, size_t n_ins, void *ctx, inserted
         if settle != NULL:
             settle(ctx, 0, n, <size_t>NO_INSERTION)
         return True
+    # room for a PartExtra per insertion: the makers never move the records (a stage
+    # may read them beside the merge)
+    if not grow(<void **>&prog.extras, &build.cap_extras, (prog.n_extras if prog.n_extras > 0 else 1) + n_ins,
+                sizeof(PartExtra)):
+        return False
     if not resize(<void **>&prog.parts, total, sizeof(Part)):
         return False
+    build.reserved_extras = n_ins
     parts = prog.parts
     build.cap_parts = total
     # parts [0, k) have not moved yet; part k now lives at next_w (total: there is no
@@ -139,6 +170,7 @@ cdef bint program_merge(ProgramBuilder *build, size_t n_ins, void *ctx, inserted
         settle(ctx, 0, k, <size_t>NO_INSERTION)     # the parts that stay where they are
     tc_stream_fence()
     prog.n_parts = total
+    build.reserved_extras = 0
     return True
 
 
@@ -351,6 +383,7 @@ cdef void part_to_gm(const Program *prog, size_t i, SIMPLE_GM_PARAMS *gm) noexce
     cdef size_t k
     cdef double e[AXES]
     cdef const double *start
+    cdef const PartExtra *x
     cdef int first, second, normal
     part_start(prog, i, <double *>&gm.m_s)
     part_end(prog, p, <double *>&gm.m_e)
@@ -378,14 +411,15 @@ cdef void part_to_gm(const Program *prog, size_t i, SIMPLE_GM_PARAMS *gm) noexce
         gm.m_pars.N = <float>part_length(prog, i)
         if (p.func == 2 or p.func == 3) and plane_axes(p.plane, &first, &second, &normal):
             start = part_start_xyz(prog, i)
-            gm.m_pars.R = <float>distance2d(start[first] - p.cc[first], start[second] - p.cc[second])
-            gm.m_cc.x = p.cc[0]
-            gm.m_cc.y = p.cc[1]
-            gm.m_cc.z = p.cc[2]
-            gm.m_cc.c = p.radius
-            gm.m_pars.I = <float>p.cc[0]
-            gm.m_pars.J = <float>p.cc[1]
-            gm.m_pars.K = <float>p.cc[2]
+            x = part_extra(prog, p)
+            gm.m_pars.R = <float>distance2d(start[first] - x.cc[first], start[second] - x.cc[second])
+            gm.m_cc.x = x.cc[0]
+            gm.m_cc.y = x.cc[1]
+            gm.m_cc.z = x.cc[2]
+            gm.m_cc.c = x.radius
+            gm.m_pars.I = <float>x.cc[0]
+            gm.m_pars.J = <float>x.cc[1]
+            gm.m_pars.K = <float>x.cc[2]
     elif p.kind == PART_DWELL:
         gm.m_pars.G = <float>p.func
         gm.m_pars.N = 0.0       # the length of the part: a dwell does not move

@@ -1,5 +1,5 @@
 # Face of the tool radius compensation (compensation/), G41-G48 / G40: the tool
-# centre path of every compensated part (Part.ce, Part.radius) and the parts
+# centre path of every compensated part (Part.ce, PartExtra.radius) and the parts
 # inserted at its corners, in one pass beside the compiler; then the automatic arcs
 # of G167 (insert_arcs.pyx). Its files, in the order they build on each other:
 #   offsets.pyx       offset elements (equidistants) of lines and arcs, and their meets
@@ -303,6 +303,10 @@ ctypedef struct ArcIns:
     double radius
     int32_t func            # 2 CW, 3 CCW
     int16_t plane
+
+ctypedef struct ArcInsertions:     # program_merge's context: the arcs, and where their records go
+    ArcIns *items
+    ProgramBuilder *build
 
 
 # ---- what other stages call

@@ -110,7 +110,7 @@ cdef void comp_discard(CompState *S, size_t part) noexcept nogil:
     """A part removed from the path: it stays in the program with no motion in the plane."""
     S.role[part] = ROLE_FOLLOW
     S.has_followers = True
-    S.prog.parts[part].radius = 0.0
+    part_set_radius(S.prog, &S.prog.parts[part], 0.0)
 
 
 cdef bint comp_part_element(const CompState *S, size_t k, CompEl *el) noexcept nogil:
@@ -128,7 +128,7 @@ cdef bint comp_part_element(const CompState *S, size_t k, CompEl *el) noexcept n
     ps[0] = s[S.first]; ps[1] = s[S.second]
     pe[0] = p.e[S.first]; pe[1] = p.e[S.second]
     if p.func == 2 or p.func == 3:
-        pc[0] = p.cc[S.first]; pc[1] = p.cc[S.second]
+        pc[0] = part_extra(S.prog, p).cc[S.first]; pc[1] = part_extra(S.prog, p).cc[S.second]
         if distance2d(ps[0] - pc[0], ps[1] - pc[1]) <= LENGTH_EPS:
             return False
         sweep = arc_sweep(ps[0] - pc[0], ps[1] - pc[1], pe[0] - pc[0], pe[1] - pc[1], p.func == 3)

@@ -104,17 +104,21 @@ cdef void em_feed(CState *st, Part *p, int func) noexcept nogil:
         p.fp = 1.0
 
 
-cdef void em_css(Part *p, double x_start, double x_end) noexcept nogil:
+cdef int em_css(CState *st, Part *p, double x_start, double x_end) noexcept nogil:
     """G96 with a feed per revolution: S is the cutting speed (m/min), the spindle
     turns at 1000 S / (2 pi r) rev/min, r the tool's distance from the spindle axis
     (|X| in the workpiece, the smaller of the part's two ends: the fastest the spindle
     turns on it; at least 1 mm, so that a cut through the axis stays finite). The
     dialect names no maximum spindle speed (docs/planner.md)."""
     cdef double r = min(fabs(x_start), fabs(x_end))
+    cdef PartExtra *x = program_part_extra(st.build, p)
+    if x == NULL:
+        return cerr(st, ERR_OUT_OF_MEMORY)
     if r < 1.0:
         r = 1.0
-    p.value = 1000.0 * p.spindle / (2.0 * M_PI * r)
+    x.value = 1000.0 * p.spindle / (2.0 * M_PI * r)
     p.flags |= FLAG_CSS
+    return 0
 
 
 cdef inline bint has(const LineWords *lw, char letter) noexcept nogil:
@@ -168,6 +172,7 @@ cdef int em_arc(CState *st, const LineWords *lw, Part *p, int *func, const doubl
     cdef int col = 1
     cdef double c[AXES]
     cdef double cm[AXES]
+    cdef PartExtra *x
     cdef ErrArg args[2]
     if not plane_axes(st.plane, &fa, &sa, &na):
         return cerr_num(st, ERR_BAD_PLANE, st.plane)
@@ -225,10 +230,13 @@ cdef int em_arc(CState *st, const LineWords *lw, Part *p, int *func, const doubl
     c[fa] = cx
     c[sa] = cy
     to_machine(st, c, cm)
-    p.cc[0] = cm[0]; p.cc[1] = cm[1]; p.cc[2] = cm[2]
+    x = program_part_extra(st.build, p)
+    if x == NULL:
+        return cerr(st, ERR_OUT_OF_MEMORY)
+    x.cc[0] = cm[0]; x.cc[1] = cm[1]; x.cc[2] = cm[2]
     # ISO mode: an end off the start's circle (within the tolerance) is run as LinuxCNC
     # runs it, a spiral from the one radius to the other: the mean radius, its length
-    p.radius = 0.5 * (rs + re) if st.iso else rs
+    x.radius = 0.5 * (rs + re) if st.iso else rs
     # mirroring one axis of the plane reverses the direction on the machine
     if fa < 3 and sa < 3 and (((st.mirror >> fa) ^ (st.mirror >> sa)) & 1):
         dir = 5 - dir
@@ -313,6 +321,7 @@ cdef int em_move(CState *st, const LineWords *lw, int func, const double *newp, 
     cdef double e[AXES]
     cdef int f = func
     cdef Part *p
+    cdef PartExtra *x
     if em_feed_check(st, lw, func, col) != 0:
         return R_ERR
     to_machine(st, newp, e)
@@ -321,16 +330,17 @@ cdef int em_move(CState *st, const LineWords *lw, int func, const double *newp, 
         return R_ERR
     em_feed(st, p, func)
     if st.css and (func == 1 or func == 2 or func == 3) and not (p.flags & FLAG_FEED_PER_MIN):
-        em_css(p, st.ppos[0], newp[0])
+        if em_css(st, p, st.ppos[0], newp[0]) != 0:
+            return R_ERR
     if func == 2 or func == 3:
         if em_arc(st, lw, p, &f, st.ppos, newp) != 0:
             return R_ERR
         p.func = f
-    elif func == 33:
-        if has(lw, b'K'):
-            p.value = val(lw, b'K')
-        elif has(lw, b'F'):
-            p.value = val(lw, b'F')
+    elif func == 33 and (has(lw, b'K') or has(lw, b'F')):
+        x = program_part_extra(st.build, p)
+        if x == NULL:
+            return cerr(st, ERR_OUT_OF_MEMORY)
+        x.value = val(lw, b'K') if has(lw, b'K') else val(lw, b'F')
     memcpy(st.ppos, newp, AXES * sizeof(double))
     memcpy(st.mpos, e, sizeof(e))
     if st.ngc != NULL and st.ngc.inverse_time and (func == 1 or func == 2 or func == 3):
@@ -342,16 +352,20 @@ cdef int em_move(CState *st, const LineWords *lw, int func, const double *newp, 
 cdef int em_dwell(CState *st, const LineWords *lw) noexcept nogil:
     """G4: W milliseconds, or H / X / T seconds."""
     cdef Part *p = em_part(st, PART_DWELL, 4, st.mpos)
+    cdef PartExtra *x
     if p == NULL:
         return R_ERR
+    x = program_part_extra(st.build, p)
+    if x == NULL:
+        return cerr(st, ERR_OUT_OF_MEMORY)
     if has(lw, b'W'):
-        p.value = val(lw, b'W') / 1000.0
+        x.value = val(lw, b'W') / 1000.0
     elif has(lw, b'H'):
-        p.value = val(lw, b'H')
+        x.value = val(lw, b'H')
     elif has(lw, b'X'):
-        p.value = val(lw, b'X')
+        x.value = val(lw, b'X')
     elif has(lw, b'T'):
-        p.value = val(lw, b'T')
+        x.value = val(lw, b'T')
     return em_pars(st, lw, 4, -10000)
 
 
@@ -380,5 +394,5 @@ cdef int em_print(CState *st, const LineWords *lw, int m, const char *text, int 
     p = em_part(st, PART_PRINT, m, st.mpos)
     if p == NULL:
         return R_ERR
-    p.aux = <uint32_t>off
+    p.extra = <uint32_t>off
     return em_pars(st, lw, -10000, m)

@@ -183,7 +183,7 @@ cdef bint _forward_entry(Feeder *f, Entry *e) noexcept nogil:
             e.m0 = p.func == 0
             e.waits = not (p.flags & FLAG_CONTINUOUS_M) and p.func != 0
         elif p.kind == PART_DWELL:
-            e.dwell = p.value
+            e.dwell = part_extra(prog, p).value
             e.waits = True
         elif p.kind == PART_MOTION:
             f.any_motion = True

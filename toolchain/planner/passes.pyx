@@ -71,7 +71,7 @@ cdef bint _general_node(NodeSource *src, size_t k, const PlanRegion *s, bint wan
     _node_segment(src, k, &g)
     if g.length <= LENGTH_EPS:
         return False
-    part_limits(&g, &src.prog.parts[k], src.params, s, src.cursor.axes_limited, src.enhanced, &lim)
+    part_limits(&g, src.prog, &src.prog.parts[k], src.params, s, src.cursor.axes_limited, src.enhanced, &lim)
     node.length = g.length
     node.vmax = _float_below(lim.vmax)
     node.ceiling = _float_below(lim.v_ceiling)
@@ -122,7 +122,7 @@ cdef bint _next_node(NodeSource *src, PlanNode *node) noexcept nogil:
         node.length = sqrt(d0 * d0 + d1 * d1 + d2 * d2)     # segment_of_part's
         if node.length <= LENGTH_EPS:
             return False                        # no motion: the speed passes through
-        vmax = part_feed(p, src.params) / 60.0  # part_limits' limits of a plain line
+        vmax = part_feed(src.prog, p, src.params) / 60.0  # part_limits' limits of a plain line
         node.vmax = _float_below(vmax if vmax > 0.0 else 1.0 / 60.0)
         node.ceiling = HUGE_VAL                 # no axis limit, no arc
         c = 0 if rapid else 1
@@ -222,7 +222,7 @@ cdef void _plan_passing(const Program *prog, size_t first, size_t end, double v,
         p = &prog.parts[k]
         plan[k] = through
         if p.kind == PART_DWELL:
-            plan[k].time = <float>p.value
+            plan[k].time = <float>part_extra(prog, p).value
         if part_stops_motion(p):
             plan[k].v_junction = 0.0
 
