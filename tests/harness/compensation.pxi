@@ -27,6 +27,7 @@ def compensate(list parts, start, long long strategy=0, corrections=(), toleranc
     cdef GCODE_PARAMETERS params
     cdef ErrorInfo err
     cdef Part *p
+    cdef PartExtra *x
     cdef double end[10]
     cdef int k, rc
     cdef char *warn = <char *>calloc(65536, 1)
@@ -54,10 +55,12 @@ def compensate(list parts, start, long long strategy=0, corrections=(), toleranc
         program_set_end(&build, p, end)
         for k in range(3):
             p.ce[k] = p.e[k]
-        cc = d.get("cc", (0, 0, 0))
-        for k in range(3):
-            p.cc[k] = cc[k] if k < len(cc) else 0.0
-        p.radius = d.get("radius", 0.0)
+        if p.kind == 1 and p.func in (2, 3):
+            x = program_part_extra(&build, p)
+            cc = d.get("cc", (0, 0, 0))
+            for k in range(3):
+                x.cc[k] = cc[k] if k < len(cc) else 0.0
+            x.radius = d.get("radius", 0.0)
         p.comp = d.get("comp", 40)
         p.comp_slot = d.get("slot", 0 if p.comp == 41 else (1 if p.comp == 42 else 0))
         p.plane = d.get("plane", 17)
@@ -80,7 +83,7 @@ def compensate(list parts, start, long long strategy=0, corrections=(), toleranc
             out.append(dict(kind=p.kind, func=p.func, line=p.line, gcode_index=p.gcode_index,
                             flags=p.flags, comp=p.comp, plane=p.plane,
                             e=[end[i] for i in range(10)], ce=[p.ce[i] for i in range(3)],
-                            cc=[p.cc[i] for i in range(3)], radius=p.radius,
+                            cc=[part_extra(prog, p).cc[i] for i in range(3)], radius=part_extra(prog, p).radius,
                             inserted=bool(p.flags & FLAG_INSERTED)))
     error = None
     if rc != COMPILE_OK:
