@@ -181,6 +181,10 @@ cdef int _compile_job(Core *core, CompileJob *job, ProgramBuilder *build, GCODE_
     if result == COMPILE_OK:
         result = insert_arcs(build, &inp.params, err)
     measured = measured and build.prog.n_parts == n_parts      # no automatic arcs came in since
+    # the spare room of the parts (the reserve, what was faulted in ahead) goes back
+    # before the plan takes its memory: the peak is the parts and their plan
+    if result == COMPILE_OK:
+        program_builder_trim(build)
     if result == COMPILE_OK and plan_beside_extent(build, &inp.params, machine_bits, inp.plan_window,
                                                    extent, measured) != COMPILE_OK:
         result = COMPILE_ERROR
@@ -221,7 +225,6 @@ cdef void *compile_body(void *arg) noexcept nogil:
     if err != NULL and extent != NULL:
         result = _compile_job(core, job, &build, extent, err)
         if result == COMPILE_OK:
-            program_builder_trim(&build)
             loaded = loaded_program_new(&build.prog, extent, job.files)     # the program alone
             if loaded == NULL:
                 result = COMPILE_ERROR

@@ -39,7 +39,7 @@ ctypedef struct Part:
     int32_t gcode_index     # even for programmed parts, odd for inserted ones
     uint32_t line           # 1-based line in its file
     uint32_t pars_off       # offset of this part's addresses in Program.pars (see pars_mask)
-    uint32_t pars_mask      # bit (letter - 'A') set for every address written on the line
+    uint32_t pars_mask      # bit (letter - 'A') set for every address written on the line (part_own_cell)
     uint32_t extra          # its PartExtra in Program.extras (0: none, read as all zero: part_extra);
                             # PART_PRINT: the offset of its text in Program.texts
     uint32_t axes_idx       # the end's other seven axes (c b u v w a o): Program.axes[OTHER_AXES * axes_idx ...]
@@ -131,7 +131,7 @@ ctypedef struct Program:
     size_t n_parts
     PartExtra *extras       # Part.extra's records; entry 0 unused (part_extra reads NO_EXTRA)
     size_t n_extras
-    float *pars             # addresses of all parts, packed in letter order per part
+    float *pars             # addresses of all parts, packed in letter order per part (part_own_cell's not)
     size_t n_pars
     P10DOUBLE *zeros        # zero offsets referenced by Part.zero_idx (zeros[0] = none)
     size_t n_zeros
@@ -165,8 +165,8 @@ ctypedef struct Program:
 # compiler, the compensation's merge, insert_arcs, the planner's insertions) grow them
 # through the builder, which keeps what only the compilation needs. Once compiled,
 # the core publishes `prog` alone (runtime/programs.pyx loaded_program_new takes it
-# over), the parts and addresses trimmed to their n_* (program_builder_trim); the
-# small arrays keep their spare room.
+# over), the parts, extras and addresses trimmed to their n_* before the plan
+# (program_builder_trim); the small arrays keep their spare room.
 ctypedef struct ProgramBuilder:
     Program prog
     size_t cap_parts, cap_pars, cap_zeros, cap_rotations    # allocated items of each array
@@ -236,7 +236,7 @@ cdef enum CompileResult:
 from libc.string cimport memcpy
 
 # a Program and its builder: empty, freed (what a failed compilation left), the
-# spare room of the large arrays given back before the program is published
+# spare room of the large arrays given back before the plan is made (core.pyx)
 cdef void program_init(Program *prog) noexcept nogil
 cdef void program_free(Program *prog) noexcept nogil
 cdef void program_builder_init(ProgramBuilder *build) noexcept nogil
@@ -267,6 +267,13 @@ cdef bint program_prefault(ProgramBuilder *build, size_t first, size_t count, si
 cdef inline void part_end(const Program *prog, const Part *p, double *out) noexcept nogil:
     out[0] = p.e[0]; out[1] = p.e[1]; out[2] = p.e[2]
     memcpy(out + 3, &prog.axes[OTHER_AXES * p.axes_idx], OTHER_AXES * sizeof(double))
+
+
+# the address cell a part's own function fills (G of a motion or a dwell, M of an M
+# function or a PRINT): its bit is set in pars_mask, its value is Part.func and is not
+# stored in Program.pars (a float a part less)
+cdef inline int part_own_cell(const Part *p) noexcept nogil:
+    return 6 if p.kind == PART_MOTION or p.kind == PART_DWELL else 12
 
 
 # the zero record of the parts without a PartExtra (zero-initialised, never written)

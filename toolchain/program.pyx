@@ -40,7 +40,7 @@ cdef void program_builder_free(ProgramBuilder *build) noexcept nogil:
 
 cdef void program_builder_trim(ProgramBuilder *build) noexcept nogil:
     """Gives back the spare room of the large arrays (parts, extras, addresses) before the
-    program is published: their reserve (reserve_parts) and the memory the thread
+    plan takes its memory: their reserve (reserve_parts) and the memory the thread
     beside the compiler faulted in ahead (up to PREFAULT_AHEAD parts). A shrink copies
     nothing in glibc (the tail is split off or unmapped): about 0.1 ms on a million
     parts. When realloc refuses, the spare room stays."""
@@ -204,26 +204,6 @@ cdef bint program_prefault(ProgramBuilder *build, size_t first, size_t count, si
     return True
 
 
-cdef bint program_set_pars(ProgramBuilder *build, Part *part, const float *values, uint32_t mask) noexcept nogil:
-    """Stores the addresses of `mask` (values indexed by letter - 'A') for the part."""
-    cdef Program *prog = &build.prog
-    cdef int letter, n = 0
-    cdef size_t part_pos = part - prog.parts
-    for letter in range(26):
-        if mask & (1u << letter):
-            n += 1
-    if not grow(<void **>&prog.pars, &build.cap_pars, prog.n_pars + n, sizeof(float)):
-        return False
-    part = &prog.parts[part_pos]
-    part.pars_off = <uint32_t>prog.n_pars
-    part.pars_mask = mask
-    for letter in range(26):
-        if mask & (1u << letter):
-            prog.pars[prog.n_pars] = values[letter]
-            prog.n_pars += 1
-    return True
-
-
 cdef int program_add_zero(ProgramBuilder *build, const double *offset) noexcept nogil:
     """Index of a zero offset (reusing the last one when equal); -1 out of memory."""
     cdef Program *prog = &build.prog
@@ -379,7 +359,7 @@ cdef void part_to_gm(const Program *prog, size_t i, SIMPLE_GM_PARAMS *gm) noexce
     """Builds the API view of part i: every field as docs/api.md and docs/structures.md describe."""
     cdef const Part *p = &prog.parts[i]
     cdef float *cells = <float *>&gm.m_pars
-    cdef int letter
+    cdef int letter, own
     cdef size_t k
     cdef double e[AXES]
     cdef const double *start
@@ -400,10 +380,14 @@ cdef void part_to_gm(const Program *prog, size_t i, SIMPLE_GM_PARAMS *gm) noexce
     for letter in range(26):
         cells[letter] = INVALID_VALUE_F
     k = p.pars_off
+    own = part_own_cell(p)
     for letter in range(26):
         if p.pars_mask & (1u << letter):
-            cells[letter] = prog.pars[k]
-            k += 1
+            if letter == own:
+                cells[letter] = <float>p.func
+            else:
+                cells[letter] = prog.pars[k]
+                k += 1
     gm.m_func = p.func
     if p.kind == PART_MOTION:
         gm.m_pars.F = <float>p.feed

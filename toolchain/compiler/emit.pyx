@@ -53,35 +53,33 @@ cdef extern from *:
 
 cdef int em_pars(CState *st, const LineWords *lw, int g, int m) noexcept nogil:
     """Addresses of the line for the last part, packed in letter order into
-    Program.pars (the layout program_set_pars documents); g / m (if > -1000) fill
-    the G / M cell. Walks only the set bits: this runs once per part."""
+    Program.pars; g / m (if > -1000) fill the G / M cell: the part's own function,
+    its bit set but its value not stored (program.pxd part_own_cell). Walks only the
+    set bits: this runs once per part."""
     cdef uint32_t mask = lw.mask
     cdef uint32_t bits
     cdef int letter
     cdef Program *prog = st.prog
     cdef Part *p = &prog.parts[prog.n_parts - 1]
     cdef float *out
+    cdef uint32_t own = 0
     if g > -1000:
-        mask |= 1u << 6
-    if m > -1000:
-        mask |= 1u << 12
-    if mask == 0:
-        return 0
-    if not grow(<void **>&prog.pars, &st.build.cap_pars, prog.n_pars + <size_t>SF_POPCOUNT(mask), sizeof(float)):
-        return cerr(st, ERR_OUT_OF_MEMORY)
-    p.pars_off = <uint32_t>prog.n_pars
+        own = 1u << 6
+    elif m > -1000:
+        own = 1u << 12
+    mask |= own
     p.pars_mask = mask
+    p.pars_off = <uint32_t>prog.n_pars
+    bits = mask & ~own
+    if bits == 0:
+        return 0
+    if not grow(<void **>&prog.pars, &st.build.cap_pars, prog.n_pars + <size_t>SF_POPCOUNT(bits), sizeof(float)):
+        return cerr(st, ERR_OUT_OF_MEMORY)
     out = prog.pars + prog.n_pars
-    bits = mask
     while bits:
         letter = SF_CTZ(bits)
         bits &= bits - 1
-        if letter == 6 and g > -1000:
-            out[0] = <float>g
-        elif letter == 12 and m > -1000:
-            out[0] = <float>m
-        else:
-            out[0] = <float>lw.v[letter]
+        out[0] = <float>lw.v[letter]
         out += 1
     prog.n_pars = <size_t>(out - prog.pars)
     return 0
