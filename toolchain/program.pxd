@@ -27,14 +27,12 @@ cdef enum PartFlags:
     FLAG_HELIX = 0x08            # arc with off-plane motion
     FLAG_CSS = 0x10              # G96 with G95: `value` holds the spindle speed (rev/min) S gives there
 
-# What every part needs; what only some carry is in its PartExtra. 112 bytes: a CAM
-# job's parts are most of a compiled program's memory (docs/benchmarks.md).
+# What every part needs (88 bytes: a CAM job's parts are most of a compiled program's
+# memory, docs/benchmarks.md); what only some carry is in its PartExtra, what changes
+# seldom in the PartSettings it shares with its neighbours.
 ctypedef struct Part:
     double e[3]             # programmed end x y z, machine coordinates (program + zero offset); M parts: current position
     double ce[3]            # compensated end x y z (the other axes as programmed); = e when not compensated
-    double feed             # F in mm/min (G94) or mm/rev (G95) after forceMode/M99; rapid: motion[0].feed
-    float fp                # FP relative feed (1.0)
-    float spindle           # S
     int32_t func            # G number (0 1 2 3 4 33) or M number
     int32_t gcode_index     # even for programmed parts, odd for inserted ones
     uint32_t line           # 1-based line in its file
@@ -43,16 +41,24 @@ ctypedef struct Part:
     uint32_t extra          # its PartExtra in Program.extras (0: none, read as all zero: part_extra);
                             # PART_PRINT: the offset of its text in Program.texts
     uint32_t axes_idx       # the end's other seven axes (c b u v w a o): Program.axes[OTHER_AXES * axes_idx ...]
-    uint16_t zero_idx       # index into Program.zeros (active zero offset)
-    uint16_t rot_idx        # index into Program.rotations (G168), 0 = not rotated
-    uint16_t tool           # T
-    int16_t file_idx        # file index (FileToIdx), -1 unknown
+    uint32_t settings       # its PartSettings in Program.settings (part_settings)
     int16_t plane           # 17 18 19 -18
     uint8_t kind            # PartKind
     uint8_t flags           # PartFlags
     uint8_t comp            # 40 41 42 (side after the sign of the radius), see m_bFeedIsMin
     uint8_t comp_slot       # 0..7: index of correction[] used (G41 -> 0, G42 -> 1, G43 -> 2, ...)
     uint16_t radius_idx     # 0: the radius is correction[comp_slot]'s; else Program.radii[radius_idx] (a D word's)
+
+# What a part is cut with that changes seldom, shared by the parts that agree
+# (Program.settings, Part.settings; entry 0: the defaults of program_add_part).
+ctypedef struct PartSettings:
+    double feed             # F in mm/min (G94) or mm/rev (G95) after forceMode/M99; rapid: motion[0].feed; 0 but for motion
+    float fp                # FP relative feed (1.0)
+    float spindle           # S
+    uint16_t tool           # T
+    uint16_t zero_idx       # index into Program.zeros (active zero offset)
+    uint16_t rot_idx        # index into Program.rotations (G168), 0 = not rotated
+    int16_t file_idx        # file index (FileToIdx), -1 unknown
 
 # What only some parts carry, in Program.extras (Part.extra): an arc's centre and
 # radius, the value of a dwell, a thread or a G96 part. Parts without one (lines,
@@ -84,6 +90,9 @@ ctypedef struct ToolWrite:
     int32_t entry           # 1..99
     uint32_t programmed
     double values[TOOL_VALUES]
+
+cdef enum:
+    SETTINGS_SEEN = 64      # records program_settings_index finds again without adding one
 
 # Planning settings the program changes (G900, M-5), from programmed part `first` on
 # (not counting inserted parts); before the first region the host's GCODE_PARAMETERS hold.
@@ -131,6 +140,8 @@ ctypedef struct Program:
     size_t n_parts
     PartExtra *extras       # Part.extra's records; entry 0 unused (part_extra reads NO_EXTRA)
     size_t n_extras
+    PartSettings *settings  # Part.settings' records, each once (mostly: program_settings_index)
+    size_t n_settings
     float *pars             # addresses of all parts, packed in letter order per part (part_own_cell's not)
     size_t n_pars
     P10DOUBLE *zeros        # zero offsets referenced by Part.zero_idx (zeros[0] = none)
@@ -172,7 +183,9 @@ ctypedef struct ProgramBuilder:
     size_t cap_parts, cap_pars, cap_zeros, cap_rotations    # allocated items of each array
     size_t cap_strategy_regions, cap_texts, cap_axes        # (axes, rotations: doubles)
     size_t cap_arc_regions, cap_plan_regions, cap_radii, cap_tool_writes
-    size_t cap_extras, reserved_extras     # reserved_extras: what program_merge set aside for its makers
+    size_t cap_extras, cap_settings
+    bint merging            # program_merge runs: its makers take records from the room it reserved
+    uint32_t settings_seen[SETTINGS_SEEN]   # program_settings_index's memory: a record's index by its hash
     Follow *follow          # while a stage reads the parts beside the compiler, else NULL
     size_t prefaulted       # parts [0, prefaulted) of the capacity are faulted in (program_prefault)
 
@@ -259,6 +272,11 @@ cdef bint program_merge(ProgramBuilder *build, size_t n_ins, void *ctx, inserted
 # the compiler may read the records while the compiler adds (program_grow_shared). The
 # makers of program_merge take theirs from the room the merge reserved (never NULL).
 cdef PartExtra *program_part_extra(ProgramBuilder *build, Part *p) noexcept nogil
+# the index of a PartSettings equal to s, added when none of the recent ones is (-1: out
+# of memory); entry 0, the defaults, is there once a part is. A stage beside the
+# compiler may read the records while the compiler adds; program_merge reserves room
+# for its makers.
+cdef int64_t program_settings_index(ProgramBuilder *build, const PartSettings *s) noexcept nogil
 # a memory hint for the parts: pages faulted in ahead of their writer
 cdef bint program_prefault(ProgramBuilder *build, size_t first, size_t count, size_t limit) noexcept nogil
 
@@ -274,6 +292,10 @@ cdef inline void part_end(const Program *prog, const Part *p, double *out) noexc
 # stored in Program.pars (a float a part less)
 cdef inline int part_own_cell(const Part *p) noexcept nogil:
     return 6 if p.kind == PART_MOTION or p.kind == PART_DWELL else 12
+
+
+cdef inline const PartSettings *part_settings(const Program *prog, const Part *p) noexcept nogil:
+    return &prog.settings[p.settings]
 
 
 # the zero record of the parts without a PartExtra (zero-initialised, never written)
@@ -308,5 +330,8 @@ cdef inline double part_tool_radius(const Program *prog, const GCODE_PARAMETERS 
 cdef void part_calc_start(const Program *prog, size_t i, double *out) noexcept nogil
 cdef void part_to_gm(const Program *prog, size_t i, SIMPLE_GM_PARAMS *gm) noexcept nogil
 # a part a stage inserts after `after` (starting at its end, its programmed end there),
-# with the line, feed, tool and compensation of `src`; the caller sets its geometry
-cdef void part_inserted(Part *q, const Part *after, const Part *src, int32_t func, int16_t plane) noexcept nogil
+# with the line, settings and compensation of `src` under `after`'s G168 rotation (a
+# maker of program_merge: a settings record from its reserve when they differ); the
+# caller sets its geometry
+cdef void part_inserted(ProgramBuilder *build, Part *q, const Part *after, const Part *src, int32_t func,
+                        int16_t plane) noexcept nogil

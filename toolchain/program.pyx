@@ -13,6 +13,7 @@ cdef void program_init(Program *prog) noexcept nogil:
 cdef void program_free(Program *prog) noexcept nogil:
     free(prog.parts)
     free(prog.extras)
+    free(prog.settings)
     free(prog.axes)
     free(prog.pars)
     free(prog.zeros)
@@ -57,11 +58,54 @@ cdef void program_builder_trim(ProgramBuilder *build) noexcept nogil:
 
 
 cdef inline void _part_defaults(Part *p) noexcept nogil:
-    memset(p, 0, sizeof(Part))
-    p.file_idx = -1
-    p.fp = 1.0
+    memset(p, 0, sizeof(Part))      # settings 0: the defaults
     p.plane = 17
     p.comp = 40
+
+
+cdef inline uint32_t _settings_hash(const PartSettings *s) noexcept nogil:
+    cdef const uint32_t *w = <const uint32_t *>s
+    cdef uint32_t h = 2166136261u
+    cdef int k
+    for k in range(<int>(sizeof(PartSettings) // 4)):
+        h = (h ^ w[k]) * 16777619u
+    return (h ^ (h >> 15)) % SETTINGS_SEEN
+
+
+cdef int64_t program_settings_index(ProgramBuilder *build, const PartSettings *s) noexcept nogil:
+    """Finds s among the records seen last under its hash (most programs have a few
+    dozen) or adds it; entry 0, the defaults, is added first. -1 out of memory."""
+    cdef Program *prog = &build.prog
+    cdef uint32_t slot
+    cdef size_t i
+    cdef PartSettings defaults
+    if prog.n_settings == 0:
+        if build.merging or not program_grow_shared(build, <void **>&prog.settings, &build.cap_settings, 8,
+                                                    sizeof(PartSettings)):
+            return -1
+        memset(&defaults, 0, sizeof(defaults))
+        defaults.fp = 1.0
+        defaults.file_idx = -1
+        prog.settings[0] = defaults
+        prog.n_settings = 1
+        memset(build.settings_seen, 0, sizeof(build.settings_seen))
+    slot = _settings_hash(s)
+    i = build.settings_seen[slot]
+    if i < prog.n_settings and memcmp(&prog.settings[i], s, sizeof(PartSettings)) == 0:
+        return <int64_t>i
+    if prog.n_settings >= <size_t>0xFFFFFFFFu:
+        return -1
+    if prog.n_settings + 1 > build.cap_settings:
+        if build.merging:
+            return -1               # a maker took more than the merge reserved: a bug
+        if not program_grow_shared(build, <void **>&prog.settings, &build.cap_settings, prog.n_settings + 1,
+                                   sizeof(PartSettings)):
+            return -1
+    i = prog.n_settings
+    prog.settings[i] = s[0]
+    prog.n_settings += 1
+    build.settings_seen[slot] = <uint32_t>i
+    return <int64_t>i
 
 
 cdef bint program_grow_shared(ProgramBuilder *build, void **buf, size_t *cap, size_t need,
@@ -81,6 +125,13 @@ cdef Part *program_add_part(ProgramBuilder *build) noexcept nogil:
     """Appends a zeroed part (zero_idx 0, file -1); NULL when out of memory."""
     cdef Program *prog = &build.prog
     cdef Part *p
+    cdef PartSettings defaults
+    if prog.n_settings == 0:
+        memset(&defaults, 0, sizeof(defaults))
+        defaults.fp = 1.0
+        defaults.file_idx = -1
+        if program_settings_index(build, &defaults) != 0:
+            return NULL
     if not program_grow_shared(build, <void **>&prog.parts, &build.cap_parts, prog.n_parts + 1, sizeof(Part)):
         return NULL
     p = &prog.parts[prog.n_parts]
@@ -97,7 +148,7 @@ cdef PartExtra *program_part_extra(ProgramBuilder *build, Part *p) noexcept nogi
         return &prog.extras[p.extra]
     need = prog.n_extras + 1 if prog.n_extras > 0 else 2
     if need > build.cap_extras:
-        if build.reserved_extras > 0:
+        if build.merging:
             return NULL                 # a maker took more than the merge reserved: a bug
         if not program_grow_shared(build, <void **>&prog.extras, &build.cap_extras, need, sizeof(PartExtra)):
             return NULL
@@ -127,14 +178,16 @@ cdef bint program_merge(ProgramBuilder *build, size_t n_ins, void *ctx, inserted
         if settle != NULL:
             settle(ctx, 0, n, <size_t>NO_INSERTION)
         return True
-    # room for a PartExtra per insertion: the makers never move the records (a stage
-    # may read them beside the merge)
+    # room for a PartExtra and a PartSettings per insertion: the makers never move the
+    # records (a stage may read them beside the merge)
     if not grow(<void **>&prog.extras, &build.cap_extras, (prog.n_extras if prog.n_extras > 0 else 1) + n_ins,
                 sizeof(PartExtra)):
         return False
+    if not grow(<void **>&prog.settings, &build.cap_settings, prog.n_settings + n_ins, sizeof(PartSettings)):
+        return False
     if not resize(<void **>&prog.parts, total, sizeof(Part)):
         return False
-    build.reserved_extras = n_ins
+    build.merging = True
     parts = prog.parts
     build.cap_parts = total
     # parts [0, k) have not moved yet; part k now lives at next_w (total: there is no
@@ -170,7 +223,7 @@ cdef bint program_merge(ProgramBuilder *build, size_t n_ins, void *ctx, inserted
         settle(ctx, 0, k, <size_t>NO_INSERTION)     # the parts that stay where they are
     tc_stream_fence()
     prog.n_parts = total
-    build.reserved_extras = 0
+    build.merging = False
     return True
 
 
@@ -314,27 +367,32 @@ cdef inline void part_start(const Program *prog, size_t i, double *out) noexcept
         memcpy(out, prog.start, AXES * sizeof(double))
 
 
-cdef void part_inserted(Part *q, const Part *after, const Part *src, int32_t func, int16_t plane) noexcept nogil:
+cdef void part_inserted(ProgramBuilder *build, Part *q, const Part *after, const Part *src, int32_t func,
+                        int16_t plane) noexcept nogil:
     """A motion part inserted after `after`: it starts where `after` ends (compensated),
     its programmed end is `after`'s (an inserted part adds no programmed move), and it
-    belongs to src's line with src's feed, tool and compensation."""
+    belongs to src's line with src's feed, tool and compensation, under after's G168
+    rotation (the rotation of its corner)."""
+    cdef const Program *prog = &build.prog
+    cdef PartSettings s
+    cdef int64_t idx
     memset(q, 0, sizeof(Part))
     memcpy(q.e, after.e, sizeof(q.e))
     memcpy(q.ce, after.ce, sizeof(q.ce))
     q.axes_idx = after.axes_idx
-    q.rot_idx = after.rot_idx       # under the G168 rotation of its corner
+    q.settings = src.settings
+    if part_settings(prog, src).rot_idx != part_settings(prog, after).rot_idx:
+        s = part_settings(prog, src)[0]
+        s.rot_idx = part_settings(prog, after).rot_idx
+        idx = program_settings_index(build, &s)     # from the merge's reserve: never -1 there
+        if idx >= 0:
+            q.settings = <uint32_t>idx
     q.gcode_index = after.gcode_index + 1
     q.func = func
     q.plane = plane
     q.kind = PART_MOTION
     q.flags = FLAG_INSERTED | (src.flags & FLAG_FEED_PER_MIN)
-    q.feed = src.feed
-    q.fp = src.fp
-    q.spindle = src.spindle
     q.line = src.line
-    q.zero_idx = src.zero_idx
-    q.tool = src.tool
-    q.file_idx = src.file_idx
     q.comp = src.comp
     q.comp_slot = src.comp_slot
     q.radius_idx = src.radius_idx
@@ -358,6 +416,7 @@ cdef inline void _p10(P10DOUBLE *dst, const double *src) noexcept nogil:
 cdef void part_to_gm(const Program *prog, size_t i, SIMPLE_GM_PARAMS *gm) noexcept nogil:
     """Builds the API view of part i: every field as docs/api.md and docs/structures.md describe."""
     cdef const Part *p = &prog.parts[i]
+    cdef const PartSettings *s = part_settings(prog, p)
     cdef float *cells = <float *>&gm.m_pars
     cdef int letter, own
     cdef size_t k
@@ -371,8 +430,8 @@ cdef void part_to_gm(const Program *prog, size_t i, SIMPLE_GM_PARAMS *gm) noexce
     part_end(prog, p, e)
     e[0] = p.ce[0]; e[1] = p.ce[1]; e[2] = p.ce[2]
     _p10(&gm.m_calcE, e)
-    if prog.n_zeros > p.zero_idx:
-        gm.m_zero = prog.zeros[p.zero_idx]
+    if prog.n_zeros > s.zero_idx:
+        gm.m_zero = prog.zeros[s.zero_idx]
     else:
         memset(&gm.m_zero, 0, sizeof(P10DOUBLE))
     memset(&gm.m_cc, 0, sizeof(P10DOUBLE))
@@ -390,7 +449,7 @@ cdef void part_to_gm(const Program *prog, size_t i, SIMPLE_GM_PARAMS *gm) noexce
                 k += 1
     gm.m_func = p.func
     if p.kind == PART_MOTION:
-        gm.m_pars.F = <float>p.feed
+        gm.m_pars.F = <float>s.feed
         gm.m_pars.G = <float>p.func
         gm.m_pars.N = <float>part_length(prog, i)
         if (p.func == 2 or p.func == 3) and plane_axes(p.plane, &first, &second, &normal):
@@ -407,13 +466,13 @@ cdef void part_to_gm(const Program *prog, size_t i, SIMPLE_GM_PARAMS *gm) noexce
     elif p.kind == PART_DWELL:
         gm.m_pars.G = <float>p.func
         gm.m_pars.N = 0.0       # the length of the part: a dwell does not move
-    gm.m_pars.S = p.spindle
+    gm.m_pars.S = s.spindle
     # tool in the high 16 bits, plane in the low 16 (docs/structures.md); shifted unsigned: a tool
     # of 32768 and more sets the sign bit, which a signed shift may not do
-    gm.m_planeTool = <int32_t>((<uint32_t>p.tool << 16) | (<uint32_t>p.plane & 0xFFFF))
+    gm.m_planeTool = <int32_t>((<uint32_t>s.tool << 16) | (<uint32_t>p.plane & 0xFFFF))
     gm.m_reserved = 0
     gm.m_editorLine = p.line
-    gm.m_fileIdx = p.file_idx
+    gm.m_fileIdx = s.file_idx
     gm.m_gCodeIndex = p.gcode_index
     gm.m_bFeedIsMin = (<int32_t>p.comp << 16) | (1 if p.flags & FLAG_FEED_PER_MIN else 0)
-    gm.m_fp = p.fp
+    gm.m_fp = s.fp

@@ -28,6 +28,7 @@ def compensate(list parts, start, long long strategy=0, corrections=(), toleranc
     cdef ErrorInfo err
     cdef Part *p
     cdef PartExtra *x
+    cdef PartSettings settings
     cdef double end[10]
     cdef int k, rc
     cdef char *warn = <char *>calloc(65536, 1)
@@ -44,6 +45,7 @@ def compensate(list parts, start, long long strategy=0, corrections=(), toleranc
         params.tolerance[k] = t
     for k, v in enumerate(start):
         prog.start[k] = v
+    memset(&settings, 0, sizeof(settings))
     for idx, d in enumerate(parts):
         p = program_add_part(&build)
         p.kind = d.get("kind", 1)
@@ -66,8 +68,9 @@ def compensate(list parts, start, long long strategy=0, corrections=(), toleranc
         p.plane = d.get("plane", 17)
         p.line = d.get("line", idx + 1)
         p.gcode_index = 2 * idx
-        p.file_idx = 0
-        p.feed = 1000
+        settings.feed = 1000
+        settings.fp = 1.0
+        p.settings = <uint32_t>program_settings_index(&build, &settings)
         if p.comp != 40:
             prog.compensated = True
     global _compensate_seconds

@@ -239,7 +239,8 @@ cdef int _chain_end_corners(CompState *S, bint fixed_end) noexcept nogil:
         _chain_close_corner(S)
     S.xs.last_part = S.st[S.n_st - 1].part if S.n_st > 0 else <size_t>-1
     if not _flush(S, 0):
-        return comp_fail(S, ERR_OUT_OF_MEMORY, S.prog.main_file_idx, 0, 0)
+        # no memory, or a crossing _chain_fallback reports (S.xs.err_*)
+        return comp_fail(S, ERR_OUT_OF_MEMORY, S.chain_first, 0, 0)
     if not cross_chain_end(S):
         return comp_fail(S, S.xs.err_number, S.xs.err_part, S.xs.err_arg, 0)
     S.entry_part = -1
@@ -572,7 +573,7 @@ cdef void _inserted_part(ProgramBuilder *build, Part *q, const Part *p, const Pa
     radius, its record from the room the merge reserved."""
     cdef int first, second, normal
     cdef PartExtra *arc
-    part_inserted(q, p, src, rec.func, src.plane)
+    part_inserted(build, q, p, src, rec.func, src.plane)
     plane_axes(p.plane, &first, &second, &normal)
     q.ce[first] = rec.end[0]; q.ce[second] = rec.end[1]
     if rec.func == INS_G1:

@@ -198,7 +198,7 @@ cdef void _ia_part(ProgramBuilder *build, Part *q, const Part *prev, const Part 
     second line); its record from the room the merge reserved."""
     cdef int a, b, c
     cdef PartExtra *arc
-    part_inserted(q, prev, src, x.func, x.plane)
+    part_inserted(build, q, prev, src, x.func, x.plane)
     plane_axes(x.plane, &a, &b, &c)
     _ia_set(q, a, b, x.end[0], x.end[1])
     arc = program_part_extra(build, q)

@@ -6,9 +6,10 @@ from libc.math cimport fabs, sqrt, M_PI
 
 cdef Part *em_part(CState *st, int kind, int func, const double *end) noexcept nogil:
     """A new part ending at `end` (machine coordinates, ten axes) with the modal fields
-    filled in; NULL on error (recorded)."""
+    filled in (a motion's feed too: em_feed); NULL on error (recorded)."""
     cdef Part *p
     cdef Program *prog = st.prog
+    cdef PartSettings s
     if prog.n_parts >= MAX_PARTS:
         cerr_num(st, ERR_PART_LIMIT, MAX_PARTS)
         return NULL
@@ -22,13 +23,7 @@ cdef Part *em_part(CState *st, int kind, int func, const double *end) noexcept n
         cerr(st, ERR_OUT_OF_MEMORY)
         return NULL
     p.ce[0] = end[0]; p.ce[1] = end[1]; p.ce[2] = end[2]
-    p.fp = <float>st.fp
-    p.spindle = st.spindle
-    p.tool = <uint16_t>(0 if st.tool < 0 else (65535 if st.tool > 65535 else st.tool))    # 16 bits in m_planeTool
-    p.zero_idx = <uint16_t>st.zero_idx
-    p.rot_idx = <uint16_t>st.rot_idx
     p.line = st.line
-    p.file_idx = <int16_t>st.unit.file_idx
     p.gcode_index = st.gindex
     st.gindex += 2
     p.plane = <int16_t>st.plane
@@ -39,7 +34,27 @@ cdef Part *em_part(CState *st, int kind, int func, const double *end) noexcept n
         prog.compensated = True
     if st.per_min:
         p.flags = FLAG_FEED_PER_MIN
+    s.feed = 0.0
+    s.fp = <float>st.fp
+    s.spindle = st.spindle
+    s.tool = <uint16_t>(0 if st.tool < 0 else (65535 if st.tool > 65535 else st.tool))    # 16 bits in m_planeTool
+    s.zero_idx = <uint16_t>st.zero_idx
+    s.rot_idx = <uint16_t>st.rot_idx
+    s.file_idx = <int16_t>st.unit.file_idx
+    if kind == PART_MOTION:
+        em_feed(st, p, func, &s)
+    if em_settings(st, p, &s) != 0:
+        return NULL
     return p
+
+
+cdef int em_settings(CState *st, Part *p, const PartSettings *s) noexcept nogil:
+    """The part's settings become s (a record shared with the parts that agree)."""
+    cdef int64_t idx = program_settings_index(st.build, s)
+    if idx < 0:
+        return cerr(st, ERR_OUT_OF_MEMORY)
+    p.settings = <uint32_t>idx
+    return 0
 
 
 cdef extern from *:
@@ -85,21 +100,21 @@ cdef int em_pars(CState *st, const LineWords *lw, int g, int m) noexcept nogil:
     return 0
 
 
-cdef void em_feed(CState *st, Part *p, int func) noexcept nogil:
+cdef void em_feed(CState *st, Part *p, int func, PartSettings *s) noexcept nogil:
     """Feed of a motion part after forceMode, FF and the M99 default feed."""
     cdef int fm = st.params.forceMode
     if func == 0:
-        p.feed = st.ff if (fm == 0 and st.ff_set) else st.params.motion[0].feed
+        s.feed = st.ff if (fm == 0 and st.ff_set) else st.params.motion[0].feed
         p.flags |= FLAG_FEED_PER_MIN
     elif fm == 1 or fm == 2:
-        p.feed = st.params.motion[1].feed
+        s.feed = st.params.motion[1].feed
         p.flags |= FLAG_FEED_PER_MIN
     else:
-        p.feed = st.feed
-        if p.feed == 0.0:
-            p.feed = st.def_feed if st.def_feed > 0.0 else st.params.motion[1].feed
+        s.feed = st.feed
+        if s.feed == 0.0:
+            s.feed = st.def_feed if st.def_feed > 0.0 else st.params.motion[1].feed
     if fm == 1:
-        p.fp = 1.0
+        s.fp = 1.0
 
 
 cdef int em_css(CState *st, Part *p, double x_start, double x_end) noexcept nogil:
@@ -114,7 +129,7 @@ cdef int em_css(CState *st, Part *p, double x_start, double x_end) noexcept nogi
         return cerr(st, ERR_OUT_OF_MEMORY)
     if r < 1.0:
         r = 1.0
-    x.value = 1000.0 * p.spindle / (2.0 * M_PI * r)
+    x.value = 1000.0 * part_settings(st.prog, p).spindle / (2.0 * M_PI * r)
     p.flags |= FLAG_CSS
     return 0
 
@@ -320,13 +335,13 @@ cdef int em_move(CState *st, const LineWords *lw, int func, const double *newp, 
     cdef int f = func
     cdef Part *p
     cdef PartExtra *x
+    cdef PartSettings s
     if em_feed_check(st, lw, func, col) != 0:
         return R_ERR
     to_machine(st, newp, e)
     p = em_part(st, PART_MOTION, func, e)
     if p == NULL:
         return R_ERR
-    em_feed(st, p, func)
     if st.css and (func == 1 or func == 2 or func == 3) and not (p.flags & FLAG_FEED_PER_MIN):
         if em_css(st, p, st.ppos[0], newp[0]) != 0:
             return R_ERR
@@ -343,7 +358,10 @@ cdef int em_move(CState *st, const LineWords *lw, int func, const double *newp, 
     memcpy(st.mpos, e, sizeof(e))
     if st.ngc != NULL and st.ngc.inverse_time and (func == 1 or func == 2 or func == 3):
         # G93: the move takes 1 / F minutes (F in 1/min, never converted from inches)
-        p.feed = val(lw, b'F') / st.unit_scale * part_length(st.prog, st.prog.n_parts - 1)
+        s = part_settings(st.prog, p)[0]
+        s.feed = val(lw, b'F') / st.unit_scale * part_length(st.prog, st.prog.n_parts - 1)
+        if em_settings(st, p, &s) != 0:
+            return R_ERR
     return em_pars(st, lw, p.func, -10000)
 
 

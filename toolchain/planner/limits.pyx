@@ -105,15 +105,16 @@ cdef double part_feed(const Program *prog, const Part *p, const GCODE_PARAMETERS
     """mm/min: rapids their feed (FF or motion[0], the compiler chose by forceMode);
     threads (G33) pitch times S; cuts F (or motion[1], M99 as the compiler resolved), per revolution times S
     (G96: the spindle speed S gives at the part, emit.pyx em_css), times FP."""
-    cdef double feed = p.feed
+    cdef const PartSettings *s = part_settings(prog, p)
+    cdef double feed = s.feed
     cdef double value = part_extra(prog, p).value
     if p.func == 0:
         return feed if feed > 0.0 else params.motion[0].feed
     if p.func == 33 and value > 0.0:
-        return value * p.spindle        # a thread: its pitch per spindle turn, no override
+        return value * s.spindle        # a thread: its pitch per spindle turn, no override
     if not (p.flags & FLAG_FEED_PER_MIN):
-        feed = feed * (value if p.flags & FLAG_CSS else p.spindle)     # per revolution
-    feed = feed * p.fp
+        feed = feed * (value if p.flags & FLAG_CSS else s.spindle)     # per revolution
+    feed = feed * s.fp
     if feed <= 0.0:
         feed = params.motion[1].feed
     return feed
