@@ -172,11 +172,6 @@ cdef int _compile_job(Core *core, CompileJob *job, ProgramBuilder *build, GCODE_
     core_status_text(core, text, job.files[0], 0)
     core_progress(core, 0)
     result = _compile_and_compensate(core, inp, build, err, extent, &measured)
-    # the source is not read again: its memory is given back before the plan takes as
-    # much (freshly freed memory is cheaper to fault in than new)
-    free(job.text)
-    job.text = NULL
-    inp.text = NULL
     n_parts = build.prog.n_parts
     if result == COMPILE_OK:
         result = insert_arcs(build, &inp.params, err)
@@ -185,6 +180,15 @@ cdef int _compile_job(Core *core, CompileJob *job, ProgramBuilder *build, GCODE_
     # before the plan takes its memory: the peak is the parts and their plan
     if result == COMPILE_OK:
         program_builder_trim(build)
+    # the source is not read again: its memory, faulted in already, becomes the plan's
+    # (plan_alloc reallocates it; fresh memory costs more to fault in than the plan's
+    # passes take, docs/benchmarks.md)
+    inp.text = NULL
+    if result == COMPILE_OK and build.prog.plan == NULL:
+        build.prog.plan = <PartPlan *>job.text
+    else:
+        free(job.text)
+    job.text = NULL
     if result == COMPILE_OK and plan_beside_extent(build, &inp.params, machine_bits, inp.plan_window,
                                                    extent, measured) != COMPILE_OK:
         result = COMPILE_ERROR

@@ -113,18 +113,19 @@ ctypedef struct PlanRegion:
 # down to v_exit -- follows from them and the part's length (planner/profile.pyx),
 # for the compile and for the offline machine alike, which plans a part again from
 # these limits only where the host changed something (the start position, the
-# override, a stop). 32 bytes: floats (7 digits), the limits each the float at or
-# below the value it came from, and the plan made with them. Speeds mm/s,
-# accelerations mm/s^2; M functions, dwells and parts without length pass the speed
-# through (v_cap: that speed; acc, dec: 0).
-ctypedef struct PartPlan:
+# override, a stop). Floats (7 digits), the limits each the float at or below the
+# value it came from, and the plan made with them. Speeds mm/s, accelerations
+# mm/s^2; M functions, dwells and parts without length pass the speed through
+# (v_cap: that speed; acc, dec: 0). Packed, 29 bytes: the plan is a quarter of a
+# CAM job's memory.
+ctypedef packed struct PartPlan:
     float v_exit            # speed at its end
     float time              # seconds (dwell: its time)
     float v_cap             # its speed limit at 100 % override: feed, arc feed table, centripetal, axes
     float v_ceiling         # the limit no feed override passes: axes' maxFeed, centripetal, arc feed table (inf: none)
     float v_junction        # the junction limit at its start (0: the machine stands there; inf: none)
     float acc, dec          # equivalent constant accelerations of its ramps (planner.pxd)
-    int32_t ramp            # rampType of its ramps (1 trapezoid, 2 sine)
+    uint8_t ramp            # rampType of its ramps (1 trapezoid, 2 sine)
 
 # What a plan was made with: a run that plans parts again (placed elsewhere) plans
 # them with the same settings.
@@ -185,7 +186,8 @@ ctypedef struct ProgramBuilder:
     size_t cap_arc_regions, cap_plan_regions, cap_radii, cap_tool_writes
     size_t cap_extras, cap_settings
     bint merging            # program_merge runs: its makers take records from the room it reserved
-    uint32_t settings_seen[SETTINGS_SEEN]   # program_settings_index's memory: a record's index by its hash
+    uint32_t settings_seen[SETTINGS_SEEN]   # program_settings_index's memory: a record's index by its hash,
+    uint32_t settings_last                  # and the record it found last
     Follow *follow          # while a stage reads the parts beside the compiler, else NULL
     size_t prefaulted       # parts [0, prefaulted) of the capacity are faulted in (program_prefault)
 

@@ -73,12 +73,15 @@ cdef inline uint32_t _settings_hash(const PartSettings *s) noexcept nogil:
 
 
 cdef int64_t program_settings_index(ProgramBuilder *build, const PartSettings *s) noexcept nogil:
-    """Finds s among the records seen last under its hash (most programs have a few
-    dozen) or adds it; entry 0, the defaults, is added first. -1 out of memory."""
+    """The record found last when s equals it (most parts share their neighbour's),
+    else one seen under its hash (most programs have a few dozen), else a new one;
+    entry 0, the defaults, is added first. -1 out of memory."""
     cdef Program *prog = &build.prog
     cdef uint32_t slot
-    cdef size_t i
+    cdef size_t i = build.settings_last
     cdef PartSettings defaults
+    if i < prog.n_settings and memcmp(&prog.settings[i], s, sizeof(PartSettings)) == 0:
+        return <int64_t>i
     if prog.n_settings == 0:
         if build.merging or not program_grow_shared(build, <void **>&prog.settings, &build.cap_settings, 8,
                                                     sizeof(PartSettings)):
@@ -92,6 +95,7 @@ cdef int64_t program_settings_index(ProgramBuilder *build, const PartSettings *s
     slot = _settings_hash(s)
     i = build.settings_seen[slot]
     if i < prog.n_settings and memcmp(&prog.settings[i], s, sizeof(PartSettings)) == 0:
+        build.settings_last = <uint32_t>i
         return <int64_t>i
     if prog.n_settings >= <size_t>0xFFFFFFFFu:
         return -1
@@ -105,6 +109,7 @@ cdef int64_t program_settings_index(ProgramBuilder *build, const PartSettings *s
     prog.settings[i] = s[0]
     prog.n_settings += 1
     build.settings_seen[slot] = <uint32_t>i
+    build.settings_last = <uint32_t>i
     return <int64_t>i
 
 

@@ -15,7 +15,7 @@
 # O(parts x window), O(parts) where the junctions' limits bind. The sweep may start
 # and end at a part where the machine stands (plan_range): two ranges plan at once
 # (pipeline.pyx) and give the same plan.
-from libc.stdlib cimport malloc, free
+from libc.stdlib cimport malloc, realloc, free
 from libc.math cimport sqrt, HUGE_VAL
 from libc.string cimport memcpy
 
@@ -265,17 +265,23 @@ cdef int _plan_once(Program *prog, const GCODE_PARAMETERS *params, uint32_t enha
 
 cdef bint plan_alloc(Program *prog, const GCODE_PARAMETERS *params, uint32_t enhanced,
                      int64_t window) noexcept nogil:
-    """A new, unfilled plan for every part in prog.plan (the old one freed), to be
-    made with these settings (kept in prog.planned_with); False when out of memory."""
+    """A new, unfilled plan for every part in prog.plan, in the memory of the old one
+    (or of what the core handed over, core.pyx: memory already faulted in costs less
+    than fresh), to be made with these settings (kept in prog.planned_with); False
+    when out of memory (no plan)."""
+    cdef PartPlan *plan
     prog.planned_with.params = params[0]
     prog.planned_with.enhanced = enhanced
     prog.planned_with.window = window
-    free(prog.plan)
-    prog.plan = NULL
     if prog.n_parts == 0:
+        plan_drop(prog)
         return True
-    prog.plan = <PartPlan *>malloc(prog.n_parts * sizeof(PartPlan))
-    return prog.plan != NULL
+    plan = <PartPlan *>realloc(prog.plan, prog.n_parts * sizeof(PartPlan))
+    if plan == NULL:
+        plan_drop(prog)
+        return False
+    prog.plan = plan
+    return True
 
 
 cdef void plan_drop(Program *prog) noexcept nogil:
