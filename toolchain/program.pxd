@@ -277,8 +277,20 @@ cdef PartExtra *program_part_extra(ProgramBuilder *build, Part *p) noexcept nogi
 # the index of a PartSettings equal to s, added when none of the recent ones is (-1: out
 # of memory); entry 0, the defaults, is there once a part is. A stage beside the
 # compiler may read the records while the compiler adds; program_merge reserves room
-# for its makers.
-cdef int64_t program_settings_index(ProgramBuilder *build, const PartSettings *s) noexcept nogil
+# for its makers. Most parts share the record found last: checked inline, the rest in
+# program_settings_find.
+cdef int64_t program_settings_find(ProgramBuilder *build, const PartSettings *s) noexcept nogil
+
+cdef inline bint settings_equal(const PartSettings *a, const PartSettings *b) noexcept nogil:
+    # bit for bit (24 bytes, no padding)
+    cdef const uint64_t *x = <const uint64_t *>a
+    cdef const uint64_t *y = <const uint64_t *>b
+    return x[0] == y[0] and x[1] == y[1] and x[2] == y[2]
+
+cdef inline int64_t program_settings_index(ProgramBuilder *build, const PartSettings *s) noexcept nogil:
+    if build.settings_last < build.prog.n_settings and settings_equal(&build.prog.settings[build.settings_last], s):
+        return build.settings_last
+    return program_settings_find(build, s)
 # a memory hint for the parts: pages faulted in ahead of their writer
 cdef bint program_prefault(ProgramBuilder *build, size_t first, size_t count, size_t limit) noexcept nogil
 

@@ -72,16 +72,14 @@ cdef inline uint32_t _settings_hash(const PartSettings *s) noexcept nogil:
     return (h ^ (h >> 15)) % SETTINGS_SEEN
 
 
-cdef int64_t program_settings_index(ProgramBuilder *build, const PartSettings *s) noexcept nogil:
-    """The record found last when s equals it (most parts share their neighbour's),
-    else one seen under its hash (most programs have a few dozen), else a new one;
-    entry 0, the defaults, is added first. -1 out of memory."""
+cdef int64_t program_settings_find(ProgramBuilder *build, const PartSettings *s) noexcept nogil:
+    """program_settings_index past the record found last: one seen under the hash of s
+    (most programs have a few dozen), else a new one; entry 0, the defaults, is added
+    first. -1 out of memory."""
     cdef Program *prog = &build.prog
     cdef uint32_t slot
-    cdef size_t i = build.settings_last
+    cdef size_t i
     cdef PartSettings defaults
-    if i < prog.n_settings and memcmp(&prog.settings[i], s, sizeof(PartSettings)) == 0:
-        return <int64_t>i
     if prog.n_settings == 0:
         if build.merging or not program_grow_shared(build, <void **>&prog.settings, &build.cap_settings, 8,
                                                     sizeof(PartSettings)):
@@ -94,7 +92,7 @@ cdef int64_t program_settings_index(ProgramBuilder *build, const PartSettings *s
         memset(build.settings_seen, 0, sizeof(build.settings_seen))
     slot = _settings_hash(s)
     i = build.settings_seen[slot]
-    if i < prog.n_settings and memcmp(&prog.settings[i], s, sizeof(PartSettings)) == 0:
+    if i < prog.n_settings and settings_equal(&prog.settings[i], s):
         build.settings_last = <uint32_t>i
         return <int64_t>i
     if prog.n_settings >= <size_t>0xFFFFFFFFu:
