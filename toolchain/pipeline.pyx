@@ -51,9 +51,12 @@ cdef void *_follow_body(void *arg) noexcept nogil:
         if F.paused:
             pthread_cond_wait(&F.cond, &F.lock)
             continue
-        # the memory just ahead of the compiler comes before a batch: a compiler that
-        # reaches memory not readied zeroes it itself, on the path that counts
-        low = not F.done and ready > 0 and F.build.prefaulted < F.published + PREFAULT_LOW
+        # while the consumer keeps up, the memory just ahead of the compiler comes
+        # before a batch (a compiler that reaches memory not readied zeroes it itself,
+        # on the path that counts); one that falls behind leaves it to the compiler,
+        # which then waits for it less at the end
+        low = not F.done and ready > 0 and F.build.prefaulted < F.published + PREFAULT_LOW \
+            and F.published - taken <= FOLLOW_TAKE
         if low and ready < F.published + PREFAULT_AHEAD:
             ready = F.published + PREFAULT_AHEAD    # the compiler is ahead of the batches taken
         if (F.published > taken or F.done) and not low:
