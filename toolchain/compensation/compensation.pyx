@@ -681,7 +681,7 @@ cdef int compensate_feed(void *ctx, size_t upto, bint last, size_t *more) noexce
     or the first failure (err filled), after which nothing more is taken (consume_fn
     of pipeline.pyx)."""
     cdef CompState *S = <CompState *>ctx
-    cdef Program *prog = S.prog
+    cdef Program *prog
     cdef size_t k
     cdef int res = COMPILE_OK
     more[0] = S.n_ins
@@ -690,10 +690,13 @@ cdef int compensate_feed(void *ctx, size_t upto, bint last, size_t *more) noexce
     if S.host.strategy & CORR_OLD_COMPATIBILITY:
         if not last:
             return COMPILE_OK
-        _compatibility(prog)
+        _compatibility(S.prog)
     if not _role_room(S, upto):
         S.result = comp_fail(S, ERR_OUT_OF_MEMORY, S.next if S.next < upto else 0, 0, 0)
         return S.result
+    memcpy(&S.view, &S.build.prog, sizeof(Program))
+    S.prog = &S.view
+    prog = S.prog
     k = S.next
     while k < upto and res == COMPILE_OK:
         if S.exit_check:
@@ -717,6 +720,7 @@ cdef int compensate_feed(void *ctx, size_t upto, bint last, size_t *more) noexce
         comp_fail(S, S.xs.err_number, S.xs.err_part, S.xs.err_arg, 0)
     S.result = res
     more[0] = S.n_ins
+    S.prog = &S.build.prog
     return res
 
 
