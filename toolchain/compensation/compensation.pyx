@@ -675,6 +675,21 @@ cdef bint _role_room(CompState *S, size_t n) noexcept nogil:
     return True
 
 
+cdef void _view_take(CompState *S) noexcept nogil:
+    """S.prog becomes S.view: what the pass reads of the program's header, copied (the
+    arrays move only between batches; the counts the compiler writes meanwhile are
+    not read: they stay 0 here)."""
+    cdef const Program *prog = &S.build.prog
+    S.view.parts = prog.parts
+    S.view.extras = prog.extras
+    S.view.radii = prog.radii
+    S.view.strategy_regions = prog.strategy_regions
+    S.view.n_strategy_regions = prog.n_strategy_regions
+    memcpy(S.view.start, prog.start, sizeof(prog.start))
+    S.view.main_file_idx = prog.main_file_idx
+    S.prog = &S.view
+
+
 cdef int compensate_feed(void *ctx, size_t upto, bint last, size_t *more) noexcept nogil:
     """Steps 1-4 on parts [S.next, upto), which the compiler has finished; `last`:
     upto is the end of the program; `more`: the insertions queued so far. COMPILE_OK,
@@ -694,8 +709,7 @@ cdef int compensate_feed(void *ctx, size_t upto, bint last, size_t *more) noexce
     if not _role_room(S, upto):
         S.result = comp_fail(S, ERR_OUT_OF_MEMORY, S.next if S.next < upto else 0, 0, 0)
         return S.result
-    memcpy(&S.view, &S.build.prog, sizeof(Program))
-    S.prog = &S.view
+    _view_take(S)
     prog = S.prog
     k = S.next
     while k < upto and res == COMPILE_OK:
