@@ -96,17 +96,21 @@ cdef int _compile_and_compensate(Core *core, CompileInput *inp, ProgramBuilder *
     (pipeline.pyx), then the compensation's merge with the extent measured beside it
     (*measured: `extent` is filled): COMPILE_OK, or the compiler's failure, else the
     compensation's (err filled)."""
-    cdef CompState comp
+    # the pass's state is written by the thread beside the compiler all the time: on
+    # the heap, not on the compiler's stack next to the frames it writes
+    cdef CompState *comp = <CompState *>malloc(sizeof(CompState))
     cdef Follow follow
     cdef ExtentBeside beside
     cdef ErrorInfo *comp_err = <ErrorInfo *>calloc(1, sizeof(ErrorInfo))
     cdef int result
     measured[0] = False
-    if comp_err == NULL:
+    if comp_err == NULL or comp == NULL:
+        free(comp)
+        free(comp_err)
         set_error(err, ERR_OUT_OF_MEMORY, inp.file_idx, 0, NULL, 0)
         return COMPILE_ERROR
-    compensate_begin(&comp, build, &inp.params, comp_err, _compile_output, _compile_warn, core)
-    follow_init(&follow, build, compensate_feed, &comp)
+    compensate_begin(comp, build, &inp.params, comp_err, _compile_output, _compile_warn, core)
+    follow_init(&follow, build, compensate_feed, comp)
     build.follow = &follow
     result = compile_program(inp, build, err)
     if result == COMPILE_OK and build.prog.compensated:
@@ -117,12 +121,13 @@ cdef int _compile_and_compensate(Core *core, CompileInput *inp, ProgramBuilder *
     follow_destroy(&follow)
     if result == COMPILE_OK and build.prog.compensated:
         extent_beside_begin(&beside, &build.prog)
-        result = compensate_end(&comp, &beside.watch)
+        result = compensate_end(comp, &beside.watch)
         measured[0] = extent_beside_end(&beside, result == COMPILE_OK, extent)
         if result != COMPILE_OK:
             err[0] = comp_err[0]
     else:
-        compensate_free(&comp)
+        compensate_free(comp)
+    free(comp)
     free(comp_err)
     return result
 

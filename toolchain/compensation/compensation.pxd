@@ -237,7 +237,14 @@ ctypedef struct CompWarning:
 
 ctypedef struct CompState:
     ProgramBuilder *build   # the merge grows its parts
-    Program *prog           # &build.prog
+    Program *prog           # &view while compensate_feed runs, else &build.prog
+    # compensate_feed's copy of what it reads of the program's header (the arrays'
+    # addresses, the strategy regions, the start), taken at each batch (the arrays move
+    # only between batches; compensation.pyx _view_take): the compiler writes n_parts,
+    # n_extras and n_pars with every part, on the cache line that also holds the
+    # addresses, and a thread beside it reading them there would pull that line away
+    # from it at every access
+    Program view
     const GCODE_PARAMETERS *params
     ErrorInfo *err
     output_fn output

@@ -676,13 +676,28 @@ cdef bint _role_room(CompState *S, size_t n) noexcept nogil:
     return True
 
 
+cdef void _view_take(CompState *S) noexcept nogil:
+    """S.prog becomes S.view: what the pass reads of the program's header, copied (the
+    arrays move only between batches; the counts the compiler writes meanwhile are
+    not read: they stay 0 here)."""
+    cdef const Program *prog = &S.build.prog
+    S.view.parts = prog.parts
+    S.view.extras = prog.extras
+    S.view.radii = prog.radii
+    S.view.strategy_regions = prog.strategy_regions
+    S.view.n_strategy_regions = prog.n_strategy_regions
+    memcpy(S.view.start, prog.start, sizeof(prog.start))
+    S.view.main_file_idx = prog.main_file_idx
+    S.prog = &S.view
+
+
 cdef int compensate_feed(void *ctx, size_t upto, bint last, size_t *more) noexcept nogil:
     """Steps 1-4 on parts [S.next, upto), which the compiler has finished; `last`:
     upto is the end of the program; `more`: the insertions queued so far. COMPILE_OK,
     or the first failure (err filled), after which nothing more is taken (consume_fn
     of pipeline.pyx)."""
     cdef CompState *S = <CompState *>ctx
-    cdef Program *prog = S.prog
+    cdef Program *prog
     cdef size_t k
     cdef int res = COMPILE_OK
     more[0] = S.n_ins
@@ -691,10 +706,12 @@ cdef int compensate_feed(void *ctx, size_t upto, bint last, size_t *more) noexce
     if S.host.strategy & CORR_OLD_COMPATIBILITY:
         if not last:
             return COMPILE_OK
-        _compatibility(prog)
+        _compatibility(S.prog)
     if not _role_room(S, upto):
         S.result = comp_fail(S, ERR_OUT_OF_MEMORY, S.next if S.next < upto else 0, 0, 0)
         return S.result
+    _view_take(S)
+    prog = S.prog
     k = S.next
     while k < upto and res == COMPILE_OK:
         if S.exit_check:
@@ -718,6 +735,7 @@ cdef int compensate_feed(void *ctx, size_t upto, bint last, size_t *more) noexce
         comp_fail(S, S.xs.err_number, S.xs.err_part, S.xs.err_arg, 0)
     S.result = res
     more[0] = S.n_ins
+    S.prog = &S.build.prog
     return res
 
 
