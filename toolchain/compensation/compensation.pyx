@@ -676,13 +676,15 @@ cdef bint _role_room(CompState *S, size_t n) noexcept nogil:
     return True
 
 
-cdef void _view_take(CompState *S) noexcept nogil:
+cdef void _view_take(CompState *S, size_t upto) noexcept nogil:
     """S.prog becomes S.view: what the pass reads of the program's header, copied (the
     arrays move only between batches; the counts the compiler writes meanwhile are
-    not read: they stay 0 here)."""
+    not read: they stay 0 here, but for n_parts: the parts the batch may read)."""
     cdef const Program *prog = &S.build.prog
     S.view.parts = prog.parts
+    S.view.n_parts = upto
     S.view.extras = prog.extras
+    S.view.settings = prog.settings
     S.view.radii = prog.radii
     S.view.strategy_regions = prog.strategy_regions
     S.view.n_strategy_regions = prog.n_strategy_regions
@@ -710,7 +712,7 @@ cdef int compensate_feed(void *ctx, size_t upto, bint last, size_t *more) noexce
     if not _role_room(S, upto):
         S.result = comp_fail(S, ERR_OUT_OF_MEMORY, S.next if S.next < upto else 0, 0, 0)
         return S.result
-    _view_take(S)
+    _view_take(S, upto)
     prog = S.prog
     k = S.next
     while k < upto and res == COMPILE_OK:
