@@ -96,17 +96,21 @@ cdef int _compile_and_compensate(Core *core, CompileInput *inp, ProgramBuilder *
     (pipeline.pyx), then the compensation's merge with the extent measured beside it
     (*measured: `extent` is filled): COMPILE_OK, or the compiler's failure, else the
     compensation's (err filled)."""
-    cdef CompState comp
+    # the pass's state is written by the thread beside the compiler all the time: on
+    # the heap, not on the compiler's stack next to the frames it writes
+    cdef CompState *comp = <CompState *>malloc(sizeof(CompState))
     cdef Follow follow
     cdef ExtentBeside beside
     cdef ErrorInfo *comp_err = <ErrorInfo *>calloc(1, sizeof(ErrorInfo))
     cdef int result
     measured[0] = False
-    if comp_err == NULL:
+    if comp_err == NULL or comp == NULL:
+        free(comp)
+        free(comp_err)
         set_error(err, ERR_OUT_OF_MEMORY, inp.file_idx, 0, NULL, 0)
         return COMPILE_ERROR
-    compensate_begin(&comp, build, &inp.params, comp_err, _compile_output, _compile_warn, core)
-    follow_init(&follow, build, compensate_feed, &comp)
+    compensate_begin(comp, build, &inp.params, comp_err, _compile_output, _compile_warn, core)
+    follow_init(&follow, build, compensate_feed, comp)
     build.follow = &follow
     result = compile_program(inp, build, err)
     if result == COMPILE_OK and build.prog.compensated:
@@ -117,12 +121,13 @@ cdef int _compile_and_compensate(Core *core, CompileInput *inp, ProgramBuilder *
     follow_destroy(&follow)
     if result == COMPILE_OK and build.prog.compensated:
         extent_beside_begin(&beside, &build.prog)
-        result = compensate_end(&comp, &beside.watch)
+        result = compensate_end(comp, &beside.watch)
         measured[0] = extent_beside_end(&beside, result == COMPILE_OK, extent)
         if result != COMPILE_OK:
             err[0] = comp_err[0]
     else:
-        compensate_free(&comp)
+        compensate_free(comp)
+    free(comp)
     free(comp_err)
     return result
 
@@ -172,15 +177,23 @@ cdef int _compile_job(Core *core, CompileJob *job, ProgramBuilder *build, GCODE_
     core_status_text(core, text, job.files[0], 0)
     core_progress(core, 0)
     result = _compile_and_compensate(core, inp, build, err, extent, &measured)
-    # the source is not read again: its memory is given back before the plan takes as
-    # much (freshly freed memory is cheaper to fault in than new)
-    free(job.text)
-    job.text = NULL
-    inp.text = NULL
     n_parts = build.prog.n_parts
     if result == COMPILE_OK:
         result = insert_arcs(build, &inp.params, err)
     measured = measured and build.prog.n_parts == n_parts      # no automatic arcs came in since
+    # the spare room of the parts (the reserve, what was faulted in ahead) goes back
+    # before the plan takes its memory: the peak is the parts and their plan
+    if result == COMPILE_OK:
+        program_builder_trim(build)
+    # the source is not read again: its memory, faulted in already, becomes the plan's
+    # (plan_alloc reallocates it; fresh memory costs more to fault in than the plan's
+    # passes take, docs/benchmarks.md)
+    inp.text = NULL
+    if result == COMPILE_OK and build.prog.plan == NULL:
+        build.prog.plan = <PartPlan *>job.text
+    else:
+        free(job.text)
+    job.text = NULL
     if result == COMPILE_OK and plan_beside_extent(build, &inp.params, machine_bits, inp.plan_window,
                                                    extent, measured) != COMPILE_OK:
         result = COMPILE_ERROR
@@ -221,7 +234,6 @@ cdef void *compile_body(void *arg) noexcept nogil:
     if err != NULL and extent != NULL:
         result = _compile_job(core, job, &build, extent, err)
         if result == COMPILE_OK:
-            program_builder_trim(&build)
             loaded = loaded_program_new(&build.prog, extent, job.files)     # the program alone
             if loaded == NULL:
                 result = COMPILE_ERROR

@@ -80,6 +80,7 @@ cdef size_t extent_range(const Program *prog, size_t first, size_t end, GCODE_SI
     cdef const double *s
     cdef const double *e
     cdef const double *cc
+    cdef const PartExtra *x
     cdef double s_buf[3]
     cdef double e_buf[3]
     cdef double cc_buf[3]
@@ -89,7 +90,7 @@ cdef size_t extent_range(const Program *prog, size_t first, size_t end, GCODE_SI
     cdef double dx, dy
     cdef int first_axis, second_axis, normal
     cdef bint arc
-    cdef uint16_t prev_rot
+    cdef uint16_t prev_rot = 0, rot = 0
     for i in range(first, end):
         p = &prog.parts[i]
         if p.kind != PART_MOTION:
@@ -97,15 +98,18 @@ cdef size_t extent_range(const Program *prog, size_t first, size_t end, GCODE_SI
         last = i
         s = part_start_xyz(prog, i)
         e = p.e
-        cc = p.cc
-        prev_rot = prog.parts[i - 1].rot_idx if i > 0 else 0
-        if not rotated and (prev_rot != 0 or p.rot_idx != 0):
+        x = part_extra(prog, p)
+        cc = x.cc
+        if not rotated:
+            prev_rot = part_settings(prog, &prog.parts[i - 1]).rot_idx if i > 0 else 0
+            rot = part_settings(prog, p).rot_idx
+        if not rotated and (prev_rot != 0 or rot != 0):
             memcpy(s_buf, s, sizeof(s_buf))
             memcpy(e_buf, e, sizeof(e_buf))
             memcpy(cc_buf, cc, sizeof(cc_buf))
             _unrotate(prog, prev_rot, s_buf)
-            _unrotate(prog, p.rot_idx, e_buf)
-            _unrotate(prog, p.rot_idx, cc_buf)
+            _unrotate(prog, rot, e_buf)
+            _unrotate(prog, rot, cc_buf)
             s = s_buf
             e = e_buf
             cc = cc_buf
@@ -125,7 +129,7 @@ cdef size_t extent_range(const Program *prog, size_t first, size_t end, GCODE_SI
             continue
         ce[0] = p.ce[0]; ce[1] = p.ce[1]; ce[2] = p.ce[2]
         if not rotated:
-            _unrotate(prog, p.rot_idx, ce)
+            _unrotate(prog, rot, ce)
         _widen(tool, ce, 3)
         if arc:
             # the previous part's compensated end
@@ -135,7 +139,7 @@ cdef size_t extent_range(const Program *prog, size_t first, size_t end, GCODE_SI
                     _unrotate(prog, prev_rot, cs)
             else:
                 cs[0] = s[0]; cs[1] = s[1]; cs[2] = s[2]
-            _widen_arc(tool, cs, ce, cc, p.radius, first_axis, second_axis, p.func == 3)
+            _widen_arc(tool, cs, ce, cc, x.radius, first_axis, second_axis, p.func == 3)
     return last
 
 
@@ -157,13 +161,13 @@ cdef void _extent_end(const Program *prog, size_t last, GCODE_SIZE *programmed, 
         return
     part_end(prog, &prog.parts[last], <double *>&programmed.m_endPos)
     if not rotated:
-        _unrotate(prog, prog.parts[last].rot_idx, <double *>&programmed.m_endPos)
+        _unrotate(prog, part_settings(prog, &prog.parts[last]).rot_idx, <double *>&programmed.m_endPos)
     if not prog.compensated:
         tool[0] = programmed[0]
         return
     tool_end[0] = prog.parts[last].ce[0]; tool_end[1] = prog.parts[last].ce[1]; tool_end[2] = prog.parts[last].ce[2]
     if not rotated:
-        _unrotate(prog, prog.parts[last].rot_idx, tool_end)
+        _unrotate(prog, part_settings(prog, &prog.parts[last]).rot_idx, tool_end)
     tool.m_endPos = programmed.m_endPos
     for k in range(3, AXES):
         (<double *>&tool.m_minimalPos)[k] = (<double *>&programmed.m_minimalPos)[k]

@@ -62,15 +62,16 @@ cdef void segment_shape(Segment *g, int plane, double radius, const double *cent
     g.length = fabs(g.sweep) * sqrt(radius * radius + g.lead * g.lead)
 
 
-cdef inline void _shape_part(const Part *p, Segment *g, const double *centre) noexcept nogil:
+cdef inline void _shape_part(const Part *p, double radius, Segment *g, const double *centre) noexcept nogil:
     """segment_shape with the part's arc (G2 / G3 in its plane round centre) or line."""
-    segment_shape(g, p.plane, p.radius if p.func == 2 or p.func == 3 else 0.0, centre, p.func == 3)
+    segment_shape(g, p.plane, radius if p.func == 2 or p.func == 3 else 0.0, centre, p.func == 3)
 
 
 cdef void segment_of_part(const Program *prog, size_t i, Segment *g) noexcept nogil:
     """The geometry of motion part i as compiled (the planner's): the compensated
     start and end, over x y z alone when the seven other axes stand."""
     cdef const Part *p = &prog.parts[i]
+    cdef const PartExtra *x = part_extra(prog, p)
     cdef const Part *prev
     if i > 0 and prog.parts[i - 1].axes_idx == p.axes_idx:
         prev = &prog.parts[i - 1]       # the seven other axes stand: x y z alone
@@ -81,7 +82,7 @@ cdef void segment_of_part(const Program *prog, size_t i, Segment *g) noexcept no
         part_calc_start(prog, i, g.start)
         part_end(prog, p, g.end)
     g.end[0] = p.ce[0]; g.end[1] = p.ce[1]; g.end[2] = p.ce[2]
-    _shape_part(p, g, p.cc)
+    _shape_part(p, x.radius, g, x.cc)
 
 
 cdef bint placement_shift(const Program *prog, size_t i, const Placement *pl, double *start_shift,
@@ -114,6 +115,7 @@ cdef void segment_of_placed_part(const Program *prog, size_t i, const Placement 
     ends and the centre moved first (placement_shift), then shaped -- the same
     numbers as segment_of_gm of the run's record (placement.pyx placed_part_to_gm)."""
     cdef const Part *p = &prog.parts[i]
+    cdef const PartExtra *x = part_extra(prog, p)
     cdef double start_shift[AXES]
     cdef double end_shift[AXES]
     cdef double centre[3]
@@ -122,7 +124,7 @@ cdef void segment_of_placed_part(const Program *prog, size_t i, const Placement 
     part_calc_start(prog, i, g.start)
     part_end(prog, p, g.end)
     g.end[0] = p.ce[0]; g.end[1] = p.ce[1]; g.end[2] = p.ce[2]
-    centre[0] = p.cc[0]; centre[1] = p.cc[1]; centre[2] = p.cc[2]
+    centre[0] = x.cc[0]; centre[1] = x.cc[1]; centre[2] = x.cc[2]
     if pl.moved:
         placement_shift(prog, i, pl, start_shift, end_shift)
         for k in range(AXES):
@@ -130,7 +132,7 @@ cdef void segment_of_placed_part(const Program *prog, size_t i, const Placement 
             g.end[k] += end_shift[k]
         for k in range(3):
             centre[k] += start_shift[k]
-    _shape_part(p, g, centre)
+    _shape_part(p, x.radius, g, centre)
 
 
 cdef void segment_of_gm(const SIMPLE_GM_PARAMS *gm, Segment *g) noexcept nogil:

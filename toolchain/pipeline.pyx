@@ -13,7 +13,11 @@
 #     its result. A program that never published (small) is consumed in the
 #     caller's thread: the same consumer, the same order;
 #   - while no batch waits, the thread faults in the part memory ahead of the
-#     compiler, as far as the consumer's queued insertions plus PREFAULT_AHEAD parts.
+#     compiler, as far as the consumer's queued insertions plus PREFAULT_AHEAD parts;
+#     when less than PREFAULT_LOW parts are ready ahead of the published ones, that
+#     comes first even when a batch waits (a busy consumer, as the compensation of
+#     many short contours, would otherwise leave the zeroing to the compiler); a
+#     consumer that fell behind takes at most FOLLOW_TAKE parts at a time.
 # After the compiler, in the order they run: the extent measured beside the
 # compensation's merge (ExtentBeside), then the plan in two ranges beside the extent
 # when that was not measured yet (plan_beside_extent).
@@ -36,20 +40,33 @@ cdef void follow_destroy(Follow *F) noexcept nogil:
 
 
 cdef void *_follow_body(void *arg) noexcept nogil:
-    """Takes the batches as they come; while there is none, readies memory ahead of
-    the compiler a chunk at a time (the batches come first)."""
+    """Takes the batches as they come; while there is none, or while the memory
+    readied ahead of the compiler runs short, readies it a chunk at a time."""
     cdef Follow *F = <Follow *>arg
     cdef size_t taken = 0, upto, more = 0, ready = 0
-    cdef bint last
+    cdef bint last, low
     cdef int res
     pthread_mutex_lock(&F.lock)
     while not F.stop:
         if F.paused:
             pthread_cond_wait(&F.cond, &F.lock)
             continue
-        if F.published > taken or F.done:
+        # while the consumer keeps up, the memory just ahead of the compiler comes
+        # before a batch (a compiler that reaches memory not readied zeroes it itself,
+        # on the path that counts); one that falls behind leaves it to the compiler,
+        # which then waits for it less at the end
+        low = not F.done and ready > 0 and F.build.prefaulted < F.published + PREFAULT_LOW \
+            and F.published - taken <= FOLLOW_TAKE
+        if low and ready < F.published + PREFAULT_AHEAD:
+            ready = F.published + PREFAULT_AHEAD    # the compiler is ahead of the batches taken
+        if (F.published > taken or F.done) and not low:
             upto = F.published
             last = F.done
+            if upto - taken > FOLLOW_TAKE:
+                # a consumer that fell behind takes the parts in steps, the memory
+                # ahead of the compiler readied between them
+                upto = taken + FOLLOW_TAKE
+                last = False
             F.busy = True
             pthread_mutex_unlock(&F.lock)
             res = F.consume(F.ctx, upto, last, &more)

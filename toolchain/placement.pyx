@@ -109,6 +109,7 @@ cdef bint placed_extent(const Program *prog, const Placement *pl, GCODE_INFO *in
     cdef size_t head = 0, i
     cdef Program part_view
     cdef Part *copy
+    cdef PartExtra *copy_extras
     cdef GCODE_INFO rest
     cdef int k
     for k in range(AXES):
@@ -130,16 +131,24 @@ cdef bint placed_extent(const Program *prog, const Placement *pl, GCODE_INFO *in
         part_view.start[k] = pl.start[k] - whole[k]
     if head > 0:
         copy = <Part *>malloc(head * sizeof(Part))
-        if copy == NULL:
+        copy_extras = <PartExtra *>calloc(head + 1, sizeof(PartExtra))     # entry 0 unused
+        if copy == NULL or copy_extras == NULL:
+            free(copy)
+            free(copy_extras)
             return False
         memcpy(copy, prog.parts, head * sizeof(Part))
         for i in range(head):
+            if copy[i].kind != PART_PRINT and copy[i].extra != 0:
+                copy_extras[i + 1] = prog.extras[copy[i].extra]
+                copy[i].extra = <uint32_t>(i + 1)
             for k in range(3):
                 if head_delta[k] != 0.0 and follows_start(prog, &copy[i], k):
                     copy[i].e[k] += head_delta[k]
                     copy[i].ce[k] += head_delta[k]
-                    copy[i].cc[k] += head_delta[k]
+                    copy_extras[i + 1].cc[k] += head_delta[k]
         part_view.parts = copy
+        part_view.extras = copy_extras
+        part_view.n_extras = head + 1
         part_view.n_parts = head
         program_extent(&part_view, info)
         # the rest starts where the head ended
@@ -148,6 +157,9 @@ cdef bint placed_extent(const Program *prog, const Placement *pl, GCODE_INFO *in
         part_view.start[2] = copy[head - 1].e[2]
         memcpy(&part_view.start[3], &prog.axes[OTHER_AXES * copy[head - 1].axes_idx], OTHER_AXES * sizeof(double))
         free(copy)
+        free(copy_extras)
+        part_view.extras = prog.extras
+        part_view.n_extras = prog.n_extras
         if head < prog.n_parts:
             part_view.parts = prog.parts + head
             part_view.n_parts = prog.n_parts - head

@@ -27,32 +27,46 @@ cdef enum PartFlags:
     FLAG_HELIX = 0x08            # arc with off-plane motion
     FLAG_CSS = 0x10              # G96 with G95: `value` holds the spindle speed (rev/min) S gives there
 
+# What every part needs (88 bytes: a CAM job's parts are most of a compiled program's
+# memory, docs/benchmarks.md); what only some carry is in its PartExtra, what changes
+# seldom in the PartSettings it shares with its neighbours.
 ctypedef struct Part:
     double e[3]             # programmed end x y z, machine coordinates (program + zero offset); M parts: current position
     double ce[3]            # compensated end x y z (the other axes as programmed); = e when not compensated
-    double cc[3]            # arc centre x y z (machine coordinates), programmed
-    double radius           # arc radius of the tool path (compensated); 0 for lines
-    double feed             # F in mm/min (G94) or mm/rev (G95) after forceMode/M99; rapid: motion[0].feed
-    double value            # dwell seconds (G4), thread pitch (G33), spindle rev/min under G96 (FLAG_CSS)
-    float fp                # FP relative feed (1.0)
-    float spindle           # S
     int32_t func            # G number (0 1 2 3 4 33) or M number
     int32_t gcode_index     # even for programmed parts, odd for inserted ones
     uint32_t line           # 1-based line in its file
     uint32_t pars_off       # offset of this part's addresses in Program.pars (see pars_mask)
-    uint32_t pars_mask      # bit (letter - 'A') set for every address written on the line
-    uint32_t aux            # PART_PRINT: offset of its text in Program.texts
+    uint32_t pars_mask      # bit (letter - 'A') set for every address written on the line (part_own_cell)
+    uint32_t extra          # its PartExtra in Program.extras (0: none, read as all zero: part_extra);
+                            # PART_PRINT: the offset of its text in Program.texts
     uint32_t axes_idx       # the end's other seven axes (c b u v w a o): Program.axes[OTHER_AXES * axes_idx ...]
-    uint16_t zero_idx       # index into Program.zeros (active zero offset)
-    uint16_t rot_idx        # index into Program.rotations (G168), 0 = not rotated
-    uint16_t tool           # T
-    int16_t file_idx        # file index (FileToIdx), -1 unknown
+    uint32_t settings       # its PartSettings in Program.settings (part_settings)
     int16_t plane           # 17 18 19 -18
     uint8_t kind            # PartKind
     uint8_t flags           # PartFlags
     uint8_t comp            # 40 41 42 (side after the sign of the radius), see m_bFeedIsMin
     uint8_t comp_slot       # 0..7: index of correction[] used (G41 -> 0, G42 -> 1, G43 -> 2, ...)
     uint16_t radius_idx     # 0: the radius is correction[comp_slot]'s; else Program.radii[radius_idx] (a D word's)
+
+# What a part is cut with that changes seldom, shared by the parts that agree
+# (Program.settings, Part.settings; entry 0: the defaults of program_add_part).
+ctypedef struct PartSettings:
+    double feed             # F in mm/min (G94) or mm/rev (G95) after forceMode/M99; rapid: motion[0].feed; 0 but for motion
+    float fp                # FP relative feed (1.0)
+    float spindle           # S
+    uint16_t tool           # T
+    uint16_t zero_idx       # index into Program.zeros (active zero offset)
+    uint16_t rot_idx        # index into Program.rotations (G168), 0 = not rotated
+    int16_t file_idx        # file index (FileToIdx), -1 unknown
+
+# What only some parts carry, in Program.extras (Part.extra): an arc's centre and
+# radius, the value of a dwell, a thread or a G96 part. Parts without one (lines,
+# M functions) read the zero record (part_extra): radius 0, value 0.
+ctypedef struct PartExtra:
+    double cc[3]            # arc centre x y z (machine coordinates), programmed
+    double radius           # arc radius of the tool path (compensated); 0: a removed arc, or no arc
+    double value            # dwell seconds (G4), thread pitch (G33), spindle rev/min under G96 (FLAG_CSS)
 
 # G167 automatic arcs from the program: the settings in force from part `first` on
 # (index among the programmed parts, i.e. not counting inserted ones).
@@ -77,6 +91,9 @@ ctypedef struct ToolWrite:
     uint32_t programmed
     double values[TOOL_VALUES]
 
+cdef enum:
+    SETTINGS_SEEN = 64      # records program_settings_index finds again without adding one
+
 # Planning settings the program changes (G900, M-5), from programmed part `first` on
 # (not counting inserted parts); before the first region the host's GCODE_PARAMETERS hold.
 ctypedef struct PlanRegion:
@@ -96,18 +113,19 @@ ctypedef struct PlanRegion:
 # down to v_exit -- follows from them and the part's length (planner/profile.pyx),
 # for the compile and for the offline machine alike, which plans a part again from
 # these limits only where the host changed something (the start position, the
-# override, a stop). 32 bytes: floats (7 digits), the limits each the float at or
-# below the value it came from, and the plan made with them. Speeds mm/s,
-# accelerations mm/s^2; M functions, dwells and parts without length pass the speed
-# through (v_cap: that speed; acc, dec: 0).
-ctypedef struct PartPlan:
+# override, a stop). Floats (7 digits), the limits each the float at or below the
+# value it came from, and the plan made with them. Speeds mm/s, accelerations
+# mm/s^2; M functions, dwells and parts without length pass the speed through
+# (v_cap: that speed; acc, dec: 0). Packed, 29 bytes: the plan is a quarter of a
+# CAM job's memory.
+ctypedef packed struct PartPlan:
     float v_exit            # speed at its end
     float time              # seconds (dwell: its time)
     float v_cap             # its speed limit at 100 % override: feed, arc feed table, centripetal, axes
     float v_ceiling         # the limit no feed override passes: axes' maxFeed, centripetal, arc feed table (inf: none)
     float v_junction        # the junction limit at its start (0: the machine stands there; inf: none)
     float acc, dec          # equivalent constant accelerations of its ramps (planner.pxd)
-    int32_t ramp            # rampType of its ramps (1 trapezoid, 2 sine)
+    uint8_t ramp            # rampType of its ramps (1 trapezoid, 2 sine)
 
 # What a plan was made with: a run that plans parts again (placed elsewhere) plans
 # them with the same settings.
@@ -121,7 +139,11 @@ cdef struct Follow                  # the stage beside the compiler (pipeline.px
 ctypedef struct Program:
     Part *parts
     size_t n_parts
-    float *pars             # addresses of all parts, packed in letter order per part
+    PartExtra *extras       # Part.extra's records; entry 0 unused (part_extra reads NO_EXTRA)
+    size_t n_extras
+    PartSettings *settings  # Part.settings' records, each once (mostly: program_settings_index)
+    size_t n_settings
+    float *pars             # addresses of all parts, packed in letter order per part (part_own_cell's not)
     size_t n_pars
     P10DOUBLE *zeros        # zero offsets referenced by Part.zero_idx (zeros[0] = none)
     size_t n_zeros
@@ -155,13 +177,17 @@ ctypedef struct Program:
 # compiler, the compensation's merge, insert_arcs, the planner's insertions) grow them
 # through the builder, which keeps what only the compilation needs. Once compiled,
 # the core publishes `prog` alone (runtime/programs.pyx loaded_program_new takes it
-# over), the parts and addresses trimmed to their n_* (program_builder_trim); the
-# small arrays keep their spare room.
+# over), the parts, extras and addresses trimmed to their n_* before the plan
+# (program_builder_trim); the small arrays keep their spare room.
 ctypedef struct ProgramBuilder:
     Program prog
     size_t cap_parts, cap_pars, cap_zeros, cap_rotations    # allocated items of each array
     size_t cap_strategy_regions, cap_texts, cap_axes        # (axes, rotations: doubles)
     size_t cap_arc_regions, cap_plan_regions, cap_radii, cap_tool_writes
+    size_t cap_extras, cap_settings
+    bint merging            # program_merge runs: its makers take records from the room it reserved
+    uint32_t settings_seen[SETTINGS_SEEN]   # program_settings_index's memory: a record's index by its hash,
+    uint32_t settings_last                  # and the record it found last
     Follow *follow          # while a stage reads the parts beside the compiler, else NULL
     size_t prefaulted       # parts [0, prefaulted) of the capacity are faulted in (program_prefault)
 
@@ -225,7 +251,7 @@ cdef enum CompileResult:
 from libc.string cimport memcpy
 
 # a Program and its builder: empty, freed (what a failed compilation left), the
-# spare room of the large arrays given back before the program is published
+# spare room of the large arrays given back before the plan is made (core.pyx)
 cdef void program_init(Program *prog) noexcept nogil
 cdef void program_free(Program *prog) noexcept nogil
 cdef void program_builder_init(ProgramBuilder *build) noexcept nogil
@@ -244,6 +270,27 @@ cdef bint program_add_tool_write(ProgramBuilder *build, const ToolWrite *write) 
 # a stage inserts parts in one backward pass (the callbacks above); False: out of memory
 cdef bint program_merge(ProgramBuilder *build, size_t n_ins, void *ctx, inserted_after_fn after_of,
                         make_inserted_fn make, settle_parts_fn settle, const MergeWatch *watch) noexcept nogil
+# the PartExtra of part p, added when it has none (NULL: out of memory); a stage beside
+# the compiler may read the records while the compiler adds (program_grow_shared). The
+# makers of program_merge take theirs from the room the merge reserved (never NULL).
+cdef PartExtra *program_part_extra(ProgramBuilder *build, Part *p) noexcept nogil
+# the index of a PartSettings equal to s, added when none of the recent ones is (-1: out
+# of memory); entry 0, the defaults, is there once a part is. A stage beside the
+# compiler may read the records while the compiler adds; program_merge reserves room
+# for its makers. Most parts share the record found last: checked inline, the rest in
+# program_settings_find.
+cdef int64_t program_settings_find(ProgramBuilder *build, const PartSettings *s) noexcept nogil
+
+cdef inline bint settings_equal(const PartSettings *a, const PartSettings *b) noexcept nogil:
+    # bit for bit (24 bytes, no padding)
+    cdef const uint64_t *x = <const uint64_t *>a
+    cdef const uint64_t *y = <const uint64_t *>b
+    return x[0] == y[0] and x[1] == y[1] and x[2] == y[2]
+
+cdef inline int64_t program_settings_index(ProgramBuilder *build, const PartSettings *s) noexcept nogil:
+    if build.settings_last < build.prog.n_settings and settings_equal(&build.prog.settings[build.settings_last], s):
+        return build.settings_last
+    return program_settings_find(build, s)
 # a memory hint for the parts: pages faulted in ahead of their writer
 cdef bint program_prefault(ProgramBuilder *build, size_t first, size_t count, size_t limit) noexcept nogil
 
@@ -252,6 +299,32 @@ cdef bint program_prefault(ProgramBuilder *build, size_t first, size_t count, si
 cdef inline void part_end(const Program *prog, const Part *p, double *out) noexcept nogil:
     out[0] = p.e[0]; out[1] = p.e[1]; out[2] = p.e[2]
     memcpy(out + 3, &prog.axes[OTHER_AXES * p.axes_idx], OTHER_AXES * sizeof(double))
+
+
+# the address cell a part's own function fills (G of a motion or a dwell, M of an M
+# function or a PRINT): its bit is set in pars_mask, its value is Part.func and is not
+# stored in Program.pars (a float a part less)
+cdef inline int part_own_cell(const Part *p) noexcept nogil:
+    return 6 if p.kind == PART_MOTION or p.kind == PART_DWELL else 12
+
+
+cdef inline const PartSettings *part_settings(const Program *prog, const Part *p) noexcept nogil:
+    return &prog.settings[p.settings]
+
+
+# the zero record of the parts without a PartExtra (zero-initialised, never written)
+cdef PartExtra NO_EXTRA
+
+cdef inline const PartExtra *part_extra(const Program *prog, const Part *p) noexcept nogil:
+    if p.extra == 0 or p.kind == PART_PRINT:
+        return &NO_EXTRA
+    return &prog.extras[p.extra]
+
+
+# a compensated arc's tool-path radius (a part without a record is no arc: nothing to set)
+cdef inline void part_set_radius(Program *prog, const Part *p, double radius) noexcept nogil:
+    if p.extra != 0 and p.kind != PART_PRINT:
+        prog.extras[p.extra].radius = radius
 
 
 cdef inline const double *part_start_xyz(const Program *prog, size_t i) noexcept nogil:
@@ -271,5 +344,8 @@ cdef inline double part_tool_radius(const Program *prog, const GCODE_PARAMETERS 
 cdef void part_calc_start(const Program *prog, size_t i, double *out) noexcept nogil
 cdef void part_to_gm(const Program *prog, size_t i, SIMPLE_GM_PARAMS *gm) noexcept nogil
 # a part a stage inserts after `after` (starting at its end, its programmed end there),
-# with the line, feed, tool and compensation of `src`; the caller sets its geometry
-cdef void part_inserted(Part *q, const Part *after, const Part *src, int32_t func, int16_t plane) noexcept nogil
+# with the line, settings and compensation of `src` under `after`'s G168 rotation (a
+# maker of program_merge: a settings record from its reserve when they differ); the
+# caller sets its geometry
+cdef void part_inserted(ProgramBuilder *build, Part *q, const Part *after, const Part *src, int32_t func,
+                        int16_t plane) noexcept nogil

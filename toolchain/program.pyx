@@ -12,6 +12,8 @@ cdef void program_init(Program *prog) noexcept nogil:
 
 cdef void program_free(Program *prog) noexcept nogil:
     free(prog.parts)
+    free(prog.extras)
+    free(prog.settings)
     free(prog.axes)
     free(prog.pars)
     free(prog.zeros)
@@ -38,8 +40,8 @@ cdef void program_builder_free(ProgramBuilder *build) noexcept nogil:
 
 
 cdef void program_builder_trim(ProgramBuilder *build) noexcept nogil:
-    """Gives back the spare room of the two large arrays (parts, addresses) before the
-    program is published: their reserve (reserve_parts) and the memory the thread
+    """Gives back the spare room of the large arrays (parts, extras, addresses) before the
+    plan takes its memory: their reserve (reserve_parts) and the memory the thread
     beside the compiler faulted in ahead (up to PREFAULT_AHEAD parts). A shrink copies
     nothing in glibc (the tail is split off or unmapped): about 0.1 ms on a million
     parts. When realloc refuses, the spare room stays."""
@@ -47,17 +49,66 @@ cdef void program_builder_trim(ProgramBuilder *build) noexcept nogil:
     if prog.n_parts > 0 and build.cap_parts > prog.n_parts:
         if resize(<void **>&prog.parts, prog.n_parts, sizeof(Part)):
             build.cap_parts = prog.n_parts
+    if prog.n_extras > 0 and build.cap_extras > prog.n_extras:
+        if resize(<void **>&prog.extras, prog.n_extras, sizeof(PartExtra)):
+            build.cap_extras = prog.n_extras
     if prog.n_pars > 0 and build.cap_pars > prog.n_pars:
         if resize(<void **>&prog.pars, prog.n_pars, sizeof(float)):
             build.cap_pars = prog.n_pars
 
 
 cdef inline void _part_defaults(Part *p) noexcept nogil:
-    memset(p, 0, sizeof(Part))
-    p.file_idx = -1
-    p.fp = 1.0
+    memset(p, 0, sizeof(Part))      # settings 0: the defaults
     p.plane = 17
     p.comp = 40
+
+
+cdef inline uint32_t _settings_hash(const PartSettings *s) noexcept nogil:
+    cdef const uint32_t *w = <const uint32_t *>s
+    cdef uint32_t h = 2166136261u
+    cdef int k
+    for k in range(<int>(sizeof(PartSettings) // 4)):
+        h = (h ^ w[k]) * 16777619u
+    return (h ^ (h >> 15)) % SETTINGS_SEEN
+
+
+cdef int64_t program_settings_find(ProgramBuilder *build, const PartSettings *s) noexcept nogil:
+    """program_settings_index past the record found last: one seen under the hash of s
+    (most programs have a few dozen), else a new one; entry 0, the defaults, is added
+    first. -1 out of memory."""
+    cdef Program *prog = &build.prog
+    cdef uint32_t slot
+    cdef size_t i
+    cdef PartSettings defaults
+    if prog.n_settings == 0:
+        if build.merging or not program_grow_shared(build, <void **>&prog.settings, &build.cap_settings, 8,
+                                                    sizeof(PartSettings)):
+            return -1
+        memset(&defaults, 0, sizeof(defaults))
+        defaults.fp = 1.0
+        defaults.file_idx = -1
+        prog.settings[0] = defaults
+        prog.n_settings = 1
+        memset(build.settings_seen, 0, sizeof(build.settings_seen))
+    slot = _settings_hash(s)
+    i = build.settings_seen[slot]
+    if i < prog.n_settings and settings_equal(&prog.settings[i], s):
+        build.settings_last = <uint32_t>i
+        return <int64_t>i
+    if prog.n_settings >= <size_t>0xFFFFFFFFu:
+        return -1
+    if prog.n_settings + 1 > build.cap_settings:
+        if build.merging:
+            return -1               # a maker took more than the merge reserved: a bug
+        if not program_grow_shared(build, <void **>&prog.settings, &build.cap_settings, prog.n_settings + 1,
+                                   sizeof(PartSettings)):
+            return -1
+    i = prog.n_settings
+    prog.settings[i] = s[0]
+    prog.n_settings += 1
+    build.settings_seen[slot] = <uint32_t>i
+    build.settings_last = <uint32_t>i
+    return <int64_t>i
 
 
 cdef bint program_grow_shared(ProgramBuilder *build, void **buf, size_t *cap, size_t need,
@@ -77,12 +128,40 @@ cdef Part *program_add_part(ProgramBuilder *build) noexcept nogil:
     """Appends a zeroed part (zero_idx 0, file -1); NULL when out of memory."""
     cdef Program *prog = &build.prog
     cdef Part *p
+    cdef PartSettings defaults
+    if prog.n_settings == 0:
+        memset(&defaults, 0, sizeof(defaults))
+        defaults.fp = 1.0
+        defaults.file_idx = -1
+        if program_settings_index(build, &defaults) != 0:
+            return NULL
     if not program_grow_shared(build, <void **>&prog.parts, &build.cap_parts, prog.n_parts + 1, sizeof(Part)):
         return NULL
     p = &prog.parts[prog.n_parts]
     prog.n_parts += 1
     _part_defaults(p)
     return p
+
+
+cdef PartExtra *program_part_extra(ProgramBuilder *build, Part *p) noexcept nogil:
+    """The record of part p, a zeroed one added when it has none (entry 0 stays unused)."""
+    cdef Program *prog = &build.prog
+    cdef size_t need
+    if p.extra != 0:
+        return &prog.extras[p.extra]
+    need = prog.n_extras + 1 if prog.n_extras > 0 else 2
+    if need > build.cap_extras:
+        if build.merging:
+            return NULL                 # a maker took more than the merge reserved: a bug
+        if not program_grow_shared(build, <void **>&prog.extras, &build.cap_extras, need, sizeof(PartExtra)):
+            return NULL
+    if prog.n_extras == 0:
+        memset(&prog.extras[0], 0, sizeof(PartExtra))
+        prog.n_extras = 1
+    p.extra = <uint32_t>prog.n_extras
+    prog.n_extras += 1
+    memset(&prog.extras[p.extra], 0, sizeof(PartExtra))
+    return &prog.extras[p.extra]
 
 
 cdef bint program_merge(ProgramBuilder *build, size_t n_ins, void *ctx, inserted_after_fn after_of,
@@ -102,8 +181,16 @@ cdef bint program_merge(ProgramBuilder *build, size_t n_ins, void *ctx, inserted
         if settle != NULL:
             settle(ctx, 0, n, <size_t>NO_INSERTION)
         return True
+    # room for a PartExtra and a PartSettings per insertion: the makers never move the
+    # records (a stage may read them beside the merge)
+    if not grow(<void **>&prog.extras, &build.cap_extras, (prog.n_extras if prog.n_extras > 0 else 1) + n_ins,
+                sizeof(PartExtra)):
+        return False
+    if not grow(<void **>&prog.settings, &build.cap_settings, prog.n_settings + n_ins, sizeof(PartSettings)):
+        return False
     if not resize(<void **>&prog.parts, total, sizeof(Part)):
         return False
+    build.merging = True
     parts = prog.parts
     build.cap_parts = total
     # parts [0, k) have not moved yet; part k now lives at next_w (total: there is no
@@ -139,6 +226,7 @@ cdef bint program_merge(ProgramBuilder *build, size_t n_ins, void *ctx, inserted
         settle(ctx, 0, k, <size_t>NO_INSERTION)     # the parts that stay where they are
     tc_stream_fence()
     prog.n_parts = total
+    build.merging = False
     return True
 
 
@@ -169,26 +257,6 @@ cdef bint program_prefault(ProgramBuilder *build, size_t first, size_t count, si
         TC_ATOMIC_STORE(&g_no_populate, 1)
         return False
     build.prefaulted = end
-    return True
-
-
-cdef bint program_set_pars(ProgramBuilder *build, Part *part, const float *values, uint32_t mask) noexcept nogil:
-    """Stores the addresses of `mask` (values indexed by letter - 'A') for the part."""
-    cdef Program *prog = &build.prog
-    cdef int letter, n = 0
-    cdef size_t part_pos = part - prog.parts
-    for letter in range(26):
-        if mask & (1u << letter):
-            n += 1
-    if not grow(<void **>&prog.pars, &build.cap_pars, prog.n_pars + n, sizeof(float)):
-        return False
-    part = &prog.parts[part_pos]
-    part.pars_off = <uint32_t>prog.n_pars
-    part.pars_mask = mask
-    for letter in range(26):
-        if mask & (1u << letter):
-            prog.pars[prog.n_pars] = values[letter]
-            prog.n_pars += 1
     return True
 
 
@@ -302,27 +370,32 @@ cdef inline void part_start(const Program *prog, size_t i, double *out) noexcept
         memcpy(out, prog.start, AXES * sizeof(double))
 
 
-cdef void part_inserted(Part *q, const Part *after, const Part *src, int32_t func, int16_t plane) noexcept nogil:
+cdef void part_inserted(ProgramBuilder *build, Part *q, const Part *after, const Part *src, int32_t func,
+                        int16_t plane) noexcept nogil:
     """A motion part inserted after `after`: it starts where `after` ends (compensated),
     its programmed end is `after`'s (an inserted part adds no programmed move), and it
-    belongs to src's line with src's feed, tool and compensation."""
+    belongs to src's line with src's feed, tool and compensation, under after's G168
+    rotation (the rotation of its corner)."""
+    cdef const Program *prog = &build.prog
+    cdef PartSettings s
+    cdef int64_t idx
     memset(q, 0, sizeof(Part))
     memcpy(q.e, after.e, sizeof(q.e))
     memcpy(q.ce, after.ce, sizeof(q.ce))
     q.axes_idx = after.axes_idx
-    q.rot_idx = after.rot_idx       # under the G168 rotation of its corner
+    q.settings = src.settings
+    if part_settings(prog, src).rot_idx != part_settings(prog, after).rot_idx:
+        s = part_settings(prog, src)[0]
+        s.rot_idx = part_settings(prog, after).rot_idx
+        idx = program_settings_index(build, &s)     # from the merge's reserve: never -1 there
+        if idx >= 0:
+            q.settings = <uint32_t>idx
     q.gcode_index = after.gcode_index + 1
     q.func = func
     q.plane = plane
     q.kind = PART_MOTION
     q.flags = FLAG_INSERTED | (src.flags & FLAG_FEED_PER_MIN)
-    q.feed = src.feed
-    q.fp = src.fp
-    q.spindle = src.spindle
     q.line = src.line
-    q.zero_idx = src.zero_idx
-    q.tool = src.tool
-    q.file_idx = src.file_idx
     q.comp = src.comp
     q.comp_slot = src.comp_slot
     q.radius_idx = src.radius_idx
@@ -346,11 +419,13 @@ cdef inline void _p10(P10DOUBLE *dst, const double *src) noexcept nogil:
 cdef void part_to_gm(const Program *prog, size_t i, SIMPLE_GM_PARAMS *gm) noexcept nogil:
     """Builds the API view of part i: every field as docs/api.md and docs/structures.md describe."""
     cdef const Part *p = &prog.parts[i]
+    cdef const PartSettings *s = part_settings(prog, p)
     cdef float *cells = <float *>&gm.m_pars
-    cdef int letter
+    cdef int letter, own
     cdef size_t k
     cdef double e[AXES]
     cdef const double *start
+    cdef const PartExtra *x
     cdef int first, second, normal
     part_start(prog, i, <double *>&gm.m_s)
     part_end(prog, p, <double *>&gm.m_e)
@@ -358,8 +433,8 @@ cdef void part_to_gm(const Program *prog, size_t i, SIMPLE_GM_PARAMS *gm) noexce
     part_end(prog, p, e)
     e[0] = p.ce[0]; e[1] = p.ce[1]; e[2] = p.ce[2]
     _p10(&gm.m_calcE, e)
-    if prog.n_zeros > p.zero_idx:
-        gm.m_zero = prog.zeros[p.zero_idx]
+    if prog.n_zeros > s.zero_idx:
+        gm.m_zero = prog.zeros[s.zero_idx]
     else:
         memset(&gm.m_zero, 0, sizeof(P10DOUBLE))
     memset(&gm.m_cc, 0, sizeof(P10DOUBLE))
@@ -367,35 +442,40 @@ cdef void part_to_gm(const Program *prog, size_t i, SIMPLE_GM_PARAMS *gm) noexce
     for letter in range(26):
         cells[letter] = INVALID_VALUE_F
     k = p.pars_off
+    own = part_own_cell(p)
     for letter in range(26):
         if p.pars_mask & (1u << letter):
-            cells[letter] = prog.pars[k]
-            k += 1
+            if letter == own:
+                cells[letter] = <float>p.func
+            else:
+                cells[letter] = prog.pars[k]
+                k += 1
     gm.m_func = p.func
     if p.kind == PART_MOTION:
-        gm.m_pars.F = <float>p.feed
+        gm.m_pars.F = <float>s.feed
         gm.m_pars.G = <float>p.func
         gm.m_pars.N = <float>part_length(prog, i)
         if (p.func == 2 or p.func == 3) and plane_axes(p.plane, &first, &second, &normal):
             start = part_start_xyz(prog, i)
-            gm.m_pars.R = <float>distance2d(start[first] - p.cc[first], start[second] - p.cc[second])
-            gm.m_cc.x = p.cc[0]
-            gm.m_cc.y = p.cc[1]
-            gm.m_cc.z = p.cc[2]
-            gm.m_cc.c = p.radius
-            gm.m_pars.I = <float>p.cc[0]
-            gm.m_pars.J = <float>p.cc[1]
-            gm.m_pars.K = <float>p.cc[2]
+            x = part_extra(prog, p)
+            gm.m_pars.R = <float>distance2d(start[first] - x.cc[first], start[second] - x.cc[second])
+            gm.m_cc.x = x.cc[0]
+            gm.m_cc.y = x.cc[1]
+            gm.m_cc.z = x.cc[2]
+            gm.m_cc.c = x.radius
+            gm.m_pars.I = <float>x.cc[0]
+            gm.m_pars.J = <float>x.cc[1]
+            gm.m_pars.K = <float>x.cc[2]
     elif p.kind == PART_DWELL:
         gm.m_pars.G = <float>p.func
         gm.m_pars.N = 0.0       # the length of the part: a dwell does not move
-    gm.m_pars.S = p.spindle
+    gm.m_pars.S = s.spindle
     # tool in the high 16 bits, plane in the low 16 (docs/structures.md); shifted unsigned: a tool
     # of 32768 and more sets the sign bit, which a signed shift may not do
-    gm.m_planeTool = <int32_t>((<uint32_t>p.tool << 16) | (<uint32_t>p.plane & 0xFFFF))
+    gm.m_planeTool = <int32_t>((<uint32_t>s.tool << 16) | (<uint32_t>p.plane & 0xFFFF))
     gm.m_reserved = 0
     gm.m_editorLine = p.line
-    gm.m_fileIdx = p.file_idx
+    gm.m_fileIdx = s.file_idx
     gm.m_gCodeIndex = p.gcode_index
     gm.m_bFeedIsMin = (<int32_t>p.comp << 16) | (1 if p.flags & FLAG_FEED_PER_MIN else 0)
-    gm.m_fp = p.fp
+    gm.m_fp = s.fp

@@ -31,7 +31,7 @@ cdef bint check_limits(Core *core, const MACHINE_PARAMETERS *machine, const SIMP
             args[2].num = ref[k] + lo[k]
             args[3].text = NULL
             args[3].num = ref[k] + hi[k]
-            set_error(&err, ERR_MACHINE_LIMIT, p.file_idx, <int32_t>p.line, args, 4)
+            set_error(&err, ERR_MACHINE_LIMIT, gm.m_fileIdx, <int32_t>p.line, args, 4)
             if first_error.number == 0:
                 first_error[0] = err
             core_report_error(core, &err)
@@ -55,10 +55,10 @@ cdef void _show_part(SnapshotData *view, const Program *prog, size_t i, const SI
         lengths[0 if p.func == 0 else 1] += length
         enh.m_actPartLen = length
         enh.m_actPartRemain = 0.0
-        enh.m_setFeed = p.feed
+        enh.m_setFeed = part_settings(prog, p).feed
         enh.m_calcFeed = plan_calc_feed(prog, i)
     session_lengths(view, counts, lengths[1], lengths[0], 100.0)
-    enh.m_MasterEditorLine = p.line if p.file_idx == prog.main_file_idx else enh.m_MasterEditorLine
+    enh.m_MasterEditorLine = p.line if part_settings(prog, p).file_idx == prog.main_file_idx else enh.m_MasterEditorLine
     enh.m_MasterFileIdx = <uint32_t>prog.main_file_idx
     enh.m_cncRunTime = run_time
 

@@ -49,30 +49,32 @@ cdef void toolpath_record(const Program *prog, size_t i, const Placement *pl, TC
     """Record of part i: the fields as include/tgm_cnc.h documents them, placed at the
     machine position (placement.pyx)."""
     cdef const Part *p = &prog.parts[i]
+    cdef const PartExtra *x = part_extra(prog, p)
+    cdef const PartSettings *s = part_settings(prog, p)
     memcpy(r.start, part_start_xyz(prog, i), 3 * sizeof(double))
     memcpy(r.end, p.e, 3 * sizeof(double))
     memcpy(r.tool_end, p.ce, 3 * sizeof(double))
     if p.kind == PART_MOTION and (p.func == 2 or p.func == 3):
-        memcpy(r.centre, p.cc, 3 * sizeof(double))
-        r.radius = p.radius
+        memcpy(r.centre, x.cc, 3 * sizeof(double))
+        r.radius = x.radius
     else:
         r.centre[0] = 0.0
         r.centre[1] = 0.0
         r.centre[2] = 0.0
         r.radius = 0.0
     r.length = part_length(prog, i)
-    r.feed = p.feed if p.kind == PART_MOTION else 0.0
-    r.value = p.value if p.kind == PART_DWELL or (p.kind == PART_MOTION and p.func == 33) else 0.0
+    r.feed = s.feed if p.kind == PART_MOTION else 0.0
+    r.value = x.value if p.kind == PART_DWELL or (p.kind == PART_MOTION and p.func == 33) else 0.0
     r.kind = p.kind
     r.number = p.func
     r.line = p.line
-    r.file_index = p.file_idx
+    r.file_index = s.file_idx
     r.plane = p.plane
     r.compensation = p.comp
     r.flags = _record_flags(p)
-    r.tool = p.tool
-    r.spindle = p.spindle
-    r.feed_factor = p.fp
+    r.tool = s.tool
+    r.spindle = s.spindle
+    r.feed_factor = s.fp
     if pl.moved:
         _place_record(prog, i, pl, r)
 

@@ -15,6 +15,7 @@ this package ships it and adds a Pythonic layer over ``ctypes``:
 import os
 import sys
 from pathlib import Path
+from typing import Iterator
 
 LIBRARY_NAME = "SF_TCh.dll" if sys.platform == "win32" else "libSF_TCh.so"   # docs/hosts.md, "Windows"
 LIBRARY_ENV = "SF_TCH_LIBRARY"
@@ -22,23 +23,24 @@ LIBRARY_ENV = "SF_TCH_LIBRARY"
 _PACKAGE_DIR = Path(__file__).resolve().parent
 
 
-def _candidates() -> list[Path]:
+def _candidates() -> Iterator[Path]:
     """Where the library may be, in order: the package directory (a wheel or
     ``pip install .``), where the installed distribution put it (``pip install -e
     .``: site-packages, beside the redirected sources), then the build directories of
-    a source tree (scikit-build-core's ``build-dir``, a CMake build in ``build/``)."""
+    a source tree (scikit-build-core's ``build-dir``, a CMake build in ``build/``).
+    Lazily: importlib.metadata costs a host 30 ms and 4 MB, and an installed package
+    never needs it."""
+    yield _PACKAGE_DIR / LIBRARY_NAME
     from importlib import metadata
-    found = [_PACKAGE_DIR / LIBRARY_NAME]
     try:
         installed = metadata.distribution("sf-tch")
-        found += [Path(str(installed.locate_file(f))) for f in installed.files or ()
-                  if f.name == LIBRARY_NAME]
+        yield from (Path(str(installed.locate_file(f))) for f in installed.files or ()
+                    if f.name == LIBRARY_NAME)
     except metadata.PackageNotFoundError:
         pass
     root = _PACKAGE_DIR.parents[1]
     for build in (root / "build", *sorted(root.glob("build/*"))):
-        found.append(build / LIBRARY_NAME)
-    return found
+        yield build / LIBRARY_NAME
 
 
 def library_path() -> str:
@@ -52,10 +54,11 @@ def library_path() -> str:
         if not path.is_file():
             raise LibraryNotFoundError(f"{LIBRARY_ENV}={override}: no such file")
         return str(path.resolve())
-    candidates = _candidates()
-    for path in candidates:
+    candidates = []
+    for path in _candidates():
         if path.is_file():
             return str(path)
+        candidates.append(path)
     looked = ", ".join(str(p) for p in candidates[:2])
     raise LibraryNotFoundError(f"{LIBRARY_NAME} not found (looked in {looked}, ...): build and install it "
                                f"with 'pip install .' (needs a C compiler), or set {LIBRARY_ENV}")

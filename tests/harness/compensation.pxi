@@ -27,6 +27,8 @@ def compensate(list parts, start, long long strategy=0, corrections=(), toleranc
     cdef GCODE_PARAMETERS params
     cdef ErrorInfo err
     cdef Part *p
+    cdef PartExtra *x
+    cdef PartSettings settings
     cdef double end[10]
     cdef int k, rc
     cdef char *warn = <char *>calloc(65536, 1)
@@ -43,6 +45,7 @@ def compensate(list parts, start, long long strategy=0, corrections=(), toleranc
         params.tolerance[k] = t
     for k, v in enumerate(start):
         prog.start[k] = v
+    memset(&settings, 0, sizeof(settings))
     for idx, d in enumerate(parts):
         p = program_add_part(&build)
         p.kind = d.get("kind", 1)
@@ -54,17 +57,20 @@ def compensate(list parts, start, long long strategy=0, corrections=(), toleranc
         program_set_end(&build, p, end)
         for k in range(3):
             p.ce[k] = p.e[k]
-        cc = d.get("cc", (0, 0, 0))
-        for k in range(3):
-            p.cc[k] = cc[k] if k < len(cc) else 0.0
-        p.radius = d.get("radius", 0.0)
+        if p.kind == 1 and p.func in (2, 3):
+            x = program_part_extra(&build, p)
+            cc = d.get("cc", (0, 0, 0))
+            for k in range(3):
+                x.cc[k] = cc[k] if k < len(cc) else 0.0
+            x.radius = d.get("radius", 0.0)
         p.comp = d.get("comp", 40)
         p.comp_slot = d.get("slot", 0 if p.comp == 41 else (1 if p.comp == 42 else 0))
         p.plane = d.get("plane", 17)
         p.line = d.get("line", idx + 1)
         p.gcode_index = 2 * idx
-        p.file_idx = 0
-        p.feed = 1000
+        settings.feed = 1000
+        settings.fp = 1.0
+        p.settings = <uint32_t>program_settings_index(&build, &settings)
         if p.comp != 40:
             prog.compensated = True
     global _compensate_seconds
@@ -80,7 +86,7 @@ def compensate(list parts, start, long long strategy=0, corrections=(), toleranc
             out.append(dict(kind=p.kind, func=p.func, line=p.line, gcode_index=p.gcode_index,
                             flags=p.flags, comp=p.comp, plane=p.plane,
                             e=[end[i] for i in range(10)], ce=[p.ce[i] for i in range(3)],
-                            cc=[p.cc[i] for i in range(3)], radius=p.radius,
+                            cc=[part_extra(prog, p).cc[i] for i in range(3)], radius=part_extra(prog, p).radius,
                             inserted=bool(p.flags & FLAG_INSERTED)))
     error = None
     if rc != COMPILE_OK:

@@ -55,7 +55,7 @@ cdef class Compiled:
         out = []
         for i in range(self.build.prog.n_parts):
             p = &self.build.prog.parts[i]
-            out.append(dict(kind=p.kind, func=p.func, line=p.line, file_idx=p.file_idx,
+            out.append(dict(kind=p.kind, func=p.func, line=p.line, file_idx=part_settings(&self.build.prog, p).file_idx,
                             gcode_index=p.gcode_index, flags=p.flags))
         return out
 

@@ -193,6 +193,7 @@ cdef bint cl_element(const CompState *S, size_t k, XPiece *g) noexcept nogil:
     included: the tool keeps away from them too) with its exact box; False when part
     k draws nothing in the plane (a rapid, an M function, a move off the plane)."""
     cdef const Part *p = &S.prog.parts[k]
+    cdef const PartExtra *x
     cdef const double *st
     if p.kind != PART_MOTION or p.func == 0:
         return False
@@ -205,7 +206,8 @@ cdef bint cl_element(const CompState *S, size_t k, XPiece *g) noexcept nogil:
     g.s[0] = st[S.first]; g.s[1] = st[S.second]
     g.e[0] = p.e[S.first]; g.e[1] = p.e[S.second]
     if p.func == 2 or p.func == 3:
-        g.c[0] = p.cc[S.first]; g.c[1] = p.cc[S.second]
+        x = part_extra(S.prog, p)
+        g.c[0] = x.cc[S.first]; g.c[1] = x.cc[S.second]
         g.r = distance2d(g.s[0] - g.c[0], g.s[1] - g.c[1])
         if g.r <= LENGTH_EPS:
             return False
@@ -663,7 +665,7 @@ cdef inline void _cl_start(CompState *S, size_t at) noexcept nogil:
     """Where the tool stands before part `at` of the chain (the last part before it
     with a position, after the insertions queued there) and the next insertion."""
     cdef Clearance *C = &S.cl
-    cdef size_t j = at, rec = 0, hi = S.n_ins, mid
+    cdef size_t j = at, rec, hi = S.n_ins, mid
     while j > 0 and S.role[j - 1] == ROLE_FOLLOW:
         j -= 1
     if j > 0:
@@ -671,7 +673,13 @@ cdef inline void _cl_start(CompState *S, size_t at) noexcept nogil:
         C.cur[0] = S.prog.parts[j].ce[S.first]; C.cur[1] = S.prog.parts[j].ce[S.second]
     else:
         C.cur[0] = S.prog.start[S.first]; C.cur[1] = S.prog.start[S.second]
-    # the first insertion after part j or later (the queue is in part order)
+    # the first insertion after part j or later (the queue is in part order): searched
+    # among the chain's own insertions, not the whole queue (a binary search over all of
+    # it costs a cache miss a step, on every chain); those before them only when part j
+    # has some
+    rec = C.ins0 if C.ins0 < hi else hi
+    while rec > 0 and S.ins[rec - 1].after >= j:
+        rec -= 1
     while rec < hi:
         mid = rec + (hi - rec) / 2
         if S.ins[mid].after < j:
@@ -696,6 +704,7 @@ cdef bint _cl_run(CompState *S, size_t upto, size_t end, bint strict, bint skip_
     cdef Clearance *C = &S.cl
     cdef XState *X = &S.xs
     cdef Part *p
+    cdef const PartExtra *x
     cdef XPiece *t
     cdef double end_pt[2]
     cdef double c[2]
@@ -731,9 +740,10 @@ cdef bint _cl_run(CompState *S, size_t upto, size_t end, bint strict, bint skip_
         if S.role[k] == ROLE_SET and p.kind == PART_MOTION and p.func != 0:
             t = &C.batch[C.n_batch].t       # built where the batch keeps it
             end_pt[0] = p.ce[S.first]; end_pt[1] = p.ce[S.second]
-            if (p.func == 2 or p.func == 3) and p.radius > 0:
-                c[0] = p.cc[S.first]; c[1] = p.cc[S.second]
-                have = _cl_arc(t, C.cur, end_pt, c, p.radius, 1 if p.func == 3 else -1, k, True)
+            x = part_extra(S.prog, p)
+            if (p.func == 2 or p.func == 3) and x.radius > 0:
+                c[0] = x.cc[S.first]; c[1] = x.cc[S.second]
+                have = _cl_arc(t, C.cur, end_pt, c, x.radius, 1 if p.func == 3 else -1, k, True)
             else:
                 have = distance2d(end_pt[0] - C.cur[0], end_pt[1] - C.cur[1]) > ROUNDING_EPS
                 if have:

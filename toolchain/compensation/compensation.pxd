@@ -1,5 +1,5 @@
 # Face of the tool radius compensation (compensation/), G41-G48 / G40: the tool
-# centre path of every compensated part (Part.ce, Part.radius) and the parts
+# centre path of every compensated part (Part.ce, PartExtra.radius) and the parts
 # inserted at its corners, in one pass beside the compiler; then the automatic arcs
 # of G167 (insert_arcs.pyx). Its files, in the order they build on each other:
 #   offsets.pyx       offset elements (equidistants) of lines and arcs, and their meets
@@ -237,7 +237,14 @@ ctypedef struct CompWarning:
 
 ctypedef struct CompState:
     ProgramBuilder *build   # the merge grows its parts
-    Program *prog           # &build.prog
+    Program *prog           # &view while compensate_feed runs, else &build.prog
+    # compensate_feed's copy of what it reads of the program's header (the arrays'
+    # addresses, the strategy regions, the start), taken at each batch (the arrays move
+    # only between batches; compensation.pyx _view_take): the compiler writes n_parts,
+    # n_extras and n_pars with every part, on the cache line that also holds the
+    # addresses, and a thread beside it reading them there would pull that line away
+    # from it at every access
+    Program view
     const GCODE_PARAMETERS *params
     ErrorInfo *err
     output_fn output
@@ -303,6 +310,10 @@ ctypedef struct ArcIns:
     double radius
     int32_t func            # 2 CW, 3 CCW
     int16_t plane
+
+ctypedef struct ArcInsertions:     # program_merge's context: the arcs, and where their records go
+    ArcIns *items
+    ProgramBuilder *build
 
 
 # ---- what other stages call

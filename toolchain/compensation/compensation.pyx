@@ -1,5 +1,5 @@
 # Tool radius compensation G41-G48 / G40: the tool centre path of every compensated
-# part (Part.ce, Part.radius) and the parts inserted at outer corners.
+# part (Part.ce, PartExtra.radius) and the parts inserted at outer corners.
 #
 # One pass over the program, O(n), that takes the parts in batches as the compiler
 # finishes them (compensate_feed, run beside the compiler by pipeline.pyx):
@@ -65,7 +65,7 @@ cdef bint _write_el(CompState *S, const CompEl *el) noexcept nogil:
         # a trimmed arc of no length would read as a full circle: it becomes a point
         # (one trimmed past itself, kept by a lenient chain, turns the long way round:
         # what its offset gives from its start to its end)
-        p.radius = el.ro if fabs(el_path_sweep(el)) > TURN_EPS else 0.0
+        part_set_radius(S.prog, p, el.ro if fabs(el_path_sweep(el)) > TURN_EPS else 0.0)
     S.role[el.part] = ROLE_SET
     if el.first and S.entry_part >= 0:
         entry = &S.prog.parts[S.entry_part]
@@ -239,7 +239,8 @@ cdef int _chain_end_corners(CompState *S, bint fixed_end) noexcept nogil:
         _chain_close_corner(S)
     S.xs.last_part = S.st[S.n_st - 1].part if S.n_st > 0 else <size_t>-1
     if not _flush(S, 0):
-        return comp_fail(S, ERR_OUT_OF_MEMORY, S.prog.main_file_idx, 0, 0)
+        # no memory, or a crossing _chain_fallback reports (S.xs.err_*)
+        return comp_fail(S, ERR_OUT_OF_MEMORY, S.chain_first, 0, 0)
     if not cross_chain_end(S):
         return comp_fail(S, S.xs.err_number, S.xs.err_part, S.xs.err_arg, 0)
     S.entry_part = -1
@@ -310,6 +311,7 @@ cdef int _chain_retry(CompState *S, bint fixed_end, bint exit_fixed) noexcept no
     offsets give it, with warning 601 where the tool cuts into the contour. Everything
     the first reading wrote for the chain's parts is written again."""
     cdef size_t k, last = S.chain_last
+    cdef const PartExtra *x
     cdef int res = COMPILE_OK
     cdef Part *p
     cdef const double *st
@@ -320,7 +322,8 @@ cdef int _chain_retry(CompState *S, bint fixed_end, bint exit_fixed) noexcept no
         if p.kind == PART_MOTION and (p.func == 2 or p.func == 3):
             # a removed arc (radius 0) is an arc again (_in_plane_motion)
             st = part_start_xyz(S.prog, k)
-            p.radius = distance2d(st[S.first] - p.cc[S.first], st[S.second] - p.cc[S.second])
+            x = part_extra(S.prog, p)
+            part_set_radius(S.prog, p, distance2d(st[S.first] - x.cc[S.first], st[S.second] - x.cc[S.second]))
     S.entry_part = S.chain_entry
     S.next_fixed = S.chain_fixed
     S.entry_arc = S.chain_entry_arc
@@ -383,7 +386,7 @@ cdef bint _in_plane_motion(const CompState *S, size_t k, bint *is_arc) noexcept 
     is_arc[0] = False
     if p.kind != PART_MOTION:
         return False
-    if (p.func == 2 or p.func == 3) and p.radius > 0:
+    if (p.func == 2 or p.func == 3) and part_extra(S.prog, p).radius > 0:
         is_arc[0] = True
         return True
     s = part_start_xyz(S.prog, k)
@@ -563,23 +566,24 @@ cdef void _compatibility(Program *prog) noexcept nogil:
         k += 1
 
 
-cdef void _inserted_part(Part *q, const Part *p, const Part *src, const InsRec *rec,
-                         const Program *prog, const GCODE_PARAMETERS *params) noexcept nogil:
+cdef void _inserted_part(ProgramBuilder *build, Part *q, const Part *p, const Part *src, const InsRec *rec,
+                         const GCODE_PARAMETERS *params) noexcept nogil:
     """An inserted part after p (its programmed end is p's end), with the line, feed
-    and compensation of src; an arc goes round its corner (rec.cc) with p's tool radius."""
+    and compensation of src; an arc goes round its corner (rec.cc) with p's tool
+    radius, its record from the room the merge reserved."""
     cdef int first, second, normal
-    part_inserted(q, p, src, rec.func, src.plane)
+    cdef PartExtra *arc
+    part_inserted(build, q, p, src, rec.func, src.plane)
     plane_axes(p.plane, &first, &second, &normal)
     q.ce[first] = rec.end[0]; q.ce[second] = rec.end[1]
-    memcpy(q.cc, p.e, sizeof(q.cc))
-    if rec.no_centre:
-        q.cc[first] = 0.0; q.cc[second] = 0.0
-    else:
-        # the corner it goes round: normally p's end, but a loop cut may have moved
-        # the remainder of a corner arc behind an earlier part
-        q.cc[first] = rec.cc[0]; q.cc[second] = rec.cc[1]
-    if rec.func != INS_G1:
-        q.radius = fabs(part_tool_radius(prog, params, p))
+    if rec.func == INS_G1:
+        return
+    arc = program_part_extra(build, q)
+    memcpy(arc.cc, p.e, sizeof(arc.cc))
+    # the corner it goes round: normally p's end, but a loop cut may have moved
+    # the remainder of a corner arc behind an earlier part
+    arc.cc[first] = rec.cc[0]; arc.cc[second] = rec.cc[1]
+    arc.radius = fabs(part_tool_radius(&build.prog, params, p))
 
 
 cdef inline size_t _next_follow(const CompState *S, size_t k, size_t n) noexcept nogil:
@@ -598,7 +602,7 @@ cdef size_t _ins_after(void *ctx, size_t rec) noexcept nogil:
 cdef void _ins_make(void *ctx, size_t rec, Part *out, const Part *before, const Part *after) noexcept nogil:
     cdef CompState *S = <CompState *>ctx
     cdef const InsRec *r = &S.ins[rec]
-    _inserted_part(out, before, after if r.src_next else before, r, S.prog, S.params)
+    _inserted_part(S.build, out, before, after if r.src_next else before, r, S.params)
 
 
 cdef void _settle(void *ctx, size_t first, size_t end, size_t rec) noexcept nogil:
@@ -672,13 +676,30 @@ cdef bint _role_room(CompState *S, size_t n) noexcept nogil:
     return True
 
 
+cdef void _view_take(CompState *S, size_t upto) noexcept nogil:
+    """S.prog becomes S.view: what the pass reads of the program's header, copied (the
+    arrays move only between batches; the counts the compiler writes meanwhile are
+    not read: they stay 0 here, but for n_parts: the parts the batch may read)."""
+    cdef const Program *prog = &S.build.prog
+    S.view.parts = prog.parts
+    S.view.n_parts = upto
+    S.view.extras = prog.extras
+    S.view.settings = prog.settings
+    S.view.radii = prog.radii
+    S.view.strategy_regions = prog.strategy_regions
+    S.view.n_strategy_regions = prog.n_strategy_regions
+    memcpy(S.view.start, prog.start, sizeof(prog.start))
+    S.view.main_file_idx = prog.main_file_idx
+    S.prog = &S.view
+
+
 cdef int compensate_feed(void *ctx, size_t upto, bint last, size_t *more) noexcept nogil:
     """Steps 1-4 on parts [S.next, upto), which the compiler has finished; `last`:
     upto is the end of the program; `more`: the insertions queued so far. COMPILE_OK,
     or the first failure (err filled), after which nothing more is taken (consume_fn
     of pipeline.pyx)."""
     cdef CompState *S = <CompState *>ctx
-    cdef Program *prog = S.prog
+    cdef Program *prog
     cdef size_t k
     cdef int res = COMPILE_OK
     more[0] = S.n_ins
@@ -687,10 +708,12 @@ cdef int compensate_feed(void *ctx, size_t upto, bint last, size_t *more) noexce
     if S.host.strategy & CORR_OLD_COMPATIBILITY:
         if not last:
             return COMPILE_OK
-        _compatibility(prog)
+        _compatibility(S.prog)
     if not _role_room(S, upto):
         S.result = comp_fail(S, ERR_OUT_OF_MEMORY, S.next if S.next < upto else 0, 0, 0)
         return S.result
+    _view_take(S, upto)
+    prog = S.prog
     k = S.next
     while k < upto and res == COMPILE_OK:
         if S.exit_check:
@@ -714,6 +737,7 @@ cdef int compensate_feed(void *ctx, size_t upto, bint last, size_t *more) noexce
         comp_fail(S, S.xs.err_number, S.xs.err_part, S.xs.err_arg, 0)
     S.result = res
     more[0] = S.n_ins
+    S.prog = &S.build.prog
     return res
 
 
@@ -746,7 +770,7 @@ cdef void compensate_free(CompState *S) noexcept nogil:
 cdef int compensate_program(ProgramBuilder *build, const GCODE_PARAMETERS *params, ErrorInfo *err,
                             output_fn output, warn_fn warn, void *ctx) noexcept nogil:
     """The whole pass on a complete program in the caller's thread: Part.ce,
-    Part.radius and the inserted parts of every part with comp 41/42; COMPILE_OK or
+    PartExtra.radius and the inserted parts of every part with comp 41/42; COMPILE_OK or
     COMPILE_ERROR with err filled."""
     cdef CompState S
     cdef size_t more

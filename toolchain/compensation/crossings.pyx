@@ -309,7 +309,7 @@ cdef bint _x_cut(CompState *S, size_t qi, const double *at, size_t b_part, bint 
         p = &S.prog.parts[q.part]
         p.ce[S.first] = at[0]; p.ce[S.second] = at[1]
         if q.kind == EL_ARC and x_near(q.s, at[0], at[1], slack):
-            p.radius = 0.0              # an arc of no length would read as a full circle
+            part_set_radius(S.prog, p, 0.0)     # an arc of no length would read as a full circle
         while S.n_ins > 0 and S.ins[S.n_ins - 1].after >= q.part:
             S.n_ins -= 1
     stop = b_part + 1 if b_removed else b_part

@@ -69,6 +69,7 @@ cdef int insert_arcs(ProgramBuilder *build, const GCODE_PARAMETERS *params, Erro
     cdef Part *p
     cdef Part *q
     cdef ArcIns *ins = NULL
+    cdef ArcInsertions arcs
     cdef ArcIns *x
     cdef double s0[2]
     cdef double s1[2]
@@ -163,7 +164,9 @@ cdef int insert_arcs(ProgramBuilder *build, const GCODE_PARAMETERS *params, Erro
         prev_start[0] = s1[0]; prev_start[1] = s1[1]
     if n_ins == 0:
         return COMPILE_OK
-    merged = program_merge(build, n_ins, ins, _ia_after, _ia_make, NULL, NULL)
+    arcs.items = ins
+    arcs.build = build
+    merged = program_merge(build, n_ins, &arcs, _ia_after, _ia_make, NULL, NULL)
     free(ins)
     if not merged:
         set_error(err, ERR_OUT_OF_MEMORY, prog.main_file_idx, 0, NULL, 0)
@@ -182,20 +185,23 @@ cdef void _ia_set(Part *q, int a, int b, double va, double vb) noexcept nogil:
 
 
 cdef size_t _ia_after(void *ctx, size_t rec) noexcept nogil:
-    return (<ArcIns *>ctx)[rec].after
+    return (<ArcInsertions *>ctx).items[rec].after
 
 
 cdef void _ia_make(void *ctx, size_t rec, Part *out, const Part *before, const Part *after) noexcept nogil:
-    _ia_part(out, before, after, &(<ArcIns *>ctx)[rec])
+    cdef ArcInsertions *arcs = <ArcInsertions *>ctx
+    _ia_part(arcs.build, out, before, after, &arcs.items[rec])
 
 
-cdef void _ia_part(Part *q, const Part *prev, const Part *src, const ArcIns *x) noexcept nogil:
+cdef void _ia_part(ProgramBuilder *build, Part *q, const Part *prev, const Part *src, const ArcIns *x) noexcept nogil:
     """The arc after prev (the shortened first line), with the attributes of src (the
-    second line)."""
+    second line); its record from the room the merge reserved."""
     cdef int a, b, c
-    part_inserted(q, prev, src, x.func, x.plane)
+    cdef PartExtra *arc
+    part_inserted(build, q, prev, src, x.func, x.plane)
     plane_axes(x.plane, &a, &b, &c)
     _ia_set(q, a, b, x.end[0], x.end[1])
-    q.cc[0] = q.ce[0]; q.cc[1] = q.ce[1]; q.cc[2] = q.ce[2]
-    q.cc[a] = x.cc[0]; q.cc[b] = x.cc[1]
-    q.radius = x.radius
+    arc = program_part_extra(build, q)
+    arc.cc[0] = q.ce[0]; arc.cc[1] = q.ce[1]; arc.cc[2] = q.ce[2]
+    arc.cc[a] = x.cc[0]; arc.cc[b] = x.cc[1]
+    arc.radius = x.radius

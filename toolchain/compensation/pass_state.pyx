@@ -19,7 +19,7 @@ cdef CompWarning *_comp_warning(CompState *S, size_t part, int32_t number) noexc
     w.what = NULL
     w.depth = 0.0
     w.line = S.prog.parts[part].line
-    w.file_idx = S.prog.parts[part].file_idx
+    w.file_idx = part_settings(S.prog, &S.prog.parts[part]).file_idx
     return w if w.number != 0 else NULL
 
 
@@ -39,7 +39,7 @@ cdef void comp_gouge(CompState *S, size_t part, double depth) noexcept nogil:
     cdef int k
     for k in range(S.chain_warn0, S.n_warnings):
         w = &S.warnings[k]
-        if w.number == WARN_COMP_GOUGE and w.line == p.line and w.file_idx == p.file_idx:
+        if w.number == WARN_COMP_GOUGE and w.line == p.line and w.file_idx == part_settings(S.prog, p).file_idx:
             if depth > w.depth:
                 w.depth = depth
             return
@@ -49,11 +49,17 @@ cdef void comp_gouge(CompState *S, size_t part, double depth) noexcept nogil:
 
 
 cdef int comp_fail(CompState *S, int32_t number, size_t part, double a0, double a1) noexcept nogil:
+    """Error `number` on the line of part `part` (the main file when there is no such
+    part); COMPILE_ERROR."""
     cdef ErrArg args[2]
-    cdef const Part *p = &S.prog.parts[part]
+    cdef const Part *p
     args[0].num = a0; args[0].text = NULL
     args[1].num = a1; args[1].text = NULL
-    set_error(S.err, number, p.file_idx, <int32_t>p.line, args, 2)
+    if part >= S.prog.n_parts:
+        set_error(S.err, number, S.prog.main_file_idx, 0, args, 2)
+        return COMPILE_ERROR
+    p = &S.prog.parts[part]
+    set_error(S.err, number, part_settings(S.prog, p).file_idx, <int32_t>p.line, args, 2)
     return COMPILE_ERROR
 
 
@@ -110,7 +116,7 @@ cdef void comp_discard(CompState *S, size_t part) noexcept nogil:
     """A part removed from the path: it stays in the program with no motion in the plane."""
     S.role[part] = ROLE_FOLLOW
     S.has_followers = True
-    S.prog.parts[part].radius = 0.0
+    part_set_radius(S.prog, &S.prog.parts[part], 0.0)
 
 
 cdef bint comp_part_element(const CompState *S, size_t k, CompEl *el) noexcept nogil:
@@ -128,7 +134,7 @@ cdef bint comp_part_element(const CompState *S, size_t k, CompEl *el) noexcept n
     ps[0] = s[S.first]; ps[1] = s[S.second]
     pe[0] = p.e[S.first]; pe[1] = p.e[S.second]
     if p.func == 2 or p.func == 3:
-        pc[0] = p.cc[S.first]; pc[1] = p.cc[S.second]
+        pc[0] = part_extra(S.prog, p).cc[S.first]; pc[1] = part_extra(S.prog, p).cc[S.second]
         if distance2d(ps[0] - pc[0], ps[1] - pc[1]) <= LENGTH_EPS:
             return False
         sweep = arc_sweep(ps[0] - pc[0], ps[1] - pc[1], pe[0] - pc[0], pe[1] - pc[1], p.func == 3)

@@ -599,7 +599,7 @@ cdef int regions_rebuild(CompState *S) noexcept nogil:
         p = &S.prog.parts[last_part]
         p.ce[S.first] = u.p1[0]; p.ce[S.second] = u.p1[1]
         if R.els[el_i].kind == EL_ARC:
-            p.radius = R.els[el_i].ro
+            part_set_radius(S.prog, p, R.els[el_i].ro)
         S.role[last_part] = ROLE_SET
     for j in range(R.n_els):
         if kept[j] != KEPT_ON_PART:

@@ -6,9 +6,10 @@ from libc.math cimport fabs, sqrt, M_PI
 
 cdef Part *em_part(CState *st, int kind, int func, const double *end) noexcept nogil:
     """A new part ending at `end` (machine coordinates, ten axes) with the modal fields
-    filled in; NULL on error (recorded)."""
+    filled in (a motion's feed too: em_feed); NULL on error (recorded)."""
     cdef Part *p
     cdef Program *prog = st.prog
+    cdef PartSettings s
     if prog.n_parts >= MAX_PARTS:
         cerr_num(st, ERR_PART_LIMIT, MAX_PARTS)
         return NULL
@@ -22,13 +23,7 @@ cdef Part *em_part(CState *st, int kind, int func, const double *end) noexcept n
         cerr(st, ERR_OUT_OF_MEMORY)
         return NULL
     p.ce[0] = end[0]; p.ce[1] = end[1]; p.ce[2] = end[2]
-    p.fp = <float>st.fp
-    p.spindle = st.spindle
-    p.tool = <uint16_t>(0 if st.tool < 0 else (65535 if st.tool > 65535 else st.tool))    # 16 bits in m_planeTool
-    p.zero_idx = <uint16_t>st.zero_idx
-    p.rot_idx = <uint16_t>st.rot_idx
     p.line = st.line
-    p.file_idx = <int16_t>st.unit.file_idx
     p.gcode_index = st.gindex
     st.gindex += 2
     p.plane = <int16_t>st.plane
@@ -39,7 +34,27 @@ cdef Part *em_part(CState *st, int kind, int func, const double *end) noexcept n
         prog.compensated = True
     if st.per_min:
         p.flags = FLAG_FEED_PER_MIN
+    s.feed = 0.0
+    s.fp = <float>st.fp
+    s.spindle = st.spindle
+    s.tool = <uint16_t>(0 if st.tool < 0 else (65535 if st.tool > 65535 else st.tool))    # 16 bits in m_planeTool
+    s.zero_idx = <uint16_t>st.zero_idx
+    s.rot_idx = <uint16_t>st.rot_idx
+    s.file_idx = <int16_t>st.unit.file_idx
+    if kind == PART_MOTION:
+        em_feed(st, p, func, &s)
+    if em_settings(st, p, &s) != 0:
+        return NULL
     return p
+
+
+cdef int em_settings(CState *st, Part *p, const PartSettings *s) noexcept nogil:
+    """The part's settings become s (a record shared with the parts that agree)."""
+    cdef int64_t idx = program_settings_index(st.build, s)
+    if idx < 0:
+        return cerr(st, ERR_OUT_OF_MEMORY)
+    p.settings = <uint32_t>idx
+    return 0
 
 
 cdef extern from *:
@@ -53,68 +68,70 @@ cdef extern from *:
 
 cdef int em_pars(CState *st, const LineWords *lw, int g, int m) noexcept nogil:
     """Addresses of the line for the last part, packed in letter order into
-    Program.pars (the layout program_set_pars documents); g / m (if > -1000) fill
-    the G / M cell. Walks only the set bits: this runs once per part."""
+    Program.pars; g / m (if > -1000) fill the G / M cell: the part's own function,
+    its bit set but its value not stored (program.pxd part_own_cell). Walks only the
+    set bits: this runs once per part."""
     cdef uint32_t mask = lw.mask
     cdef uint32_t bits
     cdef int letter
     cdef Program *prog = st.prog
     cdef Part *p = &prog.parts[prog.n_parts - 1]
     cdef float *out
+    cdef uint32_t own = 0
     if g > -1000:
-        mask |= 1u << 6
-    if m > -1000:
-        mask |= 1u << 12
-    if mask == 0:
-        return 0
-    if not grow(<void **>&prog.pars, &st.build.cap_pars, prog.n_pars + <size_t>SF_POPCOUNT(mask), sizeof(float)):
-        return cerr(st, ERR_OUT_OF_MEMORY)
-    p.pars_off = <uint32_t>prog.n_pars
+        own = 1u << 6
+    elif m > -1000:
+        own = 1u << 12
+    mask |= own
     p.pars_mask = mask
+    p.pars_off = <uint32_t>prog.n_pars
+    bits = mask & ~own
+    if bits == 0:
+        return 0
+    if not grow(<void **>&prog.pars, &st.build.cap_pars, prog.n_pars + <size_t>SF_POPCOUNT(bits), sizeof(float)):
+        return cerr(st, ERR_OUT_OF_MEMORY)
     out = prog.pars + prog.n_pars
-    bits = mask
     while bits:
         letter = SF_CTZ(bits)
         bits &= bits - 1
-        if letter == 6 and g > -1000:
-            out[0] = <float>g
-        elif letter == 12 and m > -1000:
-            out[0] = <float>m
-        else:
-            out[0] = <float>lw.v[letter]
+        out[0] = <float>lw.v[letter]
         out += 1
     prog.n_pars = <size_t>(out - prog.pars)
     return 0
 
 
-cdef void em_feed(CState *st, Part *p, int func) noexcept nogil:
+cdef void em_feed(CState *st, Part *p, int func, PartSettings *s) noexcept nogil:
     """Feed of a motion part after forceMode, FF and the M99 default feed."""
     cdef int fm = st.params.forceMode
     if func == 0:
-        p.feed = st.ff if (fm == 0 and st.ff_set) else st.params.motion[0].feed
+        s.feed = st.ff if (fm == 0 and st.ff_set) else st.params.motion[0].feed
         p.flags |= FLAG_FEED_PER_MIN
     elif fm == 1 or fm == 2:
-        p.feed = st.params.motion[1].feed
+        s.feed = st.params.motion[1].feed
         p.flags |= FLAG_FEED_PER_MIN
     else:
-        p.feed = st.feed
-        if p.feed == 0.0:
-            p.feed = st.def_feed if st.def_feed > 0.0 else st.params.motion[1].feed
+        s.feed = st.feed
+        if s.feed == 0.0:
+            s.feed = st.def_feed if st.def_feed > 0.0 else st.params.motion[1].feed
     if fm == 1:
-        p.fp = 1.0
+        s.fp = 1.0
 
 
-cdef void em_css(Part *p, double x_start, double x_end) noexcept nogil:
+cdef int em_css(CState *st, Part *p, double x_start, double x_end) noexcept nogil:
     """G96 with a feed per revolution: S is the cutting speed (m/min), the spindle
     turns at 1000 S / (2 pi r) rev/min, r the tool's distance from the spindle axis
     (|X| in the workpiece, the smaller of the part's two ends: the fastest the spindle
     turns on it; at least 1 mm, so that a cut through the axis stays finite). The
     dialect names no maximum spindle speed (docs/planner.md)."""
     cdef double r = min(fabs(x_start), fabs(x_end))
+    cdef PartExtra *x = program_part_extra(st.build, p)
+    if x == NULL:
+        return cerr(st, ERR_OUT_OF_MEMORY)
     if r < 1.0:
         r = 1.0
-    p.value = 1000.0 * p.spindle / (2.0 * M_PI * r)
+    x.value = 1000.0 * part_settings(st.prog, p).spindle / (2.0 * M_PI * r)
     p.flags |= FLAG_CSS
+    return 0
 
 
 cdef inline bint has(const LineWords *lw, char letter) noexcept nogil:
@@ -168,6 +185,7 @@ cdef int em_arc(CState *st, const LineWords *lw, Part *p, int *func, const doubl
     cdef int col = 1
     cdef double c[AXES]
     cdef double cm[AXES]
+    cdef PartExtra *x
     cdef ErrArg args[2]
     if not plane_axes(st.plane, &fa, &sa, &na):
         return cerr_num(st, ERR_BAD_PLANE, st.plane)
@@ -225,10 +243,13 @@ cdef int em_arc(CState *st, const LineWords *lw, Part *p, int *func, const doubl
     c[fa] = cx
     c[sa] = cy
     to_machine(st, c, cm)
-    p.cc[0] = cm[0]; p.cc[1] = cm[1]; p.cc[2] = cm[2]
+    x = program_part_extra(st.build, p)
+    if x == NULL:
+        return cerr(st, ERR_OUT_OF_MEMORY)
+    x.cc[0] = cm[0]; x.cc[1] = cm[1]; x.cc[2] = cm[2]
     # ISO mode: an end off the start's circle (within the tolerance) is run as LinuxCNC
     # runs it, a spiral from the one radius to the other: the mean radius, its length
-    p.radius = 0.5 * (rs + re) if st.iso else rs
+    x.radius = 0.5 * (rs + re) if st.iso else rs
     # mirroring one axis of the plane reverses the direction on the machine
     if fa < 3 and sa < 3 and (((st.mirror >> fa) ^ (st.mirror >> sa)) & 1):
         dir = 5 - dir
@@ -313,45 +334,54 @@ cdef int em_move(CState *st, const LineWords *lw, int func, const double *newp, 
     cdef double e[AXES]
     cdef int f = func
     cdef Part *p
+    cdef PartExtra *x
+    cdef PartSettings s
     if em_feed_check(st, lw, func, col) != 0:
         return R_ERR
     to_machine(st, newp, e)
     p = em_part(st, PART_MOTION, func, e)
     if p == NULL:
         return R_ERR
-    em_feed(st, p, func)
     if st.css and (func == 1 or func == 2 or func == 3) and not (p.flags & FLAG_FEED_PER_MIN):
-        em_css(p, st.ppos[0], newp[0])
+        if em_css(st, p, st.ppos[0], newp[0]) != 0:
+            return R_ERR
     if func == 2 or func == 3:
         if em_arc(st, lw, p, &f, st.ppos, newp) != 0:
             return R_ERR
         p.func = f
-    elif func == 33:
-        if has(lw, b'K'):
-            p.value = val(lw, b'K')
-        elif has(lw, b'F'):
-            p.value = val(lw, b'F')
+    elif func == 33 and (has(lw, b'K') or has(lw, b'F')):
+        x = program_part_extra(st.build, p)
+        if x == NULL:
+            return cerr(st, ERR_OUT_OF_MEMORY)
+        x.value = val(lw, b'K') if has(lw, b'K') else val(lw, b'F')
     memcpy(st.ppos, newp, AXES * sizeof(double))
     memcpy(st.mpos, e, sizeof(e))
     if st.ngc != NULL and st.ngc.inverse_time and (func == 1 or func == 2 or func == 3):
         # G93: the move takes 1 / F minutes (F in 1/min, never converted from inches)
-        p.feed = val(lw, b'F') / st.unit_scale * part_length(st.prog, st.prog.n_parts - 1)
+        s = part_settings(st.prog, p)[0]
+        s.feed = val(lw, b'F') / st.unit_scale * part_length(st.prog, st.prog.n_parts - 1)
+        if em_settings(st, p, &s) != 0:
+            return R_ERR
     return em_pars(st, lw, p.func, -10000)
 
 
 cdef int em_dwell(CState *st, const LineWords *lw) noexcept nogil:
     """G4: W milliseconds, or H / X / T seconds."""
     cdef Part *p = em_part(st, PART_DWELL, 4, st.mpos)
+    cdef PartExtra *x
     if p == NULL:
         return R_ERR
+    x = program_part_extra(st.build, p)
+    if x == NULL:
+        return cerr(st, ERR_OUT_OF_MEMORY)
     if has(lw, b'W'):
-        p.value = val(lw, b'W') / 1000.0
+        x.value = val(lw, b'W') / 1000.0
     elif has(lw, b'H'):
-        p.value = val(lw, b'H')
+        x.value = val(lw, b'H')
     elif has(lw, b'X'):
-        p.value = val(lw, b'X')
+        x.value = val(lw, b'X')
     elif has(lw, b'T'):
-        p.value = val(lw, b'T')
+        x.value = val(lw, b'T')
     return em_pars(st, lw, 4, -10000)
 
 
@@ -380,5 +410,5 @@ cdef int em_print(CState *st, const LineWords *lw, int m, const char *text, int 
     p = em_part(st, PART_PRINT, m, st.mpos)
     if p == NULL:
         return R_ERR
-    p.aux = <uint32_t>off
+    p.extra = <uint32_t>off
     return em_pars(st, lw, -10000, m)

@@ -661,7 +661,7 @@ cdef int connect_exact_point(const Program *prog, const Placement *pl, const dou
     _cs_hit_nearest(prog, pl, <size_t>part, axes, coords, INFINITY, hit)
     if hit.distance > tolerance:
         p = &prog.parts[part]
-        return _cs_numbers_error(err, ERR_CONNECT_OFF_PART, p.file_idx, <int32_t>p.line,
+        return _cs_numbers_error(err, ERR_CONNECT_OFF_PART, part_settings(prog, p).file_idx, <int32_t>p.line,
                               hit.distance, coords[10], tolerance, 3)
     return CONNECT_FOUND
 
@@ -683,13 +683,14 @@ cdef int connect_line(const Program *prog, const Placement *pl, const double *co
     else:
         file_idx = prog.main_file_idx
     i = 0
-    while i < n and not (prog.parts[i].line == line and prog.parts[i].file_idx == file_idx):
+    while i < n and not (prog.parts[i].line == line and part_settings(prog, &prog.parts[i]).file_idx == file_idx):
         i += 1
     if i == n:
         return _cs_numbers_error(err, ERR_CONNECT_NO_LINE, <int32_t>file_idx, <int32_t>line,
                               <double>line, <double>file_idx, 0.0, 2)
     if at_end:
-        while i + 1 < n and prog.parts[i + 1].line == line and prog.parts[i + 1].file_idx == file_idx:
+        while i + 1 < n and prog.parts[i + 1].line == line \
+                and part_settings(prog, &prog.parts[i + 1]).file_idx == file_idx:
             i += 1
     _cs_hit_at(prog, pl, i, at_end, hit)
     return CONNECT_FOUND

@@ -74,25 +74,26 @@ cdef void machine_history_push(Machine *m, size_t part) noexcept nogil:
 # ------------------------------------------------------------------ entries
 
 
-cdef bint _is_breakpoint(Feeder *f, const Part *p) noexcept nogil:
+cdef bint _is_breakpoint(Feeder *f, const Entry *e) noexcept nogil:
     """The run stops before the first part of a line the host marked (SetBreakpoint,
     the IsBreakpoint callback) -- never before the part it starts at."""
     cdef Callback cb
     cdef bint hit
-    if f.first or (p.line == f.last_line and p.file_idx == f.last_file):
+    if f.first or (e.line == f.last_line and e.file_idx == f.last_file):
         return False
-    f.last_line = p.line
-    f.last_file = p.file_idx
+    f.last_line = e.line
+    f.last_file = e.file_idx
     pthread_mutex_lock(&f.core.lock)
-    hit = f.core.breakpoint_line != 0 and p.line == f.core.breakpoint_line and p.file_idx == f.core.breakpoint_file
+    hit = f.core.breakpoint_line != 0 and e.line == f.core.breakpoint_line and e.file_idx == f.core.breakpoint_file
     pthread_mutex_unlock(&f.core.lock)
     if not hit and callback_enter(f.core, SLOT_IS_BREAKPOINT, &cb):
-        hit = (<TC_IsBreakpoint>cb.fn)(cb.user, p.line, p.file_idx) == 1
+        hit = (<TC_IsBreakpoint>cb.fn)(cb.user, e.line, e.file_idx) == 1
         callback_leave(f.core, SLOT_IS_BREAKPOINT)
     return hit
 
 
-cdef void _entry_identity(Feeder *f, Entry *e, const Part *p, size_t part) noexcept nogil:
+cdef void _entry_identity(Feeder *f, Entry *e, const Program *prog, const Part *p, size_t part) noexcept nogil:
+    cdef const PartSettings *s = part_settings(prog, p)
     e.part = part
     e.motion_seq = f.motions
     if p.kind == PART_MOTION:
@@ -100,9 +101,9 @@ cdef void _entry_identity(Feeder *f, Entry *e, const Part *p, size_t part) noexc
     e.kind = p.kind
     e.func = p.func
     e.line = p.line
-    e.file_idx = p.file_idx
+    e.file_idx = s.file_idx
     e.gcode_index = p.gcode_index
-    e.feed = p.feed
+    e.feed = s.feed
     e.rapid = p.kind == PART_MOTION and p.func == 0
     e.waits = False
     e.m0 = False
@@ -176,14 +177,14 @@ cdef bint _forward_entry(Feeder *f, Entry *e) noexcept nogil:
         if p.kind == PART_MFUNC and (f.regime == RUN_FORWARD_NO_M
                                      or (f.regime == RUN_FORWARD_SKIP_FIRST_M and not f.any_motion)):
             continue
-        _entry_identity(f, e, p, k)
-        e.break_before = _is_breakpoint(f, p)
+        _entry_identity(f, e, prog, p, k)
+        e.break_before = _is_breakpoint(f, e)
         f.first = False
         if p.kind == PART_MFUNC:
             e.m0 = p.func == 0
             e.waits = not (p.flags & FLAG_CONTINUOUS_M) and p.func != 0
         elif p.kind == PART_DWELL:
-            e.dwell = p.value
+            e.dwell = part_extra(prog, p).value
             e.waits = True
         elif p.kind == PART_MOTION:
             f.any_motion = True
@@ -215,7 +216,7 @@ cdef bint _backward_entry(Feeder *f, Entry *e) noexcept nogil:
         if back >= m.n_history:
             return False
         k = m.history[m.n_history - 1 - back]
-    _entry_identity(f, e, &prog.parts[k], k)
+    _entry_identity(f, e, prog, &prog.parts[k], k)
     segment_of_placed_part(prog, k, &m.placement, &e.seg)
     e.s_from = from_s if from_s >= 0.0 else e.seg.length
     e.s_to = 0.0

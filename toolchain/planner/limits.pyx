@@ -101,18 +101,20 @@ cdef const PlanRegion *_cursor_advance(PlanCursor *c, size_t part) noexcept nogi
     return &c.cur
 
 
-cdef double part_feed(const Part *p, const GCODE_PARAMETERS *params) noexcept nogil:
+cdef double part_feed(const Program *prog, const Part *p, const GCODE_PARAMETERS *params) noexcept nogil:
     """mm/min: rapids their feed (FF or motion[0], the compiler chose by forceMode);
     threads (G33) pitch times S; cuts F (or motion[1], M99 as the compiler resolved), per revolution times S
     (G96: the spindle speed S gives at the part, emit.pyx em_css), times FP."""
-    cdef double feed = p.feed
+    cdef const PartSettings *s = part_settings(prog, p)
+    cdef double feed = s.feed
+    cdef double value = part_extra(prog, p).value
     if p.func == 0:
         return feed if feed > 0.0 else params.motion[0].feed
-    if p.func == 33 and p.value > 0.0:
-        return p.value * p.spindle      # a thread: its pitch per spindle turn, no override
+    if p.func == 33 and value > 0.0:
+        return value * s.spindle        # a thread: its pitch per spindle turn, no override
     if not (p.flags & FLAG_FEED_PER_MIN):
-        feed = feed * (p.value if p.flags & FLAG_CSS else p.spindle)     # per revolution
-    feed = feed * p.fp
+        feed = feed * (value if p.flags & FLAG_CSS else s.spindle)     # per revolution
+    feed = feed * s.fp
     if feed <= 0.0:
         feed = params.motion[1].feed
     return feed
@@ -159,7 +161,7 @@ cdef double arc_feed_factor(const GCODE_PARAMETERS *params, int32_t state, doubl
     return f[n - 1]
 
 
-cdef void part_limits(const Segment *g, const Part *p, const GCODE_PARAMETERS *params,
+cdef void part_limits(const Segment *g, const Program *prog, const Part *p, const GCODE_PARAMETERS *params,
                       const PlanRegion *s, bint axes_limited, uint32_t enhanced, PartLimits *out) noexcept nogil:
     """The static limits of a motion part with geometry g (axes_limited: _axes_limited(s))."""
     cdef const GCODE_FEED *cls
@@ -173,7 +175,7 @@ cdef void part_limits(const Segment *g, const Part *p, const GCODE_PARAMETERS *p
     out.ramp = RAMP_SINE if cls.rampType == RAMP_SINE else RAMP_TRAPEZOID
     out.acc = limit_or_none(cls.acc)
     out.dec = limit_or_none(cls.dec)
-    v = part_feed(p, params) / 60.0
+    v = part_feed(prog, p, params) / 60.0
     out.v_ceiling = HUGE_VAL
     feed_len = segment_feed_length(g, ignore_feed)
     if feed_len > ROUNDING_EPS and feed_len < g.length:

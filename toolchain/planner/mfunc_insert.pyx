@@ -63,8 +63,7 @@ cdef void _mfi_make(void *ctx, size_t rec, Part *out, const Part *before, const 
     out.flags = FLAG_INSERTED | (FLAG_CONTINUOUS_M if out.func >= 1001 else 0)
     out.gcode_index = before.gcode_index | 1
     out.pars_mask = 0
-    out.radius = 0.0
-    out.value = 0.0
+    out.extra = 0                   # no record: radius and value 0
 
 
 cdef bint mfunc_insert_wanted(const GCODE_PARAMETERS *params) noexcept nogil:
@@ -101,7 +100,7 @@ cdef int mfunc_insert(ProgramBuilder *build, const GCODE_PARAMETERS *params) noe
             last_rapid = True
             continue
         last_rapid = False
-        v_prog = part_feed(p, params) / 60.0
+        v_prog = part_feed(prog, p, params) / 60.0
         if not slow and prog.plan[k].v_exit < t[MFI_BEFORE_SLOW_DOWN].relFeed * v_prog:
             slow = True
             if t[MFI_BEFORE_SLOW_DOWN].mFunc != 0:

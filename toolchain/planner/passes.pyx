@@ -15,7 +15,7 @@
 # O(parts x window), O(parts) where the junctions' limits bind. The sweep may start
 # and end at a part where the machine stands (plan_range): two ranges plan at once
 # (pipeline.pyx) and give the same plan.
-from libc.stdlib cimport malloc, free
+from libc.stdlib cimport malloc, realloc, free
 from libc.math cimport sqrt, HUGE_VAL
 from libc.string cimport memcpy
 
@@ -71,7 +71,7 @@ cdef bint _general_node(NodeSource *src, size_t k, const PlanRegion *s, bint wan
     _node_segment(src, k, &g)
     if g.length <= LENGTH_EPS:
         return False
-    part_limits(&g, &src.prog.parts[k], src.params, s, src.cursor.axes_limited, src.enhanced, &lim)
+    part_limits(&g, src.prog, &src.prog.parts[k], src.params, s, src.cursor.axes_limited, src.enhanced, &lim)
     node.length = g.length
     node.vmax = _float_below(lim.vmax)
     node.ceiling = _float_below(lim.v_ceiling)
@@ -122,7 +122,7 @@ cdef bint _next_node(NodeSource *src, PlanNode *node) noexcept nogil:
         node.length = sqrt(d0 * d0 + d1 * d1 + d2 * d2)     # segment_of_part's
         if node.length <= LENGTH_EPS:
             return False                        # no motion: the speed passes through
-        vmax = part_feed(p, src.params) / 60.0  # part_limits' limits of a plain line
+        vmax = part_feed(src.prog, p, src.params) / 60.0  # part_limits' limits of a plain line
         node.vmax = _float_below(vmax if vmax > 0.0 else 1.0 / 60.0)
         node.ceiling = HUGE_VAL                 # no axis limit, no arc
         c = 0 if rapid else 1
@@ -222,7 +222,7 @@ cdef void _plan_passing(const Program *prog, size_t first, size_t end, double v,
         p = &prog.parts[k]
         plan[k] = through
         if p.kind == PART_DWELL:
-            plan[k].time = <float>p.value
+            plan[k].time = <float>part_extra(prog, p).value
         if part_stops_motion(p):
             plan[k].v_junction = 0.0
 
@@ -265,17 +265,23 @@ cdef int _plan_once(Program *prog, const GCODE_PARAMETERS *params, uint32_t enha
 
 cdef bint plan_alloc(Program *prog, const GCODE_PARAMETERS *params, uint32_t enhanced,
                      int64_t window) noexcept nogil:
-    """A new, unfilled plan for every part in prog.plan (the old one freed), to be
-    made with these settings (kept in prog.planned_with); False when out of memory."""
+    """A new, unfilled plan for every part in prog.plan, in the memory of the old one
+    (or of what the core handed over, core.pyx: memory already faulted in costs less
+    than fresh), to be made with these settings (kept in prog.planned_with); False
+    when out of memory (no plan)."""
+    cdef PartPlan *plan
     prog.planned_with.params = params[0]
     prog.planned_with.enhanced = enhanced
     prog.planned_with.window = window
-    free(prog.plan)
-    prog.plan = NULL
     if prog.n_parts == 0:
+        plan_drop(prog)
         return True
-    prog.plan = <PartPlan *>malloc(prog.n_parts * sizeof(PartPlan))
-    return prog.plan != NULL
+    plan = <PartPlan *>realloc(prog.plan, prog.n_parts * sizeof(PartPlan))
+    if plan == NULL:
+        plan_drop(prog)
+        return False
+    prog.plan = plan
+    return True
 
 
 cdef void plan_drop(Program *prog) noexcept nogil:

@@ -52,7 +52,7 @@ cdef int32_t session_part(Session *s, const Program *prog, size_t i, const SIMPL
     cdef Callback cb
     cdef int32_t answer = 0
     if p.kind == PART_PRINT:
-        core_output(s.core, 2, prog.texts + p.aux)
+        core_output(s.core, 2, prog.texts + p.extra)
     elif p.kind == PART_MOTION or p.kind == PART_DWELL:
         if callback_enter(s.core, SLOT_DRIVER_G_FUNC, &cb):
             (<TC_DriverGFunc>cb.fn)(cb.user, gm)
