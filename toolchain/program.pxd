@@ -315,15 +315,17 @@ cdef inline const PartSettings *part_settings(const Program *prog, const Part *p
 # the zero record of the parts without a PartExtra (zero-initialised, never written)
 cdef PartExtra NO_EXTRA
 
+cdef inline bint part_has_extra(const Part *p) noexcept nogil:
+    # a PRINT part's `extra` is its text's offset
+    return p.extra != 0 and p.kind != PART_PRINT
+
 cdef inline const PartExtra *part_extra(const Program *prog, const Part *p) noexcept nogil:
-    if p.extra == 0 or p.kind == PART_PRINT:
-        return &NO_EXTRA
-    return &prog.extras[p.extra]
+    return &prog.extras[p.extra] if part_has_extra(p) else &NO_EXTRA
 
 
 # a compensated arc's tool-path radius (a part without a record is no arc: nothing to set)
 cdef inline void part_set_radius(Program *prog, const Part *p, double radius) noexcept nogil:
-    if p.extra != 0 and p.kind != PART_PRINT:
+    if part_has_extra(p):
         prog.extras[p.extra].radius = radius
 
 

@@ -72,6 +72,22 @@ cdef inline uint32_t _settings_hash(const PartSettings *s) noexcept nogil:
     return (h ^ (h >> 15)) % SETTINGS_SEEN
 
 
+cdef bint _settings_begin(ProgramBuilder *build) noexcept nogil:
+    """Entry 0 of the settings records, the defaults of program_add_part (FP 1, file
+    -1, the rest 0), once; False out of memory."""
+    cdef Program *prog = &build.prog
+    if prog.n_settings > 0:
+        return True
+    if build.merging or not program_grow_shared(build, <void **>&prog.settings, &build.cap_settings, 8,
+                                                sizeof(PartSettings)):
+        return False
+    memset(&prog.settings[0], 0, sizeof(PartSettings))
+    prog.settings[0].fp = 1.0
+    prog.settings[0].file_idx = -1
+    prog.n_settings = 1             # settings_seen and settings_last (zeroed) name it
+    return True
+
+
 cdef int64_t program_settings_find(ProgramBuilder *build, const PartSettings *s) noexcept nogil:
     """program_settings_index past the record found last: one seen under the hash of s
     (most programs have a few dozen), else a new one; entry 0, the defaults, is added
@@ -79,17 +95,8 @@ cdef int64_t program_settings_find(ProgramBuilder *build, const PartSettings *s)
     cdef Program *prog = &build.prog
     cdef uint32_t slot
     cdef size_t i
-    cdef PartSettings defaults
-    if prog.n_settings == 0:
-        if build.merging or not program_grow_shared(build, <void **>&prog.settings, &build.cap_settings, 8,
-                                                    sizeof(PartSettings)):
-            return -1
-        memset(&defaults, 0, sizeof(defaults))
-        defaults.fp = 1.0
-        defaults.file_idx = -1
-        prog.settings[0] = defaults
-        prog.n_settings = 1
-        memset(build.settings_seen, 0, sizeof(build.settings_seen))
+    if not _settings_begin(build):
+        return -1
     slot = _settings_hash(s)
     i = build.settings_seen[slot]
     if i < prog.n_settings and settings_equal(&prog.settings[i], s):
@@ -128,13 +135,8 @@ cdef Part *program_add_part(ProgramBuilder *build) noexcept nogil:
     """Appends a zeroed part (zero_idx 0, file -1); NULL when out of memory."""
     cdef Program *prog = &build.prog
     cdef Part *p
-    cdef PartSettings defaults
-    if prog.n_settings == 0:
-        memset(&defaults, 0, sizeof(defaults))
-        defaults.fp = 1.0
-        defaults.file_idx = -1
-        if program_settings_index(build, &defaults) != 0:
-            return NULL
+    if not _settings_begin(build):
+        return NULL
     if not program_grow_shared(build, <void **>&prog.parts, &build.cap_parts, prog.n_parts + 1, sizeof(Part)):
         return NULL
     p = &prog.parts[prog.n_parts]

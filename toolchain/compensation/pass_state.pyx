@@ -124,6 +124,7 @@ cdef bint comp_part_element(const CompState *S, size_t k, CompEl *el) noexcept n
     (not a rapid); a removed arc counts (its radius is read from its centre)."""
     cdef const Part *p = &S.prog.parts[k]
     cdef const double *s
+    cdef const double *centre
     cdef double ps[2]
     cdef double pe[2]
     cdef double pc[2]
@@ -134,7 +135,8 @@ cdef bint comp_part_element(const CompState *S, size_t k, CompEl *el) noexcept n
     ps[0] = s[S.first]; ps[1] = s[S.second]
     pe[0] = p.e[S.first]; pe[1] = p.e[S.second]
     if p.func == 2 or p.func == 3:
-        pc[0] = part_extra(S.prog, p).cc[S.first]; pc[1] = part_extra(S.prog, p).cc[S.second]
+        centre = part_extra(S.prog, p).cc
+        pc[0] = centre[S.first]; pc[1] = centre[S.second]
         if distance2d(ps[0] - pc[0], ps[1] - pc[1]) <= LENGTH_EPS:
             return False
         sweep = arc_sweep(ps[0] - pc[0], ps[1] - pc[1], pe[0] - pc[0], pe[1] - pc[1], p.func == 3)
