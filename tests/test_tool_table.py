@@ -537,3 +537,14 @@ def test_iso_mode_g41_d_and_g43_h_use_the_table(host, tmp_path):
     assert g == [pytest.approx(e) for e in [(0, 0, 0), (1, 2, 15.5), (1, 2, 0), (1, 2, 3)]]
     r = host.compile("G43 H100\n", rezerva1=rezerva1)
     assert r.error[0] == ERR_TOOL_WORD and "'H100' at column 5" in r.error[3]
+
+
+def test_a_table_file_beyond_64_mib_is_refused_before_it_is_read(fresh_core, tmp_path):
+    assert load(fresh_core, write(tmp_path, VENDOR_EXAMPLE)) == 0
+    before = table(fresh_core)
+    big = tmp_path / "BIG.KOR"
+    with open(big, "wb") as f:                  # sparse: no 64 MiB written
+        f.truncate((64 << 20) + 1)
+    assert load(fresh_core, big) == -1
+    assert call_error(fresh_core) == (25, 0, f"Table file '{big}' is larger than 64 MiB")
+    assert table(fresh_core) == before

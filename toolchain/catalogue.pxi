@@ -29,6 +29,7 @@ cdef enum ErrorNumber:
     ERR_NO_M_PENDING = 22            # No M function waits for a confirmation
     ERR_M_PENDING = 23               # An M function still waits for its confirmation (ToolChainCore_ConfirmMFunc)
     ERR_PATH_NOT_FINITE = 24         # %s: the move's path is not finite (%s)
+    ERR_TABLE_TOO_LARGE = 25         # Table file '%s' is larger than 64 MiB
     # Lexical (100..199)
     ERR_UNKNOWN_WORD = 100           # Unknown word '%s' at column %d
     ERR_BAD_NUMBER = 101             # Bad number '%s' at column %d
@@ -68,6 +69,7 @@ cdef enum ErrorNumber:
     ERR_PART_LIMIT = 309             # More than %d parts: program too large
     ERR_O_WORD = 310                 # O-word '%s' at column %d: %s
     ERR_O_UNDEFINED = 311            # Subroutine '%s' at column %d is not defined before its call
+    ERR_PROGRAM_TABLE_LIMIT = 312    # More than %d different %s in one program
     # Geometry (400..499)
     ERR_ARC_CENTRE = 400             # Wrongly entered centre of circular interpolation %s at column %d: start %s = %g %s = %g, end %s = %g %s = %g, delta (%.7f) > 2*R (%.7f)
     ERR_ARC_RADIUS = 401             # Arc radius %g too small for chord %g
@@ -146,6 +148,7 @@ cdef extern from *:
         case 22: return "No M function waits for a confirmation";
         case 23: return "An M function still waits for its confirmation (ToolChainCore_ConfirmMFunc)";
         case 24: return "%s: the move's path is not finite (%s)";
+        case 25: return "Table file '%s' is larger than 64 MiB";
         case 100: return "Unknown word '%s' at column %d";
         case 101: return "Bad number '%s' at column %d";
         case 102: return "Address %s at column %d without a value";
@@ -182,6 +185,7 @@ cdef extern from *:
         case 309: return "More than %d parts: program too large";
         case 310: return "O-word '%s' at column %d: %s";
         case 311: return "Subroutine '%s' at column %d is not defined before its call";
+        case 312: return "More than %d different %s in one program";
         case 400: return "Wrongly entered centre of circular interpolation %s at column %d: start %s = %g %s = %g, end %s = %g %s = %g, delta (%.7f) > 2*R (%.7f)";
         case 401: return "Arc radius %g too small for chord %g";
         case 402: return "Arc without centre (I J K or R)";

@@ -143,7 +143,7 @@ cdef int _compile_job(Core *core, CompileJob *job, ProgramBuilder *build, GCODE_
     cdef int result
     cdef char text[400]
     if job.text == NULL:
-        job.text = read_whole_file(job.name, &job.length, &read_error)
+        job.text = read_whole_file(job.name, MAX_FILE_BYTES, &job.length, &read_error)
         if job.text == NULL:
             set_error_text(err, read_error, job.files[0], 0, job.name)
             return COMPILE_ERROR

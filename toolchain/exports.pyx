@@ -868,7 +868,7 @@ cdef public int32_t ToolChainCore_SmoothSamples(uint32_t intIdx, const double *s
     if nSamples > 0 and (samples == NULL or out == NULL):
         return TOOL_CHAIN_ERROR
     for i in range(nSamples):
-        if not coordinates_finite(samples + 10 * i, 10):
+        if not smoothing_sample_good(samples + 10 * i):
             return TOOL_CHAIN_ERROR
     if nSamples > 0:
         pthread_mutex_lock(&core.lock)
@@ -882,6 +882,9 @@ cdef public int32_t ToolChainCore_SmoothSamples(uint32_t intIdx, const double *s
             if not smoother_settled(&smoother):
                 settled_from = i + 1
         smoother_free(&smoother)
+        for i in range(nSamples):       # the filters' guard: never success with a non-finite output
+            if not coordinates_finite(out + 10 * i, 10):
+                return TOOL_CHAIN_ERROR
     if settledFrom != NULL:
         settledFrom[0] = settled_from
     return TOOL_CHAIN_SUCCESS

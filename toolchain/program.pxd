@@ -11,6 +11,17 @@ cdef enum:
     AXES = 10               # x y z c b u v w a o
     OTHER_AXES = 7          # c b u v w a o: a Part holds x y z, Program.axes these
     PLC_MEMORY_BYTES = 524288
+    PROGRAM_TABLE_MAX = 65535 # zero offsets, rotations, radii: a part names each with 16 bits
+
+cdef extern from *:
+    """
+    /* the one bound of every number a part carries (docs/dialect.md, "Numbers"): the
+       address words (not G, M, L), the ISO mode's positional parameters, the samples of
+       the smoothing. Squares stay finite, and so do the floats of P26FLOAT, even the
+       lengths summed over the MAX_PARTS parts of a program (2e7 x 2e30 < FLT_MAX) */
+    #define TC_MAX_WORD_VALUE 1e30
+    """
+    double TC_MAX_WORD_VALUE
 
 # Part.kind
 cdef enum PartKind:

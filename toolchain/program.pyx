@@ -263,7 +263,8 @@ cdef bint program_prefault(ProgramBuilder *build, size_t first, size_t count, si
 
 
 cdef int program_add_zero(ProgramBuilder *build, const double *offset) noexcept nogil:
-    """Index of a zero offset (reusing the last one when equal); -1 out of memory."""
+    """Index of a zero offset (reusing the last one when equal); -1 out of memory, -2
+    beyond PROGRAM_TABLE_MAX offsets."""
     cdef Program *prog = &build.prog
     cdef int i
     if prog.n_zeros == 0:
@@ -273,8 +274,8 @@ cdef int program_add_zero(ProgramBuilder *build, const double *offset) noexcept 
         prog.n_zeros = 1
     if memcmp(&prog.zeros[prog.n_zeros - 1], offset, sizeof(P10DOUBLE)) == 0:
         return <int>prog.n_zeros - 1
-    if prog.n_zeros >= 65535:
-        return -1
+    if prog.n_zeros >= PROGRAM_TABLE_MAX:
+        return -2
     if not grow(<void **>&prog.zeros, &build.cap_zeros, prog.n_zeros + 1, sizeof(P10DOUBLE)):
         return -1
     memcpy(&prog.zeros[prog.n_zeros], offset, sizeof(P10DOUBLE))
@@ -283,7 +284,8 @@ cdef int program_add_zero(ProgramBuilder *build, const double *offset) noexcept 
 
 
 cdef int program_add_rotation(ProgramBuilder *build, const double *centre, const double *matrix) noexcept nogil:
-    """Index (>= 1) of a G168 rotation (reusing the last one when equal); -1 out of memory."""
+    """Index (>= 1) of a G168 rotation (reusing the last one when equal); -1 out of
+    memory, -2 beyond PROGRAM_TABLE_MAX rotations."""
     cdef Program *prog = &build.prog
     cdef double *r
     if prog.n_rotations == 0:
@@ -292,8 +294,8 @@ cdef int program_add_rotation(ProgramBuilder *build, const double *centre, const
         r = prog.rotations + 12 * (prog.n_rotations - 1)
         if memcmp(r, centre, 3 * sizeof(double)) == 0 and memcmp(r + 3, matrix, 9 * sizeof(double)) == 0:
             return <int>prog.n_rotations - 1
-    if prog.n_rotations >= 65535:
-        return -1
+    if prog.n_rotations >= PROGRAM_TABLE_MAX:
+        return -2
     if not grow(<void **>&prog.rotations, &build.cap_rotations, 12 * (prog.n_rotations + 1), sizeof(double)):
         return -1
     r = prog.rotations + 12 * prog.n_rotations
@@ -305,13 +307,13 @@ cdef int program_add_rotation(ProgramBuilder *build, const double *centre, const
 
 cdef int program_add_radius(ProgramBuilder *build, double radius) noexcept nogil:
     """Index (>= 1) of a D word's signed radius (reusing the last one when equal); -1
-    out of memory. The compensation reads the radii beside the compiler: the array
+    out of memory, -2 beyond PROGRAM_TABLE_MAX radii. The compensation reads the radii beside the compiler: the array
     moves only while it waits."""
     cdef Program *prog = &build.prog
     if prog.n_radii > 1 and prog.radii[prog.n_radii - 1] == radius:
         return <int>prog.n_radii - 1
-    if prog.n_radii >= 65535:
-        return -1
+    if prog.n_radii >= PROGRAM_TABLE_MAX:
+        return -2
     if not program_grow_shared(build, <void **>&prog.radii, &build.cap_radii, prog.n_radii + 2, sizeof(double)):
         return -1
     if prog.n_radii == 0:

@@ -206,16 +206,17 @@ def bad_argument(name, double value, why):
     return rc, _error(&err)
 
 
-def compile(text, params=None, start=None):
+def compile(text, params=None, start=None, bint cancelled=False):
     """Compiles `text` (str) from `start` (ten axes, default zeros) with
     GCODE_PARAMETERS `params` (bytes, else the defaults): compiler, compensation,
     G167 arcs, planner. Returns a Compiled placed at the compile's start; raises
-    ValueError((number, file, line, text)) on a compile error."""
+    ValueError((number, file, line, text)) on a compile error. `cancelled`: an
+    ending call came before the compile began (its cancel flag is set)."""
     cdef CompileInput *inp = <CompileInput *>calloc(1, sizeof(CompileInput))
     cdef Compiled c = Compiled()
     cdef ErrorInfo err
     cdef int rc
-    cdef int32_t cancel = 0
+    cdef int32_t cancel = 1 if cancelled else 0
     cdef timespec t0, t1
     cdef bytes src = text.encode("latin-1")
     cdef bytes pb
