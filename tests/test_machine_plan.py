@@ -70,7 +70,7 @@ def test_every_part_takes_its_planned_time(mh, text, window):
 def test_the_plan_holds_what_the_run_needs(mh):
     """PartPlan: the limits of each part beside its profile (F3000 line, an arc under
     the centripetal limit, a waiting M function that stops the machine)."""
-    load(mh, "G1 X50 F3000\nM7\nG3 X50 Y20 I0 J10\n", centripetalAcc=100.0)
+    load(mh, "G1 X50 F3000\nM7\nG3 X50 Y20 I0 J10\n", rezerva1=abi.GCODE_REZERVA1_APPLY_UNIMPLEMENTED, centripetalAcc=100.0)
     line, m7, arc = mh.part_plans(0)
     assert line["v_cap"] == 50.0 and line["v_ceiling"] == math.inf and line["v_junction"] == 0.0
     assert line["acc"] == line["dec"] == 500.0 and line["ramp"] == 1
@@ -137,6 +137,7 @@ def hard_params(mh, **fields):
     p = abi.GCODE_PARAMETERS.from_buffer_copy(params(mh, **fields))
     p.axisLimits[0].maxFeed = 3000.0                # X: 50 mm/s
     p.centripetalAcc = 200.0                        # on R10: sqrt(2000) = 44.7 mm/s
+    p.rezerva1 |= abi.GCODE_REZERVA1_APPLY_UNIMPLEMENTED
     return bytes(p)
 
 

@@ -166,10 +166,10 @@ def test_the_vendors_arc_feed_table_examples_on_a_full_circle(ph, table, rel):
 
 
 def test_centripetal_limit_on_a_circle(ph):
-    (p,) = plan(ph, "G0 X10\nG3 X10 Y0 I-10 J0 F6000\n", centripetalAcc=100.0)[1:]
+    (p,) = plan(ph, "G0 X10\nG3 X10 Y0 I-10 J0 F6000\n", rezerva1=abi.GCODE_REZERVA1_APPLY_UNIMPLEMENTED, centripetalAcc=100.0)[1:]
     assert p["v_peak"] == pytest.approx(math.sqrt(100.0 * 10.0), rel=PLAN)
     # a helix: curvature r / (r^2 + h^2) with h the rise per radian
-    (p,) = plan(ph, "G0 X10\nG3 X10 Y0 Z20 I-10 J0 F6000\n", centripetalAcc=100.0)[1:]
+    (p,) = plan(ph, "G0 X10\nG3 X10 Y0 Z20 I-10 J0 F6000\n", rezerva1=abi.GCODE_REZERVA1_APPLY_UNIMPLEMENTED, centripetalAcc=100.0)[1:]
     h = 20.0 / (2 * math.pi)
     assert p["v_peak"] == pytest.approx(math.sqrt(100.0 * (100.0 + h * h) / 10.0), rel=PLAN)
 
@@ -211,7 +211,7 @@ def test_limits_on_arcs_in_other_planes(ph):
     assert p["v_peak"] == pytest.approx(50.0, rel=PLAN)
     assert p["length"] == pytest.approx(20 * math.pi, rel=1e-12)
     (p,) = plan(ph, "G19\nG0 Y10\nG2 Y10 Z0 J-10 K0 F6000\n", axis=[(2, 3000.0, 0.0, 0.0)],
-                centripetalAcc=160.0)[1:]
+                rezerva1=abi.GCODE_REZERVA1_APPLY_UNIMPLEMENTED, centripetalAcc=160.0)[1:]
     assert p["v_peak"] == pytest.approx(40.0, rel=PLAN)     # sqrt(160 * 10) below the axis's 50
 
 

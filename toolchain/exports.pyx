@@ -4,7 +4,7 @@
 # (TGM_LPCTSTR: UTF-16 on Windows) are converted here once, to UTF-8 on the way in
 # (text_from_host) and back on the way out (text_to_host_kept); inside, every text
 # is UTF-8 (platform.pxd).
-from libc.string cimport memset, memcpy, strlen, strdup
+from libc.string cimport memset, memcpy, memcmp, strlen, strdup
 from libc.stdlib cimport free, malloc
 
 cdef extern from *:
@@ -179,6 +179,29 @@ cdef public int32_t ToolChainCore_GetStructuresSize(uint32_t intIdx, uint32_t nI
 
 # ------------------------------------------------------------------ parameters
 
+cdef void _feeds_of(GCODE_PARAMETERS *params, const GCODE_PARAMETERS *source) noexcept nogil:
+    """The fields the feeds depend on (the ones SetGCodeParameters may change while the
+    program is stopped on its trajectory) copied from source into params."""
+    memcpy(params.motion, source.motion, sizeof(source.motion))
+    params.startAngle = source.startAngle
+    params.endAngle = source.endAngle
+    params.minAngleFeed = source.minAngleFeed
+    params.overrideInc = source.overrideInc
+    memcpy(params.arcFeedTable, source.arcFeedTable, sizeof(source.arcFeedTable))
+    memcpy(params.axisLimits, source.axisLimits, sizeof(source.axisLimits))
+
+
+cdef int32_t _refuse_while_stopped(Core *core, int32_t status) noexcept nogil:
+    cdef ErrorInfo err
+    cdef ErrArg a[3]
+    a[0].num = status; a[0].text = NULL
+    a[1].num = 0; a[1].text = status_name(status)
+    a[2].num = 0; a[2].text = "another field differs from GetGCodeParameters' (nothing was changed)"
+    set_error(&err, ERR_PARAMETERS_WHILE_STOPPED, -1, 0, a, 3)
+    core_fail_with(core, &err)
+    return TOOL_CHAIN_ERROR
+
+
 cdef public int32_t ToolChainCore_SetGCodeParameters(uint32_t intIdx, const GCODE_PARAMETERS *p) noexcept nogil:
     cdef Core *core = core_get(intIdx)
     cdef int32_t status
@@ -195,15 +218,15 @@ cdef public int32_t ToolChainCore_SetGCodeParameters(uint32_t intIdx, const GCOD
         pthread_mutex_unlock(&core.lock)
         return core_refuse(core, "SetGCodeParameters", status)
     if status == CNC_STATUS_STOPPED or status == CNC_STATUS_STOPPED_BY_M0:
-        # stopped on the trajectory: only what the feeds depend on may change
+        # stopped on the trajectory: only what the feeds depend on may change; a
+        # structure that changes anything else is refused whole, so a panel can tell
+        params = p[0]
+        _feeds_of(&params, &core.params)
+        if memcmp(&params, &core.params, sizeof(GCODE_PARAMETERS)) != 0:
+            pthread_mutex_unlock(&core.lock)
+            return _refuse_while_stopped(core, status)
         params = core.params
-        memcpy(params.motion, p.motion, sizeof(p.motion))
-        params.startAngle = p.startAngle
-        params.endAngle = p.endAngle
-        params.minAngleFeed = p.minAngleFeed
-        params.overrideInc = p.overrideInc
-        memcpy(params.arcFeedTable, p.arcFeedTable, sizeof(p.arcFeedTable))
-        memcpy(params.axisLimits, p.axisLimits, sizeof(p.axisLimits))
+        _feeds_of(&params, p)
     else:
         params = p[0]
     good = check_gcode_parameters(&params, &err)
@@ -531,10 +554,10 @@ cdef public int32_t ToolChainCore_SetRelFeed(uint32_t intIdx, double relFeed) no
         return TOOL_CHAIN_BAD_INTR_INDEX
     if not (relFeed == relFeed):        # NaN
         return TOOL_CHAIN_ERROR
-    if relFeed < 0.001:
-        relFeed = 0.001
-    elif relFeed > 2.0:
-        relFeed = 2.0
+    if relFeed < REL_FEED_MIN:          # the interpolator's Rel_Speed: 0.01 .. 2 (1 % .. 200 %)
+        relFeed = REL_FEED_MIN
+    elif relFeed > REL_FEED_MAX:
+        relFeed = REL_FEED_MAX
     TC_ATOMIC_STORE_D(&core.rel_feed, relFeed)
     return TOOL_CHAIN_SUCCESS
 

@@ -17,6 +17,7 @@ cdef void program_free(Program *prog) noexcept nogil:
     free(prog.axes)
     free(prog.pars)
     free(prog.zeros)
+    free(prog.shifts)
     free(prog.rotations)
     free(prog.texts)
     free(prog.arc_regions)
@@ -262,23 +263,27 @@ cdef bint program_prefault(ProgramBuilder *build, size_t first, size_t count, si
     return True
 
 
-cdef int program_add_zero(ProgramBuilder *build, const double *offset) noexcept nogil:
-    """Index of a zero offset (reusing the last one when equal); -1 out of memory, -2
-    beyond PROGRAM_TABLE_MAX offsets."""
+cdef int program_add_zero(ProgramBuilder *build, const double *offset, const double *shift) noexcept nogil:
+    """Index of a zero offset holding the G92 `shift` (reusing the last one when both are
+    equal); -1 out of memory, -2 beyond PROGRAM_TABLE_MAX offsets."""
     cdef Program *prog = &build.prog
-    cdef int i
     if prog.n_zeros == 0:
-        if not grow(<void **>&prog.zeros, &build.cap_zeros, 1, sizeof(P10DOUBLE)):
+        if not grow(<void **>&prog.zeros, &build.cap_zeros, 1, sizeof(P10DOUBLE)) \
+                or not grow(<void **>&prog.shifts, &build.cap_shifts, 1, sizeof(P10DOUBLE)):
             return -1
         memset(&prog.zeros[0], 0, sizeof(P10DOUBLE))
+        memset(&prog.shifts[0], 0, sizeof(P10DOUBLE))
         prog.n_zeros = 1
-    if memcmp(&prog.zeros[prog.n_zeros - 1], offset, sizeof(P10DOUBLE)) == 0:
+    if memcmp(&prog.zeros[prog.n_zeros - 1], offset, sizeof(P10DOUBLE)) == 0 \
+            and memcmp(&prog.shifts[prog.n_zeros - 1], shift, sizeof(P10DOUBLE)) == 0:
         return <int>prog.n_zeros - 1
     if prog.n_zeros >= PROGRAM_TABLE_MAX:
         return -2
-    if not grow(<void **>&prog.zeros, &build.cap_zeros, prog.n_zeros + 1, sizeof(P10DOUBLE)):
+    if not grow(<void **>&prog.zeros, &build.cap_zeros, prog.n_zeros + 1, sizeof(P10DOUBLE)) \
+            or not grow(<void **>&prog.shifts, &build.cap_shifts, prog.n_zeros + 1, sizeof(P10DOUBLE)):
         return -1
     memcpy(&prog.zeros[prog.n_zeros], offset, sizeof(P10DOUBLE))
+    memcpy(&prog.shifts[prog.n_zeros], shift, sizeof(P10DOUBLE))
     prog.n_zeros += 1
     return <int>prog.n_zeros - 1
 
@@ -416,6 +421,12 @@ cdef void part_calc_start(const Program *prog, size_t i, double *out) noexcept n
         out[2] = prev.ce[2]
 
 
+cdef const double *part_shift(const Program *prog, const Part *p) noexcept nogil:
+    """The G92 shift in force at part p (ten axes); NULL when the program has none."""
+    cdef uint16_t k = part_settings(prog, p).zero_idx
+    return <const double *>&prog.shifts[k] if prog.shifts != NULL and k < prog.n_zeros else NULL
+
+
 cdef inline void _p10(P10DOUBLE *dst, const double *src) noexcept nogil:
     memcpy(dst, src, sizeof(P10DOUBLE))
 
@@ -455,8 +466,9 @@ cdef void part_to_gm(const Program *prog, size_t i, SIMPLE_GM_PARAMS *gm) noexce
                 cells[letter] = prog.pars[k]
                 k += 1
     gm.m_func = p.func
+    gm.m_pars.F = <float>s.feed         # F, N and S at every callback (the structures description)
+    gm.m_pars.N = 0.0                   # the part's length: dwells and M functions do not move
     if p.kind == PART_MOTION:
-        gm.m_pars.F = <float>s.feed
         gm.m_pars.G = <float>p.func
         gm.m_pars.N = <float>part_length(prog, i)
         if (p.func == 2 or p.func == 3) and plane_axes(p.plane, &first, &second, &normal):
@@ -472,7 +484,6 @@ cdef void part_to_gm(const Program *prog, size_t i, SIMPLE_GM_PARAMS *gm) noexce
             gm.m_pars.K = <float>x.cc[2]
     elif p.kind == PART_DWELL:
         gm.m_pars.G = <float>p.func
-        gm.m_pars.N = 0.0       # the length of the part: a dwell does not move
     gm.m_pars.S = s.spindle
     # tool in the high 16 bits, plane in the low 16 (docs/structures.md); shifted unsigned: a tool
     # of 32768 and more sets the sign bit, which a signed shift may not do

@@ -63,6 +63,7 @@ class ErrorNumber(enum.IntEnum):
     M_PENDING = 23  # An M function still waits for its confirmation (ToolChainCore_ConfirmMFunc)
     PATH_NOT_FINITE = 24  # %s: the move's path is not finite (%s)
     TABLE_TOO_LARGE = 25  # Table file '%s' is larger than 64 MiB
+    PARAMETERS_WHILE_STOPPED = 27  # SetGCodeParameters in status %d (%s): only the feeds may change while the program stands on its trajectory; %s
     UNKNOWN_WORD = 100  # Unknown word '%s' at column %d
     BAD_NUMBER = 101  # Bad number '%s' at column %d
     MISSING_VALUE = 102  # Address %s at column %d without a value

@@ -446,7 +446,7 @@ class Core:
         self._check(self.lib.ToolChainCore_SetTimeScale(self.index, float(scale)))
 
     def set_override(self, relative_feed: float) -> None:
-        """SetRelFeed: the feed override 0.001..2.0, approached by overrideInc per 100 us."""
+        """SetRelFeed: the feed override 0.01..2.0 (1 % .. 200 %), approached by overrideInc per 100 us."""
         self._check(self.lib.ToolChainCore_SetRelFeed(self.index, float(relative_feed)))
 
     def set_breakpoint(self, line: int, file_index: int | None = None) -> None:

@@ -70,8 +70,9 @@ cdef Part *em_part(CState *st, int kind, int func, const double *end) noexcept n
     s.zero_idx = <uint16_t>st.zero_idx
     s.rot_idx = <uint16_t>st.rot_idx
     s.file_idx = <int16_t>st.unit.file_idx
-    if kind == PART_MOTION:
-        em_feed(st, p, func, &s)
+    # a dwell or an M function carries the feed a G1 there would get: the vendor sets the F
+    # cell at every callback (docs/structures.md)
+    em_feed(st, p, func if kind == PART_MOTION else 1, &s)
     if em_settings(st, p, &s) != 0:
         return NULL
     return p

@@ -282,7 +282,7 @@ cdef bint update_zero(CState *st) noexcept nogil:
     update_identity(st)
     for a in range(AXES):
         total[a] = st.zero[a] + st.shift[a] + st.length[a]
-    idx = program_add_zero(st.build, total)
+    idx = program_add_zero(st.build, total, st.shift)
     if not registered(st, idx, "zero offsets (G54.., G92, tool lengths)"):
         return False
     st.zero_idx = idx
