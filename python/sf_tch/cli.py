@@ -184,7 +184,9 @@ def _compile(args, path: str) -> Program:
     """Compiles the file `path` ("-": the G-code on standard input) with the
     command's options, a progress bar meanwhile (a missing file, a directory, a
     device or an unreadable file raise OSError: exit 2); its warnings to stderr
-    (text output), then how many there are."""
+    (text output), then how many there are. The program keeps its core: the
+    summary reads the toolpath from it a chunk at a time, and simulate and run run
+    the program there."""
     from .program import start_compile
     if path == STDIN:
         source, name, title = sys.stdin.buffer.read(), "<stdin>", "standard input"
@@ -195,7 +197,7 @@ def _compile(args, path: str) -> Program:
     try:
         job = start_compile(source, radius=args.radius, strategy=args.strategy, ini=args.ini, params=params,
                             core=args.core, name=name, progress=bar, iso=args.iso, strict=args.strict,
-                            look_ahead=args.look_ahead)
+                            look_ahead=args.look_ahead, keep_core=True)
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", GougeWarning)     # printed below, as every warning
