@@ -39,7 +39,7 @@ from typing import TYPE_CHECKING, Sequence
 import sf_tch
 
 from . import abi, library_path
-from .enums import ErrorNumber, Regime
+from .enums import ErrorNumber, Regime, Status
 from .errors import Cancelled, CncError, GougeWarning, SfTchError
 from .library import load
 
@@ -148,10 +148,12 @@ class RunProgress:
         self.last_tenth = -1
         self.last_time = -float("inf")
 
-    def line(self, pos, enh) -> str:
-        """Percent of the path, line, position, feed and machine time of a GetPos."""
+    def line(self, pos, enh, line: int | None = None) -> str:
+        """Percent of the path, line (`line` when given, else the GetPos's), position,
+        feed and machine time of a GetPos."""
         done = min(100.0, 100.0 * enh.m_actPartsLen / self.total)
-        return (f"run {done:5.1f} %  line {pos.m_editorLine:<6} X {pos.m_calcS.x:9.3f} Y {pos.m_calcS.y:9.3f} "
+        line = pos.m_editorLine if line is None else line
+        return (f"run {done:5.1f} %  line {line:<6} X {pos.m_calcS.x:9.3f} Y {pos.m_calcS.y:9.3f} "
                 f"Z {pos.m_calcS.z:8.3f}  F {enh.m_actFeed:8.1f}  t {enh.m_cncRunTime:7.2f} s")
 
     def show(self, pos, enh) -> None:
@@ -166,12 +168,13 @@ class RunProgress:
             self.last_tenth, self.last_time = tenth, now
             print(self.line(pos, enh), file=sys.stderr, flush=True)
 
-    def finish(self, pos, enh) -> None:
-        """The state the run ended in, as the last line (100 % at the program's end)."""
+    def finish(self, pos, enh, line: int | None = None) -> None:
+        """The state the run ended in, as the last line (100 % at the program's end;
+        `line`: the line it ended on, where GetPos no longer names one)."""
         if self.live:
-            sys.stderr.write("\r" + self.line(pos, enh) + " \n")
+            sys.stderr.write("\r" + self.line(pos, enh, line) + " \n")
         else:
-            print(self.line(pos, enh), file=sys.stderr)
+            print(self.line(pos, enh, line), file=sys.stderr)
         sys.stderr.flush()
 
 
@@ -355,7 +358,9 @@ def cmd_run(args) -> int:
             core.stop()
             core.wait()
         pos, enh = core.position()
-        progress.finish(pos, enh)
+        # at the program's end GetPos names no line (0): the line of its last part
+        ended_on = _last_line(core) if pos.m_editorLine == 0 and core.status == Status.AT_END else None
+        progress.finish(pos, enh, ended_on)
         error = core.last_error()
         run = {**_run_summary(core, core.status, error), "position": [pos.m_calcS.x, pos.m_calcS.y, pos.m_calcS.z],
                "interrupted": interrupted}
@@ -366,6 +371,18 @@ def cmd_run(args) -> int:
         if interrupted and not args.json:
             print("sf-tch: interrupted: the machine stopped on the path", file=sys.stderr)
         return _report_run(args, document, summary, run, lines, error, code)
+
+
+def _last_line(core) -> int:
+    """The line of the compiled program's last part (0 without parts)."""
+    from .toolpath import TOOLPATH_DTYPE, _read, _total
+    total = _total(core.lib, core.index)
+    if total == 0:
+        return 0
+    import numpy as np
+    last = np.empty(1, TOOLPATH_DTYPE)
+    _read(core.lib, core.index, last, total - 1, total)
+    return int(last["line"][0])
 
 
 def cmd_plot(args) -> int:
@@ -475,7 +492,11 @@ def parser() -> argparse.ArgumentParser:
     plot.add_argument("-o", "--output", required=True, help="picture file: .png, .svg or .pdf")
     plot.add_argument("--step", type=_radius, default=0.2, help="longest arc chord, mm (default 0.2)")
     plot.set_defaults(run=cmd_plot)
-    info = sub.add_parser("info", help="version, library, cores and structure sizes")
+    info = sub.add_parser("info", help="version, library, cores and structure sizes",
+                          description="Print the library's version string, the package's version, where the "
+                                      "library was loaded from, its number of cores, and the size of each "
+                                      "ABI structure as the library reports it beside its ctypes mirror "
+                                      "(a mismatch is flagged).")
     info.add_argument("--json", action="store_true", help="one JSON document on stdout")
     info.set_defaults(run=cmd_info)
     return top
