@@ -149,6 +149,19 @@ def test_plot_writes_png_and_svg(square, tmp_path):
     assert_usage_error(sf_tch_cli("plot", str(square), "-o", str(tmp_path / "out.gif")), r"\.png, \.svg or \.pdf")
 
 
+def test_plot_views(tmp_path):
+    # a 3D program: two passes at Z -1 and -2, drawn from every side
+    program = tmp_path / "passes.nc"
+    program.write_text("G0 X0 Y0 Z5\nG1 Z-1 F300\nG1 X20 Y10 F1000\nG1 Z-2\nG1 X0 Y0\nG0 Z5\nM30\n")
+    for view in ("xy", "xz", "yz", "3d"):
+        out = tmp_path / f"{view}.png"
+        proc = sf_tch_cli("plot", str(program), "-o", str(out), "--view", view)
+        assert proc.returncode == 0, proc.stderr
+        assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and out.stat().st_size > 5000
+    assert_usage_error(sf_tch_cli("plot", str(program), "-o", str(tmp_path / "top.png"), "--view", "top"),
+                       "invalid choice")
+
+
 def test_plot_without_matplotlib_names_the_install_command(square, tmp_path):
     probe = ("import sys, runpy\nsys.modules['matplotlib'] = None\n"
              f"sys.argv = ['sf-tch', 'plot', {str(square)!r}, '-o', {str(tmp_path / 'x.png')!r}]\n"

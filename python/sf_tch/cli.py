@@ -5,7 +5,7 @@
                                   (FILE "-": the G-code on standard input, for every command)
     sf-tch simulate FILE          compile and run the simulation (or --test: machine limits)
     sf-tch run FILE               run it on the offline machine: position, line, feed, progress
-    sf-tch plot FILE -o OUT       draw it (PNG, SVG or PDF, from OUT's suffix)
+    sf-tch plot FILE -o OUT       draw it (PNG, SVG or PDF, from OUT's suffix; --view xy|xz|yz|3d)
     sf-tch info                   version, library, cores, structure sizes
     sf-tch --version
 
@@ -399,7 +399,7 @@ def cmd_plot(args) -> int:
         parts = program.summary()["parts"]
         if parts >= LARGE_PLOT and not args.json:
             print(f"drawing {parts:,} parts into {args.output} ...", file=sys.stderr, flush=True)
-        save_plot(program, args.output, step=args.step)
+        save_plot(program, args.output, step=args.step, view=args.view)
         code = EXIT_OK if program.ok else EXIT_PROGRAM_ERRORS
         if args.json:
             return _print_json({**program.to_dict(), "picture": args.output}, code)
@@ -488,9 +488,13 @@ def parser() -> argparse.ArgumentParser:
     run.add_argument("--time-scale", type=_time_scale, default=1.0, metavar="N",
                      help="run N times faster than real time (default 1)")
     run.set_defaults(run=cmd_run)
-    plot = compiling("plot", "draw a program: programmed and compensated path, rapids dashed")
+    plot = compiling("plot", "draw a program: programmed and compensated path, rapids dashed, cuts at "
+                             "several depths coloured by Z")
     plot.add_argument("-o", "--output", required=True, help="picture file: .png, .svg or .pdf")
     plot.add_argument("--step", type=_radius, default=0.2, help="longest arc chord, mm (default 0.2)")
+    plot.add_argument("--view", choices=("xy", "xz", "yz", "3d"), default="xy",
+                      help="xy from above (default), xz from the front, yz from the side, 3d in perspective; "
+                           "cuts at more than one depth are coloured by Z")
     plot.set_defaults(run=cmd_plot)
     info = sub.add_parser("info", help="version, library, cores and structure sizes",
                           description="Print the library's version string, the package's version, where the "

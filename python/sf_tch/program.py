@@ -430,7 +430,9 @@ class Program:
 
     def plot(self, ax=None, **options):
         """Draws the program with matplotlib (``pip install matplotlib``) on `ax`, or
-        on a new figure: see :func:`sf_tch.plot.plot_program`. Returns the Axes; in a
+        on a new figure; ``view="xy"`` (default), ``"xz"``, ``"yz"`` or ``"3d"``,
+        ``step`` (mm), ``title``: see :func:`sf_tch.plot.plot_program`. Cuts at more
+        than one depth are coloured by Z with a colour bar. Returns the Axes; in a
         script save its figure (``program.plot().figure.savefig("part.png")``) or
         call ``matplotlib.pyplot.show()``. ImportError without matplotlib, its
         message the command that installs it."""
