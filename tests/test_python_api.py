@@ -358,7 +358,7 @@ def _readme_example(heading: str) -> str:
 
 
 def test_the_readme_python_example_runs(run_python, tmp_path):
-    snippet = _readme_example("### Using it from Python")
+    snippet = _readme_example("### From Python")
     run_python(snippet, cwd=str(tmp_path))
     assert (tmp_path / "program.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     # in the venv of the README's first command (no matplotlib) it ends saying how to install it
@@ -370,7 +370,7 @@ def test_the_readme_python_example_runs(run_python, tmp_path):
 
 
 def test_the_readme_ctypes_example_tells_success_from_failure(run_python, tmp_path):
-    out = run_python(_readme_example("### Using it from an HMI (ctypes only)"), cwd=str(tmp_path)).stdout
+    out = run_python(_readme_example("### From a panel, through ctypes"), cwd=str(tmp_path)).stdout
     assert out.splitlines() == ["compiled", "line 2: error 200: Division by zero"]
 
 
