@@ -161,6 +161,16 @@ def test_a_program_holds_no_core_after_its_compile(tmp_path):
         failed.simulate()
 
 
+def test_a_kept_core_given_back_reads_nothing_more_from_it():
+    with sf_tch.compile(SQUARE, name="kept.nc", keep_core=True) as program:
+        assert program.core.index in (0, 1, 2) and program.run_time >= 4.0
+    # read before close(): kept; not read: a clear error instead of another user's core
+    assert program.run_time >= 4.0
+    with pytest.raises(RuntimeError, match="core of 'kept.nc' was given back"):
+        program.toolpath
+    assert len(program.simulate()) == 5                  # compiled again on a free core
+
+
 def test_a_loop_of_compiles_gives_each_core_back_at_once():
     """A batch over many programs without close() or `with`: a Program nothing
     references releases its core at once (no reference cycle waits for the garbage

@@ -317,6 +317,13 @@ class Program:
         if self.core is not None:
             self.core.close()
 
+    def _held(self) -> Core:
+        """The kept core, to read a result from; RuntimeError once it was given back."""
+        if self.core is None or self.core.closed:
+            raise RuntimeError(f"the core of {self.name!r} was given back (close()) before this result was read "
+                               f"from it")
+        return self.core
+
     def _copy_results_and_release(self, cancel=None) -> None:
         """Copies every result out of the core (toolpath, extents, a simulation's run
         time and PRINT texts, or the simulation's error) and gives the core back."""
@@ -358,7 +365,7 @@ class Program:
         if self._toolpath is None:
             if not self.ok:
                 return Toolpath(np.empty(0, TOOLPATH_DTYPE))
-            self._toolpath = self.core.toolpath()
+            self._toolpath = self._held().toolpath()
         return self._toolpath
 
     def summary(self) -> dict:
@@ -368,7 +375,8 @@ class Program:
         in a few MB); all zero after an error."""
         if self._toolpath is not None or not self.ok:
             return self.toolpath.to_dict()
-        return summarize(read_chunks(self.core.lib, self.core.index))
+        core = self._held()
+        return summarize(read_chunks(core.lib, core.index))
 
     @property
     def size_info(self):
@@ -377,7 +385,7 @@ class Program:
         if not self.ok:
             return None
         if self._size_info is None:
-            self._size_info = self.core.size_info()
+            self._size_info = self._held().size_info()
         return self._size_info
 
     @property
@@ -397,7 +405,8 @@ class Program:
     def _simulated(self) -> None:
         if self._run_error is not None:
             raise self._run_error
-        if self._run_time is None and self.ok and self.core is not None:
+        if self._run_time is None and self.ok:
+            self._held()
             self._simulate_once()
 
     def _simulate_once(self, cancel=None) -> None:
@@ -415,11 +424,11 @@ class Program:
     def simulate(self, regime: Regime = Regime.SIMULATION) -> RunResult:
         """Runs the program (regime 10, or 20 the test regime: the machine limits) and
         returns every part as the driver callbacks receive it (SIMPLE_GM_PARAMS
-        records). On the kept core, or else on a free core where the program is
-        compiled again with :meth:`compile_args` (a file is read again) and that
-        core given back after the run."""
+        records). On the kept core while it is held, or else on a free core where
+        the program is compiled again with :meth:`compile_args` (a file is read
+        again) and that core given back after the run."""
         self.check()
-        if self.core is not None:
+        if self.core is not None and not self.core.closed:
             return self.core.simulate(regime)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", GougeWarning)       # shown by the first compile
