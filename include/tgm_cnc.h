@@ -825,10 +825,15 @@ TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChain_SetLogHook(intptr_t userData,
  * smoothing of the machine's output (docs/smoothing.md). Each is also an INI key of
  * ToolChainCore_LoadFromIni ([Corrections], [Smoothing]). Any status, any thread (also
  * inside a callback): a file is read without the core's lock, and what was in memory
- *  * changes only when all of it is good. Programs use the tool table (D, &, G92 D: a
+ * changes only when all of it is good. Programs use the tool table (D, &, G92 D: a
  * compilation works on a copy taken when it starts; docs/tool-table.md, "In programs");
- * the offline machine does not apply the axis corrections and the smoothing to its
- * output yet: those pages' "Integration status" says what applies now.
+ * the offline machine applies the smoothing and the axis corrections to its output, in
+ * the order interpolator -> spline -> IIR filter -> axis corrections -> drives (GetPos:
+ * m_calcS the filtered position, m_calcE the corrected one the drives are sent; the
+ * spline delays the M functions with the output, and a run ends once the output
+ * settled); ToolChainCore_CorrectPosition and ToolChainCore_SmoothSamples apply them to
+ * a host's positions and samples. Those pages' "Integration status" says when the
+ * machine takes a reloaded table or changed setting.
  */
 
 /* Entries of the tool correction table: D1..D99. */

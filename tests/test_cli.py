@@ -11,6 +11,7 @@ import subprocess
 import sys
 import time
 import tracemalloc
+from pathlib import Path
 
 import pytest
 
@@ -148,6 +149,19 @@ def test_plot_writes_png_and_svg(square, tmp_path):
     assert_usage_error(sf_tch_cli("plot", str(square), "-o", str(tmp_path / "out.gif")), r"\.png, \.svg or \.pdf")
 
 
+def test_plot_views(tmp_path):
+    # a 3D program: two passes at Z -1 and -2, drawn from every side
+    program = tmp_path / "passes.nc"
+    program.write_text("G0 X0 Y0 Z5\nG1 Z-1 F300\nG1 X20 Y10 F1000\nG1 Z-2\nG1 X0 Y0\nG0 Z5\nM30\n")
+    for view in ("xy", "xz", "yz", "3d"):
+        out = tmp_path / f"{view}.png"
+        proc = sf_tch_cli("plot", str(program), "-o", str(out), "--view", view)
+        assert proc.returncode == 0, proc.stderr
+        assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and out.stat().st_size > 5000
+    assert_usage_error(sf_tch_cli("plot", str(program), "-o", str(tmp_path / "top.png"), "--view", "top"),
+                       "invalid choice")
+
+
 def test_plot_without_matplotlib_names_the_install_command(square, tmp_path):
     probe = ("import sys, runpy\nsys.modules['matplotlib'] = None\n"
              f"sys.argv = ['sf-tch', 'plot', {str(square)!r}, '-o', {str(tmp_path / 'x.png')!r}]\n"
@@ -177,6 +191,10 @@ def test_version_info_and_help():
     assert "MISMATCH" not in proc.stdout
     assert re.search(r"SIMPLE_GM_PARAMS\s+616 / 616", proc.stdout)
     assert "Exit codes" in sf_tch_cli("--help").stdout
+    # every command's --help says what it does
+    for command in ("demo", "compile", "simulate", "run", "plot", "info"):
+        usage, description = sf_tch_cli(command, "--help").stdout.split("\n\n")[:2]
+        assert usage.startswith(f"usage: sf-tch {command}") and not description.startswith("options:"), command
 
 
 def test_bad_usage_is_one_line_and_exit_2(square, tmp_path):
@@ -392,6 +410,9 @@ def test_run_prints_the_compiles_box_and_progress_lines_without_a_terminal():
     assert "Z -1.000..5.000" in _program_lines(proc.stdout, "box programmed:")
     progress = [line for line in proc.stderr.splitlines() if line.startswith("run ")]
     assert len(progress) >= 2 and progress[0].startswith("run   0.0 %") and progress[-1].startswith("run 100.0 %")
+    # at the end the line of the program's last part (M30), not GetPos's 0
+    last = Path(sf_tch.sample_program()).read_text().splitlines().index("N420 M30") + 1
+    assert re.match(rf"run 100\.0 %  line {last} ", progress[-1]), progress[-1]
     assert re.search(r"run:\s+status -32 \(AT_END\)$", proc.stdout, re.M)
 
 
@@ -415,7 +436,7 @@ def test_run_on_a_terminal_keeps_one_live_line_that_reaches_100(square):
     screen = b"".join(chunks).decode()
     live = [part for part in screen.replace("\n", "\r").split("\r") if part.startswith("run ")]
     assert len(live) >= 3 and "\n" not in screen.rstrip("\r\n").split("\r")[-1]
-    assert live[-1].startswith("run 100.0 %"), live[-3:]
+    assert live[-1].startswith("run 100.0 %") and "  line 0 " not in live[-1], live[-3:]
 
 
 @pytest.mark.parametrize("as_json", [False, True])
