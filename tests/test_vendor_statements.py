@@ -189,3 +189,24 @@ def test_set_gcode_parameters_while_stopped_takes_the_feeds_or_refuses(host):
         lib.ToolChainCore_SetTimeScale(CORE, 1.0)
         lib.ToolChainCore_DestroyCNC(CORE)
         lib.ToolChainCore_SetGCodeParameters(CORE, ctypes.byref(host.defaults))
+
+
+def test_the_gcode_index_rises_by_1_or_2_over_every_part_a_driver_gets(host):
+    """The structures description: m_gCodeIndex is an always increasing, unique value that
+    rises by 1 or by 2. Inserted M functions next to each other (mFuncInsertTable: M1101
+    and M1100 at one corner), compensation corners, a PRINT line (no driver callback) and
+    an arc dropped from the cutting plan."""
+    p = host.params(startAngle=30.0, endAngle=90.0, minAngleFeed=600.0, MfuncInsertType=1)
+    for k, (m, rel) in enumerate(((1100, 0.5), (1101, 0.9), (1102, 1.0))):
+        p.mFuncInsertTable[k].mFunc, p.mFuncInsertTable[k].relFeed = m, rel
+    p.correction[0].size = 2.0
+    code = ("G1 X10 F6000\nG1 X50\nG1 X100\nPRINT \"half\"\nG1 X100 Y100\nG1 X100 Y200\n"
+            "G0 X0 Y0\nG41 G1 X10 Y0\nG3 X12 Y2 I0 J2\nG1 X12 Y10\nG1 X0 Y10\nG40 G1 X-5 Y-5\nM2\n")
+    r = host.compile(code, params=p, start=[0] * 10)
+    assert r.error is None and r.printed == ["half"]
+    indexes = [q.gindex for q in r.parts]
+    steps = [b - a for a, b in zip(indexes, indexes[1:])]
+    assert set(steps) <= {1, 2}, list(zip([(q.kind, q.func, q.line) for q in r.parts], indexes))
+    assert [q.func for q in r.parts if q.kind == "M"][:3] == [1100, 1101, 1100]
+    plain = ok(host, "G1 X10 F1000\nG1 X20\nM7\nG1 X30\n", start=[0] * 10)
+    assert [q.gindex for q in plain.parts] == [0, 2, 4, 6]          # as compiled: programmed parts by 2

@@ -198,6 +198,8 @@ cdef int _compile_job(Core *core, CompileJob *job, ProgramBuilder *build, GCODE_
                                                    extent, measured) != COMPILE_OK:
         result = COMPILE_ERROR
         set_error(err, ERR_OUT_OF_MEMORY, job.files[0], 0, NULL, 0)
+    if result == COMPILE_OK:
+        program_number_parts(&build.prog)   # the plan's insertions are in: the driver's indexes
     if result == COMPILE_OK and TC_ATOMIC_LOAD(&core.cancel):
         result = COMPILE_CANCELLED          # ended while it finished: nothing is published
     if result == COMPILE_CANCELLED:

@@ -276,6 +276,7 @@ cdef Part *program_add_part(ProgramBuilder *build) noexcept nogil
 cdef bint program_set_end(ProgramBuilder *build, Part *p, const double *end) noexcept nogil
 cdef int program_add_zero(ProgramBuilder *build, const double *offset, const double *shift) noexcept nogil
 cdef const double *part_shift(const Program *prog, const Part *p) noexcept nogil
+cdef void program_number_parts(Program *prog) noexcept nogil
 cdef int program_add_rotation(ProgramBuilder *build, const double *centre, const double *matrix) noexcept nogil
 cdef int64_t program_add_text(ProgramBuilder *build, const char *text, size_t n) noexcept nogil
 # ... a D word's signed radius (index >= 1; -1 out of memory), a G92 D (False: no memory)

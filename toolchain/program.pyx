@@ -421,6 +421,54 @@ cdef void part_calc_start(const Program *prog, size_t i, double *out) noexcept n
         out[2] = prev.ce[2]
 
 
+cdef void program_number_parts(Program *prog) noexcept nogil:
+    """The G-code indexes the driver sees, once nothing more is inserted: unique and
+    increasing by 1 or 2 over the parts a driver callback gets (the structures
+    description). The compiler numbers programmed parts by 2 (M-6 S restarts them) and
+    an inserted part takes the odd number after its predecessor; two inserted parts in a
+    row (a compensation corner and an inserted M function) would share it, and a part no
+    callback gets (an arc dropped from the cutting plan) would leave a gap of 4. Here
+    each inserted part takes the number after the last part delivered, a programmed one
+    its compiled number moved by what came in or dropped out before it (0 in most
+    programs, so M-6 A's stored numbers hold), a part not delivered the last number.
+    start_gindex follows its part."""
+    cdef size_t i
+    cdef Part *p
+    cdef int32_t last = INT32_MIN, compiled, prev_programmed = INT32_MIN, shift = 0
+    cdef int32_t starts[AXES]
+    cdef bint delivered
+    cdef bint mapped[AXES]
+    cdef int k
+    for k in range(AXES):
+        starts[k] = prog.start_gindex[k]
+        mapped[k] = starts[k] == INT32_MAX or starts[k] == 0
+    for i in range(prog.n_parts):
+        p = &prog.parts[i]
+        compiled = p.gcode_index
+        delivered = p.kind != PART_PRINT and not (p.flags & FLAG_DROPPED)
+        if not (p.flags & FLAG_INSERTED):
+            if last == INT32_MIN or compiled != prev_programmed + 2:
+                shift = 0                           # the first part, or M-6 S restarted the count
+            p.gcode_index = compiled + shift
+            if last != INT32_MIN and p.gcode_index <= last:
+                p.gcode_index = last + 1
+            if not delivered:
+                p.gcode_index = last if last != INT32_MIN else compiled
+            shift = p.gcode_index - compiled if delivered else last - compiled
+            prev_programmed = compiled
+            for k in range(AXES):
+                if not mapped[k] and compiled >= starts[k]:
+                    prog.start_gindex[k] = p.gcode_index
+                    mapped[k] = True
+        elif last != INT32_MIN:
+            p.gcode_index = last + 1 if delivered else last
+        if delivered:
+            last = p.gcode_index
+    for k in range(AXES):
+        if not mapped[k]:
+            prog.start_gindex[k] = last + 2
+
+
 cdef const double *part_shift(const Program *prog, const Part *p) noexcept nogil:
     """The G92 shift in force at part p (ten axes); NULL when the program has none."""
     cdef uint16_t k = part_settings(prog, p).zero_idx

@@ -247,6 +247,8 @@ def compile(text, params=None, start=None, bint cancelled=False):
             rc = insert_arcs(&c.build, &inp.params, &err)
         if rc == COMPILE_OK:
             rc = plan_program(&c.build, &inp.params, 0, 0)
+        if rc == COMPILE_OK:
+            program_number_parts(&c.build.prog)
         clock_gettime(CLOCK_MONOTONIC, &t1)
     c.compile_seconds = _seconds(&t0, &t1)
     placement_init(&c.pl, &c.build.prog, inp.start)
