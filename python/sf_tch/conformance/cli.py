@@ -1,0 +1,103 @@
+"""The command line: options, the table per area, the summary, ``--json``.
+
+Exit status: 0 when every check holds or is not applicable, 1 when one differs,
+crashed or timed out, 2 on a usage error (no library, an unknown area).
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+import time
+
+from .checks import AREAS, CRASHED, DIFFERS, HOLDS, NOT_APPLICABLE, TIMED_OUT, VERDICTS, area_checks
+from .host import default_library
+from .runner import run
+
+
+def _parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="python -m sf_tch.conformance",
+                                description="Checks a library exporting the vendor's CNC module ABI against "
+                                            "the vendor's documented behaviour, statement by statement.")
+    p.add_argument("--library", metavar="PATH", help="the library to check (default: the one this package ships)")
+    p.add_argument("--only", metavar="AREA", action="append", default=[],
+                   help=f"run only these areas (repeat or comma-separate): {', '.join(AREAS)}")
+    p.add_argument("--json", action="store_true", help="print the results as one JSON document")
+    p.add_argument("--timeout", type=float, default=30.0, metavar="S", help="time bound of each check (default 30)")
+    p.add_argument("--list", action="store_true", help="list the checks and the statement each checks, run nothing")
+    p.add_argument("--verbose", "-v", action="store_true", help="list every check, not only those that do not hold")
+    return p
+
+
+def summary(results: list[dict]) -> dict:
+    counts = {v: 0 for v in VERDICTS}
+    for r in results:
+        counts[r["verdict"]] += 1
+    return counts
+
+
+def summary_line(results: list[dict], library: str, seconds: float) -> str:
+    c = summary(results)
+    return (f"conformance: {len(results)} checks: {c[HOLDS]} hold, {c[DIFFERS]} differ, "
+            f"{c[NOT_APPLICABLE]} not applicable, {c[CRASHED]} crashed, {c[TIMED_OUT]} timed out "
+            f"({library}, {seconds:.1f} s)")
+
+
+def _detail(r: dict) -> str:
+    if r["verdict"] == DIFFERS:
+        what = f"{r.get('detail')}: " if r.get("detail") else ""
+        return f"{what}expected {r.get('expected')!s}, got {r.get('got')!s}"
+    return r.get("detail") or ""
+
+
+def table(results: list[dict], verbose: bool) -> str:
+    lines = []
+    for area in dict.fromkeys(r["area"] for r in results):
+        rows = [r for r in results if r["area"] == area]
+        c = summary(rows)
+        lines.append(f"\n{area}: {c[HOLDS]}/{len(rows)} hold"
+                     + "".join(f", {c[v]} {v}" for v in VERDICTS[1:] if c[v]))
+        for r in rows:
+            if verbose or r["verdict"] != HOLDS:
+                lines.append(f"  {r['verdict']:<14} {r['id']:<34} {r['document']} § {r['section']}")
+                if r["verdict"] != HOLDS:
+                    lines.append(f"  {'':<14} {r['statement']}")
+                    if _detail(r):
+                        lines.append(f"  {'':<14} -> {_detail(r)}")
+    return "\n".join(lines)
+
+
+def main(argv=None) -> int:
+    args = _parser().parse_args(argv)
+    areas = [a for item in args.only for a in item.split(",") if a] or list(AREAS)
+    unknown = [a for a in areas if a not in AREAS]
+    if unknown:
+        print(f"conformance: unknown area {unknown[0]!r} (one of {', '.join(AREAS)})", file=sys.stderr)
+        return 2
+    if args.list:
+        for area in areas:
+            for c in area_checks(area):
+                print(f"{c.id:<34} {c.document} § {c.section}: {c.statement}")
+        return 0
+    try:
+        library = os.path.abspath(args.library) if args.library else default_library()
+    except Exception as e:  # LibraryNotFoundError
+        print(f"conformance: {e}", file=sys.stderr)
+        return 2
+    if not os.path.isfile(library):
+        print(f"conformance: {library}: no such file", file=sys.stderr)
+        return 2
+    begun = time.monotonic()
+    results = run(library, areas, args.timeout)
+    seconds = time.monotonic() - begun
+    if args.json:
+        json.dump({"library": library, "seconds": round(seconds, 2), "summary": summary(results),
+                   "checks": results}, sys.stdout, indent=1)
+        print()
+    else:
+        print(table(results, args.verbose).lstrip("\n"))
+        print()
+        print(summary_line(results, library, seconds))
+    c = summary(results)
+    return 1 if c[DIFFERS] or c[CRASHED] or c[TIMED_OUT] else 0
