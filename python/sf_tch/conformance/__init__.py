@@ -13,4 +13,6 @@ checks in a child process), :mod:`.runner` (the child processes, time bounds,
 crashes, the report), and one module per area. The list of every check:
 docs/conformance.md.
 """
-from .checks import AREAS, all_checks  # noqa: F401
+from .checks import AREAS, all_checks
+
+__all__ = ["AREAS", "all_checks"]

@@ -16,7 +16,8 @@ from typing import Callable
 
 # Areas in the order they run; each is a module of this package.
 AREAS = ("structures", "returns", "errors", "dialect", "compensation", "planner", "simulation",
-         "machine", "tables")
+         "machine", "tool_table",
+         "axis_tables", "smoothing")
 
 HOLDS, DIFFERS, NOT_APPLICABLE, CRASHED, TIMED_OUT = "holds", "differs", "not applicable", "crashed", "timed out"
 VERDICTS = (HOLDS, DIFFERS, NOT_APPLICABLE, CRASHED, TIMED_OUT)

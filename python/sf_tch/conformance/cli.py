@@ -56,7 +56,7 @@ def table(results: list[dict], verbose: bool) -> str:
     for area in dict.fromkeys(r["area"] for r in results):
         rows = [r for r in results if r["area"] == area]
         c = summary(rows)
-        lines.append(f"\n{area}: {c[HOLDS]}/{len(rows)} hold"
+        lines.append(f"{area}: {c[HOLDS]}/{len(rows)} hold"
                      + "".join(f", {c[v]} {v}" for v in VERDICTS[1:] if c[v]))
         for r in rows:
             if verbose or r["verdict"] != HOLDS:
@@ -96,7 +96,7 @@ def main(argv=None) -> int:
                    "checks": results}, sys.stdout, indent=1)
         print()
     else:
-        print(table(results, args.verbose).lstrip("\n"))
+        print(table(results, args.verbose))
         print()
         print(summary_line(results, library, seconds))
     c = summary(results)

@@ -13,7 +13,7 @@ import os
 import sys
 import threading
 import time
-from ctypes import POINTER, c_char_p, c_double, c_int32, c_ssize_t, c_uint32, c_void_p
+from ctypes import POINTER, c_double, c_int32, c_ssize_t, c_uint32, c_void_p
 
 from .. import abi
 from .checks import Differs, NotApplicable

@@ -8,7 +8,7 @@ import time
 from ctypes import c_double
 
 from .. import abi
-from .checks import Differs, NotApplicable, check, expect, near, near_point
+from .checks import Differs, check, expect, near, near_point
 from .host import Recorder
 
 M, A, S = "machine.md", "api.md", "structures.md"
