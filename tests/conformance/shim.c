@@ -5,14 +5,17 @@
  *   GetGCodeParameters   insertArcToleranceRMin's default 0.03 reads 0.05
  *   GetStructuresSize    the size of CALLBACK_INFO 8 bytes too large
  *   GetLastError         error 400 one line further down
- *   StopCNCEx            the stop 30 ms late: the machine stands 3 mm further at 100 mm/s
+ *   StopCNCEx            while running forward: returns at once and stops 30 ms later,
+ *                        so the machine stands 3 mm further at 100 mm/s
  *   GetVersionString     aborts with SHIM_CRASH set, hangs with SHIM_HANG set
  *
  * Built with -DREAL_LIBRARY="path of libSF_TCh.so". */
 #define _GNU_SOURCE
 #include <dlfcn.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <unistd.h>
 
 #include "tgm_cnc.h"
@@ -57,11 +60,37 @@ int32_t ToolChainCore_GetLastError(uint32_t core, CALLBACK_INFO *info)
     return rc;
 }
 
+struct late_stop {
+    uint32_t core;
+    char *add;
+};
+
+static void *stop_later(void *arg)
+{
+    struct late_stop *stop = arg;
+    int32_t (*fn)(uint32_t, TGM_LPCSTR) = real("ToolChainCore_StopCNCEx");
+    usleep(30000);
+    fn(stop->core, stop->add);
+    free(stop->add);
+    free(stop);
+    return NULL;
+}
+
+/* Answers at once and stops 30 ms later (while moving; else as the real one). */
 int32_t ToolChainCore_StopCNCEx(uint32_t core, TGM_LPCSTR addCode)
 {
     int32_t (*fn)(uint32_t, TGM_LPCSTR) = real("ToolChainCore_StopCNCEx");
-    usleep(30000);
-    return fn(core, addCode);
+    int32_t (*status)(uint32_t) = real("ToolChainCore_StatusCNC");
+    if (status(core) != 30)
+        return fn(core, addCode);
+    struct late_stop *stop = malloc(sizeof *stop);
+    pthread_t thread;
+    stop->core = core;
+    stop->add = addCode ? strdup(addCode) : NULL;
+    if (pthread_create(&thread, NULL, stop_later, stop) != 0)
+        return fn(core, addCode);
+    pthread_detach(thread);
+    return 0;
 }
 
 TGM_LPCTSTR ToolChainCore_GetVersionString(uint32_t core)
