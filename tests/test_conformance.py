@@ -118,9 +118,11 @@ def test_usage_errors():
 
 
 def test_every_check_is_listed_in_the_docs():
-    doc = (Path(__file__).resolve().parents[1] / "docs" / "conformance.md").read_text()
+    doc = (Path(__file__).resolve().parents[1] / "docs" / "conformance.md").read_text(encoding="utf-8")
     missing = [c.id for c in all_checks() if f"`{c.id}`" not in doc]
     assert missing == []
+    rc, tables = suite("--list", "--markdown")
+    assert rc == 0 and doc.endswith(tables), "docs/conformance.md: run python -m sf_tch.conformance --list --markdown"
 
 
 def test_nothing_written_outside_a_temporary_directory(tmp_path):

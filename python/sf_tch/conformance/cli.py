@@ -26,6 +26,7 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true", help="print the results as one JSON document")
     p.add_argument("--timeout", type=float, default=30.0, metavar="S", help="time bound of each check (default 30)")
     p.add_argument("--list", action="store_true", help="list the checks and the statement each checks, run nothing")
+    p.add_argument("--markdown", action="store_true", help="with --list: the tables of docs/conformance.md")
     p.add_argument("--verbose", "-v", action="store_true", help="list every check, not only those that do not hold")
     return p
 
@@ -68,6 +69,18 @@ def table(results: list[dict], verbose: bool) -> str:
     return "\n".join(lines)
 
 
+def markdown(areas) -> str:
+    """The checks of the areas as the tables of docs/conformance.md ("The checks")."""
+    out = []
+    for area in areas:
+        checks = area_checks(area)
+        out += [f"### {area} ({len(checks)})", "", "| check | where | the statement |", "|---|---|---|"]
+        out += [f"| `{c.id}` | [{c.document}]({c.document}) § {c.section} | {c.statement.replace('|', '/')} |"
+                for c in checks]
+        out.append("")
+    return "\n".join(out) + "\n"
+
+
 def main(argv=None) -> int:
     args = _parser().parse_args(argv)
     areas = [a for item in args.only for a in item.split(",") if a] or list(AREAS)
@@ -75,6 +88,9 @@ def main(argv=None) -> int:
     if unknown:
         print(f"conformance: unknown area {unknown[0]!r} (one of {', '.join(AREAS)})", file=sys.stderr)
         return 2
+    if args.list and args.markdown:
+        print(markdown(areas), end="")
+        return 0
     if args.list:
         for area in areas:
             for c in area_checks(area):

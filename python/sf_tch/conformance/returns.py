@@ -259,3 +259,99 @@ def _(host):
     got = [(v.x, v.y) for v in (s.m_startPos, s.m_endPos, s.m_minimalPos, s.m_maximalPos)]
     expect([(0, 0), (-3, 20), (-3, -5), (10, 20)], [(round(x, 9), round(y, 9)) for x, y in got],
            "start, end, min, max of [0]")
+
+
+@check("returns", "init", A, "Lifecycle",
+       "Init stores the directories and Local_Core_Mode of a DLL_INIT_STRUCT: 0; NULL is -1")
+def _(host):
+    structures, _ = abi.mirror(host.windows)
+    init = structures["DLL_INIT_STRUCT"]()
+    for name in ("CNC_Dll_Dir", "Macros_Dir", "Comm_Int2_Dir"):
+        setattr(init, name, host.texts.arg(host.workdir))
+    init.Local_Core_Mode = 2
+    expect(-1, host.lib.ToolChainCore_Init(None), "Init(NULL)")
+    expect(0, host.lib.ToolChainCore_Init(ctypes.byref(init)), "Init(offline, the work directory)")
+
+
+@check("returns", "machine_parameters", A, "Parameters",
+       "SetMachineParameters / GetMachineParameters: the soft limits, reference point and backlash read back as set")
+def _(host):
+    m = abi.MACHINE_PARAMETERS()
+    expect(0, host.lib.ToolChainCore_GetMachineParameters(0, ctypes.byref(m)), "GetMachineParameters")
+    old = abi.MACHINE_PARAMETERS.from_buffer_copy(m)
+    m.minCoords.x, m.maxCoords.y, m.refCoords.z, m.enableMask.c, m.backlash.x = -12.5, 250.0, 3.0, 1, 0.01
+    try:
+        expect(0, host.lib.ToolChainCore_SetMachineParameters(0, ctypes.byref(m)), "SetMachineParameters")
+        got = abi.MACHINE_PARAMETERS()
+        host.lib.ToolChainCore_GetMachineParameters(0, ctypes.byref(got))
+        expect(bytes(m), bytes(got), "the structure read back")
+    finally:
+        host.lib.ToolChainCore_SetMachineParameters(0, ctypes.byref(old))
+
+
+@check("returns", "getpos_pointers", A, "Positions and status",
+       "GetPos takes either pointer NULL, not both (-1)")
+def _(host):
+    part, enh = abi.SIMPLE_GM_PARAMS(), abi.GM_PARAMS_ENHANCED()
+    expect(-1, host.lib.ToolChainCore_GetPos(0, 0, None, None), "GetPos(NULL, NULL)")
+    expect(0, host.lib.ToolChainCore_GetPos(0, 0, ctypes.byref(part), None), "GetPos(part, NULL)")
+    expect(0, host.lib.ToolChainCore_GetPos(0, 0, None, ctypes.byref(enh)), "GetPos(NULL, enhanced)")
+
+
+def _running(host):
+    """A long move on the offline machine, running (30)."""
+    host.machine("G1 X500 Y0 Z0 F600\n")
+    host.start(0, 30)
+    host.wait(0, (30,), 2.0, "running")
+
+
+@check("returns", "busy_while_running", A, "Compilation", "IsBusy is 1 while the machine moves")
+def _(host):
+    _running(host)
+    busy = host.lib.ToolChainCore_IsBusy(0)
+    host.lib.ToolChainCore_StopCNCEx(0, None)
+    expect(1, busy, "IsBusy during 30")
+
+
+@check("returns", "refused_while_running", A, "How the status moves",
+       "while the machine moves, StartCNCEx, Compile*, GoToPosition, MFunc and ResetStatusCNC are refused (-1) "
+       "and the status stays 30")
+def _(host):
+    _running(host)
+    lib = host.lib
+    fun = abi.SIMPLE_GM_PARAMS()
+    fun.m_func = 60
+    got = {"StartCNCEx(30)": lib.ToolChainCore_StartCNCEx(0, 30, None),
+           "CompileFromMemory": lib.ToolChainCore_CompileFromMemory(0, host.texts.arg("x.nc"), b"G1 X1\n"),
+           "GoToPosition": lib.ToolChainCore_GoToPosition(0, 1, (c_double * 1)(5.0)),
+           "MFunc": lib.ToolChainCore_MFunc(0, ctypes.byref(fun), 0),
+           "ResetStatusCNC(0)": lib.ToolChainCore_ResetStatusCNC(0, 0)}
+    status = host.status(0)
+    lib.ToolChainCore_StopCNCEx(0, None)
+    expect({k: -1 for k in got}, got, "return codes")
+    expect(30, status, "status afterwards")
+
+
+@check("returns", "start_bad_regime", A, "Regimes of StartCNCEx",
+       "StartCNCEx with a regime that is not 10, 20 or 30–33 is refused (-1)")
+def _(host):
+    host.compiled(GOOD)
+    expect(-1, host.lib.ToolChainCore_StartCNCEx(0, 99, None), "StartCNCEx(99)")
+    expect(-1, host.status(0), "status")
+
+
+@check("returns", "connect_bad_state_after", A, "Connect types of ConnectCNCEx_Plane",
+       "ConnectCNCEx_Plane: a stateAfter other than 0 or 2 is -1")
+def _(host):
+    host.machine(GOOD)
+    coords = (c_double * 2)(1.0, 1.0)
+    expect(-1, host.lib.ToolChainCore_ConnectCNCEx_Plane(0, 0, 2, coords, None, 0, 0, 5), "stateAfter 5")
+
+
+@check("returns", "prefix_postfix", A, "Parameters",
+       "GCodePrefixPostfix: G-code compiled before and after every main program")
+def _(host):
+    expect(0, host.lib.ToolChainCore_GCodePrefixPostfix(0, b"G1 X1 Y0 F1000\n", b"G1 X3 Y0\n"),
+           "GCodePrefixPostfix")
+    rec = host.simulate("G1 X2 Y0 F1000\n")
+    expect([1.0, 2.0, 3.0], [round(p["e"][0], 9) for p in rec.of("G")], "X of the parts")
