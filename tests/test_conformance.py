@@ -133,6 +133,22 @@ def test_nothing_written_outside_a_temporary_directory(tmp_path):
     assert set(os.listdir(tmp_path)) == before
 
 
+def test_runs_on_the_oldest_cpython(tmp_path):
+    """CPython 3.9 (the oldest the package supports), where this machine has one: the suite's own code
+    (the package from this interpreter's installation, no numpy) runs there as well."""
+    from test_hosts import find_cpython
+    python = find_cpython(9)
+    if python is None:
+        pytest.skip("no CPython 3.9 on this machine (PATH, pyenv)")
+    import sf_tch
+    root = os.path.dirname(os.path.dirname(sf_tch.__file__))
+    proc = subprocess.run([python, "-m", "sf_tch.conformance", "--library", library_path(), "--only",
+                           "structures,errors"], capture_output=True, text=True, timeout=120, cwd=tmp_path,
+                          env=dict(os.environ, PYTHONPATH=root, PYTHONNOUSERSITE="1"))
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert " 0 differ, " in proc.stdout.splitlines()[-1]
+
+
 # ---------------------------------------------------------------- the Windows code path
 
 def test_platform_choice(monkeypatch):
