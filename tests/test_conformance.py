@@ -196,3 +196,23 @@ def test_windows_library_loading(monkeypatch):
     init = lib.fns["ToolChainCore_Init"].argtypes[0]._type_
     assert dict(init._fields_)["CNC_Dll_Dir"] is ctypes.c_wchar_p
     assert "ToolChainCore_TestClock" not in lib.fns
+
+
+def test_every_public_name_has_a_docstring():
+    import importlib
+    import inspect
+    missing = []
+    for module_name in ("checks", "host", "worker", "runner", "cli", *AREAS):
+        module = importlib.import_module(f"sf_tch.conformance.{module_name}")
+        if not module.__doc__:
+            missing.append(module_name)
+        for name, obj in vars(module).items():
+            if name.startswith("_") or getattr(obj, "__module__", None) != module.__name__:
+                continue
+            if (inspect.isclass(obj) or inspect.isfunction(obj)) and not inspect.getdoc(obj):
+                missing.append(f"{module_name}.{name}")
+            if inspect.isclass(obj) and not issubclass(obj, Exception):
+                missing += [f"{module_name}.{name}.{m}" for m, v in vars(obj).items()
+                            if not m.startswith("_") and (inspect.isfunction(v) or isinstance(v, property))
+                            and not inspect.getdoc(v)]
+    assert missing == []

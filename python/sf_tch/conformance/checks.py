@@ -35,6 +35,7 @@ class Check:
 
     @property
     def id(self) -> str:
+        """area.name, as the report and docs/conformance.md name the check."""
         return f"{self.area}.{self.name}"
 
 

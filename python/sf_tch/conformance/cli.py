@@ -32,6 +32,7 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def summary(results: list[dict]) -> dict:
+    """How many checks got each verdict."""
     counts = {v: 0 for v in VERDICTS}
     for r in results:
         counts[r["verdict"]] += 1
@@ -39,6 +40,7 @@ def summary(results: list[dict]) -> dict:
 
 
 def summary_line(results: list[dict], library: str, seconds: float) -> str:
+    """The last line of the report."""
     c = summary(results)
     return (f"conformance: {len(results)} checks: {c[HOLDS]} hold, {c[DIFFERS]} differ, "
             f"{c[NOT_APPLICABLE]} not applicable, {c[CRASHED]} crashed, {c[TIMED_OUT]} timed out "
@@ -53,6 +55,7 @@ def _detail(r: dict) -> str:
 
 
 def table(results: list[dict], verbose: bool) -> str:
+    """A line per area, and a row per check that does not hold (every check when verbose)."""
     lines = []
     for area in dict.fromkeys(r["area"] for r in results):
         rows = [r for r in results if r["area"] == area]
@@ -82,6 +85,7 @@ def markdown(areas) -> str:
 
 
 def main(argv=None) -> int:
+    """The command line; its exit status."""
     args = _parser().parse_args(argv)
     areas = [a for item in args.only for a in item.split(",") if a] or list(AREAS)
     unknown = [a for a in areas if a not in AREAS]

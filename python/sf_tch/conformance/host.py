@@ -141,10 +141,12 @@ class Recorder:
         return self.m_answer
 
     def of(self, kind) -> list:
+        """The values of every event of one kind, in order."""
         with self.lock:
             return [v for k, v in self.events if k == kind]
 
     def kinds(self) -> list:
+        """The kind of every event, in order."""
         with self.lock:
             return [k for k, _ in self.events]
 
@@ -168,6 +170,7 @@ class Host:
 
     # -- what the library has
     def has(self, name: str) -> bool:
+        """Whether the library exports name."""
         return hasattr(self.lib, name)
 
     def need(self, name: str):
@@ -178,6 +181,8 @@ class Host:
 
     # -- state between checks
     def reset(self) -> None:
+        """Every core as in a fresh process: destroyed, no callbacks, its first parameters,
+        override 1, no user parameters, prefix or postfix, the machine at the origin."""
         lib = self.lib
         for core in range(CORES):
             lib.ToolChainCore_DestroyCNC(core)
@@ -212,6 +217,7 @@ class Host:
 
     # -- parameters
     def params(self, core: int = 0) -> abi.GCODE_PARAMETERS:
+        """GetGCodeParameters of the core."""
         p = abi.GCODE_PARAMETERS()
         rc = self.lib.ToolChainCore_GetGCodeParameters(core, ctypes.byref(p))
         if rc != 0:
@@ -231,6 +237,7 @@ class Host:
 
     # -- waiting like a panel
     def status(self, core: int = 0) -> int:
+        """StatusCNC of the core."""
         return self.lib.ToolChainCore_StatusCNC(core)
 
     def wait(self, core: int, accept, timeout: float = 5.0, what: str = "") -> int:
@@ -273,6 +280,7 @@ class Host:
             raise Differs("no error", err[:2], "compiling")
 
     def last_error(self, core: int = 0):
+        """GetLastError: (number, line, file index, text, arguments) or None."""
         info = abi.CALLBACK_INFO()
         rc = self.lib.ToolChainCore_GetLastError(core, ctypes.byref(info))
         if rc == 0:
@@ -294,6 +302,7 @@ class Host:
             raise Differs(0, rc, "ResetCNC")
 
     def start(self, core: int, regime: int, add: bytes | None = None) -> None:
+        """StartCNCEx, which must accept."""
         rc = self.lib.ToolChainCore_StartCNCEx(core, regime, add)
         if rc != 0:
             raise Differs(0, rc, f"StartCNCEx({regime}) in status {self.status(core)}")
@@ -323,9 +332,4 @@ class Host:
         if s != -30:
             raise Differs(-30, s, "status after ResetCNC with a program")
         return rec
-
-
-def callback_pointer(fn) -> c_void_p:
-    return ctypes.cast(fn, c_void_p)
-
 

@@ -28,6 +28,7 @@ def setup(host, code, coords=(0.0, 0.0, 0.0), stop_dec=1000.0, **params):
 
 
 def xy(host):
+    """GetPos's current position (m_calcS) in x and y."""
     part, _ = host.pos(0)
     return (part.m_calcS.x, part.m_calcS.y)
 

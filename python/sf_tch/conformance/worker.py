@@ -26,6 +26,7 @@ def _short(value):
 
 
 def run(library: str, area: str, first: int, workdir: str, out) -> None:
+    """Runs the area's checks from index first on, writing the protocol to out."""
     checks = area_checks(area)
     os.chdir(workdir)
     host = Host(library, workdir)
@@ -54,6 +55,7 @@ def run(library: str, area: str, first: int, workdir: str, out) -> None:
 
 
 def main(argv=None) -> int:
+    """The child's entry point: LIBRARY AREA FIRST WORKDIR."""
     library, area, first, workdir = (argv or sys.argv[1:])[:4]
     out = os.fdopen(os.dup(1), "w")
     os.dup2(2, 1)             # the library's printf to stderr
