@@ -216,3 +216,46 @@ def test_every_public_name_has_a_docstring():
                             if not m.startswith("_") and (inspect.isfunction(v) or isinstance(v, property))
                             and not inspect.getdoc(v)]
     assert missing == []
+
+
+def test_extensions_missing_are_not_applicable(tmp_path):
+    """The checks that need this project's extension exports (tool table, axis tables,
+    smoothing, ConfirmMFunc) say 'not applicable' on a library without them; the worker
+    reports them so."""
+    from sf_tch.conformance.checks import NotApplicable, area_checks
+    from sf_tch.conformance import worker
+
+    class WithoutExtensions:
+        def __init__(self, lib):
+            self._lib = lib
+
+        def __getattr__(self, name):
+            if name in abi.EXTENSION_FUNCTIONS:
+                raise AttributeError(name)
+            return getattr(self._lib, name)
+
+    host = chost.Host(library_path(), str(tmp_path))
+    host.lib = WithoutExtensions(host.lib)
+    needing = [c for area in ("tool_table", "axis_tables", "smoothing") for c in area_checks(area)]
+    needing += [c for c in area_checks("machine") if c.name == "m_handshake_later"]
+    for c in needing:
+        with pytest.raises(NotApplicable, match="does not export ToolChainCore_"):
+            c.run(host)
+
+    class Out(list):
+        def write(self, text):
+            self.append(text)
+
+        def flush(self):
+            pass
+
+    out = Out()
+    monkey = pytest.MonkeyPatch()
+    monkey.setattr(worker, "Host", lambda path, workdir: host)
+    monkey.chdir(tmp_path)
+    try:
+        worker.run(library_path(), "smoothing", 0, str(tmp_path), out)
+    finally:
+        monkey.undo()
+    verdicts = [json.loads(line)["verdict"] for line in out if "verdict" in line]
+    assert verdicts == ["not applicable"] * len(area_checks("smoothing"))

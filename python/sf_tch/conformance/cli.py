@@ -64,7 +64,7 @@ def table(results: list[dict], verbose: bool) -> str:
                      + "".join(f", {c[v]} {v}" for v in VERDICTS[1:] if c[v]))
         for r in rows:
             if verbose or r["verdict"] != HOLDS:
-                lines.append(f"  {r['verdict']:<14} {r['id']:<34} {r['document']} § {r['section']}")
+                lines.append(f"  {r['verdict']:<14} {r['id']:<46} {r['document']} § {r['section']}")
                 if r["verdict"] != HOLDS:
                     lines.append(f"  {'':<14} {r['statement']}")
                     if _detail(r):
@@ -98,7 +98,7 @@ def main(argv=None) -> int:
     if args.list:
         for area in areas:
             for c in area_checks(area):
-                print(f"{c.id:<34} {c.document} § {c.section}: {c.statement}")
+                print(f"{c.id:<46} {c.document} § {c.section}: {c.statement}")
         return 0
     try:
         library = os.path.abspath(args.library) if args.library else default_library()
