@@ -181,3 +181,103 @@ def _(host):
     rec = host.simulate("G18\nG1 X10 Z0 F1000\nG2 X0 Z0 I-5 K0\nG17\nG2 X10 Y0 I5 J0\n")
     arcs = [p for p in rec.of("G") if p["func"] == 2]
     expect([18, 17], [p["plane"] for p in arcs], "planes")
+
+
+def _ends(rec, n=2):
+    return [tuple(round(v, 6) for v in p["e"][:n]) for p in rec.of("G")]
+
+
+@check("dialect", "continuous_m", D, "M functions",
+       "a continuous M function (M1001 and above) written after a move is signalled at the start of that move")
+def _(host):
+    rec = host.simulate("G1 X14.2 Y45.89 F1000 M2003\nG1 X20\n")
+    seq = [(k, v["func"], v["line"]) for k, v in rec.events if k in ("G", "M")]
+    expect([("M", 2003, 1), ("G", 1, 1), ("G", 1, 2)], seq, "order of the parts")
+
+
+@check("dialect", "expression_words", D, "Lines and words",
+       "a word's value may be an expression: X P21+P22, Z (P1*2)")
+def _(host):
+    rec = host.simulate("P21 = 2\nP22 = 3\nP1 = 4\nG1 X P21+P22 Z (P1*2) F1000\n")
+    near_point((5, 0, 8), rec.of("G")[0]["e"], 1e-9, "the end")
+
+
+@check("dialect", "functions", D, "Parameters and expressions",
+       "ATAN2(y, x) and HYPOT(a, b) among the functions, angles in degrees")
+def _(host):
+    rec = host.simulate("G1 X ATAN2(1, 1) Y HYPOT(3, 4) F1000\n")
+    near_point((45, 5), rec.of("G")[0]["e"][:2], 1e-9, "the end")
+
+
+@check("dialect", "g26_repeat", D, "G functions", "G26 L label H n calls the subroutine n times")
+def _(host):
+    rec = host.simulate("G1 X0 F1000\nG26 Lsub H3\nM30\nsub:\nG91 G1 X1\nG90\nM17\n")
+    expect([(0, 0), (1, 0), (2, 0), (3, 0)], _ends(rec), "ends")
+
+
+@check("dialect", "jumps", D, "Program flow", "GOTO label and G27 L label jump over the lines between")
+def _(host):
+    for jump in ("GOTO skip", "G27 Lskip"):
+        rec = host.simulate(f"G1 X1 F1000\n{jump}\nG1 X2\nskip:\nG1 X3\n")
+        expect([(1, 0), (3, 0)], _ends(rec), f"ends with {jump}")
+
+
+@check("dialect", "while_loop", D, "Program flow", "WHILE cond … END repeats while the condition holds")
+def _(host):
+    rec = host.simulate("P1 = 0\nWHILE P1 < 3\nP1 = P1 + 1\nG1 X P1 F1000\nEND\n")
+    expect([(1, 0), (2, 0), (3, 0)], _ends(rec), "ends")
+
+
+@check("dialect", "if_break", D, "Program flow", "IF cond BREAK leaves the loop")
+def _(host):
+    rec = host.simulate("FOR P1 = 1 TO 5\nIF P1 > 2 BREAK\nG1 X P1 F1000\nEND\n")
+    expect([(1, 0), (2, 0)], _ends(rec), "ends")
+
+
+@check("dialect", "g29_label", D, "Program flow", "the first word of a G29 comment may be a label")
+def _(host):
+    rec = host.simulate("G1 X0 F1000\nCALL sub\nM30\nG29 sub a comment\nG1 X9\nRETURN\n")
+    expect([(0, 0), (9, 0)], _ends(rec), "ends")
+
+
+@check("dialect", "mirroring", D, "M functions", "M81 mirrors X, M80 switches mirroring off")
+def _(host):
+    rec = host.simulate("M81\nG1 X5 Y2 F1000\nM80\nG1 X6 Y2\n")
+    expect([(-5, 2), (6, 2)], _ends(rec), "ends")
+
+
+@check("dialect", "zero_offsets_g59_g53", D, "G functions",
+       "G54 sets axes not written to 0, G59 keeps them; G53 switches the offset off")
+def _(host):
+    rec = host.simulate("G54 X10 Y10\nG59 X5\nG1 X1 Y1 F1000\nG54 X7\nG1 X1 Y1\nG53\nG1 X1 Y1\n")
+    expect([(6, 11), (8, 1), (1, 1)], _ends(rec), "ends")
+
+
+@check("dialect", "arc_negative_radius", D, "G functions",
+       "G2 / G3 with R < 0: the longer arc (its centre mirrored about the chord)")
+def _(host):
+    rec = host.simulate("G1 X0 Y0 F1000\nG2 X8 Y0 R5\nG1 X0 Y0\nG2 X8 Y0 R-5\n")
+    arcs = [p for p in rec.of("G") if p["func"] == 2]
+    near_point((4, -3), arcs[0]["cc"][:2], 1e-6, "centre with R5")
+    near_point((4, 3), arcs[1]["cc"][:2], 1e-6, "centre with R-5")
+
+
+@check("dialect", "absolute_centre_q70", D, "G functions", "G2 / G3 with Q70: I J K are the centre in absolute coordinates")
+def _(host):
+    rec = host.simulate("G1 X2 Y0 F1000\nG2 X8 Y0 I5 J0 Q70\n")
+    near_point((5, 0), rec.of("G")[1]["cc"][:2], 1e-6, "centre")
+
+
+@check("dialect", "g91_moves", D, "G functions", "G90 / G91 with axis words also move, as G1")
+def _(host):
+    rec = host.simulate("G1 X0 Y0 F1000\nG91 X2 Y1\nG90 X5\n")
+    expect([1, 1, 1], [p["func"] for p in rec.of("G")], "G numbers")
+    expect([(0, 0), (2, 1), (5, 1)], _ends(rec), "ends")
+
+
+@check("dialect", "rotation_g168", D, "G functions", "G168 X Y Z R rotates the program about a point; G169 ends it")
+def _(host):
+    rec = host.simulate("G1 X0 Y0 F1000\nG168 X0 Y0 Z0 R90\nG1 X10 Y0\nG169\nG1 X10 Y0\n")
+    g = rec.of("G")
+    near_point((0, 10), g[1]["ce"][:2], 1e-6, "the rotated line's end")
+    near_point((10, 0), g[2]["ce"][:2], 1e-6, "the end after G169")

@@ -126,3 +126,10 @@ def _(host):
     t = host.lib.ToolChainCore_GetGCodeRunTime(0, host.lib.ToolChainCore_FileToIdx(0, host.texts.arg("untimed.nc")))
     if not t < 0:
         raise Differs("a negative time", t, "GetGCodeRunTime")
+
+
+@check("planner", "dwell_milliseconds", "dialect.md", "G functions",
+       "G4 W is a dwell in milliseconds: G4 W250 stands 0.25 s")
+def _(host):
+    t = run_time(host, "G1 X50 F3000\nG4 W250\nG1 X100\n", m1=(3000, 500, 500, 1))
+    near(2 * trapezoid(50, 50, 500, 500) + 0.25, t, 1e-3, "run time with G4 W250")
