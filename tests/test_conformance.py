@@ -86,7 +86,7 @@ def test_a_crash_is_a_verdict_and_the_area_goes_on(shim):
 
 
 def test_a_hang_is_timed_out_by_the_check_bound(shim):
-    rc, report = suite("--json", "--library", shim, "--only", "returns", "--timeout", "3", env={"SHIM_HANG": "1"})
+    rc, report = suite("--json", "--library", shim, "--only", "returns", "--timeout", "1.5", env={"SHIM_HANG": "1"})
     assert rc == 1
     verdicts = {r["id"]: r["verdict"] for r in report["checks"]}
     assert verdicts.pop("returns.bad_core") == "timed out"
