@@ -209,11 +209,12 @@ class Host:
         path = self.file(f"core{core}.ini", "[Modules]\nCompiler0=SF_DComp\nExecutor0=SF_Exec\n"
                                             "[CNC]\nDriver=SF_RTDrv\n" + extra)
         cores = c_uint32(0)
+        kept = self.params(core)              # what the check set so far stays
         rc = self.lib.ToolChainCore_LoadFromIni(core, self.texts.arg(path), ctypes.byref(cores))
         if rc != 0:
             raise Differs(0, rc, "LoadFromIni of a vendor INI")
         self.ini_loaded.add(core)
-        self.lib.ToolChainCore_SetGCodeParameters(core, ctypes.byref(self.defaults[core]))
+        self.lib.ToolChainCore_SetGCodeParameters(core, ctypes.byref(kept))
 
     # -- parameters
     def params(self, core: int = 0) -> abi.GCODE_PARAMETERS:
