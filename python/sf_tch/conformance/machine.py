@@ -399,3 +399,34 @@ def _(host):
     expect(0, host.lib.ToolChainCore_MFunc(0, ctypes.byref(fun), 0), "MFunc")
     expect([64], [m["func"] for m in rec.of("M")], "DriverMFunc calls")
     expect({threading.get_ident()}, rec.threads, "the thread of the call")
+
+
+@check("machine", "driver_calls_of_a_run", A, "Callbacks",
+       "a run of the machine: DriverInitialize (the regime 30) first, each part to DriverGFunc as it begins, "
+       "DriverEnd at the end")
+def _(host):
+    rec = Recorder(host, 0)
+    setup(host, "G1 X5 F6000\nG1 X10\n")
+    host.start(0, 30)
+    watch(host, (-32,))
+    expect(["init", "G", "G", "end"], [k for k in rec.kinds() if k in ("init", "G", "M", "end")], "callbacks")
+    expect(30, rec.of("init")[0][1], "runMode")
+
+
+@check("machine", "connect_callbacks", A, "Callbacks",
+       "a connection calls ConnectPointCalcStart first (nType, the coordinates), ConnectPointCalcEnd with the point found")
+def _(host):
+    _off_path(host)
+    seen = []
+    start = abi.ConnectPointCalcStart(
+        lambda u, n_type, n, coords, axes: seen.append(("start", n_type, tuple(coords[i] for i in range(n)))) or 0)
+    end = abi.ConnectPointCalcEnd(lambda u, part, point: seen.append(("end", point.contents.x, point.contents.y)) or 0)
+    for number, fn in ((abi.CB_CONNECT_POINT_CALC_START, start), (abi.CB_CONNECT_POINT_CALC_END, end)):
+        expect(0, host.lib.ToolChainCore_SetCallBack(0, number, 0, ctypes.cast(fn, ctypes.c_void_p)), "SetCallBack")
+    coords = (c_double * 2)(8.0, 3.0)
+    expect(0, host.lib.ToolChainCore_ConnectCNCEx_Plane(0, 0, 2, coords, None, 0x3, 0x3, 0), "ConnectCNCEx_Plane(0)")
+    watch(host, (-31, -50))
+    if not seen or seen[0][:2] != ("start", 0) or seen[-1][0] != "end":
+        raise Differs("ConnectPointCalcStart(0, …) … ConnectPointCalcEnd", seen, "callbacks")
+    near_point((8, 3), seen[0][2], 1e-12, "the coordinates ConnectPointCalcStart gets")
+    near_point((8, 0), seen[-1][1:], 1e-6, "the point ConnectPointCalcEnd gets")
