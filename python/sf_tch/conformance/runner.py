@@ -35,6 +35,8 @@ def _how(returncode: int) -> str:
             return f"killed by {signal.Signals(-returncode).name}"
         except ValueError:
             return f"killed by signal {-returncode}"
+    if returncode > 0xFFFF:            # a Windows exception code, e.g. 0xC0000005
+        return f"exit status {returncode:#010x}"
     return f"exit status {returncode}"
 
 
@@ -64,7 +66,6 @@ def run_area(library: str, area: str, timeout: float, workdir: str, progress=Non
                                     env=env, text=True)
         lines: queue.Queue = queue.Queue()
         threading.Thread(target=_reader, args=(proc.stdout, lines), daemon=True).start()
-        ran = 0
         current, deadline = None, time.monotonic() + timeout + 30   # +30: the child's start
         while True:
             try:
@@ -79,12 +80,15 @@ def run_area(library: str, area: str, timeout: float, workdir: str, progress=Non
             if line is None:
                 proc.wait()
                 break
-            message = json.loads(line)
+            try:
+                message = json.loads(line)
+            except ValueError:          # not the worker's (it writes nothing else there)
+                continue
             if "start" in message:
                 current, deadline = message["start"], time.monotonic() + timeout
             else:
                 results[message["index"]] = message
-                current, ran = None, ran + 1
+                current = None
                 if progress:
                     progress(checks[message["index"]], message)
         crash = {"verdict": CRASHED, "detail": f"{_how(proc.returncode)}: {_tail(err_path)}".rstrip(": ")}
