@@ -109,15 +109,17 @@ def main(argv=None) -> int:
         print(f"conformance: {library}: no such file", file=sys.stderr)
         return 2
     begun = time.monotonic()
-    results = run(library, areas, args.timeout)
-    seconds = time.monotonic() - begun
     if args.json:
-        json.dump({"library": library, "seconds": round(seconds, 2), "summary": summary(results),
+        results = run(library, areas, args.timeout)
+        json.dump({"library": library, "seconds": round(time.monotonic() - begun, 2), "summary": summary(results),
                    "checks": results}, sys.stdout, indent=1)
         print()
     else:
-        print(table(results, args.verbose))
+        results = []
+        for area in areas:                    # each area's table as soon as it ran
+            results += run(library, [area], args.timeout)
+            print(table([r for r in results if r["area"] == area], args.verbose), flush=True)
         print()
-        print(summary_line(results, library, seconds))
+        print(summary_line(results, library, time.monotonic() - begun))
     c = summary(results)
     return 1 if c[DIFFERS] or c[CRASHED] or c[TIMED_OUT] else 0
