@@ -430,3 +430,43 @@ def _(host):
         raise Differs("ConnectPointCalcStart(0, …) … ConnectPointCalcEnd", seen, "callbacks")
     near_point((8, 3), seen[0][2], 1e-12, "the coordinates ConnectPointCalcStart gets")
     near_point((8, 0), seen[-1][1:], 1e-6, "the point ConnectPointCalcEnd gets")
+
+
+def _feed_of(host, k, feed):
+    def edit(p):
+        p.motion[k].feed = feed
+    host.set_params(0, edit=edit)
+
+
+@check("machine", "backward_feed", A, "Regimes of StartCNCEx", "regime 32 runs back at motion[2]")
+def _(host):
+    setup(host, "G1 X10 Y0 Z0 F6000\n")
+    host.start(0, 30)
+    watch(host, (-32,))
+    _feed_of(host, 2, 1200.0)
+    host.start(0, 32)
+    _, samples = watch(host, (-30, -31))
+    top = max(smp[2] for smp in samples if smp[0] == 32)
+    near(1200.0, top, 12.0, "the highest feed backward")
+
+
+@check("machine", "goto_feed", A, "Running", "GoToPosition moves at motion[5]")
+def _(host):
+    setup(host, "G1 X10 F6000\n")
+    _feed_of(host, 5, 1200.0)
+    expect(0, host.lib.ToolChainCore_GoToPosition(0, 2, (c_double * 2)(10.0, 0.0)), "GoToPosition")
+    _, samples = watch(host, (-50,))
+    top = max(smp[2] for smp in samples if smp[0] == 50)
+    near(1200.0, top, 12.0, "the highest feed of the manual move")
+
+
+@check("machine", "stop_add_code_regime31", A, "Running",
+       "StopCNCEx's addCode is not sent in regime 31")
+def _(host):
+    rec = Recorder(host, 0)
+    setup(host, "G1 X50 F6000\n")
+    host.start(0, 31)
+    time.sleep(0.1)
+    expect(0, host.lib.ToolChainCore_StopCNCEx(0, b"M62"), "StopCNCEx")
+    expect(-31, watch(host, (-31, -32))[0], "status")
+    expect([], [m["func"] for m in rec.of("M")], "M functions sent")
