@@ -85,6 +85,7 @@ def part_dict(part: abi.SIMPLE_GM_PARAMS) -> dict:
             "ce": xyz(part.m_calcE), "cc": (part.m_cc.x, part.m_cc.y, part.m_cc.z), "radius": part.m_cc.c,
             "line": part.m_editorLine, "file": part.m_fileIdx, "index": part.m_gCodeIndex,
             "F": part.m_pars.F, "G": part.m_pars.G, "M": part.m_pars.M, "N": part.m_pars.N,
+            "Q": part.m_pars.Q, "H": part.m_pars.H,
             "comp": part.m_bFeedIsMin >> 16, "plane": part.m_planeTool & 0xFFFF}
 
 
@@ -182,7 +183,7 @@ class Host:
     # -- state between checks
     def reset(self) -> None:
         """Every core as in a fresh process: destroyed, no callbacks, its first parameters,
-        override 1, no user parameters, prefix or postfix, the machine at the origin."""
+        override 1, no user parameters, prefix, postfix or breakpoint, the machine at the origin."""
         lib = self.lib
         for core in range(CORES):
             lib.ToolChainCore_DestroyCNC(core)
@@ -192,6 +193,7 @@ class Host:
             lib.ToolChainCore_SetRelFeed(core, 1.0)
             lib.ToolChainCore_SetUserParams(core, None, 0)
             lib.ToolChainCore_GCodePrefixPostfix(core, None, None)
+            lib.ToolChainCore_SetBreakpoint(core, 0, -1)        # no part has line 0: no breakpoint
             lib.ToolChainCore_ResetCNC(core, 0, 10, (c_double * 10)())
             lib.ToolChainCore_DestroyCNC(core)
 

@@ -470,3 +470,21 @@ def _(host):
     expect(0, host.lib.ToolChainCore_StopCNCEx(0, b"M62"), "StopCNCEx")
     expect(-31, watch(host, (-31, -32))[0], "status")
     expect([], [m["func"] for m in rec.of("M")], "M functions sent")
+
+
+@check("machine", "getpos_cells", S, "SIMPLE_GM_PARAMS — one part",
+       "GetPos's cells: G the current part's G number, N the cut length so far, T the rapid length so far")
+def _(host):
+    setup(host, "G0 X5\nG1 X10 F6000\nG1 X15\n")
+    seen = set()
+
+    def sample(status):
+        part, _ = host.pos(0)
+        if status == 30 and part.m_func in (0, 1):
+            seen.add((part.m_func, part.m_pars.G))
+    host.start(0, 30)
+    watch(host, (-32,), every=sample)
+    if not seen or any(float(func) != cell for func, cell in seen):
+        raise Differs("cell G = m_func of the current part", sorted(seen), "(m_func, cell G) while moving")
+    part, _ = host.pos(0)
+    expect((10.0, 5.0), (round(part.m_pars.N, 4), round(part.m_pars.T, 4)), "cells (N, T) at the end")

@@ -157,3 +157,12 @@ def _(host):
     expect((1, 1, 1500.0), (p["func"], p["line"], p["F"]), "m_func, m_editorLine, F")
     near(3.0, p["e"][0], 1e-9, "m_e.x")
     near(4.0, p["e"][1], 1e-9, "m_e.y")
+
+
+@check("structures", "absent_letter_marker", S, "Building blocks",
+       "a P26FLOAT cell of a letter the line did not write holds the marker (1e38 as a float)")
+def _(host):
+    p = host.simulate("G1 X3 Y4 F1500\n").of("G")[0]
+    for letter in ("Q", "H"):
+        if not p[letter] >= 1e37:
+            raise Differs(">= 1e37 (the marker)", p[letter], f"cell {letter}")
