@@ -218,6 +218,34 @@ def test_the_vendors_arc_feed_table_examples_run(mh, table, expected):
     assert run["run_time"] == pytest.approx(expected, abs=2 * DT)
 
 
+# ------------------------------------------------------------------ enhancedInterpolatorParameters bits 20, 21
+
+def test_the_knife_axis_stops_the_machine_where_the_plan_does(mh):
+    """The tangential knife of test_planner (C turns in place between the XY cuts,
+    C in bits 0-9) with bit 20: the machine comes to rest where C starts from rest
+    (after the X cut, after the Y cut), runs on where C comes to rest, and takes the
+    three trapezoids' time, as the simulation says."""
+    from test_planner import C_AXIS, FROM_REST, KNIFE, rest_to_rest
+    try:
+        mh.set_machine_bits(0, C_AXIS | FROM_REST)
+        load(mh, KNIFE, motion=[None, (6000.0, 500.0, 500.0, 1)])
+        expected = rest_to_rest(10.0, 100.0, 500.0, 500.0) + 2 * rest_to_rest(100.0, 100.0, 500.0, 500.0)
+        assert mh.simulated_run_time(0) == pytest.approx(expected, rel=1e-6)
+        run = mh.run(0, 30)
+    finally:
+        mh.set_machine_bits(0, 0)
+    assert run["finish"] == "done"
+    assert run["run_time"] == pytest.approx(expected, abs=2 * DT)
+    steps = run["steps"]
+    at_junction = {}
+    for a, b in zip(steps, steps[1:]):
+        if a[1] != b[1] and a[1] >= 0:
+            at_junction[a[1]] = min(a[3], b[3])
+    assert at_junction[0] <= 500.0 * 2 * DT         # rest before C turns
+    assert at_junction[2] <= 500.0 * 2 * DT
+    assert at_junction[1] == pytest.approx(100.0, rel=1e-3)     # C comes to rest, Y goes on
+
+
 # ------------------------------------------------------------------ through the exports
 
 def test_the_first_move_after_ResetCNC_through_the_api(api):

@@ -322,6 +322,59 @@ def test_exact_stops(ph):
     assert plan(ph, "G900 S12 A2\nG0 X100\nG1 X200 F6000\n")[0]["v_out"] == 0.0
 
 
+def rest_to_rest(length, v, a, d):
+    """Seconds of a trapezoid from rest to rest over `length` at most at v."""
+    if length >= v * v / (2 * a) + v * v / (2 * d):
+        return length / v + v / (2 * a) + v / (2 * d)
+    peak = math.sqrt(2 * length * a * d / (a + d))
+    return peak / a + peak / d
+
+
+# a tangential knife: C (axis 3, bit 3 of enhancedInterpolatorParameters bits 0-9)
+# turns the blade in place between the XY cuts
+KNIFE = "G1 X10 F6000\nG1 C90\nG1 Y10\nG1 C180\nG1 X0\n"
+KNIFE_FOLLOWS = "G1 X10 C45 F6000\nG1 X20 C0\n"       # C turns back while X goes on
+C_AXIS = 1 << 3
+FROM_REST, REVERSAL = 1 << 20, 1 << 21
+
+
+def test_an_axis_that_starts_from_rest_stops_the_others_first(ph):
+    """MACHINE_PARAMETERS.enhancedInterpolatorParameters bit 20, in the structures'
+    reference: when an axis chosen in bits 0-9 starts to move from rest, the other
+    axes come to a stop before it does. The knife's C starts from rest twice (after
+    the X cut, after the Y cut): the machine stands at both junctions, and the run is
+    three trapezoids from rest to rest (10 mm; 90 + 10; 90 + 10); where C comes to
+    rest and Y or X go on, nothing stops."""
+    motion = [None, (6000.0, 500.0, 500.0, 1)]
+    plain = plan(ph, KNIFE, motion=motion)
+    assert total(plain) == pytest.approx(rest_to_rest(210.0, 100.0, 500.0, 500.0), rel=PLAN)
+    parts = plan(ph, KNIFE, enhanced=C_AXIS | FROM_REST, motion=motion)
+    assert [p["v_out"] for p in parts][:4] == [0.0, pytest.approx(100.0), 0.0, pytest.approx(100.0)]
+    expected = rest_to_rest(10.0, 100.0, 500.0, 500.0) + 2 * rest_to_rest(100.0, 100.0, 500.0, 500.0)
+    assert total(parts) == pytest.approx(expected, rel=PLAN)
+    # bit 21 alone: C never reverses here; either bit without an axis in bits 0-9: nothing
+    assert total(plan(ph, KNIFE, enhanced=C_AXIS | REVERSAL, motion=motion)) == total(plain)
+    assert total(plan(ph, KNIFE, enhanced=FROM_REST | REVERSAL, motion=motion)) == total(plain)
+    # the axis chosen by the program (G900 S10 C1) counts as one of bits 0-9
+    assert total(plan(ph, "G900 S10 C1\n" + KNIFE, enhanced=FROM_REST, motion=motion)) == pytest.approx(
+        expected, rel=PLAN)
+
+
+def test_an_axis_that_reverses_stops_all_axes_first(ph):
+    """enhancedInterpolatorParameters bit 21: when an axis chosen in bits 0-9 changes
+    its direction of motion, every axis stops first. C follows the cut to 45 degrees
+    and turns back while X goes on: with bit 21 the machine stands where C reverses
+    (two trapezoids), with bit 20 alone (C does not start from rest) it does not."""
+    motion = [None, (6000.0, 500.0, 500.0, 1)]
+    one = math.hypot(10.0, 45.0)
+    parts = plan(ph, KNIFE_FOLLOWS, enhanced=C_AXIS | REVERSAL, motion=motion)
+    assert parts[0]["v_out"] == 0.0 and parts[1]["v_in"] == 0.0
+    assert total(parts) == pytest.approx(2 * rest_to_rest(one, 100.0, 500.0, 500.0), rel=PLAN)
+    for enhanced in (0, C_AXIS | FROM_REST, REVERSAL):
+        assert total(plan(ph, KNIFE_FOLLOWS, enhanced=enhanced, motion=motion)) == pytest.approx(
+            rest_to_rest(2 * one, 100.0, 500.0, 500.0), rel=PLAN)
+
+
 # ------------------------------------------------------------------ mFuncInsertTable
 
 def mfunc_table(ph, entries, text, window=0, **fields):

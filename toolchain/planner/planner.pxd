@@ -31,6 +31,8 @@ cdef enum:
     AXIS_MASK = 0x3FF
     ENH_ANGLE_SHIFT = 0         # enhancedInterpolatorParameters bits 0-9: no tangency slow-down
     ENH_FEED_SHIFT = 10         # bits 10-19: axis ignored for the feed
+    ENH_STOP_FROM_REST = 1 << 20    # bit 20: an axis of bits 0-9 starts from rest: the others stop first
+    ENH_STOP_ON_REVERSAL = 1 << 21  # bit 21: an axis of bits 0-9 reverses: all stop first
 
 ctypedef struct PartLimits:
     double length           # mm
