@@ -246,6 +246,26 @@ def test_the_knife_axis_stops_the_machine_where_the_plan_does(mh):
     assert at_junction[1] == pytest.approx(100.0, rel=1e-3)     # C comes to rest, Y goes on
 
 
+def test_the_machine_passes_an_inserted_m_function_where_the_plan_put_it(mh):
+    """mFuncInsertTable[0] 5 mm before the arc's slow-down (test_planner: X43.9): the
+    machine runs the split line at the plan's time, and the rest of the line after
+    the M function begins at X43.9, already braking."""
+    from test_planner import INTO_ARC
+    p = abi.GCODE_PARAMETERS.from_buffer_copy(params(mh, motion=[None, (6000.0, 500.0, 500.0, 1)]))
+    p.arcFeedTable[0].m_r, p.arcFeedTable[0].m_relFeed = 0.0, 0.5
+    p.MfuncInsertType = 1
+    p.mFuncInsertTable[0].mFunc, p.mFuncInsertTable[0].relFeed, p.mFuncInsertTable[0].distance = 1100, 0.6, 5.0
+    assert mh.compile_text(0, INTO_ARC, bytes(p), 0, [0.0] * 10) is None
+    expected = mh.simulated_run_time(0)
+    run = mh.run(0, 30)
+    assert run["finish"] == "done"
+    assert run["run_time"] == pytest.approx(expected, abs=2 * DT)
+    rest = [s for s in run["steps"] if s[1] == 2]           # line 1's rest, after the M function (part 1)
+    assert 43.9 <= rest[0][5] <= 43.9 + 100.0 * 2 * DT
+    # braking for the arc began at X42.5: at X43.9 the speed is sqrt(50^2 + 2 * 500 * 6.1)
+    assert rest[0][3] == pytest.approx(math.sqrt(8600.0), abs=500.0 * 2 * DT)
+
+
 # ------------------------------------------------------------------ through the exports
 
 def test_the_first_move_after_ResetCNC_through_the_api(api):

@@ -391,27 +391,106 @@ def layout(parts):
     return [("M", p["func"]) if p["kind"] == 2 else ("G", p["func"], p["line"]) for p in parts]
 
 
+def inserted_at(parts):
+    """(M number, x, y) of every M function in the plan, in order, to 0.1 um (the
+    plan keeps floats, and a speed counts as reached 1e-6 of it below)."""
+    return [(p["func"], round(p["end"][0], 4), round(p["end"][1], 4)) for p in parts if p["kind"] == 2]
+
+
 def test_mfunc_insert_table(ph):
-    # a 90-degree corner slows to 10 mm/s (< 50 % of F), full speed again after it, the end
+    """A 90-degree corner slows to 10 mm/s (entry 0 at 50 % of F6000, its braking of
+    500 mm/s^2 passes 50 mm/s (50^2 - 10^2) / 1000 = 2.4 mm before the corner), full
+    speed again (entry 1 at 90 %: (90^2 - 10^2) / 1000 = 8 mm after it), the end
+    (50 mm/s 2.5 mm before it). The part where one lies is split there: its first
+    piece keeps the part's place, the rest follows the M function."""
     text = "G1 X10 F6000\nG1 X50\nG1 X100\nG1 X100 Y100\nG1 X100 Y200\n"
     slow = dict(startAngle=30.0, endAngle=90.0, minAngleFeed=600.0)
     table = [(1100, 0.5, 0.0), (1101, 0.9, 0.0), (1102, 1.0, 0.0)]
     parts = mfunc_table(ph, table, text, **slow)
-    assert layout(parts) == [("G", 1, 1), ("G", 1, 2), ("M", 1100), ("G", 1, 3), ("G", 1, 4), ("M", 1101),
-                             ("M", 1100), ("G", 1, 5)]
-    # distance: 60 mm before the corner lies in line 2: before it
-    table[0] = (1100, 0.5, 60.0)
-    parts = mfunc_table(ph, table[:1], text, **slow)
-    assert layout(parts)[:4] == [("G", 1, 1), ("M", 1100), ("G", 1, 2), ("G", 1, 3)]
-    # continuous: the plan is the same with an unlimited window
-    plain = plan(ph, text, window=-1, **slow)
-    with_m = mfunc_table(ph, table, text, window=-1, **slow)
-    assert total(with_m) == pytest.approx(total(plain), rel=1e-12)
-    # before a rapid that follows a cut
-    parts = mfunc_table(ph, [(0, 0, 0), (0, 0, 0), (1102, 1.0, 0.0)], "G1 X100 F6000\nG0 X200\nG0 X300\n")
-    assert layout(parts) == [("G", 1, 1), ("M", 1102), ("G", 0, 2), ("G", 0, 3)]
+    assert layout(parts) == [("G", 1, 1), ("G", 1, 2), ("G", 1, 3), ("M", 1100), ("G", 1, 3), ("G", 1, 4),
+                             ("M", 1101), ("G", 1, 4), ("G", 1, 5), ("M", 1100), ("G", 1, 5)]
+    assert inserted_at(parts) == [(1100, 97.6, 0.0), (1101, 100.0, 8.0), (1100, 100.0, 197.5)]
+    pieces = [p for p in parts if p["line"] == 3]
+    assert [p["flags"] & 2 for p in pieces] == [0, 2, 2]     # the programmed piece, the M, the rest
+    assert [p["gcode_index"] for p in parts] == sorted(p["gcode_index"] for p in parts)
+    # distance: 60 mm before 97.6 lies in line 2, 20 mm after Y8 in line 4
+    parts = mfunc_table(ph, [(1100, 0.5, 60.0), (1101, 0.9, 20.0)], text, **slow)
+    assert inserted_at(parts) == [(1100, 37.6, 0.0), (1101, 100.0, 28.0), (1100, 100.0, 137.5)]
+    # entry 1 alone: its speed both ways
+    parts = mfunc_table(ph, [(0, 0.0, 0.0), (1101, 0.9, 20.0)], text, **slow)
+    assert inserted_at(parts) == [(1101, 100.0, 28.0)]
+    # continuous: the motion is the plan's without them (the pieces plan as the part did)
+    for window in (0, -1):
+        plain = plan(ph, text, window=window, **slow)
+        with_m = mfunc_table(ph, table, text, window=window, **slow)
+        assert total(with_m) == pytest.approx(total(plain), rel=1e-7)
     # off unless MfuncInsertType = 1
     assert len(plan(ph, text, **slow)) == 5
+
+
+def crossing(ph, v0, v1, acc, ramp, v):
+    """Distance into the ramp v0 -> v1 where its speed is v (bisection on the harness's
+    ramp closed form)."""
+    T, _ = ph.ramp(v0, v1, acc, ramp)
+    lo, hi = 0.0, T
+    for _ in range(200):
+        mid = (lo + hi) / 2
+        if (ph.ramp(v0, v1, acc, ramp, mid)[0] - v) * (v1 - v0) < 0:
+            lo = mid
+        else:
+            hi = mid
+    return ph.ramp(v0, v1, acc, ramp, lo)[1]
+
+
+# a line into an arc the arc feed table slows to 50 % (50 mm/s of F6000), a line out of it
+INTO_ARC = "G1 X50 F6000\nG2 X70 Y0 I10 J0\nG1 X150\n"
+
+
+@pytest.mark.parametrize("ramp", [1, 2])
+def test_mfunc_before_a_slow_down_lies_distance_before_it(ph, ramp):
+    """mFuncInsertTable[0], in the structures' reference: an M function that signals a
+    coming slow-down (an arc) -- placed `distance` before the point where the speed
+    falls below relFeed x the programmed feed. Braking from 100 to the arc's 50 mm/s
+    with 500 mm/s^2 passes 60 mm/s 1.1 mm before the arc (X48.9, trapezoid; the sine
+    ramp's point by bisection of its closed form); 5 mm before that: X43.9."""
+    motion = [None, (6000.0, 500.0, 500.0, ramp)]
+    parts = mfunc_table(ph, [(1100, 0.6, 5.0)], INTO_ARC, arc=[(0.0, 0.5)], motion=motion)
+    before_arc = crossing(ph, 100.0, 50.0, 500.0, ramp, 60.0)
+    ramp_length = crossing(ph, 100.0, 50.0, 500.0, ramp, 50.0)
+    at = 50.0 - (ramp_length - before_arc) - 5.0
+    if ramp == 1:
+        assert at == pytest.approx(43.9, abs=1e-9)
+    first = inserted_at(parts)[0]
+    assert first[0] == 1100 and first[1] == pytest.approx(at, abs=1e-4) and first[2] == 0.0
+    assert layout(parts)[:3] == [("G", 1, 1), ("M", 1100), ("G", 1, 1)]
+
+
+def test_mfunc_after_a_slow_down_lies_distance_after_it(ph):
+    """mFuncInsertTable[1]: an M function that signals full cutting speed ahead, placed
+    `distance` after the point where the speed is back at relFeed x the feed. Out of
+    the arc at 50 mm/s, 90 mm/s is (90^2 - 50^2) / 1000 = 5.6 mm on (X75.6); 10 mm
+    after that: X85.6."""
+    parts = mfunc_table(ph, [(1100, 0.6, 0.0), (1101, 0.9, 10.0)], INTO_ARC, arc=[(0.0, 0.5)],
+                        motion=[None, (6000.0, 500.0, 500.0, 1)])
+    assert inserted_at(parts)[:2] == [(1100, 48.9, 0.0), (1101, 85.6, 0.0)]
+    assert layout(parts)[:7] == [("G", 1, 1), ("M", 1100), ("G", 1, 1), ("G", 2, 2), ("G", 1, 3), ("M", 1101),
+                                 ("G", 1, 3)]
+
+
+def test_mfunc_before_a_rapid_lies_distance_before_it(ph):
+    """mFuncInsertTable[2]: an M function `distance` before a G00 rapid that follows a
+    cut (relFeed plays no part): 30 mm before X100 is X70; 95 mm before it lies in the
+    first line, at X5; at the program's start (150 mm) it comes first of all."""
+    text = "G1 X10 F6000\nG1 X100\nG0 X200\nG0 X300\n"
+    for distance, expected in ((0.0, 100.0), (30.0, 70.0), (95.0, 5.0)):
+        parts = mfunc_table(ph, [(0, 0, 0), (0, 0, 0), (1102, 1.0, distance)], text)
+        assert inserted_at(parts) == [(1102, expected, 0.0)]
+    parts = mfunc_table(ph, [(0, 0, 0), (0, 0, 0), (1102, 1.0, 0.0)], text)
+    assert layout(parts) == [("G", 1, 1), ("G", 1, 2), ("M", 1102), ("G", 0, 3), ("G", 0, 4)]
+    parts = mfunc_table(ph, [(0, 0, 0), (0, 0, 0), (1102, 1.0, 150.0)], text)
+    assert layout(parts)[:2] == [("M", 1102), ("G", 1, 1)]
+    assert inserted_at(parts) == [(1102, 0.0, 0.0)]
+    assert total(parts) == pytest.approx(total(plan(ph, text)), rel=1e-7)
 
 
 # ------------------------------------------------------------------ look-ahead window

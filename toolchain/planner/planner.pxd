@@ -62,10 +62,19 @@ cdef enum:
     MFI_AFTER_SLOW_DOWN = 1
     MFI_BEFORE_RAPID = 2
 
-ctypedef struct MfuncInsertion:
-    size_t after            # inserted right after this part
-    size_t seq              # found in this order (several after one part keep it)
+ctypedef struct MfuncTarget:    # where one inserted M function goes
+    size_t part             # the motion part (with length) it lies in; n_parts: after the last part
+    double q                # mm into that part (at most MFI_SNAP: just before it)
+    size_t seq              # found in this order (several at one place keep it)
     int32_t mfunc
+
+ctypedef struct MfuncTargets:
+    MfuncTarget *items
+    size_t n, cap
+
+ctypedef struct MfuncInsertion: # one part program_merge inserts
+    size_t after            # right after this part
+    Part made               # an M function, or the rest of a part split where one lies
 
 ctypedef struct MfuncInsertions:
     MfuncInsertion *items
