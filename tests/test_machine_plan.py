@@ -16,7 +16,7 @@ import pytest
 from sf_tch import abi
 from test_machine import (ARCS, DT, LINES, SQUARE_G42, api, circle_chords, compile_on, get_pos,  # noqa: F401
                           load, params, poll_run, run_at_override, run_time_of, set_params, start, wait)
-from test_planner import ruckig_time
+from test_planner import AS_WRITTEN, ruckig_time
 
 
 @pytest.fixture(scope="module")
@@ -193,7 +193,7 @@ def test_continuous_m_functions_cost_no_window_slot(mh):
     with_m = "".join(f"G1 X{i} F6000 M1001\n" for i in range(1, 101))
     times = []
     for text in (plain, with_m):
-        load(mh, text)
+        load(mh, text, **AS_WRITTEN)    # the collinear lines as written (tolerance[2] 0)
         expected = mh.simulated_run_time(0)
         run = mh.run(0, 30)
         assert run["finish"] == "done"

@@ -21,8 +21,11 @@ PLAN = 2e-7    # the plan keeps floats, 7 digits (program.pxd PartPlan)
 
 def params(ph, **fields):
     """Default GCODE_PARAMETERS with `fields` set; motion=[(feed, acc, dec, ramp), ...]
-    from index 0; axis=[(k, maxFeed, maxAcc, maxDec)]; arc=[(r, rel)]."""
+    from index 0; axis=[(k, maxFeed, maxAcc, maxDec)]; arc=[(r, rel)]. The planner's
+    tests plan the parts as written: tolerance[2] = 0, no collinear G1 parts joined
+    (the joins: tests/test_join_lines.py; tolerance= gives all ten)."""
     p = abi.GCODE_PARAMETERS.from_buffer_copy(ph.default_params())
+    p.tolerance[2] = 0.0
     for k, m in enumerate(fields.pop("motion", ())):
         if m is not None:
             p.motion[k].feed, p.motion[k].acc, p.motion[k].dec, p.motion[k].rampType = m
@@ -33,6 +36,10 @@ def params(ph, **fields):
     for name, value in fields.items():
         setattr(p, name, value)
     return bytes(p)
+
+
+# the GCODE_PARAMETERS fields of a compile through the library that keep the parts as written
+AS_WRITTEN = dict(tolerance=(0.005, 0.001, 0.0, 0.005, 0.0, 3.0, 0.01, 0.0, 0.0, 0.0))
 
 
 def plan(ph, text, window=0, enhanced=0, **fields):
@@ -261,10 +268,10 @@ def test_settings_from_the_program_apply_from_their_part_on(ph):
 
 def test_a_setting_repeated_in_a_loop_makes_one_region(ph):
     loop = "FOR P1 = 1 TO 500\nG900 S9 A30 B90 F600\nG1 X P1 F6000\nEND\n"
-    summary, error, _ = ph.plan_text(loop, None, 0, 0, False)
+    summary, error, _ = ph.plan_text(loop, params(ph), 0, 0, False)
     assert error is None and summary["regions"] == 1 and summary["n_parts"] == 500
     toggling = "FOR P1 = 1 TO 50\nG900 S13 A0\nG1 X P1 F6000\nG900 S13 A1\nG1 Y P1\nEND\n"
-    summary, error, _ = ph.plan_text(toggling, None, 0, 0, False)
+    summary, error, _ = ph.plan_text(toggling, params(ph), 0, 0, False)
     assert error is None and summary["regions"] == 100
 
 
@@ -646,7 +653,8 @@ def test_simulation_with_machine_bits_and_inserted_m_functions(ph, fresh_core):
 def test_look_ahead_through_the_library(ph, tmp_path, fresh_core):
     """The window reaches the planner by ToolChainCore_SetLookAhead, the INI key
     lookAheadParts and sf_tch.compile(look_ahead=): each gives the harness's time for
-    that window (the vendor's 8 by default)."""
+    that window (the vendor's 8 by default). The dense line's parts as written
+    (tolerance[2] = 0: collinear, they would be one part)."""
     import sf_tch
     text = dense_line(1000, 0.1)
     expected = {w: total(plan(ph, text, window=w)) for w in (0, 8, 32, -1)}
@@ -656,19 +664,19 @@ def test_look_ahead_through_the_library(ph, tmp_path, fresh_core):
         program.simulate()
         return program.run_time
 
-    with sf_tch.compile(text, look_ahead=32, core=2) as program:
+    with sf_tch.compile(text, look_ahead=32, core=2, params=AS_WRITTEN) as program:
         assert simulated(program) == pytest.approx(expected[32], rel=1e-12)
-    with sf_tch.compile(text, core=2) as program:       # the core keeps what was set
+    with sf_tch.compile(text, core=2, params=AS_WRITTEN) as program:       # the core keeps what was set
         assert simulated(program) == pytest.approx(expected[32], rel=1e-12)
     lib = fresh_core
     assert lib.ToolChainCore_SetLookAhead(2, -2) == -1
     assert lib.ToolChainCore_SetLookAhead(2, -1) == 0
-    with sf_tch.compile(text, core=2) as program:
+    with sf_tch.compile(text, core=2, params=AS_WRITTEN) as program:
         assert simulated(program) == pytest.approx(expected[-1], rel=1e-12)
     ini = tmp_path / "window.ini"
     ini.write_text(Path(sf_tch.default_ini()).read_text()
                    + "\n[GCodeParameters]\nlookAheadParts = 0\n")
-    with sf_tch.compile(text, ini=ini, core=2) as program:
+    with sf_tch.compile(text, ini=ini, core=2, params=AS_WRITTEN) as program:
         assert simulated(program) == pytest.approx(expected[0], rel=1e-12)
     ini.write_text("[GCodeParameters]\nlookAheadParts = -5\n")
     assert lib.ToolChainCore_LoadFromIni(2, str(ini).encode(), None) == abi.TOOL_CHAIN_XEXEC

@@ -15,7 +15,7 @@
 # are continuous (never stop the motion), others wait like any waiting M function; all
 # carry FLAG_INSERTED. The caller plans again afterwards.
 from libc.stdlib cimport malloc, free, qsort
-from libc.string cimport memcmp
+from libc.string cimport memcmp, memcpy
 from libc.math cimport acos, M_PI
 
 cdef extern from *:
@@ -29,22 +29,6 @@ cdef extern from *:
     """
     const double MFI_SNAP "TC_MFI_SNAP"
     const double MFI_REL_TOL "TC_MFI_REL_TOL"
-
-cdef enum:
-    MFI_START = 0       # from the program's start until the speed first reaches entry 0's share
-    MFI_FAST = 1
-    MFI_SLOW = 2
-
-
-ctypedef struct _MfiScan:
-    const Program *prog
-    const INTERNAL_MFUNC_INSERT_TABLE *table
-    const double *at            # path position of each part's start; at[n_parts]: the path's length
-    MfuncTargets *targets
-    int state
-    double th0, th1             # the current cut's thresholds (mm/s)
-    bint ok
-
 
 cdef bint _mfi_target_add(MfuncTargets *t, size_t part, double q, int32_t mfunc) noexcept nogil:
     if not grow(<void **>&t.items, &t.cap, t.n + 1, sizeof(MfuncTarget)):
@@ -64,7 +48,7 @@ cdef size_t _mfi_next_with_length(const double *at, size_t k, size_t n) noexcept
     return k
 
 
-cdef bint _mfi_place(_MfiScan *sc, double pos, int32_t mfunc) noexcept nogil:
+cdef bint _mfi_place(MfiScan *sc, double pos, int32_t mfunc) noexcept nogil:
     """The M function `mfunc` at path position pos (clamped to the path): in the motion
     part that holds it, or between parts within MFI_SNAP of a boundary."""
     cdef const double *at = sc.at
@@ -104,21 +88,21 @@ cdef double _mfi_ramp_distance_to(double v0, double v1, double T, int32_t ramp, 
     return ramp_distance_in(v0, v1, T, ramp, t)
 
 
-cdef void _mfi_fall(_MfiScan *sc, double pos) noexcept nogil:
+cdef void _mfi_fall(MfiScan *sc, double pos) noexcept nogil:
     sc.state = MFI_SLOW
     if sc.table[MFI_BEFORE_SLOW_DOWN].mFunc != 0:
         sc.ok = sc.ok and _mfi_place(sc, pos - sc.table[MFI_BEFORE_SLOW_DOWN].distance,
                                  sc.table[MFI_BEFORE_SLOW_DOWN].mFunc)
 
 
-cdef void _mfi_rise(_MfiScan *sc, double pos) noexcept nogil:
+cdef void _mfi_rise(MfiScan *sc, double pos) noexcept nogil:
     sc.state = MFI_FAST
     if sc.table[MFI_AFTER_SLOW_DOWN].mFunc != 0:
         sc.ok = sc.ok and _mfi_place(sc, pos + sc.table[MFI_AFTER_SLOW_DOWN].distance,
                                  sc.table[MFI_AFTER_SLOW_DOWN].mFunc)
 
 
-cdef void _mfi_at_point(_MfiScan *sc, double v, double pos) noexcept nogil:
+cdef void _mfi_at_point(MfiScan *sc, double v, double pos) noexcept nogil:
     """The speed at one point (a part's start)."""
     if sc.state == MFI_START and v >= sc.th0:
         sc.state = MFI_FAST
@@ -128,7 +112,7 @@ cdef void _mfi_at_point(_MfiScan *sc, double v, double pos) noexcept nogil:
         _mfi_rise(sc, pos)
 
 
-cdef void _mfi_along_ramp(_MfiScan *sc, double v0, double v1, double T, int32_t ramp, double pos) noexcept nogil:
+cdef void _mfi_along_ramp(MfiScan *sc, double v0, double v1, double T, int32_t ramp, double pos) noexcept nogil:
     """A ramp from v0 to v1 (T seconds) that starts at path position pos."""
     if v1 > v0:
         if sc.state == MFI_START and v1 >= sc.th0:
@@ -162,7 +146,7 @@ cdef bint _mfi_find_targets(const Program *prog, const GCODE_PARAMETERS *params,
                         MfuncTargets *targets) noexcept nogil:
     """Walks the plan's profiles: the places of the table's M functions."""
     cdef const INTERNAL_MFUNC_INSERT_TABLE *t = params.mFuncInsertTable
-    cdef _MfiScan sc
+    cdef MfiScan sc
     cdef const Part *p
     cdef Profile pr
     cdef size_t k
@@ -250,7 +234,10 @@ cdef bint _mfi_piece(ProgramBuilder *build, size_t m, const Segment *g, double q
     segment_point_at(g, q, pt)
     for k in range(g.n_axes):
         full[k] = pt[k]
-    part_start(prog, m, ps)
+    if m > 0:                           # the programmed start
+        part_end(prog, &prog.parts[m - 1], ps)
+    else:
+        memcpy(ps, prog.start, sizeof(ps))
     if not (piece.e[0] == piece.ce[0] and piece.e[1] == piece.ce[1] and piece.e[2] == piece.ce[2]
             and (m == 0 or memcmp(prog.parts[m - 1].e, prog.parts[m - 1].ce, sizeof(piece.e)) == 0)):
         # compensated: the programmed end at the same share of the programmed path
@@ -273,13 +260,8 @@ cdef bint _mfi_piece(ProgramBuilder *build, size_t m, const Segment *g, double q
     return True
 
 
-ctypedef struct _MfiReplacement:   # parts[part] becomes made (after the targets are all made)
-    size_t part
-    Part made
-
-
 cdef bint _mfi_make_insertions(ProgramBuilder *build, MfuncTargets *targets, MfuncInsertions *ins,
-                           _MfiReplacement *repl, size_t *n_repl) noexcept nogil:
+                           MfiReplacement *repl, size_t *n_repl) noexcept nogil:
     """The parts program_merge inserts for the sorted targets, in part order, and the
     parts that change in place (the first piece of a split part; an M function before
     the program's first part takes part 0's place, part 0 following it)."""
@@ -388,7 +370,7 @@ cdef int mfunc_insert(ProgramBuilder *build, const GCODE_PARAMETERS *params) noe
     cdef double *at
     cdef MfuncTargets targets
     cdef MfuncInsertions ins
-    cdef _MfiReplacement *repl = NULL
+    cdef MfiReplacement *repl = NULL
     cdef size_t n_repl = 0
     cdef bint ok
     if n == 0:
@@ -407,7 +389,7 @@ cdef int mfunc_insert(ProgramBuilder *build, const GCODE_PARAMETERS *params) noe
     free(at)
     if ok and targets.n > 0:
         qsort(targets.items, targets.n, sizeof(MfuncTarget), _mfi_target_compare)
-        repl = <_MfiReplacement *>malloc(targets.n * sizeof(_MfiReplacement))     # at most one a target
+        repl = <MfiReplacement *>malloc(targets.n * sizeof(MfiReplacement))     # at most one a target
         ok = repl != NULL and _mfi_make_insertions(build, &targets, &ins, repl, &n_repl)
     if ok:                              # every insertion is made: the parts that change in place
         for k in range(n_repl):

@@ -80,6 +80,24 @@ ctypedef struct MfuncInsertions:
     MfuncInsertion *items
     size_t n, cap
 
+cdef enum:                      # where the speed stands against the table's shares
+    MFI_START = 0               # from the program's start until it first reaches entry 0's
+    MFI_FAST = 1
+    MFI_SLOW = 2
+
+ctypedef struct MfiScan:        # the walk over the plan's profiles
+    const Program *prog
+    const INTERNAL_MFUNC_INSERT_TABLE *table
+    const double *at            # path position of each part's start; at[n_parts]: the path's length
+    MfuncTargets *targets
+    int state
+    double th0, th1             # the current cut's thresholds (mm/s)
+    bint ok
+
+ctypedef struct MfiReplacement: # parts[part] becomes made (once every insertion is made)
+    size_t part
+    Part made
+
 # ---- passes.pyx
 cdef enum:
     VENDOR_WINDOW = 8           # the current part + 7 more
