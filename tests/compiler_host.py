@@ -102,6 +102,9 @@ class Host:
         ini.write_text("[Modules]\nCompiler0=x\n[CNC]\nDriver=offline\n")
         assert self.lib.ToolChainCore_LoadFromIni(core, str(ini).encode(), None) == 0
         self.defaults = default_params(self.lib, core)
+        # the compiler's tests look at the parts as written: no collinear G1 parts
+        # joined (tolerance[2] = 0; the joins: tests/test_join_lines.py)
+        self.defaults.tolerance[2] = 0.0
         self._keep = []
 
     def close(self):

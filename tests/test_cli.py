@@ -20,6 +20,14 @@ import sf_tch
 SQUARE = "G0 X0 Y0 Z0\nG1 X10 F600\nG1 Y10\nG1 X0\nG1 Y0\nM30\n"
 
 
+def as_written_ini(tmp_path):
+    """The bundled INI with tolerance2 = 0: the parts as written, collinear G1 parts
+    (the diagonal runs of X{k % 100} Y{k % 37}) not joined."""
+    ini = tmp_path / "as_written.ini"
+    ini.write_text(Path(sf_tch.default_ini()).read_text() + "\n[GCodeParameters]\ntolerance2 = 0\n")
+    return ini
+
+
 def sf_tch_cli(*args, module="sf_tch"):
     return subprocess.run([sys.executable, "-m", module, *args], capture_output=True, text=True, timeout=120)
 
@@ -175,7 +183,8 @@ def test_plot_without_matplotlib_names_the_install_command(square, tmp_path):
 def test_plot_of_a_large_program_says_it_is_drawing(tmp_path):
     program = tmp_path / "large.nc"
     program.write_text("G0 X0 Y0 Z0\n" + "".join(f"G1 X{k % 100} Y{k % 37} F1000\n" for k in range(100_000)))
-    proc = sf_tch_cli("plot", str(program), "-o", str(tmp_path / "large.png"), "--radius", "0")
+    proc = sf_tch_cli("plot", str(program), "-o", str(tmp_path / "large.png"), "--radius", "0",
+                      "--ini", str(as_written_ini(tmp_path)))
     assert proc.returncode == 0, proc.stderr
     assert proc.stderr == f"drawing 100,001 parts into {tmp_path / 'large.png'} ...\n"
     assert (tmp_path / "large.png").stat().st_size > 5000
@@ -294,7 +303,9 @@ def test_iso_option_reads_iso_g_code(tmp_path):
 def test_look_ahead_option(tmp_path):
     """--look-ahead: a deeper window plans dense short segments faster."""
     dense = tmp_path / "dense.nc"
-    dense.write_text("G1 X0 F6000\n" + "".join(f"G1 X{0.1 * (k + 1):.6f}\n" for k in range(500)))
+    # 1 um up and down at every 0.1 mm: 0.6 degrees between the parts, none joined (tolerance[2])
+    dense.write_text("G1 X0 F6000\n" + "".join(f"G1 X{0.1 * (k + 1):.6f} Y{0.001 * (k % 2):.3f}\n"
+                                               for k in range(500)))
     times = [json.loads(sf_tch_cli("simulate", str(dense), "--look-ahead", n, "--json").stdout)["run_time"]
              for n in ("0", "-1")]
     assert times[0] > times[1] > 0
@@ -388,7 +399,7 @@ def test_compile_summary_reads_the_toolpath_in_chunks(tmp_path, capsys):
     records_size = (lines + 1) * TOOLPATH_DTYPE.itemsize                     # 16.8 MB
     tracemalloc.start()
     try:
-        code = cli.main(["compile", str(program), "--radius", "0"])
+        code = cli.main(["compile", str(program), "--radius", "0", "--ini", str(as_written_ini(tmp_path))])
         peak = tracemalloc.get_traced_memory()[1]
     finally:
         tracemalloc.stop()

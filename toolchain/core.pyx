@@ -180,7 +180,10 @@ cdef int _compile_job(Core *core, CompileJob *job, ProgramBuilder *build, GCODE_
     n_parts = build.prog.n_parts
     if result == COMPILE_OK:
         result = insert_arcs(build, &inp.params, err)
-    measured = measured and build.prog.n_parts == n_parts      # no automatic arcs came in since
+    if result == COMPILE_OK and join_lines(build, &inp.params) != COMPILE_OK:
+        result = COMPILE_ERROR
+        set_error(err, ERR_OUT_OF_MEMORY, job.files[0], 0, NULL, 0)
+    measured = measured and build.prog.n_parts == n_parts      # no automatic arcs came in, no lines joined
     # the spare room of the parts (the reserve, what was faulted in ahead) goes back
     # before the plan takes its memory: the peak is the parts and their plan
     if result == COMPILE_OK:
