@@ -38,6 +38,7 @@ cdef enum PartFlags:
     FLAG_HELIX = 0x08            # arc with off-plane motion
     FLAG_CSS = 0x10              # G96 with G95: `value` holds the spindle speed (rev/min) S gives there
     FLAG_DROPPED = 0x20          # removed from the cutting plan (an arc whose offset has no radius): no callback
+    FLAG_INDEX_SET = 0x40        # its G-code index is M-6 S's (the count restarts there)
 
 # What every part needs (88 bytes: a CAM job's parts are most of a compiled program's
 # memory, docs/benchmarks.md); what only some carry is in its PartExtra, what changes

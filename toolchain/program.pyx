@@ -422,21 +422,21 @@ cdef void part_calc_start(const Program *prog, size_t i, double *out) noexcept n
 
 
 cdef void program_number_parts(Program *prog) noexcept nogil:
-    """The G-code indexes the driver sees, once nothing more is inserted: unique and
-    increasing by 1 or 2 over the parts a driver callback gets (the structures
-    description). The compiler numbers programmed parts by 2 (M-6 S restarts them) and
-    an inserted part takes the odd number after its predecessor; two inserted parts in a
-    row (a compensation corner and an inserted M function) would share it, and a part no
-    callback gets (an arc dropped from the cutting plan) would leave a gap of 4. Here
-    each inserted part takes the number after the last part delivered, a programmed one
-    its compiled number moved by what came in or dropped out before it (0 in most
-    programs, so M-6 A's stored numbers hold), a part not delivered the last number.
-    start_gindex follows its part."""
+    """The G-code indexes the driver sees, once nothing more is inserted or joined:
+    unique and increasing by 1 or 2 over the parts a driver callback gets (the
+    structures description). A programmed part takes 2 more than the last part
+    delivered when that was programmed too, 1 more after an inserted part (a
+    compensation corner, a G167 arc, an mFuncInsertTable M function or a piece of a
+    part it split); the first part and a part M-6 S numbered keep their compiled
+    number. A part no callback gets (a PRINT line, an arc dropped from the cutting
+    plan) takes the last number and moves none. So two inserted parts in a row no
+    longer share a number, and PRINT lines, dropped arcs and parts joined away leave
+    no gap. start_gindex follows its part."""
     cdef size_t i
     cdef Part *p
-    cdef int32_t last = INT32_MIN, compiled, prev_programmed = INT32_MIN, shift = 0
+    cdef int32_t last = INT32_MIN, compiled
     cdef int32_t starts[AXES]
-    cdef bint delivered
+    cdef bint delivered, last_programmed = False
     cdef bint mapped[AXES]
     cdef int k
     for k in range(AXES):
@@ -446,24 +446,22 @@ cdef void program_number_parts(Program *prog) noexcept nogil:
         p = &prog.parts[i]
         compiled = p.gcode_index
         delivered = p.kind != PART_PRINT and not (p.flags & FLAG_DROPPED)
+        if last == INT32_MIN or (p.flags & FLAG_INDEX_SET):
+            pass                                    # the count starts here
+        elif not delivered:
+            p.gcode_index = last
+        elif p.flags & FLAG_INSERTED:
+            p.gcode_index = last + 1
+        else:
+            p.gcode_index = last + (2 if last_programmed else 1)
         if not (p.flags & FLAG_INSERTED):
-            if last == INT32_MIN or compiled != prev_programmed + 2:
-                shift = 0                           # the first part, or M-6 S restarted the count
-            p.gcode_index = compiled + shift
-            if last != INT32_MIN and p.gcode_index <= last:
-                p.gcode_index = last + 1
-            if not delivered:
-                p.gcode_index = last if last != INT32_MIN else compiled
-            shift = p.gcode_index - compiled if delivered else last - compiled
-            prev_programmed = compiled
             for k in range(AXES):
                 if not mapped[k] and compiled >= starts[k]:
                     prog.start_gindex[k] = p.gcode_index
                     mapped[k] = True
-        elif last != INT32_MIN:
-            p.gcode_index = last + 1 if delivered else last
         if delivered:
             last = p.gcode_index
+            last_programmed = not (p.flags & FLAG_INSERTED)
     for k in range(AXES):
         if not mapped[k]:
             prog.start_gindex[k] = last + 2

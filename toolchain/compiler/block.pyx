@@ -488,6 +488,7 @@ cdef int _g_index(CState *st, const LineWords *lw) noexcept nogil:
         elif st.gindex < -0x40000000:
             st.gindex = -0x40000000
         st.gindex += st.gindex & 1
+        st.gindex_set = True                # the next part starts the count again
     return 0
 
 

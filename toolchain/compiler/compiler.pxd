@@ -238,6 +238,7 @@ ctypedef struct CState:
     uint32_t g900_ignore_angle, g900_ignore_feed
     int32_t g900_stop_mode, g900_arc_table
     int32_t gindex
+    bint gindex_set         # M-6 S set gindex: the next part starts the count again (FLAG_INDEX_SET)
     bint fixed[AXES]                        # the axis no longer follows the start (named absolutely)
     bint shift_follows[AXES]                # a G92 on the axis while it followed the start
     bint program_end

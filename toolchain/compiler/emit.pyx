@@ -63,6 +63,9 @@ cdef Part *em_part(CState *st, int kind, int func, const double *end) noexcept n
         prog.compensated = True
     if st.per_min:
         p.flags = FLAG_FEED_PER_MIN
+    if st.gindex_set:
+        p.flags |= FLAG_INDEX_SET
+        st.gindex_set = False
     s.feed = 0.0
     s.fp = <float>st.fp
     s.spindle = st.spindle

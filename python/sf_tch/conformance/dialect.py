@@ -281,3 +281,15 @@ def _(host):
     g = rec.of("G")
     near_point((0, 10), g[1]["ce"][:2], 1e-6, "the rotated line's end")
     near_point((10, 0), g[2]["ce"][:2], 1e-6, "the end after G169")
+
+
+@check("dialect", "collinear_lines_joined", "structures.md", "GCODE_PARAMETERS — tolerance[2], tolerance[3]",
+       "nearly collinear G1 parts (within tolerance[2] degrees, 0.03 by default, and tolerance[3] mm) "
+       "are joined into one G1; tolerance[2] 0 keeps them")
+def _(host):
+    code = "G1 X10 Y0 F1000\nG1 X20 Y0\nG1 X30 Y0.0001\nG1 X30 Y10\n"
+    rec = host.simulate(code, edit=lambda p: p.tolerance.__setitem__(2, 0.03))
+    expect([(30.0, 0.0001), (30.0, 10.0)], [tuple(round(v, 6) for v in p["e"][:2]) for p in rec.of("G")],
+           "the ends of the G parts with tolerance[2] 0.03")
+    rec = host.simulate(code, edit=lambda p: p.tolerance.__setitem__(2, 0.0))
+    expect(4, len(rec.of("G")), "G parts with tolerance[2] 0")

@@ -164,10 +164,14 @@ class Host:
         self.workdir = workdir
         self.ini_loaded = set()
         self.defaults = []
+        self.as_written = []
         for core in range(CORES):
             p = abi.GCODE_PARAMETERS()
             self.lib.ToolChainCore_GetGCodeParameters(core, ctypes.byref(p))
             self.defaults.append(p)
+            q = abi.GCODE_PARAMETERS.from_buffer_copy(bytes(p))
+            q.tolerance[2] = 0.0
+            self.as_written.append(q)
 
     # -- what the library has
     def has(self, name: str) -> bool:
@@ -182,14 +186,16 @@ class Host:
 
     # -- state between checks
     def reset(self) -> None:
-        """Every core as in a fresh process: destroyed, no callbacks, its first parameters,
-        override 1, no user parameters, prefix, postfix or breakpoint, the machine at the origin."""
+        """Every core as in a fresh process: destroyed, no callbacks, its first parameters
+        but tolerance[2] 0 (collinear lines are joined by the vendor's default; the checks
+        compile their programs as written, the join has checks of its own), override 1,
+        no user parameters, prefix, postfix or breakpoint, the machine at the origin."""
         lib = self.lib
         for core in range(CORES):
             lib.ToolChainCore_DestroyCNC(core)
             for number in abi.CALLBACK_NUMBERS:
                 lib.ToolChainCore_SetCallBack(core, number, 0, None)
-            lib.ToolChainCore_SetGCodeParameters(core, ctypes.byref(self.defaults[core]))
+            lib.ToolChainCore_SetGCodeParameters(core, ctypes.byref(self.as_written[core]))
             lib.ToolChainCore_SetRelFeed(core, 1.0)
             lib.ToolChainCore_SetUserParams(core, None, 0)
             lib.ToolChainCore_GCodePrefixPostfix(core, None, None)

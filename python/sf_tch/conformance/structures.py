@@ -112,7 +112,7 @@ def _(host):
         p.tolerance[3] = 0.006
     host.set_params(0, edit=edit)
     want = abi.GCODE_PARAMETERS()
-    ctypes.memmove(ctypes.byref(want), ctypes.byref(host.defaults[0]), ctypes.sizeof(want))
+    ctypes.memmove(ctypes.byref(want), ctypes.byref(host.as_written[0]), ctypes.sizeof(want))
     edit(want)
     got = bytes(host.params(0))
     for name, *_ in abi.GCODE_PARAMETERS._fields_:
