@@ -247,6 +247,14 @@ cdef int gcode_parameter_from_ini(GCODE_PARAMETERS *p, const char *key, const ch
         else:
             p.rezerva1 = p.rezerva1 & ~<int32_t>GCODE_REZERVA1_ISO_COMPAT
         return 1
+    if strcasecmp(key, "isoStrict") == 0:        # docs/compiler.md: what LinuxCNC refuses is an error
+        if not c_parse_long(value, 0, 1, &i):
+            return -1
+        if i:
+            p.rezerva1 = p.rezerva1 | <int32_t>GCODE_REZERVA1_ISO_STRICT
+        else:
+            p.rezerva1 = p.rezerva1 & ~<int32_t>GCODE_REZERVA1_ISO_STRICT
+        return 1
     if strcasecmp(key, "strictCompensation") == 0:      # docs/compensation.md: crossing equidistants refused
         if not c_parse_long(value, 0, 1, &i):
             return -1

@@ -50,6 +50,7 @@ INVALID_VALUE = 1e38
 PLC_MEMORY_BYTES = 524288
 GCODE_REZERVA1_ISO_COMPAT = 0x1   # GCODE_PARAMETERS.rezerva1: the ISO compatibility mode (docs/compiler.md)
 GCODE_REZERVA1_COMP_STRICT = 0x2  # ... crossing equidistants refused (error 504; docs/compensation.md)
+GCODE_REZERVA1_ISO_STRICT = 0x4   # ... with the ISO mode: what LinuxCNC refuses is error 414, not warning 621
 
 AXES = ("x", "y", "z", "c", "b", "u", "v", "w", "a", "o")
 LETTERS = tuple(chr(ord("A") + i) for i in range(26))

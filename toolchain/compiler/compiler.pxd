@@ -173,6 +173,8 @@ ctypedef struct NgcState:
     NgcScan scans[NGC_SCANS]    # loops over skipped branches scan each branch once
     NgcSub *subs
     size_t n_subs, cap_subs
+    uint64_t *if_keys           # the labels of the `if` statements executed (ow_if_key; 0: empty slot)
+    size_t n_if_keys, cap_if_keys   # cap: 0 or a power of two, at least twice n_if_keys
     NgcFrame frames[NGC_FRAMES]
     int n_frames
     int level                   # call level: 0 in the program
@@ -260,6 +262,8 @@ ctypedef struct CState:
     bint warned_g18                         # the G18 arc warning is given once
     bint warned_feed, warned_bare_axes      # warnings 614 / 615 are given once
     bint motion_given                       # a G0 .. G3 (or ISO cycle) was written
+    uint32_t g80_line                       # ISO mode: the line whose G80 cancelled the motion mode (0: none)
+    size_t percent_open                     # ISO mode: start of the unit's opening '%' line (SIZE_MAX: none)
     NgcState *ngc                           # ISO mode: parameters, O-words, offsets, cycles (else NULL)
     int n_warnings
     char word[64]                           # text of an offending word for messages
@@ -329,6 +333,7 @@ cdef enum:
 # executes the groups in the order block.pyx documents. 0 / -1: not on the line.
 ctypedef struct Block:
     int motion              # 0 1 2 3 33; ISO mode: also 73 74 81 .. 86 89 (cycles), 80 (cancel); -1 none
+    int motion_col          # its column
     int plane               # 17 18 19 -18
     int units               # 21 (TG: an ISO header)
     int comp                # 40 .. 48
