@@ -118,7 +118,7 @@ def test_error_names_the_word_and_its_column(host, code, number, line, parts):
     ("O100 sub\nG0 X1\n", 310, ["O-word 'o100' at column 1: sub without endsub"]),
     ("G0 X0\n  o<drill> call [1]\n", 311, ["Subroutine 'o<drill>' at column 3 is not defined: no 'sub' line"]),
     ("o1 endwhile\n", 310, ["'o1' at column 1: endwhile without its while"]),
-    ("G5.1 X1 Y1 I1 J1 F10\n", 112, ["'G5.1' at column 1 is not supported", "splines"]),
+    ("G0 X0\nG7\n", 112, ["'G7' at column 1 is not supported", "lathe diameter"]),
     ("G0 X1\nM98 P100 L2\n", 112, ["'M98' at column 1 is not supported", "Fanuc-style subprograms"]),
     ("G0 Z5 F10\nG87 X1 Z-1 R2\n", 112, ["'G87' at column 1", "undefined"]),
     ("G0 Z5 F10\nG1 G82 X1 Z-1 R2\n", 412, ["G82 at column 4: P (the dwell in seconds) is missing"]),

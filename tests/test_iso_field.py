@@ -15,6 +15,7 @@ import math
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 
 import sf_tch
@@ -299,3 +300,144 @@ def test_a_helix_whose_end_radius_differs_runs_at_the_mean_radius_in_iso_and_the
     # the TG length differs from LinuxCNC's by less than half the radii's difference per
     # radian turned: within the vendor's tolerance[0] (0.005 mm) on a half turn
     assert abs(float(tg_arc["length"]) - exact) < 0.005 * math.pi
+
+
+# --------------------------------------------- 4. splines: G5, G5.1, G5.2 / G5.3
+
+TOLERANCE = 0.001                       # mm: the parts' largest distance from the curve (1 um)
+
+
+def bezier(points, t):
+    """The point at t of the Bezier curve of `points` (Bernstein form: independent of the
+    library's de Casteljau construction)."""
+    n = len(points) - 1
+    return tuple(sum(math.comb(n, i) * t ** i * (1 - t) ** (n - i) * p[d] for i, p in enumerate(points))
+                 for d in range(2))
+
+
+def linuxcnc_knots(n, k):
+    """LinuxCNC's knot vector of a NURBS of n + 1 control points and order k."""
+    return [0 if i < k else (i - k + 1 if i <= n else n - k + 2) for i in range(n + k + 1)]
+
+
+def basis(i, k, u, knots):
+    """The B-spline basis N(i, k) at u by the Cox - de Boor recursion (order k), the last
+    span closed at its end."""
+    if k == 1:
+        last = knots[i + 1] == knots[-1] and knots[i] < knots[i + 1]
+        return 1.0 if knots[i] <= u < knots[i + 1] or (last and u == knots[-1]) else 0.0
+    out = 0.0
+    if knots[i + k - 1] > knots[i]:
+        out += (u - knots[i]) / (knots[i + k - 1] - knots[i]) * basis(i, k - 1, u, knots)
+    if knots[i + k] > knots[i + 1]:
+        out += (knots[i + k] - u) / (knots[i + k] - knots[i + 1]) * basis(i + 1, k - 1, u, knots)
+    return out
+
+
+def nurbs(points, k, u):
+    """The point at u of the NURBS of (x, y, w) points and order k on LinuxCNC's knots."""
+    n = len(points) - 1
+    knots = linuxcnc_knots(n, k)
+    b = [basis(i, k, u, knots) * p[2] for i, p in enumerate(points)]
+    return tuple(sum(bi * p[d] for bi, p in zip(b, points)) / sum(b) for d in range(2))
+
+
+def sampled(curve, lo, hi, count):
+    return np.array([curve(lo + (hi - lo) * j / count) for j in range(count + 1)])
+
+
+def check_against_the_curve(code, curves, lines):
+    """The program's parts from the spline lines on: every sample of the exact curves
+    (each (function, lo, hi)) lies within the tolerance of the path, every end of a part
+    of the spline's lines on the curves, and the cut length is the curves' within 1e-5."""
+    with sf_tch.compile(code, iso=True, start=START) as program:
+        assert program.ok, program.errors
+        rec = program.toolpath.records
+        path = program.toolpath.points(step=0.0002)[:, :2]
+        cut = program.toolpath.to_dict()["cut_length"]
+    exact = np.concatenate([sampled(f, lo, hi, 4000) for f, lo, hi in curves])
+    length = sum(float(np.linalg.norm(np.diff(sampled(f, lo, hi, 20000), axis=0), axis=1).sum())
+                 for f, lo, hi in curves)
+    for chunk in np.array_split(exact, 20):
+        d = np.sqrt(((chunk[:, None, :] - path[None, :, :]) ** 2).sum(axis=2)).min(axis=1)
+        assert d.max() <= TOLERANCE + 0.0002, d.max()
+    ends = np.array([r["end"][:2] for r in rec if r["kind"] == PartKind.MOTION and r["line"] in lines])
+    d = np.sqrt(((ends[:, None, :] - exact[None, :, :]) ** 2).sum(axis=2)).min(axis=1)
+    assert d.max() < 0.002
+    assert cut == pytest.approx(length, rel=1e-5)
+    return rec
+
+
+def test_g5_cubic_splines_and_their_continuation():
+    # LinuxCNC's curvy "N": the second G5 leaves out I J, going on in the direction the
+    # first ended in (I J = -P -Q of the first)
+    code = "G21 G90 G0 X0 Y0\nG5 I0 J3 P0 Q-3 X1 Y1 F300\nG5 P0 Q-3 X2 Y2\n"
+    first = [(0, 0), (0, 3), (1, -2), (1, 1)]
+    second = [(1, 1), (1, 4), (2, -1), (2, 2)]
+    rec = check_against_the_curve(code, [(lambda t: bezier(first, t), 0, 1), (lambda t: bezier(second, t), 0, 1)], (2, 3))
+    kinds = {int(r["number"]) for r in rec if r["kind"] == PartKind.MOTION}
+    assert kinds <= {0, 1, 2, 3} and kinds & {2, 3}         # arcs (and lines where it is straight)
+    assert tuple(rec[-1]["end"]) == (2, 2, 0) and all(r["line"] in (1, 2, 3) for r in rec)
+
+
+def test_g5_1_quadratic_spline():
+    code = "G0 X1 Y1\nG5.1 X5 Y1 I2 J3 F300\nG1 X6\n"
+    rec = check_against_the_curve(code.replace("G1 X6\n", ""), [(lambda t: bezier([(1, 1), (3, 4), (5, 1)], t), 0, 1)], (2,))
+    assert ends(code)[-1] == (6, 1, 0)
+
+
+def test_g5_2_nurbs_on_linuxcncs_knots():
+    # LinuxCNC's example: the current point is the first control point; the lines after
+    # G5.2 add theirs with weights P; L the order; G5.3 ends the block
+    code = "G0 X0 Y0\nF10\nG5.2 X0 Y1 P1 L3\nX2 Y2 P1\nX2 Y0 P1\nX0 Y0 P2\nG5.3\nG0 X3\n"
+    points = [(0, 0, 1), (0, 1, 1), (2, 2, 1), (2, 0, 1), (0, 0, 2)]
+    assert linuxcnc_knots(4, 3) == [0, 0, 0, 1, 2, 3, 3, 3]
+    rec = check_against_the_curve(code.replace("G0 X3\n", ""), [(lambda u: nurbs(points, 3, u), 0, 3)], (7,))
+    assert tuple(rec[-1]["end"]) == (0, 0, 0) and ends(code)[-1] == (3, 0, 0)
+    # G5.2 P alone weighs the first control point; order 4 (cubic)
+    code = "G0 X0 Y0 F10\nG5.2 P3 L4\nX1 Y2\nX3 Y2 P0.5\nX4 Y0\nX6 Y1\nG5.3\n"
+    points = [(0, 0, 3), (1, 2, 1), (3, 2, 0.5), (4, 0, 1), (6, 1, 1)]
+    check_against_the_curve(code, [(lambda u: nurbs(points, 4, u), 0, 2)], (7,))
+
+
+def test_splines_in_inches_and_relative():
+    # G20: X Y I J and G5's P Q are inches; G91: the end is relative, I J P Q always are
+    inch = ends("G20 G0 X0 Y0\nG5 I0 J1 P0 Q-1 X1 Y1 F10\n")
+    mm = ends("G21 G0 X0 Y0\nG91 G5 I0 J25.4 P0 Q-25.4 X25.4 Y25.4 F10\n")
+    assert inch[-1] == pytest.approx((25.4, 25.4, 0)) and len(inch) == len(mm)
+    assert np.allclose(inch, mm, atol=1e-9)
+
+
+@pytest.mark.parametrize("code, number, words", [
+    ("G0 X0 Y0\nG5 X1 Y1 I1 J1 F10\n", 412, ["P and Q"]),
+    ("G0 X0 Y0\nG5 X1 Y1 P1 Q1 F10\n", 412, ["I and J are both needed"]),
+    ("G0 X0 Y0\nG5 X1 Y1 I1 P1 Q1 F10\n", 412, ["I and J are both needed"]),
+    ("G0 X0 Y0\nG5 I0 J1 P0 Q-1 X1 Y1 F10\nG1 X2\nG5 P0 Q-1 X3 Y2\n", 412, ["I and J"]),
+    ("G0 X0 Y0\nG5.1 X1 Y1 F10\n", 412, ["I and J"]),
+    ("G0 X0 Y0\nG18 G5.1 X1 Y1 I1 J1 F10\n", 412, ["XY plane"]),
+    ("G0 X0 Y0\nG5.1 X1 Y1 Z2 I1 J1 F10\n", 412, ["X and Y only"]),
+    ("G0 X0 Y0\nG5.1 X1 Y1 I1 J1\n", 410, ["G5.1 at column 1 with feed 0"]),
+    ("G0 X0 Y0 F10\nG5.2 X1 Y1 L4\nX2 Y0\nG5.3\n", 412, ["at least as many control points"]),
+    ("G0 X0 Y0 F10\nG5.2 X1 Y1\nG1 X2 Y0\n", 412, ["G5.3 ends it"]),
+    ("G0 X0 Y0 F10\nG5.3\n", 412, ["no NURBS block"]),
+    ("G0 X0 Y0 F10\nG5.2 X1 Y1 P0\n", 412, ["weight"]),
+    ("G0 X0 Y0 F10\nG5.2 X1 Y1 L1\n", 412, ["order L"]),
+])
+def test_splines_linuxcnc_refuses(code, number, words):
+    got, _, _, text = refused(code)
+    assert got == number, text
+    for word in words:
+        assert word in text
+
+
+def test_a_spline_compensates_and_plans_like_any_part():
+    # a closed shape of two G5 under G41: the parts are arcs and lines, compensated
+    code = ("G21 G90 G0 X0 Y0\nG41 G1 X10 Y0 F600\nG5 I5 J0 P5 Q0 X10 Y10\nG5 P-5 Q0 X10 Y0\n"
+            "G40 G1 X0 Y0\n")
+    with sf_tch.compile(code, iso=True, radius=0.5, start=START) as program:
+        assert program.ok, program.errors
+        rec = program.toolpath.records
+        assert program.toolpath.to_dict()["cut_length"] > 20
+        spline = [r for r in rec if r["line"] in (3, 4) and r["kind"] == PartKind.MOTION]
+        assert spline and all(np.linalg.norm(np.array(r["tool_end"]) - np.array(r["end"])) == pytest.approx(0.5, abs=0.01)
+                              for r in spline)

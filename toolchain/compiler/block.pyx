@@ -426,6 +426,8 @@ cdef int _ngc_ijk_unused(CState *st, const LineWords *lw, const Block *b, int mo
         return 0
     if motion == 2 or motion == 3:
         unused = bit_of(b'K') if st.plane == 17 else (bit_of(b'I') if st.plane == 19 else bit_of(b'J'))
+    elif motion == 5 or motion == 51:
+        unused = bit_of(b'K')
     elif motion == 33:
         unused = bit_of(b'I') | bit_of(b'J')
     else:
@@ -455,7 +457,10 @@ cdef int _x_parts(CState *st, LineWords *lw, const Block *b) noexcept nogil:
         st.motion_given = True
         if st.ngc != NULL:
             st.ngc.cycle_il_set = False     # a series of cycles ends (G98's level is taken anew)
-        st.motion = -1 if motion == 80 else motion
+        if st.ngc != NULL and st.ngc.nurbs_open and motion != 52 and motion != 53:
+            return ngc_usage(st, 5.1 if motion == 51 else <double>motion, b.motion_col,
+                             "a NURBS block (G5.2) is open: G5.3 ends it")
+        st.motion = -1 if (motion == 80 or motion == 53) else motion
         if motion == 80:
             st.g80_line = st.line
     if b.dwell:
@@ -486,6 +491,10 @@ cdef int _x_parts(CState *st, LineWords *lw, const Block *b) noexcept nogil:
             if moving == 0:
                 return 0
             return cp_no_motion_mode(st, lw, moving)
+        if motion == 5 or motion == 51 or motion == 52 or motion == 53:
+            if lw.mask & (bit_of(b'I') | bit_of(b'J') | bit_of(b'K')) and _ngc_ijk_unused(st, lw, b, motion) != 0:
+                return R_ERR
+            return ngc_spline(st, lw, b, motion, b.motion_col if b.motion >= 0 else axis_column(lw, moving))
         if lw.mask & (bit_of(b'I') | bit_of(b'J') | bit_of(b'K')) and _ngc_ijk_unused(st, lw, b, motion) != 0:
             return R_ERR
         if b.machine and moving:

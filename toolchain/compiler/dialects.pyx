@@ -29,6 +29,8 @@ cdef const char *iso_g_hint(double gv) noexcept nogil:
         return "TG sets zero offsets with G54..G59 and the axes (the ISO mode reads G10 L2 / L20)"
     if gv >= 38.2 and gv <= 38.5:
         return "TG has no probing moves (the ISO mode moves to the point)"
+    if gv == 5.0 or gv == 5.1 or gv == 5.2 or gv == 5.3:
+        return "TG has no splines: write arcs and lines (the ISO mode reads G5, G5.1 and G5.2 / G5.3)"
     if gv == 93.0:
         return "TG has no inverse time feed: G94 mm/min, G95 mm/rev (the ISO mode reads G93)"
     return NULL
@@ -90,7 +92,6 @@ cdef const char *ngc_unsupported(double gv) noexcept nogil:
     """LinuxCNC G functions the ISO mode does not read: why; NULL for the others."""
     if gv == 33.1 or gv == 76.0: return "spindle-synchronised tapping and threading cycles"
     if gv == 87.0 or gv == 88.0: return "LinuxCNC leaves the cycles G87 and G88 undefined"
-    if gv == 5.0 or gv == 5.1 or gv == 5.2 or gv == 5.3: return "splines and NURBS"
     if gv == 7.0 or gv == 8.0: return "lathe diameter and radius modes"
     if gv == 41.1 or gv == 42.1: return "cutter compensation with a diameter from the program"
     if gv == 43.1 or gv == 43.2: return "tool length offsets from the program"
@@ -185,6 +186,11 @@ cdef int iso_read_g(CState *st, const LineWords *lw, int i, Block *b) noexcept n
         b.retract = g
     elif gv == 93.0:
         b.feed_mode = 93
+    elif gv == 5.0 or gv == 5.1 or gv == 5.2 or gv == 5.3:
+        if cp_set_motion(st, b, 5 if gv == 5.0 else to_int(floor(gv * 10.0 + 0.5)), col) != 0:
+            return R_ERR                # ngc_spline.pyx: 5 51 52 53
+        b.ngc_p = True                  # P: G5's second control point, G5.2's weight
+        b.consumed |= bit_of(b'I') | bit_of(b'J') | bit_of(b'Q') | bit_of(b'L')
     elif gv == 38.2 or gv == 38.3 or gv == 38.4 or gv == 38.5:
         if cp_set_motion(st, b, 38, col) != 0:  # a probing move: to the programmed point (nothing to touch)
             return R_ERR
@@ -214,8 +220,8 @@ cdef int cp_pword(CState *st, LineWords *lw, const Block *b) noexcept nogil:
                 lw.mask |= bit_of(b'H')
                 lw.col[7] = lw.col[15]
             return 0
-        if b.ngc_p or _cycle_runs(st, lw, b):
-            return 0
+        if b.ngc_p or _cycle_runs(st, lw, b) or (b.motion < 0 and st.motion == 52):
+            return 0                        # (a line of a NURBS block: P is its weight)
         arc = b.motion if b.motion >= 0 else st.motion
         if (arc == 2 or arc == 3) and lw.pword != 1.0:
             word = cword(st, lw.pword_at, lw.pword_at + lw.pword_len, lw.pword_len)

@@ -33,6 +33,7 @@ cdef void ngc_free(NgcState *n) noexcept nogil:
         free(n.names)
         free(n.subs)
         free(n.if_keys)
+        free(n.nurbs)
         free(n)
 
 
