@@ -263,6 +263,7 @@ def test_the_c_export_says_a_compressed_file_is_compressed(tmp_path):
     ("G0 G80 X1\n", ["G80 at column 4"]),
     ("#1 = 2\n", ["'#1' at column 1 is not TG G-code"]),
     ("G0 X0\nG4 P0.5\n", ["the ISO mode reads G4 P as seconds"]),
+    ("G0 X0\nG5.1 X1 Y1 I1 J1 F10\n", ["G5.1 at column 1 is not TG G-code", "no splines"]),
 ])
 def test_iso_only_constructs_in_the_tg_dialect_say_how_to_switch_the_mode_on(code, words):
     number, _, _, text = refused(code, iso=False)
@@ -441,3 +442,11 @@ def test_a_spline_compensates_and_plans_like_any_part():
         spline = [r for r in rec if r["line"] in (3, 4) and r["kind"] == PartKind.MOTION]
         assert spline and all(np.linalg.norm(np.array(r["tool_end"]) - np.array(r["end"])) == pytest.approx(0.5, abs=0.01)
                               for r in spline)
+
+
+def test_a_spline_of_absurd_size_stays_bounded():
+    # each piece is halved at most 16 times: a curve 10^29 mm wide makes 4 * 2^16 parts
+    with sf_tch.compile("G0 X0 Y0\nG5.1 X[10**29] Y0 I[10**29] J[10**29] F1\n", iso=True, start=START) as program:
+        assert program.ok and len(program.toolpath.records) == 1 + 4 * 2 ** 16
+    # a NURBS block the program never ends makes no parts
+    assert ends("G0 X0 Y0 F10\nG5.2 X1 Y1\nX2 Y0\nM2\n") == [(0, 0, 0)]

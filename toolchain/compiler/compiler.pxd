@@ -339,7 +339,7 @@ cdef enum:
 # ---- ngc_spline.pyx
 cdef enum:
     SPLINE_MIN_PIECES = 4       # a Bezier's range, a NURBS's knot span: split in this many pieces first
-    SPLINE_MAX_DEPTH = 24       # a piece is halved at most this often
+    SPLINE_MAX_DEPTH = 16       # a piece is halved at most this often (then its arc stands)
     SPLINE_MAX_ORDER = 16       # the highest NURBS order (L) read
     SPLINE_CHECKS = 7           # points of a piece checked against its arc (each eighth)
 
