@@ -105,7 +105,7 @@ cdef enum ErrorNumber:
     WARN_DWELL_WITH_MOTION = 616     # G4 at column %d with G%g: the line dwells and does not move (the ISO mode: the dwell, then the move)
     WARN_G90_MOVES_G1 = 617          # G%g at column %d with axis words moves as G1; ISO moves with the modal G%g (the ISO mode)
     WARN_ISO_IGNORED = 620           # '%s' at column %d ignored (ISO compatibility mode)
-    WARN_NGC_REFUSED = 621           # '%s' at column %d: %s; LinuxCNC stops with an error here (ISO compatibility mode)
+    WARN_NGC_REFUSED = 621           # '%s' at column %d: %s; LinuxCNC stops with an error here, the ISO compatibility mode %s
     # Connection search (700..719)
     ERR_CONNECT_BAD_ARGUMENT = 700   # ConnectCNCEx_Plane: %s = %g: %s
     ERR_CONNECT_NO_LINE = 701        # ConnectCNCEx_Plane: no part at line %d of file %d
@@ -221,7 +221,7 @@ cdef extern from *:
         case 616: return "G4 at column %d with G%g: the line dwells and does not move (the ISO mode: the dwell, then the move)";
         case 617: return "G%g at column %d with axis words moves as G1; ISO moves with the modal G%g (the ISO mode)";
         case 620: return "'%s' at column %d ignored (ISO compatibility mode)";
-        case 621: return "'%s' at column %d: %s; LinuxCNC stops with an error here (ISO compatibility mode)";
+        case 621: return "'%s' at column %d: %s; LinuxCNC stops with an error here, the ISO compatibility mode %s";
         case 700: return "ConnectCNCEx_Plane: %s = %g: %s";
         case 701: return "ConnectCNCEx_Plane: no part at line %d of file %d";
         case 702: return "ConnectCNCEx_Plane: no part with G-code index %d";

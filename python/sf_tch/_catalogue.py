@@ -132,7 +132,7 @@ class ErrorNumber(enum.IntEnum):
     WARN_DWELL_WITH_MOTION = 616  # G4 at column %d with G%g: the line dwells and does not move (the ISO mode: the dwell, then the move)
     WARN_G90_MOVES_G1 = 617  # G%g at column %d with axis words moves as G1; ISO moves with the modal G%g (the ISO mode)
     WARN_ISO_IGNORED = 620  # '%s' at column %d ignored (ISO compatibility mode)
-    WARN_NGC_REFUSED = 621  # '%s' at column %d: %s; LinuxCNC stops with an error here (ISO compatibility mode)
+    WARN_NGC_REFUSED = 621  # '%s' at column %d: %s; LinuxCNC stops with an error here, the ISO compatibility mode %s
     CONNECT_BAD_ARGUMENT = 700  # ConnectCNCEx_Plane: %s = %g: %s
     CONNECT_NO_LINE = 701  # ConnectCNCEx_Plane: no part at line %d of file %d
     CONNECT_NO_GINDEX = 702  # ConnectCNCEx_Plane: no part with G-code index %d

@@ -281,11 +281,13 @@ cdef int cp_read_m(CState *st, const LineWords *lw, int i, Block *b) noexcept no
         return cerr_hint(st, ERR_NGC_UNSUPPORTED, word_at_column(st, lw.mcol[i]), lw.mcol[i],
                          "Fanuc-style subprograms (M98 / M99); an o-word call is read")
     if st.iso and not _ngc_m_known(m):
-        if ngc_refused(st, word_at_column(st, lw.mcol[i]), lw.mcol[i],
-                       "a user M code runs LinuxCNC's program file of that name, which is not read "
-                       "here (the M function's part is kept)" if m >= 100 and m <= 199 else
-                       "no LinuxCNC M code (a Marlin / GRBL post's?); compiled with the TG meaning "
-                       "of its number (GCODE_PARAMETERS)") != 0:
+        if m >= 100 and m <= 199:
+            if ngc_refused(st, word_at_column(st, lw.mcol[i]), lw.mcol[i],
+                           "a user M code (LinuxCNC runs its program file, and stops without one)",
+                           "keeps the M function's part (no file is read)") != 0:
+                return R_ERR
+        elif ngc_refused(st, word_at_column(st, lw.mcol[i]), lw.mcol[i], "no LinuxCNC M code (a Marlin / "
+                         "GRBL post's?)", "compiles it with the TG meaning of its number (GCODE_PARAMETERS)") != 0:
             return R_ERR
     if m == -5:
         b.consumed |= axes_mask()
@@ -437,12 +439,12 @@ cdef int _ngc_ijk_unused(CState *st, const LineWords *lw, const Block *b, int mo
         return 0
     bit = SF_CTZ(unused)
     if motion == 2 or motion == 3:
-        c_snprintf(why, sizeof(why), "%c on an arc in the %s plane (ignored)", <char>(65 + bit),
+        c_snprintf(why, sizeof(why), "%c on an arc in the %s plane", <char>(65 + bit),
                    "XY" if st.plane == 17 else ("YZ" if st.plane == 19 else "ZX"))
     else:
-        c_snprintf(why, sizeof(why), "%c on a line without an arc (G%d; ignored)", <char>(65 + bit),
+        c_snprintf(why, sizeof(why), "%c on a line without an arc (G%d)", <char>(65 + bit),
                    motion if motion >= 0 else 80)
-    return ngc_refused(st, word_at_column(st, lw.col[bit]), lw.col[bit], why)
+    return ngc_refused(st, word_at_column(st, lw.col[bit]), lw.col[bit], why, "ignores it")
 
 
 cdef int _x_parts(CState *st, LineWords *lw, const Block *b) noexcept nogil:

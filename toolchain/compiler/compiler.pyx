@@ -21,7 +21,7 @@ cdef int cp_line(CState *st, const char *p, const char *eol) noexcept nogil:
         if st.ngc != NULL and st.cur_pos != st.percent_open:
             # (a program that starts with '%' ends at the next one: cp_percent_end)
             return R_ERR if ngc_refused(st, "%", column_of(st, p), "a '%' line inside a program that "
-                                        "does not start with one (ignored)") != 0 else R_NEXT
+                                        "does not start with one", "ignores it") != 0 else R_NEXT
         return R_NEXT
     if st.ngc != NULL and (p[0] == b'O' or p[0] == b'o' or p[0] == b'N' or p[0] == b'n'):
         n = ow_statement(st, p, eol)
@@ -150,7 +150,7 @@ cdef int cp_run(CState *st, Unit *u, bint main) noexcept nogil:
             and not st.program_end:
         st.line = count_lines(text, u.len)
         if ngc_refused(st, "%", 1, "the program starts with a '%' line and ends without its closing one "
-                       "(or M2 / M30)") != 0:
+                       "(or M2 / M30)", "ends the program at the end of its text") != 0:
             r = COMPILE_ERROR
     u.len = full_len
     return r

@@ -113,8 +113,8 @@ cdef int cp_set_motion(CState *st, Block *b, int g, int col) noexcept nogil:
             return 0
         if b.motion != 80:
             c_snprintf(why, sizeof(why), "a second motion word on the line after G%d "
-                       "(two G words of one modal group); the later one counts", b.motion)
-            if ngc_refused(st, word_at_column(st, col), col, why) != 0:
+                       "(two G words of one modal group)", b.motion)
+            if ngc_refused(st, word_at_column(st, col), col, why, "runs the later one") != 0:
                 return R_ERR
     b.motion = g
     b.motion_col = col

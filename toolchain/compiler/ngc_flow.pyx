@@ -539,7 +539,8 @@ cdef int ow_statement(CState *st, const char *p, const char *eol) noexcept nogil
         if fl_rest_of_line(st, q, eol) != 0:
             return R_ERR
         if not ow_if_seen(n, &lab, False) and ngc_refused(st, ow_label_text(st, &lab), st.ngc.col,
-                                                          "an endif whose label no if has (ignored)") != 0:
+                                                          "an endif whose label no if has",
+                                                          "ignores it") != 0:
             return R_ERR
         return R_NEXT
     if kw == OW_WHILE:

@@ -319,8 +319,8 @@ cdef int _ngc_nested_comments(CState *st, const char **pp, const char *eol) noex
                 q += 1
             if q >= eol:
                 break                   # not closed: lx_skip_gap reads it as LinuxCNC's first ')'
-            if ngc_refused(st, "(", column_of(st, inner), "a '(' inside a comment (comments do not "
-                           "nest; read to the ')' that closes it)") != 0:
+            if ngc_refused(st, "(", column_of(st, inner), "a '(' inside a comment (comments do not nest)",
+                           "reads the comment to the ')' that closes it") != 0:
                 return R_ERR
         p = lx_skip_ws(q + 1, eol)
     pp[0] = p
