@@ -199,6 +199,10 @@ enum connect_type {
    0, the vendor's behaviour: warning 601 with the line and the depth, and the program
    compiles (docs/compensation.md, "Crossing equidistants: warning, removal, refusal"). */
 #define GCODE_REZERVA1_COMP_STRICT 0x00000002u
+/* ISO_STRICT: with ISO_COMPAT, what LinuxCNC refuses and the ISO mode reads on with a
+   warning (621: unknown M codes, K on an XY-plane arc, a nested comment, ...) is an
+   error (414) instead (docs/compiler.md, "ISO compatibility mode"). */
+#define GCODE_REZERVA1_ISO_STRICT 0x00000004u
 /* APPLY_UNIMPLEMENTED: apply centripetalAcc (arcs slowed to keep v^2/r under it) and
    insertArcMinAngle (no tangent arc below it), which the vendor documents as "not
    implemented yet" and "not implemented, always 0"; 0, the vendor's behaviour: both are

@@ -6,7 +6,8 @@ directory, which holds the files (some gzipped), SOURCES.tsv (file, repository, 
 commit, generator) and rs274.json: per file LinuxCNC 2.9's verdict and the cut and
 rapid lengths of its moves, once from `rs274 -g` (coordinates printed with 4
 decimals) and once from the same interpreter through LinuxCNC's Python module (full
-precision). Skipped without SF_TCH_CORPUS.
+precision). Skipped without SF_TCH_CORPUS. Splines are compared with their own
+tolerance (SPLINE_RELATIVE, below): LinuxCNC measures only its preview polyline of them.
 
 Every file is compiled in a child process, one after the other, each with a time limit:
 a crash or a hang fails the test and names the file. Of the files LinuxCNC accepts, the
@@ -30,6 +31,14 @@ pytestmark = pytest.mark.skipif(CORPUS is None or not (CORPUS / "rs274.json").is
 FILE_SECONDS = 120                      # per file: a compile this long is a hang
 ACCEPTED_SHARE = 0.97
 RELATIVE = 1e-6
+# Splines: `rs274 -g` does not measure them (its output names NURBS_FEED / SPLINE_FEED),
+# and LinuxCNC's Python module measures its preview of them, a polyline of 15 chords per
+# control point (G5.1, G5.2) or 100 per G5, which falls short of the curve (by 6e-6 of
+# the cut on lcnc__systems.ngc). The ISO mode follows the curve within 1 um (its length
+# within 1e-6 of the curve's there), so a file with splines agrees when its cut is within
+# SPLINE_RELATIVE of the preview's; its rapids, as every file's, within RELATIVE.
+SPLINE_RELATIVE = 2e-5
+SPLINE_CANON = {"NURBS_FEED", "SPLINE_FEED"}
 
 CHILD = r"""
 import gzip, json, sys
@@ -87,11 +96,11 @@ def compile_all(names):
     return results
 
 
-def agrees(ours, runs, key):
-    """Our length against LinuxCNC's: within RELATIVE of one of its two runs."""
+def agrees(ours, runs, key, relative=RELATIVE):
+    """Our length against LinuxCNC's: within `relative` of one of its two runs."""
     for run in runs:
         ref = run[key]
-        if abs(ours - ref) <= RELATIVE * max(abs(ref), 1e-3):
+        if abs(ours - ref) <= relative * max(abs(ref), 1e-3):
             return True
     return False
 
@@ -107,7 +116,7 @@ def test_corpus_in_iso_mode_against_linuxcnc(capsys):
     seconds = time.monotonic() - start
     failures = {n: r["failure"] for n, r in results.items() if "failure" in r}
     table = defaultdict(lambda: [0, 0, 0, 0, 0])
-    refused, differ = [], []
+    refused, differ, spline_files = [], [], []
     for name, ref in reference.items():
         row = table[generator.get(name, "?")]
         ours = results[name]
@@ -120,7 +129,12 @@ def test_corpus_in_iso_mode_against_linuxcnc(capsys):
         if linuxcnc and ours["ok"]:
             row[3] += 1
             runs = [ref["rs274py"], ref["rs274"]]
-            if agrees(ours["cut"], runs, "cut") and agrees(ours["rapid"], runs, "rapid"):
+            splines = bool(SPLINE_CANON & set(ref["rs274"].get("other_motion", [])))
+            cut_ok = (agrees(ours["cut"], runs[:1], "cut", SPLINE_RELATIVE) if splines
+                      else agrees(ours["cut"], runs, "cut"))
+            if splines:
+                spline_files.append(f"{name}: cut {ours['cut']!r} against the preview's {runs[0]['cut']!r}")
+            if cut_ok and agrees(ours["rapid"], runs, "rapid"):
                 row[4] += 1
             else:
                 differ.append(f"{name}: cut {ours['cut']!r} rapid {ours['rapid']!r} against "
@@ -132,6 +146,9 @@ def test_corpus_in_iso_mode_against_linuxcnc(capsys):
     lines.append(f"{'total':<44} " + " ".join(f"{v:>{w}}" for v, w in zip(totals, (5, 8, 8, 5, 7))))
     lines.append(f"({len(reference)} files in {seconds:.1f} s; LinuxCNC accepts, the ISO mode refuses:)")
     lines += [f"  {r}" for r in refused]
+    if spline_files:
+        lines.append(f"(with splines: the cut within {SPLINE_RELATIVE:g} of LinuxCNC's preview polyline)")
+        lines += [f"  {r}" for r in spline_files]
     with capsys.disabled():
         print("\n" + "\n".join(lines))
     assert not failures, failures

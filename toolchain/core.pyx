@@ -147,6 +147,9 @@ cdef int _compile_job(Core *core, CompileJob *job, ProgramBuilder *build, GCODE_
         if job.text == NULL:
             set_error_text(err, read_error, job.files[0], 0, job.name)
             return COMPILE_ERROR
+    if job.length >= 2 and <unsigned char>job.text[0] == 0x1f and <unsigned char>job.text[1] == 0x8b:
+        set_error_text(err, ERR_COMPRESSED_FILE, job.files[0], 0, job.name)    # gzip's magic bytes
+        return COMPILE_ERROR
     inp = <CompileInput *>calloc(1, sizeof(CompileInput))
     if inp == NULL:
         set_error(err, ERR_OUT_OF_MEMORY, job.files[0], 0, NULL, 0)

@@ -250,6 +250,8 @@ cdef int gcode_parameter_from_ini(GCODE_PARAMETERS *p, const char *key, const ch
         return 1
     if strcasecmp(key, "isoCompat") == 0:        # docs/compiler.md: the ISO compatibility mode
         return _rezerva1_switch(p, value, GCODE_REZERVA1_ISO_COMPAT)
+    if strcasecmp(key, "isoStrict") == 0:        # docs/compiler.md: what LinuxCNC refuses is an error
+        return _rezerva1_switch(p, value, GCODE_REZERVA1_ISO_STRICT)
     if strcasecmp(key, "strictCompensation") == 0:      # docs/compensation.md: crossing equidistants refused
         return _rezerva1_switch(p, value, GCODE_REZERVA1_COMP_STRICT)
     if strcasecmp(key, "applyUnimplemented") == 0:      # docs/behaviour.md: centripetalAcc, insertArcMinAngle

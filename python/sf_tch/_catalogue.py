@@ -63,6 +63,7 @@ class ErrorNumber(enum.IntEnum):
     M_PENDING = 23  # An M function still waits for its confirmation (ToolChainCore_ConfirmMFunc)
     PATH_NOT_FINITE = 24  # %s: the move's path is not finite (%s)
     TABLE_TOO_LARGE = 25  # Table file '%s' is larger than 64 MiB
+    COMPRESSED_FILE = 26  # Program '%s' is compressed (gzip): decompress it first (the Python package and sf-tch read .gz programs)
     PARAMETERS_WHILE_STOPPED = 27  # SetGCodeParameters in status %d (%s): only the feeds may change while the program stands on its trajectory; %s
     UNKNOWN_WORD = 100  # Unknown word '%s' at column %d
     BAD_NUMBER = 101  # Bad number '%s' at column %d
@@ -74,7 +75,7 @@ class ErrorNumber(enum.IntEnum):
     TOO_MANY_WORDS = 107  # More than %d %s words on one line
     NUMBER_OVERFLOW = 108  # Number '%s' at column %d is too large
     P_WORD = 110  # Word '%s' at column %d: P is reserved for parameters P00..P99 (Pnn = value); %s
-    NOT_TG = 111  # '%s' at column %d is not TG G-code: %s
+    NOT_TG = 111  # '%s' at column %d is not TG G-code: %s; the ISO mode reads it: sf-tch compile --iso, sf_tch.compile(..., iso=True), GCODE_PARAMETERS.rezerva1 bit 0
     NGC_UNSUPPORTED = 112  # '%s' at column %d is not supported in the ISO compatibility mode: %s
     DIVISION_BY_ZERO = 200  # Division by zero
     BAD_PARAMETER = 201  # Parameter P%g at column %d does not exist (P00..P99)
@@ -99,7 +100,7 @@ class ErrorNumber(enum.IntEnum):
     BAD_CONDITION = 308  # Bad condition '%s' at column %d
     PART_LIMIT = 309  # More than %d parts: program too large
     O_WORD = 310  # O-word '%s' at column %d: %s
-    O_UNDEFINED = 311  # Subroutine '%s' at column %d is not defined before its call
+    O_UNDEFINED = 311  # Subroutine '%s' at column %d is not defined: no 'sub' line was read before the call or follows it
     PROGRAM_TABLE_LIMIT = 312  # More than %d different %s in one program
     ARC_CENTRE = 400  # Wrongly entered centre of circular interpolation %s at column %d: start %s = %g %s = %g, end %s = %g %s = %g, delta (%.7f) > 2*R (%.7f)
     ARC_RADIUS = 401  # Arc radius %g too small for chord %g
@@ -109,11 +110,12 @@ class ErrorNumber(enum.IntEnum):
     BAD_M = 405  # Bad M function M%g at column %d
     MACHINE_LIMIT = 406  # Axis %s position %g outside the machine limits <%g, %g>
     ARC_RADII = 407  # Wrongly entered centre of circular interpolation %s at column %d: start %s = %g %s = %g, end %s = %g %s = %g, radius at start (%.7f) <> radius at end (%.7f)
-    ISO_G = 408  # G%g at column %d is not TG G-code: %s
+    ISO_G = 408  # G%g at column %d is not TG G-code: %s; the ISO mode reads it: sf-tch compile --iso, sf_tch.compile(..., iso=True), GCODE_PARAMETERS.rezerva1 bit 0
     NO_FEED = 410  # G%g at column %d with feed 0: no F word was given (LinuxCNC refuses it)
-    NO_MOTION_MODE = 411  # Axis word '%s' at column %d without a motion mode (G0 G1 G2 G3 or a canned cycle)
+    NO_MOTION_MODE = 411  # Axis word '%s' at column %d without a motion mode (G0 G1 G2 G3 or a canned cycle): %s
     NGC_G = 412  # G%g at column %d: %s
     NGC_WORD = 413  # '%s' at column %d: %s
+    NGC_REFUSED = 414  # '%s' at column %d: %s; LinuxCNC stops with an error here (strict ISO mode)
     COMP_NOT_FOUND = 500  # Intersection of equidistants not found
     COMP_ON_ARC = 501  # Compensation switched on or off on an arc
     COMP_PLANE_CHANGE = 502  # Plane changed while tool radius compensation is active
@@ -122,15 +124,16 @@ class ErrorNumber(enum.IntEnum):
     COMP_LOOKAHEAD = 505  # More than %d blocks without motion in the compensation plane
     COMPENSATION_WARNING = 600  # Tool radius compensation: %s
     COMPENSATION_GOUGE = 601  # Equidistant error on line %d: the tool cuts %g mm into the contour
-    WARN_G43_H = 610  # G43 with H at column %d: TG's G43 switches on tool radius compensation with correction[2], it is no tool length offset (TG: & n; isoCompat: G43 H n is & n)
-    WARN_O_AT_START = 611  # O%g at column %d at the start of the program moves the O axis; a program number? (isoCompat: ignored)
-    WARN_G18_ARC = 612  # G18 arc at column %d after an ISO header (G21 / G90): TG's G18 is the XZ plane with arcs turning the other way than ISO's ZX plane, which is TG's G-18 (isoCompat: G18 is read as G-18)
-    WARN_ZERO_WITH_MOVE = 613  # G%g at column %d with axis words sets the zero offset to them; the axes do not move (isoCompat: G54..G59 keep the offset and the line moves)
-    WARN_NO_FEED = 614  # G%g at column %d at feed 0 (no F word yet, or F0) moves at GCODE_PARAMETERS motion[1].feed; LinuxCNC refuses a feed of 0 (isoCompat: error 410)
-    WARN_BARE_AXES = 615  # Axis words at column %d before any G0..G3 move as G1; LinuxCNC refuses axis words without a motion mode (isoCompat: error 411)
-    WARN_DWELL_WITH_MOTION = 616  # G4 at column %d with G%g: the line dwells and does not move (isoCompat: the dwell, then the move)
-    WARN_G90_MOVES_G1 = 617  # G%g at column %d with axis words moves as G1; ISO moves with the modal G%g (isoCompat)
+    WARN_G43_H = 610  # G43 with H at column %d: TG's G43 switches on tool radius compensation with correction[2], it is no tool length offset (TG: & n; the ISO mode: G43 H n is & n)
+    WARN_O_AT_START = 611  # O%g at column %d at the start of the program moves the O axis; a program number? (the ISO mode: ignored)
+    WARN_G18_ARC = 612  # G18 arc at column %d after an ISO header (G21 / G90): TG's G18 is the XZ plane with arcs turning the other way than ISO's ZX plane, which is TG's G-18 (the ISO mode: G18 is read as G-18)
+    WARN_ZERO_WITH_MOVE = 613  # G%g at column %d with axis words sets the zero offset to them; the axes do not move (the ISO mode: G54..G59 keep the offset and the line moves)
+    WARN_NO_FEED = 614  # G%g at column %d at feed 0 (no F word yet, or F0) moves at GCODE_PARAMETERS motion[1].feed; LinuxCNC refuses a feed of 0 (the ISO mode: error 410)
+    WARN_BARE_AXES = 615  # Axis words at column %d before any G0..G3 move as G1; LinuxCNC refuses axis words without a motion mode (the ISO mode: error 411)
+    WARN_DWELL_WITH_MOTION = 616  # G4 at column %d with G%g: the line dwells and does not move (the ISO mode: the dwell, then the move)
+    WARN_G90_MOVES_G1 = 617  # G%g at column %d with axis words moves as G1; ISO moves with the modal G%g (the ISO mode)
     WARN_ISO_IGNORED = 620  # '%s' at column %d ignored (ISO compatibility mode)
+    WARN_NGC_REFUSED = 621  # '%s' at column %d: %s; LinuxCNC stops with an error here, the ISO compatibility mode %s
     CONNECT_BAD_ARGUMENT = 700  # ConnectCNCEx_Plane: %s = %g: %s
     CONNECT_NO_LINE = 701  # ConnectCNCEx_Plane: no part at line %d of file %d
     CONNECT_NO_GINDEX = 702  # ConnectCNCEx_Plane: no part with G-code index %d

@@ -50,6 +50,7 @@ INVALID_VALUE = 1.0000000694406173e38  # > 1e38 in float and in double (the head
 PLC_MEMORY_BYTES = 524288
 GCODE_REZERVA1_ISO_COMPAT = 0x1   # GCODE_PARAMETERS.rezerva1: the ISO compatibility mode (docs/compiler.md)
 GCODE_REZERVA1_COMP_STRICT = 0x2  # ... crossing equidistants refused (error 504; docs/compensation.md)
+GCODE_REZERVA1_ISO_STRICT = 0x4   # ... with the ISO mode: what LinuxCNC refuses is error 414, not warning 621
 GCODE_REZERVA1_APPLY_UNIMPLEMENTED = 0x10  # ... centripetalAcc and insertArcMinAngle applied (docs/behaviour.md)
 
 AXES = ("x", "y", "z", "c", "b", "u", "v", "w", "a", "o")

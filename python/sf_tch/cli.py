@@ -10,11 +10,14 @@
     sf-tch --version
 
 Options of the commands that compile: --radius MM, --strategy BITS, --ini FILE,
---core N, --relative, --iso (the ISO compatibility mode, docs/compiler.md), --strict (tool
+--core N, --relative, --iso (the ISO compatibility mode, docs/compiler.md), --iso-strict (the
+mode, with error 414 where LinuxCNC refuses what the mode reads on with warning 621), --strict (tool
 radius compensation refuses a tool path that cuts into the contour: error 504 instead of
 warning 601, docs/compensation.md), --look-ahead N, --json (one JSON document on stdout
 instead of text, also when the command fails: then with ``"ok": false``, ``"error"`` and
 ``"exit_code"``). Warnings go to stderr as file:line: warning N: text, then their count.
+
+A gzip-compressed program (LinuxCNC's samples ship as ``.ngc.gz``) is decompressed first.
 
 Exit codes: 0 success; 1 the program has errors (compile or run); 2 bad usage (bad
 arguments, a missing, unreadable or not regular file, no library); 130 interrupted
@@ -199,7 +202,8 @@ def _compile(args, path: str) -> Program:
     params = {"absMode": 0} if args.relative else None
     try:
         job = start_compile(source, radius=args.radius, strategy=args.strategy, ini=args.ini, params=params,
-                            core=args.core, name=name, progress=bar, iso=args.iso, strict=args.strict,
+                            core=args.core, name=name, progress=bar,
+                            iso="strict" if args.iso_strict else args.iso, strict=args.strict,
                             look_ahead=args.look_ahead, keep_core=True)
         try:
             with warnings.catch_warnings():
@@ -470,6 +474,9 @@ def parser() -> argparse.ArgumentParser:
         p.add_argument("--relative", action="store_true", help="absMode 0 (relative coordinates)")
         p.add_argument("--iso", action="store_true",
                        help="ISO compatibility mode: G20/G21, G4 P seconds, G18 as ISO, G43 H a tool length, ...")
+        p.add_argument("--iso-strict", action="store_true",
+                       help="the ISO mode, and what LinuxCNC refuses (unknown M codes, K on an XY arc, ...) "
+                            "is error 414 instead of warning 621")
         p.add_argument("--strict", action="store_true",
                        help="compensation refuses a tool path that cuts into the contour (error 504; "
                             "default: warning 601 and the path as its offsets give it)")

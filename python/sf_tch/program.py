@@ -15,10 +15,13 @@ closed, its ``with`` block ends or nothing references it any more).
 """
 from __future__ import annotations
 
+import gzip
+import io
 import os
 import re
 import threading
 import warnings
+import zlib
 from pathlib import Path
 from typing import Callable, Iterator, Sequence, Union
 
@@ -38,12 +41,33 @@ Source = Union[str, bytes, os.PathLike]   # (not `|`: CPython 3.9 evaluates it)
 _LOOKS_LIKE_G_CODE = re.compile(r"\s*(?:[GMN]\s*-?\d|[XYZABCUVWIJKF]\s*[-+]?[\d.(]|P\d+\s*=|[(;%])", re.I)
 
 
+GZIP_MAGIC = b"\x1f\x8b"
+MAX_PROGRAM_BYTES = 1 << 30             # the library's limit of a program file (error 12)
+
+
+def _gunzip(data: bytes | Path, what: str) -> bytes:
+    """The G-code of a gzip-compressed program (LinuxCNC's samples ship as .ngc.gz),
+    at most the library's 1 GiB of text."""
+    with gzip.open(io.BytesIO(data) if isinstance(data, bytes) else data) as f:
+        try:
+            text = f.read(MAX_PROGRAM_BYTES + 1)
+        except (OSError, EOFError, zlib.error) as e:
+            raise OSError(f"{what}: not a readable gzip file ({e})") from None
+    if len(text) > MAX_PROGRAM_BYTES:
+        raise OSError(f"{what}: more than 1 GiB of G-code once decompressed")
+    return text
+
+
 def _read_source(source: Source, name: str | None) -> tuple[str | bytes | None, Path | None, str]:
     """(text, path, name): text for G-code given as text, path for a file. A str
     with a line break, or bytes, is G-code; any other str or a PathLike is a file
     (a str without a line break is never guessed to be G-code: the message says so).
-    Bytes stay bytes: the library gets them as they are (a byte-order mark too)."""
+    Bytes stay bytes: the library gets them as they are (a byte-order mark too). A
+    gzip-compressed file or bytes (starting 1F 8B) are decompressed here: the library
+    reads text only (its CompileFromFile refuses them with error 26)."""
     if isinstance(source, bytes):
+        if source[:2] == GZIP_MAGIC:
+            return _gunzip(source, name or "program"), None, name or "program.nc"
         return source, None, name or "program.nc"
     if isinstance(source, str) and ("\n" in source or "\r" in source):
         return source, None, name or "program.nc"
@@ -59,6 +83,10 @@ def _read_source(source: Source, name: str | None) -> tuple[str | bytes | None, 
         raise OSError(f"{path}: not a regular file (G-code is read from a regular file, or given as text)")
     if not os.access(path, os.R_OK):
         raise PermissionError(f"{path}: not readable")
+    with open(path, "rb") as f:
+        compressed = f.read(2) == GZIP_MAGIC
+    if compressed:
+        return _gunzip(path, str(path)), None, name or str(path)
     return None, path, name or str(path)
 
 
@@ -194,12 +222,14 @@ def start_compile(source: Source, radius: float | None = None, strategy: int | N
                   ini: str | os.PathLike | None = None, params: dict | None = None, core: int | None = None,
                   name: str | None = None, progress: Callable[[int], object] | None = None,
                   cancel=None, start: Sequence[float] | None = None, look_ahead: int | None = None,
-                  iso: bool = False, strict: bool = False, keep_core: bool = False) -> CompileJob:
+                  iso: bool | str = False, strict: bool = False, keep_core: bool = False) -> CompileJob:
     """Starts compiling and returns the running :class:`CompileJob`; the arguments
     are those of :func:`compile`. The job holds its core until its :meth:`~CompileJob.result`
     (and with ``keep_core`` its program after that)."""
     if radius is not None and not radius >= 0:
         raise ValueError(f"tool radius must be a number >= 0 mm, not {radius}")
+    if iso not in (False, True, "strict"):
+        raise ValueError(f"iso must be False, True or 'strict', not {iso!r}")
     if ini is not None:
         _check_ini(ini)
     text, path, name = _read_source(source, name)
@@ -210,7 +240,8 @@ def start_compile(source: Source, radius: float | None = None, strategy: int | N
         if iso or strict or "rezerva1" not in fields:
             # the modes are this call's (a core keeps its parameters from one user to the next)
             base = fields.get("rezerva1", handle.params.rezerva1)
-            for bit, on in ((abi.GCODE_REZERVA1_ISO_COMPAT, iso), (abi.GCODE_REZERVA1_COMP_STRICT, strict)):
+            for bit, on in ((abi.GCODE_REZERVA1_ISO_COMPAT, iso), (abi.GCODE_REZERVA1_ISO_STRICT, iso == "strict"),
+                            (abi.GCODE_REZERVA1_COMP_STRICT, strict)):
                 base = base | bit if on else base & ~bit
             fields["rezerva1"] = base
         if strategy is not None:
@@ -234,7 +265,7 @@ def compile(source: Source, radius: float | None = None, strategy: int | None = 
             ini: str | os.PathLike | None = None, params: dict | None = None, core: int | None = None,
             name: str | None = None, progress: Callable[[int], object] | None = None,
             cancel=None, start: Sequence[float] | None = None, look_ahead: int | None = None,
-            iso: bool = False, strict: bool = False, keep_core: bool = False) -> Program:
+            iso: bool | str = False, strict: bool = False, keep_core: bool = False) -> Program:
     """Compiles G-code and returns the :class:`Program`; errors of the G-code are in
     ``program.errors`` (``program.check()`` raises the first).
 
@@ -252,7 +283,9 @@ def compile(source: Source, radius: float | None = None, strategy: int | None = 
       position (x y z ... in axis order, up to 10) the program starts from, default
       where the core's machine stands (set by ResetCNC, or 0);
     - ``iso``: the ISO compatibility mode (G20/G21, ``G4 P`` seconds, G18 as ISO, G43 H
-      as a tool length, ... docs/compiler.md), off by default;
+      as a tool length, ... docs/compiler.md), off by default; ``iso="strict"``: the
+      mode, and what LinuxCNC refuses (unknown M codes, K on an XY arc, a nested
+      comment, ...) is error 414 instead of warning 621;
     - ``strict``: tool radius compensation refuses a tool path that cuts into the
       contour where it cannot remove that part (error 504); by default such a part
       is compiled as its offsets give it, with warning 601 (line, depth in mm), which

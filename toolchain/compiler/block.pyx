@@ -207,7 +207,8 @@ cdef int cp_read_g(CState *st, const LineWords *lw, int i, Block *b) noexcept no
     if gv != <double>g:
         return cp_unknown_g(st, gv, lw.gcol[i])
     if g == 0 or g == 1 or g == 2 or g == 3 or g == 33:
-        b.motion = g
+        if cp_set_motion(st, b, g, lw.gcol[i]) != 0:
+            return R_ERR
         if g == 33:
             b.consumed |= bit_of(b'K') | bit_of(b'F')
     elif g == 4:
@@ -264,6 +265,12 @@ cdef int cp_read_g(CState *st, const LineWords *lw, int i, Block *b) noexcept no
     return 0
 
 
+cdef bint _ngc_m_known(int m) noexcept nogil:
+    """An M code LinuxCNC 2.9 runs without a user program (M100 .. M199 need one)."""
+    return (m >= 0 and m <= 9) or m == 19 or m == 30 or (m >= 48 and m <= 53) or m == 60 \
+        or (m >= 61 and m <= 68) or (m >= 70 and m <= 73) or m == 98 or m == 99
+
+
 cdef int cp_read_m(CState *st, const LineWords *lw, int i, Block *b) noexcept nogil:
     """M function i of the line: a valid number; the letters it uses."""
     cdef const GCODE_PARAMETERS *pr = &st.params
@@ -273,6 +280,15 @@ cdef int cp_read_m(CState *st, const LineWords *lw, int i, Block *b) noexcept no
     if st.iso and m == 98:
         return cerr_hint(st, ERR_NGC_UNSUPPORTED, word_at_column(st, lw.mcol[i]), lw.mcol[i],
                          "Fanuc-style subprograms (M98 / M99); an o-word call is read")
+    if st.iso and not _ngc_m_known(m):
+        if m >= 100 and m <= 199:
+            if ngc_refused(st, word_at_column(st, lw.mcol[i]), lw.mcol[i],
+                           "a user M code (LinuxCNC runs its program file, and stops without one)",
+                           "keeps the M function's part (no file is read)") != 0:
+                return R_ERR
+        elif ngc_refused(st, word_at_column(st, lw.mcol[i]), lw.mcol[i], "no LinuxCNC M code (a Marlin / "
+                         "GRBL post's?)", "compiles it with the TG meaning of its number (GCODE_PARAMETERS)") != 0:
+            return R_ERR
     if m == -5:
         b.consumed |= axes_mask()
     elif _is_m(pr, m, pr.M06_changeTool):
@@ -401,6 +417,36 @@ cdef bint _is_cycle(int motion) noexcept nogil:
     return motion == 73 or motion == 74 or (motion >= 81 and motion <= 89)
 
 
+cdef int _ngc_ijk_unused(CState *st, const LineWords *lw, const Block *b, int motion) noexcept nogil:
+    """ISO mode: I J K that no function of the line uses, which LinuxCNC refuses: on a
+    line without an arc (`G0 X1 I2`), or the plane's normal on an arc (K in G17, I in G19,
+    J in G18). Warning 621 (they are ignored), error 414 in the strict ISO mode."""
+    cdef uint32_t unused = 0
+    cdef int bit
+    cdef char why[120]
+    if b.rotation == 168 or b.g10:
+        return 0
+    if motion == 2 or motion == 3:
+        unused = bit_of(b'K') if st.plane == 17 else (bit_of(b'I') if st.plane == 19 else bit_of(b'J'))
+    elif motion == 5 or motion == 51:
+        unused = bit_of(b'K')
+    elif motion == 33:
+        unused = bit_of(b'I') | bit_of(b'J')
+    else:
+        unused = bit_of(b'I') | bit_of(b'J') | bit_of(b'K')
+    unused &= lw.mask & ~b.consumed
+    if unused == 0:
+        return 0
+    bit = SF_CTZ(unused)
+    if motion == 2 or motion == 3:
+        c_snprintf(why, sizeof(why), "%c on an arc in the %s plane", <char>(65 + bit),
+                   "XY" if st.plane == 17 else ("YZ" if st.plane == 19 else "ZX"))
+    else:
+        c_snprintf(why, sizeof(why), "%c on a line without an arc (G%d)", <char>(65 + bit),
+                   motion if motion >= 0 else 80)
+    return ngc_refused(st, word_at_column(st, lw.col[bit]), lw.col[bit], why, "ignores it")
+
+
 cdef int _x_parts(CState *st, LineWords *lw, const Block *b) noexcept nogil:
     """11. Continuous M functions, then the dwell or the motion of the line."""
     cdef int i, m, motion = b.motion, r
@@ -413,7 +459,12 @@ cdef int _x_parts(CState *st, LineWords *lw, const Block *b) noexcept nogil:
         st.motion_given = True
         if st.ngc != NULL:
             st.ngc.cycle_il_set = False     # a series of cycles ends (G98's level is taken anew)
-        st.motion = -1 if motion == 80 else motion
+        if st.ngc != NULL and st.ngc.nurbs_open and motion != 52 and motion != 53:
+            return ngc_usage(st, 5.1 if motion == 51 else <double>motion, b.motion_col,
+                             "a NURBS block (G5.2) is open: G5.3 ends it")
+        st.motion = -1 if (motion == 80 or motion == 53) else motion
+        if motion == 80:
+            st.g80_line = st.line
     if b.dwell:
         if em_dwell(st, lw) != 0:
             return R_ERR
@@ -441,8 +492,13 @@ cdef int _x_parts(CState *st, LineWords *lw, const Block *b) noexcept nogil:
         if motion < 0:
             if moving == 0:
                 return 0
-            return cerr_at(st, ERR_NO_MOTION_MODE, word_at_column(st, axis_column(lw, moving)),
-                           axis_column(lw, moving))
+            return cp_no_motion_mode(st, lw, moving)
+        if motion == 5 or motion == 51 or motion == 52 or motion == 53:
+            if lw.mask & (bit_of(b'I') | bit_of(b'J') | bit_of(b'K')) and _ngc_ijk_unused(st, lw, b, motion) != 0:
+                return R_ERR
+            return ngc_spline(st, lw, b, motion, b.motion_col if b.motion >= 0 else axis_column(lw, moving))
+        if lw.mask & (bit_of(b'I') | bit_of(b'J') | bit_of(b'K')) and _ngc_ijk_unused(st, lw, b, motion) != 0:
+            return R_ERR
         if b.machine and moving:
             return ngc_machine_move(st, lw, motion)
         if motion == 38:

@@ -12,6 +12,7 @@
 #   dialects.pyx     the TG hints for ISO G functions; how the ISO mode reads a line
 #   ngc_flow.pyx     ISO mode: O-word subroutines, branches and loops
 #   ngc_motion.pyx   ISO mode: work offsets, G28 / G30, G53, canned cycles
+#   ngc_spline.pyx   ISO mode: G5 / G5.1 / G5.2-G5.3 splines as arcs and lines within 1 um
 #   tools.pyx        the tool table in programs: D, &, G92 D (ISO: G43 H, G49)
 #   block.pyx        one line's G and M functions by modal group (Block), run in one order
 #   compiler.pyx     the line loop: units, lines, the run to the end
@@ -173,6 +174,16 @@ ctypedef struct NgcState:
     NgcScan scans[NGC_SCANS]    # loops over skipped branches scan each branch once
     NgcSub *subs
     size_t n_subs, cap_subs
+    # splines (ngc_spline.pyx)
+    double spline_pq[2]         # the last G5's P Q: a G5 right after it may leave out I J
+    size_t spline_part          # the part count after that G5 (a part made since: no G5 goes on from it)
+    bint spline_pq_set
+    bint nurbs_open             # between G5.2 and G5.3
+    int nurbs_order
+    double *nurbs               # the open NURBS's control points: x y w, in program coordinates
+    size_t n_nurbs, cap_nurbs   # (cap in doubles)
+    uint64_t *if_keys           # the labels of the `if` statements executed (ow_if_key; 0: empty slot)
+    size_t n_if_keys, cap_if_keys   # cap: 0 or a power of two, at least twice n_if_keys
     NgcFrame frames[NGC_FRAMES]
     int n_frames
     int level                   # call level: 0 in the program
@@ -261,6 +272,8 @@ ctypedef struct CState:
     bint warned_g18                         # the G18 arc warning is given once
     bint warned_feed, warned_bare_axes      # warnings 614 / 615 are given once
     bint motion_given                       # a G0 .. G3 (or ISO cycle) was written
+    uint32_t g80_line                       # ISO mode: the line whose G80 cancelled the motion mode (0: none)
+    size_t percent_open                     # ISO mode: start of the unit's opening '%' line (SIZE_MAX: none)
     NgcState *ngc                           # ISO mode: parameters, O-words, offsets, cycles (else NULL)
     int n_warnings
     char word[64]                           # text of an offending word for messages
@@ -324,12 +337,21 @@ cdef enum:
     OW_BREAK = 14
     OW_CONTINUE = 15
 
+# ---- ngc_spline.pyx
+cdef enum:
+    SPLINE_MIN_PIECES = 4       # a Bezier's range, a NURBS's knot span: split in this many pieces first
+    SPLINE_MAX_DEPTH = 16       # a piece is halved at most this often (then its arc stands)
+    SPLINE_MAX_ORDER = 16       # the highest NURBS order (L) read
+    SPLINE_CHECKS = 7           # points of a piece checked against its arc (each eighth)
+
 # ---- block.pyx
 # What one line says, by modal group: cp_read_block fills it from the G functions in
 # the order written (a later G of the same group replaces an earlier one); cp_block
 # executes the groups in the order block.pyx documents. 0 / -1: not on the line.
 ctypedef struct Block:
-    int motion              # 0 1 2 3 33; ISO mode: also 73 74 81 .. 86 89 (cycles), 80 (cancel); -1 none
+    int motion              # 0 1 2 3 33; ISO mode: also 73 74 81 .. 86 89 (cycles), 80 (cancel),
+                            # 5 51 52 53 (G5 G5.1 G5.2 G5.3); -1 none
+    int motion_col          # its column
     int plane               # 17 18 19 -18
     int units               # 21 (TG: an ISO header)
     int comp                # 40 .. 48

@@ -15,7 +15,13 @@ cdef int cp_line(CState *st, const char *p, const char *eol) noexcept nogil:
     cdef int n, a
     cdef const char *q
     p = lx_skip_ws(p, eol)
-    if p >= eol or p[0] == b'%':
+    if p >= eol:
+        return R_NEXT
+    if p[0] == b'%':
+        if st.ngc != NULL and st.cur_pos != st.percent_open:
+            # (a program that starts with '%' ends at the next one: cp_percent_end)
+            return R_ERR if ngc_refused(st, "%", column_of(st, p), "a '%' line inside a program that "
+                                        "does not start with one", "ignores it") != 0 else R_NEXT
         return R_NEXT
     if st.ngc != NULL and (p[0] == b'O' or p[0] == b'o' or p[0] == b'N' or p[0] == b'n'):
         n = ow_statement(st, p, eol)
@@ -91,18 +97,71 @@ cdef uint32_t count_lines(const char *text, size_t n) noexcept nogil:
     return lines
 
 
+cdef inline bint _percent_line(const char *p, const char *eol) noexcept nogil:
+    p = lx_skip_ws(p, eol)
+    return p < eol and p[0] == b'%'
+
+
+cdef size_t cp_percent_end(CState *st, Unit *u, size_t pos) noexcept nogil:
+    """ISO mode: a text whose first non-blank line is a '%' line ends at the next '%'
+    line (LinuxCNC ignores what follows it). The end of the text, that line's start;
+    u.len when the text starts otherwise or has no closing '%'. st.percent_open: the
+    opening line's start (SIZE_MAX: none)."""
+    cdef const char *text = u.text
+    cdef const char *eol
+    cdef const char *p
+    st.percent_open = <size_t>-1
+    while pos < u.len:
+        eol = <const char *>memchr(text + pos, b'\n', u.len - pos)
+        if eol == NULL:
+            eol = text + u.len
+        p = lx_skip_ws(text + pos, eol)
+        if p < eol:
+            break
+        pos = <size_t>(eol - text) + 1
+    if pos >= u.len or not _percent_line(text + pos, text + u.len):
+        return u.len
+    st.percent_open = pos
+    while pos < u.len:
+        eol = <const char *>memchr(text + pos, b'\n', u.len - pos)
+        if eol == NULL:
+            eol = text + u.len
+        if pos != st.percent_open and _percent_line(text + pos, eol):
+            return pos
+        pos = <size_t>(eol - text) + 1
+    return u.len
+
+
 cdef int cp_run(CState *st, Unit *u, bint main) noexcept nogil:
     """Executes one source from its first line; COMPILE_OK / ERROR / CANCELLED."""
     cdef size_t pos = 0
-    cdef uint32_t line = 1
-    cdef const char *eol
     cdef const char *text = u.text
-    cdef int r, percent, k
-    cdef ErrArg a
+    cdef int r
+    cdef size_t full_len = u.len
     st.unit = u
     st.n_frames = 0
     st.n_calls = 0
     pos = lx_bom(text, u.len)
+    st.percent_open = <size_t>-1
+    if st.ngc != NULL:
+        u.len = cp_percent_end(st, u, pos)      # (restored below: the unit is the caller's)
+    r = cp_run_lines(st, u, main, pos)
+    if r == COMPILE_OK and st.ngc != NULL and st.percent_open != <size_t>-1 and u.len == full_len \
+            and not st.program_end:
+        st.line = count_lines(text, u.len)
+        if ngc_refused(st, "%", 1, "the program starts with a '%' line and ends without its closing one "
+                       "(or M2 / M30)", "ends the program at the end of its text") != 0:
+            r = COMPILE_ERROR
+    u.len = full_len
+    return r
+
+
+cdef int cp_run_lines(CState *st, Unit *u, bint main, size_t pos) noexcept nogil:
+    """cp_run's loop over the lines of u from pos."""
+    cdef uint32_t line = 1
+    cdef const char *eol
+    cdef const char *text = u.text
+    cdef int r, percent, k
     while pos < u.len:
         st.blocks += 1
         if (st.blocks & 1023) == 0:

@@ -8,29 +8,31 @@ cdef const char *iso_g_hint(double gv) noexcept nogil:
     """What TG expects instead of an ISO G function it does not have (and what the ISO
     mode reads it as); NULL: no ISO meaning."""
     if gv == 20.0:
-        return "TG works in millimetres (isoCompat reads G20 as inches)"
+        return "TG works in millimetres (the ISO mode reads G20 as inches)"
     if gv == 28.0 or gv == 30.0:
-        return "returns to a home position do not exist in TG (G98 is TG's reference run; isoCompat reads G28 / G30)"
+        return "returns to a home position do not exist in TG (G98 is TG's reference run; the ISO mode reads G28 / G30)"
     if gv == 49.0 or gv == 43.1:
-        return "TG's tool length corrections are & n of the tool table, & 0 cancels them (isoCompat reads G43 H n and G49)"
+        return "TG's tool length corrections are & n of the tool table, & 0 cancels them (the ISO mode reads G43 H n and G49)"
     if gv == 61.0 or gv == 61.1 or gv == 64.0:
-        return "path blending is set by GCODE_PARAMETERS (isoCompat ignores G61 and G64)"
+        return "path blending is set by GCODE_PARAMETERS (the ISO mode ignores G61 and G64)"
     if gv == 80.0:
-        return "TG has no canned cycles (isoCompat reads G80 and the cycles)"
-    if gv == 73.0 or gv == 76.0 or (gv >= 81.0 and gv <= 89.0 and gv == <double>(<int>gv)):
-        return "TG has no canned drilling cycles: write the moves (G0 / G1), or isoCompat expands them"
+        return "TG has no canned cycles (the ISO mode reads G80 and the cycles)"
+    if gv == 73.0 or (gv >= 81.0 and gv <= 89.0 and gv == <double>(<int>gv) and gv != 87.0 and gv != 88.0):
+        return "TG has no canned drilling cycles: write the moves (G0 / G1), or the ISO mode expands them"
     if gv == 90.1:
-        return "TG's arc centres are relative; Q70 on the arc's line makes I J K absolute (isoCompat reads G90.1)"
+        return "TG's arc centres are relative; Q70 on the arc's line makes I J K absolute (the ISO mode reads G90.1)"
     if gv == 91.1:
-        return "TG's arc centres are relative already (isoCompat reads G91.1)"
+        return "TG's arc centres are relative already (the ISO mode reads G91.1)"
     if gv == 92.1 or gv == 92.2:
-        return "TG resets a G92 shift with G92 and the axes (isoCompat reads G92.1 / G92.2)"
+        return "TG resets a G92 shift with G92 and the axes (the ISO mode reads G92.1 / G92.2)"
     if gv == 10.0:
-        return "TG sets zero offsets with G54..G59 and the axes (isoCompat reads G10 L2 / L20)"
+        return "TG sets zero offsets with G54..G59 and the axes (the ISO mode reads G10 L2 / L20)"
     if gv >= 38.2 and gv <= 38.5:
-        return "TG has no probing moves (isoCompat moves to the point)"
+        return "TG has no probing moves (the ISO mode moves to the point)"
+    if gv == 5.0 or gv == 5.1 or gv == 5.2 or gv == 5.3:
+        return "TG has no splines: write arcs and lines (the ISO mode reads G5, G5.1 and G5.2 / G5.3)"
     if gv == 93.0:
-        return "TG has no inverse time feed: G94 mm/min, G95 mm/rev (isoCompat reads G93)"
+        return "TG has no inverse time feed: G94 mm/min, G95 mm/rev (the ISO mode reads G93)"
     return NULL
 
 
@@ -90,7 +92,6 @@ cdef const char *ngc_unsupported(double gv) noexcept nogil:
     """LinuxCNC G functions the ISO mode does not read: why; NULL for the others."""
     if gv == 33.1 or gv == 76.0: return "spindle-synchronised tapping and threading cycles"
     if gv == 87.0 or gv == 88.0: return "LinuxCNC leaves the cycles G87 and G88 undefined"
-    if gv == 5.0 or gv == 5.1 or gv == 5.2 or gv == 5.3: return "splines and NURBS"
     if gv == 7.0 or gv == 8.0: return "lathe diameter and radius modes"
     if gv == 41.1 or gv == 42.1: return "cutter compensation with a diameter from the program"
     if gv == 43.1 or gv == 43.2: return "tool length offsets from the program"
@@ -99,6 +100,42 @@ cdef const char *ngc_unsupported(double gv) noexcept nogil:
         return "lathe cycles"
     if gv == 17.1 or gv == 18.1 or gv == 19.1: return "the U V W planes"
     return NULL
+
+
+cdef int cp_set_motion(CState *st, Block *b, int g, int col) noexcept nogil:
+    """A motion word (group 1) of the line into the block. TG: the later one counts. ISO
+    mode, LinuxCNC's rule: G80 never replaces another motion word of the line, and
+    another replaces a G80 (`G0 G90 G80` and `G80 G0` both leave G0); two motion words
+    other than G80 LinuxCNC refuses: warning 621 (the later counts), error 414 strict."""
+    cdef char why[160]
+    if st.iso and b.motion >= 0:
+        if g == 80:
+            return 0
+        if b.motion != 80:
+            c_snprintf(why, sizeof(why), "a second motion word on the line after G%d "
+                       "(two G words of one modal group)", b.motion)
+            if ngc_refused(st, word_at_column(st, col), col, why, "runs the later one") != 0:
+                return R_ERR
+    b.motion = g
+    b.motion_col = col
+    return 0
+
+
+cdef int cp_no_motion_mode(CState *st, const LineWords *lw, uint32_t moving) noexcept nogil:
+    """ISO mode: error 411 for axis words without a motion mode, naming the line whose
+    G80 cancelled it, or that none was set."""
+    cdef ErrArg a[3]
+    cdef char why[96]
+    cdef int col = axis_column(lw, moving)
+    if st.g80_line > 0:
+        c_snprintf(why, sizeof(why), "G80 on line %u cancelled it", st.g80_line)
+    else:
+        c_snprintf(why, sizeof(why), "none was set since the program start")
+    a[0].num = 0; a[0].text = word_at_column(st, col)
+    a[1].num = col; a[1].text = NULL
+    a[2].num = 0; a[2].text = why
+    set_error(st.err, ERR_NO_MOTION_MODE, st.unit.file_idx, st.line, a, 3)
+    return R_ERR
 
 
 cdef int iso_read_g(CState *st, const LineWords *lw, int i, Block *b) noexcept nogil:
@@ -127,7 +164,8 @@ cdef int iso_read_g(CState *st, const LineWords *lw, int i, Block *b) noexcept n
         cwarn_at(st, WARN_ISO_IGNORED, word_at_column(st, col), col)
         b.ngc_p = b.ngc_p or gv == 64.0
     elif gv == 80.0 or gv == 73.0 or gv == 74.0 or (gv >= 81.0 and gv <= 86.0 and gv == <double>g) or gv == 89.0:
-        b.motion = g
+        if cp_set_motion(st, b, g, col) != 0:
+            return R_ERR
         b.ngc_p = True
     elif gv == 92.1 or gv == 92.2 or gv == 92.3:
         b.shift_reset = 1 if gv == 92.1 else (2 if gv == 92.2 else 3)
@@ -148,8 +186,14 @@ cdef int iso_read_g(CState *st, const LineWords *lw, int i, Block *b) noexcept n
         b.retract = g
     elif gv == 93.0:
         b.feed_mode = 93
+    elif gv == 5.0 or gv == 5.1 or gv == 5.2 or gv == 5.3:
+        if cp_set_motion(st, b, 5 if gv == 5.0 else to_int(floor(gv * 10.0 + 0.5)), col) != 0:
+            return R_ERR                # ngc_spline.pyx: 5 51 52 53
+        b.ngc_p = True                  # P: G5's second control point, G5.2's weight
+        b.consumed |= bit_of(b'I') | bit_of(b'J') | bit_of(b'Q') | bit_of(b'L')
     elif gv == 38.2 or gv == 38.3 or gv == 38.4 or gv == 38.5:
-        b.motion = 38               # a probing move: to the programmed point (nothing to touch)
+        if cp_set_motion(st, b, 38, col) != 0:  # a probing move: to the programmed point (nothing to touch)
+            return R_ERR
     else:
         return 0
     return 1
@@ -176,8 +220,8 @@ cdef int cp_pword(CState *st, LineWords *lw, const Block *b) noexcept nogil:
                 lw.mask |= bit_of(b'H')
                 lw.col[7] = lw.col[15]
             return 0
-        if b.ngc_p or _cycle_runs(st, lw, b):
-            return 0
+        if b.ngc_p or _cycle_runs(st, lw, b) or (b.motion < 0 and st.motion == 52):
+            return 0                        # (a line of a NURBS block: P is its weight)
         arc = b.motion if b.motion >= 0 else st.motion
         if (arc == 2 or arc == 3) and lw.pword != 1.0:
             word = cword(st, lw.pword_at, lw.pword_at + lw.pword_len, lw.pword_len)
@@ -188,11 +232,15 @@ cdef int cp_pword(CState *st, LineWords *lw, const Block *b) noexcept nogil:
                 cwarn_at(st, WARN_ISO_IGNORED, word, lw.col[15])
             return 0
     if b.dwell:
-        hint = "G4 takes W (milliseconds), H, X or T (seconds)"
+        hint = ("G4 takes W (milliseconds), H, X or T (seconds); the ISO mode reads G4 P as seconds: "
+                "sf-tch compile --iso, sf_tch.compile(..., iso=True), "
+                "GCODE_PARAMETERS.rezerva1 bit 0")
     elif lw.nm > 0:
-        hint = "M functions take no P word (isoCompat ignores it)"
+        hint = ("M functions take no P word (the ISO mode ignores it: sf-tch compile --iso, "
+                "sf_tch.compile(..., iso=True), GCODE_PARAMETERS.rezerva1 bit 0)")
     else:
-        hint = "a P word without '=' is ISO G-code (isoCompat reads G4 P and G64 P)"
+        hint = ("a P word without '=' is ISO G-code (the ISO mode reads G4 P and G64 P: sf-tch compile "
+                "--iso, sf_tch.compile(..., iso=True), GCODE_PARAMETERS.rezerva1 bit 0)")
     word = cword(st, lw.pword_at, lw.pword_at + lw.pword_len, lw.pword_len)
     return cerr_hint(st, ERR_P_WORD, word, lw.col[15], hint)
 

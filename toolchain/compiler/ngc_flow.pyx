@@ -1,5 +1,6 @@
 # ISO mode: LinuxCNC's O-word flow. `o100 sub` ... `o100 endsub` defines a subroutine
-# (its body is skipped until called; it is called only after its definition was read),
+# (its body is skipped until called; a call of one not read yet searches the rest of the
+# text for its definition, as LinuxCNC does),
 # `o100 call [a] [b]` runs it with #1, #2 .. set (the caller's #1..#30 come back after
 # `return` / `endsub`, its local named parameters vanish), `if / elseif / else / endif`,
 # `while / endwhile`, `do / while`, `repeat / endrepeat`, `break`, `continue`. The
@@ -231,6 +232,28 @@ cdef int ow_if_false(CState *st, const NgcLabel *lab) noexcept nogil:
         line = st.jline
 
 
+cdef NgcSub *ow_sub_ahead(CState *st, const NgcLabel *lab) noexcept nogil:
+    """A call of a subroutine not defined yet: its `sub` line searched from the call on
+    to the end of the text, as LinuxCNC skips ahead to it (a common layout defines the
+    subroutines after M2 / M30); found, it is defined from then on. NULL: error 311."""
+    cdef NgcState *n = st.ngc
+    cdef NgcSub *sub
+    cdef int found
+    if ow_scan(st, lab, kw_bit(OW_SUB), st.next_pos, st.next_line, &found) != 0:
+        cerr_at(st, ERR_O_UNDEFINED, ow_label_text(st, lab), st.ngc.col)
+        return NULL
+    if not grow(<void **>&n.subs, &n.cap_subs, n.n_subs + 1, sizeof(NgcSub)):
+        cerr(st, ERR_OUT_OF_MEMORY)
+        return NULL
+    sub = &n.subs[n.n_subs]
+    n.n_subs += 1
+    sub.label = lab[0]
+    sub.text = st.unit.text
+    sub.pos = st.jpos               # the line after `sub`
+    sub.line = st.jline
+    return sub
+
+
 cdef int ow_call(CState *st, const NgcLabel *lab, const char *p, const char *eol) noexcept nogil:
     """`call [a] [b] ..`: #1.. of the callee set, the caller's #1..#30 saved."""
     cdef NgcState *n = st.ngc
@@ -253,7 +276,9 @@ cdef int ow_call(CState *st, const NgcLabel *lab, const char *p, const char *eol
         if ow_same(&n.subs[s].label, lab) and n.subs[s].text == st.unit.text:
             sub = &n.subs[s]
     if sub == NULL:
-        return cerr_at(st, ERR_O_UNDEFINED, ow_label_text(st, lab), st.ngc.col)
+        sub = ow_sub_ahead(st, lab)
+        if sub == NULL:
+            return R_ERR
     if n.level + 1 >= NGC_CALL_LEVELS:
         return cerr_num(st, ERR_CALL_STACK_OVERFLOW, NGC_CALL_LEVELS - 1)
     f = ow_push(st, OF_CALL, lab)
@@ -407,6 +432,56 @@ cdef int ow_break(CState *st, const NgcLabel *lab, bint cont) noexcept nogil:
     return R_JUMP
 
 
+cdef uint64_t ow_if_key(const NgcLabel *lab) noexcept nogil:
+    """A label as a key of NgcState.if_keys: a number + 1, a name's FNV-1a hash with the
+    top bit set (never 0)."""
+    cdef uint64_t h = 14695981039346656037ULL
+    cdef int i
+    if lab.number >= 0:
+        return <uint64_t>lab.number + 1
+    for i in range(lab.len):
+        h = (h ^ <unsigned char>lab.name[i]) * 1099511628211ULL
+    return h | (1ULL << 63)
+
+
+cdef bint ow_if_seen(NgcState *n, const NgcLabel *lab, bint add) noexcept nogil:
+    """Whether an `if` of label lab was executed; add: record that one is (False only
+    when out of memory)."""
+    cdef uint64_t key = ow_if_key(lab)
+    cdef uint64_t *old = n.if_keys
+    cdef size_t cap = n.cap_if_keys, i, k
+    if cap > 0:
+        i = <size_t>(key * 11400714819323198485ULL) & (cap - 1)
+        while n.if_keys[i] != 0:
+            if n.if_keys[i] == key:
+                return True
+            i = (i + 1) & (cap - 1)
+    if not add:
+        return False
+    if 2 * (n.n_if_keys + 1) > cap:
+        n.cap_if_keys = 64 if cap == 0 else 2 * cap
+        n.if_keys = <uint64_t *>calloc(n.cap_if_keys, sizeof(uint64_t))
+        if n.if_keys == NULL:
+            n.if_keys = old
+            n.cap_if_keys = cap
+            return False
+        n.n_if_keys = 0
+        for k in range(cap):
+            if old[k] != 0:
+                _if_key_put(n, old[k])
+        free(old)
+    _if_key_put(n, key)
+    return True
+
+
+cdef void _if_key_put(NgcState *n, uint64_t key) noexcept nogil:
+    cdef size_t i = <size_t>(key * 11400714819323198485ULL) & (n.cap_if_keys - 1)
+    while n.if_keys[i] != 0:
+        i = (i + 1) & (n.cap_if_keys - 1)
+    n.if_keys[i] = key
+    n.n_if_keys += 1
+
+
 cdef int ow_statement(CState *st, const char *p, const char *eol) noexcept nogil:
     """An O-word line in the ISO mode: R_NEXT / R_JUMP / R_ERR, or R_NOT_O when the line
     is no O-word statement (an O word alone is a program number)."""
@@ -454,12 +529,20 @@ cdef int ow_statement(CState *st, const char *p, const char *eol) noexcept nogil
     if kw == OW_IF:
         if ow_condition(st, q, eol, &cond) != 0:
             return R_ERR
+        if not ow_if_seen(n, &lab, True):
+            return cerr(st, ERR_OUT_OF_MEMORY)
         return R_NEXT if cond else ow_if_false(st, &lab)
     if kw == OW_ELSEIF or kw == OW_ELSE:
         # reached from a branch that ran: past the endif
         return ow_skip_to(st, &lab, kw_bit(OW_ENDIF), "else without endif")
     if kw == OW_ENDIF:
-        return R_ERR if fl_rest_of_line(st, q, eol) != 0 else R_NEXT
+        if fl_rest_of_line(st, q, eol) != 0:
+            return R_ERR
+        if not ow_if_seen(n, &lab, False) and ngc_refused(st, ow_label_text(st, &lab), st.ngc.col,
+                                                          "an endif whose label no if has",
+                                                          "ignores it") != 0:
+            return R_ERR
+        return R_NEXT
     if kw == OW_WHILE:
         return ow_while(st, &lab, q, eol)
     if kw == OW_ENDWHILE:

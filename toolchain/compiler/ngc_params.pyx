@@ -32,6 +32,8 @@ cdef void ngc_free(NgcState *n) noexcept nogil:
         free(n.name_slots)
         free(n.names)
         free(n.subs)
+        free(n.if_keys)
+        free(n.nurbs)
         free(n)
 
 

@@ -211,6 +211,23 @@ cdef void cwarn_at(CState *st, int32_t number, const char *word, int column) noe
     cwarn(st, number, a, 2)
 
 
+cdef int ngc_refused(CState *st, const char *word, int column, const char *why,
+                     const char *instead) noexcept nogil:
+    """ISO mode: a construct LinuxCNC refuses (`why`). Warning 621 and 0 (the caller
+    compiles on as `instead` says: "ignores it", ...), or in the strict ISO mode error
+    414 and R_ERR."""
+    cdef ErrArg a[4]
+    a[0].num = 0; a[0].text = word
+    a[1].num = column; a[1].text = NULL
+    a[2].num = 0; a[2].text = why
+    a[3].num = 0; a[3].text = instead
+    if (<uint32_t>st.params.rezerva1 & GCODE_REZERVA1_ISO_STRICT) != 0:
+        set_error(st.err, ERR_NGC_REFUSED, st.unit.file_idx, st.line, a, 3)
+        return R_ERR
+    cwarn(st, WARN_NGC_REFUSED, a, 4)
+    return 0
+
+
 # ----------------------------------------------------- coordinate transform
 
 cdef void to_machine(const CState *st, const double *pp, double *out) noexcept nogil:

@@ -2,6 +2,8 @@
 # the G and M functions in the order written, P assignments, label names of jumps,
 # FF / FP and the text of PRINT / M29. What the words mean is block.pyx's.
 
+from libc.string cimport memchr
+
 
 cdef inline uint32_t bit_of(char c) noexcept nogil:
     return 1u << (<int>c - 65)
@@ -291,6 +293,40 @@ cdef int _word_r_assignment(CState *st, const char **pp, const char *eol, LineWo
     return WORDS_MORE
 
 
+cdef int _ngc_nested_comments(CState *st, const char **pp, const char *eol) noexcept nogil:
+    """ISO mode: comments at pp[0] that hold a '(' (`(part (2) done)`), which LinuxCNC
+    refuses (comments do not nest): read to the ')' that closes them, warning 621 (error
+    414 in the strict ISO mode). Other comments are lx_skip_gap's."""
+    cdef const char *p = lx_skip_ws(pp[0], eol)
+    cdef const char *q
+    cdef const char *inner
+    cdef int depth
+    while p < eol and p[0] == b'(':
+        q = <const char *>memchr(p, b')', eol - p)
+        if q == NULL:
+            break
+        inner = <const char *>memchr(p + 1, b'(', q - p - 1)
+        if inner != NULL:
+            depth = 0
+            q = p
+            while q < eol:
+                if q[0] == b'(':
+                    depth += 1
+                elif q[0] == b')':
+                    depth -= 1
+                    if depth == 0:
+                        break
+                q += 1
+            if q >= eol:
+                break                   # not closed: lx_skip_gap reads it as LinuxCNC's first ')'
+            if ngc_refused(st, "(", column_of(st, inner), "a '(' inside a comment (comments do not nest)",
+                           "reads the comment to the ')' that closes it") != 0:
+                return R_ERR
+        p = lx_skip_ws(q + 1, eol)
+    pp[0] = p
+    return 0
+
+
 cdef int cp_words(CState *st, const char *p, const char *eol, LineWords *lw) noexcept nogil:
     """Reads the words of a line into lw, in the order written."""
     cdef int status, r
@@ -299,6 +335,8 @@ cdef int cp_words(CState *st, const char *p, const char *eol, LineWords *lw) noe
     _words_clear(lw)
     while True:
         gap = p
+        if st.iso and _ngc_nested_comments(st, &p, eol) != 0:
+            return R_ERR
         p = lx_skip_gap(p, eol, &status)
         if status:
             return cerr_open_comment(st, gap, eol)
