@@ -1,10 +1,12 @@
-# SF_TCh.dll for Windows x64, cross-built with mingw-w64 (included by CMakeLists.txt
-# when the toolchain file cmake/mingw-w64-x86_64.cmake targets Windows; docs/hosts.md).
+# SF_TCh.dll for Windows x64 or x86, cross-built with mingw-w64 (included by CMakeLists.txt
+# when the toolchain file cmake/mingw-w64-x86_64.cmake or cmake/mingw-w64-i686.cmake
+# targets Windows; docs/hosts.md).
 #
 # Python's headers: Cython's C file includes Python.h. Include/ of the Python that
 # runs Cython is copied without its pyconfig.h (it describes Linux: 8-byte long,
 # 4-byte wchar_t) and cmake/mingw/pyconfig.h, written for mingw-w64 x64, is put in
-# its place. Nothing of Python is linked: see the exports below.
+# its place (it describes x64 or x86 by the compiler's _WIN64). Nothing of Python is
+# linked: see the exports below.
 execute_process(COMMAND ${Python_EXECUTABLE} -c "import sysconfig; print(sysconfig.get_paths()['include'])"
                 OUTPUT_VARIABLE PYTHON_HOST_INCLUDE OUTPUT_STRIP_TRAILING_WHITESPACE COMMAND_ERROR_IS_FATAL ANY)
 set(PYTHON_WINDOWS_INCLUDE ${CMAKE_CURRENT_BINARY_DIR}/python-include)
@@ -30,6 +32,11 @@ target_compile_options(SF_TCh PRIVATE "-DDL_EXPORT(t)=__declspec(dllexport) t" -
                        -fwhole-program -Wno-unused-function -Wno-unused-variable
                        # a text of the host (wchar_t here) handed on as char *, or back: an error
                        -Werror=incompatible-pointer-types)
+# x86: SSE2 floating point, as on x64 (double rounding of x87's 80-bit registers would
+# give other last bits); Windows x86 has had SSE2 on every processor it supports since 8
+if(CMAKE_SIZEOF_VOID_P EQUAL 4)
+  target_compile_options(SF_TCh PRIVATE -msse2 -mfpmath=sse)
+endif()
 # only Windows system DLLs at run time: libgcc (thread-local storage) is linked in
 target_link_options(SF_TCh PRIVATE -static-libgcc -Wl,--no-undefined -Wl,--gc-sections
                     -Wl,--output-def,${CMAKE_CURRENT_BINARY_DIR}/SF_TCh.def)
