@@ -169,3 +169,46 @@ def test_numbers_on_windows_are_read_and_written_in_the_c_locale_whatever_the_ho
     report = (windows_build / "wine-run" / "decimal-comma.txt").read_text(encoding="utf-8")
     assert report.startswith("decimal point: ',', INI 1.5: same, long number: same, error text: same"), report
     assert "start X = 60.6051 Y = 40.7723" in report
+
+
+@pytest.mark.parametrize("scenario", ["run", "compile", "mfunc"])
+def test_a_panel_may_unload_the_dll_while_the_library_works(windows_build, scenario):
+    """tests/windows/unload.c: FreeLibrary without DestroyCNC during a run of the offline
+    machine, a compilation, a wait for an M function; the library's thread goes on (its
+    code stays mapped: the module pinned itself with its first thread), a LoadLibrary
+    finds the same module, and the process, returning from main with that thread still
+    at work, ends cleanly (build_windows.sh fails on any other exit status)."""
+    report = (windows_build / "wine-run" / f"unload-{scenario}.txt").read_text(encoding="utf-8")
+    doing = {"run": "running: yes\n", "compile": "compiling: yes\n",
+             "mfunc": "waiting for an M function: yes\n"}[scenario]
+    assert doing in report and "freed: yes\n" in report, report
+    assert "loaded again: the same module\nthe core still works: yes\nexit\n" in report, report
+    if scenario == "run":
+        assert "the run goes on after FreeLibrary: yes\n" in report, report
+
+
+def test_a_dll_that_started_no_thread_is_unloaded_by_free_library(windows_build):
+    report = (windows_build / "wine-run" / "unload-idle.txt").read_text(encoding="utf-8")
+    assert report.endswith("freed: yes\nunloaded: yes\nloaded again, version: yes\nexit\n"), report
+
+
+@pytest.mark.parametrize("code_page, error_bytes, file_name, printed", [
+    (1250, "9A ED F8", "Zkouška_chybí_ř.nc", "šrouby č. 5"),            # Czech: every letter
+    (1252, "9A ED", "Zkouška_chybí_?.nc", "šrouby ?. 5"),               # Western: ř and č replaced visibly
+])
+def test_narrow_texts_are_in_the_ansi_code_page_unless_the_ini_says_utf8(windows_build, code_page, error_bytes,
+                                                                         file_name, printed):
+    """tests/windows/ansi.c under Wine in a Czech and a Western locale: CALLBACK_INFO's
+    texts, ToolChain_LogANSI and the log hook, and G-code text in the process's ANSI code
+    page by default; UTF-8 after an INI file's [Texts] Narrow=utf8."""
+    report = (windows_build / "wine-run" / f"ansi-{code_page}.txt").read_text(encoding="utf-8")
+    default, utf8 = report.split("== [Texts] Narrow=utf8\n")
+    assert default.startswith(f"code page: {code_page}\n== default: the ANSI code page\n"), report
+    assert f"error 1: Cannot open file '{file_name}'\nbytes beyond ASCII: {error_bytes} \n" in default, report
+    assert "the same bytes: yes\nlog file has it in UTF-8: yes\n" in default, report
+    assert f"PRINT: {printed}\n" in default, report
+    # the opt-in: UTF-8, every letter
+    assert "INI utf8: 0\n" in default
+    assert "error 1: Cannot open file 'Zkouška_chybí_ř.nc'\nbytes beyond ASCII: C5 A1 C3 AD C5 99 \n" in utf8, report
+    assert "log hook: řádek žluťoučký, the same bytes: yes\nlog file has it in UTF-8: yes\n" in utf8, report
+    assert "PRINT: šrouby č. 5\n" in utf8, report
