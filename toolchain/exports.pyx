@@ -340,7 +340,11 @@ cdef int32_t _compile_from_file(uint32_t intIdx, const char *fileName) noexcept 
 cdef public int32_t ToolChainCore_CompileFromMemory(uint32_t intIdx, TGM_LPCTSTR fileName, TGM_LPCSTR code) noexcept nogil:
     cdef char *owned
     cdef char *utf8 = narrow_from_host(code)    # the G-code in UTF-8 (Windows: from the ANSI code page)
-    cdef int32_t result = _compile_from_memory(intIdx, text_from_host(fileName, &owned), utf8 if utf8 != NULL else code)
+    cdef const char *source = code
+    cdef int32_t result
+    if utf8 != NULL:
+        source = utf8
+    result = _compile_from_memory(intIdx, text_from_host(fileName, &owned), source)
     free(owned)
     free(utf8)
     return result
@@ -475,7 +479,9 @@ cdef public int32_t ToolChainCore_StartCNCEx(uint32_t intIdx, int32_t regime, TG
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
     utf8 = narrow_from_host(addCode)
-    result = core_start_run(core, regime, utf8 if utf8 != NULL else addCode)
+    if utf8 != NULL:
+        addCode = utf8
+    result = core_start_run(core, regime, addCode)
     free(utf8)
     return result
 
@@ -487,7 +493,9 @@ cdef public int32_t ToolChainCore_StopCNCEx(uint32_t intIdx, TGM_LPCSTR addCode)
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
     utf8 = narrow_from_host(addCode)
-    result = core_stop(core, utf8 if utf8 != NULL else addCode)
+    if utf8 != NULL:
+        addCode = utf8
+    result = core_stop(core, addCode)
     free(utf8)
     return result
 
@@ -512,8 +520,9 @@ cdef public int32_t ToolChainCore_ConnectCNCEx_Plane(uint32_t intIdx, uint32_t n
     if not coordinates_finite(coords, nCoords):
         return TOOL_CHAIN_ERROR
     utf8 = narrow_from_host(addCode)
-    result = core_connect(core_get(intIdx), nType, nCoords, coords, utf8 if utf8 != NULL else addCode,
-                                       axesForCalc, axesForConnect, stateAfter)
+    if utf8 != NULL:
+        addCode = utf8
+    result = core_connect(core_get(intIdx), nType, nCoords, coords, addCode, axesForCalc, axesForConnect, stateAfter)
     free(utf8)
     return result
 
@@ -667,7 +676,9 @@ cdef public uint32_t ToolChainCore_GetLogValue() noexcept nogil:
 
 cdef public void ToolChain_LogANSI(TGM_LPCSTR text) noexcept nogil:
     cdef char *utf8 = narrow_from_host(text)    # the log file is UTF-8 (Windows: from the ANSI code page)
-    log_line(0, utf8 if utf8 != NULL else text)
+    if utf8 != NULL:
+        text = utf8
+    log_line(0, text)
     free(utf8)
 
 

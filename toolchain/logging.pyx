@@ -92,7 +92,10 @@ cdef void log_to_hook(uint32_t source, const char *text) noexcept nogil:
     if g_hook != NULL:
         tc_in_log_hook = 1
         narrow = narrow_to_host(text)      # the host's narrow text (Windows: ANSI code page)
-        g_hook(g_hook_user, source, narrow if narrow != NULL else text)
+        if narrow != NULL:
+            g_hook(g_hook_user, source, narrow)
+        else:
+            g_hook(g_hook_user, source, text)
         free(narrow)
         tc_in_log_hook = 0
     pthread_mutex_unlock(&g_hook_lock)
