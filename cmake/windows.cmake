@@ -19,7 +19,8 @@ add_library(SF_TCh SHARED ${GENERATED_C})
 set_target_properties(SF_TCh PROPERTIES PREFIX "" IMPORT_PREFIX "" IMPORT_SUFFIX ".lib")
 target_include_directories(SF_TCh PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/include ${TOOLCHAIN_DIR}/includes
                            ${PYTHON_WINDOWS_INCLUDE})
-# The exports: the header declares every function __declspec(dllexport); TGM_Data, a
+# The exports: the header declares every function __declspec(dllexport) for the
+# library's build (SF_TCH_BUILDING_DLL; dllimport for a panel); TGM_Data, a
 # Cython "public" variable, gets it through Cython's DL_EXPORT; PyInit_libSF_TCh does
 # not (CYTHON_NO_PYINIT_EXPORT). -fwhole-program makes everything else of the one C
 # file static, so the compiler drops all it does not reach from an export: Cython's
@@ -28,7 +29,7 @@ target_include_directories(SF_TCh PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/include ${
 # for PE: every function's unwind data keeps it alive; here it only drops the unused
 # pointers to CPython's data the compiler emitted.) The link fails on any undefined
 # symbol left, as -z defs does on Linux.
-target_compile_options(SF_TCh PRIVATE "-DDL_EXPORT(t)=__declspec(dllexport) t" -DCYTHON_NO_PYINIT_EXPORT
+target_compile_options(SF_TCh PRIVATE -DSF_TCH_BUILDING_DLL "-DDL_EXPORT(t)=__declspec(dllexport) t" -DCYTHON_NO_PYINIT_EXPORT
                        -fwhole-program -Wno-unused-function -Wno-unused-variable
                        # a text of the host (wchar_t here) handed on as char *, or back: an error
                        -Werror=incompatible-pointer-types)

@@ -34,9 +34,16 @@
 extern "C" {
 #endif
 
+/* On Windows a panel that includes this header imports the functions
+ * (__declspec(dllimport), for linking SF_TCh.lib); the library's own build defines
+ * SF_TCH_BUILDING_DLL and exports them. */
 #if defined(_WIN32)
 #  define TOOLCHAIN_CALLTYPE __cdecl
-#  define TOOLCHAIN_API __declspec(dllexport)
+#  if defined(SF_TCH_BUILDING_DLL)
+#    define TOOLCHAIN_API __declspec(dllexport)
+#  else
+#    define TOOLCHAIN_API __declspec(dllimport)
+#  endif
 #else
 #  define TOOLCHAIN_CALLTYPE
 #  define TOOLCHAIN_API __attribute__((visibility("default")))

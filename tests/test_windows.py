@@ -13,6 +13,7 @@ the Windows ctypes mirror.
 
 Skipped, saying why, where mingw-w64 or Wine is not installed (.ci/run installs them).
 """
+import ctypes
 import math
 import os
 import re
@@ -212,3 +213,48 @@ def test_narrow_texts_are_in_the_ansi_code_page_unless_the_ini_says_utf8(windows
     assert "error 1: Cannot open file 'Zkouška_chybí_ř.nc'\nbytes beyond ASCII: C5 A1 C3 AD C5 99 \n" in utf8, report
     assert "log hook: řádek žluťoučký, the same bytes: yes\nlog file has it in UTF-8: yes\n" in utf8, report
     assert "PRINT: šrouby č. 5\n" in utf8, report
+
+
+def test_the_narrow_texts_key_is_read_on_linux_and_changes_nothing(tmp_path):
+    """[Texts] Narrow (ansi | utf8) chooses Windows' narrow texts; on Linux they stay UTF-8
+    whatever it says, and a value it does not know is refused, naming the key."""
+    from sf_tch import CncError
+    from sf_tch.core import Core
+    for value in ("ansi", "utf8"):
+        ini = tmp_path / f"{value}.ini"
+        ini.write_text(f"[Texts]\nNarrow={value}\n")
+        with Core(ini=str(ini)) as core:
+            with pytest.raises(CncError) as error:
+                core.compile_file(str(tmp_path / "chybí_ř.nc"))
+            assert "chybí_ř.nc" in error.value.text
+    bad = tmp_path / "bad.ini"
+    bad.write_text("[Texts]\nNarrow=latin2\n")
+    lib = sf_tch.library.load()
+    assert lib.ToolChainCore_LoadFromIni(2, str(bad).encode(), None) == abi.TOOL_CHAIN_XEXEC
+    info = abi.CALLBACK_INFO()
+    texts = [lib.ToolChainCore_GetLastCallError(2, ctypes.byref(info)) and info.m_fullError,
+             lib.ToolChainCore_GetLastError(2, ctypes.byref(info)) and info.m_fullError]
+    lib.ToolChainCore_DestroyCNC(2)
+    assert any(t and b"[Texts] Narrow" in t for t in texts), texts
+
+
+def test_a_panel_linked_against_the_import_library_runs(windows_build):
+    """tests/windows/linked.c calls the functions directly, through the header's
+    dllimport declarations and SF_TCh.lib."""
+    report = (windows_build / "wine-run" / "linked.txt").read_text(encoding="utf-8")
+    assert report == "linked: version yes, structure sizes: 8 1112 616 112 32 1280 52 448 32\n", report
+
+
+@pytest.mark.parametrize("target", ["x86_64-pc-windows-msvc", "i686-pc-windows-msvc"])
+@pytest.mark.parametrize("language", ["c", "c++"])
+def test_the_header_compiles_for_msvc_panels(target, language, tmp_path):
+    """As MSVC would compile a panel (clang in MSVC mode, no Windows SDK needed): C and
+    C++, x64 and x86, the functions dllimport, the layout asserts of both."""
+    clang = shutil.which("clang")
+    if clang is None:
+        pytest.skip("no clang: the header's MSVC mode is not checked")
+    source = tmp_path / ("panel.c" if language == "c" else "panel.cpp")
+    source.write_text('#include "tgm_cnc.h"\nint f(void) { return ToolChainCore_DestroyCNC(0); }\n')
+    proc = subprocess.run([clang, f"--target={target}", "-ffreestanding", "-fsyntax-only", "-Werror",
+                           "-I", str(ROOT / "include"), str(source)], capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr

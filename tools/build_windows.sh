@@ -39,12 +39,15 @@ for program in unload ansi; do
     "$MINGW_CC" -std=gnu11 -O2 -Wall -Wextra -Werror -I "$ROOT/include" \
         "$ROOT/tests/windows/$program.c" -o "$BUILD/$program.exe" -static-libgcc
 done
+# a panel linked against the import library (the header's dllimport declarations)
+"$MINGW_CC" -std=gnu11 -O2 -Wall -Wextra -Werror -I "$ROOT/include" "$ROOT/tests/windows/linked.c" \
+    -o "$BUILD/linked.exe" -static-libgcc "$BUILD/SF_TCh.lib"
 
 # the panel runs in a fresh directory holding the DLL and the bundled INI and program
 RUN="$BUILD/wine-run"
 rm -rf "$RUN"
 mkdir -p "$RUN"
-cp "$BUILD/SF_TCh.dll" "$BUILD/panel.exe" "$BUILD/unload.exe" "$BUILD/ansi.exe" "$ROOT/python/sf_tch/data/SF_TCh.ini" "$ROOT/python/sf_tch/data/demo.nc" "$RUN/"
+cp "$BUILD/SF_TCh.dll" "$BUILD/panel.exe" "$BUILD/unload.exe" "$BUILD/ansi.exe" "$BUILD/linked.exe" "$ROOT/python/sf_tch/data/SF_TCh.ini" "$ROOT/python/sf_tch/data/demo.nc" "$RUN/"
 # a preloaded library (a sanitizer runtime, say) is a Linux one: Wine would fail to start with it
 unset LD_PRELOAD
 export WINEPREFIX="${WINEPREFIX:-$BUILD/wineprefix}" WINEDEBUG=-all WINEDLLOVERRIDES="mscoree,mshtml="
@@ -81,6 +84,7 @@ done
 # code page from the Unix locale's name
 LC_ALL=cs_CZ.UTF-8 run_panel ansi-1250.txt --program ansi.exe
 LC_ALL=en_US.UTF-8 run_panel ansi-1252.txt --program ansi.exe
+run_panel linked.txt --program linked.exe
 # Wine's server lingers a few seconds after the last program: wait for it to end
 WINESERVER="$(dirname "$WINE")/wineserver"
 [ -x "$WINESERVER" ] || WINESERVER="$(command -v wineserver || true)"
