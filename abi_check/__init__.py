@@ -12,6 +12,9 @@ Compares four descriptions of the library's binary interface:
 Both systems: the header's TGM_LPCTSTR is ``char*`` on Linux and ``wchar_t*`` on
 Windows x64; :func:`check_layouts` compares the header as a mingw-w64 probe measures
 it (run under Wine) with the Windows mirror (``sf_tch.abi.mirror(windows=True)``).
+32-bit x86 (``pointer_bits=32``): the header as ``gcc -m32`` or i686 mingw-w64 lays it
+out (the latter only compiled, its numbers read from the assembly) against
+``sf_tch.abi.mirror(windows, pointer_bits=32)`` and :data:`SPEC_SIZES_32`.
 
 ``run()`` returns the list of differences (empty: conformant); ``python -m sf_tch.abi_check``
 (installed with the package; ``python -m abi_check`` in a source checkout) also prints a
@@ -38,6 +41,10 @@ SPEC_SIZES = {
     "MACHINE_PARAMETERS": 448, "GCODE_FEED": 32, "GCODE_CORRECTION": 16,
     "ARC_FEED_TABLE": 16, "INTERNAL_MFUNC_INSERT_TABLE": 24, "AXIS_LIMITS": 24,
 }
+
+# The same on 32-bit x86 (Windows x86; Linux i686 gives the same sizes): only the
+# structures holding pointers shrink, 4 bytes a pointer.
+SPEC_SIZES_32 = {**SPEC_SIZES, "DLL_INIT_STRUCT": 16, "CALLBACK_INFO": 24}
 
 # ToolChainCore_GetStructuresSize: entry [0] is the number of sizes that follow.
 STRUCTURES_SIZE_COUNT = 8
@@ -139,6 +146,8 @@ def ctype_name(t) -> str:
     """Canonical C spelling of a ctypes type (same vocabulary as the header parser)."""
     if t is None:
         return "void"
+    if getattr(t, "_c_name_", None):         # a stand-in of sf_tch.abi's 32-bit layouts
+        return t._c_name_
     for ct, name in _CTYPES_NAMES:
         if t is ct:
             return name
@@ -166,35 +175,57 @@ def find_compiler() -> str | None:
     return shutil.which("cc") or shutil.which("gcc")
 
 
-def probe(header: str, structs: dict[str, list[Field]], cc: str | None = None, run: tuple = ()) -> dict:
+def probe(header: str, structs: dict[str, list[Field]], cc: str | None = None, run: tuple = (),
+          cflags: tuple = (), compile_only: bool = False) -> dict:
     """Compiles and runs a C program that prints sizeof/_Alignof of every struct and
     offsetof/sizeof of every field, against `header`. Returns
     {struct: {"size": n, "align": n, "fields": {name: (offset, size, align)}}}.
-    `cc` may be a cross compiler (mingw-w64: the program is probe.exe) and `run` the
-    command that runs its program (e.g. Wine's)."""
+    `cc` may be a cross compiler (mingw-w64: the program is probe.exe), `cflags` its
+    options (``-m32``) and `run` the command that runs its program (e.g. Wine's).
+    `compile_only`: nothing runs; the numbers are read from the compiler's assembly of
+    a constant table (a target this machine cannot run, such as Windows x86 without
+    Wine's 32-bit half)."""
     cc = cc or find_compiler()
     if not cc:
         raise RuntimeError(NO_COMPILER)
     header = Path(header).resolve()
-    lines = [f'#include "{header.name}"', "#include <stdio.h>", "#include <stddef.h>",
-             "int main(void) {"]
+    lines = [f'#include "{header.name}"', "#include <stdio.h>", "#include <stddef.h>"]
+    values = []            # (kind, struct, field or None, C expressions)
     for name, fields in structs.items():
-        lines.append(f'  printf("S {name} %zu %zu\\n", sizeof({name}), _Alignof({name}));')
+        values.append(("S", name, None, (f"sizeof({name})", f"_Alignof({name})")))
         for f in fields:
             member = f"(({name} *)0)->{f.name}"
-            lines.append(f'  printf("F {name} {f.name} %zu %zu %zu\\n", offsetof({name}, {f.name}), '
-                         f"sizeof({member}), _Alignof(__typeof__({member})));")
-    lines += ["  return 0;", "}", ""]
+            values.append(("F", name, f.name, (f"offsetof({name}, {f.name})", f"sizeof({member})",
+                                              f"_Alignof(__typeof__({member}))")))
+    if compile_only:
+        exprs = [e for *_, es in values for e in es]
+        lines += ["const unsigned int tc_probe_values[] = {", ",\n".join(f"  (unsigned int)({e})" for e in exprs), "};", ""]
+    else:
+        lines.append("int main(void) {")
+        for kind, name, fname, es in values:
+            label = f"{kind} {name}" + (f" {fname}" if fname else "")
+            lines.append(f'  printf("{label}' + " %zu" * len(es) + '\\n", ' + ", ".join(es) + ");")
+        lines += ["  return 0;", "}", ""]
     with tempfile.TemporaryDirectory(prefix="abi_check_") as tmp:
         mingw = "mingw32" in Path(cc).name
         src, exe = Path(tmp) / "probe.c", Path(tmp) / ("probe.exe" if mingw else "probe")
         src.write_text("\n".join(lines))
-        build = subprocess.run([cc, "-std=gnu11", "-Wall", *(["-D__USE_MINGW_ANSI_STDIO=1"] if mingw else []),
-                                "-I", str(header.parent), str(src), "-o", str(exe)], capture_output=True, text=True)
+        out_args = ["-S", "-o", str(Path(tmp) / "probe.s")] if compile_only else ["-o", str(exe)]
+        build = subprocess.run([cc, *cflags, "-std=gnu11", "-Wall", *(["-D__USE_MINGW_ANSI_STDIO=1"] if mingw else []),
+                                "-I", str(header.parent), str(src), *out_args], capture_output=True, text=True)
         if build.returncode != 0:
             raise RuntimeError(f"probe does not compile against {header}:\n{build.stderr.strip()}")
-        out = subprocess.run([*run, str(exe)], stdin=subprocess.DEVNULL, capture_output=True, text=True,
-                             check=True).stdout
+        if compile_only:
+            numbers = _assembled_values((Path(tmp) / "probe.s").read_text())
+            out, k = [], 0
+            for kind, name, fname, es in values:
+                label = f"{kind} {name}" + (f" {fname}" if fname else "")
+                out.append(label + "".join(f" {v}" for v in numbers[k:k + len(es)]))
+                k += len(es)
+            out = "\n".join(out)
+        else:
+            out = subprocess.run([*run, str(exe)], stdin=subprocess.DEVNULL, capture_output=True, text=True,
+                                 check=True).stdout
     result = {}
     for line in out.splitlines():
         kind, *rest = line.split()
@@ -203,6 +234,23 @@ def probe(header: str, structs: dict[str, list[Field]], cc: str | None = None, r
         else:
             result[rest[0]]["fields"][rest[1]] = tuple(int(v) for v in rest[2:5])
     return result
+
+
+def _assembled_values(assembly: str) -> list[int]:
+    """The 4-byte values of tc_probe_values in GNU assembler output (.long N; a run of
+    zeros may be .zero 4n)."""
+    body = re.split(r"^_?tc_probe_values:\s*$", assembly, maxsplit=1, flags=re.M)[1]
+    numbers = []
+    for line in body.splitlines():
+        line = line.strip()
+        if m := re.fullmatch(r"\.(?:long|int)\s+(\d+)", line):
+            numbers.append(int(m[1]))
+        elif m := re.fullmatch(r"\.zero\s+(\d+)", line):
+            numbers += [0] * (int(m[1]) // 4)
+        elif line.startswith(".") and not line.startswith((".long", ".int", ".zero")) or line.endswith(":"):
+            if numbers:
+                break
+    return numbers
 
 
 # ------------------------------------------------------------------ library side
@@ -311,25 +359,29 @@ def check(header: str | None = None, library: str | None = None, structures: dic
     return report
 
 
-def check_layouts(windows: bool, cc: str | None = None, run: tuple = (), header: str | None = None) -> Report:
+def check_layouts(windows: bool, cc: str | None = None, run: tuple = (), header: str | None = None,
+                  pointer_bits: int = 64, cflags: tuple = (), compile_only: bool = False) -> Report:
     """Header vs ctypes mirror vs the vendor's sizes, structure by structure, on Linux or (windows)
-    on Windows x64: the probe compiled by `cc` (for Windows a mingw-w64 gcc) and run by
-    `run` (Wine), the mirror sf_tch.abi.mirror(windows)."""
+    on Windows: the probe compiled by `cc` (for Windows a mingw-w64 gcc) with `cflags` and
+    run by `run` (Wine), or only compiled (`compile_only`: see probe), the mirror
+    sf_tch.abi.mirror(windows, pointer_bits). 32 bits: Windows x86 (i686 mingw-w64) or
+    Linux i686 (``cflags=("-m32",)``), the vendor's 32-bit sizes (SPEC_SIZES_32)."""
     from sf_tch import abi
     report = Report()
-    structures, _ = abi.mirror(windows)
-    _compare_layouts(report, header or default_header(), structures, SPEC_SIZES, windows, cc, run)
+    structures, _ = abi.mirror(windows, pointer_bits)
+    _compare_layouts(report, header or default_header(), structures, SPEC_SIZES_32 if pointer_bits == 32 else SPEC_SIZES,
+                     windows, cc, run, cflags, compile_only)
     return report
 
 
 def _compare_layouts(report: Report, header: str, structures: dict, spec_sizes: dict | None, windows: bool,
-                     cc: str | None, run: tuple) -> dict:
+                     cc: str | None, run: tuple, cflags: tuple = (), compile_only: bool = False) -> dict:
     """The structures of `header` measured by the probe against the mirror and the
     vendor's sizes; returns the measurements."""
     spec_sizes = SPEC_SIZES if spec_sizes is None else spec_sizes
     parsed = parse_structs(Path(header).read_text(), windows)
     try:
-        measured = probe(header, parsed, cc, run)
+        measured = probe(header, parsed, cc, run, cflags, compile_only)
     except (RuntimeError, subprocess.CalledProcessError) as exc:
         report.diff(f"C probe: {exc}")
         measured = {}

@@ -34,9 +34,16 @@
 extern "C" {
 #endif
 
+/* On Windows a panel that includes this header imports the functions
+ * (__declspec(dllimport), for linking SF_TCh.lib); the library's own build defines
+ * SF_TCH_BUILDING_DLL and exports them. */
 #if defined(_WIN32)
 #  define TOOLCHAIN_CALLTYPE __cdecl
-#  define TOOLCHAIN_API __declspec(dllexport)
+#  if defined(SF_TCH_BUILDING_DLL)
+#    define TOOLCHAIN_API __declspec(dllexport)
+#  else
+#    define TOOLCHAIN_API __declspec(dllimport)
+#  endif
 #else
 #  define TOOLCHAIN_CALLTYPE
 #  define TOOLCHAIN_API __attribute__((visibility("default")))
@@ -51,8 +58,10 @@ typedef wchar_t *TGM_LPTSTR;
 typedef const char *TGM_LPCTSTR;
 typedef char *TGM_LPTSTR;
 #endif
-/* G-code text, add codes, log lines and CALLBACK_INFO's error texts: always narrow
- * (UTF-8), on both systems. */
+/* G-code text, add codes, log lines and CALLBACK_INFO's error texts: narrow. UTF-8 on
+ * Linux; on Windows the process's ANSI code page (CP_ACP, the vendor's "ANSI"; a
+ * character it cannot hold arrives as '?'), or UTF-8 after an INI file's [Texts]
+ * Narrow=utf8 (docs/hosts.md). */
 typedef const char *TGM_LPCSTR;
 
 /* ------------------------------------------------------------------ constants */
@@ -928,24 +937,39 @@ TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GetSmoothing(uint32_t int
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_SmoothSamples(uint32_t intIdx, const double *samples, uint64_t nSamples, double *out, uint64_t *settledFrom);
 
 /* ------------------------------------------------------------------ layout checks */
-#if defined(__x86_64__) || defined(_M_X64)
+/* The vendor's layouts: x86_64 (Linux and Windows x64) and 32-bit x86 (Windows x86, and
+ * Linux i686, whose 4-byte alignment of double inside structures changes no offset
+ * here: every double already falls on 8). On 32 bits only the structures holding
+ * pointers shrink: DLL_INIT_STRUCT (three texts) and CALLBACK_INFO (two). */
+#if defined(__x86_64__) || defined(_M_X64) || defined(__i386__) || defined(_M_IX86)
 #  if defined(__cplusplus)
 #    define TGM_STATIC_ASSERT(c, m) static_assert(c, m)
 #  else
 #    define TGM_STATIC_ASSERT(c, m) _Static_assert(c, m)
 #  endif
+#  if defined(__x86_64__) || defined(_M_X64)
+TGM_STATIC_ASSERT(sizeof(DLL_INIT_STRUCT) == 32, "DLL_INIT_STRUCT");
+TGM_STATIC_ASSERT(sizeof(CALLBACK_INFO) == 32, "CALLBACK_INFO");
+TGM_STATIC_ASSERT(offsetof(CALLBACK_INFO, m_errorArguments) == 24, "m_errorArguments");
+TGM_STATIC_ASSERT(offsetof(DLL_INIT_STRUCT, Local_Core_Mode) == 24, "Local_Core_Mode");
+#  else
+TGM_STATIC_ASSERT(sizeof(DLL_INIT_STRUCT) == 16, "DLL_INIT_STRUCT (32-bit)");
+TGM_STATIC_ASSERT(sizeof(CALLBACK_INFO) == 24, "CALLBACK_INFO (32-bit)");
+TGM_STATIC_ASSERT(offsetof(CALLBACK_INFO, m_errorArguments) == 20, "m_errorArguments (32-bit)");
+TGM_STATIC_ASSERT(offsetof(DLL_INIT_STRUCT, Local_Core_Mode) == 12, "Local_Core_Mode (32-bit)");
+#  endif
 TGM_STATIC_ASSERT(sizeof(P10DOUBLE) == 80, "P10DOUBLE");
 TGM_STATIC_ASSERT(sizeof(P10BOOL) == 40, "P10BOOL");
 TGM_STATIC_ASSERT(sizeof(P26FLOAT) == 104, "P26FLOAT");
-TGM_STATIC_ASSERT(sizeof(DLL_INIT_STRUCT) == 32, "DLL_INIT_STRUCT");
 TGM_STATIC_ASSERT(sizeof(SIMPLE_GM_PARAMS) == 616, "SIMPLE_GM_PARAMS");
 TGM_STATIC_ASSERT(sizeof(GM_PARAMS_ENHANCED) == 112, "GM_PARAMS_ENHANCED");
-TGM_STATIC_ASSERT(sizeof(CALLBACK_INFO) == 32, "CALLBACK_INFO");
+TGM_STATIC_ASSERT(offsetof(GM_PARAMS_ENHANCED, m_cncRunTime) == 104, "m_cncRunTime");
 TGM_STATIC_ASSERT(sizeof(MACHINE_STATUS) == 52, "MACHINE_STATUS");
 TGM_STATIC_ASSERT(sizeof(GCODE_PARAMETERS) == 1112, "GCODE_PARAMETERS");
 TGM_STATIC_ASSERT(sizeof(GCODE_SIZE) == 320, "GCODE_SIZE");
 TGM_STATIC_ASSERT(sizeof(GCODE_INFO) == 1280, "GCODE_INFO");
 TGM_STATIC_ASSERT(sizeof(MACHINE_PARAMETERS) == 448, "MACHINE_PARAMETERS");
+TGM_STATIC_ASSERT(offsetof(MACHINE_PARAMETERS, backlash) == 280, "backlash");
 TGM_STATIC_ASSERT(offsetof(GCODE_PARAMETERS, M02_programEnd1) == 624, "M02_programEnd1");
 TGM_STATIC_ASSERT(offsetof(GCODE_PARAMETERS, tolerance) == 1032, "tolerance");
 TGM_STATIC_ASSERT(offsetof(SIMPLE_GM_PARAMS, m_fp) == 612, "m_fp");

@@ -13,6 +13,7 @@ the Windows ctypes mirror.
 
 Skipped, saying why, where mingw-w64 or Wine is not installed (.ci/run installs them).
 """
+import ctypes
 import math
 import os
 import re
@@ -169,3 +170,91 @@ def test_numbers_on_windows_are_read_and_written_in_the_c_locale_whatever_the_ho
     report = (windows_build / "wine-run" / "decimal-comma.txt").read_text(encoding="utf-8")
     assert report.startswith("decimal point: ',', INI 1.5: same, long number: same, error text: same"), report
     assert "start X = 60.6051 Y = 40.7723" in report
+
+
+@pytest.mark.parametrize("scenario", ["run", "compile", "mfunc"])
+def test_a_panel_may_unload_the_dll_while_the_library_works(windows_build, scenario):
+    """tests/windows/unload.c: FreeLibrary without DestroyCNC during a run of the offline
+    machine, a compilation, a wait for an M function; the library's thread goes on (its
+    code stays mapped: the module pinned itself with its first thread), a LoadLibrary
+    finds the same module, and the process, returning from main with that thread still
+    at work, ends cleanly (build_windows.sh fails on any other exit status)."""
+    report = (windows_build / "wine-run" / f"unload-{scenario}.txt").read_text(encoding="utf-8")
+    doing = {"run": "running: yes\n", "compile": "compiling: yes\n",
+             "mfunc": "waiting for an M function: yes\n"}[scenario]
+    assert doing in report and "freed: yes\n" in report, report
+    assert "loaded again: the same module\nthe core still works: yes\nexit\n" in report, report
+    if scenario == "run":
+        assert "the run goes on after FreeLibrary: yes\n" in report, report
+
+
+def test_a_dll_that_started_no_thread_is_unloaded_by_free_library(windows_build):
+    report = (windows_build / "wine-run" / "unload-idle.txt").read_text(encoding="utf-8")
+    assert report.endswith("freed: yes\nunloaded: yes\nloaded again, version: yes\nexit\n"), report
+
+
+@pytest.mark.parametrize("code_page, error_bytes, file_name, printed", [
+    (1250, "9A ED F8", "Zkouška_chybí_ř.nc", "šrouby č. 5"),            # Czech: every letter
+    (1252, "9A ED", "Zkouška_chybí_?.nc", "šrouby ?. 5"),               # Western: ř and č replaced visibly
+])
+def test_narrow_texts_are_in_the_ansi_code_page_unless_the_ini_says_utf8(windows_build, code_page, error_bytes,
+                                                                         file_name, printed):
+    """tests/windows/ansi.c under Wine in a Czech and a Western locale: CALLBACK_INFO's
+    texts, ToolChain_LogANSI and the log hook, and G-code text in the process's ANSI code
+    page by default; UTF-8 after an INI file's [Texts] Narrow=utf8."""
+    report = (windows_build / "wine-run" / f"ansi-{code_page}.txt").read_text(encoding="utf-8")
+    default, utf8 = report.split("== [Texts] Narrow=utf8\n")
+    assert default.startswith(f"code page: {code_page}\n== default: the ANSI code page\n"), report
+    assert f"error 1: Cannot open file '{file_name}'\nbytes beyond ASCII: {error_bytes} \n" in default, report
+    assert "the same bytes: yes\nlog file has it in UTF-8: yes\n" in default, report
+    assert f"PRINT: {printed}\n" in default, report
+    # the opt-in: UTF-8, every letter
+    assert "INI utf8: 0\n" in default
+    assert "error 1: Cannot open file 'Zkouška_chybí_ř.nc'\nbytes beyond ASCII: C5 A1 C3 AD C5 99 \n" in utf8, report
+    assert "log hook: řádek žluťoučký, the same bytes: yes\nlog file has it in UTF-8: yes\n" in utf8, report
+    assert "PRINT: šrouby č. 5\n" in utf8, report
+
+
+def test_the_narrow_texts_key_is_read_on_linux_and_changes_nothing(tmp_path):
+    """[Texts] Narrow (ansi | utf8) chooses Windows' narrow texts; on Linux they stay UTF-8
+    whatever it says, and a value it does not know is refused, naming the key."""
+    from sf_tch import CncError
+    from sf_tch.core import Core
+    for value in ("ansi", "utf8"):
+        ini = tmp_path / f"{value}.ini"
+        ini.write_text(f"[Texts]\nNarrow={value}\n")
+        with Core(ini=str(ini)) as core:
+            with pytest.raises(CncError) as error:
+                core.compile_file(str(tmp_path / "chybí_ř.nc"))
+            assert "chybí_ř.nc" in error.value.text
+    bad = tmp_path / "bad.ini"
+    bad.write_text("[Texts]\nNarrow=latin2\n")
+    lib = sf_tch.library.load()
+    assert lib.ToolChainCore_LoadFromIni(2, str(bad).encode(), None) == abi.TOOL_CHAIN_XEXEC
+    info = abi.CALLBACK_INFO()
+    texts = [lib.ToolChainCore_GetLastCallError(2, ctypes.byref(info)) and info.m_fullError,
+             lib.ToolChainCore_GetLastError(2, ctypes.byref(info)) and info.m_fullError]
+    lib.ToolChainCore_DestroyCNC(2)
+    assert any(t and b"[Texts] Narrow" in t for t in texts), texts
+
+
+def test_a_panel_linked_against_the_import_library_runs(windows_build):
+    """tests/windows/linked.c calls the functions directly, through the header's
+    dllimport declarations and SF_TCh.lib."""
+    report = (windows_build / "wine-run" / "linked.txt").read_text(encoding="utf-8")
+    assert report == "linked: version yes, structure sizes: 8 1112 616 112 32 1280 52 448 32\n", report
+
+
+@pytest.mark.parametrize("target", ["x86_64-pc-windows-msvc", "i686-pc-windows-msvc"])
+@pytest.mark.parametrize("language", ["c", "c++"])
+def test_the_header_compiles_for_msvc_panels(target, language, tmp_path):
+    """As MSVC would compile a panel (clang in MSVC mode, no Windows SDK needed): C and
+    C++, x64 and x86, the functions dllimport, the layout asserts of both."""
+    clang = shutil.which("clang")
+    if clang is None:
+        pytest.skip("no clang: the header's MSVC mode is not checked")
+    source = tmp_path / ("panel.c" if language == "c" else "panel.cpp")
+    source.write_text('#include "tgm_cnc.h"\nint f(void) { return ToolChainCore_DestroyCNC(0); }\n')
+    proc = subprocess.run([clang, f"--target={target}", "-ffreestanding", "-fsyntax-only", "-Werror",
+                           "-I", str(ROOT / "include"), str(source)], capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr

@@ -47,6 +47,10 @@ ctypedef struct Callback:
 ctypedef struct PublishedError:
     int32_t refs            # atomic: the core while it keeps it, each thread that read it
     ErrorInfo info
+    # info's text and args as the host's narrow texts (Windows' ANSI code page: made
+    # when published, malloc'ed); NULL: the UTF-8 of info is the host's
+    char *narrow_text
+    char *narrow_args
 
 # A compiled program, immutable once published, shared by the core and every run
 # that reads it; the last release frees it (runtime/programs.pyx).

@@ -106,6 +106,7 @@ cdef int32_t _load_from_ini(uint32_t intIdx, const char *iniFile, uint32_t *pnMa
     memcpy(settings.driver, core.driver, sizeof(settings.driver))
     pthread_mutex_unlock(&core.lock)
     settings.tool_table_file = NULL
+    settings.narrow_utf8 = -1
     memset(settings.axis_table_files, 0, sizeof(settings.axis_table_files))
     settings.path = iniFile
     settings.err = &err
@@ -138,6 +139,8 @@ cdef int32_t _load_from_ini(uint32_t intIdx, const char *iniFile, uint32_t *pnMa
         core.axis_corrections = axis_tables
     core.ini_loaded = True
     pthread_mutex_unlock(&core.lock)
+    if settings.narrow_utf8 >= 0:
+        set_narrow_utf8(settings.narrow_utf8)
     free(tool_table)
     axis_corrections_release(old_axis_tables)
     if pnMaxCores != NULL:
@@ -308,9 +311,13 @@ cdef public int32_t ToolChainCore_GCodePrefixPostfix(uint32_t intIdx, TGM_LPCSTR
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
     if prefix != NULL and prefix[0] != 0:
-        pre = strdup(prefix)
+        pre = narrow_from_host(prefix)          # UTF-8 inside (Windows: from the ANSI code page)
+        if pre == NULL:
+            pre = strdup(prefix)
     if postfix != NULL and postfix[0] != 0:
-        post = strdup(postfix)
+        post = narrow_from_host(postfix)
+        if post == NULL:
+            post = strdup(postfix)
     pthread_mutex_lock(&core.lock)
     if status_after(core_status(core), CMD_SET_PREFIX, False) == TC_REFUSED:
         pthread_mutex_unlock(&core.lock)
@@ -355,8 +362,14 @@ cdef int32_t _compile_from_file(uint32_t intIdx, const char *fileName) noexcept 
 
 cdef public int32_t ToolChainCore_CompileFromMemory(uint32_t intIdx, TGM_LPCTSTR fileName, TGM_LPCSTR code) noexcept nogil:
     cdef char *owned
-    cdef int32_t result = _compile_from_memory(intIdx, text_from_host(fileName, &owned), code)
+    cdef char *utf8 = narrow_from_host(code)    # the G-code in UTF-8 (Windows: from the ANSI code page)
+    cdef const char *source = code
+    cdef int32_t result
+    if utf8 != NULL:
+        source = utf8
+    result = _compile_from_memory(intIdx, text_from_host(fileName, &owned), source)
     free(owned)
+    free(utf8)
     return result
 
 
@@ -484,16 +497,30 @@ cdef public int32_t ToolChainCore_ResetCNC(uint32_t intIdx, int32_t regime, uint
 
 cdef public int32_t ToolChainCore_StartCNCEx(uint32_t intIdx, int32_t regime, TGM_LPCSTR addCode) noexcept nogil:
     cdef Core *core = core_get(intIdx)
+    cdef char *utf8
+    cdef int32_t result
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
-    return core_start_run(core, regime, addCode)
+    utf8 = narrow_from_host(addCode)
+    if utf8 != NULL:
+        addCode = utf8
+    result = core_start_run(core, regime, addCode)
+    free(utf8)
+    return result
 
 
 cdef public int32_t ToolChainCore_StopCNCEx(uint32_t intIdx, TGM_LPCSTR addCode) noexcept nogil:
     cdef Core *core = core_get(intIdx)
+    cdef char *utf8
+    cdef int32_t result
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
-    return core_stop(core, addCode)
+    utf8 = narrow_from_host(addCode)
+    if utf8 != NULL:
+        addCode = utf8
+    result = core_stop(core, addCode)
+    free(utf8)
+    return result
 
 
 cdef int32_t not_implemented(uint32_t intIdx, const char *what) noexcept nogil:
@@ -507,13 +534,20 @@ cdef int32_t not_implemented(uint32_t intIdx, const char *what) noexcept nogil:
 
 
 cdef public int32_t ToolChainCore_ConnectCNCEx_Plane(uint32_t intIdx, uint32_t nType, uint32_t nCoords, const double *coords, TGM_LPCSTR addCode, uint32_t axesForCalc, uint32_t axesForConnect, int32_t stateAfter) noexcept nogil:
+    cdef char *utf8
+    cdef int32_t result
     if core_get(intIdx) == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
     if nCoords > 11 or (nCoords > 0 and coords == NULL) or (stateAfter != 0 and stateAfter != 2):
         return TOOL_CHAIN_ERROR
     if not coordinates_finite(coords, nCoords):
         return TOOL_CHAIN_ERROR
-    return core_connect(core_get(intIdx), nType, nCoords, coords, addCode, axesForCalc, axesForConnect, stateAfter)
+    utf8 = narrow_from_host(addCode)
+    if utf8 != NULL:
+        addCode = utf8
+    result = core_connect(core_get(intIdx), nType, nCoords, coords, addCode, axesForCalc, axesForConnect, stateAfter)
+    free(utf8)
+    return result
 
 
 cdef public int32_t ToolChainCore_GoToPosition(uint32_t intIdx, uint32_t nCoords, const double *coords) noexcept nogil:
@@ -664,7 +698,11 @@ cdef public uint32_t ToolChainCore_GetLogValue() noexcept nogil:
 
 
 cdef public void ToolChain_LogANSI(TGM_LPCSTR text) noexcept nogil:
+    cdef char *utf8 = narrow_from_host(text)    # the log file is UTF-8 (Windows: from the ANSI code page)
+    if utf8 != NULL:
+        text = utf8
     log_line(0, text)
+    free(utf8)
 
 
 cdef public void ToolChain_FlushLogFile() noexcept nogil:

@@ -2,7 +2,7 @@
 # file SF_TCh.log in the log directory, and stderr for the console outputs.
 # Callable from any thread: one mutex guards the file.
 from libc.stdio cimport FILE, fclose, fputs, fflush, fprintf, stderr, snprintf
-from libc.stdlib cimport getenv
+from libc.stdlib cimport getenv, free
 from libc.string cimport strlen, strncpy
 from libc.time cimport tm, strftime
 
@@ -85,12 +85,18 @@ cdef void log_line(uint32_t source, const char *text) noexcept nogil:
 
 cdef void log_to_hook(uint32_t source, const char *text) noexcept nogil:
     global tc_in_log_hook
+    cdef char *narrow
     if tc_in_log_hook:
         return
     pthread_mutex_lock(&g_hook_lock)
     if g_hook != NULL:
         tc_in_log_hook = 1
-        g_hook(g_hook_user, source, text)
+        narrow = narrow_to_host(text)      # the host's narrow text (Windows: ANSI code page)
+        if narrow != NULL:
+            g_hook(g_hook_user, source, narrow)
+        else:
+            g_hook(g_hook_user, source, text)
+        free(narrow)
         tc_in_log_hook = 0
     pthread_mutex_unlock(&g_hook_lock)
 

@@ -15,6 +15,7 @@ ctypedef struct IniSettings:
     int64_t plan_window     # [GCodeParameters] lookAheadParts (the core's, see SetLookAhead)
     double time_scale       # [Offline] TimeScale (the core's, see SetTimeScale)
     SmoothingConfig smoothing   # [Smoothing] keys (the core's, see SetSmoothing)
+    int32_t narrow_utf8     # [Texts] Narrow: 1 utf8, 0 ansi, -1 not named (process-wide; Windows only)
     # [Corrections] ToolTable, AxisTable1..8: the files named (malloc'ed; NULL none), read
     # once the whole INI file is good (ini_settings_free frees them)
     char *tool_table_file

@@ -372,7 +372,7 @@ cdef int32_t _ini_smoothing_key(IniSettings *s, int32_t line, const char *key, c
 cdef int32_t ini_apply_setting(void *ctx, const char *section, const char *key, const char *value,
                                int32_t line) noexcept nogil:
     """ini_visitor of LoadFromIni: [CNC] Driver, [GCodeParameters], [Offline],
-    [Corrections] and [Smoothing] keys into the IniSettings; ERR_INI_VALUE (s.err naming
+    [Corrections], [Smoothing] and [Texts] keys into the IniSettings; ERR_INI_VALUE (s.err naming
     the key and the line) for a bad value."""
     cdef IniSettings *s = <IniSettings *>ctx
     cdef GCODE_PARAMETERS candidate
@@ -388,6 +388,15 @@ cdef int32_t ini_apply_setting(void *ctx, const char *section, const char *key, 
         return _ini_file_key(s, line, key, value, &s.axis_table_files[<int>key[9] - 49])
     if strcasecmp(section, "Smoothing") == 0:
         return _ini_smoothing_key(s, line, key, value)
+    if strcasecmp(section, "Texts") == 0 and strcasecmp(key, "Narrow") == 0:
+        # the host's narrow texts (TGM_LPCSTR) on Windows: the ANSI code page or UTF-8
+        if strcasecmp(value, "ansi") == 0:
+            s.narrow_utf8 = 0
+        elif strcasecmp(value, "utf8") == 0 or strcasecmp(value, "utf-8") == 0:
+            s.narrow_utf8 = 1
+        else:
+            return _ini_fail(s, line, "[Texts] Narrow: the panel's narrow texts, ansi (the process's code page) or utf8")
+        return 0
     if strcasecmp(section, "Offline") == 0 and strcasecmp(key, "TimeScale") == 0:
         if not c_parse_double(value, &scale) or not (0.0 < scale <= 1e6):
             return _ini_fail(s, line, "[Offline] TimeScale: the offline machine's speed against real time, in (0, 1e6]")

@@ -8,7 +8,9 @@
 #
 # Writes BUILD_DIR/SF_TCh.dll, SF_TCh.lib (import library), SF_TCh.def (exports),
 # panel.exe, and in BUILD_DIR/wine-run/ the panel's reports (UTF-8, LF line ends):
-# report.txt, and decimal-comma.txt of a run in a German locale. Needs Debian's
+# report.txt, decimal-comma.txt of a run in a German locale, unload-*.txt of
+# tests/windows/unload.c (FreeLibrary while the library works) and ansi-*.txt of
+# tests/windows/ansi.c (the narrow texts in code pages 1250 and 1252). Needs Debian's
 # gcc-mingw-w64-x86-64 and wine64 (apt-get install --no-install-recommends
 # gcc-mingw-w64-x86-64 wine64); without them it says so and exits 77. $PYTHON (with
 # Cython) runs Cython, default python3; $WINEPREFIX defaults to BUILD_DIR/wineprefix.
@@ -33,22 +35,34 @@ cmake -S "$ROOT" -B "$BUILD" "${GENERATOR[@]}" -DCMAKE_BUILD_TYPE=Release \
 cmake --build "$BUILD"
 "$MINGW_CC" -std=gnu11 -O2 -Wall -Wextra -Werror -D__USE_MINGW_ANSI_STDIO=1 -I "$ROOT/include" \
     "$ROOT/tests/windows/panel.c" -o "$BUILD/panel.exe" -static-libgcc
+for program in unload ansi; do
+    "$MINGW_CC" -std=gnu11 -O2 -Wall -Wextra -Werror -I "$ROOT/include" \
+        "$ROOT/tests/windows/$program.c" -o "$BUILD/$program.exe" -static-libgcc
+done
+# a panel linked against the import library (the header's dllimport declarations)
+"$MINGW_CC" -std=gnu11 -O2 -Wall -Wextra -Werror -I "$ROOT/include" "$ROOT/tests/windows/linked.c" \
+    -o "$BUILD/linked.exe" -static-libgcc "$BUILD/SF_TCh.lib"
 
 # the panel runs in a fresh directory holding the DLL and the bundled INI and program
 RUN="$BUILD/wine-run"
 rm -rf "$RUN"
 mkdir -p "$RUN"
-cp "$BUILD/SF_TCh.dll" "$BUILD/panel.exe" "$ROOT/python/sf_tch/data/SF_TCh.ini" "$ROOT/python/sf_tch/data/demo.nc" "$RUN/"
+cp "$BUILD/SF_TCh.dll" "$BUILD/panel.exe" "$BUILD/unload.exe" "$BUILD/ansi.exe" "$BUILD/linked.exe" "$ROOT/python/sf_tch/data/SF_TCh.ini" "$ROOT/python/sf_tch/data/demo.nc" "$RUN/"
 # a preloaded library (a sanitizer runtime, say) is a Linux one: Wine would fail to start with it
 unset LD_PRELOAD
 export WINEPREFIX="${WINEPREFIX:-$BUILD/wineprefix}" WINEDEBUG=-all WINEDLLOVERRIDES="mscoree,mshtml="
 mkdir -p "$WINEPREFIX"
 
-# run_panel REPORT ARGS...: the panel under Wine, its report with LF line ends
+# run_panel REPORT [--program EXE] ARGS...: the panel (or EXE) under Wine, its report with
+# LF line ends
 run_panel() {
-    local report="$1"
+    local report="$1" program=panel.exe
     shift
-    (cd "$RUN" && timeout 600 "$WINE" panel.exe SF_TCh.dll "$@" < /dev/null > "$report.crlf" 2> "$report.stderr") || {
+    if [ "${1:-}" = --program ]; then
+        program="$2"
+        shift 2
+    fi
+    (cd "$RUN" && timeout 600 "$WINE" "$program" SF_TCh.dll "$@" < /dev/null > "$report.crlf" 2> "$report.stderr") || {
         status=$?
         echo "build_windows: the panel failed under Wine (exit $status):" >&2
         cat "$RUN/$report.stderr" >&2
@@ -61,6 +75,16 @@ run_panel() {
 run_panel report.txt
 # the same library in a host whose CRT locale writes a decimal comma, on every thread
 run_panel decimal-comma.txt --decimal-comma German_Germany.1252
+# a panel that unloads the library while it works, without DestroyCNC: during a run,
+# a compilation, a wait for an M function's confirmation, and with nothing running
+for scenario in run compile mfunc idle; do
+    run_panel "unload-$scenario.txt" --program unload.exe "$scenario"
+done
+# the narrow texts in a Czech (1250) and a Western (1252) ANSI code page: Wine takes the
+# code page from the Unix locale's name
+LC_ALL=cs_CZ.UTF-8 run_panel ansi-1250.txt --program ansi.exe
+LC_ALL=en_US.UTF-8 run_panel ansi-1252.txt --program ansi.exe
+run_panel linked.txt --program linked.exe
 # Wine's server lingers a few seconds after the last program: wait for it to end
 WINESERVER="$(dirname "$WINE")/wineserver"
 [ -x "$WINESERVER" ] || WINESERVER="$(command -v wineserver || true)"

@@ -1,11 +1,11 @@
 /*
- * pyconfig.h for compiling Cython's C output with mingw-w64 for Windows x64.
+ * pyconfig.h for compiling Cython's C output with mingw-w64 for Windows x64 and x86.
  *
  * Why it exists: Cython's C file includes Python.h, so even the Windows build of the
  * library needs CPython's headers. Their platform-independent part (Include/ of the
  * Python that runs Cython) is the same on every system; only pyconfig.h describes the
  * target: Linux's says long is 8 bytes, wchar_t 4, and pulls in POSIX threads, which
- * would be wrong for Windows x64 (LLP64). This file replaces it in the cross build
+ * would be wrong for Windows x64 (LLP64) and x86 (ILP32). This file replaces it in the cross build
  * (CMakeLists.txt copies Include/ without its pyconfig.h and puts this one beside it).
  *
  * The library itself never runs Python code: the module code that uses these headers
@@ -17,11 +17,13 @@
 #ifndef Py_CONFIG_H
 #define Py_CONFIG_H
 
-#if !defined(_WIN64) || !defined(__MINGW32__)
-#  error "this pyconfig.h is for mingw-w64 targeting Windows x64 only"
+#if !defined(__MINGW32__) || !(defined(_WIN64) ? defined(__x86_64__) : defined(__i386__))
+#  error "this pyconfig.h is for mingw-w64 targeting Windows x64 or x86 only"
 #endif
 
+#if defined(_WIN64)
 #define MS_WIN64
+#endif
 #define MS_WIN32
 #define MS_WINDOWS
 #define NT_THREADS
@@ -29,25 +31,35 @@
 #define Py_WINVER 0x0601
 #define Py_NTDDI 0x06010000
 
-/* LLP64: long is 4 bytes, pointers and size_t 8, wchar_t is UTF-16 */
+/* x64, LLP64: long is 4 bytes, pointers and size_t 8; x86, ILP32: pointers and size_t
+   4, long double 12 (mingw-w64's x87 type); time_t is 8 on both (mingw-w64's default);
+   wchar_t is UTF-16 */
 #define SIZEOF_SHORT 2
 #define SIZEOF_INT 4
 #define SIZEOF_LONG 4
 #define SIZEOF_LONG_LONG 8
+#if defined(_WIN64)
 #define SIZEOF_VOID_P 8
 #define SIZEOF_SIZE_T 8
 #define SIZEOF_UINTPTR_T 8
+#define SIZEOF_LONG_DOUBLE 16
+#define ALIGNOF_SIZE_T 8
+#else
+#define SIZEOF_VOID_P 4
+#define SIZEOF_SIZE_T 4
+#define SIZEOF_UINTPTR_T 4
+#define SIZEOF_LONG_DOUBLE 12
+#define ALIGNOF_SIZE_T 4
+#endif
 #define SIZEOF_TIME_T 8
 #define SIZEOF_OFF_T 4
 #define SIZEOF_FPOS_T 8
 #define SIZEOF_WCHAR_T 2
 #define SIZEOF_FLOAT 4
 #define SIZEOF_DOUBLE 8
-#define SIZEOF_LONG_DOUBLE 16
 #define SIZEOF__BOOL 1
 #define SIZEOF_PID_T 4
 #define ALIGNOF_LONG 4
-#define ALIGNOF_SIZE_T 8
 #define HAVE_SSIZE_T 1
 #define HAVE_WCHAR_H 1
 #define HAVE_USABLE_WCHAR_T 1

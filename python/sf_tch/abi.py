@@ -453,12 +453,52 @@ def _functions(tstr, dll_init_struct) -> tuple:
 FUNCTIONS = _functions(TSTR, DLL_INIT_STRUCT)
 
 
-def mirror(windows: bool) -> tuple[dict, tuple]:
-    """(STRUCTURES, FUNCTIONS) of Windows x64 or of Linux, whichever system this is."""
+def mirror(windows: bool, pointer_bits: int = 64) -> tuple[dict, tuple]:
+    """(STRUCTURES, FUNCTIONS) of Windows x64 or of Linux, whichever system this is.
+
+    `pointer_bits` 32: the layouts of the 32-bit builds (Windows x86, Linux i686), for
+    abi_check; FUNCTIONS is empty then (this process cannot call a 32-bit library).
+    Every pointer field becomes a 4-byte stand-in of the same C name (``char*``,
+    ``wchar_t*``), and on Linux i686 a double inside a structure is 4-aligned (the
+    i386 System V ABI; Windows x86 aligns it to 8, as x64 does)."""
+    if pointer_bits == 32:
+        structures, _ = mirror(windows)
+        return _layouts_32(structures, windows), ()
+    if pointer_bits != 64:
+        raise ValueError(f"pointer_bits is 32 or 64, not {pointer_bits}")
     if windows == WINDOWS:
         return STRUCTURES, FUNCTIONS
     dll_init_struct = _dll_init_struct(text_type(windows))
     return _structures(dll_init_struct), _functions(text_type(windows), dll_init_struct)
+
+
+def _pointer_32(c_name: str):
+    """A 4-byte stand-in for a pointer field of a 32-bit layout (abi_check reads
+    `_c_name_` as its C type)."""
+    return type(f"pointer32_{c_name.rstrip('*')}", (ctypes.c_uint32,), {"_c_name_": c_name, "__module__": __name__})
+
+
+_POINTERS_32 = {c_char_p: _pointer_32("char*"), c_wchar_p: _pointer_32("wchar_t*"), c_void_p: _pointer_32("void*")}
+
+
+def _layouts_32(structures: dict, windows: bool) -> dict:
+    made: dict = {}
+
+    def remade(t):
+        if t in _POINTERS_32:
+            return _POINTERS_32[t]
+        if isinstance(t, type) and issubclass(t, ctypes.Array):
+            return remade(t._type_) * t._length_
+        if isinstance(t, type) and issubclass(t, ctypes.Structure):
+            if t.__name__ not in made:
+                attrs = {"_fields_": [(name, remade(ft)) for name, ft in t._fields_], "__module__": __name__}
+                if not windows:
+                    attrs["_pack_"] = 4          # i386: double and int64 4-aligned inside structures
+                made[t.__name__] = type(t.__name__, (ctypes.Structure,), attrs)
+            return made[t.__name__]
+        return t
+
+    return {name: remade(cls) for name, cls in structures.items()}
 
 
 # Beyond the vendor's list (docs/api.md, "Extensions"): the structures and functions this library adds.

@@ -22,7 +22,8 @@
  *
  * Every text is UTF-8 in the report. On Windows the panel speaks UTF-16 to the
  * library wherever the header says TGM_LPCTSTR, converting its UTF-8 with
- * MultiByteToWideChar, and writes its files by wide names. Numbers are printed with
+ * MultiByteToWideChar, and writes its files by wide names; its narrow texts
+ * (TGM_LPCSTR) are UTF-8 by an INI file's [Texts] Narrow=utf8. Numbers are printed with
  * 9 significant digits: the two C runtimes' libm may differ in the last bits. Exit
  * status 0, or 2 when the library could not be loaded or a run did not end.
  */
@@ -663,6 +664,14 @@ int main(int argc, char **argv) {
     }
     TC_FUNCTIONS(X)
 #undef X
+    /* this panel reads the library's narrow texts (CALLBACK_INFO's) as UTF-8: on Windows
+       it says so in an INI file (the default there is the ANSI code page); on Linux they
+       are UTF-8 anyway and the key changes nothing */
+    write_file("narrow_utf8.ini", "[Texts]\nNarrow=utf8\n");
+    if (tc.ToolChainCore_LoadFromIni(0, T("narrow_utf8.ini"), NULL) != 0) {
+        fprintf(stderr, "panel: [Texts] Narrow=utf8 refused\n");
+        return 2;
+    }
     if (argc == 4)
         return decimal_comma_check(argv[3]);
 

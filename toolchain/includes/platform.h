@@ -1,6 +1,6 @@
 /*
  * platform.h -- what the library needs from the operating system, for Linux and for
- * Windows x64 (mingw-w64), so that the stages stay free of #ifdefs. Declared for the
+ * Windows x64 and x86 (mingw-w64), so that the stages stay free of #ifdefs. Declared for the
  * Cython sources in platform.pxd. Every function here is nogil C.
  *
  *   threads     the POSIX subset the library uses (create/join, mutexes, condition
@@ -8,7 +8,8 @@
  *               Windows implemented over CreateThread, SRW locks, condition variables,
  *               InitOnce and fiber-local storage, with no pthread library: a
  *               zero-initialised mutex, condition or once is valid on both systems,
- *               as the library's static ones rely on
+ *               as the library's static ones rely on. On Windows the first thread or
+ *               key pins the module (FreeLibrary while a worker runs is safe)
  *   memory      the madvise prefault hint; refused on Windows
  *   time        a monotonic clock in seconds, sleeps, the local wall-clock time
  *   files       regular files opened without blocking (a FIFO, a device, a console
@@ -16,7 +17,8 @@
  *   numbers     strtod and snprintf with a '.' decimal point whatever the locale
  *   host texts  TGM_LPCTSTR of the export boundary: char (UTF-8) on Linux, the very
  *               pointer; wchar_t (UTF-16) on Windows, converted once on the way in
- *               to UTF-8 and on the way out into owned buffers
+ *               to UTF-8 and on the way out into owned buffers. TGM_LPCSTR: UTF-8
+ *               on Linux; on Windows the ANSI code page (or UTF-8 by the INI's choice)
  */
 #ifndef TC_PLATFORM_H
 #define TC_PLATFORM_H
@@ -62,11 +64,37 @@ static DWORD WINAPI tc_thread_main(LPVOID param) {
     return 0;
 }
 
+/* The library stays loaded once it has a thread of its own (a core's worker, the
+   offline machine's pacer) or a thread-end callback (a key): a panel that calls
+   FreeLibrary while the machine runs, without DestroyCNC first (MFC, Delphi and .NET
+   panels do on exit), would otherwise unmap the code a worker runs. Pinned, FreeLibrary
+   only drops the panel's reference; the module goes with the process, whose exit ends
+   the threads before DLL_PROCESS_DETACH (which then waits for nothing: see
+   TC_MODULE_PINNED_AT_DETACH). A LoadLibrary after it finds the same library, its cores
+   as they were. */
+static volatile LONG tc_module_pinned;
+
+static void tc_pin_module(void) {
+    HMODULE self;
+    if (tc_module_pinned)
+        return;
+    if (GetModuleHandleExW(GET_MODULE_HANDLE_EX_FLAG_FROM_ADDRESS | GET_MODULE_HANDLE_EX_FLAG_PIN,
+                           (LPCWSTR)(void *)&tc_module_pinned, &self))
+        InterlockedExchange(&tc_module_pinned, 1);
+}
+
+/* At DLL_PROCESS_DETACH (the C runtime's destructors): a pinned module is only detached
+   when the process ends, its other threads already gone; whatever they held (locks,
+   thread-end callbacks) is left to the system, and nothing is waited for under the
+   loader lock. */
+#define TC_MODULE_PINNED_AT_DETACH() (tc_module_pinned != 0)
+
 static int pthread_create(pthread_t *thread, const pthread_attr_t *attr, void *(*start)(void *), void *arg) {
     tc_thread_start *run = (tc_thread_start *)malloc(sizeof *run);
     (void)attr;
     if (run == NULL)
         return ENOMEM;
+    tc_pin_module();
     run->start = start;
     run->arg = arg;
     thread->handle = CreateThread(NULL, TC_THREAD_STACK_BYTES, tc_thread_main, run,
@@ -128,14 +156,33 @@ static int pthread_once(pthread_once_t *once, void (*init)(void)) {
 }
 
 /* Thread-specific keys over fiber-local storage, whose callback runs at a thread's end
-   as a key's destructor does (for a value that is not NULL). x64 has one calling
-   convention, so the destructor is the callback itself. */
+   as a key's destructor does (for a value that is not NULL). The callback is WINAPI
+   (stdcall on x86, where a cdecl destructor called in its place would leave the stack
+   off by its argument): each key's destructor is called by a trampoline of its own. */
 typedef DWORD pthread_key_t;
 
+#define TC_MAX_KEYS 4
+static void (*tc_key_destructors[TC_MAX_KEYS])(void *);
+static volatile LONG tc_keys_made;
+#define TC_KEY_TRAMPOLINE(k) \
+    static VOID WINAPI tc_key_trampoline_##k(PVOID value) { tc_key_destructors[k](value); }
+TC_KEY_TRAMPOLINE(0)
+TC_KEY_TRAMPOLINE(1)
+TC_KEY_TRAMPOLINE(2)
+TC_KEY_TRAMPOLINE(3)
+static const PFLS_CALLBACK_FUNCTION tc_key_trampolines[TC_MAX_KEYS] = {
+    tc_key_trampoline_0, tc_key_trampoline_1, tc_key_trampoline_2, tc_key_trampoline_3};
+
+static void tc_pin_module(void);
+
 static int pthread_key_create(pthread_key_t *key, void (*destructor)(void *)) {
-    PFLS_CALLBACK_FUNCTION callback;
-    memcpy(&callback, &destructor, sizeof callback);
-    *key = FlsAlloc(callback);
+    LONG slot = InterlockedIncrement(&tc_keys_made) - 1;
+    if (slot >= TC_MAX_KEYS)
+        return EAGAIN;
+    tc_key_destructors[slot] = destructor;
+    /* the callback runs when any thread that set a value ends, loaded or not */
+    tc_pin_module();
+    *key = FlsAlloc(destructor != NULL ? tc_key_trampolines[slot] : NULL);
     return *key == FLS_OUT_OF_INDEXES ? EAGAIN : 0;
 }
 static inline int pthread_key_delete(pthread_key_t key) { return FlsFree(key) ? 0 : EINVAL; }
@@ -261,6 +308,69 @@ static const tc_host_char *tc_text_to_host_kept(const char *utf8) {
         found = t->wide;
     ReleaseSRWLockExclusive(&tc_kept_texts_lock);
     return found;
+}
+
+/* ------------------------------------------------------------------ narrow texts */
+/* TGM_LPCSTR (G-code text, add codes, ToolChain_LogANSI and the log hook's lines,
+   CALLBACK_INFO's m_fullError / m_errorArguments) is the vendor's "ANSI": the process's
+   ANSI code page (CP_ACP: 1250 on Czech Windows, 1252 on Western) by default, or UTF-8
+   when an INI file says so ([Texts] Narrow=utf8; process-wide, the last LoadFromIni
+   that names it decides) or the process's code page is UTF-8 already. Inside, the
+   library works in UTF-8: a narrow text is converted on the way in and on the way out;
+   an ASCII text, the same in every code page, is passed as it is. */
+static volatile LONG tc_narrow_utf8;
+
+static void tc_set_narrow_utf8(int on) { InterlockedExchange(&tc_narrow_utf8, on != 0); }
+
+static int tc_narrow_needs_conversion(const char *text) {
+    const unsigned char *c;
+    if (text == NULL || tc_narrow_utf8 || GetACP() == CP_UTF8)
+        return 0;
+    for (c = (const unsigned char *)text; *c != 0; c++)
+        if (*c >= 0x80)
+            return 1;
+    return 0;
+}
+
+/* A narrow text of the host as UTF-8 (malloc'ed), or NULL when the text is UTF-8
+   already (ASCII, UTF-8 mode, NULL; out of memory too: the caller uses it as it is). */
+static char *tc_narrow_from_host(const char *text) {
+    wchar_t *wide;
+    char *utf8;
+    int n;
+    if (!tc_narrow_needs_conversion(text))
+        return NULL;
+    n = MultiByteToWideChar(CP_ACP, 0, text, -1, NULL, 0);
+    wide = n > 0 ? (wchar_t *)malloc((size_t)n * sizeof(wchar_t)) : NULL;
+    if (wide == NULL || MultiByteToWideChar(CP_ACP, 0, text, -1, wide, n) != n) {
+        free(wide);
+        return NULL;
+    }
+    utf8 = tc_wide_to_utf8(wide);
+    free(wide);
+    return utf8;
+}
+
+/* A UTF-8 text as the host's narrow text (malloc'ed), or NULL when the UTF-8 is it
+   (ASCII, UTF-8 mode, NULL; out of memory too). A character the code page cannot hold
+   becomes '?', visibly (no "best fit": 'ř' is not silently made 'r'). */
+static char *tc_narrow_to_host(const char *utf8) {
+    wchar_t *wide;
+    char *ansi;
+    int n;
+    if (!tc_narrow_needs_conversion(utf8))
+        return NULL;
+    wide = tc_utf8_to_wide(utf8);
+    if (wide == NULL)
+        return NULL;
+    n = WideCharToMultiByte(CP_ACP, WC_NO_BEST_FIT_CHARS, wide, -1, NULL, 0, "?", NULL);
+    ansi = n > 0 ? (char *)malloc((size_t)n) : NULL;
+    if (ansi != NULL && WideCharToMultiByte(CP_ACP, WC_NO_BEST_FIT_CHARS, wide, -1, ansi, n, "?", NULL) != n) {
+        free(ansi);
+        ansi = NULL;
+    }
+    free(wide);
+    return ansi;
 }
 
 /* ------------------------------------------------------------------ files */
@@ -401,6 +511,9 @@ static inline void tc_cond_wait_seconds(pthread_cond_t *c, pthread_mutex_t *m, d
     pthread_cond_timedwait(c, m, &until);
 }
 
+/* dlclose unloads the library (its destructors run; docs/hosts.md) */
+#define TC_MODULE_PINNED_AT_DETACH() 0
+
 /* ------------------------------------------------------------------ time */
 static inline double tc_monotonic_seconds(void) {
     struct timespec ts;
@@ -439,6 +552,12 @@ static inline const tc_host_char *tc_text_to_host(const char *utf8, void **owned
 }
 
 static inline const tc_host_char *tc_text_to_host_kept(const char *utf8) { return utf8; }
+
+/* Narrow texts (TGM_LPCSTR) are UTF-8 on Linux, as every text: nothing to convert
+   ([Texts] Narrow of an INI file changes nothing here). */
+static inline void tc_set_narrow_utf8(int on) { (void)on; }
+static inline char *tc_narrow_from_host(const char *text) { (void)text; return NULL; }
+static inline char *tc_narrow_to_host(const char *utf8) { (void)utf8; return NULL; }
 
 /* ------------------------------------------------------------------ files */
 typedef int tc_file;

@@ -78,3 +78,9 @@ cdef extern from "platform.h" nogil:
     const char *text_from_host "tc_text_from_host"(TGM_LPCTSTR text, char **owned)
     TGM_LPCTSTR text_to_host "tc_text_to_host"(const char *utf8, void **owned)
     TGM_LPCTSTR text_to_host_kept "tc_text_to_host_kept"(const char *utf8)
+    # the host's narrow texts (TGM_LPCSTR): Windows' ANSI code page (or UTF-8 by the INI),
+    # Linux's UTF-8. In: its UTF-8 (malloc'ed), NULL when the text is UTF-8 as it is.
+    # Out: the host's (malloc'ed), NULL when the UTF-8 is it. set_narrow_utf8: the mode.
+    char *narrow_from_host "tc_narrow_from_host"(const char *text)
+    char *narrow_to_host "tc_narrow_to_host"(const char *utf8)
+    void set_narrow_utf8 "tc_set_narrow_utf8"(int on)

@@ -123,7 +123,13 @@ cdef void core_report_error(Core *core, const ErrorInfo *err) noexcept nogil:
     cdef CALLBACK_INFO info
     cdef char line[1400]
     cdef void *owned
+    cdef char *narrow_text = narrow_to_host(err.text)
+    cdef char *narrow_args = narrow_to_host(err.args)
     fill_callback_info(err, &info)
+    if narrow_text != NULL:
+        info.m_fullError = narrow_text
+    if narrow_args != NULL:
+        info.m_errorArguments = narrow_args
     if callback_enter(core, SLOT_DISP_AND_LOCATE_ERROR, &cb):
         (<TC_DispAndLocateError>cb.fn)(cb.user, <uint32_t>err.line, err.file_idx, text_to_host(err.text, &owned), &info)
         free(owned)
@@ -132,6 +138,8 @@ cdef void core_report_error(Core *core, const ErrorInfo *err) noexcept nogil:
         (<TC_AddOutputLog>cb.fn)(cb.user, 0, text_to_host(err.text, &owned), &info)
         free(owned)
         callback_leave(core, SLOT_ADD_OUTPUT_LOG)
+    free(narrow_text)
+    free(narrow_args)
     snprintf(line, sizeof(line), "core %d: error %d at file %d line %d: %s",
              core.index, err.number, err.file_idx, err.line, err.text)
     log_line(LOG_TOOLCHAIN, line)
@@ -162,7 +170,17 @@ cdef void core_warning(Core *core, const ErrorInfo *warning) noexcept nogil:
     """A numbered warning of a stage (e.g. the compensation) to MathWarning (2001)."""
     cdef Callback cb
     cdef CALLBACK_INFO info
+    cdef char *narrow_text
+    cdef char *narrow_args
     if callback_enter(core, SLOT_MATH_WARNING, &cb):
         fill_callback_info(warning, &info)
+        narrow_text = narrow_to_host(warning.text)
+        narrow_args = narrow_to_host(warning.args)
+        if narrow_text != NULL:
+            info.m_fullError = narrow_text
+        if narrow_args != NULL:
+            info.m_errorArguments = narrow_args
         (<TC_MathWarning>cb.fn)(cb.user, &info)
+        free(narrow_text)
+        free(narrow_args)
         callback_leave(core, SLOT_MATH_WARNING)

@@ -14,9 +14,10 @@ cdef extern from *:
     static __thread void *tc_held_errors[3][2];
     static pthread_key_t tc_held_key;
     static int tc_held_key_made = 0;
-    /* a thread that ends after the library was unloaded must not run its release */
+    /* a thread that ends after the library was unloaded must not run its release; a
+       pinned module (Windows) is detached only at the process's end: nothing to do */
     __attribute__((destructor)) static void tc_held_key_drop(void) {
-        if (tc_held_key_made)
+        if (tc_held_key_made && !TC_MODULE_PINNED_AT_DETACH())
             pthread_key_delete(tc_held_key);
     }
     """
@@ -59,12 +60,16 @@ cdef PublishedError *published_error_new(const ErrorInfo *err) noexcept nogil:
         return &g_out_of_memory_error
     e.refs = 1
     e.info = err[0]
+    e.narrow_text = narrow_to_host(e.info.text)
+    e.narrow_args = narrow_to_host(e.info.args)
     return e
 
 
 cdef void published_error_release(PublishedError *e) noexcept nogil:
     """Drops a reference (e may be NULL); the last one frees it."""
     if e != NULL and TC_REF_SUB(&e.refs) == 0 and e != &g_out_of_memory_error:
+        free(e.narrow_text)
+        free(e.narrow_args)
         free(e)
 
 
@@ -111,4 +116,8 @@ cdef int32_t core_read_error(Core *core, bint of_calls, CALLBACK_INFO *info) noe
         pthread_setspecific(tc_held_key, <void *>1)     # the thread's end releases what it holds
     published_error_release(before)
     fill_callback_info(&e.info, info)
+    if e.narrow_text != NULL:
+        info.m_fullError = e.narrow_text
+    if e.narrow_args != NULL:
+        info.m_errorArguments = e.narrow_args
     return 1
