@@ -4,8 +4,8 @@
 # (TGM_LPCTSTR: UTF-16 on Windows) are converted here once, to UTF-8 on the way in
 # (text_from_host) and back on the way out (text_to_host_kept); inside, every text
 # is UTF-8 (platform.pxd).
-from libc.string cimport memset, memcpy, strlen, strdup
-from libc.stdlib cimport free, malloc
+from libc.string cimport memset, memcpy, strlen
+from libc.stdlib cimport free
 
 cdef extern from *:
     """
@@ -110,7 +110,7 @@ cdef int32_t _load_from_ini(uint32_t intIdx, const char *iniFile, uint32_t *pnMa
     settings.path = iniFile
     settings.err = &err
     clear_error(&err)
-    tool_table = <ToolTable *>malloc(sizeof(ToolTable))
+    tool_table = <ToolTable *>tc_malloc(sizeof(ToolTable))
     if tool_table == NULL:
         core_fail(core, ERR_OUT_OF_MEMORY, NULL)
         return TOOL_CHAIN_XEXEC
@@ -285,9 +285,9 @@ cdef public int32_t ToolChainCore_GCodePrefixPostfix(uint32_t intIdx, TGM_LPCSTR
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
     if prefix != NULL and prefix[0] != 0:
-        pre = strdup(prefix)
+        pre = tc_strdup(prefix)
     if postfix != NULL and postfix[0] != 0:
-        post = strdup(postfix)
+        post = tc_strdup(postfix)
     pthread_mutex_lock(&core.lock)
     if status_after(core_status(core), CMD_SET_PREFIX, False) == TC_REFUSED:
         pthread_mutex_unlock(&core.lock)
@@ -344,7 +344,7 @@ cdef int32_t _compile_from_memory(uint32_t intIdx, const char *fileName, const c
         return TOOL_CHAIN_BAD_INTR_INDEX
     if fileName == NULL or code == NULL or fileName[0] == 0 or strlen(fileName) >= <size_t>TOOL_CHAIN_MAX_FILE_NAME:
         return TOOL_CHAIN_ERROR
-    source = strdup(code)
+    source = tc_strdup(code)
     if source == NULL:
         core_fail(core, ERR_OUT_OF_MEMORY, NULL)
         return TOOL_CHAIN_ERROR
@@ -621,7 +621,7 @@ cdef public int32_t ToolChainCore_SetCallBack(uint32_t intIdx, uint32_t fceNo, i
 
 
 cdef void _fail_ini_first(Core *core, uint32_t number) noexcept nogil:
-    cdef ErrorInfo *err = <ErrorInfo *>malloc(sizeof(ErrorInfo))
+    cdef ErrorInfo *err = <ErrorInfo *>tc_malloc(sizeof(ErrorInfo))
     if err == NULL:
         return
     set_error_num(err, ERR_INI_FIRST, -1, 0, <double>number)
@@ -690,6 +690,12 @@ cdef public int32_t ToolChainCore_TestClock(uint32_t intIdx, uint64_t key, doubl
     return machine_test_clock(core, key, seconds)
 
 
+cdef public int64_t ToolChain_TestAllocFail(uint64_t key, int64_t nth) noexcept nogil:
+    if key != TC_TEST_ALLOC_KEY or nth < 0:
+        return -1
+    return tc_alloc_fail_nth(nth)
+
+
 # ------------------------------------------------------------------ toolpath (extension)
 
 cdef public int32_t ToolChainCore_GetToolpath(uint32_t intIdx, TC_TOOLPATH_RECORD *out, uint64_t capacity,
@@ -721,7 +727,7 @@ cdef int32_t _load_tool_table(uint32_t intIdx, const char *fileName) noexcept no
         return core_fail(core, ERR_FILE_OPEN, "(null)")
     if fileName[0] == 0:
         return core_fail(core, ERR_FILE_OPEN, fileName)
-    table = <ToolTable *>malloc(sizeof(ToolTable))
+    table = <ToolTable *>tc_malloc(sizeof(ToolTable))
     if table == NULL:
         return core_fail(core, ERR_OUT_OF_MEMORY, NULL)
     if not tool_table_read(fileName, table, &err):      # read without the lock

@@ -1,7 +1,7 @@
 # The G-code compiler: runs prefix, main text and postfix line by line (the program
 # is interpreted once, loops and calls included) and appends one Part per G/M
 # function. Modal G functions and non-signalled M functions change the state only.
-from libc.stdlib cimport calloc, free
+from libc.stdlib cimport free
 from libc.string cimport memchr, memcpy, memset, strlen
 from libc.stdio cimport snprintf
 from libc.math cimport floor
@@ -205,7 +205,7 @@ cdef int compile_program(const CompileInput *inp, ProgramBuilder *build, ErrorIn
     """Compiles inp.text (prefix, main, postfix) into build.prog; COMPILE_OK, or COMPILE_ERROR
     with err filled, or COMPILE_CANCELLED when inp.cancel was set."""
     cdef Program *prog = &build.prog
-    cdef CState *st = <CState *>calloc(1, sizeof(CState))
+    cdef CState *st = <CState *>tc_calloc(1, sizeof(CState))
     cdef Unit units[3]
     cdef int i, result = COMPILE_OK
     cdef uint64_t lines = 0

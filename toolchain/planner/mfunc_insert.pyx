@@ -8,7 +8,7 @@
 # Numbers from 1001 on are continuous (never stop the motion), others wait like any
 # waiting M function; all carry FLAG_INSERTED. At the program's start "before" means
 # after the first part (an insertion follows a part).
-from libc.stdlib cimport malloc, free, qsort
+from libc.stdlib cimport free, qsort
 
 
 cdef bint _mfi_add(MfuncInsertions *ins, size_t after, int32_t mfunc) noexcept nogil:

@@ -11,8 +11,8 @@
 # made inside a callback of a running activity (on any worker thread) never waits
 # for a worker: it leaves its end to the worker, which applies it when the callback
 # has returned.
-from libc.stdlib cimport malloc, calloc, free
-from libc.string cimport memset, memcpy, memcmp, strdup
+from libc.stdlib cimport free
+from libc.string cimport memset, memcpy, memcmp
 
 
 cdef bint activity_of(int32_t command, Activity *a) noexcept nogil:
@@ -66,7 +66,7 @@ cdef Job *job_new(int32_t command) noexcept nogil:
     cdef Job *job
     if not activity_of(command, &a):
         return NULL
-    job = <Job *>calloc(1, a.job_size)
+    job = <Job *>tc_calloc(1, a.job_size)
     if job != NULL:
         job.command = command
     return job
@@ -100,7 +100,7 @@ cdef int32_t core_start_run(Core *core, int32_t regime, const char *add_code) no
         return core_fail(core, ERR_OUT_OF_MEMORY, NULL)
     job.regime = regime
     if add_code != NULL:
-        job.add_code = strdup(add_code)
+        job.add_code = tc_strdup(add_code)
     return core_start(core, &job.head, "StartCNCEx")
 
 
@@ -161,7 +161,7 @@ cdef int32_t core_start(Core *core, Job *job, const char *what) noexcept nogil:
             return core_fail(core, err, NULL)
         return core_refuse(core, what, status)
     if a.prepare != NULL:
-        refusal = <ErrorInfo *>calloc(1, sizeof(ErrorInfo))
+        refusal = <ErrorInfo *>tc_calloc(1, sizeof(ErrorInfo))
         if refusal == NULL or not a.prepare(core, job, refusal):
             pthread_mutex_unlock(&core.lock)
             job_free(job)
@@ -223,7 +223,7 @@ cdef int32_t _end_command(int32_t kind) noexcept nogil:
 cdef void _publish_position(Core *core, const double *position) noexcept nogil:
     """With core.lock held, GetPos after an end: standing at `position` (m_calcE: with
     the axis corrections, what the drives are sent), counters cleared."""
-    cdef SnapshotData *data = <SnapshotData *>calloc(1, sizeof(SnapshotData))
+    cdef SnapshotData *data = <SnapshotData *>tc_calloc(1, sizeof(SnapshotData))
     if data == NULL:
         return
     data.pos.m_fileIdx = -1
@@ -262,7 +262,7 @@ cdef void _refresh_size_info(Core *core) noexcept nogil:
     pass over the immutable program, outside the lock."""
     cdef LoadedProgram *lp
     cdef Placement placement
-    cdef GCODE_INFO *info = <GCODE_INFO *>malloc(sizeof(GCODE_INFO))
+    cdef GCODE_INFO *info = <GCODE_INFO *>tc_malloc(sizeof(GCODE_INFO))
     cdef bint ok = False
     if info == NULL:
         return
