@@ -72,8 +72,14 @@ COMPILE = r"""
 load_ini(lib, 0)
 # the sample (G41, G42, helices) and a compensated contour long enough to grow every array
 CONTOUR = b"G41 G1 X0 Y0 F3000\n" + b"".join(b"G1 X%d Y%d\n" % (i, 5 * (i % 2)) for i in range(1, 3000)) + b"G40 G1 X0 Y-20\n"
+# the ISO mode (GCODE_PARAMETERS.rezerva1 bit 0): parameters, an O-word loop, a canned cycle
+ISO = (b"#1 = 0\nG21 G90 G17\nG0 X0 Y0 Z5\no100 while [#1 LT 5]\nG1 X[#1 * 10] Y[#1 MOD 2] F600\n"
+       b"#1 = [#1 + 1]\no100 endwhile\nG81 X10 Y10 Z-2 R1 F100\nG80\nG41 D0 G1 X0 Y0\nG40\nM2\n")
 PROGRAMS = [(b"demo.nc", DEMO), (b"contour.nc", CONTOUR)]
+FILE = Path(tempfile.mkdtemp()) / "demo_file.nc"
+FILE.write_bytes(DEMO)
 state = {}
+variant = [""]                  # what else the core has: a prefix, the ISO mode
 
 def result(name):
     '''What the compiled program is: its size info and its records.'''
@@ -84,7 +90,8 @@ def result(name):
     records = (abi.TC_TOOLPATH_RECORD * total.value)()
     assert lib.ToolChainCore_GetToolpath(0, records, total.value, 0, byref(total)) == 0
     got = json.dumps([info.to_dict(), [r.to_dict() for r in records]])
-    assert state.setdefault(name, got) == got, f"{name}: another program than without a failure"
+    key = (variant[0], name)
+    assert state.setdefault(key, got) == got, f"{key}: another program than without a failure"
 
 def known():
     for name, text in PROGRAMS:
@@ -105,6 +112,57 @@ def compile_one(name, text):
 
 for name, text in PROGRAMS:
     sweep(f"compile {name.decode()}", lambda: compile_one(name, text), known)
+
+def from_file():
+    reset_to(lib, 0, 0.0, 0.0, 0.0)
+    rc = lib.ToolChainCore_CompileFromFile(0, str(FILE).encode())
+    if rc != 0:
+        return call_error()
+    assert wait_status(lib, 0, lambda s: s != 1, 20.0) == -1
+    err = last_error(lib, 0)
+    if err is None:
+        result("from file")
+    return None if err is None else (err[0], err[2])
+
+def file_known():
+    known()
+    reset_to(lib, 0, 0.0, 0.0, 0.0)
+    assert lib.ToolChainCore_CompileFromFile(0, str(FILE).encode()) == 0
+    assert wait_status(lib, 0, lambda s: s != 1, 20.0) == -1 and last_error(lib, 0) is None
+    result("from file")
+
+sweep("compile from a file", from_file, file_known)
+
+# a prefix and a postfix: their copies are the compilation's too
+def set_fixes():
+    return refused_or_ok(lib.ToolChainCore_GCodePrefixPostfix(0, b"G1 X1 Y1 F1000", b"G1 X2 Y2"))
+
+def fixes_known():
+    assert set_fixes() is None
+    known()
+
+def set_fixes_once():
+    '''Sets them (refused: a second time, the fault spent): the compilations after it
+    (known) show whether a call that succeeded did set them.'''
+    result = set_fixes()
+    if result is not None:
+        assert set_fixes() is None
+    return result
+
+variant[0] = "fixes"
+assert set_fixes() is None
+sweep("prefix and postfix", set_fixes_once, known, before=lambda: lib.ToolChainCore_GCodePrefixPostfix(0, None, None))
+sweep("compile demo.nc with a prefix and a postfix", lambda: compile_one(b"demo.nc", DEMO), fixes_known)
+assert lib.ToolChainCore_GCodePrefixPostfix(0, None, None) == 0
+
+# the ISO mode
+params = abi.GCODE_PARAMETERS()
+assert lib.ToolChainCore_GetGCodeParameters(0, byref(params)) == 0
+params.rezerva1 |= 1
+assert lib.ToolChainCore_SetGCodeParameters(0, byref(params)) == 0
+PROGRAMS = [(b"iso.ngc", ISO)]
+variant[0] = "iso"
+sweep("compile iso.ngc (ISO mode)", lambda: compile_one(b"iso.ngc", ISO), known)
 """
 
 SIMULATE = r"""

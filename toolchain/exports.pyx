@@ -288,6 +288,10 @@ cdef public int32_t ToolChainCore_GCodePrefixPostfix(uint32_t intIdx, TGM_LPCSTR
         pre = tc_strdup(prefix)
     if postfix != NULL and postfix[0] != 0:
         post = tc_strdup(postfix)
+    if (pre == NULL and prefix != NULL and prefix[0] != 0) or (post == NULL and postfix != NULL and postfix[0] != 0):
+        free(pre)
+        free(post)
+        return core_fail(core, ERR_OUT_OF_MEMORY, NULL)
     pthread_mutex_lock(&core.lock)
     if status_after(core_status(core), CMD_SET_PREFIX, False) == TC_REFUSED:
         pthread_mutex_unlock(&core.lock)
