@@ -368,3 +368,38 @@ def test_every_allocation_goes_through_the_one_allocator():
                 "toolchain/includes/platform.h: return tc_alloc_fails() ? NULL : calloc(count, n);",
                 "toolchain/includes/platform.h: return tc_alloc_fails() ? NULL : realloc(p, n);"]
     assert [re.sub(r":\d+:", ":", c) for c in calls] == expected, "\n".join(calls)
+
+
+# ------------------------------------------------------------------ leaks: the ASan build (slow)
+
+from test_sanitizers import asan_library, cache_dir, runtime  # noqa: E402,F401  (fixtures)
+
+# LeakSanitizer reports at the end of each sweep's process. CPython does not free
+# everything at exit, so only a leak allocated by the library counts: one whose
+# allocation stack passes through libSF_TCh (the interpreter's own never does).
+LEAK = re.compile(r"^(Direct|Indirect) leak of .*?(?=^\s*$)", re.M | re.S)
+
+
+@pytest.mark.slow
+@pytest.mark.timeout(1800)
+@pytest.mark.parametrize("operation", sorted(OPERATIONS))
+def test_no_allocation_failure_leaks_under_address_sanitizer(asan_library, run_python, operation, tmp_path,
+                                                             monkeypatch):
+    reports = tmp_path / "asan"
+    monkeypatch.setenv("SF_TCH_LIBRARY", str(asan_library))
+    env = {"LD_PRELOAD": f"{runtime('libasan.so')} {runtime('libubsan.so')}",
+           "ASAN_OPTIONS": f"detect_leaks=1:halt_on_error=1:log_path={reports}",
+           "LSAN_OPTIONS": "exitcode=0:max_leaks=0",
+           "UBSAN_OPTIONS": f"halt_on_error=1:print_stacktrace=1:log_path={reports}"}
+    out = run_script(lambda code, **kw: run_python(code, env=env, **kw), "from pathlib import Path\nimport tempfile\n"
+                     + PRELUDE + OPERATIONS[operation], 1200.0, what="allocation failure sweep under ASan")
+    assert any(line.startswith("{") for line in out.splitlines()), out[-2000:]
+    problems = []
+    for path in sorted(reports.parent.glob(reports.name + "*")):
+        text = path.read_text(errors="replace")
+        leaks = [m.group(0) for m in LEAK.finditer(text)]
+        ours = [leak for leak in leaks if "libSF_TCh" in leak]
+        others = LEAK.sub("", text)
+        if ours or "ERROR:" in others.replace("ERROR: LeakSanitizer", "") or "runtime error" in others:
+            problems.append(f"--- {path.name}\n" + "\n".join(ours)[:6000] + others[:3000])
+    assert not problems, "\n".join(problems)
