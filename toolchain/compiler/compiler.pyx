@@ -77,11 +77,12 @@ cdef int cp_line(CState *st, const char *p, const char *eol) noexcept nogil:
 
 cdef uint32_t count_lines(const char *text, size_t n) noexcept nogil:
     cdef const char *p = text
-    cdef const char *end = text + n
+    cdef const char *end
     cdef const char *q
     cdef uint32_t lines = 0
     if n == 0:
-        return 0
+        return 0                        # text may be NULL (no prefix): no pointer arithmetic on it
+    end = text + n
     while p < end:
         q = <const char *>memchr(p, b'\n', end - p)
         lines += 1
