@@ -14,6 +14,7 @@ By hand (docs/testing.md, "Fuzzing"):
 builds the target if need be and fuzzes TARGET (tg, iso, tool_table, axis_table, ini)
 for SECONDS (default 600); a crash leaves its input in build-fuzz/artifacts/."""
 import ast
+import fcntl
 import hashlib
 import os
 import re
@@ -77,12 +78,19 @@ def _python_link() -> list[str]:
 
 
 def build(log=print) -> Path:
-    """The fuzz target for the sources as they are now (built first: a few minutes)."""
+    """The fuzz target for the sources as they are now (built first: a few minutes;
+    parallel test processes wait for one build under a file lock)."""
     cc = clang()
     target = BUILD / f"fuzz-{_digest(cc)}"
-    if target.exists():
-        return target
     BUILD.mkdir(exist_ok=True)
+    with open(BUILD / "build.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if not target.exists():
+            _build(cc, target, log)
+    return target
+
+
+def _build(cc: str, target: Path, log) -> None:
     c_file = BUILD / "fuzz_entry.c"
     log(f"fuzzing: building {target.name} with {cc}")
     subprocess.run([sys.executable, "-m", "cython", "-3", "--fast-fail", "-I", str(ROOT / "toolchain"),
@@ -102,7 +110,6 @@ def build(log=print) -> Path:
         stale.unlink()
     scratch.rename(target)
     c_file.unlink()
-    return target
 
 
 # ------------------------------------------------------------------ seeds
