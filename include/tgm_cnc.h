@@ -625,7 +625,8 @@ TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_FileToIdx(uint32_t intIdx
 TOOLCHAIN_API TGM_LPCTSTR TOOLCHAIN_CALLTYPE ToolChainCore_IdxToFile(uint32_t intIdx, int32_t fileIdx);
 
 /* Start/end/min/max of the compiled program (arcs with their true extremes). -1 NULL or
- * nothing compiled. */
+ * nothing compiled, or no memory to measure it from a start ResetCNC moved (error 4 in
+ * GetLastCallError; ResetCNC itself never fails for memory). */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GetGCodeSizeInfo(uint32_t intIdx, GCODE_INFO *p);
 
 /* Run time in seconds of the file (its index) from the last simulation with calcTime = 1

@@ -329,7 +329,54 @@ def op():
 sweep("smoothing", op, known)
 """
 
-OPERATIONS = {"compile": COMPILE, "simulate": SIMULATE, "machine": MACHINE, "tables": TABLES,
+ENDING = r"""
+# An ending call never fails: ResetCNC to a new start moves GetPos there and measures the
+# program from there, whatever allocation fails.
+load_ini(lib, 0)
+reset_to(lib, 0, 0.0, 0.0, 0.0)
+assert compile_wait(lib, 0, DEMO, b"demo.nc") is None
+START = (c_double * 10)(5.0, -3.0, 1.0)
+
+def size_info():
+    info = abi.GCODE_INFO()
+    assert lib.ToolChainCore_GetGCodeSizeInfo(0, byref(info)) == 0
+    return json.dumps(info.to_dict())
+
+def position():
+    pos, enh = abi.SIMPLE_GM_PARAMS(), abi.GM_PARAMS_ENHANCED()
+    assert lib.ToolChainCore_GetPos(0, 0, byref(pos), byref(enh)) == 0
+    return (pos.m_calcS.x, pos.m_calcS.y, pos.m_calcS.z)
+
+assert lib.ToolChainCore_ResetCNC(0, 0, 10, START) == 0
+MOVED = size_info()
+reset_to(lib, 0, 0.0, 0.0, 0.0)
+AT_ORIGIN = size_info()
+assert MOVED != AT_ORIGIN
+
+def known():
+    reset_to(lib, 0, 0.0, 0.0, 0.0)
+    assert position() == (0.0, 0.0, 0.0) and size_info() == AT_ORIGIN
+
+def op():
+    assert lib.ToolChainCore_ResetCNC(0, 0, 10, START) == 0
+    assert position() == (5.0, -3.0, 1.0), position()
+    assert size_info() == MOVED, "GetGCodeSizeInfo not measured from the new start"
+    return None
+
+sweep("ResetCNC to a new start", op, known)
+
+# the extent a reset could not measure: GetGCodeSizeInfo measures it, or says why not
+assert lib.ToolChain_TestAllocFail(ALLOC_KEY, 1) == 0
+assert lib.ToolChainCore_ResetCNC(0, 0, 10, START) == 0
+assert lib.ToolChain_TestAllocFail(ALLOC_KEY, 1) == 0               # the reset's failed
+info = abi.GCODE_INFO()
+assert lib.ToolChainCore_GetGCodeSizeInfo(0, byref(info)) == -1
+assert call_error() == OOM
+assert lib.ToolChain_TestAllocFail(ALLOC_KEY, 0) == 0               # so did this one
+assert size_info() == MOVED
+"""
+
+OPERATIONS = {"ending calls": ENDING, "compile": COMPILE, "simulate": SIMULATE, "machine": MACHINE, "tables": TABLES,
               "smoothing": SMOOTHING}
 
 

@@ -249,6 +249,7 @@ cdef void *compile_body(void *arg) noexcept nogil:
     core.program = loaded
     if loaded != NULL:
         core.size_info = loaded.extent
+        core.size_info_stale = False
         _apply_tool_writes(core, &loaded.prog)
     else:
         memset(&core.size_info, 0, sizeof(GCODE_INFO))

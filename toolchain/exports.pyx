@@ -409,10 +409,16 @@ cdef public TGM_LPCTSTR ToolChain_IdxToFile(int32_t fileIdx) noexcept nogil:
 cdef public int32_t ToolChainCore_GetGCodeSizeInfo(uint32_t intIdx, GCODE_INFO *p) noexcept nogil:
     cdef Core *core = core_get(intIdx)
     cdef int32_t result = TOOL_CHAIN_ERROR
+    cdef bint stale
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
     if p == NULL or core_status(core) == CNC_STATUS_COMPILING:
         return TOOL_CHAIN_ERROR
+    pthread_mutex_lock(&core.lock)
+    stale = core.program != NULL and core.size_info_stale
+    pthread_mutex_unlock(&core.lock)
+    if stale and not core_refresh_size_info(core):     # a reset could not measure it
+        return core_fail(core, ERR_OUT_OF_MEMORY, NULL)
     pthread_mutex_lock(&core.lock)
     if core.program != NULL:
         p[0] = core.size_info
