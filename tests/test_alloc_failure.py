@@ -99,8 +99,10 @@ def known():
         assert compile_wait(lib, 0, text, name) is None
         result(name)
 
-def compile_one(name, text):
+def origin():
     reset_to(lib, 0, 0.0, 0.0, 0.0)
+
+def compile_one(name, text):
     rc = lib.ToolChainCore_CompileFromMemory(0, name, text)
     if rc != 0:
         return call_error()
@@ -111,10 +113,9 @@ def compile_one(name, text):
     return None if err is None else (err[0], err[2])
 
 for name, text in PROGRAMS:
-    sweep(f"compile {name.decode()}", lambda: compile_one(name, text), known)
+    sweep(f"compile {name.decode()}", lambda: compile_one(name, text), known, origin)
 
 def from_file():
-    reset_to(lib, 0, 0.0, 0.0, 0.0)
     rc = lib.ToolChainCore_CompileFromFile(0, str(FILE).encode())
     if rc != 0:
         return call_error()
@@ -131,7 +132,7 @@ def file_known():
     assert wait_status(lib, 0, lambda s: s != 1, 20.0) == -1 and last_error(lib, 0) is None
     result("from file")
 
-sweep("compile from a file", from_file, file_known)
+sweep("compile from a file", from_file, file_known, origin)
 
 # a prefix and a postfix: their copies are the compilation's too
 def set_fixes():
@@ -152,7 +153,7 @@ def set_fixes_once():
 variant[0] = "fixes"
 assert set_fixes() is None
 sweep("prefix and postfix", set_fixes_once, known, before=lambda: lib.ToolChainCore_GCodePrefixPostfix(0, None, None))
-sweep("compile demo.nc with a prefix and a postfix", lambda: compile_one(b"demo.nc", DEMO), fixes_known)
+sweep("compile demo.nc with a prefix and a postfix", lambda: compile_one(b"demo.nc", DEMO), fixes_known, origin)
 assert lib.ToolChainCore_GCodePrefixPostfix(0, None, None) == 0
 
 # the ISO mode
@@ -162,7 +163,7 @@ params.rezerva1 |= 1
 assert lib.ToolChainCore_SetGCodeParameters(0, byref(params)) == 0
 PROGRAMS = [(b"iso.ngc", ISO)]
 variant[0] = "iso"
-sweep("compile iso.ngc (ISO mode)", lambda: compile_one(b"iso.ngc", ISO), known)
+sweep("compile iso.ngc (ISO mode)", lambda: compile_one(b"iso.ngc", ISO), known, origin)
 """
 
 SIMULATE = r"""
