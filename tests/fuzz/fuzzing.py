@@ -169,11 +169,13 @@ def seeds(target: str) -> list[bytes]:
     return inis + [t.encode("latin-1", "replace") for t in _test_strings(r"(?m)^\s*\[[A-Za-z]+\]\s*$")]
 
 
-def run(target: str, seconds: int, extra=(), binary: Path | None = None, log=print) -> subprocess.CompletedProcess:
-    """Fuzzes `target` for `seconds` from its corpus and its seeds; the corpus grows in
-    tests/fuzz/corpus/<target>, crashes go to build-fuzz/artifacts/."""
+def run(target: str, seconds: int, extra=(), binary: Path | None = None, log=print,
+        corpus: Path | None = None) -> subprocess.CompletedProcess:
+    """Fuzzes `target` for `seconds` (after a pass over the corpus, which libFuzzer does
+    not count) from its corpus and its seeds; the corpus grows in `corpus`, by default
+    tests/fuzz/corpus/<target>; crashes go to build-fuzz/artifacts/."""
     binary = binary or build(log)
-    corpus = CORPUS / target
+    corpus = corpus or CORPUS / target
     corpus.mkdir(parents=True, exist_ok=True)
     artifacts = BUILD / "artifacts"
     artifacts.mkdir(parents=True, exist_ok=True)
