@@ -4,7 +4,7 @@
 
 Writes the cutting program of compile_benchmark.py (--lines lines, relative
 coordinates), then in a fresh Python process per run: ``sf_tch.compile(path)``
-(timed), ``program.toolpath`` (ToolChainCore_GetToolpath into a numpy structured
+(timed, keeping its core), ``program.toolpath`` (ToolChainCore_GetToolpath into a numpy structured
 array, timed), and the process's peak RSS (VmHWM) at the end; the memory before the
 compile is printed beside it. The best and the median of the runs.
 Targets: the toolpath in < 1 s after the compile, < 400 MB peak for the whole process.
@@ -32,7 +32,7 @@ def status_mb(key):
 
 before = status_mb("VmRSS")
 t0 = time.perf_counter()
-with sf_tch.compile(sys.argv[1], radius=float(sys.argv[2]), params={"absMode": 0}) as program:
+with sf_tch.compile(sys.argv[1], radius=float(sys.argv[2]), params={"absMode": 0}, keep_core=True) as program:
     t1 = time.perf_counter()
     program.check()
     path = program.toolpath

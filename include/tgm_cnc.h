@@ -67,9 +67,11 @@ typedef const char *TGM_LPCSTR;
 /* Number of CNC cores (independent interpolator channels) of this build. */
 #define TOOL_CHAIN_MAX_CORES 3
 
-/* "Address not present" marker of P10DOUBLE / P26FLOAT cells. */
-#define INVALID_VALUE   1e38
-#define INVALID_VALUE_F 1e38f
+/* "Address not present" marker of P10DOUBLE / P26FLOAT cells: the smallest float above
+ * 1e38 (1e38f itself is 9.99999968e37), the same number as a double, so that a host tests
+ * a cell with "> 1e38" as the vendor documents, in float or in double. */
+#define INVALID_VALUE   1.0000000694406173e38
+#define INVALID_VALUE_F 1.00000007e38f
 
 /* Special file indexes of FileToIdx / IdxToFile. */
 #define TOOL_CHAIN_FILE_UNKNOWN (-1) /* "__unknown__" */
@@ -197,6 +199,11 @@ enum connect_type {
    0, the vendor's behaviour: warning 601 with the line and the depth, and the program
    compiles (docs/compensation.md, "Crossing equidistants: warning, removal, refusal"). */
 #define GCODE_REZERVA1_COMP_STRICT 0x00000002u
+/* APPLY_UNIMPLEMENTED: apply centripetalAcc (arcs slowed to keep v^2/r under it) and
+   insertArcMinAngle (no tangent arc below it), which the vendor documents as "not
+   implemented yet" and "not implemented, always 0"; 0, the vendor's behaviour: both are
+   kept in the structure and ignored (docs/behaviour.md). */
+#define GCODE_REZERVA1_APPLY_UNIMPLEMENTED 0x00000010u
 
 /* AddOutputLog tabs and flags. */
 #define OUTPUT_TAB_ERRORS 0
@@ -684,7 +691,9 @@ TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GoToPositionEx(uint32_t i
 /* Signals M function fun->m_func to the machine while stopped. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_MFunc(uint32_t intIdx, const SIMPLE_GM_PARAMS *fun, int32_t bDirectToPLC);
 
-/* Feed override, clamped to 0.001 .. 2.0. */
+/* Feed override, a coefficient clamped to the interpolator's Rel_Speed range 0.01 .. 2.0
+ * (1 % .. 200 %): 0, the "hold" of some panels, gives 1 %, as the vendor's library does.
+ * NaN is -1. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_SetRelFeed(uint32_t intIdx, double relFeed);
 
 /* One built-in breakpoint: the run stops just before the part on that line. */
@@ -831,10 +840,15 @@ TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChain_SetLogHook(intptr_t userData,
  * smoothing of the machine's output (docs/smoothing.md). Each is also an INI key of
  * ToolChainCore_LoadFromIni ([Corrections], [Smoothing]). Any status, any thread (also
  * inside a callback): a file is read without the core's lock, and what was in memory
- *  * changes only when all of it is good. Programs use the tool table (D, &, G92 D: a
+ * changes only when all of it is good. Programs use the tool table (D, &, G92 D: a
  * compilation works on a copy taken when it starts; docs/tool-table.md, "In programs");
- * the offline machine does not apply the axis corrections and the smoothing to its
- * output yet: those pages' "Integration status" says what applies now.
+ * the offline machine applies the smoothing and the axis corrections to its output, in
+ * the order interpolator -> spline -> IIR filter -> axis corrections -> drives (GetPos:
+ * m_calcS the filtered position, m_calcE the corrected one the drives are sent; the
+ * spline delays the M functions with the output, and a run ends once the output
+ * settled); ToolChainCore_CorrectPosition and ToolChainCore_SmoothSamples apply them to
+ * a host's positions and samples. Those pages' "Integration status" says when the
+ * machine takes a reloaded table or changed setting.
  */
 
 /* Entries of the tool correction table: D1..D99. */

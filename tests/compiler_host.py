@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 
 from sf_tch import abi, library
 
-INVALID = 1e38
+INVALID = 1e38                  # the structures description: an absent address's cell holds "> 1e38"
 AXES = "XYZCBUVWAO"
 
 
@@ -84,7 +84,7 @@ def _part(kind, gm):
     pars = {}
     for i, letter in enumerate("ABCDEFGHIJKLMNOPQRSTUVWXYZ"):
         v = getattr(gm.m_pars, letter)
-        if abs(v) < 1e37:
+        if not v > INVALID:         # the host's test as the vendor documents it
             pars[letter] = v
     p10 = lambda s: tuple(getattr(s, a.lower()) for a in AXES)
     return Part(kind, gm.m_func, p10(gm.m_s), p10(gm.m_e), p10(gm.m_cc)[:4], pars,
@@ -102,6 +102,9 @@ class Host:
         ini.write_text("[Modules]\nCompiler0=x\n[CNC]\nDriver=offline\n")
         assert self.lib.ToolChainCore_LoadFromIni(core, str(ini).encode(), None) == 0
         self.defaults = default_params(self.lib, core)
+        # the compiler's tests look at the parts as written: no collinear G1 parts
+        # joined (tolerance[2] = 0; the joins: tests/test_join_lines.py)
+        self.defaults.tolerance[2] = 0.0
         self._keep = []
 
     def close(self):

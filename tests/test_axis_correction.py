@@ -14,6 +14,7 @@ import pytest
 from sf_tch import abi
 
 ERR_HEADER, ERR_DEFINITION, ERR_SIZE, ERR_VALUE, ERR_TABLES = 730, 731, 732, 733, 734
+ERR_TABLE_TOO_LARGE = 25
 AXES = "XYZCBUVWAO"
 
 
@@ -200,6 +201,9 @@ BAD = [
     ("value-missing", achs(*GOOD)[:-4], ERR_SIZE, "has 172 bytes; its header and definition block ask for 176"),
     ("value-left-over", achs(*GOOD) + b"\0\0\0\0", ERR_SIZE, "has 180 bytes"),
     ("huge-grid", _with(136, 0xFFFFFFFF), ERR_SIZE, "ask for"),
+    # 2^21 x 2^21 x 2^24 points: 2^66, a product that wraps to 0 in 64 bits
+    ("grid-wraps", achs("ZXYC", 1, [(0.0, 100.0, 1 << 21), (0.0, 100.0, 1 << 21), (0.0, 100.0, 1 << 24)], []),
+     ERR_SIZE, "has 164 bytes; its header and definition block ask for 295147905179352825856"),
     ("value-nan", _with(152 + 4 * 5, float("nan")), ERR_VALUE, "grid point 5: the correction = nan is not a finite number"),
     ("value-too-large", _with(152, 1e7), ERR_VALUE, "grid point 0: the correction = 1e+07 is outside"),
 ]
@@ -297,3 +301,14 @@ def test_reloading_while_another_thread_corrects(fresh_core, tmp_path):
         seen.add(correct(fresh_core, at(x=3, y=4))[2])
     thread.join()
     assert seen <= {1.0, 2.0}
+
+
+def test_a_table_file_beyond_64_mib_is_refused_before_it_is_read(fresh_core, tmp_path):
+    good = write(tmp_path, achs("YX", 9, [(0.0, 1.0, 2)], [0.0, 0.5]), "good.kor")
+    assert load(fresh_core, [good]) == 0
+    big = tmp_path / "ACHS3D02.KOR"
+    with open(big, "wb") as f:                  # sparse: no 64 MiB written
+        f.truncate((64 << 20) + 1)
+    assert load(fresh_core, [good, big]) == -1
+    assert call_error(fresh_core) == (ERR_TABLE_TOO_LARGE, f"Table file '{big}' is larger than 64 MiB")
+    assert correct(fresh_core, at(x=1)) == at(x=1, y=0.5)

@@ -11,12 +11,21 @@ import subprocess
 import sys
 import time
 import tracemalloc
+from pathlib import Path
 
 import pytest
 
 import sf_tch
 
 SQUARE = "G0 X0 Y0 Z0\nG1 X10 F600\nG1 Y10\nG1 X0\nG1 Y0\nM30\n"
+
+
+def as_written_ini(tmp_path):
+    """The bundled INI with tolerance2 = 0: the parts as written, collinear G1 parts
+    (the diagonal runs of X{k % 100} Y{k % 37}) not joined."""
+    ini = tmp_path / "as_written.ini"
+    ini.write_text(Path(sf_tch.default_ini()).read_text() + "\n[GCodeParameters]\ntolerance2 = 0\n")
+    return ini
 
 
 def sf_tch_cli(*args, module="sf_tch"):
@@ -148,6 +157,19 @@ def test_plot_writes_png_and_svg(square, tmp_path):
     assert_usage_error(sf_tch_cli("plot", str(square), "-o", str(tmp_path / "out.gif")), r"\.png, \.svg or \.pdf")
 
 
+def test_plot_views(tmp_path):
+    # a 3D program: two passes at Z -1 and -2, drawn from every side
+    program = tmp_path / "passes.nc"
+    program.write_text("G0 X0 Y0 Z5\nG1 Z-1 F300\nG1 X20 Y10 F1000\nG1 Z-2\nG1 X0 Y0\nG0 Z5\nM30\n")
+    for view in ("xy", "xz", "yz", "3d"):
+        out = tmp_path / f"{view}.png"
+        proc = sf_tch_cli("plot", str(program), "-o", str(out), "--view", view)
+        assert proc.returncode == 0, proc.stderr
+        assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and out.stat().st_size > 5000
+    assert_usage_error(sf_tch_cli("plot", str(program), "-o", str(tmp_path / "top.png"), "--view", "top"),
+                       "invalid choice")
+
+
 def test_plot_without_matplotlib_names_the_install_command(square, tmp_path):
     probe = ("import sys, runpy\nsys.modules['matplotlib'] = None\n"
              f"sys.argv = ['sf-tch', 'plot', {str(square)!r}, '-o', {str(tmp_path / 'x.png')!r}]\n"
@@ -161,7 +183,8 @@ def test_plot_without_matplotlib_names_the_install_command(square, tmp_path):
 def test_plot_of_a_large_program_says_it_is_drawing(tmp_path):
     program = tmp_path / "large.nc"
     program.write_text("G0 X0 Y0 Z0\n" + "".join(f"G1 X{k % 100} Y{k % 37} F1000\n" for k in range(100_000)))
-    proc = sf_tch_cli("plot", str(program), "-o", str(tmp_path / "large.png"), "--radius", "0")
+    proc = sf_tch_cli("plot", str(program), "-o", str(tmp_path / "large.png"), "--radius", "0",
+                      "--ini", str(as_written_ini(tmp_path)))
     assert proc.returncode == 0, proc.stderr
     assert proc.stderr == f"drawing 100,001 parts into {tmp_path / 'large.png'} ...\n"
     assert (tmp_path / "large.png").stat().st_size > 5000
@@ -177,6 +200,10 @@ def test_version_info_and_help():
     assert "MISMATCH" not in proc.stdout
     assert re.search(r"SIMPLE_GM_PARAMS\s+616 / 616", proc.stdout)
     assert "Exit codes" in sf_tch_cli("--help").stdout
+    # every command's --help says what it does
+    for command in ("demo", "compile", "simulate", "run", "plot", "info"):
+        usage, description = sf_tch_cli(command, "--help").stdout.split("\n\n")[:2]
+        assert usage.startswith(f"usage: sf-tch {command}") and not description.startswith("options:"), command
 
 
 def test_bad_usage_is_one_line_and_exit_2(square, tmp_path):
@@ -276,7 +303,9 @@ def test_iso_option_reads_iso_g_code(tmp_path):
 def test_look_ahead_option(tmp_path):
     """--look-ahead: a deeper window plans dense short segments faster."""
     dense = tmp_path / "dense.nc"
-    dense.write_text("G1 X0 F6000\n" + "".join(f"G1 X{0.1 * (k + 1):.6f}\n" for k in range(500)))
+    # 1 um up and down at every 0.1 mm: 0.6 degrees between the parts, none joined (tolerance[2])
+    dense.write_text("G1 X0 F6000\n" + "".join(f"G1 X{0.1 * (k + 1):.6f} Y{0.001 * (k % 2):.3f}\n"
+                                               for k in range(500)))
     times = [json.loads(sf_tch_cli("simulate", str(dense), "--look-ahead", n, "--json").stdout)["run_time"]
              for n in ("0", "-1")]
     assert times[0] > times[1] > 0
@@ -370,7 +399,7 @@ def test_compile_summary_reads_the_toolpath_in_chunks(tmp_path, capsys):
     records_size = (lines + 1) * TOOLPATH_DTYPE.itemsize                     # 16.8 MB
     tracemalloc.start()
     try:
-        code = cli.main(["compile", str(program), "--radius", "0"])
+        code = cli.main(["compile", str(program), "--radius", "0", "--ini", str(as_written_ini(tmp_path))])
         peak = tracemalloc.get_traced_memory()[1]
     finally:
         tracemalloc.stop()
@@ -392,6 +421,9 @@ def test_run_prints_the_compiles_box_and_progress_lines_without_a_terminal():
     assert "Z -1.000..5.000" in _program_lines(proc.stdout, "box programmed:")
     progress = [line for line in proc.stderr.splitlines() if line.startswith("run ")]
     assert len(progress) >= 2 and progress[0].startswith("run   0.0 %") and progress[-1].startswith("run 100.0 %")
+    # at the end the line of the program's last part (M30), not GetPos's 0
+    last = Path(sf_tch.sample_program()).read_text().splitlines().index("N420 M30") + 1
+    assert re.match(rf"run 100\.0 %  line {last} ", progress[-1]), progress[-1]
     assert re.search(r"run:\s+status -32 \(AT_END\)$", proc.stdout, re.M)
 
 
@@ -415,7 +447,7 @@ def test_run_on_a_terminal_keeps_one_live_line_that_reaches_100(square):
     screen = b"".join(chunks).decode()
     live = [part for part in screen.replace("\n", "\r").split("\r") if part.startswith("run ")]
     assert len(live) >= 3 and "\n" not in screen.rstrip("\r\n").split("\r")[-1]
-    assert live[-1].startswith("run 100.0 %"), live[-3:]
+    assert live[-1].startswith("run 100.0 %") and "  line 0 " not in live[-1], live[-3:]
 
 
 @pytest.mark.parametrize("as_json", [False, True])

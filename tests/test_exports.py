@@ -410,9 +410,12 @@ def test_fresh_process_status(run_python):
 # ------------------------------------------------------------------ running without a program
 
 def test_set_rel_feed_clamps(fresh_core):
+    """The interpolator manual: Rel_Speed is a coefficient of 0.01 .. 2 (1 % .. 200 %); a
+    panel that writes 0 as "hold" gets 1 %, as with the vendor's library."""
     lib = fresh_core
     enh = abi.GM_PARAMS_ENHANCED()
-    for value, expected in ((0.5, 0.5), (100.0, 2.0), (2.0, 2.0), (0.0, 0.001), (-3.0, 0.001), (1.0, 1.0)):
+    for value, expected in ((0.5, 0.5), (100.0, 2.0), (2.0, 2.0), (0.0, 0.01), (0.005, 0.01), (-3.0, 0.01),
+                            (0.01, 0.01), (1.0, 1.0)):
         assert lib.ToolChainCore_SetRelFeed(0, value) == 0
         assert lib.ToolChainCore_GetPos(0, 0, None, byref(enh)) == 0
         assert enh.m_relFeed == pytest.approx(expected), value

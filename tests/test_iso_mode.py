@@ -30,8 +30,12 @@ def host(tmp_path_factory):
         core.update_params(rezerva1=0)
 
 
+# the parts as written: no collinear G1 parts joined (tolerance[2] = 0)
+AS_WRITTEN = dict(tolerance=(0.005, 0.001, 0.0, 0.005, 0.0, 3.0, 0.01, 0.0, 0.0, 0.0))
+
+
 def toolpath(code):
-    with sf_tch.compile(code, iso=True, start=[0] * 10, core=PACKAGE_CORE) as program:
+    with sf_tch.compile(code, iso=True, start=[0] * 10, core=PACKAGE_CORE, params=AS_WRITTEN) as program:
         assert program.ok, program.errors
         return program.toolpath.records
 

@@ -22,6 +22,7 @@ import time
 import pytest
 
 from sf_tch import abi, default_ini
+from test_planner import AS_WRITTEN
 
 DT = 1e-4                                   # the machine's step, s
 EPS = 1e-6                                  # mm: sampled positions on the path
@@ -925,6 +926,7 @@ def test_GetPos_counters_of_a_run_are_the_programs(api):
     continue."""
     lib = api
     text = "G0 X5\nG1 X10 F6000\nG1 X15\nM7\nG0 X20\nG1 X25 M1005\nG0 X30\nG4 H0.1\nG1 X35\n"
+    set_params(lib, 0, tolerance=AS_WRITTEN["tolerance"])      # X10, X15: two cuts as written
     expected = dict(m_nWorkCounter=4, m_nG00Counter=3, m_nG00ToWorkChanges=3, m_nWorkToG00Changes=2,
                     m_nMCounter=2)
     compile_on(lib, 0, text)
@@ -1005,6 +1007,7 @@ IsBreakpoint = ctypes.CFUNCTYPE(ctypes.c_int32, ctypes.c_ssize_t, ctypes.c_uint3
 
 def test_the_IsBreakpoint_callback_is_asked_per_line_and_stops_before_it(api):
     lib = api
+    set_params(lib, 0, tolerance=AS_WRITTEN["tolerance"])      # the collinear lines as written
     compile_on(lib, 0, "G1 X10 F6000\nG1 X20\nG1 X30\nG1 X40\n")
     asked = []
     fn = IsBreakpoint(lambda user, line, file_idx: asked.append((line, file_idx)) or int(line in (2, 4)))

@@ -16,7 +16,7 @@ import pytest
 from sf_tch import abi
 from test_machine import (ARCS, DT, LINES, SQUARE_G42, api, circle_chords, compile_on, get_pos,  # noqa: F401
                           load, params, poll_run, run_at_override, run_time_of, set_params, start, wait)
-from test_planner import ruckig_time
+from test_planner import AS_WRITTEN, ruckig_time
 
 
 @pytest.fixture(scope="module")
@@ -70,7 +70,7 @@ def test_every_part_takes_its_planned_time(mh, text, window):
 def test_the_plan_holds_what_the_run_needs(mh):
     """PartPlan: the limits of each part beside its profile (F3000 line, an arc under
     the centripetal limit, a waiting M function that stops the machine)."""
-    load(mh, "G1 X50 F3000\nM7\nG3 X50 Y20 I0 J10\n", centripetalAcc=100.0)
+    load(mh, "G1 X50 F3000\nM7\nG3 X50 Y20 I0 J10\n", rezerva1=abi.GCODE_REZERVA1_APPLY_UNIMPLEMENTED, centripetalAcc=100.0)
     line, m7, arc = mh.part_plans(0)
     assert line["v_cap"] == 50.0 and line["v_ceiling"] == math.inf and line["v_junction"] == 0.0
     assert line["acc"] == line["dec"] == 500.0 and line["ramp"] == 1
@@ -137,6 +137,7 @@ def hard_params(mh, **fields):
     p = abi.GCODE_PARAMETERS.from_buffer_copy(params(mh, **fields))
     p.axisLimits[0].maxFeed = 3000.0                # X: 50 mm/s
     p.centripetalAcc = 200.0                        # on R10: sqrt(2000) = 44.7 mm/s
+    p.rezerva1 |= abi.GCODE_REZERVA1_APPLY_UNIMPLEMENTED
     return bytes(p)
 
 
@@ -193,7 +194,7 @@ def test_continuous_m_functions_cost_no_window_slot(mh):
     with_m = "".join(f"G1 X{i} F6000 M1001\n" for i in range(1, 101))
     times = []
     for text in (plain, with_m):
-        load(mh, text)
+        load(mh, text, **AS_WRITTEN)    # the collinear lines as written (tolerance[2] 0)
         expected = mh.simulated_run_time(0)
         run = mh.run(0, 30)
         assert run["finish"] == "done"
@@ -216,6 +217,54 @@ def test_the_vendors_arc_feed_table_examples_run(mh, table, expected):
     run = mh.run(0, 30)
     assert run["finish"] == "done"
     assert run["run_time"] == pytest.approx(expected, abs=2 * DT)
+
+
+# ------------------------------------------------------------------ enhancedInterpolatorParameters bits 20, 21
+
+def test_the_knife_axis_stops_the_machine_where_the_plan_does(mh):
+    """The tangential knife of test_planner (C turns in place between the XY cuts,
+    C in bits 0-9) with bit 20: the machine comes to rest where C starts from rest
+    (after the X cut, after the Y cut), runs on where C comes to rest, and takes the
+    three trapezoids' time, as the simulation says."""
+    from test_planner import C_AXIS, FROM_REST, KNIFE, rest_to_rest
+    try:
+        mh.set_machine_bits(0, C_AXIS | FROM_REST)
+        load(mh, KNIFE, motion=[None, (6000.0, 500.0, 500.0, 1)])
+        expected = rest_to_rest(10.0, 100.0, 500.0, 500.0) + 2 * rest_to_rest(100.0, 100.0, 500.0, 500.0)
+        assert mh.simulated_run_time(0) == pytest.approx(expected, rel=1e-6)
+        run = mh.run(0, 30)
+    finally:
+        mh.set_machine_bits(0, 0)
+    assert run["finish"] == "done"
+    assert run["run_time"] == pytest.approx(expected, abs=2 * DT)
+    steps = run["steps"]
+    at_junction = {}
+    for a, b in zip(steps, steps[1:]):
+        if a[1] != b[1] and a[1] >= 0:
+            at_junction[a[1]] = min(a[3], b[3])
+    assert at_junction[0] <= 500.0 * 2 * DT         # rest before C turns
+    assert at_junction[2] <= 500.0 * 2 * DT
+    assert at_junction[1] == pytest.approx(100.0, rel=1e-3)     # C comes to rest, Y goes on
+
+
+def test_the_machine_passes_an_inserted_m_function_where_the_plan_put_it(mh):
+    """mFuncInsertTable[0] 5 mm before the arc's slow-down (test_planner: X43.9): the
+    machine runs the split line at the plan's time, and the rest of the line after
+    the M function begins at X43.9, already braking."""
+    from test_planner import INTO_ARC
+    p = abi.GCODE_PARAMETERS.from_buffer_copy(params(mh, motion=[None, (6000.0, 500.0, 500.0, 1)]))
+    p.arcFeedTable[0].m_r, p.arcFeedTable[0].m_relFeed = 0.0, 0.5
+    p.MfuncInsertType = 1
+    p.mFuncInsertTable[0].mFunc, p.mFuncInsertTable[0].relFeed, p.mFuncInsertTable[0].distance = 1100, 0.6, 5.0
+    assert mh.compile_text(0, INTO_ARC, bytes(p), 0, [0.0] * 10) is None
+    expected = mh.simulated_run_time(0)
+    run = mh.run(0, 30)
+    assert run["finish"] == "done"
+    assert run["run_time"] == pytest.approx(expected, abs=2 * DT)
+    rest = [s for s in run["steps"] if s[1] == 2]           # line 1's rest, after the M function (part 1)
+    assert 43.9 <= rest[0][5] <= 43.9 + 100.0 * 2 * DT
+    # braking for the arc began at X42.5: at X43.9 the speed is sqrt(50^2 + 2 * 500 * 6.1)
+    assert rest[0][3] == pytest.approx(math.sqrt(8600.0), abs=500.0 * 2 * DT)
 
 
 # ------------------------------------------------------------------ through the exports

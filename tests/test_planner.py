@@ -21,8 +21,11 @@ PLAN = 2e-7    # the plan keeps floats, 7 digits (program.pxd PartPlan)
 
 def params(ph, **fields):
     """Default GCODE_PARAMETERS with `fields` set; motion=[(feed, acc, dec, ramp), ...]
-    from index 0; axis=[(k, maxFeed, maxAcc, maxDec)]; arc=[(r, rel)]."""
+    from index 0; axis=[(k, maxFeed, maxAcc, maxDec)]; arc=[(r, rel)]. The planner's
+    tests plan the parts as written: tolerance[2] = 0, no collinear G1 parts joined
+    (the joins: tests/test_join_lines.py; tolerance= gives all ten)."""
     p = abi.GCODE_PARAMETERS.from_buffer_copy(ph.default_params())
+    p.tolerance[2] = 0.0
     for k, m in enumerate(fields.pop("motion", ())):
         if m is not None:
             p.motion[k].feed, p.motion[k].acc, p.motion[k].dec, p.motion[k].rampType = m
@@ -33,6 +36,10 @@ def params(ph, **fields):
     for name, value in fields.items():
         setattr(p, name, value)
     return bytes(p)
+
+
+# the GCODE_PARAMETERS fields of a compile through the library that keep the parts as written
+AS_WRITTEN = dict(tolerance=(0.005, 0.001, 0.0, 0.005, 0.0, 3.0, 0.01, 0.0, 0.0, 0.0))
 
 
 def plan(ph, text, window=0, enhanced=0, **fields):
@@ -166,10 +173,10 @@ def test_the_vendors_arc_feed_table_examples_on_a_full_circle(ph, table, rel):
 
 
 def test_centripetal_limit_on_a_circle(ph):
-    (p,) = plan(ph, "G0 X10\nG3 X10 Y0 I-10 J0 F6000\n", centripetalAcc=100.0)[1:]
+    (p,) = plan(ph, "G0 X10\nG3 X10 Y0 I-10 J0 F6000\n", rezerva1=abi.GCODE_REZERVA1_APPLY_UNIMPLEMENTED, centripetalAcc=100.0)[1:]
     assert p["v_peak"] == pytest.approx(math.sqrt(100.0 * 10.0), rel=PLAN)
     # a helix: curvature r / (r^2 + h^2) with h the rise per radian
-    (p,) = plan(ph, "G0 X10\nG3 X10 Y0 Z20 I-10 J0 F6000\n", centripetalAcc=100.0)[1:]
+    (p,) = plan(ph, "G0 X10\nG3 X10 Y0 Z20 I-10 J0 F6000\n", rezerva1=abi.GCODE_REZERVA1_APPLY_UNIMPLEMENTED, centripetalAcc=100.0)[1:]
     h = 20.0 / (2 * math.pi)
     assert p["v_peak"] == pytest.approx(math.sqrt(100.0 * (100.0 + h * h) / 10.0), rel=PLAN)
 
@@ -211,7 +218,7 @@ def test_limits_on_arcs_in_other_planes(ph):
     assert p["v_peak"] == pytest.approx(50.0, rel=PLAN)
     assert p["length"] == pytest.approx(20 * math.pi, rel=1e-12)
     (p,) = plan(ph, "G19\nG0 Y10\nG2 Y10 Z0 J-10 K0 F6000\n", axis=[(2, 3000.0, 0.0, 0.0)],
-                centripetalAcc=160.0)[1:]
+                rezerva1=abi.GCODE_REZERVA1_APPLY_UNIMPLEMENTED, centripetalAcc=160.0)[1:]
     assert p["v_peak"] == pytest.approx(40.0, rel=PLAN)     # sqrt(160 * 10) below the axis's 50
 
 
@@ -261,10 +268,10 @@ def test_settings_from_the_program_apply_from_their_part_on(ph):
 
 def test_a_setting_repeated_in_a_loop_makes_one_region(ph):
     loop = "FOR P1 = 1 TO 500\nG900 S9 A30 B90 F600\nG1 X P1 F6000\nEND\n"
-    summary, error, _ = ph.plan_text(loop, None, 0, 0, False)
+    summary, error, _ = ph.plan_text(loop, params(ph), 0, 0, False)
     assert error is None and summary["regions"] == 1 and summary["n_parts"] == 500
     toggling = "FOR P1 = 1 TO 50\nG900 S13 A0\nG1 X P1 F6000\nG900 S13 A1\nG1 Y P1\nEND\n"
-    summary, error, _ = ph.plan_text(toggling, None, 0, 0, False)
+    summary, error, _ = ph.plan_text(toggling, params(ph), 0, 0, False)
     assert error is None and summary["regions"] == 100
 
 
@@ -322,6 +329,59 @@ def test_exact_stops(ph):
     assert plan(ph, "G900 S12 A2\nG0 X100\nG1 X200 F6000\n")[0]["v_out"] == 0.0
 
 
+def rest_to_rest(length, v, a, d):
+    """Seconds of a trapezoid from rest to rest over `length` at most at v."""
+    if length >= v * v / (2 * a) + v * v / (2 * d):
+        return length / v + v / (2 * a) + v / (2 * d)
+    peak = math.sqrt(2 * length * a * d / (a + d))
+    return peak / a + peak / d
+
+
+# a tangential knife: C (axis 3, bit 3 of enhancedInterpolatorParameters bits 0-9)
+# turns the blade in place between the XY cuts
+KNIFE = "G1 X10 F6000\nG1 C90\nG1 Y10\nG1 C180\nG1 X0\n"
+KNIFE_FOLLOWS = "G1 X10 C45 F6000\nG1 X20 C0\n"       # C turns back while X goes on
+C_AXIS = 1 << 3
+FROM_REST, REVERSAL = 1 << 20, 1 << 21
+
+
+def test_an_axis_that_starts_from_rest_stops_the_others_first(ph):
+    """MACHINE_PARAMETERS.enhancedInterpolatorParameters bit 20, in the structures'
+    reference: when an axis chosen in bits 0-9 starts to move from rest, the other
+    axes come to a stop before it does. The knife's C starts from rest twice (after
+    the X cut, after the Y cut): the machine stands at both junctions, and the run is
+    three trapezoids from rest to rest (10 mm; 90 + 10; 90 + 10); where C comes to
+    rest and Y or X go on, nothing stops."""
+    motion = [None, (6000.0, 500.0, 500.0, 1)]
+    plain = plan(ph, KNIFE, motion=motion)
+    assert total(plain) == pytest.approx(rest_to_rest(210.0, 100.0, 500.0, 500.0), rel=PLAN)
+    parts = plan(ph, KNIFE, enhanced=C_AXIS | FROM_REST, motion=motion)
+    assert [p["v_out"] for p in parts][:4] == [0.0, pytest.approx(100.0), 0.0, pytest.approx(100.0)]
+    expected = rest_to_rest(10.0, 100.0, 500.0, 500.0) + 2 * rest_to_rest(100.0, 100.0, 500.0, 500.0)
+    assert total(parts) == pytest.approx(expected, rel=PLAN)
+    # bit 21 alone: C never reverses here; either bit without an axis in bits 0-9: nothing
+    assert total(plan(ph, KNIFE, enhanced=C_AXIS | REVERSAL, motion=motion)) == total(plain)
+    assert total(plan(ph, KNIFE, enhanced=FROM_REST | REVERSAL, motion=motion)) == total(plain)
+    # the axis chosen by the program (G900 S10 C1) counts as one of bits 0-9
+    assert total(plan(ph, "G900 S10 C1\n" + KNIFE, enhanced=FROM_REST, motion=motion)) == pytest.approx(
+        expected, rel=PLAN)
+
+
+def test_an_axis_that_reverses_stops_all_axes_first(ph):
+    """enhancedInterpolatorParameters bit 21: when an axis chosen in bits 0-9 changes
+    its direction of motion, every axis stops first. C follows the cut to 45 degrees
+    and turns back while X goes on: with bit 21 the machine stands where C reverses
+    (two trapezoids), with bit 20 alone (C does not start from rest) it does not."""
+    motion = [None, (6000.0, 500.0, 500.0, 1)]
+    one = math.hypot(10.0, 45.0)
+    parts = plan(ph, KNIFE_FOLLOWS, enhanced=C_AXIS | REVERSAL, motion=motion)
+    assert parts[0]["v_out"] == 0.0 and parts[1]["v_in"] == 0.0
+    assert total(parts) == pytest.approx(2 * rest_to_rest(one, 100.0, 500.0, 500.0), rel=PLAN)
+    for enhanced in (0, C_AXIS | FROM_REST, REVERSAL):
+        assert total(plan(ph, KNIFE_FOLLOWS, enhanced=enhanced, motion=motion)) == pytest.approx(
+            rest_to_rest(2 * one, 100.0, 500.0, 500.0), rel=PLAN)
+
+
 # ------------------------------------------------------------------ mFuncInsertTable
 
 def mfunc_table(ph, entries, text, window=0, **fields):
@@ -338,27 +398,106 @@ def layout(parts):
     return [("M", p["func"]) if p["kind"] == 2 else ("G", p["func"], p["line"]) for p in parts]
 
 
+def inserted_at(parts):
+    """(M number, x, y) of every M function in the plan, in order, to 0.1 um (the
+    plan keeps floats, and a speed counts as reached 1e-6 of it below)."""
+    return [(p["func"], round(p["end"][0], 4), round(p["end"][1], 4)) for p in parts if p["kind"] == 2]
+
+
 def test_mfunc_insert_table(ph):
-    # a 90-degree corner slows to 10 mm/s (< 50 % of F), full speed again after it, the end
+    """A 90-degree corner slows to 10 mm/s (entry 0 at 50 % of F6000, its braking of
+    500 mm/s^2 passes 50 mm/s (50^2 - 10^2) / 1000 = 2.4 mm before the corner), full
+    speed again (entry 1 at 90 %: (90^2 - 10^2) / 1000 = 8 mm after it), the end
+    (50 mm/s 2.5 mm before it). The part where one lies is split there: its first
+    piece keeps the part's place, the rest follows the M function."""
     text = "G1 X10 F6000\nG1 X50\nG1 X100\nG1 X100 Y100\nG1 X100 Y200\n"
     slow = dict(startAngle=30.0, endAngle=90.0, minAngleFeed=600.0)
     table = [(1100, 0.5, 0.0), (1101, 0.9, 0.0), (1102, 1.0, 0.0)]
     parts = mfunc_table(ph, table, text, **slow)
-    assert layout(parts) == [("G", 1, 1), ("G", 1, 2), ("M", 1100), ("G", 1, 3), ("G", 1, 4), ("M", 1101),
-                             ("M", 1100), ("G", 1, 5)]
-    # distance: 60 mm before the corner lies in line 2: before it
-    table[0] = (1100, 0.5, 60.0)
-    parts = mfunc_table(ph, table[:1], text, **slow)
-    assert layout(parts)[:4] == [("G", 1, 1), ("M", 1100), ("G", 1, 2), ("G", 1, 3)]
-    # continuous: the plan is the same with an unlimited window
-    plain = plan(ph, text, window=-1, **slow)
-    with_m = mfunc_table(ph, table, text, window=-1, **slow)
-    assert total(with_m) == pytest.approx(total(plain), rel=1e-12)
-    # before a rapid that follows a cut
-    parts = mfunc_table(ph, [(0, 0, 0), (0, 0, 0), (1102, 1.0, 0.0)], "G1 X100 F6000\nG0 X200\nG0 X300\n")
-    assert layout(parts) == [("G", 1, 1), ("M", 1102), ("G", 0, 2), ("G", 0, 3)]
+    assert layout(parts) == [("G", 1, 1), ("G", 1, 2), ("G", 1, 3), ("M", 1100), ("G", 1, 3), ("G", 1, 4),
+                             ("M", 1101), ("G", 1, 4), ("G", 1, 5), ("M", 1100), ("G", 1, 5)]
+    assert inserted_at(parts) == [(1100, 97.6, 0.0), (1101, 100.0, 8.0), (1100, 100.0, 197.5)]
+    pieces = [p for p in parts if p["line"] == 3]
+    assert [p["flags"] & 2 for p in pieces] == [0, 2, 2]     # the programmed piece, the M, the rest
+    assert [p["gcode_index"] for p in parts] == sorted(p["gcode_index"] for p in parts)
+    # distance: 60 mm before 97.6 lies in line 2, 20 mm after Y8 in line 4
+    parts = mfunc_table(ph, [(1100, 0.5, 60.0), (1101, 0.9, 20.0)], text, **slow)
+    assert inserted_at(parts) == [(1100, 37.6, 0.0), (1101, 100.0, 28.0), (1100, 100.0, 137.5)]
+    # entry 1 alone: its speed both ways
+    parts = mfunc_table(ph, [(0, 0.0, 0.0), (1101, 0.9, 20.0)], text, **slow)
+    assert inserted_at(parts) == [(1101, 100.0, 28.0)]
+    # continuous: the motion is the plan's without them (the pieces plan as the part did)
+    for window in (0, -1):
+        plain = plan(ph, text, window=window, **slow)
+        with_m = mfunc_table(ph, table, text, window=window, **slow)
+        assert total(with_m) == pytest.approx(total(plain), rel=1e-7)
     # off unless MfuncInsertType = 1
     assert len(plan(ph, text, **slow)) == 5
+
+
+def crossing(ph, v0, v1, acc, ramp, v):
+    """Distance into the ramp v0 -> v1 where its speed is v (bisection on the harness's
+    ramp closed form)."""
+    T, _ = ph.ramp(v0, v1, acc, ramp)
+    lo, hi = 0.0, T
+    for _ in range(200):
+        mid = (lo + hi) / 2
+        if (ph.ramp(v0, v1, acc, ramp, mid)[0] - v) * (v1 - v0) < 0:
+            lo = mid
+        else:
+            hi = mid
+    return ph.ramp(v0, v1, acc, ramp, lo)[1]
+
+
+# a line into an arc the arc feed table slows to 50 % (50 mm/s of F6000), a line out of it
+INTO_ARC = "G1 X50 F6000\nG2 X70 Y0 I10 J0\nG1 X150\n"
+
+
+@pytest.mark.parametrize("ramp", [1, 2])
+def test_mfunc_before_a_slow_down_lies_distance_before_it(ph, ramp):
+    """mFuncInsertTable[0], in the structures' reference: an M function that signals a
+    coming slow-down (an arc) -- placed `distance` before the point where the speed
+    falls below relFeed x the programmed feed. Braking from 100 to the arc's 50 mm/s
+    with 500 mm/s^2 passes 60 mm/s 1.1 mm before the arc (X48.9, trapezoid; the sine
+    ramp's point by bisection of its closed form); 5 mm before that: X43.9."""
+    motion = [None, (6000.0, 500.0, 500.0, ramp)]
+    parts = mfunc_table(ph, [(1100, 0.6, 5.0)], INTO_ARC, arc=[(0.0, 0.5)], motion=motion)
+    before_arc = crossing(ph, 100.0, 50.0, 500.0, ramp, 60.0)
+    ramp_length = crossing(ph, 100.0, 50.0, 500.0, ramp, 50.0)
+    at = 50.0 - (ramp_length - before_arc) - 5.0
+    if ramp == 1:
+        assert at == pytest.approx(43.9, abs=1e-9)
+    first = inserted_at(parts)[0]
+    assert first[0] == 1100 and first[1] == pytest.approx(at, abs=1e-4) and first[2] == 0.0
+    assert layout(parts)[:3] == [("G", 1, 1), ("M", 1100), ("G", 1, 1)]
+
+
+def test_mfunc_after_a_slow_down_lies_distance_after_it(ph):
+    """mFuncInsertTable[1]: an M function that signals full cutting speed ahead, placed
+    `distance` after the point where the speed is back at relFeed x the feed. Out of
+    the arc at 50 mm/s, 90 mm/s is (90^2 - 50^2) / 1000 = 5.6 mm on (X75.6); 10 mm
+    after that: X85.6."""
+    parts = mfunc_table(ph, [(1100, 0.6, 0.0), (1101, 0.9, 10.0)], INTO_ARC, arc=[(0.0, 0.5)],
+                        motion=[None, (6000.0, 500.0, 500.0, 1)])
+    assert inserted_at(parts)[:2] == [(1100, 48.9, 0.0), (1101, 85.6, 0.0)]
+    assert layout(parts)[:7] == [("G", 1, 1), ("M", 1100), ("G", 1, 1), ("G", 2, 2), ("G", 1, 3), ("M", 1101),
+                                 ("G", 1, 3)]
+
+
+def test_mfunc_before_a_rapid_lies_distance_before_it(ph):
+    """mFuncInsertTable[2]: an M function `distance` before a G00 rapid that follows a
+    cut (relFeed plays no part): 30 mm before X100 is X70; 95 mm before it lies in the
+    first line, at X5; at the program's start (150 mm) it comes first of all."""
+    text = "G1 X10 F6000\nG1 X100\nG0 X200\nG0 X300\n"
+    for distance, expected in ((0.0, 100.0), (30.0, 70.0), (95.0, 5.0)):
+        parts = mfunc_table(ph, [(0, 0, 0), (0, 0, 0), (1102, 1.0, distance)], text)
+        assert inserted_at(parts) == [(1102, expected, 0.0)]
+    parts = mfunc_table(ph, [(0, 0, 0), (0, 0, 0), (1102, 1.0, 0.0)], text)
+    assert layout(parts) == [("G", 1, 1), ("G", 1, 2), ("M", 1102), ("G", 0, 3), ("G", 0, 4)]
+    parts = mfunc_table(ph, [(0, 0, 0), (0, 0, 0), (1102, 1.0, 150.0)], text)
+    assert layout(parts)[:2] == [("M", 1102), ("G", 1, 1)]
+    assert inserted_at(parts) == [(1102, 0.0, 0.0)]
+    assert total(parts) == pytest.approx(total(plan(ph, text)), rel=1e-7)
 
 
 # ------------------------------------------------------------------ look-ahead window
@@ -514,7 +653,8 @@ def test_simulation_with_machine_bits_and_inserted_m_functions(ph, fresh_core):
 def test_look_ahead_through_the_library(ph, tmp_path, fresh_core):
     """The window reaches the planner by ToolChainCore_SetLookAhead, the INI key
     lookAheadParts and sf_tch.compile(look_ahead=): each gives the harness's time for
-    that window (the vendor's 8 by default)."""
+    that window (the vendor's 8 by default). The dense line's parts as written
+    (tolerance[2] = 0: collinear, they would be one part)."""
     import sf_tch
     text = dense_line(1000, 0.1)
     expected = {w: total(plan(ph, text, window=w)) for w in (0, 8, 32, -1)}
@@ -524,19 +664,19 @@ def test_look_ahead_through_the_library(ph, tmp_path, fresh_core):
         program.simulate()
         return program.run_time
 
-    with sf_tch.compile(text, look_ahead=32, core=2) as program:
+    with sf_tch.compile(text, look_ahead=32, core=2, params=AS_WRITTEN) as program:
         assert simulated(program) == pytest.approx(expected[32], rel=1e-12)
-    with sf_tch.compile(text, core=2) as program:       # the core keeps what was set
+    with sf_tch.compile(text, core=2, params=AS_WRITTEN) as program:       # the core keeps what was set
         assert simulated(program) == pytest.approx(expected[32], rel=1e-12)
     lib = fresh_core
     assert lib.ToolChainCore_SetLookAhead(2, -2) == -1
     assert lib.ToolChainCore_SetLookAhead(2, -1) == 0
-    with sf_tch.compile(text, core=2) as program:
+    with sf_tch.compile(text, core=2, params=AS_WRITTEN) as program:
         assert simulated(program) == pytest.approx(expected[-1], rel=1e-12)
     ini = tmp_path / "window.ini"
     ini.write_text(Path(sf_tch.default_ini()).read_text()
                    + "\n[GCodeParameters]\nlookAheadParts = 0\n")
-    with sf_tch.compile(text, ini=ini, core=2) as program:
+    with sf_tch.compile(text, ini=ini, core=2, params=AS_WRITTEN) as program:
         assert simulated(program) == pytest.approx(expected[0], rel=1e-12)
     ini.write_text("[GCodeParameters]\nlookAheadParts = -5\n")
     assert lib.ToolChainCore_LoadFromIni(2, str(ini).encode(), None) == abi.TOOL_CHAIN_XEXEC

@@ -9,6 +9,7 @@ import random
 import numpy as np
 import pytest
 
+from sf_tch import abi
 from test_planner import params, ph  # noqa: F401  (ph: the fixture)
 
 SCALE = int(os.environ.get("SF_TCH_SLOW_SCALE", "1"))
@@ -132,7 +133,7 @@ def check_program(ph, rng):
     window = rng.choice((0, 0, 3, 20, -1))
     p = params(ph, motion=[None, (1000.0, acc, dec, ramp)], startAngle=setting["start"],
                endAngle=setting["end"], minAngleFeed=setting["min_feed"],
-               centripetalAcc=setting["centripetal"],
+               rezerva1=abi.GCODE_REZERVA1_APPLY_UNIMPLEMENTED, centripetalAcc=setting["centripetal"],
                axis=[(k, f, 0.0, 0.0) for k, f in enumerate(setting["axis_feed"])])
     parts, error, _ = ph.plan_text(text, p, window, 0)
     assert error is None, (error, text)
@@ -272,7 +273,7 @@ def test_unlimited_window_is_the_brute_force_optimum(ph):
                        centripetal=rng.uniform(10, 5000), axis_feed=[0.0, 0.0])
         p = params(ph, motion=[None, (1000.0, acc, dec, 1)], startAngle=setting["start"],
                    endAngle=setting["end"], minAngleFeed=setting["min_feed"],
-                   centripetalAcc=setting["centripetal"])
+                   rezerva1=abi.GCODE_REZERVA1_APPLY_UNIMPLEMENTED, centripetalAcc=setting["centripetal"])
         segments, caps, prev = [], [], None
         for kind, g in geo:
             L = length_of(kind, g)

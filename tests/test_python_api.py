@@ -101,29 +101,74 @@ def test_bad_sources_and_arguments(tmp_path):
     with pytest.raises(IndexError):
         sf_tch.Core(3)
     # none of these kept a core
-    programs = [sf_tch.compile(SQUARE) for _ in range(3)]
+    programs = [sf_tch.compile(SQUARE, keep_core=True) for _ in range(3)]
     assert sorted(p.core.index for p in programs) == [0, 1, 2]
     for p in programs:
         p.close()
 
 
 def test_cores_are_claimed_and_always_released():
-    programs = [sf_tch.compile(SQUARE) for _ in range(3)]
+    programs = [sf_tch.compile(SQUARE, keep_core=True) for _ in range(3)]
     with pytest.raises(sf_tch.NoFreeCoreError):
         sf_tch.compile(SQUARE)
     with pytest.raises(sf_tch.NoFreeCoreError, match="core 1 is in use"):
         sf_tch.Core(1)
     programs[1].close()
-    with sf_tch.compile(SQUARE) as again:
+    with sf_tch.compile(SQUARE, keep_core=True) as again:
         assert again.core.index == 1
     assert again.core.closed and again.core.status == Status.NOTHING_LOADED
     for p in programs:
         p.close()
     # an exception inside the block releases the core too
     with pytest.raises(KeyError):
-        with sf_tch.compile(SQUARE) as program:
+        with sf_tch.compile(SQUARE, keep_core=True) as program:
             raise KeyError("x")
     assert program.core.closed
+
+
+def test_a_program_holds_no_core_after_its_compile(tmp_path):
+    """[sf_tch.compile(f) for f in files]: each program's results are copied into
+    Python and its core given back before compile() returns, so any number of
+    programs live at once; simulate() takes a free core for its run."""
+    files = []
+    for k in range(20):
+        files.append(tmp_path / f"part{k}.nc")
+        files[-1].write_text(f"G0 X0 Y0 Z0\nG1 X{k + 1} Y10 F600\nPRINT \"part {k}\"\nM30\n")
+    programs = [sf_tch.compile(f) for f in files]
+    held = [sf_tch.compile(SQUARE, name=f"square{k}.nc") for k in range(100)]
+    assert all(p.core is None for p in programs + held)
+    for k, program in enumerate(programs):
+        assert program.ok and program.printed == [f"part {k}"] and program.run_time > 0
+        assert program.toolpath.records["end"][1].tolist() == [k + 1, 10, 0]
+        assert program.size_info.m_size[0].m_maximalPos.x == k + 1
+        assert program.to_dict()["toolpath"]["cut_length"] == pytest.approx(((k + 1) ** 2 + 100) ** 0.5)
+    for program in held:
+        assert program.summary()["cut_length"] == pytest.approx(40) and program.run_time >= 4.0
+    # three Cores can still be taken meanwhile, and a program simulates on a free one
+    cores = [sf_tch.Core() for _ in range(2)]
+    run = held[42].simulate()
+    assert len(run) == 5 and run.m_functions["m_func"].tolist() == [30]
+    cores.append(sf_tch.Core())
+    with pytest.raises(sf_tch.NoFreeCoreError):
+        held[0].simulate()
+    for core in cores:
+        core.close()
+    # a failed compile keeps its errors, with nothing else
+    failed = sf_tch.compile("G1 X10 F100\nG1 X1/0\n", name="bad.nc")
+    assert failed.core is None and failed.errors[0].line == 2 and failed.run_time is None
+    assert failed.size_info is None and len(failed.toolpath) == 0
+    with pytest.raises(sf_tch.CncError):
+        failed.simulate()
+
+
+def test_a_kept_core_given_back_reads_nothing_more_from_it():
+    with sf_tch.compile(SQUARE, name="kept.nc", keep_core=True) as program:
+        assert program.core.index in (0, 1, 2) and program.run_time >= 4.0
+    # read before close(): kept; not read: a clear error instead of another user's core
+    assert program.run_time >= 4.0
+    with pytest.raises(RuntimeError, match="core of 'kept.nc' was given back"):
+        program.toolpath
+    assert len(program.simulate()) == 5                  # compiled again on a free core
 
 
 def test_a_loop_of_compiles_gives_each_core_back_at_once():
@@ -141,7 +186,7 @@ def test_a_loop_of_compiles_gives_each_core_back_at_once():
             warnings.simplefilter("error")
             warnings.simplefilter("ignore", ResourceWarning)
             for _ in range(10):
-                p = sf_tch.compile(SQUARE)      # the name rebound: the last program's core comes back
+                p = sf_tch.compile(SQUARE, keep_core=True)  # the name rebound: the last program's core comes back
                 assert p.run_time >= 4.0 and p.printed == [] and len(p.toolpath) == 6
                 p.simulate()
             del p
@@ -161,7 +206,7 @@ def test_a_loop_of_compiles_gives_each_core_back_at_once():
                 assert len(core.simulate()) == 5
             del core
             # every core is free again
-            held = [sf_tch.compile(SQUARE) for _ in range(3)]
+            held = [sf_tch.compile(SQUARE, keep_core=True) for _ in range(3)]
             assert sorted(program.core.index for program in held) == [0, 1, 2]
     finally:
         gc.enable()
@@ -323,7 +368,7 @@ def _readme_example(heading: str) -> str:
 
 
 def test_the_readme_python_example_runs(run_python, tmp_path):
-    snippet = _readme_example("### Using it from Python")
+    snippet = _readme_example("### From Python")
     run_python(snippet, cwd=str(tmp_path))
     assert (tmp_path / "program.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     # in the venv of the README's first command (no matplotlib) it ends saying how to install it
@@ -335,7 +380,7 @@ def test_the_readme_python_example_runs(run_python, tmp_path):
 
 
 def test_the_readme_ctypes_example_tells_success_from_failure(run_python, tmp_path):
-    out = run_python(_readme_example("### Using it from an HMI (ctypes only)"), cwd=str(tmp_path)).stdout
+    out = run_python(_readme_example("### From a panel, through ctypes"), cwd=str(tmp_path)).stdout
     assert out.splitlines() == ["compiled", "line 2: error 200: Division by zero"]
 
 

@@ -1,7 +1,8 @@
 """Program.plot(): the picture of the bundled sample (programmed and compensated
 paths, dashed rapids, starts, errors) and its extent against the library's size
 info; a PNG that is not empty; a failing program drawn up to its error; the hint
-that installs matplotlib."""
+that installs matplotlib; cuts at several depths coloured by Z with a colour bar;
+the views from above, the front, the side and in 3D."""
 import builtins
 import math
 import re
@@ -36,7 +37,8 @@ def test_plot_of_the_compensated_sample_has_the_librarys_extent():
             labels = _lines(ax)
         finally:
             plt.close(fig)
-    assert set(labels) == {"rapid", "programmed", "start of a cut", "tool centre (compensated)"}
+    # the sample's helical holes go from Z0 to Z-1: the tool centre is coloured by Z
+    assert set(labels) == {"rapid", "programmed", "start of a cut", "tool centre (compensated), coloured by Z"}
     assert labels["rapid"].get_linestyle() == "--"
     # everything drawn lies inside the programmed and compensated boxes, and reaches their edges
     lo = min(size[0].m_minimalPos.x, size[1].m_minimalPos.x), min(size[0].m_minimalPos.y, size[1].m_minimalPos.y)
@@ -60,7 +62,8 @@ def test_errors_are_marked_at_their_line():
     mark = labels["error 503 (line 34)"]
     assert list(zip(mark.get_xdata(), mark.get_ydata())) == [(80.0, 45.0)]    # N270 G3 X80 Y45
     assert "Arc radius 5 smaller than the tool radius 6" in title and "drawn without compensation" in title
-    assert "cut" in labels and "tool centre (compensated)" not in labels        # drawn uncompensated
+    assert "cut, coloured by Z" in labels                                          # drawn uncompensated
+    assert not any(label.startswith("tool centre") for label in labels)
 
 
 def _drawn_points(ax, label):
@@ -148,3 +151,82 @@ def test_png_is_not_empty(tmp_path):
     assert pixels.shape[0] > 500 and pixels.shape[1] > 500
     drawn = np.any(pixels[:, :, :3] < 0.9, axis=2).mean()
     assert 0.02 < drawn < 0.5
+
+
+TERRACES = "".join(["G0 X0 Y0 Z5\n"] + [f"G1 Z{z} F300\nG1 X30 F1000\nG1 Y20\nG1 X0\nG1 Y0\n" for z in (-1, -2, -3)]
+                   + ["G0 Z5\nM30\n"])
+
+
+def _depth_lines(ax):
+    """The lines of a cut coloured by Z: {Z of the colour: line}, in drawing order."""
+    return {float(line.get_label().split()[1]): line for line in ax.get_lines()
+            if line.get_label().startswith("_depth ")}
+
+
+def test_cuts_at_several_depths_are_coloured_by_z_with_a_colour_bar():
+    with sf_tch.compile(TERRACES, start=ORIGIN) as program:
+        fig, ax = plt.subplots()
+        try:
+            program.plot(ax=ax)
+            depth = _depth_lines(ax)
+            labels = _lines(ax)
+            bars = [other for other in fig.axes if other is not ax]
+            colour_bar = bars[0].get_xlabel() if bars else None
+        finally:
+            plt.close(fig)
+    assert set(labels) == {"rapid", "cut, coloured by Z", "start of a cut"}
+    assert labels["rapid"].get_linestyle() == "--"
+    assert colour_bar == "Z [mm] of the cut"
+    # the colours span the passes' Z (-3..-1; the plunge from Z5 takes the top colour), one per pass
+    by_pass = {}
+    for z, line in depth.items():
+        ys = line.get_ydata()
+        if np.nanmax(ys) - np.nanmin(ys) == 20:                   # a whole pass round the rectangle
+            by_pass[round(z)] = matplotlib.colors.to_hex(line.get_color())
+    assert sorted(by_pass) == [-3, -2, -1] and len(set(by_pass.values())) == 3
+    assert min(depth) == pytest.approx(-3, abs=0.05) and max(depth) == pytest.approx(-1, abs=0.05)
+    # from above the deepest pass is drawn last, over the others
+    assert list(depth) == sorted(depth, reverse=True)
+
+
+def test_a_flat_program_is_one_colour_without_a_colour_bar():
+    with sf_tch.compile("G0 X0 Y0 Z0\nG1 X10 F600\nG1 Y10\nM30\n", start=ORIGIN) as program:
+        fig, ax = plt.subplots()
+        try:
+            program.plot(ax=ax)
+            labels = _lines(ax)
+            axes = len(fig.axes)
+            depth = _depth_lines(ax)
+        finally:
+            plt.close(fig)
+    assert "cut" in labels and not depth and axes == 1
+
+
+@pytest.mark.parametrize("view, names", [("xy", "XY"), ("xz", "XZ"), ("yz", "YZ"), ("3d", "XYZ")])
+def test_views_draw_their_axes(view, names):
+    with sf_tch.compile(TERRACES, start=ORIGIN) as program:
+        ax = program.plot(view=view)
+        try:
+            labels = [ax.get_xlabel(), ax.get_ylabel()] + ([ax.get_zlabel()] if view == "3d" else [])
+            start = _lines(ax)["start of a cut"]
+            drawn = (list(start.get_data_3d()[k] for k in range(3)) if view == "3d"
+                     else [start.get_xdata(), start.get_ydata()])
+            title = ax.get_title()
+        finally:
+            plt.close(ax.figure)
+    assert labels == [f"{name} [mm]" for name in names]
+    # the start of the first cut (X0 Y0 Z5) in the view's coordinates
+    assert [float(values[0]) for values in drawn] == [{"X": 0.0, "Y": 0.0, "Z": 5.0}[name] for name in names]
+    assert (view.upper() if view != "3d" else "3D") in title or view == "xy"
+
+
+def test_a_view_needs_its_kind_of_axes():
+    with sf_tch.compile(TERRACES, start=ORIGIN) as program:
+        fig, ax = plt.subplots()
+        try:
+            with pytest.raises(ValueError, match="3D Axes"):
+                program.plot(ax=ax, view="3d")
+            with pytest.raises(ValueError, match="view must be one of xy, xz, yz, 3d"):
+                program.plot(ax=ax, view="top")
+        finally:
+            plt.close(fig)

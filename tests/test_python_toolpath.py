@@ -19,8 +19,9 @@ RADIUS = 1.0
 
 @pytest.fixture
 def sample():
-    # from the origin: the axes the sample has not named yet follow the machine position
-    with sf_tch.compile(sf_tch.sample_program(), radius=RADIUS, start=[0.0] * 10) as program:
+    # from the origin: the axes the sample has not named yet follow the machine position; on
+    # its core, for the tests that read the library's toolpath through the ABI
+    with sf_tch.compile(sf_tch.sample_program(), radius=RADIUS, start=[0.0] * 10, keep_core=True) as program:
         yield program
 
 
@@ -190,7 +191,7 @@ def test_no_toolpath_without_a_program():
         assert total.value == 12345
         with pytest.raises(RuntimeError, match="no compiled program"):
             core.toolpath()
-    program = sf_tch.compile("G1 X1/0\n", name="bad.nc")
+    program = sf_tch.compile("G1 X1/0\n", name="bad.nc", keep_core=True)
     with program:
         assert not program.ok and len(program.toolpath) == 0
         assert program.core.lib.ToolChainCore_GetToolpath(program.core.index, None, 0, 0, None) == -1

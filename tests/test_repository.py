@@ -1,6 +1,6 @@
 """The repository stands alone: its licence is the one pyproject.toml names, the C
-example's README builds and runs it as written, and what builds and examples leave
-in the checkout is ignored by git."""
+example's README and the README's C example build and run as written, and what builds
+and examples leave in the checkout is ignored by git."""
 import re
 import shutil
 import subprocess
@@ -48,3 +48,24 @@ def test_the_c_examples_readme_builds_and_runs_it(tmp_path):
     assert [line for line in proc.stdout.splitlines() if line.startswith("core ")] == ["core 0", "core 1", "core 2"]
     assert proc.stdout.count("errors:        none") == 3 and proc.stdout.count("PRINT:         plate done") == 3
     assert re.fullmatch(r"c_hmi: 3 threads polled StatusCNC \+ GetPos \d+ times\n", proc.stderr)
+
+
+def test_the_readmes_c_example_builds_and_runs(tmp_path):
+    """The README's "From C": part.c as printed, built and run by the commands under it
+    (the venv's interpreter this one), linked against the installed library."""
+    if shutil.which("cc") is None:
+        pytest.skip("no C compiler")
+    readme = (ROOT / "README.md").read_text()
+    section = readme[readme.index("### From C"):]
+    source = re.search(r"```c\n(.*?)```", section, re.S).group(1)
+    commands = re.search(r"```bash\n(.*?)```", section, re.S).group(1)
+    (tmp_path / "part.c").write_text(source)
+    commands = commands.replace(".venv/bin/python", sys.executable).replace("-I include", f"-I {ROOT / 'include'}")
+    proc = subprocess.run(["bash", "-ec", commands], cwd=tmp_path, capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout == "compiled\n"
+    # a program with an error: its line, number and text, exit 1
+    (tmp_path / "bad.nc").write_text("G1 X10 Y10 F1000\nG1 X1/0\n")
+    proc = subprocess.run([str(tmp_path / "part"), str(tmp_path / "bad.nc")], capture_output=True, text=True,
+                          timeout=60)
+    assert (proc.returncode, proc.stdout) == (1, "line 2: error 200: Division by zero\n")

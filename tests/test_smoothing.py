@@ -108,16 +108,55 @@ def test_iir_step_response_is_the_closed_form(fresh_core, name, p, q, f):
     assert abs(y[settled_from, 0] - 1) <= SETTLED_MM
 
 
+def slowest_time_constant(p, q, f):
+    """1 / the slower pole's decay rate of H(s) in seconds, from numpy's roots of its
+    denominator (s/w)^2 + p (s/w) + q in the variable s/w (w = 2 pi / f); inf when the
+    coefficients overflow."""
+    w = 2 * math.pi / f
+    with np.errstate(all="ignore"):
+        roots = np.roots([1.0, p, q]) * w
+    rate = -roots.real.max()
+    return 1 / rate if np.isfinite(rate) and rate > 0 else math.inf
+
+
 @pytest.mark.parametrize("p, q, f", [(1, 1, 1), (1e12, 1, 1), (1, 1e12, 1), (1e12, 1e12, 1), (1, 1, 1e12),
-                                     (3e6, 1e6, 1), (3e6, 1e6, 1e12), (1, 1e12, 1e12)])
+                                     (3e6, 1e6, 1), (3e6, 1e6, 1e12), (1, 1e12, 1e12), (1e12, 1e-3, 1),
+                                     (1e-300, 1e-300, 1e-300), (3e6, 3e6, 20000), (2e6, 1e6, 1e5)])
 def test_iir_at_the_extremes_of_its_registers(fresh_core, p, q, f):
-    """Register values 1 and 1e12 (p, q from 1e-6 to 1e6, f from 1 us to 11 days): the
-    output stays finite and between the step's ends (it may overshoot with little damping)."""
-    assert set_smoothing(fresh_core, -1, (p, q, f, 1)) == 0
+    """Register values from 1e-300 to 1e12 (p, q from 1e-306 to 1e6, f from 1e-306 s to 11
+    days): a setting whose slowest time constant (numpy's roots of H(s)'s denominator) is
+    above 1 s is refused, since a stopped machine would take as long to rest; the others
+    give a finite output between the step's ends (it may overshoot with little damping)."""
+    tau = slowest_time_constant(p * 1e-6, q * 1e-6, f * 1e-6)
+    rc = set_smoothing(fresh_core, -1, (p, q, f, 1))
+    if not tau <= 1.0:
+        assert rc == -1
+        number, _, text = call_error(fresh_core)
+        assert number == ERR_SMOOTHING and "slowest time constant" in text and "above 1 s" in text, text
+        return
+    assert rc == 0, call_error(fresh_core)
     x = np.zeros((2000, 10))
     x[1:, 0] = 1.0
     y = smooth(fresh_core, x)[0][:, 0]
     assert np.all(np.isfinite(y)) and np.abs(y).max() <= 2.0
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_every_accepted_iir_setting_settles_from_the_largest_step(fresh_core, seed):
+    """Random settings near the bound (time constants 0.1 .. 1 s, any damping): a step of
+    2e6 mm (the whole range) settles within 35 time constants (ln(2e12) = 28.3)."""
+    rng = np.random.default_rng(seed)
+    while True:
+        p, q, f = 10 ** rng.uniform(-1, 1.5), 10 ** rng.uniform(-1, 1), 10 ** rng.uniform(-1, 1.5)
+        tau = slowest_time_constant(p, q, f)
+        if 0.1 <= tau <= 1.0:
+            break
+    iir(fresh_core, p, q, f, 1)
+    n = int(35 * tau / T) + 10
+    x = np.full((n, 10), -1e6)
+    x[1:, 0] = 1e6
+    y, settled_from = smooth(fresh_core, x)
+    assert settled_from < n and abs(y[-1, 0] - 1e6) <= SETTLED_MM
 
 
 def test_iir_overshoots_as_the_vendor_table_says(fresh_core):
@@ -312,6 +351,13 @@ def test_smooth_samples_arguments(fresh_core):
     assert lib.ToolChainCore_SmoothSamples(0, x.ctypes.data_as(P), 5, None, None) == -1
     x[3, 7] = float("nan")
     assert lib.ToolChainCore_SmoothSamples(0, x.ctypes.data_as(P), 5, x.ctypes.data_as(P), None) == -1
+    for beyond in (1.7e308, -1.01e30):      # beyond the address words' bound: refused, out untouched
+        x[3, 7] = beyond
+        out = np.full((5, 10), 7.0)
+        assert lib.ToolChainCore_SmoothSamples(0, x.ctypes.data_as(P), 5, out.ctypes.data_as(P), None) == -1
+        assert np.all(out == 7.0)
+    x[3, 7] = 1e30
+    assert lib.ToolChainCore_SmoothSamples(0, x.ctypes.data_as(P), 5, x.ctypes.data_as(P), None) == 0
     assert lib.ToolChainCore_SmoothSamples(3, None, 0, None, None) == abi.TOOL_CHAIN_BAD_INTR_INDEX
     iir(lib, 2.0, 1.0, 0.01, 1)                          # in place
     x = np.zeros((300, 10))

@@ -99,7 +99,10 @@ def test_a_load_replaces_the_whole_table(fresh_core, tmp_path):
     (b"$KOR\n\n   \n10:\n11: 1=1 2=2 3=3 4=4\n", {11: (0, 1.0, 2.0, 3.0, 4.0)}),
     (b"; comment\n" * 20000 + b"$KOR\n99: R=-2.5\n", {99: (-2.5, 0, 0, 0, 0)}),
     (b"x" * 3_000_000 + b"\n$KOR\n12: Z=1000000 Y=-1000000\n", {12: (0, 0, -1e6, 1e6, 0)}),
-], ids=["crlf-bom-tab", "case-signs-exponents", "nul-in-comment", "blank-and-empty", "long-comment", "long-line"])
+    # the manual: axes are named X, Y, Z and U when they are the first to fourth axis
+    (b"$KOR\n03: R=0.8 X=1 Y=120.0 Z=2 U=4.5\n04: u=-1\n", {3: (0.8, 1.0, 120.0, 2.0, 4.5), 4: (0, 0, 0, 0, -1.0)}),
+], ids=["crlf-bom-tab", "case-signs-exponents", "nul-in-comment", "blank-and-empty", "long-comment", "long-line",
+        "fourth-axis-U"])
 def test_files_the_reader_takes(fresh_core, tmp_path, text, entries):
     assert load(fresh_core, write(tmp_path, text)) == 0
     assert nonzero(table(fresh_core)) == entries
@@ -116,7 +119,8 @@ BAD = [
     ("not-an-entry", "$KOR\n01: R=1\nhello\n", ERR_LINE, 3, "'hello' is no entry"),
     ("entry-00", "$KOR\n00: R=1\n", ERR_LINE, 2, "entry 00 does not exist"),
     ("entry-twice", "$KOR\n05: R=1\n\n05: R=2\n", ERR_LINE, 4, "entry 05 is given twice in this $KOR block (first on line 2)"),
-    ("axis-name-U", "$KOR\n01: U=5\n", ERR_LINE, 2, "'U=5' is no value of an entry"),
+    ("axis-name-C", "$KOR\n01: C=5\n", ERR_LINE, 2, "'C=5' is no value of an entry"),
+    ("axis-name-A", "$KOR\n01: A=5\n", ERR_LINE, 2, "'A=5' is no value of an entry"),
     ("axis-5", "$KOR\n01: 5=5\n", ERR_LINE, 2, "'5=5' is no value"),
     ("blank-before-equals", "$KOR\n01: R =1\n", ERR_LINE, 2, "'R' is no value"),
     ("radius-twice", "$KOR\n01: R=1 R=2\n", ERR_LINE, 2, "entry 01: its radius is given twice"),
@@ -537,3 +541,14 @@ def test_iso_mode_g41_d_and_g43_h_use_the_table(host, tmp_path):
     assert g == [pytest.approx(e) for e in [(0, 0, 0), (1, 2, 15.5), (1, 2, 0), (1, 2, 3)]]
     r = host.compile("G43 H100\n", rezerva1=rezerva1)
     assert r.error[0] == ERR_TOOL_WORD and "'H100' at column 5" in r.error[3]
+
+
+def test_a_table_file_beyond_64_mib_is_refused_before_it_is_read(fresh_core, tmp_path):
+    assert load(fresh_core, write(tmp_path, VENDOR_EXAMPLE)) == 0
+    before = table(fresh_core)
+    big = tmp_path / "BIG.KOR"
+    with open(big, "wb") as f:                  # sparse: no 64 MiB written
+        f.truncate((64 << 20) + 1)
+    assert load(fresh_core, big) == -1
+    assert call_error(fresh_core) == (25, 0, f"Table file '{big}' is larger than 64 MiB")
+    assert table(fresh_core) == before

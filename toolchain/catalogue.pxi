@@ -8,118 +8,121 @@ from libc.stdint cimport int32_t
 
 cdef enum ErrorNumber:
     # Configuration and host input (1..99)
-    ERR_FILE_OPEN = 1                # Cannot open file '%s'
-    ERR_FILE_READ = 2                # Cannot read file '%s'
-    ERR_INI_OPEN = 3                 # Cannot open INI file '%s'
-    ERR_OUT_OF_MEMORY = 4            # Out of memory
-    ERR_CANCELLED = 5                # Compilation interrupted
-    ERR_NOTHING_COMPILED = 6         # No compiled program
-    ERR_DRIVER_REFUSED = 7           # Driver callback %s returned %d
-    ERR_BUSY = 8                     # Core busy: %s
-    ERR_BAD_STATUS = 9               # %s not allowed in status %d (%s)
-    ERR_NOT_IMPLEMENTED = 10         # %s is not implemented yet
-    ERR_INI_FIRST = 11               # Callback %d needs LoadFromIni first
-    ERR_FILE_TOO_LARGE = 12          # File '%s' is larger than 1 GiB
-    ERR_NOT_REGULAR_FILE = 13        # '%s' is not a regular file
-    ERR_NOT_FINITE = 14              # %s = %g is not a finite number
-    ERR_OUT_OF_RANGE = 15            # %s = %g is outside <%g, %g>
-    ERR_INI_VALUE = 16               # INI file '%s' line %d: %s
-    ERR_REENTRANT = 20               # %s is not allowed inside a callback of the core's running activity
-    ERR_BAD_REGIME = 21              # StartCNCEx: unknown regime
-    ERR_NO_M_PENDING = 22            # No M function waits for a confirmation
-    ERR_M_PENDING = 23               # An M function still waits for its confirmation (ToolChainCore_ConfirmMFunc)
-    ERR_PATH_NOT_FINITE = 24         # %s: the move's path is not finite (%s)
+    ERR_FILE_OPEN = 1                  # Cannot open file '%s'
+    ERR_FILE_READ = 2                  # Cannot read file '%s'
+    ERR_INI_OPEN = 3                   # Cannot open INI file '%s'
+    ERR_OUT_OF_MEMORY = 4              # Out of memory
+    ERR_CANCELLED = 5                  # Compilation interrupted
+    ERR_NOTHING_COMPILED = 6           # No compiled program
+    ERR_DRIVER_REFUSED = 7             # Driver callback %s returned %d
+    ERR_BUSY = 8                       # Core busy: %s
+    ERR_BAD_STATUS = 9                 # %s not allowed in status %d (%s)
+    ERR_NOT_IMPLEMENTED = 10           # %s is not implemented yet
+    ERR_INI_FIRST = 11                 # Callback %d needs LoadFromIni first
+    ERR_FILE_TOO_LARGE = 12            # File '%s' is larger than 1 GiB
+    ERR_NOT_REGULAR_FILE = 13          # '%s' is not a regular file
+    ERR_NOT_FINITE = 14                # %s = %g is not a finite number
+    ERR_OUT_OF_RANGE = 15              # %s = %g is outside <%g, %g>
+    ERR_INI_VALUE = 16                 # INI file '%s' line %d: %s
+    ERR_REENTRANT = 20                 # %s is not allowed inside a callback of the core's running activity
+    ERR_BAD_REGIME = 21                # StartCNCEx: unknown regime
+    ERR_NO_M_PENDING = 22              # No M function waits for a confirmation
+    ERR_M_PENDING = 23                 # An M function still waits for its confirmation (ToolChainCore_ConfirmMFunc)
+    ERR_PATH_NOT_FINITE = 24           # %s: the move's path is not finite (%s)
+    ERR_TABLE_TOO_LARGE = 25           # Table file '%s' is larger than 64 MiB
+    ERR_PARAMETERS_WHILE_STOPPED = 27  # SetGCodeParameters in status %d (%s): only the feeds may change while the program stands on its trajectory; %s
     # Lexical (100..199)
-    ERR_UNKNOWN_WORD = 100           # Unknown word '%s' at column %d
-    ERR_BAD_NUMBER = 101             # Bad number '%s' at column %d
-    ERR_MISSING_VALUE = 102          # Address %s at column %d without a value
-    ERR_UNBALANCED_BRACKETS = 103    # Unbalanced brackets: '(' at column %d not closed
-    ERR_UNTERMINATED_COMMENT = 104   # Comment '(' at column %d not closed on this line
-    ERR_LINE_TOO_LONG = 105          # Line longer than %d characters
-    ERR_BAD_VALUE = 106              # Bad value %g of address %s
-    ERR_TOO_MANY_WORDS = 107         # More than %d %s words on one line
-    ERR_NUMBER_OVERFLOW = 108        # Number '%s' at column %d is too large
-    ERR_P_WORD = 110                 # Word '%s' at column %d: P is reserved for parameters P00..P99 (Pnn = value); %s
-    ERR_NOT_TG = 111                 # '%s' at column %d is not TG G-code: %s
-    ERR_NGC_UNSUPPORTED = 112        # '%s' at column %d is not supported in the ISO compatibility mode: %s
+    ERR_UNKNOWN_WORD = 100             # Unknown word '%s' at column %d
+    ERR_BAD_NUMBER = 101               # Bad number '%s' at column %d
+    ERR_MISSING_VALUE = 102            # Address %s at column %d without a value
+    ERR_UNBALANCED_BRACKETS = 103      # Unbalanced brackets: '(' at column %d not closed
+    ERR_UNTERMINATED_COMMENT = 104     # Comment '(' at column %d not closed on this line
+    ERR_LINE_TOO_LONG = 105            # Line longer than %d characters
+    ERR_BAD_VALUE = 106                # Bad value %g of address %s
+    ERR_TOO_MANY_WORDS = 107           # More than %d %s words on one line
+    ERR_NUMBER_OVERFLOW = 108          # Number '%s' at column %d is too large
+    ERR_P_WORD = 110                   # Word '%s' at column %d: P is reserved for parameters P00..P99 (Pnn = value); %s
+    ERR_NOT_TG = 111                   # '%s' at column %d is not TG G-code: %s
+    ERR_NGC_UNSUPPORTED = 112          # '%s' at column %d is not supported in the ISO compatibility mode: %s
     # Expressions and parameters (200..299)
-    ERR_DIVISION_BY_ZERO = 200       # Division by zero
-    ERR_BAD_PARAMETER = 201          # Parameter P%g at column %d does not exist (P00..P99)
-    ERR_BAD_EXPRESSION = 202         # Syntax error in expression '%s' at column %d
-    ERR_UNKNOWN_FUNCTION = 203       # Unknown function '%s' at column %d
-    ERR_MATH_DOMAIN = 204            # Argument out of domain in %s(%g)
-    ERR_BAD_PLC_ADDRESS = 205        # PLC address %g out of range (1..%d)
-    ERR_PARAM_STACK = 206            # G900 parameter stack %s
-    ERR_NOT_FINITE_RESULT = 207      # Expression '%s' does not give a finite number
-    ERR_NGC_UNDEFINED = 208          # Named parameter '%s' at column %d is not defined
-    ERR_NGC_UNREADABLE = 209         # Parameter '%s' at column %d cannot be read: %s
-    ERR_NGC_PARAMETER = 210          # Parameter #%g at column %d does not exist (#1..#5601)
-    ERR_NGC_READ_ONLY = 211          # Parameter '%s' at column %d is read-only
+    ERR_DIVISION_BY_ZERO = 200         # Division by zero
+    ERR_BAD_PARAMETER = 201            # Parameter P%g at column %d does not exist (P00..P99)
+    ERR_BAD_EXPRESSION = 202           # Syntax error in expression '%s' at column %d
+    ERR_UNKNOWN_FUNCTION = 203         # Unknown function '%s' at column %d
+    ERR_MATH_DOMAIN = 204              # Argument out of domain in %s(%g)
+    ERR_BAD_PLC_ADDRESS = 205          # PLC address %g out of range (1..%d)
+    ERR_PARAM_STACK = 206              # G900 parameter stack %s
+    ERR_NOT_FINITE_RESULT = 207        # Expression '%s' does not give a finite number
+    ERR_NGC_UNDEFINED = 208            # Named parameter '%s' at column %d is not defined
+    ERR_NGC_UNREADABLE = 209           # Parameter '%s' at column %d cannot be read: %s
+    ERR_NGC_PARAMETER = 210            # Parameter #%g at column %d does not exist (#1..#5601)
+    ERR_NGC_READ_ONLY = 211            # Parameter '%s' at column %d is read-only
     # Program flow (300..399)
-    ERR_UNDEFINED_LABEL = 300        # Undefined label '%s'
-    ERR_DUPLICATE_LABEL = 301        # Label '%s' defined twice (first on line %d)
-    ERR_UNBALANCED_END = 302         # END without FOR, WHILE or IF
-    ERR_MISSING_END = 303            # %s without END
-    ERR_CALL_STACK_OVERFLOW = 304    # Subroutine calls nested deeper than %d
-    ERR_RETURN_WITHOUT_CALL = 305    # RETURN outside a subroutine
-    ERR_BLOCK_LIMIT = 306            # More than %d blocks executed: endless loop?
-    ERR_BREAK_OUTSIDE_LOOP = 307     # %s outside a loop
-    ERR_BAD_CONDITION = 308          # Bad condition '%s' at column %d
-    ERR_PART_LIMIT = 309             # More than %d parts: program too large
-    ERR_O_WORD = 310                 # O-word '%s' at column %d: %s
-    ERR_O_UNDEFINED = 311            # Subroutine '%s' at column %d is not defined before its call
+    ERR_UNDEFINED_LABEL = 300          # Undefined label '%s'
+    ERR_DUPLICATE_LABEL = 301          # Label '%s' defined twice (first on line %d)
+    ERR_UNBALANCED_END = 302           # END without FOR, WHILE or IF
+    ERR_MISSING_END = 303              # %s without END
+    ERR_CALL_STACK_OVERFLOW = 304      # Subroutine calls nested deeper than %d
+    ERR_RETURN_WITHOUT_CALL = 305      # RETURN outside a subroutine
+    ERR_BLOCK_LIMIT = 306              # More than %d blocks executed: endless loop?
+    ERR_BREAK_OUTSIDE_LOOP = 307       # %s outside a loop
+    ERR_BAD_CONDITION = 308            # Bad condition '%s' at column %d
+    ERR_PART_LIMIT = 309               # More than %d parts: program too large
+    ERR_O_WORD = 310                   # O-word '%s' at column %d: %s
+    ERR_O_UNDEFINED = 311              # Subroutine '%s' at column %d is not defined before its call
+    ERR_PROGRAM_TABLE_LIMIT = 312      # More than %d different %s in one program
     # Geometry (400..499)
-    ERR_ARC_CENTRE = 400             # Wrongly entered centre of circular interpolation %s at column %d: start %s = %g %s = %g, end %s = %g %s = %g, delta (%.7f) > 2*R (%.7f)
-    ERR_ARC_RADIUS = 401             # Arc radius %g too small for chord %g
-    ERR_ARC_NO_CENTRE = 402          # Arc without centre (I J K or R)
-    ERR_BAD_PLANE = 403              # Bad plane G%d
-    ERR_BAD_G = 404                  # Unknown G function G%g at column %d
-    ERR_BAD_M = 405                  # Bad M function M%g at column %d
-    ERR_MACHINE_LIMIT = 406          # Axis %s position %g outside the machine limits <%g, %g>
-    ERR_ARC_RADII = 407              # Wrongly entered centre of circular interpolation %s at column %d: start %s = %g %s = %g, end %s = %g %s = %g, radius at start (%.7f) <> radius at end (%.7f)
-    ERR_ISO_G = 408                  # G%g at column %d is not TG G-code: %s
-    ERR_NO_FEED = 410                # G%g at column %d with feed 0: no F word was given (LinuxCNC refuses it)
-    ERR_NO_MOTION_MODE = 411         # Axis word '%s' at column %d without a motion mode (G0 G1 G2 G3 or a canned cycle)
-    ERR_NGC_G = 412                  # G%g at column %d: %s
-    ERR_NGC_WORD = 413               # '%s' at column %d: %s
+    ERR_ARC_CENTRE = 400               # Wrongly entered centre of circular interpolation %s at column %d: start %s = %g %s = %g, end %s = %g %s = %g, delta (%.7f) > 2*R (%.7f)
+    ERR_ARC_RADIUS = 401               # Arc radius %g too small for chord %g
+    ERR_ARC_NO_CENTRE = 402            # Arc without centre (I J K or R)
+    ERR_BAD_PLANE = 403                # Bad plane G%d
+    ERR_BAD_G = 404                    # Unknown G function G%g at column %d
+    ERR_BAD_M = 405                    # Bad M function M%g at column %d
+    ERR_MACHINE_LIMIT = 406            # Axis %s position %g outside the machine limits <%g, %g>
+    ERR_ARC_RADII = 407                # Wrongly entered centre of circular interpolation %s at column %d: start %s = %g %s = %g, end %s = %g %s = %g, radius at start (%.7f) <> radius at end (%.7f)
+    ERR_ISO_G = 408                    # G%g at column %d is not TG G-code: %s
+    ERR_NO_FEED = 410                  # G%g at column %d with feed 0: no F word was given (LinuxCNC refuses it)
+    ERR_NO_MOTION_MODE = 411           # Axis word '%s' at column %d without a motion mode (G0 G1 G2 G3 or a canned cycle)
+    ERR_NGC_G = 412                    # G%g at column %d: %s
+    ERR_NGC_WORD = 413                 # '%s' at column %d: %s
     # Tool radius compensation (500..599)
-    ERR_COMP_NOT_FOUND = 500         # Intersection of equidistants not found
-    ERR_COMP_ON_ARC = 501            # Compensation switched on or off on an arc
-    ERR_COMP_PLANE_CHANGE = 502      # Plane changed while tool radius compensation is active
-    ERR_COMP_NEGATIVE_ARC = 503      # Arc radius %g smaller than the tool radius %g
-    ERR_COMP_CROSSING = 504          # Equidistants cross: the tool (radius %g) does not fit the contour
-    ERR_COMP_LOOKAHEAD = 505         # More than %d blocks without motion in the compensation plane
+    ERR_COMP_NOT_FOUND = 500           # Intersection of equidistants not found
+    ERR_COMP_ON_ARC = 501              # Compensation switched on or off on an arc
+    ERR_COMP_PLANE_CHANGE = 502        # Plane changed while tool radius compensation is active
+    ERR_COMP_NEGATIVE_ARC = 503        # Arc radius %g smaller than the tool radius %g
+    ERR_COMP_CROSSING = 504            # Equidistants cross: the tool (radius %g) does not fit the contour
+    ERR_COMP_LOOKAHEAD = 505           # More than %d blocks without motion in the compensation plane
     # Warnings (600..699)
-    WARN_COMP = 600                  # Tool radius compensation: %s
-    WARN_COMP_GOUGE = 601            # Equidistant error on line %d: the tool cuts %g mm into the contour
-    WARN_G43_H = 610                 # G43 with H at column %d: TG's G43 switches on tool radius compensation with correction[2], it is no tool length offset (TG: & n; isoCompat: G43 H n is & n)
-    WARN_O_AT_START = 611            # O%g at column %d at the start of the program moves the O axis; a program number? (isoCompat: ignored)
-    WARN_G18_ARC = 612               # G18 arc at column %d after an ISO header (G21 / G90): TG's G18 is the XZ plane with arcs turning the other way than ISO's ZX plane, which is TG's G-18 (isoCompat: G18 is read as G-18)
-    WARN_ZERO_WITH_MOVE = 613        # G%g at column %d with axis words sets the zero offset to them; the axes do not move (isoCompat: G54..G59 keep the offset and the line moves)
-    WARN_NO_FEED = 614               # G%g at column %d at feed 0 (no F word yet, or F0) moves at GCODE_PARAMETERS motion[1].feed; LinuxCNC refuses a feed of 0 (isoCompat: error 410)
-    WARN_BARE_AXES = 615             # Axis words at column %d before any G0..G3 move as G1; LinuxCNC refuses axis words without a motion mode (isoCompat: error 411)
-    WARN_DWELL_WITH_MOTION = 616     # G4 at column %d with G%g: the line dwells and does not move (isoCompat: the dwell, then the move)
-    WARN_G90_MOVES_G1 = 617          # G%g at column %d with axis words moves as G1; ISO moves with the modal G%g (isoCompat)
-    WARN_ISO_IGNORED = 620           # '%s' at column %d ignored (ISO compatibility mode)
+    WARN_COMP = 600                    # Tool radius compensation: %s
+    WARN_COMP_GOUGE = 601              # Equidistant error on line %d: the tool cuts %g mm into the contour
+    WARN_G43_H = 610                   # G43 with H at column %d: TG's G43 switches on tool radius compensation with correction[2], it is no tool length offset (TG: & n; isoCompat: G43 H n is & n)
+    WARN_O_AT_START = 611              # O%g at column %d at the start of the program moves the O axis; a program number? (isoCompat: ignored)
+    WARN_G18_ARC = 612                 # G18 arc at column %d after an ISO header (G21 / G90): TG's G18 is the XZ plane with arcs turning the other way than ISO's ZX plane, which is TG's G-18 (isoCompat: G18 is read as G-18)
+    WARN_ZERO_WITH_MOVE = 613          # G%g at column %d with axis words sets the zero offset to them; the axes do not move (isoCompat: G54..G59 keep the offset and the line moves)
+    WARN_NO_FEED = 614                 # G%g at column %d at feed 0 (no F word yet, or F0) moves at GCODE_PARAMETERS motion[1].feed; LinuxCNC refuses a feed of 0 (isoCompat: error 410)
+    WARN_BARE_AXES = 615               # Axis words at column %d before any G0..G3 move as G1; LinuxCNC refuses axis words without a motion mode (isoCompat: error 411)
+    WARN_DWELL_WITH_MOTION = 616       # G4 at column %d with G%g: the line dwells and does not move (isoCompat: the dwell, then the move)
+    WARN_G90_MOVES_G1 = 617            # G%g at column %d with axis words moves as G1; ISO moves with the modal G%g (isoCompat)
+    WARN_ISO_IGNORED = 620             # '%s' at column %d ignored (ISO compatibility mode)
     # Connection search (700..719)
-    ERR_CONNECT_BAD_ARGUMENT = 700   # ConnectCNCEx_Plane: %s = %g: %s
-    ERR_CONNECT_NO_LINE = 701        # ConnectCNCEx_Plane: no part at line %d of file %d
-    ERR_CONNECT_NO_GINDEX = 702      # ConnectCNCEx_Plane: no part with G-code index %d
-    ERR_CONNECT_NO_MFUNC = 703       # ConnectCNCEx_Plane: occurrence n = %d of M%d not found (%d in that direction)
-    ERR_CONNECT_OFF_PART = 704       # ConnectCNCEx_Plane: the point lies %g mm from the part with G-code index %d (tolerance %g mm)
-    ERR_CONNECT_NO_MOTION = 705      # ConnectCNCEx_Plane: no motion to connect to in parts %d to %d (the program has %d)
-    ERR_CONNECT_NOT_FINITE = 706     # ConnectCNCEx_Plane: %s gave a point that is not finite
+    ERR_CONNECT_BAD_ARGUMENT = 700     # ConnectCNCEx_Plane: %s = %g: %s
+    ERR_CONNECT_NO_LINE = 701          # ConnectCNCEx_Plane: no part at line %d of file %d
+    ERR_CONNECT_NO_GINDEX = 702        # ConnectCNCEx_Plane: no part with G-code index %d
+    ERR_CONNECT_NO_MFUNC = 703         # ConnectCNCEx_Plane: occurrence n = %d of M%d not found (%d in that direction)
+    ERR_CONNECT_OFF_PART = 704         # ConnectCNCEx_Plane: the point lies %g mm from the part with G-code index %d (tolerance %g mm)
+    ERR_CONNECT_NO_MOTION = 705        # ConnectCNCEx_Plane: no motion to connect to in parts %d to %d (the program has %d)
+    ERR_CONNECT_NOT_FINITE = 706       # ConnectCNCEx_Plane: %s gave a point that is not finite
     # Correction tables and smoothing (720..759)
-    ERR_TOOL_TABLE_NO_KEYWORD = 720  # Tool table '%s' has no line $KOR
-    ERR_TOOL_TABLE_LINE = 721        # Tool table '%s' line %d: %s
-    ERR_TOOL_ENTRY = 722             # Tool correction D%g does not exist (D1..D99)
-    ERR_TOOL_WORD = 723              # Tool correction '%s' at column %d: %s
-    ERR_AXIS_TABLE_HEADER = 730      # Axis correction table '%s', header: %s
-    ERR_AXIS_TABLE_DEFINITION = 731  # Axis correction table '%s', definition of basis axis %s: %s
-    ERR_AXIS_TABLE_SIZE = 732        # Axis correction table '%s' has %.0f bytes; its header and definition block ask for %.0f
-    ERR_AXIS_TABLE_VALUE = 733       # Axis correction table '%s', grid point %.0f: %s
-    ERR_AXIS_TABLES = 734            # Axis correction table '%s': %s
-    ERR_SMOOTHING = 740              # Smoothing, Command %d, Command_Parameter[%d] = %g: %s
+    ERR_TOOL_TABLE_NO_KEYWORD = 720    # Tool table '%s' has no line $KOR
+    ERR_TOOL_TABLE_LINE = 721          # Tool table '%s' line %d: %s
+    ERR_TOOL_ENTRY = 722               # Tool correction D%g does not exist (D1..D99)
+    ERR_TOOL_WORD = 723                # Tool correction '%s' at column %d: %s
+    ERR_AXIS_TABLE_HEADER = 730        # Axis correction table '%s', header: %s
+    ERR_AXIS_TABLE_DEFINITION = 731    # Axis correction table '%s', definition of basis axis %s: %s
+    ERR_AXIS_TABLE_SIZE = 732          # Axis correction table '%s' has %.0f bytes; its header and definition block ask for %.0f
+    ERR_AXIS_TABLE_VALUE = 733         # Axis correction table '%s', grid point %.0f: %s
+    ERR_AXIS_TABLES = 734              # Axis correction table '%s': %s
+    ERR_SMOOTHING = 740                # Smoothing, Command %d, Command_Parameter[%d] = %g: %s
 
 cdef extern from *:
     r"""
@@ -146,6 +149,8 @@ cdef extern from *:
         case 22: return "No M function waits for a confirmation";
         case 23: return "An M function still waits for its confirmation (ToolChainCore_ConfirmMFunc)";
         case 24: return "%s: the move's path is not finite (%s)";
+        case 25: return "Table file '%s' is larger than 64 MiB";
+        case 27: return "SetGCodeParameters in status %d (%s): only the feeds may change while the program stands on its trajectory; %s";
         case 100: return "Unknown word '%s' at column %d";
         case 101: return "Bad number '%s' at column %d";
         case 102: return "Address %s at column %d without a value";
@@ -182,6 +187,7 @@ cdef extern from *:
         case 309: return "More than %d parts: program too large";
         case 310: return "O-word '%s' at column %d: %s";
         case 311: return "Subroutine '%s' at column %d is not defined before its call";
+        case 312: return "More than %d different %s in one program";
         case 400: return "Wrongly entered centre of circular interpolation %s at column %d: start %s = %g %s = %g, end %s = %g %s = %g, delta (%.7f) > 2*R (%.7f)";
         case 401: return "Arc radius %g too small for chord %g";
         case 402: return "Arc without centre (I J K or R)";

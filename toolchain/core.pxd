@@ -20,6 +20,15 @@ cdef enum:
     MAX_FILES = 64          # file names per core (FileToIdx); recycled when full
     N_CALLBACK_SLOTS = 24   # documented callback numbers
 
+cdef extern from *:
+    """
+    /* the feed override's range: the interpolator's Rel_Speed, 0.01 .. 2 (1 % .. 200 %) */
+    #define REL_FEED_MIN 0.01
+    #define REL_FEED_MAX 2.0
+    """
+    double REL_FEED_MIN
+    double REL_FEED_MAX
+
 # What an ending call asks for once the activity is over (the commands of the
 # transition table that end an activity; runtime/transitions.pyx).
 cdef enum EndKind:
@@ -125,7 +134,7 @@ ctypedef struct Core:
     void *offline               # the offline machine (machine/machine.pyx Machine), made on first run
     double time_scale           # atomic (TC_ATOMIC_*_D): the offline machine runs this many times real time
     int32_t clock_stepped       # atomic: the offline machine runs on the test-only stepped clock (machine/clock.pyx)
-    double rel_feed             # atomic (TC_ATOMIC_*_D)
+    double rel_feed             # atomic (TC_ATOMIC_*_D); REL_FEED_MIN .. REL_FEED_MAX
     uint32_t breakpoint_line
     int32_t breakpoint_file
     Snapshot snap

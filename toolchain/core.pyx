@@ -143,7 +143,7 @@ cdef int _compile_job(Core *core, CompileJob *job, ProgramBuilder *build, GCODE_
     cdef int result
     cdef char text[400]
     if job.text == NULL:
-        job.text = read_whole_file(job.name, &job.length, &read_error)
+        job.text = read_whole_file(job.name, MAX_FILE_BYTES, &job.length, &read_error)
         if job.text == NULL:
             set_error_text(err, read_error, job.files[0], 0, job.name)
             return COMPILE_ERROR
@@ -180,7 +180,10 @@ cdef int _compile_job(Core *core, CompileJob *job, ProgramBuilder *build, GCODE_
     n_parts = build.prog.n_parts
     if result == COMPILE_OK:
         result = insert_arcs(build, &inp.params, err)
-    measured = measured and build.prog.n_parts == n_parts      # no automatic arcs came in since
+    if result == COMPILE_OK and join_lines(build, &inp.params) != COMPILE_OK:
+        result = COMPILE_ERROR
+        set_error(err, ERR_OUT_OF_MEMORY, job.files[0], 0, NULL, 0)
+    measured = measured and build.prog.n_parts == n_parts      # no automatic arcs came in, no lines joined
     # the spare room of the parts (the reserve, what was faulted in ahead) goes back
     # before the plan takes its memory: the peak is the parts and their plan
     if result == COMPILE_OK:
@@ -198,6 +201,8 @@ cdef int _compile_job(Core *core, CompileJob *job, ProgramBuilder *build, GCODE_
                                                    extent, measured) != COMPILE_OK:
         result = COMPILE_ERROR
         set_error(err, ERR_OUT_OF_MEMORY, job.files[0], 0, NULL, 0)
+    if result == COMPILE_OK:
+        program_number_parts(&build.prog)   # the plan's insertions are in: the driver's indexes
     if result == COMPILE_OK and TC_ATOMIC_LOAD(&core.cancel):
         result = COMPILE_CANCELLED          # ended while it finished: nothing is published
     if result == COMPILE_CANCELLED:

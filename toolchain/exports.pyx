@@ -4,7 +4,7 @@
 # (TGM_LPCTSTR: UTF-16 on Windows) are converted here once, to UTF-8 on the way in
 # (text_from_host) and back on the way out (text_to_host_kept); inside, every text
 # is UTF-8 (platform.pxd).
-from libc.string cimport memset, memcpy, strlen
+from libc.string cimport memset, memcpy, memcmp, strlen
 from libc.stdlib cimport free
 
 cdef extern from *:
@@ -179,6 +179,29 @@ cdef public int32_t ToolChainCore_GetStructuresSize(uint32_t intIdx, uint32_t nI
 
 # ------------------------------------------------------------------ parameters
 
+cdef void _feeds_of(GCODE_PARAMETERS *params, const GCODE_PARAMETERS *source) noexcept nogil:
+    """The fields the feeds depend on (the ones SetGCodeParameters may change while the
+    program is stopped on its trajectory) copied from source into params."""
+    memcpy(params.motion, source.motion, sizeof(source.motion))
+    params.startAngle = source.startAngle
+    params.endAngle = source.endAngle
+    params.minAngleFeed = source.minAngleFeed
+    params.overrideInc = source.overrideInc
+    memcpy(params.arcFeedTable, source.arcFeedTable, sizeof(source.arcFeedTable))
+    memcpy(params.axisLimits, source.axisLimits, sizeof(source.axisLimits))
+
+
+cdef int32_t _refuse_while_stopped(Core *core, int32_t status) noexcept nogil:
+    cdef ErrorInfo err
+    cdef ErrArg a[3]
+    a[0].num = status; a[0].text = NULL
+    a[1].num = 0; a[1].text = status_name(status)
+    a[2].num = 0; a[2].text = "another field differs from GetGCodeParameters' (nothing was changed)"
+    set_error(&err, ERR_PARAMETERS_WHILE_STOPPED, -1, 0, a, 3)
+    core_fail_with(core, &err)
+    return TOOL_CHAIN_ERROR
+
+
 cdef public int32_t ToolChainCore_SetGCodeParameters(uint32_t intIdx, const GCODE_PARAMETERS *p) noexcept nogil:
     cdef Core *core = core_get(intIdx)
     cdef int32_t status
@@ -195,15 +218,15 @@ cdef public int32_t ToolChainCore_SetGCodeParameters(uint32_t intIdx, const GCOD
         pthread_mutex_unlock(&core.lock)
         return core_refuse(core, "SetGCodeParameters", status)
     if status == CNC_STATUS_STOPPED or status == CNC_STATUS_STOPPED_BY_M0:
-        # stopped on the trajectory: only what the feeds depend on may change
+        # stopped on the trajectory: only what the feeds depend on may change; a
+        # structure that changes anything else is refused whole, so a panel can tell
+        params = p[0]
+        _feeds_of(&params, &core.params)
+        if memcmp(&params, &core.params, sizeof(GCODE_PARAMETERS)) != 0:
+            pthread_mutex_unlock(&core.lock)
+            return _refuse_while_stopped(core, status)
         params = core.params
-        memcpy(params.motion, p.motion, sizeof(p.motion))
-        params.startAngle = p.startAngle
-        params.endAngle = p.endAngle
-        params.minAngleFeed = p.minAngleFeed
-        params.overrideInc = p.overrideInc
-        memcpy(params.arcFeedTable, p.arcFeedTable, sizeof(p.arcFeedTable))
-        memcpy(params.axisLimits, p.axisLimits, sizeof(p.axisLimits))
+        _feeds_of(&params, p)
     else:
         params = p[0]
     good = check_gcode_parameters(&params, &err)
@@ -541,10 +564,10 @@ cdef public int32_t ToolChainCore_SetRelFeed(uint32_t intIdx, double relFeed) no
         return TOOL_CHAIN_BAD_INTR_INDEX
     if not (relFeed == relFeed):        # NaN
         return TOOL_CHAIN_ERROR
-    if relFeed < 0.001:
-        relFeed = 0.001
-    elif relFeed > 2.0:
-        relFeed = 2.0
+    if relFeed < REL_FEED_MIN:          # the interpolator's Rel_Speed: 0.01 .. 2 (1 % .. 200 %)
+        relFeed = REL_FEED_MIN
+    elif relFeed > REL_FEED_MAX:
+        relFeed = REL_FEED_MAX
     TC_ATOMIC_STORE_D(&core.rel_feed, relFeed)
     return TOOL_CHAIN_SUCCESS
 
@@ -884,7 +907,7 @@ cdef public int32_t ToolChainCore_SmoothSamples(uint32_t intIdx, const double *s
     if nSamples > 0 and (samples == NULL or out == NULL):
         return TOOL_CHAIN_ERROR
     for i in range(nSamples):
-        if not coordinates_finite(samples + 10 * i, 10):
+        if not smoothing_sample_good(samples + 10 * i):
             return TOOL_CHAIN_ERROR
     if nSamples > 0:
         pthread_mutex_lock(&core.lock)
@@ -898,6 +921,9 @@ cdef public int32_t ToolChainCore_SmoothSamples(uint32_t intIdx, const double *s
             if not smoother_settled(&smoother):
                 settled_from = i + 1
         smoother_free(&smoother)
+        for i in range(nSamples):       # the filters' guard: never success with a non-finite output
+            if not coordinates_finite(out + 10 * i, 10):
+                return TOOL_CHAIN_ERROR
     if settledFrom != NULL:
         settledFrom[0] = settled_from
     return TOOL_CHAIN_SUCCESS

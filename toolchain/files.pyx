@@ -6,17 +6,18 @@
 from libc.stdlib cimport free
 
 
-cdef bint file_open_regular(const char *path, tc_file *file, size_t *size, int32_t *error) noexcept nogil:
+cdef bint file_open_regular(const char *path, size_t max_bytes, tc_file *file, size_t *size,
+                            int32_t *error) noexcept nogil:
     """Opens the regular file `path` (UTF-8) for reading and tells its size now; False
     with *error set (ERR_FILE_OPEN, ERR_NOT_REGULAR_FILE, ERR_FILE_READ,
-    ERR_FILE_TOO_LARGE)."""
+    ERR_FILE_TOO_LARGE beyond max_bytes)."""
     cdef uint64_t bytes_now
     cdef int opened = tc_file_open_regular(path, file, &bytes_now)
     if opened != TC_FILE_OK:
         error[0] = (ERR_FILE_OPEN if opened == TC_FILE_CANNOT_OPEN else
                     ERR_NOT_REGULAR_FILE if opened == TC_FILE_NOT_REGULAR else ERR_FILE_READ)
         return False
-    if bytes_now > MAX_FILE_BYTES:
+    if bytes_now > max_bytes:
         tc_file_close(file[0])
         error[0] = ERR_FILE_TOO_LARGE
         return False
@@ -30,21 +31,21 @@ cdef int32_t file_check_readable(const char *path) noexcept nogil:
     cdef int32_t error = 0
     cdef size_t size
     cdef tc_file file
-    if file_open_regular(path, &file, &size, &error):
+    if file_open_regular(path, MAX_FILE_BYTES, &file, &size, &error):
         tc_file_close(file)
     return error
 
 
-cdef char *read_whole_file(const char *path, size_t *length, int32_t *error) noexcept nogil:
+cdef char *read_whole_file(const char *path, size_t max_bytes, size_t *length, int32_t *error) noexcept nogil:
     """The bytes of the regular file `path`, NUL-terminated (malloc'ed); NULL with
     *error set (ERR_FILE_OPEN, ERR_NOT_REGULAR_FILE, ERR_FILE_READ,
-    ERR_FILE_TOO_LARGE, ERR_OUT_OF_MEMORY). Reads until the end of the file, which
+    ERR_FILE_TOO_LARGE beyond max_bytes, ERR_OUT_OF_MEMORY). Reads until the end of the file, which
     may differ from the size the open told (a file being written, /proc files)."""
     cdef size_t capacity, grown_capacity, used = 0
     cdef int64_t n
     cdef char *buf
     cdef tc_file file
-    if not file_open_regular(path, &file, &capacity, error):
+    if not file_open_regular(path, max_bytes, &file, &capacity, error):
         return NULL
     capacity += 1                   # room for the terminating NUL, and to see the end
     buf = <char *>tc_malloc(capacity)
@@ -54,15 +55,15 @@ cdef char *read_whole_file(const char *path, size_t *length, int32_t *error) noe
         return NULL
     while True:
         if used + 1 >= capacity:    # full: the file grew, or its size read 0
-            if used > MAX_FILE_BYTES:
+            if used > max_bytes:
                 free(buf)
                 tc_file_close(file)
                 error[0] = ERR_FILE_TOO_LARGE
                 return NULL
             # one byte beyond the limit at most: enough to see that a file is too large
             grown_capacity = capacity + FILE_READ_CHUNK
-            if grown_capacity > <size_t>MAX_FILE_BYTES + 2:
-                grown_capacity = <size_t>MAX_FILE_BYTES + 2
+            if grown_capacity > max_bytes + 2:
+                grown_capacity = max_bytes + 2
             if not resize(<void **>&buf, grown_capacity, 1):
                 free(buf)
                 tc_file_close(file)

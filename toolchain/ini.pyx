@@ -66,7 +66,7 @@ cdef int32_t ini_read(const char *path, ini_visitor visit, void *ctx) noexcept n
     reading (files.pyx), or the first non-zero result of the visitor."""
     cdef size_t length
     cdef int32_t error = 0
-    cdef char *text = read_whole_file(path, &length, &error)
+    cdef char *text = read_whole_file(path, MAX_FILE_BYTES, &length, &error)
     if text == NULL:
         return error
     error = ini_parse(text, length, visit, ctx)

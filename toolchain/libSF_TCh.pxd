@@ -9,7 +9,7 @@
 # Python. Cython checks every function a face declares against its definition. The
 # directives above hold for the faces' inline functions (those of the .pyx do not
 # reach here).
-from libc.stdint cimport int8_t, int16_t, int32_t, int64_t, uint8_t, uint16_t, uint32_t, uint64_t, intptr_t, INT32_MAX
+from libc.stdint cimport int8_t, int16_t, int32_t, int64_t, uint8_t, uint16_t, uint32_t, uint64_t, intptr_t, INT32_MAX, INT32_MIN
 from includes.tgm_cnc cimport *
 from includes.system cimport *
 from includes.platform cimport *

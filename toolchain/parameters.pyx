@@ -226,6 +226,15 @@ cdef bint strncasecmp_prefix(const char *s, const char *prefix) noexcept nogil:
     return True
 
 
+cdef int _rezerva1_switch(GCODE_PARAMETERS *p, const char *value, uint32_t bit) noexcept nogil:
+    """An INI switch (0 or 1) of a GCODE_REZERVA1_* bit: 1 set, -1 not 0 or 1."""
+    cdef long long on
+    if not c_parse_long(value, 0, 1, &on):
+        return -1
+    p.rezerva1 = (p.rezerva1 | <int32_t>bit) if on else (p.rezerva1 & ~<int32_t>bit)
+    return 1
+
+
 cdef int gcode_parameter_from_ini(GCODE_PARAMETERS *p, const char *key, const char *value) noexcept nogil:
     """[GCodeParameters] key = value for the scalar fields of GCODE_PARAMETERS and
     the radii correction0..correction7: 1 set, 0 unknown key (ignored), -1 a value
@@ -240,21 +249,11 @@ cdef int gcode_parameter_from_ini(GCODE_PARAMETERS *p, const char *key, const ch
         p.correctionStrategy = <uint32_t>i
         return 1
     if strcasecmp(key, "isoCompat") == 0:        # docs/compiler.md: the ISO compatibility mode
-        if not c_parse_long(value, 0, 1, &i):
-            return -1
-        if i:
-            p.rezerva1 = p.rezerva1 | <int32_t>GCODE_REZERVA1_ISO_COMPAT
-        else:
-            p.rezerva1 = p.rezerva1 & ~<int32_t>GCODE_REZERVA1_ISO_COMPAT
-        return 1
+        return _rezerva1_switch(p, value, GCODE_REZERVA1_ISO_COMPAT)
     if strcasecmp(key, "strictCompensation") == 0:      # docs/compensation.md: crossing equidistants refused
-        if not c_parse_long(value, 0, 1, &i):
-            return -1
-        if i:
-            p.rezerva1 = p.rezerva1 | <int32_t>GCODE_REZERVA1_COMP_STRICT
-        else:
-            p.rezerva1 = p.rezerva1 & ~<int32_t>GCODE_REZERVA1_COMP_STRICT
-        return 1
+        return _rezerva1_switch(p, value, GCODE_REZERVA1_COMP_STRICT)
+    if strcasecmp(key, "applyUnimplemented") == 0:      # docs/behaviour.md: centripetalAcc, insertArcMinAngle
+        return _rezerva1_switch(p, value, GCODE_REZERVA1_APPLY_UNIMPLEMENTED)
     if strcasecmp(key, "absMode") == 0 or strcasecmp(key, "swapG2G3") == 0 or strcasecmp(key, "forceMode") == 0 \
             or strcasecmp(key, "calcTime") == 0 or strcasecmp(key, "insertArcMode") == 0:
         if not is_int:

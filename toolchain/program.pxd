@@ -11,6 +11,17 @@ cdef enum:
     AXES = 10               # x y z c b u v w a o
     OTHER_AXES = 7          # c b u v w a o: a Part holds x y z, Program.axes these
     PLC_MEMORY_BYTES = 524288
+    PROGRAM_TABLE_MAX = 65535 # zero offsets, rotations, radii: a part names each with 16 bits
+
+cdef extern from *:
+    """
+    /* the one bound of every number a part carries (docs/dialect.md, "Numbers"): the
+       address words (not G, M, L), the ISO mode's positional parameters, the samples of
+       the smoothing. Squares stay finite, and so do the floats of P26FLOAT, even the
+       lengths summed over the MAX_PARTS parts of a program (2e7 x 2e30 < FLT_MAX) */
+    #define TC_MAX_WORD_VALUE 1e30
+    """
+    double TC_MAX_WORD_VALUE
 
 # Part.kind
 cdef enum PartKind:
@@ -26,6 +37,7 @@ cdef enum PartFlags:
     FLAG_CONTINUOUS_M = 0x04     # M >= 1001: signalled at the start of the next move, no wait
     FLAG_HELIX = 0x08            # arc with off-plane motion
     FLAG_CSS = 0x10              # G96 with G95: `value` holds the spindle speed (rev/min) S gives there
+    FLAG_DROPPED = 0x20          # removed from the cutting plan (an arc whose offset has no radius): no callback
 
 # What every part needs (88 bytes: a CAM job's parts are most of a compiled program's
 # memory, docs/benchmarks.md); what only some carry is in its PartExtra, what changes
@@ -146,6 +158,7 @@ ctypedef struct Program:
     float *pars             # addresses of all parts, packed in letter order per part (part_own_cell's not)
     size_t n_pars
     P10DOUBLE *zeros        # zero offsets referenced by Part.zero_idx (zeros[0] = none)
+    P10DOUBLE *shifts       # of each zero offset, the G92 shift it holds (GetPos's I J K L Q R D E S H)
     size_t n_zeros
     double *rotations       # G168 rotations, 12 doubles each (centre x y z, 3x3 matrix by rows); entry 0 unused
     size_t n_rotations
@@ -181,7 +194,7 @@ ctypedef struct Program:
 # (program_builder_trim); the small arrays keep their spare room.
 ctypedef struct ProgramBuilder:
     Program prog
-    size_t cap_parts, cap_pars, cap_zeros, cap_rotations    # allocated items of each array
+    size_t cap_parts, cap_pars, cap_zeros, cap_shifts, cap_rotations    # allocated items of each array
     size_t cap_strategy_regions, cap_texts, cap_axes        # (axes, rotations: doubles)
     size_t cap_arc_regions, cap_plan_regions, cap_radii, cap_tool_writes
     size_t cap_extras, cap_settings
@@ -261,7 +274,9 @@ cdef void program_builder_trim(ProgramBuilder *build) noexcept nogil
 # rotation, a PRINT text (index or offset; -1 out of memory)
 cdef Part *program_add_part(ProgramBuilder *build) noexcept nogil
 cdef bint program_set_end(ProgramBuilder *build, Part *p, const double *end) noexcept nogil
-cdef int program_add_zero(ProgramBuilder *build, const double *offset) noexcept nogil
+cdef int program_add_zero(ProgramBuilder *build, const double *offset, const double *shift) noexcept nogil
+cdef const double *part_shift(const Program *prog, const Part *p) noexcept nogil
+cdef void program_number_parts(Program *prog) noexcept nogil
 cdef int program_add_rotation(ProgramBuilder *build, const double *centre, const double *matrix) noexcept nogil
 cdef int64_t program_add_text(ProgramBuilder *build, const char *text, size_t n) noexcept nogil
 # ... a D word's signed radius (index >= 1; -1 out of memory), a G92 D (False: no memory)

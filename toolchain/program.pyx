@@ -17,6 +17,7 @@ cdef void program_free(Program *prog) noexcept nogil:
     free(prog.axes)
     free(prog.pars)
     free(prog.zeros)
+    free(prog.shifts)
     free(prog.rotations)
     free(prog.texts)
     free(prog.arc_regions)
@@ -262,28 +263,34 @@ cdef bint program_prefault(ProgramBuilder *build, size_t first, size_t count, si
     return True
 
 
-cdef int program_add_zero(ProgramBuilder *build, const double *offset) noexcept nogil:
-    """Index of a zero offset (reusing the last one when equal); -1 out of memory."""
+cdef int program_add_zero(ProgramBuilder *build, const double *offset, const double *shift) noexcept nogil:
+    """Index of a zero offset holding the G92 `shift` (reusing the last one when both are
+    equal); -1 out of memory, -2 beyond PROGRAM_TABLE_MAX offsets."""
     cdef Program *prog = &build.prog
-    cdef int i
     if prog.n_zeros == 0:
-        if not grow(<void **>&prog.zeros, &build.cap_zeros, 1, sizeof(P10DOUBLE)):
+        if not grow(<void **>&prog.zeros, &build.cap_zeros, 1, sizeof(P10DOUBLE)) \
+                or not grow(<void **>&prog.shifts, &build.cap_shifts, 1, sizeof(P10DOUBLE)):
             return -1
         memset(&prog.zeros[0], 0, sizeof(P10DOUBLE))
+        memset(&prog.shifts[0], 0, sizeof(P10DOUBLE))
         prog.n_zeros = 1
-    if memcmp(&prog.zeros[prog.n_zeros - 1], offset, sizeof(P10DOUBLE)) == 0:
+    if memcmp(&prog.zeros[prog.n_zeros - 1], offset, sizeof(P10DOUBLE)) == 0 \
+            and memcmp(&prog.shifts[prog.n_zeros - 1], shift, sizeof(P10DOUBLE)) == 0:
         return <int>prog.n_zeros - 1
-    if prog.n_zeros >= 65535:
-        return -1
-    if not grow(<void **>&prog.zeros, &build.cap_zeros, prog.n_zeros + 1, sizeof(P10DOUBLE)):
+    if prog.n_zeros >= PROGRAM_TABLE_MAX:
+        return -2
+    if not grow(<void **>&prog.zeros, &build.cap_zeros, prog.n_zeros + 1, sizeof(P10DOUBLE)) \
+            or not grow(<void **>&prog.shifts, &build.cap_shifts, prog.n_zeros + 1, sizeof(P10DOUBLE)):
         return -1
     memcpy(&prog.zeros[prog.n_zeros], offset, sizeof(P10DOUBLE))
+    memcpy(&prog.shifts[prog.n_zeros], shift, sizeof(P10DOUBLE))
     prog.n_zeros += 1
     return <int>prog.n_zeros - 1
 
 
 cdef int program_add_rotation(ProgramBuilder *build, const double *centre, const double *matrix) noexcept nogil:
-    """Index (>= 1) of a G168 rotation (reusing the last one when equal); -1 out of memory."""
+    """Index (>= 1) of a G168 rotation (reusing the last one when equal); -1 out of
+    memory, -2 beyond PROGRAM_TABLE_MAX rotations."""
     cdef Program *prog = &build.prog
     cdef double *r
     if prog.n_rotations == 0:
@@ -292,8 +299,8 @@ cdef int program_add_rotation(ProgramBuilder *build, const double *centre, const
         r = prog.rotations + 12 * (prog.n_rotations - 1)
         if memcmp(r, centre, 3 * sizeof(double)) == 0 and memcmp(r + 3, matrix, 9 * sizeof(double)) == 0:
             return <int>prog.n_rotations - 1
-    if prog.n_rotations >= 65535:
-        return -1
+    if prog.n_rotations >= PROGRAM_TABLE_MAX:
+        return -2
     if not grow(<void **>&prog.rotations, &build.cap_rotations, 12 * (prog.n_rotations + 1), sizeof(double)):
         return -1
     r = prog.rotations + 12 * prog.n_rotations
@@ -305,13 +312,13 @@ cdef int program_add_rotation(ProgramBuilder *build, const double *centre, const
 
 cdef int program_add_radius(ProgramBuilder *build, double radius) noexcept nogil:
     """Index (>= 1) of a D word's signed radius (reusing the last one when equal); -1
-    out of memory. The compensation reads the radii beside the compiler: the array
+    out of memory, -2 beyond PROGRAM_TABLE_MAX radii. The compensation reads the radii beside the compiler: the array
     moves only while it waits."""
     cdef Program *prog = &build.prog
     if prog.n_radii > 1 and prog.radii[prog.n_radii - 1] == radius:
         return <int>prog.n_radii - 1
-    if prog.n_radii >= 65535:
-        return -1
+    if prog.n_radii >= PROGRAM_TABLE_MAX:
+        return -2
     if not program_grow_shared(build, <void **>&prog.radii, &build.cap_radii, prog.n_radii + 2, sizeof(double)):
         return -1
     if prog.n_radii == 0:
@@ -414,6 +421,60 @@ cdef void part_calc_start(const Program *prog, size_t i, double *out) noexcept n
         out[2] = prev.ce[2]
 
 
+cdef void program_number_parts(Program *prog) noexcept nogil:
+    """The G-code indexes the driver sees, once nothing more is inserted: unique and
+    increasing by 1 or 2 over the parts a driver callback gets (the structures
+    description). The compiler numbers programmed parts by 2 (M-6 S restarts them) and
+    an inserted part takes the odd number after its predecessor; two inserted parts in a
+    row (a compensation corner and an inserted M function) would share it, and a part no
+    callback gets (an arc dropped from the cutting plan) would leave a gap of 4. Here
+    each inserted part takes the number after the last part delivered, a programmed one
+    its compiled number moved by what came in or dropped out before it (0 in most
+    programs, so M-6 A's stored numbers hold), a part not delivered the last number.
+    start_gindex follows its part."""
+    cdef size_t i
+    cdef Part *p
+    cdef int32_t last = INT32_MIN, compiled, prev_programmed = INT32_MIN, shift = 0
+    cdef int32_t starts[AXES]
+    cdef bint delivered
+    cdef bint mapped[AXES]
+    cdef int k
+    for k in range(AXES):
+        starts[k] = prog.start_gindex[k]
+        mapped[k] = starts[k] == INT32_MAX or starts[k] == 0
+    for i in range(prog.n_parts):
+        p = &prog.parts[i]
+        compiled = p.gcode_index
+        delivered = p.kind != PART_PRINT and not (p.flags & FLAG_DROPPED)
+        if not (p.flags & FLAG_INSERTED):
+            if last == INT32_MIN or compiled != prev_programmed + 2:
+                shift = 0                           # the first part, or M-6 S restarted the count
+            p.gcode_index = compiled + shift
+            if last != INT32_MIN and p.gcode_index <= last:
+                p.gcode_index = last + 1
+            if not delivered:
+                p.gcode_index = last if last != INT32_MIN else compiled
+            shift = p.gcode_index - compiled if delivered else last - compiled
+            prev_programmed = compiled
+            for k in range(AXES):
+                if not mapped[k] and compiled >= starts[k]:
+                    prog.start_gindex[k] = p.gcode_index
+                    mapped[k] = True
+        elif last != INT32_MIN:
+            p.gcode_index = last + 1 if delivered else last
+        if delivered:
+            last = p.gcode_index
+    for k in range(AXES):
+        if not mapped[k]:
+            prog.start_gindex[k] = last + 2
+
+
+cdef const double *part_shift(const Program *prog, const Part *p) noexcept nogil:
+    """The G92 shift in force at part p (ten axes); NULL when the program has none."""
+    cdef uint16_t k = part_settings(prog, p).zero_idx
+    return <const double *>&prog.shifts[k] if prog.shifts != NULL and k < prog.n_zeros else NULL
+
+
 cdef inline void _p10(P10DOUBLE *dst, const double *src) noexcept nogil:
     memcpy(dst, src, sizeof(P10DOUBLE))
 
@@ -453,8 +514,9 @@ cdef void part_to_gm(const Program *prog, size_t i, SIMPLE_GM_PARAMS *gm) noexce
                 cells[letter] = prog.pars[k]
                 k += 1
     gm.m_func = p.func
+    gm.m_pars.F = <float>s.feed         # F, N and S at every callback (the structures description)
+    gm.m_pars.N = 0.0                   # the part's length: dwells and M functions do not move
     if p.kind == PART_MOTION:
-        gm.m_pars.F = <float>s.feed
         gm.m_pars.G = <float>p.func
         gm.m_pars.N = <float>part_length(prog, i)
         if (p.func == 2 or p.func == 3) and plane_axes(p.plane, &first, &second, &normal):
@@ -470,7 +532,6 @@ cdef void part_to_gm(const Program *prog, size_t i, SIMPLE_GM_PARAMS *gm) noexce
             gm.m_pars.K = <float>x.cc[2]
     elif p.kind == PART_DWELL:
         gm.m_pars.G = <float>p.func
-        gm.m_pars.N = 0.0       # the length of the part: a dwell does not move
     gm.m_pars.S = s.spindle
     # tool in the high 16 bits, plane in the low 16 (docs/structures.md); shifted unsigned: a tool
     # of 32768 and more sets the sign bit, which a signed shift may not do

@@ -49,7 +49,7 @@ cdef void _show_part(SnapshotData *view, const Program *prog, size_t i, const SI
     view.pos.m_calcS = gm.m_calcE
     session_count(counts, p)
     session_cells(view, p.kind, p.func, p.kind == PART_MFUNC and m_function_waits(
-        p.func, (p.flags & FLAG_CONTINUOUS_M) != 0), <const double *>&gm.m_calcE)
+        p.func, (p.flags & FLAG_CONTINUOUS_M) != 0), <const double *>&gm.m_calcE, part_shift(prog, p))
     if p.kind == PART_MOTION:
         length = gm.m_pars.N
         lengths[0 if p.func == 0 else 1] += length

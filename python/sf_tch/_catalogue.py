@@ -62,6 +62,8 @@ class ErrorNumber(enum.IntEnum):
     NO_M_PENDING = 22  # No M function waits for a confirmation
     M_PENDING = 23  # An M function still waits for its confirmation (ToolChainCore_ConfirmMFunc)
     PATH_NOT_FINITE = 24  # %s: the move's path is not finite (%s)
+    TABLE_TOO_LARGE = 25  # Table file '%s' is larger than 64 MiB
+    PARAMETERS_WHILE_STOPPED = 27  # SetGCodeParameters in status %d (%s): only the feeds may change while the program stands on its trajectory; %s
     UNKNOWN_WORD = 100  # Unknown word '%s' at column %d
     BAD_NUMBER = 101  # Bad number '%s' at column %d
     MISSING_VALUE = 102  # Address %s at column %d without a value
@@ -98,6 +100,7 @@ class ErrorNumber(enum.IntEnum):
     PART_LIMIT = 309  # More than %d parts: program too large
     O_WORD = 310  # O-word '%s' at column %d: %s
     O_UNDEFINED = 311  # Subroutine '%s' at column %d is not defined before its call
+    PROGRAM_TABLE_LIMIT = 312  # More than %d different %s in one program
     ARC_CENTRE = 400  # Wrongly entered centre of circular interpolation %s at column %d: start %s = %g %s = %g, end %s = %g %s = %g, delta (%.7f) > 2*R (%.7f)
     ARC_RADIUS = 401  # Arc radius %g too small for chord %g
     ARC_NO_CENTRE = 402  # Arc without centre (I J K or R)

@@ -46,10 +46,11 @@ TOOL_CHAIN_XEXEC = 1
 TOOL_CHAIN_XBREAK = 2
 TOOL_CHAIN_MAX_CORES = 3
 TOOL_CHAIN_MAX_FILE_NAME = 252
-INVALID_VALUE = 1e38
+INVALID_VALUE = 1.0000000694406173e38  # > 1e38 in float and in double (the header)
 PLC_MEMORY_BYTES = 524288
 GCODE_REZERVA1_ISO_COMPAT = 0x1   # GCODE_PARAMETERS.rezerva1: the ISO compatibility mode (docs/compiler.md)
 GCODE_REZERVA1_COMP_STRICT = 0x2  # ... crossing equidistants refused (error 504; docs/compensation.md)
+GCODE_REZERVA1_APPLY_UNIMPLEMENTED = 0x10  # ... centripetalAcc and insertArcMinAngle applied (docs/behaviour.md)
 
 AXES = ("x", "y", "z", "c", "b", "u", "v", "w", "a", "o")
 LETTERS = tuple(chr(ord("A") + i) for i in range(26))

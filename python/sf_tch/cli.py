@@ -5,7 +5,7 @@
                                   (FILE "-": the G-code on standard input, for every command)
     sf-tch simulate FILE          compile and run the simulation (or --test: machine limits)
     sf-tch run FILE               run it on the offline machine: position, line, feed, progress
-    sf-tch plot FILE -o OUT       draw it (PNG, SVG or PDF, from OUT's suffix)
+    sf-tch plot FILE -o OUT       draw it (PNG, SVG or PDF, from OUT's suffix; --view xy|xz|yz|3d)
     sf-tch info                   version, library, cores, structure sizes
     sf-tch --version
 
@@ -39,7 +39,7 @@ from typing import TYPE_CHECKING, Sequence
 import sf_tch
 
 from . import abi, library_path
-from .enums import ErrorNumber, Regime
+from .enums import ErrorNumber, Regime, Status
 from .errors import Cancelled, CncError, GougeWarning, SfTchError
 from .library import load
 
@@ -148,10 +148,12 @@ class RunProgress:
         self.last_tenth = -1
         self.last_time = -float("inf")
 
-    def line(self, pos, enh) -> str:
-        """Percent of the path, line, position, feed and machine time of a GetPos."""
+    def line(self, pos, enh, line: int | None = None) -> str:
+        """Percent of the path, line (`line` when given, else the GetPos's), position,
+        feed and machine time of a GetPos."""
         done = min(100.0, 100.0 * enh.m_actPartsLen / self.total)
-        return (f"run {done:5.1f} %  line {pos.m_editorLine:<6} X {pos.m_calcS.x:9.3f} Y {pos.m_calcS.y:9.3f} "
+        line = pos.m_editorLine if line is None else line
+        return (f"run {done:5.1f} %  line {line:<6} X {pos.m_calcS.x:9.3f} Y {pos.m_calcS.y:9.3f} "
                 f"Z {pos.m_calcS.z:8.3f}  F {enh.m_actFeed:8.1f}  t {enh.m_cncRunTime:7.2f} s")
 
     def show(self, pos, enh) -> None:
@@ -166,12 +168,13 @@ class RunProgress:
             self.last_tenth, self.last_time = tenth, now
             print(self.line(pos, enh), file=sys.stderr, flush=True)
 
-    def finish(self, pos, enh) -> None:
-        """The state the run ended in, as the last line (100 % at the program's end)."""
+    def finish(self, pos, enh, line: int | None = None) -> None:
+        """The state the run ended in, as the last line (100 % at the program's end;
+        `line`: the line it ended on, where GetPos no longer names one)."""
         if self.live:
-            sys.stderr.write("\r" + self.line(pos, enh) + " \n")
+            sys.stderr.write("\r" + self.line(pos, enh, line) + " \n")
         else:
-            print(self.line(pos, enh), file=sys.stderr)
+            print(self.line(pos, enh, line), file=sys.stderr)
         sys.stderr.flush()
 
 
@@ -184,7 +187,9 @@ def _compile(args, path: str) -> Program:
     """Compiles the file `path` ("-": the G-code on standard input) with the
     command's options, a progress bar meanwhile (a missing file, a directory, a
     device or an unreadable file raise OSError: exit 2); its warnings to stderr
-    (text output), then how many there are."""
+    (text output), then how many there are. The program keeps its core: the
+    summary reads the toolpath from it a chunk at a time, and simulate and run run
+    the program there."""
     from .program import start_compile
     if path == STDIN:
         source, name, title = sys.stdin.buffer.read(), "<stdin>", "standard input"
@@ -195,7 +200,7 @@ def _compile(args, path: str) -> Program:
     try:
         job = start_compile(source, radius=args.radius, strategy=args.strategy, ini=args.ini, params=params,
                             core=args.core, name=name, progress=bar, iso=args.iso, strict=args.strict,
-                            look_ahead=args.look_ahead)
+                            look_ahead=args.look_ahead, keep_core=True)
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", GougeWarning)     # printed below, as every warning
@@ -353,7 +358,9 @@ def cmd_run(args) -> int:
             core.stop()
             core.wait()
         pos, enh = core.position()
-        progress.finish(pos, enh)
+        # at the program's end GetPos names no line (0): the line of its last part
+        ended_on = _last_line(core) if pos.m_editorLine == 0 and core.status == Status.AT_END else None
+        progress.finish(pos, enh, ended_on)
         error = core.last_error()
         run = {**_run_summary(core, core.status, error), "position": [pos.m_calcS.x, pos.m_calcS.y, pos.m_calcS.z],
                "interrupted": interrupted}
@@ -364,6 +371,18 @@ def cmd_run(args) -> int:
         if interrupted and not args.json:
             print("sf-tch: interrupted: the machine stopped on the path", file=sys.stderr)
         return _report_run(args, document, summary, run, lines, error, code)
+
+
+def _last_line(core) -> int:
+    """The line of the compiled program's last part (0 without parts)."""
+    from .toolpath import TOOLPATH_DTYPE, _read, _total
+    total = _total(core.lib, core.index)
+    if total == 0:
+        return 0
+    import numpy as np
+    last = np.empty(1, TOOLPATH_DTYPE)
+    _read(core.lib, core.index, last, total - 1, total)
+    return int(last["line"][0])
 
 
 def cmd_plot(args) -> int:
@@ -380,7 +399,7 @@ def cmd_plot(args) -> int:
         parts = program.summary()["parts"]
         if parts >= LARGE_PLOT and not args.json:
             print(f"drawing {parts:,} parts into {args.output} ...", file=sys.stderr, flush=True)
-        save_plot(program, args.output, step=args.step)
+        save_plot(program, args.output, step=args.step, view=args.view)
         code = EXIT_OK if program.ok else EXIT_PROGRAM_ERRORS
         if args.json:
             return _print_json({**program.to_dict(), "picture": args.output}, code)
@@ -469,11 +488,19 @@ def parser() -> argparse.ArgumentParser:
     run.add_argument("--time-scale", type=_time_scale, default=1.0, metavar="N",
                      help="run N times faster than real time (default 1)")
     run.set_defaults(run=cmd_run)
-    plot = compiling("plot", "draw a program: programmed and compensated path, rapids dashed")
+    plot = compiling("plot", "draw a program: programmed and compensated path, rapids dashed, cuts at "
+                             "several depths coloured by Z")
     plot.add_argument("-o", "--output", required=True, help="picture file: .png, .svg or .pdf")
     plot.add_argument("--step", type=_radius, default=0.2, help="longest arc chord, mm (default 0.2)")
+    plot.add_argument("--view", choices=("xy", "xz", "yz", "3d"), default="xy",
+                      help="xy from above (default), xz from the front, yz from the side, 3d in perspective; "
+                           "cuts at more than one depth are coloured by Z")
     plot.set_defaults(run=cmd_plot)
-    info = sub.add_parser("info", help="version, library, cores and structure sizes")
+    info = sub.add_parser("info", help="version, library, cores and structure sizes",
+                          description="Print the library's version string, the package's version, where the "
+                                      "library was loaded from, its number of cores, and the size of each "
+                                      "ABI structure as the library reports it beside its ctypes mirror "
+                                      "(a mismatch is flagged).")
     info.add_argument("--json", action="store_true", help="one JSON document on stdout")
     info.set_defaults(run=cmd_info)
     return top

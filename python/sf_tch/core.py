@@ -214,12 +214,14 @@ class Core:
             if index is None:
                 free = [k for k in range(abi.TOOL_CHAIN_MAX_CORES) if k not in _claimed]
                 if not free:
-                    raise NoFreeCoreError(f"all {abi.TOOL_CHAIN_MAX_CORES} cores are in use; close a Core or Program")
+                    raise NoFreeCoreError(f"all {abi.TOOL_CHAIN_MAX_CORES} cores are in use; close a Core or a "
+                                          f"Program compiled with keep_core=True")
                 index = free[0]
             elif not isinstance(index, int) or not 0 <= index < abi.TOOL_CHAIN_MAX_CORES:
                 raise IndexError(f"core {index} does not exist (cores 0..{abi.TOOL_CHAIN_MAX_CORES - 1})")
             elif index in _claimed:
-                raise NoFreeCoreError(f"core {index} is in use by another Core or Program of this process")
+                raise NoFreeCoreError(f"core {index} is in use by another Core or Program (keep_core=True) "
+                                      f"of this process")
             _claimed.add(index)
             return index
 
@@ -446,7 +448,7 @@ class Core:
         self._check(self.lib.ToolChainCore_SetTimeScale(self.index, float(scale)))
 
     def set_override(self, relative_feed: float) -> None:
-        """SetRelFeed: the feed override 0.001..2.0, approached by overrideInc per 100 us."""
+        """SetRelFeed: the feed override 0.01..2.0 (1 % .. 200 %), approached by overrideInc per 100 us."""
         self._check(self.lib.ToolChainCore_SetRelFeed(self.index, float(relative_feed)))
 
     def set_breakpoint(self, line: int, file_index: int | None = None) -> None:

@@ -1,8 +1,13 @@
 """Drawing a program with matplotlib (``pip install matplotlib``; from a checkout
 also ``pip install '.[plot]'``): the programmed path, the tool centre's path after
 radius compensation, rapids dashed, the start of every cut, warnings and errors
-marked at their lines; X/Y with equal axes. Each sort of line is one matplotlib line
-(runs apart at NaN rows), so a program of a million parts draws in seconds.
+marked at their lines; seen from above (X/Y, the default), from the front (X/Z), from
+the side (Y/Z) or in 3D (``view="xy" | "xz" | "yz" | "3d"``), with equal axes. Where
+the cuts lie at more than one depth (a 3D program: passes at several Z, ramps, helices)
+the cutting path is coloured by its Z with a colour bar (deeper is darker; from above
+the deeper passes are drawn over the higher ones); a flat program's cut is blue. Each
+sort of line is one matplotlib line (runs apart at NaN rows; a coloured cut one line
+per colour), so a program of a million parts draws in seconds.
 
 A program that failed to compile has no parts in the library (GetToolpath gives none
 after an error), so it is drawn from a compilation again, without compensation:
@@ -39,6 +44,13 @@ WARNING = "#bcbd22"
 
 _RETRIES = 8        # compilations of shorter texts, each before the line of the error the last one met
 
+# the views: the axes drawn (0 x, 1 y, 2 z), horizontal first
+VIEWS = {"xy": (0, 1), "xz": (0, 2), "yz": (1, 2), "3d": (0, 1, 2)}
+_AXIS_NAMES = "XYZ"
+DEPTH_COLOURS = 64          # colours of a cut coloured by Z (one matplotlib line each)
+DEPTH_MAP = "viridis"       # low Z (deep) dark blue, high Z yellow
+_FLAT = 1e-6                # mm: cuts whose Z spans less are one colour
+
 
 def install_hint() -> str:
     """The command that installs matplotlib for this interpreter (a venv's own pip)."""
@@ -64,51 +76,75 @@ class _Drawing:
     ends_at_error: bool = False
 
 
-def plot_program(program: Program, ax=None, step: float = 0.2, title: str | None = None):
+def plot_program(program: Program, ax=None, step: float = 0.2, title: str | None = None, view: str = "xy"):
     """Draws `program` on `ax` (a new figure when None) and returns the Axes (its
-    figure: ``ax.figure``). `step`: the longest arc chord in mm, or 1/2000 of the
-    drawing's larger side when that is longer (finer chords than a pixel of a large
-    picture only cost time and memory on large programs)."""
+    figure: ``ax.figure``). `view`: ``"xy"`` from above (default), ``"xz"`` from the
+    front, ``"yz"`` from the side, ``"3d"`` in perspective (`ax`, when given, then a
+    3D Axes: ``projection="3d"``). `step`: the longest arc chord in mm, or 1/2000 of
+    the drawing's larger side when that is longer (finer chords than a pixel of a
+    large picture only cost time and memory on large programs)."""
+    if view not in VIEWS:
+        raise ValueError(f"view must be one of {', '.join(VIEWS)}, not {view!r}")
     plt = _pyplot()
     if ax is None:
-        _, ax = plt.subplots(figsize=(8, 6), layout="constrained")
+        fig = plt.figure(figsize=(8, 6), layout="constrained")
+        ax = fig.add_subplot(projection="3d" if view == "3d" else None)
+    elif (view == "3d") != (getattr(ax, "name", "") == "3d"):
+        needs = "a 3D Axes (projection='3d')" if view == "3d" else "a 2D Axes"
+        raise ValueError(f"view {view!r} needs {needs}")
+    axes = VIEWS[view]
     drawing = _drawing(program)
     if drawing.toolpath is not None and len(drawing.toolpath):
-        draw_toolpath(ax, drawing.toolpath, max(step, _side(drawing.toolpath) / 2000))
-        _mark(ax, drawing.toolpath, list(program.errors) + list(program.warnings), drawing.ends_at_error)
-    ax.set_aspect("equal", adjustable="datalim")
-    ax.set_xlabel("X [mm]")
-    ax.set_ylabel("Y [mm]")
-    ax.grid(True, linewidth=0.4, alpha=0.5)
+        draw_toolpath(ax, drawing.toolpath, max(step, _side(drawing.toolpath) / 2000), view=view)
+        _mark(ax, drawing.toolpath, list(program.errors) + list(program.warnings), drawing.ends_at_error, axes)
+    labels = [f"{_AXIS_NAMES[k]} [mm]" for k in axes]
+    ax.set_xlabel(labels[0])
+    ax.set_ylabel(labels[1])
+    if view == "3d":
+        ax.set_zlabel(labels[2])
+        ax.set_aspect("equal")
+    else:
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.grid(True, linewidth=0.4, alpha=0.5)
     heading = title or program.name.rsplit("/", 1)[-1]
+    if view != "xy":
+        heading += f" ({'3D' if view == '3d' else view.upper()} view)"
     if program.errors:
         heading += f" ({len(program.errors)} error{'s' if len(program.errors) > 1 else ''}: "\
                    f"{program.errors[0].text}; {drawing.note})"
     ax.set_title(heading, fontsize=10)
     handles, labels = ax.get_legend_handles_labels()
     if handles:
-        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, borderaxespad=0)
+        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0) if view != "3d" else (0.0, 1.0), fontsize=8,
+                  borderaxespad=0)
     return ax
 
 
-def draw_toolpath(ax, toolpath: Toolpath, step: float = 0.2) -> None:
-    """The programmed path (grey), the compensated path when it differs (blue),
-    rapids (green, dashed) and the start of every cut after a rapid."""
+def draw_toolpath(ax, toolpath: Toolpath, step: float = 0.2, view: str = "xy") -> None:
+    """The programmed path (grey), the compensated path when it differs (blue, or
+    coloured by Z with a colour bar when the cuts lie at more than one depth), rapids
+    (green, dashed) and the start of every cut after a rapid, in `view`'s axes."""
+    axes = VIEWS[view]
     records = toolpath.records
     # drawn twice only where the paths differ (G41 with radius 0 is the programmed path)
     compensated = bool(np.any(np.abs(records["tool_end"] - records["end"]) > 1e-9))
     runs = toolpath.polyline(step)
     cuts = [run for run in runs if not run.rapid]
-    _line(ax, [run for run in runs if run.rapid], linestyle=(0, (4, 3)), color=RAPID, linewidth=0.9,
+    tool_cuts = [run for run in toolpath.polyline(step, tool=True) if not run.rapid] if compensated else cuts
+    label = "tool centre (compensated)" if compensated else "cut"
+    depths = _depth_range(tool_cuts)
+    by_depth = depths is not None and depths[1] - depths[0] > _FLAT
+    _line(ax, [run for run in runs if run.rapid], axes, linestyle=(0, (4, 3)), color=RAPID, linewidth=0.9,
           label="rapid")
-    _line(ax, cuts, color=PROGRAMMED if compensated else TOOL, linewidth=1.0 if compensated else 1.4,
-          label="programmed" if compensated else "cut")
+    if compensated:
+        _line(ax, cuts, axes, color=PROGRAMMED, linewidth=1.0, label="programmed")
+    if by_depth:
+        _depth_lines(ax, tool_cuts, depths, axes, view, label, linewidth=1.4)
+    else:
+        _line(ax, tool_cuts, axes, color=TOOL, linewidth=1.4, label=label)
     if cuts:
         starts = np.array([run.points[0] for run in cuts])
-        ax.plot(starts[:, 0], starts[:, 1], "o", color=START, markersize=4, label="start of a cut")
-    if compensated:
-        _line(ax, [run for run in toolpath.polyline(step, tool=True) if not run.rapid], color=TOOL,
-              linewidth=1.4, label="tool centre (compensated)")
+        ax.plot(*(starts[:, k] for k in axes), "o", color=START, markersize=4, label="start of a cut")
 
 
 def _side(toolpath: Toolpath) -> float:
@@ -118,13 +154,65 @@ def _side(toolpath: Toolpath) -> float:
     return float(np.ptp(ends, axis=0).max()) if len(ends) else 0.0
 
 
-def _line(ax, runs: list[Run], **style) -> None:
-    """The runs as one matplotlib line, apart at NaN points."""
+def _joined(runs: list[Run]) -> np.ndarray:
+    """The runs' points one after the other, a NaN row between two runs."""
+    apart = np.full((1, 3), np.nan)
+    return np.concatenate([piece for run in runs for piece in (run.points, apart)][:-1])
+
+
+def _line(ax, runs: list[Run], axes: tuple = (0, 1), **style) -> None:
+    """The runs as one matplotlib line in the view's axes, apart at NaN points."""
     if not runs:
         return
-    apart = np.full(1, np.nan)
-    x, y = (np.concatenate([piece for run in runs for piece in (run.points[:, axis], apart)][:-1]) for axis in (0, 1))
-    ax.plot(x, y, **style)
+    points = _joined(runs)
+    ax.plot(*(points[:, k] for k in axes), **style)
+
+
+def _depth_range(runs: list[Run]) -> tuple[float, float] | None:
+    """The Z range the colours span: that of the cuts' segments that move in X/Y (a
+    plunge or a lift from above the part would spend the colours on air), of every
+    point when none does; None without points."""
+    if not runs:
+        return None
+    points = _joined(runs)
+    step = np.diff(points, axis=0)
+    level = np.hypot(step[:, 0], step[:, 1]) > _FLAT                # False across a gap (NaN)
+    z = np.concatenate([points[:-1, 2][level], points[1:, 2][level]]) if level.any() else points[:, 2]
+    return float(np.nanmin(z)), float(np.nanmax(z))
+
+
+def _depth_lines(ax, runs: list[Run], depths: tuple[float, float], axes: tuple, view: str, label: str,
+                 **style) -> None:
+    """The runs coloured by Z in `depths` (beyond it: the colour of its end): each
+    segment gets the colour of its middle's Z among DEPTH_COLOURS, the segments of a
+    colour are one line (consecutive ones joined); a colour bar beside; the legend
+    shows `label` once. From above the deepest colour is drawn last (on top)."""
+    import matplotlib as mpl
+    points = _joined(runs)
+    middle = 0.5 * (points[:-1, 2] + points[1:, 2])          # NaN for the segments across a gap
+    segments = np.flatnonzero(~np.isnan(middle))
+    low, high = depths
+    norm = mpl.colors.Normalize(low, high, clip=True)
+    cmap = mpl.colormaps[DEPTH_MAP]
+    colour = np.minimum((np.asarray(norm(middle[segments])) * DEPTH_COLOURS).astype(int), DEPTH_COLOURS - 1)
+    order = range(DEPTH_COLOURS - 1, -1, -1) if view == "xy" else range(DEPTH_COLOURS)
+    for c in order:
+        chosen = segments[colour == c]
+        if not len(chosen):
+            continue
+        # a segment's start point; after the last of consecutive segments its end and a gap
+        last = np.r_[np.diff(chosen) != 1, True]
+        at = np.arange(len(chosen)) + 2 * (np.cumsum(last) - last)
+        index = np.full(len(chosen) + 2 * int(last.sum()), -1)
+        index[at] = chosen
+        index[at[last] + 1] = chosen[last] + 1
+        drawn = np.where(index[:, None] >= 0, points[np.maximum(index, 0)], np.nan)[:-1]
+        ax.plot(*(drawn[:, k] for k in axes), color=cmap((c + 0.5) / DEPTH_COLOURS),
+                label=f"_depth {low + (c + 0.5) / DEPTH_COLOURS * (high - low):.4f}", **style)
+    ax.plot(*([] for _ in axes), color=cmap(0.5), label=f"{label}, coloured by Z", **style)
+    bar = ax.figure.colorbar(mpl.cm.ScalarMappable(norm=norm, cmap=cmap), ax=ax, shrink=0.8,
+                             pad=0.02 if view != "3d" else 0.1, location="right" if view == "3d" else "bottom")
+    bar.set_label("Z [mm] of the cut")
 
 
 def _drawing(program: Program) -> _Drawing:
@@ -188,7 +276,7 @@ def _source_lines(program: Program, error: Diagnostic) -> list[str] | list[bytes
     return text.splitlines(keepends=True)
 
 
-def _mark(ax, toolpath: Toolpath, marks: list[Diagnostic], ends_at_error: bool) -> None:
+def _mark(ax, toolpath: Toolpath, marks: list[Diagnostic], ends_at_error: bool, axes: tuple = (0, 1)) -> None:
     """A cross at the end of the parts of each diagnostic's line (errors red,
     warnings yellow), annotated with the number; with `ends_at_error` the first
     error's cross is where the drawn moves end."""
@@ -203,19 +291,23 @@ def _mark(ax, toolpath: Toolpath, marks: list[Diagnostic], ends_at_error: bool) 
         if len(hit) == 0:
             continue
         colour = ERROR if diagnostic.severity == "error" else WARNING
-        x, y = hit["end"][:, 0], hit["end"][:, 1]
-        ax.plot(x, y, "x", color=colour, markersize=9, markeredgewidth=2,
+        coordinates = [hit["end"][:, k] for k in axes]
+        ax.plot(*coordinates, "x", color=colour, markersize=9, markeredgewidth=2,
                 label=f"{diagnostic.severity} {int(diagnostic.number)} (line {diagnostic.line})")
-        ax.annotate(f"{int(diagnostic.number)}", (x[-1], y[-1]), textcoords="offset points", xytext=(6, 6),
-                    color=colour, fontsize=8)
+        if len(axes) == 2:
+            x, y = coordinates
+            ax.annotate(f"{int(diagnostic.number)}", (x[-1], y[-1]), textcoords="offset points", xytext=(6, 6),
+                        color=colour, fontsize=8)
 
 
-def save_plot(program: Program, path: str, step: float = 0.2, dpi: int = 150) -> None:
-    """Draws `program` into an image file (PNG, SVG, PDF: from the suffix)."""
+def save_plot(program: Program, path: str, step: float = 0.2, dpi: int = 150, view: str = "xy") -> None:
+    """Draws `program` into an image file (PNG, SVG, PDF: from the suffix) in `view`
+    (:func:`plot_program`)."""
     plt = _pyplot()
-    fig, ax = plt.subplots(figsize=(10, 6), layout="constrained")
+    fig = plt.figure(figsize=(10, 6) if view != "3d" else (10, 8), layout="constrained")
     try:
-        plot_program(program, ax=ax, step=step)
+        ax = fig.add_subplot(projection="3d" if view == "3d" else None)
+        plot_program(program, ax=ax, step=step, view=view)
         fig.savefig(path, dpi=dpi)
     finally:
         plt.close(fig)

@@ -1,14 +1,17 @@
 """``sf_tch.compile()``: G-code in, a :class:`Program` out.
 
     program = sf_tch.compile("part.nc", radius=1.0)
-    with program:                       # the core is released at the end
-        print(program.errors or "ok", program.run_time)
-        path = program.toolpath          # numpy records (sf_tch.toolpath)
+    print(program.errors or "ok", program.run_time)
+    path = program.toolpath              # numpy records (sf_tch.toolpath)
 
-A program keeps the core it was compiled on (for simulation and run time) until it
-is closed, its ``with`` block ends, or nothing references it any more (rebinding the
-name in a loop gives the core back at once); at most three programs and Cores (the
-library's cores) live at a time.
+The library has three cores. A program takes one for its compile only: before
+:func:`compile` returns, its results (toolpath, extents, run time, PRINT texts,
+warnings and errors) are copied into Python and the core is given back, so any
+number of programs can be alive at once (``[sf_tch.compile(f) for f in files]``).
+:meth:`Program.simulate` takes a free core again for its run. ``keep_core=True``
+keeps the core instead (for runs on the offline machine through ``program.core``;
+then at most three such programs and Cores live at a time, each until it is
+closed, its ``with`` block ends or nothing references it any more).
 """
 from __future__ import annotations
 
@@ -24,7 +27,7 @@ import numpy as np
 from . import abi
 from .core import Core, RunResult, attach_column
 from .enums import Callback, ErrorNumber, OutputTab, Regime
-from .errors import CncError, Diagnostic, GougeWarning
+from .errors import Cancelled, CncError, Diagnostic, GougeWarning
 from .toolpath import TOOLPATH_DTYPE, Toolpath, read_chunks, summarize
 
 Source = Union[str, bytes, os.PathLike]   # (not `|`: CPython 3.9 evaluates it)
@@ -88,8 +91,10 @@ class CompileJob:
     its :meth:`result`. Made by :func:`start_compile`."""
 
     def __init__(self, core: Core, text: str | bytes | None, path: Path | None, name: str,
-                 progress: Callable[[int], object] | None = None, cancel=None, arguments: dict | None = None):
+                 progress: Callable[[int], object] | None = None, cancel=None, arguments: dict | None = None,
+                 keep_core: bool = False):
         self.core = core
+        self._keep_core = keep_core
         self.name = name
         self._text = text
         self._path = path
@@ -139,8 +144,9 @@ class CompileJob:
 
     def result(self, timeout: float | None = None) -> Program:
         """Waits for the end and returns the :class:`Program` (errors in its
-        ``errors``). Raises :class:`Cancelled` when it was cancelled; Ctrl-C cancels
-        it and is raised."""
+        ``errors``), its results copied and the core given back unless the job was
+        started with ``keep_core=True``. Raises :class:`Cancelled` when it was
+        cancelled; Ctrl-C cancels it and is raised."""
         if self._program is None:
             self.core.wait(timeout, cancel=self._cancel_event)
             for remove in self._removers:
@@ -152,7 +158,10 @@ class CompileJob:
                 self.errors.append(last.diagnostic)
             errors = [attach_column(e, self._source_lines(e)) for e in self.errors]
             located = [attach_column(w, self._source_lines(w)) for w in self.warnings]
-            self._program = Program(self.core, self.name, errors, located, self._arguments)
+            program = Program(self.core, self.name, errors, located, self._arguments)
+            if not self._keep_core:
+                program._copy_results_and_release(self._cancel_event)
+            self._program = program
             for warning in located:
                 if warning.number == ErrorNumber.COMPENSATION_GOUGE:
                     # the part would be damaged: shown by Python itself, at the G-code line
@@ -185,9 +194,10 @@ def start_compile(source: Source, radius: float | None = None, strategy: int | N
                   ini: str | os.PathLike | None = None, params: dict | None = None, core: int | None = None,
                   name: str | None = None, progress: Callable[[int], object] | None = None,
                   cancel=None, start: Sequence[float] | None = None, look_ahead: int | None = None,
-                  iso: bool = False, strict: bool = False) -> CompileJob:
+                  iso: bool = False, strict: bool = False, keep_core: bool = False) -> CompileJob:
     """Starts compiling and returns the running :class:`CompileJob`; the arguments
-    are those of :func:`compile`."""
+    are those of :func:`compile`. The job holds its core until its :meth:`~CompileJob.result`
+    (and with ``keep_core`` its program after that)."""
     if radius is not None and not radius >= 0:
         raise ValueError(f"tool radius must be a number >= 0 mm, not {radius}")
     if ini is not None:
@@ -214,7 +224,7 @@ def start_compile(source: Source, radius: float | None = None, strategy: int | N
             handle.set_look_ahead(look_ahead)
         arguments = {"source": source, "radius": radius, "strategy": strategy, "ini": ini, "params": params,
                      "name": name, "start": start, "look_ahead": look_ahead, "iso": iso, "strict": strict}
-        return CompileJob(handle, text, path, name, progress, cancel, arguments)
+        return CompileJob(handle, text, path, name, progress, cancel, arguments, keep_core)
     except BaseException:
         handle.close()
         raise
@@ -224,7 +234,7 @@ def compile(source: Source, radius: float | None = None, strategy: int | None = 
             ini: str | os.PathLike | None = None, params: dict | None = None, core: int | None = None,
             name: str | None = None, progress: Callable[[int], object] | None = None,
             cancel=None, start: Sequence[float] | None = None, look_ahead: int | None = None,
-            iso: bool = False, strict: bool = False) -> Program:
+            iso: bool = False, strict: bool = False, keep_core: bool = False) -> Program:
     """Compiles G-code and returns the :class:`Program`; errors of the G-code are in
     ``program.errors`` (``program.check()`` raises the first).
 
@@ -235,7 +245,10 @@ def compile(source: Source, radius: float | None = None, strategy: int | None = 
       the side); ``strategy``: correctionStrategy bits (CORR_* of tgm_cnc.h);
     - ``ini``: a vendor INI file instead of the bundled one; ``params``: any other
       GCODE_PARAMETERS fields by name, e.g. ``{"absMode": 0}``;
-    - ``core``: the core (0..2), default the first free one; ``start``: the machine
+    - ``core``: the core (0..2) to compile on, default the first free one (NoFreeCoreError
+      when none is); ``keep_core``: the program keeps that core after the compile
+      (``program.core``, e.g. for a run on the offline machine) instead of giving it
+      back with its results copied (the default); ``start``: the machine
       position (x y z ... in axis order, up to 10) the program starts from, default
       where the core's machine stands (set by ResetCNC, or 0);
     - ``iso``: the ISO compatibility mode (G20/G21, ``G4 P`` seconds, G18 as ISO, G43 H
@@ -252,7 +265,7 @@ def compile(source: Source, radius: float | None = None, strategy: int | None = 
     missing one that looks like G-code says it needs a line break), ValueError for
     a negative radius, :class:`Cancelled` when cancelled."""
     job = start_compile(source, radius, strategy, ini, params, core, name, progress, cancel, start, look_ahead, iso,
-                        strict)
+                        strict, keep_core)
     try:
         return job.result()
     except BaseException:
@@ -261,22 +274,29 @@ def compile(source: Source, radius: float | None = None, strategy: int | None = 
 
 
 class Program:
-    """A compiled program on its core: ``errors`` and ``warnings``
-    (:class:`Diagnostic` lists), ``toolpath`` (numpy records, fetched on first use),
-    ``summary()`` (counts and lengths, read a chunk at a time), ``size_info``
-    (GCODE_INFO), ``run_time`` (seconds, from a simulation run on first use). A
-    context manager; :meth:`close` releases the core, and so does the program's end
-    when nothing references it any more."""
+    """A compiled program: ``errors`` and ``warnings`` (:class:`Diagnostic` lists),
+    ``toolpath`` (numpy records), ``summary()`` (counts and lengths), ``size_info``
+    (GCODE_INFO), ``run_time`` (seconds) and ``printed`` (PRINT texts) of a
+    simulation, ``simulate()`` and ``plot()``.
+
+    By default (:func:`compile`) these results are copied into Python before the
+    program is returned and its core is given back (``core`` is None): the program
+    holds no library resource, and :meth:`simulate` takes a free core for its run.
+    With ``keep_core=True`` the program holds its core (``core``) and reads the
+    results from it on first use, until :meth:`close`, the end of its ``with`` block
+    or the program's end when nothing references it any more."""
 
     def __init__(self, core: Core, name: str, errors: list[Diagnostic], warnings: list[Diagnostic],
                  arguments: dict | None = None):
-        self.core = core
+        self.core: Core | None = core
         self._arguments = dict(arguments or {})
         self.name = name
         self.errors = errors
         self.warnings = warnings
         self._toolpath: Toolpath | None = None
+        self._size_info = None
         self._run_time: float | None = None
+        self._run_error: CncError | None = None
         self._printed: list[str] = []
 
     def __repr__(self) -> str:
@@ -291,8 +311,36 @@ class Program:
         self.close()
 
     def close(self) -> None:
-        """Releases the core (its program is destroyed); the fetched toolpath stays."""
-        self.core.close()
+        """Gives back the core a program compiled with ``keep_core=True`` holds (its
+        program in the library is destroyed; what was read from it stays); nothing
+        to do otherwise. Safe twice."""
+        if self.core is not None:
+            self.core.close()
+
+    def _held(self) -> Core:
+        """The kept core, to read a result from; RuntimeError once it was given back."""
+        if self.core is None or self.core.closed:
+            raise RuntimeError(f"the core of {self.name!r} was given back (close()) before this result was read "
+                               f"from it")
+        return self.core
+
+    def _copy_results_and_release(self, cancel=None) -> None:
+        """Copies every result out of the core (toolpath, extents, a simulation's run
+        time and PRINT texts, or the simulation's error) and gives the core back."""
+        core = self.core
+        try:
+            if self.ok:
+                self._toolpath = core.toolpath()
+                self._size_info = core.size_info()
+                try:
+                    self._simulate_once(cancel)
+                except Cancelled:
+                    raise
+                except CncError as error:       # raised where the run time is asked for, as when kept
+                    self._run_error = error
+        finally:
+            core.close()
+            self.core = None
 
     def compile_args(self, **changes) -> dict:
         """The keyword arguments of :func:`compile` that made this program, with
@@ -312,63 +360,88 @@ class Program:
 
     @property
     def toolpath(self) -> Toolpath:
-        """Every part, in order (:class:`~sf_tch.toolpath.Toolpath`); empty after an error."""
+        """Every part, in order (:class:`~sf_tch.toolpath.Toolpath`, 168 bytes a part);
+        empty after an error."""
         if self._toolpath is None:
             if not self.ok:
                 return Toolpath(np.empty(0, TOOLPATH_DTYPE))
-            self._toolpath = self.core.toolpath()
+            self._toolpath = self._held().toolpath()
         return self._toolpath
 
     def summary(self) -> dict:
         """Counts and lengths (mm) of the parts, cuts and rapids
-        (:meth:`Toolpath.to_dict`): from the fetched toolpath, else read from the
-        library a chunk at a time (a program of any size in a few MB); all zero
-        after an error."""
+        (:meth:`Toolpath.to_dict`): from the toolpath; on a kept core before the
+        toolpath is read, from the library a chunk at a time (a program of any size
+        in a few MB); all zero after an error."""
         if self._toolpath is not None or not self.ok:
             return self.toolpath.to_dict()
-        return summarize(read_chunks(self.core.lib, self.core.index))
+        core = self._held()
+        return summarize(read_chunks(core.lib, core.index))
 
     @property
     def size_info(self):
         """GCODE_INFO: m_size[0] programmed, [1] compensated, [2]/[3] as the machine
         runs them (G168 rotations); None after an error."""
-        return self.core.size_info() if self.ok else None
+        if not self.ok:
+            return None
+        if self._size_info is None:
+            self._size_info = self._held().size_info()
+        return self._size_info
 
     @property
     def run_time(self) -> float | None:
-        """Estimated seconds (per-part trapezoids, calcTime): simulated once on first
-        use; None after an error."""
-        if self._run_time is None and self.ok:
-            self._simulate_once()
+        """Estimated seconds (per-part trapezoids, calcTime) of a simulation run after
+        the compile (on a kept core: on first use); None after an error. Raises the
+        simulation's error when it failed."""
+        self._simulated()
         return self._run_time
 
     @property
     def printed(self) -> list[str]:
-        """The PRINT / M29 texts of a run, in order (simulated once on first use)."""
-        if self._run_time is None and self.ok:
-            self._simulate_once()
+        """The PRINT / M29 texts of that simulation, in order."""
+        self._simulated()
         return list(self._printed)
 
-    def _simulate_once(self) -> None:
+    def _simulated(self) -> None:
+        if self._run_error is not None:
+            raise self._run_error
+        if self._run_time is None and self.ok:
+            self._held()
+            self._simulate_once()
+
+    def _simulate_once(self, cancel=None) -> None:
         def on_output(tab: int, text: str) -> None:
             if tab == OutputTab.PRINT:
                 self._printed.append(text)
 
         remove = self.core.listen(Callback.ADD_OUTPUT_LOG, on_output)
         try:
-            self.core.run(Regime.SIMULATION)
+            self.core.run(Regime.SIMULATION, cancel=cancel)
         finally:
             remove()
         self._run_time = self.core.run_time()
 
     def simulate(self, regime: Regime = Regime.SIMULATION) -> RunResult:
-        """Every part as the driver callbacks receive it (SIMPLE_GM_PARAMS records)."""
+        """Runs the program (regime 10, or 20 the test regime: the machine limits) and
+        returns every part as the driver callbacks receive it (SIMPLE_GM_PARAMS
+        records). On the kept core while it is held, or else on a free core where
+        the program is compiled again with :meth:`compile_args` (a file is read
+        again) and that core given back after the run."""
         self.check()
-        return self.core.simulate(regime)
+        if self.core is not None and not self.core.closed:
+            return self.core.simulate(regime)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", GougeWarning)       # shown by the first compile
+            again = compile(**self.compile_args(core=None), keep_core=True)
+        with again:
+            again.check()
+            return again.core.simulate(regime)
 
     def plot(self, ax=None, **options):
         """Draws the program with matplotlib (``pip install matplotlib``) on `ax`, or
-        on a new figure: see :func:`sf_tch.plot.plot_program`. Returns the Axes; in a
+        on a new figure; ``view="xy"`` (default), ``"xz"``, ``"yz"`` or ``"3d"``,
+        ``step`` (mm), ``title``: see :func:`sf_tch.plot.plot_program`. Cuts at more
+        than one depth are coloured by Z with a colour bar. Returns the Axes; in a
         script save its figure (``program.plot().figure.savefig("part.png")``) or
         call ``matplotlib.pyplot.show()``. ImportError without matplotlib, its
         message the command that installs it."""

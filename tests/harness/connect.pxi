@@ -206,16 +206,17 @@ def bad_argument(name, double value, why):
     return rc, _error(&err)
 
 
-def compile(text, params=None, start=None):
+def compile(text, params=None, start=None, bint cancelled=False):
     """Compiles `text` (str) from `start` (ten axes, default zeros) with
     GCODE_PARAMETERS `params` (bytes, else the defaults): compiler, compensation,
     G167 arcs, planner. Returns a Compiled placed at the compile's start; raises
-    ValueError((number, file, line, text)) on a compile error."""
+    ValueError((number, file, line, text)) on a compile error. `cancelled`: an
+    ending call came before the compile began (its cancel flag is set)."""
     cdef CompileInput *inp = <CompileInput *>calloc(1, sizeof(CompileInput))
     cdef Compiled c = Compiled()
     cdef ErrorInfo err
     cdef int rc
-    cdef int32_t cancel = 0
+    cdef int32_t cancel = 1 if cancelled else 0
     cdef timespec t0, t1
     cdef bytes src = text.encode("latin-1")
     cdef bytes pb
@@ -245,7 +246,11 @@ def compile(text, params=None, start=None):
         if rc == COMPILE_OK:
             rc = insert_arcs(&c.build, &inp.params, &err)
         if rc == COMPILE_OK:
+            rc = join_lines(&c.build, &inp.params)
+        if rc == COMPILE_OK:
             rc = plan_program(&c.build, &inp.params, 0, 0)
+        if rc == COMPILE_OK:
+            program_number_parts(&c.build.prog)
         clock_gettime(CLOCK_MONOTONIC, &t1)
     c.compile_seconds = _seconds(&t0, &t1)
     placement_init(&c.pl, &c.build.prog, inp.start)

@@ -35,6 +35,17 @@ def compile_text(int core_idx, text, params=None, long long window=0, position=N
     return None
 
 
+def set_machine_bits(int core_idx, unsigned int bits):
+    """MACHINE_PARAMETERS.enhancedInterpolatorParameters of the module's core (the
+    next compile plans with it, the machine runs that plan)."""
+    cdef MACHINE_PARAMETERS m
+    if ToolChainCore_GetMachineParameters(core_idx, &m) != 0:
+        raise RuntimeError("GetMachineParameters refused")
+    m.enhancedInterpolatorParameters = <int32_t>bits
+    if ToolChainCore_SetMachineParameters(core_idx, &m) != 0:
+        raise RuntimeError("SetMachineParameters refused")
+
+
 def simulated_run_time(int core_idx):
     """StartCNCEx 10 (a simulation with calcTime) and GetGCodeRunTime of the main file."""
     if ToolChainCore_StartCNCEx(core_idx, RUN_SIMULATION, NULL) != 0:

@@ -56,7 +56,8 @@ def plan_text(text, params=None, long long window=0, unsigned int enhanced=0, bi
               long long split_near=-1):
     """Compiles `text` (str) with GCODE_PARAMETERS `params` (bytes, else the defaults),
     inserts the G167 arcs, plans. Returns (parts, error, timing): parts: dicts kind,
-    func, line, length, v_in, v_peak, v_out, time (detail), else one dict n_parts,
+    func, line, length, v_in, v_peak, v_out, time, calc_feed, end (compensated x y z),
+    programmed_end, flags, gcode_index (detail), else one dict n_parts,
     run_time, plan_bytes, regions (planning regions); timing: CPU seconds of the compile (with the arcs) and of the planning.
     split_near >= 0: planned in two threads as the library does beside the extent
     (pipeline.pyx plan_in_two), split at plan_split_at(split_near); timing["split"], and
@@ -82,6 +83,8 @@ def plan_text(text, params=None, long long window=0, unsigned int enhanced=0, bi
     rc = compile_program(inp, &build, &err)
     if rc == COMPILE_OK:
         rc = insert_arcs(&build, &inp.params, &err)
+    if rc == COMPILE_OK:
+        rc = join_lines(&build, &inp.params)
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t1)
     timing = dict(compile=(t1.tv_sec - t0.tv_sec) + 1e-9 * (t1.tv_nsec - t0.tv_nsec), plan=0.0)
     if rc == COMPILE_OK:
@@ -119,7 +122,9 @@ def plan_text(text, params=None, long long window=0, unsigned int enhanced=0, bi
             out.append(dict(kind=prog.parts[k].kind, func=prog.parts[k].func, line=prog.parts[k].line,
                             length=part_length(prog, k), v_in=prog.plan[k - 1].v_exit if k > 0 else 0.0,
                             v_peak=planned_peak(prog, k), v_out=prog.plan[k].v_exit,
-                            time=prog.plan[k].time, calc_feed=plan_calc_feed(prog, k)))
+                            time=prog.plan[k].time, calc_feed=plan_calc_feed(prog, k),
+                            end=tuple(prog.parts[k].ce), programmed_end=tuple(prog.parts[k].e),
+                            flags=prog.parts[k].flags, gcode_index=prog.parts[k].gcode_index))
     error = None if rc == COMPILE_OK else (err.number, err.line, err.text.decode("latin-1"))
     program_builder_free(&build)
     free(inp)

@@ -11,6 +11,7 @@
 #   regions.pyx       a closed chain rebuilt from the regions the tool fits in
 #   compensation.pyx  the pass: runs, chains, the stack of open elements, the merge
 #   insert_arcs.pyx   G167 arcs between G1 lines
+#   join_lines.pyx    tolerance[4] on programmed arcs, nearly collinear G1 parts joined (tolerance[2], [3])
 # Owns CompState (one pass) and its records. Called by the core's compile worker
 # (begin, feed beside the compiler through the pipeline, end, free; insert_arcs) and
 # by the compiler (the G167 and G172 regions it records).
@@ -333,3 +334,6 @@ cdef int compensate_end(CompState *S, const MergeWatch *watch) noexcept nogil
 cdef void compensate_free(CompState *S) noexcept nogil
 # ... then the G167 arcs between G1 lines of the compensated program
 cdef int insert_arcs(ProgramBuilder *build, const GCODE_PARAMETERS *params, ErrorInfo *err) noexcept nogil
+# ... then tolerance[4] on the uncompensated arcs and the nearly collinear G1 parts
+# joined (tolerance[2], [3]; join_lines.pyx), before the extent and the plan
+cdef int join_lines(ProgramBuilder *build, const GCODE_PARAMETERS *params) noexcept nogil

@@ -475,8 +475,11 @@ cdef int _run_part(CompState *S, size_t k) noexcept nogil:
                 if not (S.cfg.strategy & CORR_DROP_NEGATIVE_ARCS):
                     return comp_fail(S, ERR_COMP_NEGATIVE_ARC, k, el.R, fabs(el.d))
                 comp_warn(S, k, "arc with negative equidistant removed")
-            # an offset of no radius is a point the neighbours' offsets pass through
+            # an offset of no radius is a point the neighbours' offsets pass through; the
+            # arc leaves the cutting plan (correctionStrategy 0x200000): no driver sees it
             comp_discard(S, k)
+            if not (S.prog.parts[k].flags & FLAG_HELIX):
+                S.prog.parts[k].flags |= FLAG_DROPPED
             return COMPILE_OK
         if el.ro < S.cfg.min_arc:
             # below the minimum arc radius (tolerance[4]): removed the same way

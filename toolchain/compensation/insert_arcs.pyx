@@ -93,7 +93,8 @@ cdef int insert_arcs(ProgramBuilder *build, const GCODE_PARAMETERS *params, Erro
     tol_max = params.insertArcToleranceRMax
     tol_min = params.insertArcToleranceRMin
     max_angle = params.insertArcMaxAngle
-    min_angle = params.insertArcMinAngle
+    # the vendor: "not implemented, always 0"; applied only on the host's request
+    min_angle = params.insertArcMinAngle if (<uint32_t>params.rezerva1 & GCODE_REZERVA1_APPLY_UNIMPLEMENTED) else 0.0
     n = prog.n_parts
     for k in range(n):
         p = &prog.parts[k]

@@ -44,7 +44,7 @@ cdef int cp_zero(CState *st, const LineWords *lw, int g) noexcept nogil:
             st.zero[a] = 0.0
     cp_reframe(st)
     if not update_zero(st):
-        return cerr(st, ERR_OUT_OF_MEMORY)
+        return R_ERR
     return 0
 
 
@@ -62,7 +62,7 @@ cdef int cp_g92(CState *st, const LineWords *lw) noexcept nogil:
     for a in range(AXES):
         st.shift[a] += st.mpos[a] - t[a]
     if not update_zero(st):
-        return cerr(st, ERR_OUT_OF_MEMORY)
+        return R_ERR
     return 0
 
 
@@ -90,7 +90,7 @@ cdef int cp_g168(CState *st, const LineWords *lw) noexcept nogil:
     if not set_rotation(st, val(lw, b'X') if has(lw, b'X') else 0.0, val(lw, b'Y') if has(lw, b'Y') else 0.0,
                         val(lw, b'Z') if has(lw, b'Z') else 0.0, ax, ay, az,
                         val(lw, b'R') if has(lw, b'R') else 0.0):
-        return cerr(st, ERR_OUT_OF_MEMORY)
+        return R_ERR
     cp_reframe(st)
     return 0
 

@@ -115,6 +115,7 @@ cdef enum:
     NGC_FRAMES = 256            # open O-word loops and calls
     NGC_LINE_SETTINGS = 50      # parameter settings on one line
     NGC_NAME_CHARS = 64         # longest parameter or subroutine name
+    NGC_SCANS = 64              # remembered O-word scans (direct-mapped by position)
 
 # O-word frames
 cdef enum:
@@ -153,10 +154,23 @@ ctypedef struct NgcSetting:     # a parameter setting read on the line, done aft
     char name[NGC_NAME_CHARS]
     double value
 
+ctypedef struct NgcScan:        # a remembered ow_scan: the text is read-only, so is its answer
+    const char *text            # the unit's text; NULL: an empty slot
+    size_t pos                  # where the scan started
+    uint32_t kinds
+    NgcLabel label
+    int found                   # the keyword found; 0: none
+    size_t skip_pos, jpos       # as ow_scan sets st.skip_pos / st.jpos
+    uint32_t lines              # lines from pos to the found one
+
 ctypedef struct NgcState:
     double params[NGC_PARAMS]
     NgcName *names
     size_t n_names, cap_names
+    uint32_t *name_slots        # open addressing over names[]: index + 1, 0 empty
+    size_t n_slots              # a power of two, at least twice n_names; 0: no index yet
+    size_t n_locals             # names of call levels >= 1 (a return drops them)
+    NgcScan scans[NGC_SCANS]    # loops over skipped branches scan each branch once
     NgcSub *subs
     size_t n_subs, cap_subs
     NgcFrame frames[NGC_FRAMES]

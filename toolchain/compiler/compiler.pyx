@@ -139,6 +139,8 @@ cdef int cp_run(CState *st, Unit *u, bint main) noexcept nogil:
         elif r == R_END:
             st.program_end = True
             return COMPILE_OK
+        elif st.inp.cancel != NULL and TC_ATOMIC_LOAD(st.inp.cancel) != 0:
+            return COMPILE_CANCELLED        # em_part saw the ending call mid-line
         else:
             return COMPILE_ERROR
     # end of text: every block must have been closed
@@ -232,8 +234,10 @@ cdef int compile_program(const CompileInput *inp, ProgramBuilder *build, ErrorIn
     reserve_parts(build, prog.n_lines)
     st.unit = &units[1]
     st.block_limit = (inp.max_blocks if inp.max_blocks > 0 else DEFAULT_MAX_BLOCKS) + <int64_t>lines
-    if not update_zero(st) or (st.iso and st.ngc == NULL):
+    if st.iso and st.ngc == NULL:
         set_error(err, ERR_OUT_OF_MEMORY, inp.file_idx, 0, NULL, 0)
+        result = COMPILE_ERROR
+    elif not update_zero(st):
         result = COMPILE_ERROR
     for i in range(3):
         if result != COMPILE_OK or st.program_end:

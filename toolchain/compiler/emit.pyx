@@ -4,6 +4,29 @@
 from libc.math cimport fabs, sqrt, M_PI
 
 
+cdef inline bint _finite_end(const double *end) noexcept nogil:
+    """No axis of `end` is infinite or NaN (x - x is 0 only for finite x). The words,
+    parameters and offsets that make a position pass number_gate; this is the last
+    guard that no part ever carries a non-finite position."""
+    cdef double zero = 0.0
+    cdef int a
+    for a in range(AXES):
+        zero += end[a] - end[a]
+    return zero == 0.0
+
+
+cdef void _non_finite_error(CState *st, const double *end) noexcept nogil:
+    """Error 106 naming the first axis of `end` that is not finite."""
+    cdef char letter[2]
+    cdef int a
+    for a in range(AXES):
+        if not (end[a] - end[a] == 0.0):
+            letter[0] = letter_of_axis(a)
+            letter[1] = 0
+            cerr_bad_value(st, end[a], letter)
+            return
+
+
 cdef Part *em_part(CState *st, int kind, int func, const double *end) noexcept nogil:
     """A new part ending at `end` (machine coordinates, ten axes) with the modal fields
     filled in (a motion's feed too: em_feed); NULL on error (recorded)."""
@@ -12,6 +35,12 @@ cdef Part *em_part(CState *st, int kind, int func, const double *end) noexcept n
     cdef PartSettings s
     if prog.n_parts >= MAX_PARTS:
         cerr_num(st, ERR_PART_LIMIT, MAX_PARTS)
+        return NULL
+    if (prog.n_parts & 1023) == 0 and st.inp.cancel != NULL and TC_ATOMIC_LOAD(st.inp.cancel) != 0:
+        cerr(st, ERR_CANCELLED)         # an ending call: checked per part, one line may make millions
+        return NULL
+    if not _finite_end(end):
+        _non_finite_error(st, end)
         return NULL
     p = program_add_part(st.build)
     if p == NULL:
@@ -41,8 +70,9 @@ cdef Part *em_part(CState *st, int kind, int func, const double *end) noexcept n
     s.zero_idx = <uint16_t>st.zero_idx
     s.rot_idx = <uint16_t>st.rot_idx
     s.file_idx = <int16_t>st.unit.file_idx
-    if kind == PART_MOTION:
-        em_feed(st, p, func, &s)
+    # a dwell or an M function carries the feed a G1 there would get: the vendor sets the F
+    # cell at every callback (docs/structures.md)
+    em_feed(st, p, func if kind == PART_MOTION else 1, &s)
     if em_settings(st, p, &s) != 0:
         return NULL
     return p

@@ -6,7 +6,7 @@
 # statements of a construct share its O number or name; a skipped part is found by
 # scanning forward for that label, as LinuxCNC does, so labels are literal (o100,
 # o<name>), and only a call may compute its label (o[#1 + 2] call).
-from libc.math cimport floor
+from libc.math cimport floor, fabs
 
 
 cdef int ow_keyword(const char *p, int n) noexcept nogil:
@@ -115,20 +115,48 @@ cdef int ow_scan(CState *st, const NgcLabel *lab, uint32_t kinds, size_t pos, ui
     cdef const char *eol
     cdef NgcLabel other
     cdef int kw
+    cdef NgcScan *seen = &st.ngc.scans[(pos ^ (pos >> 6) ^ kinds) % NGC_SCANS]
+    cdef size_t start = pos
+    cdef uint32_t first_line = line
+    if seen.text == u.text and seen.pos == pos and seen.kinds == kinds and ow_same(&seen.label, lab) \
+            and seen.label.number == lab.number:
+        return _scan_answer(st, seen, line, found)
     while pos < u.len:
         eol = <const char *>memchr(u.text + pos, b'\n', u.len - pos)
         if eol == NULL:
             eol = u.text + u.len
         if ow_line(u.text + pos, eol, &other, &kw) != NULL and (kinds & kw_bit(kw)) and ow_same(&other, lab):
-            found[0] = kw
-            st.skip_pos = pos
-            st.skip_line = line
-            st.jpos = <size_t>(eol - u.text) + 1
-            st.jline = line + 1
-            return 0
+            _scan_remember(seen, u.text, start, kinds, lab, kw, pos, <size_t>(eol - u.text) + 1,
+                           line - first_line)
+            return _scan_answer(st, seen, first_line, found)
         pos = <size_t>(eol - u.text) + 1
         line += 1
+    _scan_remember(seen, u.text, start, kinds, lab, 0, 0, 0, 0)
     return 1
+
+
+cdef void _scan_remember(NgcScan *seen, const char *text, size_t pos, uint32_t kinds, const NgcLabel *lab,
+                         int found, size_t skip_pos, size_t jpos, uint32_t lines) noexcept nogil:
+    seen.text = text
+    seen.pos = pos
+    seen.kinds = kinds
+    seen.label = lab[0]
+    seen.found = found
+    seen.skip_pos = skip_pos
+    seen.jpos = jpos
+    seen.lines = lines
+
+
+cdef int _scan_answer(CState *st, const NgcScan *seen, uint32_t line, int *found) noexcept nogil:
+    """ow_scan's answer from a remembered scan that started on `line`."""
+    if seen.found == 0:
+        return 1
+    found[0] = seen.found
+    st.skip_pos = seen.skip_pos
+    st.skip_line = line + seen.lines
+    st.jpos = seen.jpos
+    st.jline = line + seen.lines + 1
+    return 0
 
 
 cdef int ow_skip_to(CState *st, const NgcLabel *lab, uint32_t kinds, const char *missing) noexcept nogil:
@@ -270,11 +298,16 @@ cdef int ow_return(CState *st, const NgcLabel *lab, const char *p, const char *e
     n.n_frames = k
     n.level -= 1
     memcpy(&n.params[1], n.saved[n.level], NGC_ARGS * sizeof(double))
-    for i in range(n.n_names):          # the callee's local named parameters vanish
-        if n.names[i].level <= n.level:
-            n.names[kept] = n.names[i]
-            kept += 1
-    n.n_names = kept
+    if n.n_locals > 0:                  # the callee's local named parameters vanish
+        n.n_locals = 0
+        for i in range(n.n_names):
+            if n.names[i].level <= n.level:
+                n.names[kept] = n.names[i]
+                n.n_locals += n.names[i].level >= 1
+                kept += 1
+        n.n_names = kept
+        if not ngc_names_index(n):
+            return cerr(st, ERR_OUT_OF_MEMORY)
     st.jpos = n.frames[k].pos
     st.jline = n.frames[k].line
     return R_JUMP
@@ -385,6 +418,7 @@ cdef int ow_statement(CState *st, const char *p, const char *eol) noexcept nogil
     cdef int kw = 0, k
     cdef double v
     cdef bint cond
+    cdef char why[112]
     q = ow_line(o, eol, &lab, &kw)
     if q == NULL:
         # o[expression] call: the label computed
@@ -399,8 +433,13 @@ cdef int ow_statement(CState *st, const char *p, const char *eol) noexcept nogil
             if ow_keyword(q, k) != OW_CALL:
                 return cerr_hint(st, ERR_NGC_UNSUPPORTED, cword_rest(st, o, eol), column_of(st, o),
                                  "a computed O-word label is read on a call only")
+            if not (fabs(v - floor(v + 0.5)) < 1e-4 and v > -0.5 and v < 999999999999.5):
+                c_snprintf(why, sizeof(why), "the computed label %g is no subroutine number "
+                           "(a whole number 0 .. 999999999999)", v)
+                return cerr_hint(st, ERR_NGC_WORD, cword_rest(st, o, eol), column_of(st, o), why)
             lab.number = <int64_t>floor(v + 0.5)
             lab.len = 0
+            lab.name[0] = 0
             return ow_call(st, &lab, q + k, eol)
         return R_NOT_O
     while o < eol and not (o[0] == b'O' or o[0] == b'o'):

@@ -43,7 +43,7 @@ cdef int ngc_use_offsets(CState *st) noexcept nogil:
         st.zero[ngc_axis(k)] = n.params[base + k]
     cp_reframe(st)
     if not update_zero(st):
-        return cerr(st, ERR_OUT_OF_MEMORY)
+        return R_ERR
     return 0
 
 
@@ -104,7 +104,7 @@ cdef int ngc_shift_reset(CState *st, int how) noexcept nogil:
         ngc_store_shift(st)
     cp_reframe(st)
     if not update_zero(st):
-        return cerr(st, ERR_OUT_OF_MEMORY)
+        return R_ERR
     return 0
 
 
@@ -245,6 +245,18 @@ cdef int ngc_spindle_m(CState *st, int32_t m) noexcept nogil:
     return em_mfunc(st, &words, m, False)
 
 
+cdef double _cycle_pecks(int g, double depth, double q) noexcept nogil:
+    """The pecks of one hole of a G73 / G83 cycle `depth` deep (0 for the others)."""
+    return floor(depth / q) + 1.0 if g == 73 or g == 83 else 0.0
+
+
+cdef double _cycle_parts(int g, int repeat, double depth, double q) noexcept nogil:
+    """At least the parts a cycle line makes (reckoned before one is made, so that a
+    line asking for millions of holes or pecks is refused at once, not cut short by
+    the part limit after seconds): per hole at most 9 parts besides three per peck."""
+    return <double>repeat * (9.0 + 3.0 * _cycle_pecks(g, depth, q))
+
+
 cdef int ngc_cycle(CState *st, const LineWords *lw, int g, int col) noexcept nogil:
     """A canned cycle at the positions of the line (L times), as LinuxCNC makes it: to
     the R level first when below it, then per repeat a rapid in the plane, a rapid to
@@ -259,6 +271,7 @@ cdef int ngc_cycle(CState *st, const LineWords *lw, int g, int col) noexcept nog
     cdef double target[AXES]
     cdef bint same = st.motion == g
     cdef bint reverse
+    cdef char why[128]
     if st.feed == 0.0:
         return ngc_usage(st, g, col, "feed 0: no F word was given (LinuxCNC refuses it)")
     if st.comp != 40:
@@ -319,6 +332,10 @@ cdef int ngc_cycle(CState *st, const LineWords *lw, int g, int col) noexcept nog
         bb = st.ppos[sa]
     if r < z:
         return ngc_usage(st, g, col, "the R level is below the hole bottom")
+    if _cycle_parts(g, repeat, r - z, q) > <double>(MAX_PARTS - st.prog.n_parts):
+        c_snprintf(why, sizeof(why), "%d repeats of %g pecks make more parts than a program holds (%d)",
+                   repeat, _cycle_pecks(g, r - z, q), <int>MAX_PARTS)
+        return ngc_usage(st, g, col, why)
     st.motion = g
     memcpy(target, st.ppos, sizeof(target))
     current = st.ppos[na]

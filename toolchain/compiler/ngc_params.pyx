@@ -29,6 +29,7 @@ cdef NgcState *ngc_new() noexcept nogil:
 
 cdef void ngc_free(NgcState *n) noexcept nogil:
     if n != NULL:
+        free(n.name_slots)
         free(n.names)
         free(n.subs)
         free(n)
@@ -59,14 +60,54 @@ cdef bint _same(const char *a, int na, const char *b, int nb) noexcept nogil:
     return na == nb and memcmp(a, b, na) == 0
 
 
+cdef size_t _name_hash(int level, const char *name, int nlen) noexcept nogil:
+    """FNV-1a of the name and its call level."""
+    cdef uint64_t h = 14695981039346656037ULL ^ <uint64_t><uint32_t>level
+    cdef int i
+    for i in range(nlen):
+        h = (h ^ <uint8_t>name[i]) * 1099511628211ULL
+    return <size_t>(h ^ (h >> 29))
+
+
+cdef void _name_slot_put(NgcState *n, size_t i) noexcept nogil:
+    """names[i] into the index (room for it is there)."""
+    cdef size_t mask = n.n_slots - 1
+    cdef size_t k = _name_hash(n.names[i].level, n.names[i].name, n.names[i].len) & mask
+    while n.name_slots[k] != 0:
+        k = (k + 1) & mask
+    n.name_slots[k] = <uint32_t>(i + 1)
+
+
+cdef bint ngc_names_index(NgcState *n) noexcept nogil:
+    """The index of names[] built anew (after a return dropped names, or to grow it);
+    False: no memory (the names stay, the index is gone: lookups find nothing new)."""
+    cdef size_t want = 64, i
+    while want < 2 * n.n_names + 2:
+        want *= 2
+    free(n.name_slots)
+    n.name_slots = <uint32_t *>tc_calloc(want, sizeof(uint32_t))
+    n.n_slots = want if n.name_slots != NULL else 0
+    if n.name_slots == NULL:
+        return False
+    for i in range(n.n_names):
+        _name_slot_put(n, i)
+    return True
+
+
 cdef NgcName *ngc_name_find(NgcState *n, const char *name, int nlen) noexcept nogil:
-    """The named parameter a line of the current call level sees; NULL: none."""
-    cdef size_t i = n.n_names
+    """The named parameter a line of the current call level sees; NULL: none. One
+    probe sequence of the index: programs set tens of thousands of names."""
     cdef int level = -1 if name[0] == b'_' else n.level
-    while i > 0:
-        i -= 1
-        if n.names[i].level == level and _same(n.names[i].name, n.names[i].len, name, nlen):
-            return &n.names[i]
+    cdef size_t mask = n.n_slots - 1, k
+    cdef NgcName *e
+    if n.n_slots == 0:
+        return NULL
+    k = _name_hash(level, name, nlen) & mask
+    while n.name_slots[k] != 0:
+        e = &n.names[n.name_slots[k] - 1]
+        if e.level == level and _same(e.name, e.len, name, nlen):
+            return e
+        k = (k + 1) & mask
     return NULL
 
 
@@ -81,6 +122,13 @@ cdef int ngc_name_set(CState *st, const char *name, int nlen, double value) noex
         e.level = -1 if name[0] == b'_' else n.level
         e.len = nlen
         memcpy(e.name, name, nlen + 1)
+        if e.level >= 1:
+            n.n_locals += 1
+        if 2 * n.n_names + 2 > n.n_slots:
+            if not ngc_names_index(n):
+                return cerr(st, ERR_OUT_OF_MEMORY)
+        else:
+            _name_slot_put(n, n.n_names - 1)
     e.value = value
     return 0
 
@@ -158,6 +206,14 @@ cdef bint _computed(int idx) noexcept nogil:
     """#5220 (the coordinate system), #5400 (the tool), #5420..#5428 (the position)
     follow the program's state: read-only."""
     return idx == 5220 or idx == 5400 or (idx >= 5420 and idx <= 5428)
+
+
+cdef bint _positional(int idx) noexcept nogil:
+    """The parameters that become positions of parts when a G function reads them: the
+    G28 / G30 homes (#5161.., #5181..), the G92 offsets (#5211..) and the work offsets
+    of G54..G59.3 (#5221..#5389). They pass the address words' bound when set."""
+    return (5161 <= idx <= 5169 or 5181 <= idx <= 5189 or 5211 <= idx <= 5219
+            or (5221 <= idx <= 5389 and (idx - 5221) % 20 < 9))
 
 
 cdef double ngc_number_get(CState *st, int idx) noexcept nogil:
@@ -480,6 +536,7 @@ cdef int ngc_setting_read(CState *st, const char **pp, const char *eol) noexcept
     cdef NgcSetting *s
     cdef double v, x
     cdef ErrArg a[2]
+    cdef char address[16]
     if n.n_settings >= NGC_LINE_SETTINGS:
         a[0].num = NGC_LINE_SETTINGS; a[0].text = NULL
         a[1].num = 0; a[1].text = "#"
@@ -506,6 +563,10 @@ cdef int ngc_setting_read(CState *st, const char **pp, const char *eol) noexcept
     p += 1
     if ngc_value(st, &p, eol, &s.value, 0) != 0:
         return R_ERR
+    if _positional(s.number):
+        c_snprintf(address, sizeof(address), "#%d", s.number)
+        if number_gate(st, s.value, address) != 0:
+            return R_ERR
     n.n_settings += 1
     pp[0] = p
     return 0

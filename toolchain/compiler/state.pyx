@@ -6,16 +6,6 @@ from libc.string cimport memcpy
 from libc.stdio cimport snprintf
 
 
-cdef extern from *:
-    """
-    /* largest value of an address word that parts carry (not G, M, L): squares stay
-       finite, and so do the floats of P26FLOAT, even the lengths summed over the
-       MAX_PARTS parts of a program (2e7 x 2e30 < FLT_MAX) */
-    #define TC_MAX_WORD_VALUE 1e30
-    """
-    double TC_MAX_WORD_VALUE
-
-
 cdef inline int to_int(double v) noexcept nogil:
     """A word's value as int, saturated (no undefined cast of huge values or NaN)."""
     if v != v:
@@ -164,6 +154,15 @@ cdef int cerr_bad_value(CState *st, double v, const char *letter) noexcept nogil
     return R_ERR
 
 
+cdef int number_gate(CState *st, double v, const char *address) noexcept nogil:
+    """The one bound of every number that reaches a part (docs/dialect.md, "Numbers"):
+    finite and within +-TC_MAX_WORD_VALUE; 0, or error 106 naming `address` (an
+    address letter, a polar word, an ISO parameter such as #5221)."""
+    if v >= -TC_MAX_WORD_VALUE and v <= TC_MAX_WORD_VALUE:
+        return 0
+    return cerr_bad_value(st, v, address)
+
+
 cdef int cerr_open_comment(CState *st, const char *p, const char *eol) noexcept nogil:
     """Error 104 for the gap [p, eol) that holds a '(' without ')': comments do not
     nest, so it is the first '(' after the last ')'."""
@@ -260,16 +259,31 @@ cdef void cp_reframe(CState *st) noexcept nogil:
     to_program(st, st.mpos, st.ppos)
 
 
+cdef bint registered(CState *st, int idx, const char *what) noexcept nogil:
+    """idx of program_add_zero / _rotation / _radius is an entry; False with the error
+    recorded when it is none (out of memory, or more than PROGRAM_TABLE_MAX `what`)."""
+    cdef ErrArg a[2]
+    if idx >= 0:
+        return True
+    if idx == -2:
+        a[0].num = PROGRAM_TABLE_MAX; a[0].text = NULL
+        a[1].num = 0; a[1].text = what
+        set_error(st.err, ERR_PROGRAM_TABLE_LIMIT, st.unit.file_idx, st.line, a, 2)
+    else:
+        cerr(st, ERR_OUT_OF_MEMORY)
+    return False
+
+
 cdef bint update_zero(CState *st) noexcept nogil:
     """Registers the active offset (zero + shift + the tool's lengths) with the program;
-    False = no memory."""
+    False with the error recorded (registered)."""
     cdef double total[AXES]
     cdef int a, idx
     update_identity(st)
     for a in range(AXES):
         total[a] = st.zero[a] + st.shift[a] + st.length[a]
-    idx = program_add_zero(st.build, total)
-    if idx < 0:
+    idx = program_add_zero(st.build, total, st.shift)
+    if not registered(st, idx, "zero offsets (G54.., G92, tool lengths)"):
         return False
     st.zero_idx = idx
     return True
@@ -278,7 +292,8 @@ cdef bint update_zero(CState *st) noexcept nogil:
 cdef bint set_rotation(CState *st, double cx, double cy, double cz, double ax, double ay,
                        double az, double deg) noexcept nogil:
     """Rotation by deg about the axis (ax, ay, az) through the centre (Rodrigues),
-    registered with the program for the unrotated size info; False = no memory."""
+    registered with the program for the unrotated size info; False with the error
+    recorded (registered)."""
     cdef double n = sqrt(ax * ax + ay * ay + az * az)
     cdef double c, s, t
     if n == 0.0:
@@ -300,7 +315,7 @@ cdef bint set_rotation(CState *st, double cx, double cy, double cz, double ax, d
     st.rot_c[0] = cx; st.rot_c[1] = cy; st.rot_c[2] = cz
     st.rot_on = True
     st.rot_idx = program_add_rotation(st.build, st.rot_c, st.rot_m)
-    if st.rot_idx < 0:
+    if not registered(st, st.rot_idx, "rotations (G168)"):
         st.rot_idx = 0
         return False
     return True

@@ -34,8 +34,8 @@ cdef int tl_comp(CState *st) noexcept nogil:
     if slot < 2 and st.tool_d >= 0:
         radius = st.tools.entry[st.tool_d].value[0]     # (entry 0 is all zero)
         idx = program_add_radius(st.build, radius)
-        if idx < 0:
-            return cerr(st, ERR_OUT_OF_MEMORY)
+        if not registered(st, idx, "tool radii (D words under G41 / G42)"):
+            return R_ERR
         st.radius_idx = idx
     if radius < 0.0:
         side = 83 - side
@@ -57,7 +57,7 @@ cdef int tl_lengths(CState *st, int entry) noexcept nogil:
         st.length[k] = st.tools.entry[entry].value[k + 1]
     cp_reframe(st)
     if not update_zero(st):
-        return cerr(st, ERR_OUT_OF_MEMORY)
+        return R_ERR
     return 0
 
 

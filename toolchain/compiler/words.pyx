@@ -148,7 +148,7 @@ cdef int _word_p(CState *st, const char **pp, const char *eol, LineWords *lw) no
     if not _value_starts(st, q, eol):
         return cerr_hint(st, ERR_P_WORD, cword_at(st, w, eol), column_of(st, w),
                          "an assignment is written Pnn = value")
-    if _word_value(st, &q, eol, &v) != 0:
+    if _word_value(st, &q, eol, &v) != 0 or number_gate(st, v, "P") != 0:
         return R_ERR
     lw.has_pword = True
     lw.pword = v
@@ -186,8 +186,8 @@ cdef int _word_address(CState *st, const char **pp, const char *eol, LineWords *
         return cerr_at(st, ERR_MISSING_VALUE, letter, col)
     if _word_value(st, &q, eol, &v) != 0:
         return R_ERR
-    if not (v >= -TC_MAX_WORD_VALUE and v <= TC_MAX_WORD_VALUE) and L != 71 and L != 77 and L != 76:
-        return cerr_bad_value(st, v, letter)
+    if L != 71 and L != 77 and L != 76 and number_gate(st, v, letter) != 0:
+        return R_ERR
     pp[0] = q
     if L == 71:     # G
         if lw.ng >= MAX_WORD_LIST:
@@ -227,7 +227,7 @@ cdef int _word_polar(CState *st, const char **pp, const char *eol, LineWords *lw
     letter[1] = 0
     if not _value_starts(st, q, eol):
         return cerr_at(st, ERR_MISSING_VALUE, letter, column_of(st, w))
-    if _word_value(st, &q, eol, &v) != 0:
+    if _word_value(st, &q, eol, &v) != 0 or number_gate(st, v, letter) != 0:
         return R_ERR
     if not (lw.has_polar_r or lw.has_polar_a):
         lw.polar_col = column_of(st, w)     # the first polar word of the line

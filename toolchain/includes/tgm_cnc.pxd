@@ -15,6 +15,7 @@ cdef extern from "tgm_cnc.h" nogil:
     float INVALID_VALUE_F
     uint32_t GCODE_REZERVA1_ISO_COMPAT
     uint32_t GCODE_REZERVA1_COMP_STRICT
+    uint32_t GCODE_REZERVA1_APPLY_UNIMPLEMENTED
     int32_t TC_MFUNC_LATER
     uint64_t TC_TEST_CLOCK_KEY
     uint64_t TC_TEST_ALLOC_KEY

@@ -260,7 +260,9 @@ cdef void _publish(Core *core, Machine *m) noexcept nogil:
     view.pos.m_fileIdx = -1
     output_view(&m.output, mo, &view.pos)       # output stage: commanded, smoothed, corrected
     session_cells(&view, e.kind if e != NULL else -1, e.func if e != NULL else 0,
-                  e != NULL and mo.state == MS_WAIT_M, <const double *>&view.pos.m_calcS)
+                  e != NULL and mo.state == MS_WAIT_M, <const double *>&view.pos.m_calcS,
+                  part_shift(&m.program.prog, &m.program.prog.parts[e.part])
+                  if e != NULL and m.program != NULL and e.part < m.program.prog.n_parts else NULL)
     if e != NULL:
         view.pos.m_editorLine = e.line
         view.pos.m_fileIdx = e.file_idx

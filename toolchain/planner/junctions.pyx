@@ -1,6 +1,14 @@
 # Junction speeds between two consecutive motion parts: the angle slow-down
-# (startAngle, endAngle, minAngleFeed; G900 S9) and the exact stops.
-from libc.math cimport acos, sqrt, M_PI
+# (startAngle, endAngle, minAngleFeed; G900 S9) and the exact stops, among them
+# those of enhancedInterpolatorParameters bits 20 and 21.
+from libc.math cimport acos, sqrt, fabs, M_PI
+
+cdef extern from *:
+    """
+    /* a component of a unit tangent at or below this: the axis stands there */
+    #define TC_AXIS_REST_EPS 1e-9
+    """
+    const double AXIS_REST_EPS "TC_AXIS_REST_EPS"
 
 
 cdef double junction_cosine(const double *t_end, const double *t_start, uint32_t ignored) noexcept nogil:
@@ -56,6 +64,39 @@ cdef bint junction_stops(bint prev_rapid, bint next_rapid, const PlanRegion *s,
         return True
     if s.stop_mode == STOP_MODE_RAPID_CHANGE and prev_rapid != next_rapid:
         return True
+    return False
+
+
+cdef uint32_t axis_stop_axes(uint32_t enhanced, uint32_t ignore_angle) noexcept nogil:
+    """The axes whose start from rest (bit 20) or reversal (bit 21) stops the
+    machine at a junction: those without the tangency slow-down (bits 0-9, G900 S10);
+    0 when neither bit is set."""
+    if not (enhanced & (ENH_STOP_FROM_REST | ENH_STOP_ON_REVERSAL)):
+        return 0
+    return (ignore_angle | ((enhanced >> ENH_ANGLE_SHIFT) & AXIS_MASK)) & AXIS_MASK
+
+
+cdef bint junction_axis_stops(const double *t_end, const double *t_start, uint32_t axes,
+                              uint32_t enhanced) noexcept nogil:
+    """enhancedInterpolatorParameters bits 20 and 21 at a junction (unit tangents: the
+    end of the part before, the start of the next): bit 20, an axis of `axes` that
+    stands at the end of the part before moves at the start of the next; bit 21, one
+    that moves on in the opposite direction. Either: the machine stands there."""
+    cdef double a, b
+    cdef int k
+    for k in range(AXES):
+        if not ((axes >> k) & 1):
+            continue
+        b = t_start[k]
+        if fabs(b) <= AXIS_REST_EPS:
+            continue                    # it stands after the junction
+        a = t_end[k]
+        if fabs(a) <= AXIS_REST_EPS:
+            if enhanced & ENH_STOP_FROM_REST:
+                return True
+        elif (a > 0.0) != (b > 0.0):
+            if enhanced & ENH_STOP_ON_REVERSAL:
+                return True
     return False
 
 

@@ -185,7 +185,7 @@ cdef void part_limits(const Segment *g, const Program *prog, const Part *p, cons
         if factor > 0.0:
             v = v * factor
             out.v_ceiling = v           # the table's speed for this radius is a limit, not a feed
-        if params.centripetalAcc > 0.0:
+        if params.centripetalAcc > 0.0 and (<uint32_t>params.rezerva1 & GCODE_REZERVA1_APPLY_UNIMPLEMENTED):
             out.v_ceiling = min(out.v_ceiling, sqrt(params.centripetalAcc / segment_curvature(g)))
             v = min(v, out.v_ceiling)
     if not axes_limited:

@@ -99,7 +99,8 @@ cdef bint _next_node(NodeSource *src, PlanNode *node) noexcept nogil:
     cdef double t0[AXES]
     cdef double t1[AXES]
     cdef double jin, cosine, vmax, d0, d1, d2, inv
-    cdef bint rapid, want_tangent, plain
+    cdef bint rapid, want_angle, want_tangent, plain
+    cdef uint32_t stop_axes
     cdef int c
     src.scan += 1
     if p.kind != PART_MOTION:
@@ -110,7 +111,9 @@ cdef bint _next_node(NodeSource *src, PlanNode *node) noexcept nogil:
     src.motions += 1
     if src.class_region != src.cursor.region:
         _take_classes(src, s)
-    want_tangent = s.startAngle < 180.0         # below 180 some angle slows down
+    want_angle = s.startAngle < 180.0           # below 180 some angle slows down
+    stop_axes = axis_stop_axes(src.enhanced, s.ignore_angle)    # bits 20, 21
+    want_tangent = want_angle or stop_axes != 0
     rapid = p.func == 0
     plain = (src.plain_lines and p.func != 2 and p.func != 3 and k > 0
              and src.prog.parts[k - 1].axes_idx == p.axes_idx and k >= src.reshaped_end)
@@ -147,10 +150,13 @@ cdef bint _next_node(NodeSource *src, PlanNode *node) noexcept nogil:
         if not src.prev_tangent_known:  # the slow-down came on at this junction
             _end_tangent(src, src.prev_part, src.prev_tangent)
         jin = min(src.prev_vmax, node.vmax)
-        cosine = junction_cosine(src.prev_tangent, t0,
-                                 s.ignore_angle | ((src.enhanced >> ENH_ANGLE_SHIFT) & AXIS_MASK))
-        if not (cosine >= src.cursor.cos_start):      # beyond startAngle (acos only there)
-            jin = _float_below(angle_feed(junction_degrees(cosine), jin, s))
+        if stop_axes != 0 and junction_axis_stops(src.prev_tangent, t0, stop_axes, src.enhanced):
+            jin = 0.0
+        elif want_angle:
+            cosine = junction_cosine(src.prev_tangent, t0,
+                                     s.ignore_angle | ((src.enhanced >> ENH_ANGLE_SHIFT) & AXIS_MASK))
+            if not (cosine >= src.cursor.cos_start):      # beyond startAngle (acos only there)
+                jin = _float_below(angle_feed(junction_degrees(cosine), jin, s))
     node.jin = jin                      # 0, the lower of two limits, or rounded above
     node.jin2 = node.jin * node.jin
     node.brake2 = 2.0 * node.dec * node.length

@@ -31,6 +31,8 @@ cdef enum:
     AXIS_MASK = 0x3FF
     ENH_ANGLE_SHIFT = 0         # enhancedInterpolatorParameters bits 0-9: no tangency slow-down
     ENH_FEED_SHIFT = 10         # bits 10-19: axis ignored for the feed
+    ENH_STOP_FROM_REST = 1 << 20    # bit 20: an axis of bits 0-9 starts from rest: the others stop first
+    ENH_STOP_ON_REVERSAL = 1 << 21  # bit 21: an axis of bits 0-9 reverses: all stop first
 
 ctypedef struct PartLimits:
     double length           # mm
@@ -60,14 +62,41 @@ cdef enum:
     MFI_AFTER_SLOW_DOWN = 1
     MFI_BEFORE_RAPID = 2
 
-ctypedef struct MfuncInsertion:
-    size_t after            # inserted right after this part
-    size_t seq              # found in this order (several after one part keep it)
+ctypedef struct MfuncTarget:    # where one inserted M function goes
+    size_t part             # the motion part (with length) it lies in; n_parts: after the last part
+    double q                # mm into that part (at most MFI_SNAP: just before it)
+    size_t seq              # found in this order (several at one place keep it)
     int32_t mfunc
+
+ctypedef struct MfuncTargets:
+    MfuncTarget *items
+    size_t n, cap
+
+ctypedef struct MfuncInsertion: # one part program_merge inserts
+    size_t after            # right after this part
+    Part made               # an M function, or the rest of a part split where one lies
 
 ctypedef struct MfuncInsertions:
     MfuncInsertion *items
     size_t n, cap
+
+cdef enum:                      # where the speed stands against the table's shares
+    MFI_START = 0               # from the program's start until it first reaches entry 0's
+    MFI_FAST = 1
+    MFI_SLOW = 2
+
+ctypedef struct MfiScan:        # the walk over the plan's profiles
+    const Program *prog
+    const INTERNAL_MFUNC_INSERT_TABLE *table
+    const double *at            # path position of each part's start; at[n_parts]: the path's length
+    MfuncTargets *targets
+    int state
+    double th0, th1             # the current cut's thresholds (mm/s)
+    bint ok
+
+ctypedef struct MfiReplacement: # parts[part] becomes made (once every insertion is made)
+    size_t part
+    Part made
 
 # ---- passes.pyx
 cdef enum:

@@ -176,7 +176,7 @@ cdef int32_t session_standing_m(Core *core, const SIMPLE_GM_PARAMS *fun) noexcep
 cdef void session_forget_locked(Core *core) noexcept nogil
 cdef void session_count(RunCounts *c, const Part *p) noexcept nogil
 cdef void session_cells(SnapshotData *view, int32_t kind, int32_t func, bint waiting,
-                        const double *position) noexcept nogil
+                        const double *position, const double *shift) noexcept nogil
 cdef void session_lengths(SnapshotData *view, const RunCounts *c, double cut_len, double rapid_len,
                           double fill) noexcept nogil
 

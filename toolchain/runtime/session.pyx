@@ -53,7 +53,7 @@ cdef int32_t session_part(Session *s, const Program *prog, size_t i, const SIMPL
     cdef int32_t answer = 0
     if p.kind == PART_PRINT:
         core_output(s.core, 2, prog.texts + p.extra)
-    elif p.kind == PART_MOTION or p.kind == PART_DWELL:
+    elif (p.kind == PART_MOTION and not (p.flags & FLAG_DROPPED)) or p.kind == PART_DWELL:
         if callback_enter(s.core, SLOT_DRIVER_G_FUNC, &cb):
             (<TC_DriverGFunc>cb.fn)(cb.user, gm)
             callback_leave(s.core, SLOT_DRIVER_G_FUNC)
@@ -266,15 +266,20 @@ cdef void session_count(RunCounts *c, const Part *p) noexcept nogil:
 
 
 cdef void session_cells(SnapshotData *view, int32_t kind, int32_t func, bint waiting,
-                        const double *position) noexcept nogil:
+                        const double *position, const double *shift) noexcept nogil:
     """GetPos's m_func and cells of the current part (a PartKind; any other value:
     none) where the machine stands at `position`: M functions as M + 10000, the G cell
-    of a move or a dwell, the M cell of a waiting M function, the ten axes; the other
-    cells absent (the G92 offsets are not shown)."""
+    of a move or a dwell, the M cell of a waiting M function, the ten axes, and the
+    part's G92 shift (`shift`, ten axes; NULL: none) in the cells the structures
+    description gives them, I J K L Q R D E S H for X Y Z C B U V W A O; the other
+    cells absent."""
     cdef float *cells = <float *>&view.pos.m_pars
     cdef int k
     for k in range(26):
         cells[k] = INVALID_VALUE_F
+    if shift != NULL:
+        for k in range(AXES):
+            cells[_SHIFT_CELL[k]] = <float>shift[k]
     for k in range(AXES):
         cells[_AXIS_CELL[k]] = <float>position[k]
     if kind == PART_MOTION or kind == PART_DWELL:
@@ -307,5 +312,8 @@ cdef extern from *:
     """
     /* m_pars cells of the ten axes X Y Z C B U V W A O (letter - 'A') */
     static const int tc_axis_cells[10] = {23, 24, 25, 2, 1, 20, 21, 22, 0, 14};
+    /* m_pars cells of GetPos's G92 offsets of the ten axes: I J K L Q R D E S H */
+    static const int tc_shift_cells[10] = {8, 9, 10, 11, 16, 17, 3, 4, 18, 7};
     """
     const int *_AXIS_CELL "tc_axis_cells"
+    const int *_SHIFT_CELL "tc_shift_cells"

@@ -64,3 +64,5 @@ cdef bint smoother_init(Smoother *s, const SmoothingConfig *config, double perio
 cdef void smoother_push(Smoother *s, const double *sample, double *out) noexcept nogil
 cdef bint smoother_settled(const Smoother *s) noexcept nogil
 cdef void smoother_free(Smoother *s) noexcept nogil
+# a sample the filters take (ToolChainCore_SmoothSamples refuses others)
+cdef bint smoothing_sample_good(const double *sample) noexcept nogil

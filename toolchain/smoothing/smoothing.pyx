@@ -16,15 +16,18 @@
 # (position - input, velocity) advances by the 2x2 matrix exponential of one period.
 from libc.stdlib cimport free
 from libc.string cimport memcpy
-from libc.math cimport exp, expm1, cos, sin, sqrt, fabs, floor, M_PI
+from libc.math cimport exp, expm1, cos, sin, sqrt, fabs, floor, M_PI, INFINITY
 
 cdef extern from *:
     """
     #define TC_SMOOTHING_MAX 1e12     /* the largest register value: jerk mm/s^3, p q f x 1e6 */
     #define TC_SETTLED_MM 1e-6        /* the filtered output has settled within this of its input, mm */
+    #define TC_IIR_TAU_MAX 1.0        /* the IIR filter's slowest time constant, s: a stopped machine
+                                         rests within ~30 tau of a step across the 1e6 mm range */
     """
     double TC_SMOOTHING_MAX
     double TC_SETTLED_MM
+    double TC_IIR_TAU_MAX
 
 
 cdef bint _parameter_error(ErrorInfo *err, int32_t command, int index, double value, const char *why) noexcept nogil:
@@ -62,11 +65,33 @@ cdef bint smoothing_check(const SmoothingConfig *config, int32_t command, ErrorI
     cdef int k
     if command == SMOOTHING_COMMAND_SPLINE and config.spline[0] != 0.0 and config.spline[1] == 0.0:
         return _parameter_error(err, command, 1, 0.0, "a spline that is on needs a jerk limit above 0 mm/s^3")
+    cdef double tau
+    cdef char why[160]
     if command == SMOOTHING_COMMAND_IIR and (<uint32_t>config.iir[3] & 0x3FF) != 0:
         for k in range(3):
             if config.iir[k] == 0.0:
                 return _parameter_error(err, command, k, 0.0, "an IIR filter on some axis needs p, q and f above 0")
+        tau = _iir_slowest_time(config.iir[0] * 1e-6, config.iir[1] * 1e-6, config.iir[2] * 1e-6)
+        if not (tau <= TC_IIR_TAU_MAX):
+            c_snprintf(why, sizeof(why), "with p, q and f the filter's slowest time constant is %g s, "
+                       "above 1 s: a stopped machine would not come to rest", tau)
+            return _parameter_error(err, command, 0, config.iir[0], why)
     return True
+
+
+cdef double _iir_slowest_time(double p, double q, double f) noexcept nogil:
+    """1 / the decay rate of H(s)'s slower pole (s); inf when p, q and f overflow the
+    filter's coefficients (w = 2 pi / f, a1 = p w, a0 = q w^2). Overdamped, the slow
+    pole's rate is a1/2 - sqrt(a1^2/4 - a0), written a0 / (a1/2 + sqrt(..)) so that it
+    does not cancel; otherwise it is a1/2."""
+    cdef double w = 2.0 * M_PI / f
+    cdef double a1 = p * w, a0 = q * w * w
+    cdef double d = 0.25 * a1 * a1 - a0
+    if not (isfinite(a1) and isfinite(a0) and isfinite(d) and a1 > 0.0 and a0 > 0.0):
+        return INFINITY
+    if d > 0.0:
+        return (0.5 * a1 + sqrt(d)) / a0
+    return 2.0 / a1
 
 
 cdef bint smoothing_set(SmoothingConfig *config, int32_t command, const double *params, ErrorInfo *err) noexcept nogil:
@@ -152,6 +177,16 @@ cdef bint smoother_init(Smoother *s, const SmoothingConfig *config, double perio
     memcpy(s.position, start, sizeof(s.position))
     for k in range(SMOOTHING_AXES):
         s.velocity[k] = 0.0
+    return True
+
+
+cdef bint smoothing_sample_good(const double *sample) noexcept nogil:
+    """A sample (ten axes) the filters take: every axis within the address words'
+    bound (+-1e30 mm), so that no difference or spliced polynomial overflows."""
+    cdef int a
+    for a in range(SMOOTHING_AXES):
+        if not (-TC_MAX_WORD_VALUE <= sample[a] <= TC_MAX_WORD_VALUE):
+            return False
     return True
 
 

@@ -85,8 +85,8 @@ cdef bint _axis_table_parse(const unsigned char *data, size_t length, const char
     cdef char field[64]
     cdef const unsigned char *p
     cdef int n_letters = 0, axis, b, k
-    cdef uint64_t total = 1, i, expected
-    cdef double value
+    cdef uint64_t total = 1, i
+    cdef double value, asked = 1.0
     memset(&t, 0, sizeof(AxisTable))
     if length < AXIS_TABLE_HEADER:
         c_snprintf(why, sizeof(why), "the file has %llu bytes, the header alone 128",
@@ -138,16 +138,17 @@ cdef bint _axis_table_parse(const unsigned char *data, size_t length, const char
         if t.points[b] < 2:
             c_snprintf(why, sizeof(why), "%u grid points: at least 2 (min and max)", t.points[b])
             return _fail(err, ERR_AXIS_TABLE_DEFINITION, name, field, why)
-        total *= t.points[b]        # three factors below 2^32 each: no overflow before the check below
-        if total > (<uint64_t>1 << 40):
-            total = <uint64_t>1 << 40   # far beyond any file (1 GiB at most): only the size check sees it
-    expected = AXIS_TABLE_HEADER + 12 * <uint64_t>t.n_bases + 4 * total
-    if <uint64_t>length != expected:
+        # the grid points asked for, exact in double for the message; in integers only
+        # while below the table cap (two factors below 2^32 could wrap the third's product)
+        asked *= t.points[b]
+        if total <= MAX_TABLE_BYTES:
+            total *= t.points[b]
+    if total > MAX_TABLE_BYTES or <uint64_t>length != AXIS_TABLE_HEADER + 12 * <uint64_t>t.n_bases + 4 * total:
         a[0].num = 0
         a[0].text = name
         a[1].num = <double>length
         a[1].text = NULL
-        a[2].num = <double>expected
+        a[2].num = AXIS_TABLE_HEADER + 12.0 * t.n_bases + 4.0 * asked
         a[2].text = NULL
         set_error(err, ERR_AXIS_TABLE_SIZE, -1, 0, a, 3)
         return False
@@ -217,9 +218,9 @@ cdef bint axis_corrections_read(const char *const *paths, uint32_t n, AxisCorrec
         return False
     tables.refs = 1
     for k in range(n):
-        data = read_whole_file(paths[k], &length, &error)
+        data = read_whole_file(paths[k], MAX_TABLE_BYTES, &length, &error)
         if data == NULL:
-            set_error_text(err, error, -1, 0, paths[k])
+            set_error_text(err, ERR_TABLE_TOO_LARGE if error == ERR_FILE_TOO_LARGE else error, -1, 0, paths[k])
             axis_corrections_release(tables)
             return False
         good = _axis_table_parse(<const unsigned char *>data, length, paths[k], &tables.table[k], err)

@@ -62,14 +62,15 @@ cdef bint _is_keyword(const char *s, const char *end) noexcept nogil:
 
 
 cdef int _value_slot(char name) noexcept nogil:
-    """The value a word's name writes: 0 radius (R), 1..4 length of axes 1..4 (X Y Z
-    or the axis number); -1 none."""
+    """The value a word's name writes: 0 radius (R), 1..4 length of axes 1..4 (X Y Z U,
+    the names the tool compensation manual gives axes 1..4, or the axis number); -1
+    none."""
     cdef char c = name | 0x20 if b'A' <= name <= b'Z' else name
     if c == b'r': return 0
     if c == b'x' or c == b'1': return 1
     if c == b'y' or c == b'2': return 2
     if c == b'z' or c == b'3': return 3
-    if c == b'4': return 4
+    if c == b'u' or c == b'4': return 4
     return -1
 
 
@@ -218,10 +219,10 @@ cdef bint tool_table_read(const char *path, ToolTable *out, ErrorInfo *err) noex
     read: False with its error (ERR_FILE_OPEN ...) naming it."""
     cdef size_t length
     cdef int32_t error = 0
-    cdef char *text = read_whole_file(path, &length, &error)
+    cdef char *text = read_whole_file(path, MAX_TABLE_BYTES, &length, &error)
     cdef bint good
     if text == NULL:
-        set_error_text(err, error, -1, 0, path)
+        set_error_text(err, ERR_TABLE_TOO_LARGE if error == ERR_FILE_TOO_LARGE else error, -1, 0, path)
         return False
     good = _tool_table_parse(text, length, path, out, err)
     free(text)
