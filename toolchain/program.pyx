@@ -454,7 +454,7 @@ cdef void program_number_parts(Program *prog) noexcept nogil:
                 p.gcode_index = last + 1
             if not delivered:
                 p.gcode_index = last if last != INT32_MIN else compiled
-            shift = p.gcode_index - compiled if delivered else last - compiled
+            shift = p.gcode_index - compiled        # (not delivered: last, or compiled before any)
             prev_programmed = compiled
             for k in range(AXES):
                 if not mapped[k] and compiled >= starts[k]:
