@@ -645,7 +645,8 @@ TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_FileToIdx(uint32_t intIdx
 TOOLCHAIN_API TGM_LPCTSTR TOOLCHAIN_CALLTYPE ToolChainCore_IdxToFile(uint32_t intIdx, int32_t fileIdx);
 
 /* Start/end/min/max of the compiled program (arcs with their true extremes). -1 NULL or
- * nothing compiled. */
+ * nothing compiled, or no memory to measure it from a start ResetCNC moved (error 4 in
+ * GetLastCallError; ResetCNC itself never fails for memory). */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GetGCodeSizeInfo(uint32_t intIdx, GCODE_INFO *p);
 
 /* Run time in seconds of the file (its index) from the last simulation with calcTime = 1
@@ -811,6 +812,20 @@ TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_ConfirmMFunc(uint32_t int
  * running activity: it would wait for its own thread); -2 bad core. */
 #define TC_TEST_CLOCK_KEY 0x4B434F4C43545354ULL   /* "TSTCLOCK" */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_TestClock(uint32_t intIdx, uint64_t key, double seconds);
+
+/* Test-only: never call it from a host. Fails the library's allocations one at a time,
+ * for tests that fail each allocation of an operation in turn and check that it reports
+ * error 4 "Out of memory" and leaves nothing behind (docs/testing.md). With key
+ * TC_TEST_ALLOC_KEY:
+ *   nth > 0: the nth allocation of the library from now (on any of its threads, for any
+ *     core) fails, once, as an exhausted memory would; the ones after it succeed.
+ *   nth == 0: none fails.
+ * Any other key: -1 and nothing changes.
+ * Returns how many allocations the previous setting still had to go before its failure:
+ * 0 once that failure happened (or when none was set), n > 0 when fewer allocations than
+ * asked for were made meanwhile (nth - n of them); -1 for another key or nth < 0. */
+#define TC_TEST_ALLOC_KEY 0x434F4C4C41545354ULL   /* "TSTALLOC" */
+TOOLCHAIN_API int64_t TOOLCHAIN_CALLTYPE ToolChain_TestAllocFail(uint64_t key, int64_t nth);
 
 /*
  * Log hook (extension)

@@ -130,6 +130,7 @@ ctypedef struct Core:
     PublishedError *error       # error of the last activity (GetLastError); NULL none
     PublishedError *call_error  # error of the last refused call (GetLastCallError); NULL none
     GCODE_INFO size_info        # of `program` at the current start position
+    bint size_info_stale        # a reset could not measure it (out of memory): measured when read
     # the machine
     double position[AXES]       # machine position: where the next run and compilation start
     double pending_position[AXES]   # ResetCNC's coordinates, applied once the activity it ends is over

@@ -2,8 +2,8 @@
 # its compilation activity (the worker that compiles, compensates and plans).
 # core.pxd says who may touch what; the life of an activity (begin, end, join) is
 # runtime/lifecycle.pyx.
-from libc.stdlib cimport malloc, calloc, free
-from libc.string cimport memset, memcpy, memcmp, strlen, strcmp, strncpy, strdup
+from libc.stdlib cimport free
+from libc.string cimport memset, memcpy, memcmp, strlen, strcmp, strncpy
 from libc.stdio cimport snprintf
 
 cdef Core g_cores[3]
@@ -46,7 +46,7 @@ cdef int32_t core_fail(Core *core, int32_t number, const char *text_arg) noexcep
     """Records and reports the error of a refused call (no file, no line) in the
     call's slot (GetLastCallError); the activity's error (GetLastError) stays.
     Returns TOOL_CHAIN_ERROR."""
-    cdef ErrorInfo *err = <ErrorInfo *>malloc(sizeof(ErrorInfo))
+    cdef ErrorInfo *err = <ErrorInfo *>tc_malloc(sizeof(ErrorInfo))
     if err == NULL:
         return TOOL_CHAIN_ERROR
     set_error_text(err, number, -1, 0, text_arg)
@@ -61,7 +61,7 @@ cdef int32_t core_refuse(Core *core, const char *what, int32_t status) noexcept 
     cdef ErrorInfo *err
     if status > 0:
         return core_fail(core, ERR_BUSY, status_name(status))
-    err = <ErrorInfo *>malloc(sizeof(ErrorInfo))
+    err = <ErrorInfo *>tc_malloc(sizeof(ErrorInfo))
     if err == NULL:
         return TOOL_CHAIN_ERROR
     set_error_status(err, what, status)
@@ -98,10 +98,10 @@ cdef int _compile_and_compensate(Core *core, CompileInput *inp, ProgramBuilder *
     compensation's (err filled)."""
     # the pass's state is written by the thread beside the compiler all the time: on
     # the heap, not on the compiler's stack next to the frames it writes
-    cdef CompState *comp = <CompState *>malloc(sizeof(CompState))
+    cdef CompState *comp = <CompState *>tc_malloc(sizeof(CompState))
     cdef Follow follow
     cdef ExtentBeside beside
-    cdef ErrorInfo *comp_err = <ErrorInfo *>calloc(1, sizeof(ErrorInfo))
+    cdef ErrorInfo *comp_err = <ErrorInfo *>tc_calloc(1, sizeof(ErrorInfo))
     cdef int result
     measured[0] = False
     if comp_err == NULL or comp == NULL:
@@ -150,7 +150,7 @@ cdef int _compile_job(Core *core, CompileJob *job, ProgramBuilder *build, GCODE_
     if job.length >= 2 and <unsigned char>job.text[0] == 0x1f and <unsigned char>job.text[1] == 0x8b:
         set_error_text(err, ERR_COMPRESSED_FILE, job.files[0], 0, job.name)    # gzip's magic bytes
         return COMPILE_ERROR
-    inp = <CompileInput *>calloc(1, sizeof(CompileInput))
+    inp = <CompileInput *>tc_calloc(1, sizeof(CompileInput))
     if inp == NULL:
         set_error(err, ERR_OUT_OF_MEMORY, job.files[0], 0, NULL, 0)
         return COMPILE_ERROR
@@ -230,8 +230,8 @@ cdef void *compile_body(void *arg) noexcept nogil:
     cdef CompileJob *job = <CompileJob *>arg
     cdef Core *core = job.head.core
     cdef ProgramBuilder build
-    cdef ErrorInfo *err = <ErrorInfo *>calloc(1, sizeof(ErrorInfo))
-    cdef GCODE_INFO *extent = <GCODE_INFO *>calloc(1, sizeof(GCODE_INFO))
+    cdef ErrorInfo *err = <ErrorInfo *>tc_calloc(1, sizeof(ErrorInfo))
+    cdef GCODE_INFO *extent = <GCODE_INFO *>tc_calloc(1, sizeof(GCODE_INFO))
     cdef LoadedProgram *loaded = NULL
     cdef LoadedProgram *old
     cdef PublishedError *kept = NULL
@@ -246,6 +246,8 @@ cdef void *compile_body(void *arg) noexcept nogil:
             if loaded == NULL:
                 result = COMPILE_ERROR
                 set_error(err, ERR_OUT_OF_MEMORY, job.files[0], 0, NULL, 0)
+    elif err != NULL:
+        set_error(err, ERR_OUT_OF_MEMORY, job.files[0], 0, NULL, 0)     # no memory for the extent
     if result != COMPILE_OK and err != NULL:
         err.n_lines = <int32_t>build.prog.n_lines   # lines of the main file, counted before compiling
     if loaded == NULL:
@@ -255,6 +257,7 @@ cdef void *compile_body(void *arg) noexcept nogil:
     core.program = loaded
     if loaded != NULL:
         core.size_info = loaded.extent
+        core.size_info_stale = False
         _apply_tool_writes(core, &loaded.prog)
     else:
         memset(&core.size_info, 0, sizeof(GCODE_INFO))
@@ -288,6 +291,7 @@ cdef int32_t core_start_compile(Core *core, const char *name, char *text, size_t
     """CompileFromFile (text NULL: the worker reads the file `name`) and
     CompileFromMemory (takes ownership of `text`)."""
     cdef CompileJob *job = <CompileJob *>job_new(CMD_COMPILE)
+    cdef bint lost
     if job == NULL:
         free(text)
         return core_fail(core, ERR_OUT_OF_MEMORY, NULL)
@@ -297,9 +301,13 @@ cdef int32_t core_start_compile(Core *core, const char *name, char *text, size_t
     strncpy(job.name, name, sizeof(job.name) - 1)
     job.files[0] = core_file_to_idx(core, name)
     pthread_mutex_lock(&core.lock)
-    job.prefix = strdup(core.prefix) if core.prefix != NULL else NULL
-    job.postfix = strdup(core.postfix) if core.postfix != NULL else NULL
+    job.prefix = tc_strdup(core.prefix) if core.prefix != NULL else NULL
+    job.postfix = tc_strdup(core.postfix) if core.postfix != NULL else NULL
+    lost = (job.prefix == NULL and core.prefix != NULL) or (job.postfix == NULL and core.postfix != NULL)
     pthread_mutex_unlock(&core.lock)
+    if lost:                            # no memory for a copy: not compiled without it
+        job_free(&job.head)
+        return core_fail(core, ERR_OUT_OF_MEMORY, NULL)
     if job.prefix != NULL:
         job.files[1] = core_file_to_idx(core, "__prefix__")
     if job.postfix != NULL:

@@ -4,8 +4,8 @@
 # (TGM_LPCTSTR: UTF-16 on Windows) are converted here once, to UTF-8 on the way in
 # (text_from_host) and back on the way out (text_to_host_kept); inside, every text
 # is UTF-8 (platform.pxd).
-from libc.string cimport memset, memcpy, memcmp, strlen, strdup
-from libc.stdlib cimport free, malloc
+from libc.string cimport memset, memcpy, memcmp, strlen
+from libc.stdlib cimport free
 
 cdef extern from *:
     """
@@ -111,7 +111,7 @@ cdef int32_t _load_from_ini(uint32_t intIdx, const char *iniFile, uint32_t *pnMa
     settings.path = iniFile
     settings.err = &err
     clear_error(&err)
-    tool_table = <ToolTable *>malloc(sizeof(ToolTable))
+    tool_table = <ToolTable *>tc_malloc(sizeof(ToolTable))
     if tool_table == NULL:
         core_fail(core, ERR_OUT_OF_MEMORY, NULL)
         return TOOL_CHAIN_XEXEC
@@ -313,11 +313,15 @@ cdef public int32_t ToolChainCore_GCodePrefixPostfix(uint32_t intIdx, TGM_LPCSTR
     if prefix != NULL and prefix[0] != 0:
         pre = narrow_from_host(prefix)          # UTF-8 inside (Windows: from the ANSI code page)
         if pre == NULL:
-            pre = strdup(prefix)
+            pre = tc_strdup(prefix)
     if postfix != NULL and postfix[0] != 0:
         post = narrow_from_host(postfix)
         if post == NULL:
-            post = strdup(postfix)
+            post = tc_strdup(postfix)
+    if (pre == NULL and prefix != NULL and prefix[0] != 0) or (post == NULL and postfix != NULL and postfix[0] != 0):
+        free(pre)
+        free(post)
+        return core_fail(core, ERR_OUT_OF_MEMORY, NULL)
     pthread_mutex_lock(&core.lock)
     if status_after(core_status(core), CMD_SET_PREFIX, False) == TC_REFUSED:
         pthread_mutex_unlock(&core.lock)
@@ -380,7 +384,7 @@ cdef int32_t _compile_from_memory(uint32_t intIdx, const char *fileName, const c
         return TOOL_CHAIN_BAD_INTR_INDEX
     if fileName == NULL or code == NULL or fileName[0] == 0 or strlen(fileName) >= <size_t>TOOL_CHAIN_MAX_FILE_NAME:
         return TOOL_CHAIN_ERROR
-    source = strdup(code)
+    source = tc_strdup(code)
     if source == NULL:
         core_fail(core, ERR_OUT_OF_MEMORY, NULL)
         return TOOL_CHAIN_ERROR
@@ -441,10 +445,16 @@ cdef public TGM_LPCTSTR ToolChain_IdxToFile(int32_t fileIdx) noexcept nogil:
 cdef public int32_t ToolChainCore_GetGCodeSizeInfo(uint32_t intIdx, GCODE_INFO *p) noexcept nogil:
     cdef Core *core = core_get(intIdx)
     cdef int32_t result = TOOL_CHAIN_ERROR
+    cdef bint stale
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
     if p == NULL or core_status(core) == CNC_STATUS_COMPILING:
         return TOOL_CHAIN_ERROR
+    pthread_mutex_lock(&core.lock)
+    stale = core.program != NULL and core.size_info_stale
+    pthread_mutex_unlock(&core.lock)
+    if stale and not core_refresh_size_info(core):     # a reset could not measure it
+        return core_fail(core, ERR_OUT_OF_MEMORY, NULL)
     pthread_mutex_lock(&core.lock)
     if core.program != NULL:
         p[0] = core.size_info
@@ -678,7 +688,7 @@ cdef public int32_t ToolChainCore_SetCallBack(uint32_t intIdx, uint32_t fceNo, i
 
 
 cdef void _fail_ini_first(Core *core, uint32_t number) noexcept nogil:
-    cdef ErrorInfo *err = <ErrorInfo *>malloc(sizeof(ErrorInfo))
+    cdef ErrorInfo *err = <ErrorInfo *>tc_malloc(sizeof(ErrorInfo))
     if err == NULL:
         return
     set_error_num(err, ERR_INI_FIRST, -1, 0, <double>number)
@@ -751,6 +761,12 @@ cdef public int32_t ToolChainCore_TestClock(uint32_t intIdx, uint64_t key, doubl
     return machine_test_clock(core, key, seconds)
 
 
+cdef public int64_t ToolChain_TestAllocFail(uint64_t key, int64_t nth) noexcept nogil:
+    if key != TC_TEST_ALLOC_KEY or nth < 0:
+        return -1
+    return tc_alloc_fail_nth(nth)
+
+
 # ------------------------------------------------------------------ toolpath (extension)
 
 cdef public int32_t ToolChainCore_GetToolpath(uint32_t intIdx, TC_TOOLPATH_RECORD *out, uint64_t capacity,
@@ -782,7 +798,7 @@ cdef int32_t _load_tool_table(uint32_t intIdx, const char *fileName) noexcept no
         return core_fail(core, ERR_FILE_OPEN, "(null)")
     if fileName[0] == 0:
         return core_fail(core, ERR_FILE_OPEN, fileName)
-    table = <ToolTable *>malloc(sizeof(ToolTable))
+    table = <ToolTable *>tc_malloc(sizeof(ToolTable))
     if table == NULL:
         return core_fail(core, ERR_OUT_OF_MEMORY, NULL)
     if not tool_table_read(fileName, table, &err):      # read without the lock

@@ -3,7 +3,7 @@
 # device that waits for a carrier, a console), so a file that another process
 # controls cannot hang the caller; the file type is then taken from the open file,
 # not from the name, so nothing can be swapped in between (platform.h, per system).
-from libc.stdlib cimport malloc, free
+from libc.stdlib cimport free
 
 
 cdef bint file_open_regular(const char *path, size_t max_bytes, tc_file *file, size_t *size,
@@ -48,7 +48,7 @@ cdef char *read_whole_file(const char *path, size_t max_bytes, size_t *length, i
     if not file_open_regular(path, max_bytes, &file, &capacity, error):
         return NULL
     capacity += 1                   # room for the terminating NUL, and to see the end
-    buf = <char *>malloc(capacity)
+    buf = <char *>tc_malloc(capacity)
     if buf == NULL:
         tc_file_close(file)
         error[0] = ERR_OUT_OF_MEMORY

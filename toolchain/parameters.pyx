@@ -4,8 +4,8 @@
 # anything else, so no NaN, infinity or absurd size ever reaches the compiler, the
 # compensation or a callback), and the keys of the INI file: [GCodeParameters], [Offline],
 # and the files of [Corrections] and the values of [Smoothing] (tables/, smoothing/).
-from libc.string cimport memset, memcpy, strncpy, strcasecmp, strlen, strcpy, strdup
-from libc.stdlib cimport malloc, free
+from libc.string cimport memset, memcpy, strncpy, strcasecmp, strlen, strcpy
+from libc.stdlib cimport free
 
 cdef extern from *:
     """
@@ -300,10 +300,10 @@ cdef char *_ini_file_path(const char *ini, const char *name) noexcept nogil:
     cdef size_t folder = strlen(ini)
     cdef char *path
     if name[0] == b'/' or name[0] == b'\\' or (b'a' <= (name[0] | 0x20) <= b'z' and name[1] == b':'):
-        return strdup(name)
+        return tc_strdup(name)
     while folder > 0 and ini[folder - 1] != b'/' and ini[folder - 1] != b'\\':
         folder -= 1
-    path = <char *>malloc(folder + strlen(name) + 1)
+    path = <char *>tc_malloc(folder + strlen(name) + 1)
     if path != NULL:
         memcpy(path, ini, folder)
         strcpy(path + folder, name)

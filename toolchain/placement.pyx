@@ -5,7 +5,7 @@
 # [0, start_gindex[k]) move by the difference of the two positions. The program itself
 # is never rewritten (it is shared, immutable); runs and GetGCodeSizeInfo apply the
 # difference as they read it.
-from libc.stdlib cimport malloc, free
+from libc.stdlib cimport free
 from libc.string cimport memcpy
 
 
@@ -130,8 +130,8 @@ cdef bint placed_extent(const Program *prog, const Placement *pl, GCODE_INFO *in
     for k in range(AXES):
         part_view.start[k] = pl.start[k] - whole[k]
     if head > 0:
-        copy = <Part *>malloc(head * sizeof(Part))
-        copy_extras = <PartExtra *>calloc(head + 1, sizeof(PartExtra))     # entry 0 unused
+        copy = <Part *>tc_malloc(head * sizeof(Part))
+        copy_extras = <PartExtra *>tc_calloc(head + 1, sizeof(PartExtra))     # entry 0 unused
         if copy == NULL or copy_extras == NULL:
             free(copy)
             free(copy_extras)

@@ -463,8 +463,8 @@ cdef void program_number_parts(Program *prog) noexcept nogil:
             last = p.gcode_index
             last_programmed = not (p.flags & FLAG_INSERTED)
     for k in range(AXES):
-        if not mapped[k]:
-            prog.start_gindex[k] = last + 2
+        if not mapped[k] and last != INT32_MIN:
+            prog.start_gindex[k] = last + 2     # named after the last part: every part follows the start
 
 
 cdef const double *part_shift(const Program *prog, const Part *p) noexcept nogil:

@@ -4,7 +4,7 @@
 # hears and GetPos shows is the run's session (runtime/session.pyx), as on the
 # machine; a simulation does not wait for M functions answered TC_MFUNC_LATER.
 from libc.string cimport memcpy
-from libc.stdlib cimport malloc, calloc, free
+from libc.stdlib cimport free
 
 cdef bint check_limits(Core *core, const MACHINE_PARAMETERS *machine, const SIMPLE_GM_PARAMS *gm,
                        const Part *p, ErrorInfo *first_error) noexcept nogil:
@@ -71,10 +71,10 @@ cdef void *simulation_body(void *arg) noexcept nogil:
     cdef LoadedProgram *loaded
     cdef const Program *prog
     cdef Session session
-    cdef GCODE_PARAMETERS *params = <GCODE_PARAMETERS *>malloc(sizeof(GCODE_PARAMETERS))
-    cdef MACHINE_PARAMETERS *machine = <MACHINE_PARAMETERS *>malloc(sizeof(MACHINE_PARAMETERS))
-    cdef SnapshotData *view = <SnapshotData *>calloc(1, sizeof(SnapshotData))
-    cdef ErrorInfo *first_error = <ErrorInfo *>calloc(1, sizeof(ErrorInfo))
+    cdef GCODE_PARAMETERS *params = <GCODE_PARAMETERS *>tc_malloc(sizeof(GCODE_PARAMETERS))
+    cdef MACHINE_PARAMETERS *machine = <MACHINE_PARAMETERS *>tc_malloc(sizeof(MACHINE_PARAMETERS))
+    cdef SnapshotData *view = <SnapshotData *>tc_calloc(1, sizeof(SnapshotData))
+    cdef ErrorInfo *first_error = <ErrorInfo *>tc_calloc(1, sizeof(ErrorInfo))
     cdef SIMPLE_GM_PARAMS gm
     cdef RunCounts counts
     cdef char *stop_code

@@ -447,6 +447,7 @@ def _functions(tstr, dll_init_struct) -> tuple:
         ("ToolChainCore_GetSmoothing", c_int32, (c_uint32, c_int32, _P(c_double))),
         ("ToolChainCore_SmoothSamples", c_int32, (c_uint32, _P(c_double), c_uint64, _P(c_double), _P(c_uint64))),
         ("ToolChainCore_TestClock", c_int32, (c_uint32, c_uint64, c_double)),
+        ("ToolChain_TestAllocFail", c_int64, (c_uint64, c_int64)),
     )
 
 
@@ -508,11 +509,14 @@ EXTENSION_FUNCTIONS = ("ToolChainCore_GetLastCallError", "ToolChainCore_GetToolp
                        "ToolChainCore_LoadToolTable", "ToolChainCore_GetToolCorrection",
                        "ToolChainCore_SetToolCorrection", "ToolChainCore_LoadAxisCorrections",
                        "ToolChainCore_CorrectPosition", "ToolChainCore_SetSmoothing", "ToolChainCore_GetSmoothing",
-                       "ToolChainCore_SmoothSamples", "ToolChainCore_TestClock")
+                       "ToolChainCore_SmoothSamples", "ToolChainCore_TestClock",
+                       "ToolChain_TestAllocFail")
 # DriverMFunc's answer "the host confirms later" (ToolChainCore_ConfirmMFunc)
 TC_MFUNC_LATER = 2
 # ToolChainCore_TestClock's key: the test-only stepped clock of the offline machine
 TC_TEST_CLOCK_KEY = 0x4B434F4C43545354
+# ToolChain_TestAllocFail's key: the test-only allocation failure (docs/testing.md)
+TC_TEST_ALLOC_KEY = 0x434F4C4C41545354
 
 
 # Readable repr() and to_dict() of every structure (added to the classes above,

@@ -8,6 +8,7 @@
 # (tests/harness/__init__.py). The entry points of each stage:
 include "libSF_TCh.pyx"
 
+from libc.stdlib cimport malloc, calloc
 from libc.string cimport strncat
 from libc.math cimport fabs
 from posix.time cimport clock_gettime, timespec

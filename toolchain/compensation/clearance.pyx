@@ -17,7 +17,7 @@
 # and CL_G1 * CL_G1 elements; CL_BATCH consecutive pieces share one search of the boxes.
 # Cheap proofs (_cl_far) settle most pairs, the rest is measured exactly
 # (_cl_piece_gap): O(n) on ordinary contours.
-from libc.stdlib cimport malloc, free
+from libc.stdlib cimport free
 from libc.string cimport memmove, memcpy
 from libc.math cimport fabs, sqrt, M_PI
 
@@ -924,8 +924,8 @@ cdef bint _cl_far_check(CompState *S, size_t last, bint closed, bint skip_first,
     if not _cl_far_needed(C, last, closed):
         return True
     ns = (n + CL_SUPER - 1) / CL_SUPER
-    cbox = <double *>malloc(4 * ns * sizeof(double))
-    hot = <uint8_t *>malloc(n)
+    cbox = <double *>tc_malloc(4 * ns * sizeof(double))
+    hot = <uint8_t *>tc_malloc(n)
     if cbox == NULL or hot == NULL:
         free(cbox)
         free(hot)

@@ -18,7 +18,7 @@
 #      parts and their corner insertions queued;
 #   5. one merge pass rebuilds the part array with the insertions and gives the parts
 #      without motion in the plane the compensated position they sit at.
-from libc.stdlib cimport malloc, free, calloc
+from libc.stdlib cimport free
 from libc.string cimport memcpy, memset, memchr
 from libc.stdio cimport snprintf
 from libc.math cimport fabs, sin, M_PI

@@ -23,7 +23,7 @@
 # At the chain's end its whole path is checked against the contour (clearance.pyx): a
 # cut that kept the wrong side (a chain started inside a neck narrower than the tool)
 # is a gouge, and the chain is rebuilt from its regions (0x80000, regions.pyx).
-from libc.stdlib cimport malloc, free
+from libc.stdlib cimport free
 from libc.string cimport memmove, memcpy, memset
 from libc.math cimport fabs, M_PI
 

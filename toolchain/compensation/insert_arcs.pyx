@@ -13,7 +13,7 @@
 # Runs after the compensation on the path the tool follows (Part.ce; Part.e too when
 # the part is not compensated). One pass, O(n); no pass at all when neither the host
 # (insertArcMode 1) nor any G167 of the program switches insertion on.
-from libc.stdlib cimport free, malloc
+from libc.stdlib cimport free
 from libc.string cimport memcpy, memset
 from libc.math cimport fabs, atan2, cos, tan, M_PI
 

@@ -14,7 +14,7 @@
 # change of the planning settings (G900, M-5). 0 in tolerance[2] joins nothing;
 # 0 in tolerance[3] joins exactly collinear parts only.
 from libc.math cimport sqrt, cos, M_PI
-from libc.stdlib cimport malloc, free
+from libc.stdlib cimport free
 from libc.string cimport memcpy, memcmp
 
 cdef extern from *:
@@ -109,7 +109,7 @@ cdef int join_lines(ProgramBuilder *build, const GCODE_PARAMETERS *params) noexc
     if do_join:
         cos_tol = cos(tol_angle * (M_PI / 180.0))
         dev2 = tol_dev * tol_dev if tol_dev > 0.0 else 0.0
-        left_e = <double *>malloc(6 * JOIN_RUN_MAX * sizeof(double))
+        left_e = <double *>tc_malloc(6 * JOIN_RUN_MAX * sizeof(double))
         if left_e == NULL:
             return COMPILE_ERROR
         left_c = left_e + 3 * JOIN_RUN_MAX

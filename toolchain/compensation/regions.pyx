@@ -25,7 +25,7 @@
 # that crosses itself) become inserted parts (an arc out of order: the rebuild does not
 # apply), elements without a piece on their own part are removed (warning 600 on their
 # lines).
-from libc.stdlib cimport malloc, free, qsort
+from libc.stdlib cimport free, qsort
 from libc.math cimport fabs, fmax, sin, sqrt, M_PI
 from libc.float cimport DBL_EPSILON
 
@@ -565,7 +565,7 @@ cdef int regions_rebuild(CompState *S) noexcept nogil:
             elif R.els[el_i].kind != EL_LINE:
                 return REGIONS_NOT_APPLICABLE
         prev_piece = u.piece
-    kept = <uint8_t *>malloc(R.n_els)
+    kept = <uint8_t *>tc_malloc(R.n_els)
     if kept == NULL:
         return comp_fail(S, ERR_OUT_OF_MEMORY, S.chain_first, 0, 0)
     for j in range(R.n_els):

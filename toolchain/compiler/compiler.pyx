@@ -1,7 +1,7 @@
 # The G-code compiler: runs prefix, main text and postfix line by line (the program
 # is interpreted once, loops and calls included) and appends one Part per G/M
 # function. Modal G functions and non-signalled M functions change the state only.
-from libc.stdlib cimport calloc, free
+from libc.stdlib cimport free
 from libc.string cimport memchr, memcpy, memset, strlen
 from libc.stdio cimport snprintf
 from libc.math cimport floor
@@ -83,11 +83,12 @@ cdef int cp_line(CState *st, const char *p, const char *eol) noexcept nogil:
 
 cdef uint32_t count_lines(const char *text, size_t n) noexcept nogil:
     cdef const char *p = text
-    cdef const char *end = text + n
+    cdef const char *end
     cdef const char *q
     cdef uint32_t lines = 0
     if n == 0:
-        return 0
+        return 0                        # text may be NULL (no prefix): no pointer arithmetic on it
+    end = text + n
     while p < end:
         q = <const char *>memchr(p, b'\n', end - p)
         lines += 1
@@ -266,7 +267,7 @@ cdef int compile_program(const CompileInput *inp, ProgramBuilder *build, ErrorIn
     """Compiles inp.text (prefix, main, postfix) into build.prog; COMPILE_OK, or COMPILE_ERROR
     with err filled, or COMPILE_CANCELLED when inp.cancel was set."""
     cdef Program *prog = &build.prog
-    cdef CState *st = <CState *>calloc(1, sizeof(CState))
+    cdef CState *st = <CState *>tc_calloc(1, sizeof(CState))
     cdef Unit units[3]
     cdef int i, result = COMPILE_OK
     cdef uint64_t lines = 0

@@ -1,7 +1,7 @@
 # Jump targets of one source (prefix, main or postfix): labels `name:` alone on a
 # line, the first word of a G29 comment, and N numbers at the start of a line.
 # Built lazily on the first CALL/GOTO, so straight programs never pay for it.
-from libc.stdlib cimport calloc, free
+from libc.stdlib cimport free
 from libc.stdint cimport uint64_t
 
 
@@ -59,7 +59,7 @@ cdef int lb_insert(CState *st, Unit *u, const char *name, int n, int64_t nval, s
         old = u.labels
         old_cap = u.cap_labels
         u.cap_labels = old_cap * 2 if old_cap else 256
-        u.labels = <Label *>calloc(u.cap_labels, sizeof(Label))
+        u.labels = <Label *>tc_calloc(u.cap_labels, sizeof(Label))
         if u.labels == NULL:
             u.labels = old
             u.cap_labels = old_cap

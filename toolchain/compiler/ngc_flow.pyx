@@ -460,7 +460,7 @@ cdef bint ow_if_seen(NgcState *n, const NgcLabel *lab, bint add) noexcept nogil:
         return False
     if 2 * (n.n_if_keys + 1) > cap:
         n.cap_if_keys = 64 if cap == 0 else 2 * cap
-        n.if_keys = <uint64_t *>calloc(n.cap_if_keys, sizeof(uint64_t))
+        n.if_keys = <uint64_t *>tc_calloc(n.cap_if_keys, sizeof(uint64_t))
         if n.if_keys == NULL:
             n.if_keys = old
             n.cap_if_keys = cap

@@ -4,7 +4,7 @@
 # #<_x>, #<_motion_mode>, ... Values in [ ] expressions with LinuxCNC's operators and
 # functions. Everything on a line is evaluated when the line is read; the parameter
 # settings of the line take effect after that (so `#1=5 X#1` moves to the old #1).
-from libc.stdlib cimport calloc, free
+from libc.stdlib cimport free
 from libc.string cimport memcmp, memcpy
 from libc.math cimport (sin, cos, tan, asin, acos, atan2, fabs, sqrt, log, exp, floor, ceil,
                         pow, fmod, round, M_PI, isfinite)
@@ -19,7 +19,7 @@ cdef extern from *:
 
 cdef NgcState *ngc_new() noexcept nogil:
     """The ISO mode's state at the start of a program: every parameter 0, G54, G98."""
-    cdef NgcState *n = <NgcState *>calloc(1, sizeof(NgcState))
+    cdef NgcState *n = <NgcState *>tc_calloc(1, sizeof(NgcState))
     if n == NULL:
         return NULL
     n.coord = 1
@@ -87,7 +87,7 @@ cdef bint ngc_names_index(NgcState *n) noexcept nogil:
     while want < 2 * n.n_names + 2:
         want *= 2
     free(n.name_slots)
-    n.name_slots = <uint32_t *>calloc(want, sizeof(uint32_t))
+    n.name_slots = <uint32_t *>tc_calloc(want, sizeof(uint32_t))
     n.n_slots = want if n.name_slots != NULL else 0
     if n.name_slots == NULL:
         return False

@@ -10,7 +10,8 @@
  *               zero-initialised mutex, condition or once is valid on both systems,
  *               as the library's static ones rely on. On Windows the first thread or
  *               key pins the module (FreeLibrary while a worker runs is safe)
- *   memory      the madvise prefault hint; refused on Windows
+ *   memory      the one allocator (tc_malloc, tc_calloc, tc_realloc, tc_strdup) with
+ *               its test-only fault; the madvise prefault hint, refused on Windows
  *   time        a monotonic clock in seconds, sleeps, the local wall-clock time
  *   files       regular files opened without blocking (a FIFO, a device, a console
  *               is refused before any read) by UTF-8 names; fopen by UTF-8 name
@@ -30,6 +31,56 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+
+/* ------------------------------------------------------------------ memory */
+/* Every allocation of the library goes through these four (free() releases what they
+   return). They are the C library's, but for a test-only fault, SQLite-style: after
+   tc_alloc_fail_nth(n), the nth allocation from then on (on any thread) fails once, as
+   an exhausted memory would, so that a test can fail each allocation of an operation in
+   turn (ToolChain_TestAllocFail in tgm_cnc.h). Off, the cost is one relaxed load. */
+static int64_t tc_alloc_countdown;      /* > 0: allocations left until the one that fails */
+
+/* Where the failure happens: a debugger's breakpoint (gdb: break tc_alloc_failed, then bt). */
+__attribute__((noinline)) static int tc_alloc_failed(void) {
+    __asm__ volatile("");
+    return 1;
+}
+
+static inline int tc_alloc_fails(void) {
+    int64_t left = __atomic_load_n(&tc_alloc_countdown, __ATOMIC_RELAXED);
+    while (left > 0)
+        if (__atomic_compare_exchange_n(&tc_alloc_countdown, &left, left - 1, 0,
+                                        __ATOMIC_RELAXED, __ATOMIC_RELAXED))
+            return left == 1 && tc_alloc_failed();
+    return 0;
+}
+
+/* Arms the fault (n > 0: the nth allocation from now fails; 0: none) and returns how many
+   allocations the previous setting still had to go: 0 once its failure happened. */
+static inline int64_t tc_alloc_fail_nth(int64_t n) {
+    return __atomic_exchange_n(&tc_alloc_countdown, n > 0 ? n : 0, __ATOMIC_SEQ_CST);
+}
+
+static inline void *tc_malloc(size_t n) {
+    return tc_alloc_fails() ? NULL : malloc(n);
+}
+
+static inline void *tc_calloc(size_t count, size_t n) {
+    return tc_alloc_fails() ? NULL : calloc(count, n);
+}
+
+/* NULL when refused, the block then unchanged */
+static inline void *tc_realloc(void *p, size_t n) {
+    return tc_alloc_fails() ? NULL : realloc(p, n);
+}
+
+static inline char *tc_strdup(const char *s) {
+    size_t n = strlen(s) + 1;
+    char *copy = (char *)tc_malloc(n);
+    if (copy != NULL)
+        memcpy(copy, s, n);
+    return copy;
+}
 
 /* ================================================================== Windows */
 #if defined(_WIN32)
@@ -90,7 +141,7 @@ static void tc_pin_module(void) {
 #define TC_MODULE_PINNED_AT_DETACH() (tc_module_pinned != 0)
 
 static int pthread_create(pthread_t *thread, const pthread_attr_t *attr, void *(*start)(void *), void *arg) {
-    tc_thread_start *run = (tc_thread_start *)malloc(sizeof *run);
+    tc_thread_start *run = (tc_thread_start *)tc_malloc(sizeof *run);
     (void)attr;
     if (run == NULL)
         return ENOMEM;
@@ -239,7 +290,7 @@ typedef wchar_t tc_host_char;
    are not UTF-8 become U+FFFD. */
 static wchar_t *tc_utf8_to_wide(const char *utf8) {
     int n = MultiByteToWideChar(CP_UTF8, 0, utf8, -1, NULL, 0);
-    wchar_t *wide = n > 0 ? (wchar_t *)malloc((size_t)n * sizeof(wchar_t)) : NULL;
+    wchar_t *wide = n > 0 ? (wchar_t *)tc_malloc((size_t)n * sizeof(wchar_t)) : NULL;
     if (wide != NULL && MultiByteToWideChar(CP_UTF8, 0, utf8, -1, wide, n) != n) {
         free(wide);
         wide = NULL;
@@ -251,7 +302,7 @@ static wchar_t *tc_utf8_to_wide(const char *utf8) {
    surrogate becomes U+FFFD. */
 static char *tc_wide_to_utf8(const wchar_t *wide) {
     int n = WideCharToMultiByte(CP_UTF8, 0, wide, -1, NULL, 0, NULL, NULL);
-    char *utf8 = n > 0 ? (char *)malloc((size_t)n) : NULL;
+    char *utf8 = n > 0 ? (char *)tc_malloc((size_t)n) : NULL;
     if (utf8 != NULL && WideCharToMultiByte(CP_UTF8, 0, wide, -1, utf8, n, NULL, NULL) != n) {
         free(utf8);
         utf8 = NULL;
@@ -291,8 +342,8 @@ static const tc_host_char *tc_text_to_host_kept(const char *utf8) {
     for (t = tc_kept_texts; t != NULL; t = t->next)
         if (strcmp(t->utf8, utf8) == 0)
             break;
-    if (t == NULL && (t = (tc_kept_text *)calloc(1, sizeof *t)) != NULL) {
-        t->utf8 = _strdup(utf8);
+    if (t == NULL && (t = (tc_kept_text *)tc_calloc(1, sizeof *t)) != NULL) {
+        t->utf8 = tc_strdup(utf8);
         t->wide = tc_utf8_to_wide(utf8);
         if (t->utf8 == NULL || t->wide == NULL) {
             free(t->utf8);
@@ -341,7 +392,7 @@ static char *tc_narrow_from_host(const char *text) {
     if (!tc_narrow_needs_conversion(text))
         return NULL;
     n = MultiByteToWideChar(CP_ACP, 0, text, -1, NULL, 0);
-    wide = n > 0 ? (wchar_t *)malloc((size_t)n * sizeof(wchar_t)) : NULL;
+    wide = n > 0 ? (wchar_t *)tc_malloc((size_t)n * sizeof(wchar_t)) : NULL;
     if (wide == NULL || MultiByteToWideChar(CP_ACP, 0, text, -1, wide, n) != n) {
         free(wide);
         return NULL;
@@ -364,7 +415,7 @@ static char *tc_narrow_to_host(const char *utf8) {
     if (wide == NULL)
         return NULL;
     n = WideCharToMultiByte(CP_ACP, WC_NO_BEST_FIT_CHARS, wide, -1, NULL, 0, "?", NULL);
-    ansi = n > 0 ? (char *)malloc((size_t)n) : NULL;
+    ansi = n > 0 ? (char *)tc_malloc((size_t)n) : NULL;
     if (ansi != NULL && WideCharToMultiByte(CP_ACP, WC_NO_BEST_FIT_CHARS, wide, -1, ansi, n, "?", NULL) != n) {
         free(ansi);
         ansi = NULL;
@@ -449,7 +500,7 @@ static void tc_c_numbers_enter(tc_c_numbers *g) {
     if (!g->switched)
         return;
     g->previous_mode = _configthreadlocale(_ENABLE_PER_THREAD_LOCALE);
-    g->previous = _strdup(setlocale(LC_NUMERIC, NULL));
+    g->previous = tc_strdup(setlocale(LC_NUMERIC, NULL));
     setlocale(LC_NUMERIC, "C");
 }
 

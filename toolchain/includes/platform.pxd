@@ -46,6 +46,15 @@ cdef extern from "platform.h" nogil:
     int pthread_key_delete(pthread_key_t key)
     int pthread_setspecific(pthread_key_t key, const void *value)
 
+    # the one allocator: every allocation of the library (free() releases it); NULL when
+    # memory is exhausted, or at the test-only fault tc_alloc_fail_nth arms (the nth
+    # allocation from now fails once; returns what the previous setting had left to go)
+    void *tc_malloc(size_t n)
+    void *tc_calloc(size_t count, size_t n)
+    void *tc_realloc(void *p, size_t n)         # NULL: p unchanged
+    char *tc_strdup(const char *s)
+    int64_t tc_alloc_fail_nth(int64_t n)
+
     # memory advice: faulting pages in ahead of their writer; only a hint (refused: a
     # hint less)
     int madvise(void *addr, size_t length, int advice)

@@ -19,6 +19,7 @@ cdef extern from "tgm_cnc.h" nogil:
     uint32_t GCODE_REZERVA1_APPLY_UNIMPLEMENTED
     int32_t TC_MFUNC_LATER
     uint64_t TC_TEST_CLOCK_KEY
+    uint64_t TC_TEST_ALLOC_KEY
     # the log mask's sources and destinations (SetLogValue)
     uint32_t LOG_TO_CONSOLE, LOG_TO_FILE, LOG_TO_TGM
     uint32_t LOG_DEBUG, LOG_VERBOSE, LOG_WORKER, LOG_TOOLCHAIN, LOG_DRIVER, LOG_COMPILER

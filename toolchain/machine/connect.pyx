@@ -122,7 +122,7 @@ cdef void *connect_body(void *arg) noexcept nogil:
     cdef Feeder f
     cdef Machine *m = machine_worker_begin(&job.head, &f)
     cdef ConnectHit hit
-    cdef ErrorInfo *err = <ErrorInfo *>calloc(1, sizeof(ErrorInfo))
+    cdef ErrorInfo *err = <ErrorInfo *>tc_calloc(1, sizeof(ErrorInfo))
     cdef SIMPLE_GM_PARAMS dest
     cdef Callback cb
     cdef double point[AXES]
@@ -199,5 +199,5 @@ cdef int32_t core_connect(Core *core, uint32_t n_type, uint32_t n_coords, const 
     job.state_after = state_after
     job.status_before = core_status(core)
     if add_code != NULL:
-        job.add_code = strdup(add_code)
+        job.add_code = tc_strdup(add_code)
     return core_start(core, &job.head, "ConnectCNCEx_Plane")

@@ -28,7 +28,7 @@
 # point counts by its two end points only, so a far point connects to a vertex of
 # the trajectory, never into the middle of a part; <= 0 (or not finite) = no limit.
 from libc.math cimport sqrt, floor, isfinite, INFINITY
-from libc.stdlib cimport malloc, free
+from libc.stdlib cimport free
 from libc.string cimport memset
 
 
@@ -404,13 +404,13 @@ cdef int connect_index_build(ConnectIndex *ix, const Program *prog, const Placem
     while first_leaf < n_leaves:
         first_leaf <<= 1
     ix.first_leaf = first_leaf
-    ix.items = <uint32_t *>malloc(m * sizeof(uint32_t))
-    ix.boxes = <double *>malloc((2 * first_leaf * width + 1) * sizeof(double))
-    ix.span = <uint32_t *>malloc(4 * first_leaf * sizeof(uint32_t))
-    order = <uint32_t *>malloc(m * sizeof(uint32_t))
-    keys = <uint64_t *>malloc(m * sizeof(uint64_t))
-    spare = <uint64_t *>malloc(m * sizeof(uint64_t))
-    part_box = <double *>malloc((m * width + 1) * sizeof(double))
+    ix.items = <uint32_t *>tc_malloc(m * sizeof(uint32_t))
+    ix.boxes = <double *>tc_malloc((2 * first_leaf * width + 1) * sizeof(double))
+    ix.span = <uint32_t *>tc_malloc(4 * first_leaf * sizeof(uint32_t))
+    order = <uint32_t *>tc_malloc(m * sizeof(uint32_t))
+    keys = <uint64_t *>tc_malloc(m * sizeof(uint64_t))
+    spare = <uint64_t *>tc_malloc(m * sizeof(uint64_t))
+    part_box = <double *>tc_malloc((m * width + 1) * sizeof(double))
     if (ix.items == NULL or ix.boxes == NULL or ix.span == NULL or order == NULL or keys == NULL
             or spare == NULL or part_box == NULL):
         free(order)

@@ -12,8 +12,8 @@
 # Neither waits for the other: the ring of entries and the event queue are the only
 # things they share. The machine's place on the path (part, distance, the parts it
 # ran, for backward) outlives the run, so the next StartCNCEx continues there.
-from libc.stdlib cimport malloc, calloc, free
-from libc.string cimport memset, memcpy, memmove, strdup
+from libc.stdlib cimport free
+from libc.string cimport memset, memcpy, memmove
 from libc.math cimport fabs, isfinite
 
 
@@ -21,7 +21,7 @@ cdef Machine *machine_of(Core *core) noexcept nogil:
     """The core's machine, made on first use (with core.lock held)."""
     cdef Machine *m = <Machine *>core.offline
     if m == NULL:
-        m = <Machine *>calloc(1, sizeof(Machine))
+        m = <Machine *>tc_calloc(1, sizeof(Machine))
         if m == NULL:
             return NULL
         pthread_mutex_init(&m.lock, NULL)
@@ -624,7 +624,7 @@ cdef Machine *machine_worker_begin(Job *job, Feeder *f) noexcept nogil:
     cdef Machine *m
     worker_thread_mark(core)
     memset(f, 0, sizeof(Feeder))
-    f.params = <GCODE_PARAMETERS *>malloc(sizeof(GCODE_PARAMETERS))
+    f.params = <GCODE_PARAMETERS *>tc_malloc(sizeof(GCODE_PARAMETERS))
     pthread_mutex_lock(&core.lock)
     m = <Machine *>core.offline           # machine_prepare made it and its place
     if f.params != NULL:

@@ -14,7 +14,7 @@
 # a part's start or end the M function goes between the parts. Numbers from 1001 on
 # are continuous (never stop the motion), others wait like any waiting M function; all
 # carry FLAG_INSERTED. The caller plans again afterwards.
-from libc.stdlib cimport malloc, free, qsort
+from libc.stdlib cimport free, qsort
 from libc.string cimport memcmp, memcpy
 from libc.math cimport acos, M_PI
 
@@ -375,7 +375,7 @@ cdef int mfunc_insert(ProgramBuilder *build, const GCODE_PARAMETERS *params) noe
     cdef bint ok
     if n == 0:
         return COMPILE_OK
-    at = <double *>malloc((n + 1) * sizeof(double))
+    at = <double *>tc_malloc((n + 1) * sizeof(double))
     if at == NULL:
         return COMPILE_ERROR
     at[0] = 0.0
@@ -389,7 +389,7 @@ cdef int mfunc_insert(ProgramBuilder *build, const GCODE_PARAMETERS *params) noe
     free(at)
     if ok and targets.n > 0:
         qsort(targets.items, targets.n, sizeof(MfuncTarget), _mfi_target_compare)
-        repl = <MfiReplacement *>malloc(targets.n * sizeof(MfiReplacement))     # at most one a target
+        repl = <MfiReplacement *>tc_malloc(targets.n * sizeof(MfiReplacement))     # at most one a target
         ok = repl != NULL and _mfi_make_insertions(build, &targets, &ins, repl, &n_repl)
     if ok:                              # every insertion is made: the parts that change in place
         for k in range(n_repl):

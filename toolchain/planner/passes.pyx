@@ -15,7 +15,7 @@
 # O(parts x window), O(parts) where the junctions' limits bind. The sweep may start
 # and end at a part where the machine stands (plan_range): two ranges plan at once
 # (pipeline.pyx) and give the same plan.
-from libc.stdlib cimport malloc, realloc, free
+from libc.stdlib cimport free
 from libc.math cimport sqrt, HUGE_VAL
 from libc.string cimport memcpy
 
@@ -236,7 +236,7 @@ cdef void _plan_passing(const Program *prog, size_t first, size_t end, double v,
 cdef PlanNode *_ring_grow(PlanNode *ring, size_t cap, size_t first, size_t end) noexcept nogil:
     """The ring of nodes [first, end) (node k at k & (cap - 1), cap a power of two)
     with twice the room; NULL (ring freed) when out of memory."""
-    cdef PlanNode *grown = <PlanNode *>malloc(2 * cap * sizeof(PlanNode))
+    cdef PlanNode *grown = <PlanNode *>tc_malloc(2 * cap * sizeof(PlanNode))
     cdef size_t k
     if grown != NULL:
         for k in range(first, end):
@@ -282,7 +282,7 @@ cdef bint plan_alloc(Program *prog, const GCODE_PARAMETERS *params, uint32_t enh
     if prog.n_parts == 0:
         plan_drop(prog)
         return True
-    plan = <PartPlan *>realloc(prog.plan, prog.n_parts * sizeof(PartPlan))
+    plan = <PartPlan *>tc_realloc(prog.plan, prog.n_parts * sizeof(PartPlan))
     if plan == NULL:
         plan_drop(prog)
         return False
@@ -348,7 +348,7 @@ cdef int _sweep(const Program *prog, const Placement *pl, const GCODE_PARAMETERS
     while cap < depth and cap < RING_START:     # a power of two: node k at k & mask
         cap *= 2
     mask = cap - 1
-    ring = <PlanNode *>malloc(cap * sizeof(PlanNode))   # nodes i.. (at most depth of them)
+    ring = <PlanNode *>tc_malloc(cap * sizeof(PlanNode))   # nodes i.. (at most depth of them)
     if ring == NULL:
         return COMPILE_ERROR
     src.prog = prog

@@ -3,7 +3,6 @@
 # IdxToFile gave and read it while another thread recycles that entry for another
 # name: the text it points to is never rewritten. The store holds every distinct name
 # once (at most 252 bytes each), so it grows only with names never seen before.
-from libc.stdlib cimport malloc
 from libc.string cimport strlen, strcmp, memcpy
 
 
@@ -22,7 +21,7 @@ cdef const char *_name_store_intern(FileTable *t, const char *name) noexcept nog
         chunk = chunk.next
     chunk = t.store
     if chunk == NULL or chunk.used + n > sizeof(chunk.text):
-        fresh = <NameChunk *>malloc(sizeof(NameChunk))
+        fresh = <NameChunk *>tc_malloc(sizeof(NameChunk))
         if fresh == NULL:
             return NULL
         fresh.next = chunk

@@ -5,7 +5,7 @@
 # error) and each thread that read it, until that thread reads the same kind of
 # error of that core again or ends. The last release frees it, so a text a thread
 # got stays valid while that thread holds it, whatever other threads do meanwhile.
-from libc.stdlib cimport malloc, free
+from libc.stdlib cimport free
 from libc.string cimport memset
 
 cdef extern from *:
@@ -54,7 +54,7 @@ cdef PublishedError *published_error_new(const ErrorInfo *err) noexcept nogil:
     pthread_once(&g_held_once, _make_held_key)
     if err != NULL and err.number == 0:
         return NULL
-    e = <PublishedError *>malloc(sizeof(PublishedError)) if err != NULL else NULL
+    e = <PublishedError *>tc_malloc(sizeof(PublishedError)) if err != NULL else NULL
     if e == NULL:
         TC_REF_ADD(&g_out_of_memory_error.refs)
         return &g_out_of_memory_error

@@ -11,8 +11,8 @@
 # made inside a callback of a running activity (on any worker thread) never waits
 # for a worker: it leaves its end to the worker, which applies it when the callback
 # has returned.
-from libc.stdlib cimport malloc, calloc, free
-from libc.string cimport memset, memcpy, memcmp, strdup
+from libc.stdlib cimport free
+from libc.string cimport memset, memcpy, memcmp
 
 
 cdef bint activity_of(int32_t command, Activity *a) noexcept nogil:
@@ -66,7 +66,7 @@ cdef Job *job_new(int32_t command) noexcept nogil:
     cdef Job *job
     if not activity_of(command, &a):
         return NULL
-    job = <Job *>calloc(1, a.job_size)
+    job = <Job *>tc_calloc(1, a.job_size)
     if job != NULL:
         job.command = command
     return job
@@ -100,7 +100,7 @@ cdef int32_t core_start_run(Core *core, int32_t regime, const char *add_code) no
         return core_fail(core, ERR_OUT_OF_MEMORY, NULL)
     job.regime = regime
     if add_code != NULL:
-        job.add_code = strdup(add_code)
+        job.add_code = tc_strdup(add_code)
     return core_start(core, &job.head, "StartCNCEx")
 
 
@@ -161,7 +161,7 @@ cdef int32_t core_start(Core *core, Job *job, const char *what) noexcept nogil:
             return core_fail(core, err, NULL)
         return core_refuse(core, what, status)
     if a.prepare != NULL:
-        refusal = <ErrorInfo *>calloc(1, sizeof(ErrorInfo))
+        refusal = <ErrorInfo *>tc_calloc(1, sizeof(ErrorInfo))
         if refusal == NULL or not a.prepare(core, job, refusal):
             pthread_mutex_unlock(&core.lock)
             job_free(job)
@@ -223,16 +223,15 @@ cdef int32_t _end_command(int32_t kind) noexcept nogil:
 cdef void _publish_position(Core *core, const double *position) noexcept nogil:
     """With core.lock held, GetPos after an end: standing at `position` (m_calcE: with
     the axis corrections, what the drives are sent), counters cleared."""
-    cdef SnapshotData *data = <SnapshotData *>calloc(1, sizeof(SnapshotData))
-    if data == NULL:
-        return
+    cdef SnapshotData view                 # on the stack: an end never goes without it
+    cdef SnapshotData *data = &view
+    memset(data, 0, sizeof(SnapshotData))
     data.pos.m_fileIdx = -1
     memcpy(&data.pos.m_s, position, sizeof(P10DOUBLE))
     data.pos.m_e = data.pos.m_s
     data.pos.m_calcS = data.pos.m_s
     axis_correction_apply(core.axis_corrections, position, <double *>&data.pos.m_calcE)
     snapshot_publish(&core.snap, data)
-    free(data)
 
 
 cdef LoadedProgram *_apply_end_locked(Core *core, int32_t kind) noexcept nogil:
@@ -257,15 +256,15 @@ cdef LoadedProgram *_apply_end_locked(Core *core, int32_t kind) noexcept nogil:
     return dropped
 
 
-cdef void _refresh_size_info(Core *core) noexcept nogil:
+cdef bint core_refresh_size_info(Core *core) noexcept nogil:
     """GetGCodeSizeInfo of the core's program from the current machine position: a
-    pass over the immutable program, outside the lock."""
+    pass over the immutable program, outside the lock. False when out of memory: the
+    extent is marked stale, and GetGCodeSizeInfo measures it before it answers."""
     cdef LoadedProgram *lp
     cdef Placement placement
-    cdef GCODE_INFO *info = <GCODE_INFO *>malloc(sizeof(GCODE_INFO))
+    cdef GCODE_INFO extent                 # on the stack: a reset never goes without it
+    cdef GCODE_INFO *info = &extent
     cdef bint ok = False
-    if info == NULL:
-        return
     pthread_mutex_lock(&core.lock)
     lp = loaded_program_ref(core.program)
     if lp != NULL:
@@ -276,9 +275,12 @@ cdef void _refresh_size_info(Core *core) noexcept nogil:
         pthread_mutex_lock(&core.lock)
         if ok and core.program == lp and memcmp(placement.start, core.position, sizeof(placement.start)) == 0:
             core.size_info = info[0]
+            core.size_info_stale = False
+        elif not ok and core.program == lp:
+            core.size_info_stale = True
         pthread_mutex_unlock(&core.lock)
         loaded_program_release(lp)
-    free(info)
+    return ok or lp == NULL
 
 
 cdef int32_t core_end(Core *core, int32_t kind, const char *what, uint32_t n_coords,
@@ -311,7 +313,7 @@ cdef int32_t core_end(Core *core, int32_t kind, const char *what, uint32_t n_coo
     pthread_mutex_unlock(&core.lock)
     loaded_program_release(dropped)
     if kind == END_RESET:
-        _refresh_size_info(core)
+        core_refresh_size_info(core)
     return TOOL_CHAIN_SUCCESS
 
 
@@ -345,5 +347,5 @@ cdef void _finish(Core *core, int32_t event, int32_t status) noexcept nogil:
     pthread_mutex_unlock(&core.lock)
     loaded_program_release(dropped)
     if kind == END_RESET:
-        _refresh_size_info(core)
+        core_refresh_size_info(core)
     worker_thread_mark(NULL)

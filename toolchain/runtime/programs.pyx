@@ -3,14 +3,14 @@
 # every run that reads it holds its own, so replacing or dropping the core's program
 # (a new compilation, DestroyCNC) never frees parts under a reader: the last
 # release does.
-from libc.stdlib cimport calloc, free
+from libc.stdlib cimport free
 
 
 cdef LoadedProgram *loaded_program_new(Program *prog, const GCODE_INFO *extent,
                                        const int32_t *files) noexcept nogil:
     """Takes over `prog` (left empty) with one reference; NULL when out of memory
     (prog untouched)."""
-    cdef LoadedProgram *lp = <LoadedProgram *>calloc(1, sizeof(LoadedProgram))
+    cdef LoadedProgram *lp = <LoadedProgram *>tc_calloc(1, sizeof(LoadedProgram))
     if lp == NULL:
         return NULL
     lp.refs = 1

@@ -150,6 +150,9 @@ cdef void core_finish(Core *core, int32_t event) noexcept nogil
 cdef void core_finish_to(Core *core, int32_t status) noexcept nogil
 cdef int32_t core_end(Core *core, int32_t kind, const char *what, uint32_t n_coords,
                       const double *coords) noexcept nogil
+# GetGCodeSizeInfo's extent measured again from the start position (False: out of memory,
+# size_info_stale set)
+cdef bint core_refresh_size_info(Core *core) noexcept nogil
 
 # a run's driver session (session.pyx): opened for a run in a regime (holds: waiting M
 # functions hold it until answered); DriverInitialize, DriverEnd; a part as it begins

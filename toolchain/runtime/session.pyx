@@ -12,7 +12,7 @@
 # stays sent: the next run goes on after it), the end of the activity drops it, and
 # the next activity begins without one. The core keeps the handshake's state
 # (core.pxd: m_waiting, m_answered) so that ConfirmMFunc reaches it from any thread.
-from libc.string cimport memset, memcpy, strdup
+from libc.string cimport memset, memcpy
 from libc.stdlib cimport strtol, free
 
 
@@ -126,7 +126,7 @@ cdef void _add_code_part(SIMPLE_GM_PARAMS *gm, int32_t number, const double *pos
 
 cdef void session_keep_stop_code(Core *core, const char *code) noexcept nogil:
     """StopCNCEx's addCode, for the run to send once it stands."""
-    cdef char *copy = strdup(code)
+    cdef char *copy = tc_strdup(code)
     pthread_mutex_lock(&core.lock)
     free(core.stop_code)
     core.stop_code = copy

@@ -14,7 +14,7 @@
 # The IIR filter is H(s) = q / ((s/w)^2 + p (s/w) + q), w = 2 pi / f, on the axes of
 # its mask, discretised exactly for an input held over each period: the state
 # (position - input, velocity) advances by the 2x2 matrix exponential of one period.
-from libc.stdlib cimport malloc, free
+from libc.stdlib cimport free
 from libc.string cimport memcpy
 from libc.math cimport exp, expm1, cos, sin, sqrt, fabs, floor, M_PI, INFINITY
 
@@ -165,7 +165,7 @@ cdef bint smoother_init(Smoother *s, const SmoothingConfig *config, double perio
         memcpy(s.history[k], start, sizeof(s.history[k]))
     if s.span > 0:
         rows = <uint64_t>s.span + 1
-        s.ring = <double *>malloc(rows * SMOOTHING_AXES * sizeof(double))
+        s.ring = <double *>tc_malloc(rows * SMOOTHING_AXES * sizeof(double))
         if s.ring == NULL:
             return False
         for row in range(rows):

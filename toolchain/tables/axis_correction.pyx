@@ -12,7 +12,7 @@
 # A file whose size, letters, ranges or values do not fit is refused with an error
 # naming the file and the field; a set of tables is published whole or not at all.
 # axis_correction_apply is pure: multilinear interpolation, the edge value outside.
-from libc.stdlib cimport calloc, malloc, free
+from libc.stdlib cimport free
 from libc.string cimport memcpy, memset
 from libc.math cimport floor
 
@@ -164,7 +164,7 @@ cdef bint _axis_table_parse(const unsigned char *data, size_t length, const char
             a[2].text = why
             set_error(err, ERR_AXIS_TABLE_VALUE, -1, 0, a, 3)
             return False
-    t.values = <float *>malloc(4 * total)
+    t.values = <float *>tc_malloc(4 * total)
     if t.values == NULL:
         set_error(err, ERR_OUT_OF_MEMORY, -1, 0, NULL, 0)
         return False
@@ -212,7 +212,7 @@ cdef bint axis_corrections_read(const char *const *paths, uint32_t n, AxisCorrec
     if n == 0:
         out[0] = NULL
         return True
-    tables = <AxisCorrections *>calloc(1, sizeof(AxisCorrections))
+    tables = <AxisCorrections *>tc_calloc(1, sizeof(AxisCorrections))
     if tables == NULL:
         set_error(err, ERR_OUT_OF_MEMORY, -1, 0, NULL, 0)
         return False
