@@ -69,8 +69,8 @@ def _broken(tmp_path, old, new, source=gen.CATALOGUE):
     ("number = 101\n", "number = 1101\n", "outside its section's range"),
     ('"ERR_FILE_READ"', '"ERR_FILE_OPEN"', "name used twice"),
     ('"ERR_FILE_READ"', '"FILE_READ"', "C name"),
-    ('"Out of memory"', '"Out of memory %ld"', "unsupported conversion"),
-    ('"Out of memory"', '"Out of memory: 100 °C"', "printable ASCII"),
+    ('"Compilation interrupted"', '"Compilation interrupted %ld"', "unsupported conversion"),
+    ('"Compilation interrupted"', '"Compilation interrupted: 100 °C"', "printable ASCII"),
     ('meaning = \'reading failed', 'meanng = \'reading failed', "unknown key"),
 ])
 def test_the_generator_refuses_a_broken_catalogue(tmp_path, old, new, complaint):
@@ -113,10 +113,14 @@ def test_the_library_formats_every_error_as_printf(harness):
     for error in (e for s in sections for e in s.errors):
         conversions = gen.conversions(error.format, error.name)
         args = tuple(_sample(c, i) for i, c in enumerate(conversions))
+        if error.name == "ERR_OUT_OF_MEMORY":       # its argument is the thread's stage, not the caller's
+            args = ("a call of the library",)
         text, arguments = harness.error_text(error.number, args)
         assert text == error.format % args, error.name
         assert arguments == "\n".join(c % a for c, a in zip(conversions, args)), error.name
     assert harness.error_text(999, ()) == ("Error 999", "")
+    assert harness.error_text(4, ("t0",)) == harness.error_text(4, ()) == (
+        "Out of memory (a call of the library)", "a call of the library")
 
 
 def test_the_library_names_every_status_as_the_header(harness):

@@ -11,7 +11,7 @@ cdef enum ErrorNumber:
     ERR_FILE_OPEN = 1                  # Cannot open file '%s'
     ERR_FILE_READ = 2                  # Cannot read file '%s'
     ERR_INI_OPEN = 3                   # Cannot open INI file '%s'
-    ERR_OUT_OF_MEMORY = 4              # Out of memory
+    ERR_OUT_OF_MEMORY = 4              # Out of memory (%s)
     ERR_CANCELLED = 5                  # Compilation interrupted
     ERR_NOTHING_COMPILED = 6           # No compiled program
     ERR_DRIVER_REFUSED = 7             # Driver callback %s returned %d
@@ -134,7 +134,7 @@ cdef extern from *:
         case 1: return "Cannot open file '%s'";
         case 2: return "Cannot read file '%s'";
         case 3: return "Cannot open INI file '%s'";
-        case 4: return "Out of memory";
+        case 4: return "Out of memory (%s)";
         case 5: return "Compilation interrupted";
         case 6: return "No compiled program";
         case 7: return "Driver callback %s returned %d";

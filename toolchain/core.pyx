@@ -120,6 +120,7 @@ cdef int _compile_and_compensate(Core *core, CompileInput *inp, ProgramBuilder *
     build.follow = NULL
     follow_destroy(&follow)
     if result == COMPILE_OK and build.prog.compensated:
+        tc_set_stage("the compensation")
         extent_beside_begin(&beside, &build.prog)
         result = compensate_end(comp, &beside.watch)
         measured[0] = extent_beside_end(&beside, result == COMPILE_OK, extent)
@@ -181,6 +182,7 @@ cdef int _compile_job(Core *core, CompileJob *job, ProgramBuilder *build, GCODE_
     core_progress(core, 0)
     result = _compile_and_compensate(core, inp, build, err, extent, &measured)
     n_parts = build.prog.n_parts
+    tc_set_stage("the automatic arcs")
     if result == COMPILE_OK:
         result = insert_arcs(build, &inp.params, err)
     if result == COMPILE_OK and join_lines(build, &inp.params) != COMPILE_OK:
@@ -200,6 +202,7 @@ cdef int _compile_job(Core *core, CompileJob *job, ProgramBuilder *build, GCODE_
     else:
         free(job.text)
     job.text = NULL
+    tc_set_stage("the plan")
     if result == COMPILE_OK and plan_beside_extent(build, &inp.params, machine_bits, inp.plan_window,
                                                    extent, measured) != COMPILE_OK:
         result = COMPILE_ERROR
@@ -237,6 +240,7 @@ cdef void *compile_body(void *arg) noexcept nogil:
     cdef PublishedError *kept = NULL
     cdef int result = COMPILE_ERROR
     cdef char text[400]
+    tc_set_stage("compiling")
     worker_thread_mark(core)
     program_builder_init(&build)
     if err != NULL and extent != NULL:

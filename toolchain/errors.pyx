@@ -39,6 +39,12 @@ cdef void set_error(ErrorInfo *err, int32_t number, int32_t file_idx, int32_t li
     cdef const char *p = fmt
     cdef char conv
     cdef const char *text_arg
+    cdef ErrArg stage
+    if number == ERR_OUT_OF_MEMORY:
+        stage.num = 0                   # the stage the thread works in (tc_set_stage), whatever the caller gave
+        stage.text = tc_stage()
+        args = &stage
+        n_args = 1
     err.number = number
     err.file_idx = file_idx
     err.line = line

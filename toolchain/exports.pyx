@@ -48,6 +48,7 @@ cdef int32_t _ini_read_tables(IniSettings *settings, ToolTable *tool_table, bint
     cdef const char *names[8]
     cdef uint32_t n = 0
     cdef int k
+    cdef bint good
     if not smoothing_check(&settings.smoothing, SMOOTHING_COMMAND_SPLINE, &why) \
             or not smoothing_check(&settings.smoothing, SMOOTHING_COMMAND_IIR, &why):
         c_snprintf(text, sizeof(text), "[Smoothing]: %s", why.text)
@@ -67,9 +68,10 @@ cdef int32_t _ini_read_tables(IniSettings *settings, ToolTable *tool_table, bint
             names[n] = settings.axis_table_files[k]
             n += 1
     has_axis_tables[0] = n > 0
-    if has_axis_tables[0] and not axis_corrections_read(names, n, axis_tables, err):
-        return err.number
-    return 0
+    tc_set_stage("reading an axis table")
+    good = not has_axis_tables[0] or axis_corrections_read(names, n, axis_tables, err)
+    tc_set_stage(NULL)
+    return 0 if good else err.number
 
 
 cdef public int32_t ToolChainCore_LoadFromIni(uint32_t intIdx, TGM_LPCTSTR iniFile, uint32_t *pnMaxCores) noexcept nogil:
@@ -115,7 +117,9 @@ cdef int32_t _load_from_ini(uint32_t intIdx, const char *iniFile, uint32_t *pnMa
     if tool_table == NULL:
         core_fail(core, ERR_OUT_OF_MEMORY, NULL)
         return TOOL_CHAIN_XEXEC
+    tc_set_stage("reading an INI file")
     result = ini_read(iniFile, ini_apply_setting, &settings)
+    tc_set_stage(NULL)
     if result != 0 and err.number == 0:     # the file's reading failed, not one of its keys
         set_error_text(&err, ERR_INI_OPEN if result == ERR_FILE_OPEN else result, -1, 0, iniFile)
     if result == 0:
@@ -866,6 +870,7 @@ cdef int32_t _load_axis_corrections(uint32_t intIdx, uint32_t nFiles, const char
     cdef AxisCorrections *old
     cdef ErrorInfo err
     cdef uint32_t k
+    cdef bint good
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
     for k in range(nFiles if nFiles <= AXIS_TABLES_MAX + 1 else AXIS_TABLES_MAX + 1):
@@ -873,7 +878,10 @@ cdef int32_t _load_axis_corrections(uint32_t intIdx, uint32_t nFiles, const char
             return core_fail(core, ERR_FILE_OPEN, "(null)")
         if fileNames[k][0] == 0:
             return core_fail(core, ERR_FILE_OPEN, fileNames[k])
-    if not axis_corrections_read(fileNames, nFiles, &tables, &err):     # read without the lock
+    tc_set_stage("reading an axis table")
+    good = axis_corrections_read(fileNames, nFiles, &tables, &err)      # read without the lock
+    tc_set_stage(NULL)
+    if not good:
         core_fail_with(core, &err)
         return TOOL_CHAIN_ERROR
     pthread_mutex_lock(&core.lock)
@@ -952,7 +960,10 @@ cdef public int32_t ToolChainCore_SmoothSamples(uint32_t intIdx, const double *s
         config = core.smoothing
         pthread_mutex_unlock(&core.lock)
         if not smoother_init(&smoother, &config, STEP_US * 1e-6, samples):
-            return core_fail(core, ERR_OUT_OF_MEMORY, NULL)
+            tc_set_stage("the smoothing")
+            core_fail(core, ERR_OUT_OF_MEMORY, NULL)
+            tc_set_stage(NULL)
+            return TOOL_CHAIN_ERROR
         for i in range(nSamples):
             memcpy(sample, samples + 10 * i, sizeof(sample))     # out may be samples
             smoother_push(&smoother, sample, out + 10 * i)

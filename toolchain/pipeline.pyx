@@ -46,6 +46,7 @@ cdef void *_follow_body(void *arg) noexcept nogil:
     cdef size_t taken = 0, upto, more = 0, ready = 0
     cdef bint last, low
     cdef int res
+    tc_set_stage("the compensation")
     pthread_mutex_lock(&F.lock)
     while not F.stop:
         if F.paused:
@@ -168,6 +169,7 @@ cdef void *_extent_beside_body(void *arg) noexcept nogil:
     cdef const Program *prog = E.prog
     cdef size_t lo, hi, last
     cdef bint written = prog.n_rotations > 1
+    tc_set_stage("the extent")
     pthread_mutex_lock(&E.lock)
     hi = E.total
     while True:
@@ -236,6 +238,7 @@ cdef bint extent_beside_end(ExtentBeside *E, bint merged, GCODE_INFO *extent) no
 
 cdef void *_plan_body(void *arg) noexcept nogil:
     cdef PlanJob *job = <PlanJob *>arg
+    tc_set_stage("the plan")
     job.result = plan_range(job.prog, job.params, job.enhanced, job.window, job.first, job.prog.n_parts)
     return NULL
 

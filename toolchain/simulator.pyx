@@ -88,6 +88,7 @@ cdef void *simulation_body(void *arg) noexcept nogil:
     cdef size_t i, n
     cdef uint32_t percent, last_percent = 0
     cdef const Part *p
+    tc_set_stage("the simulation")
     worker_thread_mark(core)
     memset(&counts, 0, sizeof(counts))
     lengths[0] = lengths[1] = 0.0

@@ -44,7 +44,7 @@ class ErrorNumber(enum.IntEnum):
     FILE_OPEN = 1  # Cannot open file '%s'
     FILE_READ = 2  # Cannot read file '%s'
     INI_OPEN = 3  # Cannot open INI file '%s'
-    OUT_OF_MEMORY = 4  # Out of memory
+    OUT_OF_MEMORY = 4  # Out of memory (%s)
     CANCELLED = 5  # Compilation interrupted
     NOTHING_COMPILED = 6  # No compiled program
     DRIVER_REFUSED = 7  # Driver callback %s returned %d

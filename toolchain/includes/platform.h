@@ -82,6 +82,18 @@ static inline char *tc_strdup(const char *s) {
     return copy;
 }
 
+/* The stage the calling thread works in (a static text: "compiling", "the compensation",
+   "the plan", ...), named by error 4 "Out of memory (%s)" when an allocation fails there. */
+static __thread const char *tc_stage_name;
+
+static inline void tc_set_stage(const char *stage) {
+    tc_stage_name = stage;
+}
+
+static inline const char *tc_stage(void) {
+    return tc_stage_name != NULL ? tc_stage_name : "a call of the library";
+}
+
 /* ================================================================== Windows */
 #if defined(_WIN32)
 

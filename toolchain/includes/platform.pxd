@@ -53,6 +53,9 @@ cdef extern from "platform.h" nogil:
     void *tc_calloc(size_t count, size_t n)
     void *tc_realloc(void *p, size_t n)         # NULL: p unchanged
     char *tc_strdup(const char *s)
+    # the calling thread's stage, named by ERR_OUT_OF_MEMORY ("Out of memory (%s)")
+    void tc_set_stage(const char *stage)
+    const char *tc_stage()
     int64_t tc_alloc_fail_nth(int64_t n)
 
     # memory advice: faulting pages in ahead of their writer; only a hint (refused: a

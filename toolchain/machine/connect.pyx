@@ -130,6 +130,7 @@ cdef void *connect_body(void *arg) noexcept nogil:
     cdef ErrArg args[2]
     cdef int32_t finish = EV_STOPPED, end_status = TC_KEEP
     cdef int rc
+    tc_set_stage("the connection search")
     if m != NULL and err != NULL:
         memcpy(point, m.motion.position, sizeof(point))     # 31 / 44: nearest to where it stands
         if job.n_type == 0 or job.n_type == 10 or job.n_type == 40:

@@ -297,6 +297,7 @@ cdef void *_pacer_body(void *arg) noexcept nogil:
     cdef uint32_t n_steps = 0
     cdef bint halted = False, cut
     cdef uint64_t told = mo.consumed     # entries done when the notifier was last woken
+    tc_set_stage("the offline machine")
     while not halted and not TC_ATOMIC_LOAD(&core.cancel):
         budget += clock_take(core, m, &last)
         tick_end = last + 1e-3
@@ -646,6 +647,7 @@ cdef void *machine_run_body(void *arg) noexcept nogil:
     cdef Feeder f
     cdef Machine *m = machine_worker_begin(&job.head, &f)
     cdef int32_t finish = EV_STOPPED
+    tc_set_stage("the offline machine")
     if m != NULL:
         finish = machine_program_run(core, m, &f, job.regime, job.add_code)
     free(f.params)
@@ -661,6 +663,7 @@ cdef void *machine_goto_body(void *arg) noexcept nogil:
     cdef Feeder f
     cdef Machine *m = machine_worker_begin(&job.head, &f)
     cdef int32_t finish = EV_STOPPED
+    tc_set_stage("the offline machine")
     if m != NULL:
         finish = machine_manual_move(core, m, &f, &job.dest, job.n_dest, &f.params.motion[5])
     free(f.params)

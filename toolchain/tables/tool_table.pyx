@@ -219,13 +219,17 @@ cdef bint tool_table_read(const char *path, ToolTable *out, ErrorInfo *err) noex
     read: False with its error (ERR_FILE_OPEN ...) naming it."""
     cdef size_t length
     cdef int32_t error = 0
-    cdef char *text = read_whole_file(path, MAX_TABLE_BYTES, &length, &error)
+    cdef char *text
     cdef bint good
+    tc_set_stage("reading a tool table")       # (the host's thread: cleared again below)
+    text = read_whole_file(path, MAX_TABLE_BYTES, &length, &error)
     if text == NULL:
         set_error_text(err, ERR_TABLE_TOO_LARGE if error == ERR_FILE_TOO_LARGE else error, -1, 0, path)
-        return False
-    good = _tool_table_parse(text, length, path, out, err)
-    free(text)
+        good = False
+    else:
+        good = _tool_table_parse(text, length, path, out, err)
+        free(text)
+    tc_set_stage(NULL)
     return good
 
 
