@@ -127,6 +127,7 @@ class Recorder:
             })
             host.load_ini(core)
         self.fns = fns
+        host.installed.append(self)     # the library may call these until the next reset: kept alive
         for number, fn in fns.items():
             rc = host.lib.ToolChainCore_SetCallBack(core, number, 0, ctypes.cast(fn, c_void_p))
             if rc != 0:
@@ -163,6 +164,7 @@ class Host:
         self.lib = load(path, self.windows)
         self.workdir = workdir
         self.ini_loaded = set()
+        self.installed = []             # Recorders whose callbacks a core may still hold
         self.defaults = []
         self.as_written = []
         for core in range(CORES):
@@ -202,6 +204,7 @@ class Host:
             lib.ToolChainCore_SetBreakpoint(core, 0, -1)        # no part has line 0: no breakpoint
             lib.ToolChainCore_ResetCNC(core, 0, 10, (c_double * 10)())
             lib.ToolChainCore_DestroyCNC(core)
+        self.installed.clear()          # every callback removed above: nothing calls them any more
 
     def file(self, name: str, data) -> str:
         """Writes a file into the work directory; its absolute path."""
