@@ -7,6 +7,9 @@ import time
 from dataclasses import dataclass, field
 
 from sf_tch import abi, library
+# the example program of the vendor's interpolator manual (section "Example of part of the
+# G-code", docs/vendor-sources.md), as printed there: one copy, the conformance suite's
+from sf_tch.conformance.dialect import SEED_PROGRAM  # noqa: F401  (the tests import it from here)
 
 INVALID = 1e38                  # the structures description: an absent address's cell holds "> 1e38"
 AXES = "XYZCBUVWAO"
@@ -176,28 +179,6 @@ class Host:
 
 def close(a, b, tol=1e-9):
     return all(math.isclose(x, y, rel_tol=0, abs_tol=tol) for x, y in zip(a, b))
-
-
-# The example program of the vendor's interpolator manual (section "Example of part of the
-# G-code", docs/vendor-sources.md), as printed there.
-SEED_PROGRAM = """G00 X60.6051 Y40.7723
-G42
-M51
-G02 X0 Y-2.5202 I3.0336 J-1.2601
-G02 X0.922 Y-1.5646 I6.0604 J2.5173
-G02 X1.079 Y-1.0269 I4.2143 J3.3479
-G02 X2.2624 Y-1.3678 I9.8772 J13.7817
-G02 X1.9856 Y-0.8109 I6.1778 J12.2908
-G02 X3.015 Y-0.7892 I8.8515 J27.6632
-G02 X6.2889 Y0 I3.1444 J33.011
-M50
-G40
-G00 X-28.9085 Y30.4365
-G42
-M51
-G40
-M2
-"""
 
 
 def ok(host, code, **kw):
