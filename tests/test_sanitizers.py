@@ -16,6 +16,7 @@ itself is not instrumented), in parallel as every run is (tests/conftest.py) and
 the tests are exclusive. The sanitizers write their reports to files (log_path), so
 that a report from any process of the run, even one whose exit status a test ignores,
 fails the test."""
+import fcntl
 import hashlib
 import os
 import shutil
@@ -52,7 +53,19 @@ def tool(name: str) -> str:
 
 
 def build_library(cache_dir: Path, sanitize: str) -> Path:
+    """The sanitized library of the current sources, built once: parallel test processes
+    (test_alloc_failure's leak check beside this file's runs) wait on a file lock and
+    take the same build."""
     kind = sanitize.replace(",", "-")
+    with open(cache_dir / f"{kind}.lock", "a") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        try:
+            return _build_library(cache_dir, sanitize, kind)
+        finally:
+            fcntl.flock(lock, fcntl.LOCK_UN)
+
+
+def _build_library(cache_dir: Path, sanitize: str, kind: str) -> Path:
     build = cache_dir / f"{kind}-{sources_digest()}"
     library = build / "libSF_TCh.so"
     if library.exists():
