@@ -4,23 +4,14 @@
 from libc.math cimport fabs, sqrt, M_PI
 
 
-cdef inline bint _finite_end(const double *end) noexcept nogil:
-    """No axis of `end` is infinite or NaN (x - x is 0 only for finite x). The words,
-    parameters and offsets that make a position pass number_gate; this is the last
-    guard that no part ever carries a non-finite position."""
-    cdef double zero = 0.0
-    cdef int a
-    for a in range(AXES):
-        zero += end[a] - end[a]
-    return zero == 0.0
-
-
 cdef void _non_finite_error(CState *st, const double *end) noexcept nogil:
-    """Error 106 naming the first axis of `end` that is not finite."""
+    """Error 106 naming the first axis of `end` that is not finite. The words, parameters
+    and offsets that make a position pass number_gate; em_part's check of every end is
+    the last guard that no part carries a non-finite position."""
     cdef char letter[2]
     cdef int a
     for a in range(AXES):
-        if not (end[a] - end[a] == 0.0):
+        if not isfinite(end[a]):
             letter[0] = letter_of_axis(a)
             letter[1] = 0
             cerr_bad_value(st, end[a], letter)
@@ -39,7 +30,7 @@ cdef Part *em_part(CState *st, int kind, int func, const double *end) noexcept n
     if (prog.n_parts & 1023) == 0 and st.inp.cancel != NULL and TC_ATOMIC_LOAD(st.inp.cancel) != 0:
         cerr(st, ERR_CANCELLED)         # an ending call: checked per part, one line may make millions
         return NULL
-    if not _finite_end(end):
+    if not coordinates_finite(end, AXES):
         _non_finite_error(st, end)
         return NULL
     p = program_add_part(st.build)

@@ -63,10 +63,10 @@ cdef bint smoothing_check(const SmoothingConfig *config, int32_t command, ErrorI
     an IIR filter on some axis needs p, q and f. False with err naming the first
     value missing."""
     cdef int k
-    if command == SMOOTHING_COMMAND_SPLINE and config.spline[0] != 0.0 and config.spline[1] == 0.0:
-        return _parameter_error(err, command, 1, 0.0, "a spline that is on needs a jerk limit above 0 mm/s^3")
     cdef double tau
     cdef char why[160]
+    if command == SMOOTHING_COMMAND_SPLINE and config.spline[0] != 0.0 and config.spline[1] == 0.0:
+        return _parameter_error(err, command, 1, 0.0, "a spline that is on needs a jerk limit above 0 mm/s^3")
     if command == SMOOTHING_COMMAND_IIR and (<uint32_t>config.iir[3] & 0x3FF) != 0:
         for k in range(3):
             if config.iir[k] == 0.0:
