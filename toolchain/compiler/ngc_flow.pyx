@@ -433,15 +433,11 @@ cdef int ow_break(CState *st, const NgcLabel *lab, bint cont) noexcept nogil:
 
 
 cdef uint64_t ow_if_key(const NgcLabel *lab) noexcept nogil:
-    """A label as a key of NgcState.if_keys: a number + 1, a name's FNV-1a hash with the
-    top bit set (never 0)."""
-    cdef uint64_t h = 14695981039346656037ULL
-    cdef int i
+    """A label as a key of NgcState.if_keys: a number + 1, a name's hash (the labels'
+    FNV-1a) with the top bit set (never 0)."""
     if lab.number >= 0:
         return <uint64_t>lab.number + 1
-    for i in range(lab.len):
-        h = (h ^ <unsigned char>lab.name[i]) * 1099511628211ULL
-    return h | (1ULL << 63)
+    return lb_hash_name(lab.name, lab.len) | (1ULL << 63)
 
 
 cdef bint ow_if_seen(NgcState *n, const NgcLabel *lab, bint add) noexcept nogil:

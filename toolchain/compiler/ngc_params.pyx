@@ -63,11 +63,8 @@ cdef bint _same(const char *a, int na, const char *b, int nb) noexcept nogil:
 
 
 cdef size_t _name_hash(int level, const char *name, int nlen) noexcept nogil:
-    """FNV-1a of the name and its call level."""
-    cdef uint64_t h = 14695981039346656037ULL ^ <uint64_t><uint32_t>level
-    cdef int i
-    for i in range(nlen):
-        h = (h ^ <uint8_t>name[i]) * 1099511628211ULL
+    """The name's hash (the labels' FNV-1a) mixed with its call level."""
+    cdef uint64_t h = lb_hash_name(name, nlen) ^ (<uint64_t><uint32_t>level * 0x9E3779B97F4A7C15ULL)
     return <size_t>(h ^ (h >> 29))
 
 
