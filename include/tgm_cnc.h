@@ -633,6 +633,14 @@ TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GetLastError(uint32_t int
  * GetLastCallError for this core again or ends), 0 none yet; -1 NULL, -2 bad core. The same error also went to DispAndLocateError and AddOutputLog. */
 TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GetLastCallError(uint32_t intIdx, CALLBACK_INFO *info);
 
+/* Beyond the vendor's list. The 1-based column of the word in error of the error that
+ * GetLastError (ofCalls 0) or GetLastCallError (ofCalls 1) gives now, for the errors
+ * whose format has no place for it (the vendor's arc-centre error 400 and its kin 407,
+ * 415-420; docs/errors.md) and for every error whose format names a column: 1 and
+ * *column (0: unknown), 0 no such error; -1 column NULL or ofCalls not 0/1, -2 bad core.
+ * Read it right after GetLastError: a later error replaces both. */
+TOOLCHAIN_API int32_t TOOLCHAIN_CALLTYPE ToolChainCore_GetLastErrorColumn(uint32_t intIdx, int32_t ofCalls, int32_t *column);
+
 /* Index of a file name (new names get the next index, 64 per core; when the table is
  * full the least recently used name that no loaded program references is replaced,
  * its run time forgotten). Special names give -1..-4; NULL, empty or names of 252

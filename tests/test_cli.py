@@ -95,13 +95,14 @@ def test_compile_error_is_file_line_column_and_exit_1(tmp_path):
 
 
 def test_every_diagnostic_is_one_line_with_a_column(tmp_path):
-    # 407 (the arc's details in the JSON's fields), after a byte-order mark, in the ISO mode
+    # 407 (the vendor's three lines on one, the column the library keeps beside the text,
+    # the arc's details in the JSON's fields), after a byte-order mark, in the ISO mode
     arc = tmp_path / "arc.nc"
     arc.write_bytes(b"\xef\xbb\xbfG21 G0 X10 Y0 F100\n  G3 X0 Y10.03 I-10 J0\n")
     proc = sf_tch_cli("compile", str(arc), "--iso")
     assert proc.returncode == 1 and proc.stderr.count("\n") == 1
-    assert proc.stderr.startswith(f"{arc}:2:16: error 407: Wrongly entered centre of circular interpolation XY "
-                                  "at column 16: start X = 10 Y = 0, end X = 0 Y = 10.03, radius at start")
+    assert proc.stderr.startswith(f"{arc}:2:16: error 407: Wrongly entered centre of circular interpolation XY; "
+                                  "Start X = 10 Y = 0 | End X = 0 Y = 10.03; Radius at start (10.0000000)")
     doc = json.loads(sf_tch_cli("compile", str(arc), "--iso", "--json").stdout)
     assert doc["errors"][0]["column"] == 16
     assert doc["errors"][0]["fields"] == {"plane": "XY", "start": {"X": 10, "Y": 0}, "end": {"X": 0, "Y": 10.03},

@@ -45,14 +45,56 @@ def test_seed_absolute_fails_on_line_4_with_the_centre_error(host):
     r = host.compile(SEED_PROGRAM, absMode=1)
     number, line, file_idx, text, args = r.error
     assert number == 400 and line == 4
-    # one line: the column of the centre words, start, end, then the chord against 2 R
-    assert text.startswith("Wrongly entered centre of circular interpolation XY at column 17: "
-                           "start X = 60.6051 Y = 40.7723, end X = 0 Y = -2.5202, delta (")
-    assert "\n" not in text
+    # the vendor's three lines: start, end, then the chord against 2 R; exactly six arguments
+    assert text.startswith("Wrongly entered centre of circular interpolation XY\n"
+                           "Start X = 60.6051 Y = 40.7723 | End X = 0 Y = -2.5202\nDelta (")
     parts = args.split("\n")
-    assert parts[:10] == ["XY", "17", "X", "60.6051", "Y", "40.7723", "X", "0", "Y", "-2.5202"]
-    assert float(parts[10]) == pytest.approx(math.hypot(60.6051, 40.7723 + 2.5202), abs=1e-6)
-    assert float(parts[11]) == pytest.approx(2 * math.hypot(3.0336, 1.2601), abs=1e-6)
+    assert len(parts) == 6 and parts[:4] == ["60.6051", "40.7723", "0", "-2.5202"]
+    assert float(parts[4]) == pytest.approx(math.hypot(60.6051, 40.7723 + 2.5202), abs=1e-6)
+    assert float(parts[5]) == pytest.approx(2 * math.hypot(3.0336, 1.2601), abs=1e-6)
+
+
+# The structures description's example of CALLBACK_INFO, as the vendor printed it
+VENDOR_400_FORMAT = ("Wrongly entered centre of circular interpolation XY\nStart X = %g Y = %g | "
+                     "End X = %g Y = %g\nDelta (%.7f) > 2*R (%.7f)")
+
+
+def test_error_400_is_the_vendors_format_with_exactly_its_six_arguments(host, lib):
+    """The documented example byte for byte: the format, and the start and end
+    20.123 30.653 / 43.987 -1.26 as the vendor's arguments give them; the text is the
+    format filled with the arguments (Python's %-formatting follows printf); the
+    column of the centre words is beside the text, not among the arguments."""
+    from sf_tch import ErrorNumber
+    assert ErrorNumber.ARC_CENTRE.format == VENDOR_400_FORMAT
+    r = host.compile("G0 X20.123 Y30.653\nG2 X43.987 Y-1.26 I5 J0\n", absMode=1)
+    number, line, _, text, args = r.error
+    values = args.split("\n")
+    assert (number, line) == (400, 2) and values[:4] == ["20.123", "30.653", "43.987", "-1.26"]
+    chord = math.hypot(43.987 - 20.123, -1.26 - 30.653)
+    assert values[4:] == [f"{chord:.7f}", "10.0000000"]
+    assert text == VENDOR_400_FORMAT % (20.123, 30.653, 43.987, -1.26, chord, 10.0)
+    column = ctypes.c_int32()
+    assert lib.ToolChainCore_GetLastErrorColumn(1, 0, ctypes.byref(column)) == 1 and column.value == 19
+    assert lib.ToolChainCore_GetLastErrorColumn(1, 2, ctypes.byref(column)) == -1
+    assert lib.ToolChainCore_GetLastErrorColumn(1, 0, None) == -1
+    assert lib.ToolChainCore_GetLastErrorColumn(7, 0, ctypes.byref(column)) == -2
+
+
+@pytest.mark.parametrize("plane, arc, number, first_line", [
+    ("G18", "G0 X10 Z0\nG2 X0 Z10.03 I-10 K0\n", 418, "XZ\nStart X = 10 Z = 0 | End X = 0 Z = 10.03"),
+    ("G19", "G0 Y0 Z0\nG2 Y30 Z0 J1 K0\n", 416, "YZ\nStart Y = 0 Z = 0 | End Y = 30 Z = 0"),
+    ("G-18", "G0 Z10 X0\nG2 Z0 X10.03 K-10 I0\n", 420, "ZX\nStart Z = 10 X = 0 | End Z = 0 X = 10.03"),
+])
+def test_the_other_planes_have_the_400_form_of_their_own(host, plane, arc, number, first_line):
+    """An XY text would tell a panel the wrong axes: each plane has its number, its
+    axes in the text and six arguments."""
+    from sf_tch import ErrorNumber
+    r = host.compile(f"{plane}\n{arc}", absMode=1)
+    got, line, _, text, args = r.error
+    assert (got, line) == (number, 3)
+    assert text.startswith("Wrongly entered centre of circular interpolation " + first_line + "\n")
+    assert len(args.split("\n")) == 6
+    assert text == ErrorNumber(number).format % tuple(float(a) for a in args.split("\n"))
 
 
 # ------------------------------------------------------------ words, positions
@@ -169,8 +211,7 @@ def test_arc_tolerance(host):
     p.tolerance[0] = 0.01
     assert host.compile("G2 X10 Y0.005 I5 J0\n", params=p, start=[0] * 10).error is None
     err = host.compile("G2 X9 Y0 I5 J0\n", params=p, start=[0] * 10).error
-    assert err[0] == 407 and "at column 10:" in err[3] and "radius at start (5.0000000) <> radius at end (4.0000000)" in err[3]
-    assert "\n" not in err[3]
+    assert err[0] == 407 and err[3].endswith("\nRadius at start (5.0000000) <> radius at end (4.0000000)")
 
 
 # ------------------------------------------------------------ offsets and transforms

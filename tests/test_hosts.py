@@ -211,7 +211,7 @@ def test_the_package_run_is_the_documented_one(fresh_core, seed_file):
     assert sample["printed"] == ["plate done"]
     seed = package_run(fresh_core, seed_file, abs_mode=1)
     assert seed["error"][1:3] == [4, 400]
-    assert seed["error"][3].startswith("Wrongly entered centre of circular interpolation XY at column 17: ")
+    assert seed["error"][3].startswith("Wrongly entered centre of circular interpolation XY\nStart X = 60.6051 ")
 
 
 # A C++ host: the header compiled as C++17, every function typed by decltype of its

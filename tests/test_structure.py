@@ -125,3 +125,15 @@ def test_a_function_another_stage_uses_without_a_face(tmp_path):
     files["other.pyx"] = files["other.pyx"].replace("later(p.y)", "later(p.y) + nested(p.x)")
     assert problems(tmp_path, files) == [
         "other.pyx:2: nested of stage/nested.pyx is used by another stage: declare it in its stage's face"]
+
+
+def test_an_error_recorded_by_hand(tmp_path):
+    """record_error is the generated constructors' (catalogue.pxi): a stage that calls it
+    fills the arguments by hand, which no build checks."""
+    files = dict(BASE)
+    files["stage/nested.pyx"] = files["stage/nested.pyx"].replace("_helper(v)", "v")
+    files["face.pxd"] += "cdef void record_error(double v) noexcept nogil\n"
+    files["other.pyx"] = files["other.pyx"].replace("return later(p.y)", "record_error(p.x)\n    return later(p.y)")
+    found = problems(tmp_path, files)
+    assert len(found) == 1 and found[0].startswith("other.pyx:2: record_error used here: record an error with "
+                                                   "its generated constructor")

@@ -169,7 +169,7 @@ def test_numbers_on_windows_are_read_and_written_in_the_c_locale_whatever_the_ho
     an error text with decimals (snprintf) come out as in the C locale."""
     report = (windows_build / "wine-run" / "decimal-comma.txt").read_text(encoding="utf-8")
     assert report.startswith("decimal point: ',', INI 1.5: same, long number: same, error text: same"), report
-    assert "start X = 60.6051 Y = 40.7723" in report
+    assert "Start X = 60.6051 Y = 40.7723" in report
 
 
 @pytest.mark.parametrize("scenario", ["run", "compile", "mfunc"])

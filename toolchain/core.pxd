@@ -207,10 +207,11 @@ cdef inline int32_t core_status(Core *core) noexcept nogil:
 cdef inline void core_set_status(Core *core, int32_t status) noexcept nogil:
     TC_ATOMIC_STORE(&core.status, status)
 
-# errors: a refused call (number and text argument: GetLastCallError, reported), a
-# call the transition table refuses in `status`
-cdef int32_t core_fail(Core *core, int32_t number, const char *text_arg) noexcept nogil
-cdef void core_fail_with(Core *core, const ErrorInfo *err) noexcept nogil
+# errors of refused calls: the calling thread's record for one (its constructor fills
+# it: `err_...(refusal(), -1, 0, ...)`); a refused call's error kept (GetLastCallError)
+# and reported, TOOL_CHAIN_ERROR; a call the transition table refuses in `status`
+cdef ErrorInfo *refusal() noexcept nogil
+cdef int32_t core_fail(Core *core, const ErrorInfo *err) noexcept nogil
 cdef int32_t core_refuse(Core *core, const char *what, int32_t status) noexcept nogil
 # CompileFromFile (text NULL: the worker reads the file `name`) and CompileFromMemory;
 # the lifecycle's row of a compilation (runtime/lifecycle.pyx): its worker, and what is

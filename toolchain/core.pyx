@@ -2,7 +2,7 @@
 # its compilation activity (the worker that compiles, compensates and plans).
 # core.pxd says who may touch what; the life of an activity (begin, end, join) is
 # runtime/lifecycle.pyx.
-from libc.stdlib cimport free
+from libc.stdlib cimport abort, free
 from libc.string cimport memset, memcpy, memcmp, strlen, strcmp, strncpy
 from libc.stdio cimport snprintf
 
@@ -42,38 +42,48 @@ cdef Core *core_get(uint32_t index) noexcept nogil:
 
 # ------------------------------------------------------------------ refused calls
 
-cdef int32_t core_fail(Core *core, int32_t number, const char *text_arg) noexcept nogil:
-    """Records and reports the error of a refused call (no file, no line) in the
-    call's slot (GetLastCallError); the activity's error (GetLastError) stays.
+cdef extern from *:
+    """
+    /* each thread's record of a refused call's error (an ErrorInfo: refusal() checks
+       that it fits), between its constructor and core_fail */
+    static __thread double tc_refusal_store[256];
+    """
+    double tc_refusal_store[256]
+
+
+cdef ErrorInfo *refusal() noexcept nogil:
+    """The calling thread's record for the error of a call it refuses."""
+    if sizeof(ErrorInfo) > sizeof(tc_refusal_store):    # constant: the C compiler folds it
+        abort()
+    return <ErrorInfo *>tc_refusal_store
+
+
+cdef int32_t core_fail(Core *core, const ErrorInfo *err) noexcept nogil:
+    """Keeps `err` as the error of a refused call (GetLastCallError; the activity's
+    error, GetLastError, stays) and reports it. The thread's refusal() record is
+    reported from a copy: a host's callback may refuse a call of its own meanwhile.
     Returns TOOL_CHAIN_ERROR."""
-    cdef ErrorInfo *err = <ErrorInfo *>tc_malloc(sizeof(ErrorInfo))
-    if err == NULL:
-        return TOOL_CHAIN_ERROR
-    set_error_text(err, number, -1, 0, text_arg)
-    core_fail_with(core, err)
-    free(err)
+    cdef ErrorInfo *copy = NULL
+    core_keep_error(core, True, err)
+    if err == refusal():
+        copy = <ErrorInfo *>tc_malloc(sizeof(ErrorInfo))
+        if copy == NULL:
+            return TOOL_CHAIN_ERROR     # kept, not reported: no memory for the report
+        copy[0] = err[0]
+        err = copy
+    core_report_error(core, err)
+    free(copy)
     return TOOL_CHAIN_ERROR
 
 
 cdef int32_t core_refuse(Core *core, const char *what, int32_t status) noexcept nogil:
     """A call the transition table refuses in `status`: ERR_BUSY while an activity
     runs, ERR_BAD_STATUS (the status' number and name) otherwise."""
-    cdef ErrorInfo *err
     if status > 0:
-        return core_fail(core, ERR_BUSY, status_name(status))
-    err = <ErrorInfo *>tc_malloc(sizeof(ErrorInfo))
-    if err == NULL:
-        return TOOL_CHAIN_ERROR
-    set_error_status(err, what, status)
-    core_fail_with(core, err)
-    free(err)
-    return TOOL_CHAIN_ERROR
-
-
-cdef void core_fail_with(Core *core, const ErrorInfo *err) noexcept nogil:
-    """Records `err` as the error of a refused call (GetLastCallError) and reports it."""
-    core_keep_error(core, True, err)
-    core_report_error(core, err)
+        err_busy(refusal(), -1, 0, status_name(status))
+    else:
+        err_bad_status(refusal(), -1, 0, what, status, status_name(status))
+    return core_fail(core, refusal())
 
 
 # ------------------------------------------------------------------ compilation
@@ -107,7 +117,7 @@ cdef int _compile_and_compensate(Core *core, CompileInput *inp, ProgramBuilder *
     if comp_err == NULL or comp == NULL:
         free(comp)
         free(comp_err)
-        set_error(err, ERR_OUT_OF_MEMORY, inp.file_idx, 0, NULL, 0)
+        err_out_of_memory(err, inp.file_idx, 0)
         return COMPILE_ERROR
     compensate_begin(comp, build, &inp.params, comp_err, _compile_output, _compile_warn, core)
     follow_init(&follow, build, compensate_feed, comp)
@@ -146,14 +156,14 @@ cdef int _compile_job(Core *core, CompileJob *job, ProgramBuilder *build, GCODE_
     if job.text == NULL:
         job.text = read_whole_file(job.name, MAX_FILE_BYTES, &job.length, &read_error)
         if job.text == NULL:
-            set_error_text(err, read_error, job.files[0], 0, job.name)
+            file_error(err, read_error, job.files[0], job.name)
             return COMPILE_ERROR
     if job.length >= 2 and <unsigned char>job.text[0] == 0x1f and <unsigned char>job.text[1] == 0x8b:
-        set_error_text(err, ERR_COMPRESSED_FILE, job.files[0], 0, job.name)    # gzip's magic bytes
+        err_compressed_file(err, job.files[0], 0, job.name)    # gzip's magic bytes
         return COMPILE_ERROR
     inp = <CompileInput *>tc_calloc(1, sizeof(CompileInput))
     if inp == NULL:
-        set_error(err, ERR_OUT_OF_MEMORY, job.files[0], 0, NULL, 0)
+        err_out_of_memory(err, job.files[0], 0)
         return COMPILE_ERROR
     inp.text = job.text
     inp.length = job.length
@@ -187,7 +197,7 @@ cdef int _compile_job(Core *core, CompileJob *job, ProgramBuilder *build, GCODE_
         result = insert_arcs(build, &inp.params, err)
     if result == COMPILE_OK and join_lines(build, &inp.params) != COMPILE_OK:
         result = COMPILE_ERROR
-        set_error(err, ERR_OUT_OF_MEMORY, job.files[0], 0, NULL, 0)
+        err_out_of_memory(err, job.files[0], 0)
     measured = measured and build.prog.n_parts == n_parts      # no automatic arcs came in, no lines joined
     # the spare room of the parts (the reserve, what was faulted in ahead) goes back
     # before the plan takes its memory: the peak is the parts and their plan
@@ -206,13 +216,13 @@ cdef int _compile_job(Core *core, CompileJob *job, ProgramBuilder *build, GCODE_
     if result == COMPILE_OK and plan_beside_extent(build, &inp.params, machine_bits, inp.plan_window,
                                                    extent, measured) != COMPILE_OK:
         result = COMPILE_ERROR
-        set_error(err, ERR_OUT_OF_MEMORY, job.files[0], 0, NULL, 0)
+        err_out_of_memory(err, job.files[0], 0)
     if result == COMPILE_OK:
         program_number_parts(&build.prog)   # the plan's insertions are in: the driver's indexes
     if result == COMPILE_OK and TC_ATOMIC_LOAD(&core.cancel):
         result = COMPILE_CANCELLED          # ended while it finished: nothing is published
     if result == COMPILE_CANCELLED:
-        set_error(err, ERR_CANCELLED, job.files[0], 0, NULL, 0)
+        err_cancelled(err, job.files[0], 0)
     free(inp)
     return result
 
@@ -249,9 +259,9 @@ cdef void *compile_body(void *arg) noexcept nogil:
             loaded = loaded_program_new(&build.prog, extent, job.files)     # the program alone
             if loaded == NULL:
                 result = COMPILE_ERROR
-                set_error(err, ERR_OUT_OF_MEMORY, job.files[0], 0, NULL, 0)
+                err_out_of_memory(err, job.files[0], 0)
     elif err != NULL:
-        set_error(err, ERR_OUT_OF_MEMORY, job.files[0], 0, NULL, 0)     # no memory for the extent
+        err_out_of_memory(err, job.files[0], 0)     # no memory for the extent
     if result != COMPILE_OK and err != NULL:
         err.n_lines = <int32_t>build.prog.n_lines   # lines of the main file, counted before compiling
     if loaded == NULL:
@@ -298,7 +308,8 @@ cdef int32_t core_start_compile(Core *core, const char *name, char *text, size_t
     cdef bint lost
     if job == NULL:
         free(text)
-        return core_fail(core, ERR_OUT_OF_MEMORY, NULL)
+        err_out_of_memory(refusal(), -1, 0)
+        return core_fail(core, refusal())
     job.files[0] = job.files[1] = job.files[2] = -1
     job.text = text
     job.length = length
@@ -311,7 +322,8 @@ cdef int32_t core_start_compile(Core *core, const char *name, char *text, size_t
     pthread_mutex_unlock(&core.lock)
     if lost:                            # no memory for a copy: not compiled without it
         job_free(&job.head)
-        return core_fail(core, ERR_OUT_OF_MEMORY, NULL)
+        err_out_of_memory(refusal(), -1, 0)
+        return core_fail(core, refusal())
     if job.prefix != NULL:
         job.files[1] = core_file_to_idx(core, "__prefix__")
     if job.postfix != NULL:

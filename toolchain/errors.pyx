@@ -1,19 +1,19 @@
-# The one way an error is recorded: set_error formats the catalogue's English text
-# (error_format, generated into catalogue.pxi from errors.toml) and its '\n'-separated
-# arguments (numbers with a '.' decimal point under any locale: numbers.pyx c_snprintf).
+# The one way an error is recorded: the generated constructors (catalogue.pxi) call
+# record_error, which formats the catalogue's English text (error_format, generated
+# from errors.toml) and its arguments separated by line feeds (numbers with a "."
+# decimal point under any locale: numbers.pyx c_snprintf).
 from libc.string cimport memset, strlen
 
 
-cdef void set_error_status(ErrorInfo *err, const char *what, int32_t status) noexcept nogil:
-    """ERR_BAD_STATUS: `what` is not allowed in `status` (number and name)."""
-    cdef ErrArg a[3]
-    a[0].num = 0
-    a[0].text = what
-    a[1].num = status
-    a[1].text = NULL
-    a[2].num = 0
-    a[2].text = status_name(status)
-    set_error(err, ERR_BAD_STATUS, -1, 0, a, 3)
+cdef int _whole(double v) noexcept nogil:
+    # A %d argument as C's int: NaN 0, beyond int's range its nearest end (no undefined cast).
+    if not (v == v):
+        return 0
+    if v >= 2147483647.0:
+        return 2147483647
+    if v <= -2147483648.0:
+        return -2147483647 - 1
+    return <int>v
 
 
 cdef size_t _append(char *buf, size_t cap, size_t pos, const char *s, size_t n) noexcept nogil:
@@ -27,10 +27,11 @@ cdef size_t _append(char *buf, size_t cap, size_t pos, const char *s, size_t n) 
     return pos
 
 
-cdef void set_error(ErrorInfo *err, int32_t number, int32_t file_idx, int32_t line,
-                    const ErrArg *args, int n_args) noexcept nogil:
-    """Records error `number` at file/line: the catalogue's format with `args`
-    substituted in order (numbers for %g %f %d ..., texts for %s)."""
+cdef void record_error(ErrorInfo *err, int32_t number, int32_t file_idx, int32_t line, int64_t column,
+                       const ErrArg *args, int n_args) noexcept nogil:
+    """Records error `number` at file/line/column: the catalogue's format with `args`
+    substituted in order (numbers for %g %f %d ..., texts for %s). Only the generated
+    constructors call it, each with exactly its format's arguments."""
     cdef const char *fmt = error_format(number)
     cdef char spec[16]
     cdef char piece[256]
@@ -48,6 +49,7 @@ cdef void set_error(ErrorInfo *err, int32_t number, int32_t file_idx, int32_t li
     err.number = number
     err.file_idx = file_idx
     err.line = line
+    err.column = <int32_t>column if 0 < column <= 0x7fffffff else 0
     err.text[0] = 0
     err.args[0] = 0
     if fmt == NULL:  # not in the catalogue: keep the number visible
@@ -81,7 +83,7 @@ cdef void set_error(ErrorInfo *err, int32_t number, int32_t file_idx, int32_t li
                     text_arg = "(null)"
                 n = c_snprintf(piece, sizeof(piece), spec, text_arg)
             elif conv == b'd' or conv == b'i' or conv == b'x':
-                n = c_snprintf(piece, sizeof(piece), spec, <int>args[used].num)
+                n = c_snprintf(piece, sizeof(piece), spec, _whole(args[used].num))
             else:
                 n = c_snprintf(piece, sizeof(piece), spec, args[used].num)
             used += 1
@@ -95,24 +97,6 @@ cdef void set_error(ErrorInfo *err, int32_t number, int32_t file_idx, int32_t li
         if apos > 0:
             apos = _append(err.args, ERROR_ARGS_BYTES, apos, "\n", 1)
         apos = _append(err.args, ERROR_ARGS_BYTES, apos, piece, <size_t>n)
-
-
-cdef void set_error_text(ErrorInfo *err, int32_t number, int32_t file_idx, int32_t line,
-                         const char *text) noexcept nogil:
-    """set_error with a single text argument."""
-    cdef ErrArg a
-    a.num = 0
-    a.text = text
-    set_error(err, number, file_idx, line, &a, 1)
-
-
-cdef void set_error_num(ErrorInfo *err, int32_t number, int32_t file_idx, int32_t line,
-                        double value) noexcept nogil:
-    """set_error with a single numeric argument."""
-    cdef ErrArg a
-    a.num = value
-    a.text = NULL
-    set_error(err, number, file_idx, line, &a, 1)
 
 
 cdef void clear_error(ErrorInfo *err) noexcept nogil:

@@ -43,7 +43,6 @@ cdef int32_t _ini_read_tables(IniSettings *settings, ToolTable *tool_table, bint
     """LoadFromIni, once every key is good: the smoothing's values together, then the
     files of [Corrections]. 0, or an error number (err set) and nothing kept."""
     cdef ErrorInfo why
-    cdef ErrArg a[3]
     cdef char text[400]
     cdef const char *names[8]
     cdef uint32_t n = 0
@@ -52,13 +51,7 @@ cdef int32_t _ini_read_tables(IniSettings *settings, ToolTable *tool_table, bint
     if not smoothing_check(&settings.smoothing, SMOOTHING_COMMAND_SPLINE, &why) \
             or not smoothing_check(&settings.smoothing, SMOOTHING_COMMAND_IIR, &why):
         c_snprintf(text, sizeof(text), "[Smoothing]: %s", why.text)
-        a[0].num = 0
-        a[0].text = settings.path
-        a[1].num = 0
-        a[1].text = NULL
-        a[2].num = 0
-        a[2].text = text
-        set_error(err, ERR_INI_VALUE, -1, 0, a, 3)
+        err_ini_value(err, -1, 0, settings.path, 0, text)
         return ERR_INI_VALUE
     has_tool_table[0] = settings.tool_table_file != NULL
     if has_tool_table[0] and not tool_table_read(settings.tool_table_file, tool_table, err):
@@ -93,7 +86,8 @@ cdef int32_t _load_from_ini(uint32_t intIdx, const char *iniFile, uint32_t *pnMa
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
     if iniFile == NULL:
-        core_fail(core, ERR_INI_OPEN, "(null)")
+        err_ini_open(refusal(), -1, 0, "(null)")
+        core_fail(core, refusal())
         return TOOL_CHAIN_XEXEC
     pthread_mutex_lock(&core.lock)
     if status_after(core_status(core), CMD_LOAD_INI, False) == TC_REFUSED:
@@ -115,19 +109,23 @@ cdef int32_t _load_from_ini(uint32_t intIdx, const char *iniFile, uint32_t *pnMa
     clear_error(&err)
     tool_table = <ToolTable *>tc_malloc(sizeof(ToolTable))
     if tool_table == NULL:
-        core_fail(core, ERR_OUT_OF_MEMORY, NULL)
+        err_out_of_memory(refusal(), -1, 0)
+        core_fail(core, refusal())
         return TOOL_CHAIN_XEXEC
     tc_set_stage("reading an INI file")
     result = ini_read(iniFile, ini_apply_setting, &settings)
     tc_set_stage(NULL)
     if result != 0 and err.number == 0:     # the file's reading failed, not one of its keys
-        set_error_text(&err, ERR_INI_OPEN if result == ERR_FILE_OPEN else result, -1, 0, iniFile)
+        if result == ERR_FILE_OPEN:
+            err_ini_open(&err, -1, 0, iniFile)
+        else:
+            file_error(&err, result, -1, iniFile)
     if result == 0:
         result = _ini_read_tables(&settings, tool_table, &has_tool_table, &axis_tables, &has_axis_tables, &err)
     ini_settings_free(&settings)
     if result != 0:
         free(tool_table)
-        core_fail_with(core, &err)
+        core_fail(core, &err)
         return TOOL_CHAIN_XEXEC
     normalise_gcode_parameters(&settings.params)
     pthread_mutex_lock(&core.lock)
@@ -199,14 +197,9 @@ cdef void _feeds_of(GCODE_PARAMETERS *params, const GCODE_PARAMETERS *source) no
 
 
 cdef int32_t _refuse_while_stopped(Core *core, int32_t status) noexcept nogil:
-    cdef ErrorInfo err
-    cdef ErrArg a[3]
-    a[0].num = status; a[0].text = NULL
-    a[1].num = 0; a[1].text = status_name(status)
-    a[2].num = 0; a[2].text = "another field differs from GetGCodeParameters' (nothing was changed)"
-    set_error(&err, ERR_PARAMETERS_WHILE_STOPPED, -1, 0, a, 3)
-    core_fail_with(core, &err)
-    return TOOL_CHAIN_ERROR
+    err_parameters_while_stopped(refusal(), -1, 0, status, status_name(status),
+                                 "another field differs from GetGCodeParameters' (nothing was changed)")
+    return core_fail(core, refusal())
 
 
 cdef public int32_t ToolChainCore_SetGCodeParameters(uint32_t intIdx, const GCODE_PARAMETERS *p) noexcept nogil:
@@ -242,7 +235,7 @@ cdef public int32_t ToolChainCore_SetGCodeParameters(uint32_t intIdx, const GCOD
         core.params = params
     pthread_mutex_unlock(&core.lock)
     if not good:
-        core_fail_with(core, &err)
+        core_fail(core, &err)
         return TOOL_CHAIN_ERROR
     return TOOL_CHAIN_SUCCESS
 
@@ -279,7 +272,7 @@ cdef public int32_t ToolChainCore_SetMachineParameters(uint32_t intIdx, MACHINE_
     if p == NULL:
         return TOOL_CHAIN_ERROR
     if not check_machine_parameters(p, &err):
-        core_fail_with(core, &err)
+        core_fail(core, &err)
         return TOOL_CHAIN_ERROR
     pthread_mutex_lock(&core.lock)
     core.machine = p[0]
@@ -325,7 +318,8 @@ cdef public int32_t ToolChainCore_GCodePrefixPostfix(uint32_t intIdx, TGM_LPCSTR
     if (pre == NULL and prefix != NULL and prefix[0] != 0) or (post == NULL and postfix != NULL and postfix[0] != 0):
         free(pre)
         free(post)
-        return core_fail(core, ERR_OUT_OF_MEMORY, NULL)
+        err_out_of_memory(refusal(), -1, 0)
+        return core_fail(core, refusal())
     pthread_mutex_lock(&core.lock)
     if status_after(core_status(core), CMD_SET_PREFIX, False) == TC_REFUSED:
         pthread_mutex_unlock(&core.lock)
@@ -355,15 +349,18 @@ cdef int32_t _compile_from_file(uint32_t intIdx, const char *fileName) noexcept 
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
     if fileName == NULL:
-        core_fail(core, ERR_FILE_OPEN, "(null)")
+        err_file_open(refusal(), -1, 0, "(null)")
+        core_fail(core, refusal())
         return TOOL_CHAIN_ERROR
     if fileName[0] == 0 or strlen(fileName) >= <size_t>TOOL_CHAIN_MAX_FILE_NAME:
-        core_fail(core, ERR_FILE_OPEN, fileName)
+        err_file_open(refusal(), -1, 0, fileName)
+        core_fail(core, refusal())
         return TOOL_CHAIN_ERROR
     # refused now when it cannot be read (never blocks: files.pyx); read in the worker
     unreadable = file_check_readable(fileName)
     if unreadable != 0:
-        core_fail(core, unreadable, fileName)
+        file_error(refusal(), unreadable, -1, fileName)
+        core_fail(core, refusal())
         return TOOL_CHAIN_ERROR
     return core_start_compile(core, fileName, NULL, 0)
 
@@ -390,7 +387,8 @@ cdef int32_t _compile_from_memory(uint32_t intIdx, const char *fileName, const c
         return TOOL_CHAIN_ERROR
     source = tc_strdup(code)
     if source == NULL:
-        core_fail(core, ERR_OUT_OF_MEMORY, NULL)
+        err_out_of_memory(refusal(), -1, 0)
+        core_fail(core, refusal())
         return TOOL_CHAIN_ERROR
     return core_start_compile(core, fileName, source, strlen(source))
 
@@ -418,6 +416,15 @@ cdef public int32_t ToolChainCore_GetLastCallError(uint32_t intIdx, CALLBACK_INF
     if info == NULL:
         return TOOL_CHAIN_ERROR
     return core_read_error(core, True, info)
+
+
+cdef public int32_t ToolChainCore_GetLastErrorColumn(uint32_t intIdx, int32_t ofCalls, int32_t *column) noexcept nogil:
+    cdef Core *core = core_get(intIdx)
+    if core == NULL:
+        return TOOL_CHAIN_BAD_INTR_INDEX
+    if column == NULL or (ofCalls != 0 and ofCalls != 1):
+        return TOOL_CHAIN_ERROR
+    return core_read_error_column(core, ofCalls == 1, column)
 
 
 cdef public int32_t ToolChain_GetLastError(CALLBACK_INFO *info) noexcept nogil:
@@ -458,7 +465,8 @@ cdef public int32_t ToolChainCore_GetGCodeSizeInfo(uint32_t intIdx, GCODE_INFO *
     stale = core.program != NULL and core.size_info_stale
     pthread_mutex_unlock(&core.lock)
     if stale and not core_refresh_size_info(core):     # a reset could not measure it
-        return core_fail(core, ERR_OUT_OF_MEMORY, NULL)
+        err_out_of_memory(refusal(), -1, 0)
+        return core_fail(core, refusal())
     pthread_mutex_lock(&core.lock)
     if core.program != NULL:
         p[0] = core.size_info
@@ -543,7 +551,8 @@ cdef int32_t not_implemented(uint32_t intIdx, const char *what) noexcept nogil:
     cdef Core *core = core_get(intIdx)
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
-    core_fail(core, ERR_NOT_IMPLEMENTED, what)
+    err_not_implemented(refusal(), -1, 0, what)
+    core_fail(core, refusal())
     return TOOL_CHAIN_ERROR
 
 
@@ -692,12 +701,8 @@ cdef public int32_t ToolChainCore_SetCallBack(uint32_t intIdx, uint32_t fceNo, i
 
 
 cdef void _fail_ini_first(Core *core, uint32_t number) noexcept nogil:
-    cdef ErrorInfo *err = <ErrorInfo *>tc_malloc(sizeof(ErrorInfo))
-    if err == NULL:
-        return
-    set_error_num(err, ERR_INI_FIRST, -1, 0, <double>number)
-    core_fail_with(core, err)
-    free(err)
+    err_ini_first(refusal(), -1, 0, number)
+    core_fail(core, refusal())
 
 
 # ------------------------------------------------------------------ logging
@@ -799,15 +804,18 @@ cdef int32_t _load_tool_table(uint32_t intIdx, const char *fileName) noexcept no
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
     if fileName == NULL:
-        return core_fail(core, ERR_FILE_OPEN, "(null)")
+        err_file_open(refusal(), -1, 0, "(null)")
+        return core_fail(core, refusal())
     if fileName[0] == 0:
-        return core_fail(core, ERR_FILE_OPEN, fileName)
+        err_file_open(refusal(), -1, 0, fileName)
+        return core_fail(core, refusal())
     table = <ToolTable *>tc_malloc(sizeof(ToolTable))
     if table == NULL:
-        return core_fail(core, ERR_OUT_OF_MEMORY, NULL)
+        err_out_of_memory(refusal(), -1, 0)
+        return core_fail(core, refusal())
     if not tool_table_read(fileName, table, &err):      # read without the lock
         free(table)
-        core_fail_with(core, &err)
+        core_fail(core, &err)
         return TOOL_CHAIN_ERROR
     pthread_mutex_lock(&core.lock)
     core.tool_table = table[0]
@@ -841,7 +849,7 @@ cdef public int32_t ToolChainCore_SetToolCorrection(uint32_t intIdx, uint32_t en
     good = tool_table_set(&core.tool_table, entry, programmed, values, &err)
     pthread_mutex_unlock(&core.lock)
     if not good:
-        core_fail_with(core, &err)
+        core_fail(core, &err)
         return TOOL_CHAIN_ERROR
     return TOOL_CHAIN_SUCCESS
 
@@ -875,14 +883,16 @@ cdef int32_t _load_axis_corrections(uint32_t intIdx, uint32_t nFiles, const char
         return TOOL_CHAIN_BAD_INTR_INDEX
     for k in range(nFiles if nFiles <= AXIS_TABLES_MAX + 1 else AXIS_TABLES_MAX + 1):
         if fileNames[k] == NULL:
-            return core_fail(core, ERR_FILE_OPEN, "(null)")
+            err_file_open(refusal(), -1, 0, "(null)")
+            return core_fail(core, refusal())
         if fileNames[k][0] == 0:
-            return core_fail(core, ERR_FILE_OPEN, fileNames[k])
+            err_file_open(refusal(), -1, 0, fileNames[k])
+            return core_fail(core, refusal())
     tc_set_stage("reading an axis table")
     good = axis_corrections_read(fileNames, nFiles, &tables, &err)      # read without the lock
     tc_set_stage(NULL)
     if not good:
-        core_fail_with(core, &err)
+        core_fail(core, &err)
         return TOOL_CHAIN_ERROR
     pthread_mutex_lock(&core.lock)
     old = core.axis_corrections
@@ -919,7 +929,7 @@ cdef public int32_t ToolChainCore_SetSmoothing(uint32_t intIdx, int32_t command,
     good = smoothing_set(&core.smoothing, command, params, &err)
     pthread_mutex_unlock(&core.lock)
     if not good:
-        core_fail_with(core, &err)
+        core_fail(core, &err)
         return TOOL_CHAIN_ERROR
     return TOOL_CHAIN_SUCCESS
 
@@ -961,7 +971,8 @@ cdef public int32_t ToolChainCore_SmoothSamples(uint32_t intIdx, const double *s
         pthread_mutex_unlock(&core.lock)
         if not smoother_init(&smoother, &config, STEP_US * 1e-6, samples):
             tc_set_stage("the smoothing")
-            core_fail(core, ERR_OUT_OF_MEMORY, NULL)
+            err_out_of_memory(refusal(), -1, 0)
+            core_fail(core, refusal())
             tc_set_stage(NULL)
             return TOOL_CHAIN_ERROR
         for i in range(nSamples):

@@ -8,6 +8,8 @@ cdef enum:
     FILE_READ_CHUNK = 1 << 16       # growth step for files whose size the open does not tell
 
 
-# 0 when `path` can be read (else the error number); its bytes, NUL-terminated
+# 0 when `path` can be read (else the error number); its bytes, NUL-terminated; the
+# error of such a number for `path` recorded (-1)
+cdef int file_error(ErrorInfo *err, int32_t number, int32_t file_idx, const char *path) noexcept nogil
 cdef int32_t file_check_readable(const char *path) noexcept nogil
 cdef char *read_whole_file(const char *path, size_t max_bytes, size_t *length, int32_t *error) noexcept nogil

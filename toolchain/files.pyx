@@ -25,6 +25,20 @@ cdef bint file_open_regular(const char *path, size_t max_bytes, tc_file *file, s
     return True
 
 
+cdef int file_error(ErrorInfo *err, int32_t number, int32_t file_idx, const char *path) noexcept nogil:
+    """The error of a file that could not be read, `number` as file_check_readable or
+    read_whole_file gave it, naming `path`; -1."""
+    if number == ERR_FILE_OPEN:
+        return err_file_open(err, file_idx, 0, path)
+    if number == ERR_NOT_REGULAR_FILE:
+        return err_not_regular_file(err, file_idx, 0, path)
+    if number == ERR_FILE_TOO_LARGE:
+        return err_file_too_large(err, file_idx, 0, path)
+    if number == ERR_OUT_OF_MEMORY:
+        return err_out_of_memory(err, file_idx, 0)
+    return err_file_read(err, file_idx, 0, path)
+
+
 cdef int32_t file_check_readable(const char *path) noexcept nogil:
     """0 when `path` is a regular file that can be opened for reading, else the
     error number (the same checks as read_whole_file, without reading)."""

@@ -74,20 +74,11 @@ cdef bint _in_bounds(ErrorInfo *err, const char *name, double value, double lo, 
                      bint lo_open) noexcept nogil:
     """True when value is finite and in [lo, hi] (lo excluded when lo_open); else
     err names the field (ERR_NOT_FINITE, ERR_OUT_OF_RANGE)."""
-    cdef ErrArg a[4]
-    a[0].num = 0
-    a[0].text = name
-    a[1].num = value
-    a[1].text = NULL
     if not isfinite(value):
-        set_error(err, ERR_NOT_FINITE, -1, 0, a, 2)
+        err_not_finite(err, -1, 0, name, value)
         return False
     if value > hi or value < lo or (lo_open and value == lo):
-        a[2].num = lo
-        a[2].text = NULL
-        a[3].num = hi
-        a[3].text = NULL
-        set_error(err, ERR_OUT_OF_RANGE, -1, 0, a, 4)
+        err_out_of_range(err, -1, 0, name, value, lo, hi)
         return False
     return True
 
@@ -283,14 +274,8 @@ cdef int gcode_parameter_from_ini(GCODE_PARAMETERS *p, const char *key, const ch
 
 
 cdef int32_t _ini_fail(IniSettings *s, int32_t line, const char *what) noexcept nogil:
-    cdef ErrArg a[3]
-    a[0].num = 0
-    a[0].text = s.path
-    a[1].num = line
-    a[1].text = NULL
-    a[2].num = 0
-    a[2].text = what
-    set_error(s.err, ERR_INI_VALUE, -1, line, a, 3)
+    """Error 16 on the INI file's line; its number (ini_read's visitor ends the reading)."""
+    err_ini_value(s.err, -1, line, s.path, line, what)
     return ERR_INI_VALUE
 
 
@@ -330,7 +315,7 @@ cdef int32_t _ini_file_key(IniSettings *s, int32_t line, const char *key, const 
     free(slot[0])
     slot[0] = _ini_file_path(s.path, value)
     if slot[0] == NULL:
-        set_error(s.err, ERR_OUT_OF_MEMORY, -1, line, NULL, 0)
+        err_out_of_memory(s.err, -1, line)
         return ERR_OUT_OF_MEMORY
     return 0
 

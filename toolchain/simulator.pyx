@@ -17,21 +17,13 @@ cdef bint check_limits(Core *core, const MACHINE_PARAMETERS *machine, const SIMP
     cdef const double *ref = <const double *>&machine.refCoords
     cdef const int32_t *enabled = <const int32_t *>&machine.enableMask
     cdef ErrorInfo err
-    cdef ErrArg args[4]
     cdef bint inside = True
     cdef int k
     for k in range(AXES):
         if not enabled[k]:
             continue
         if end[k] < ref[k] + lo[k] - LENGTH_EPS or end[k] > ref[k] + hi[k] + LENGTH_EPS:
-            args[0].text = axis_name(k)
-            args[1].text = NULL
-            args[1].num = end[k]
-            args[2].text = NULL
-            args[2].num = ref[k] + lo[k]
-            args[3].text = NULL
-            args[3].num = ref[k] + hi[k]
-            set_error(&err, ERR_MACHINE_LIMIT, gm.m_fileIdx, <int32_t>p.line, args, 4)
+            err_machine_limit(&err, gm.m_fileIdx, <int32_t>p.line, axis_name(k), end[k], ref[k] + lo[k], ref[k] + hi[k])
             if first_error.number == 0:
                 first_error[0] = err
             core_report_error(core, &err)

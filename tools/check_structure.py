@@ -11,7 +11,9 @@ first. This script reads that include tree the way Cython does (the .pxd, then t
       declared, in another;
   (c) a struct, union, enum or ctypedef in a .pyx (types live in the faces);
   (d) a function or variable of one stage used by another stage without a face
-      declaring it (a stage: a directory of toolchain/, or a top-level module).
+      declaring it (a stage: a directory of toolchain/, or a top-level module);
+  (e) a name only some files may use (RESTRICTED) used elsewhere: an error is recorded
+      by its generated constructor, never by record_error with hand-filled arguments.
 
 Plain Python, no dependencies; it reads the sources as text, not as Cython does:
 top-level definitions start at column 0, a function's parameters and its cdef/for/
@@ -30,6 +32,11 @@ IDENT = re.compile(r"[A-Za-z_]\w*")
 INCLUDE = re.compile(r'^\s*include\s+"([^"]+)"')
 TYPE_BLOCK = re.compile(r"^(?:cdef|ctypedef)\s+(?:packed\s+)?(struct|union|enum)\b\s*(\w*)")
 FUNC_POINTER = re.compile(r"\(\s*\*\s*(\w+)\s*\)")
+# name -> the files that may use it, and why
+RESTRICTED = {
+    "record_error": ({"errors.pyx", "errors.pxd", "catalogue.pxi"},
+                     "record an error with its generated constructor (err_...), whose arguments Cython checks"),
+}
 
 
 def strip_code(text: str) -> list:
@@ -346,6 +353,9 @@ def check(toolchain: Path, root: str = "libSF_TCh.pyx") -> list:
             if private(name) and definer[name] is not src:
                 problems.append((src.rel, line, f"private {name} of {definer[name].rel} declared here: "
                                  "a name other files use must not start with _"))
+        for name, lines in src.uses.items():
+            if name in RESTRICTED and src.rel not in RESTRICTED[name][0]:
+                problems.append((src.rel, lines[0], f"{name} used here: {RESTRICTED[name][1]}"))
         for name, lines in src.uses.items():
             if private(name) and name in definer and definer[name] is not src and name not in src.defines:
                 problems.append((src.rel, lines[0], f"private {name} of {definer[name].rel} used here: "

@@ -57,9 +57,11 @@ library's table (`toolchain/catalogue.pxi`), `sf_tch.ErrorNumber` / `sf_tch.Stat
 `tests/test_catalogue.py` fails while a committed output differs from what it writes. To add an error: add an entry to the section of
 `toolchain/errors.toml` its number belongs to (numbers ascending, never one used
 before: hosts test them), with its C name, format, one argument name per conversion
-and its meaning; run `python3 tools/gen_catalogue.py`; report it in the library with
-`set_error(err, ERR_..., file_idx, line, args, n)` (or `set_error_text` /
-`set_error_num`, toolchain/errors.pyx) after rebuilding; commit the source and the
+and its meaning (`column = true` when the word's column is no argument of the format);
+run `python3 tools/gen_catalogue.py`; report it in the library with its generated
+constructor, `err_<name>(err, file_idx, line, arguments...)` (`warn_<name>` for a warning;
+toolchain/catalogue.pxi), whose parameters are the format's arguments, typed, so that the
+build refuses a call with a wrong number or kind of them; commit the source and the
 generated files together."""
 STATUSES = """\
 `ToolChainCore_StatusCNC` gives a core's `cnc_status`; a positive one: something runs.
@@ -70,10 +72,10 @@ run `python3 tools/gen_catalogue.py`, give it a row in the status machine's tabl
 (`toolchain/runtime/transitions.pyx`, in the enum's order: the build fails while the
 count differs) and declare it in `toolchain/includes/tgm_cnc.pxd` if Cython code names it."""
 
-# The conversions set_error (toolchain/errors.pyx) substitutes: flags, width,
+# The conversions record_error (toolchain/errors.pyx) substitutes: flags, width,
 # precision, then one of these letters; %s takes a text, the others a number.
 CONVERSION = re.compile(r"%(%|[-+ #0]*[0-9]*(?:\.[0-9]+)?[gGfFeEdisx])")
-ERROR_KEYS = {"number", "name", "python", "format", "arguments", "meaning"}
+ERROR_KEYS = {"number", "name", "python", "format", "arguments", "meaning", "column", "stage"}
 SECTION_KEYS = {"title", "range", "intro", "error"}
 
 
@@ -89,6 +91,8 @@ class Error:
     format: str
     arguments: list[str]
     meaning: str
+    column: bool            # the constructor takes a column kept beside the text, not in it
+    stage: bool             # its one argument is the thread's stage (tc_stage), not the caller's
 
 
 @dataclass
@@ -113,7 +117,7 @@ def _prose(text: str) -> str:
 
 
 def conversions(fmt: str, where: str) -> list[str]:
-    """The conversions of `fmt` in order, '%%' left out; refuses what set_error cannot substitute."""
+    """The conversions of `fmt` in order, '%%' left out; refuses what record_error cannot substitute."""
     found = []
     pos = fmt.find("%")
     while pos >= 0:
@@ -177,7 +181,15 @@ def read_catalogue(path: Path) -> tuple[str, list[Section]]:
             meaning = _prose(entry["meaning"])
             if not meaning:
                 raise CatalogueError(f"{where}: no meaning")
-            section.errors.append(Error(number, name, python, fmt, arguments, meaning))
+            column, stage = entry.get("column", False), entry.get("stage", False)
+            if not isinstance(column, bool) or not isinstance(stage, bool):
+                raise CatalogueError(f"{where}: column and stage are true or false")
+            if column and "column" in arguments:
+                raise CatalogueError(f"{where}: a column in the format and beside it")
+            if stage and len(arguments) != 1:
+                raise CatalogueError(f"{where}: the stage is the format's one argument")
+            _parameters(arguments, where)
+            section.errors.append(Error(number, name, python, fmt, arguments, meaning, column, stage))
         sections.append(section)
     return _prose(data["intro"]), sections
 
@@ -202,6 +214,68 @@ def read_statuses(path: Path) -> list[Status]:
     return statuses
 
 
+# Names a constructor's parameter may not take: Cython's and C's words, and its own
+# first parameters (the record and its place).
+_RESERVED = frozenset("""and as assert break case cdef char class const continue cpdef ctypedef def default del
+    double elif else enum except extern float for from gil global if import in include inline int is lambda
+    long nogil not or pass return short signed sizeof struct switch try union unsigned void while with yield
+    err file_idx at_line at_column""".split())
+
+
+def _parameters(arguments: list[str], where: str) -> list[str]:
+    """C names for the arguments' names (words joined by '_'), each once."""
+    names: list[str] = []
+    for argument in arguments:
+        name = re.sub(r"[^a-z0-9]+", "_", argument.lower()).strip("_") or "value"
+        if name[0].isdigit():
+            name = "n_" + name
+        if name in _RESERVED:
+            name += "_"
+        base, k = name, 2
+        while name in names:
+            name, k = f"{base}_{k}", k + 1
+        names.append(name)
+    return names
+
+
+def _c_type(conversion: str) -> str:
+    # every number is a double: a %d's value is printed clamped to C's int by record_error,
+    # so no caller casts a double that may be out of range (undefined in C)
+    return "const char *" if conversion[-1] == "s" else "double"
+
+
+def write_constructors(sections: list[Section]) -> list[str]:
+    """One typed constructor per error: `err_...(err, file_idx, at_line[, at_column], arguments...)`."""
+    out = ["", "",
+           "# ---- the constructors: the one way a stage reports an error. Each takes the record,",
+           "# the file index and line of the place (-1 and 0: none), for errors with a column",
+           "# beside the text that column, and the format's arguments in order, typed (%s a",
+           "# text, every other conversion a number); Cython checks every call. Each",
+           "# returns -1, so that a stage can `return err_...(...)`."]
+    for e in (e for s in sections for e in s.errors):
+        params = ["ErrorInfo *err", "int32_t file_idx", "int32_t at_line"]
+        if e.column:
+            params.append("int64_t at_column")
+        names = [] if e.stage else _parameters(e.arguments, e.name)
+        kinds = [] if e.stage else conversions(e.format, e.name)
+        types = ["int64_t" if n == "column" else _c_type(c) for c, n in zip(kinds, names)]   # a column is counted
+        params += [f"{t}{'' if t.endswith('*') else ' '}{n}" for t, n in zip(types, names)]
+        column = "at_column" if e.column else "column" if "column" in names else "0"
+        out += ["", "", f"cdef inline int {e.name.lower()}({', '.join(params)}) noexcept nogil:",
+                f'    """{e.number}: {_one_line(e.format).replace(chr(92), chr(92) * 2)}"""']
+        if names:
+            out.append(f"    cdef ErrArg a[{len(names)}]")
+            for i, (c, n) in enumerate(zip(kinds, names)):
+                value = n if types[i] == "double" else f"<double>{n}"
+                out.append(f"    a[{i}].text = {n}; a[{i}].num = 0" if c[-1] == "s" else
+                           f"    a[{i}].text = NULL; a[{i}].num = {value}")
+            out.append(f"    record_error(err, {e.name}, file_idx, at_line, {column}, a, {len(names)})")
+        else:
+            out.append(f"    record_error(err, {e.name}, file_idx, at_line, {column}, NULL, 0)")
+        out.append("    return -1")
+    return out
+
+
 def _c_string(text: str) -> str:
     # The catalogue's texts are printable ASCII: escape what C reads specially.
     body = text.replace("\\", "\\\\").replace('"', '\\"').replace("\n", "\\n").replace("??", "?\\?")
@@ -215,11 +289,12 @@ def _one_line(fmt: str) -> str:
 def write_pxi(sections: list[Section], statuses: list[Status]) -> str:
     width = max(len(f"{e.name} = {e.number}") for s in sections for e in s.errors)
     out = [f"# {GENERATED}", "#",
-           "# The error numbers (cimported with errors.pxd) and the catalogue's lookups, in C:",
-           "# error_format(number) is the English format or NULL; status_name(status) the",
-           '# English name of a cnc_status or "unknown"; status_row(status) its place in the',
-           "# header's enum (the rows of runtime/transitions.pyx's table) or -1.",
-           "from libc.stdint cimport int32_t", "", "cdef enum ErrorNumber:"]
+           "# The error numbers (cimported with errors.pxd), the catalogue's lookups in C and",
+           "# one constructor per error. error_format(number) is the English format or NULL;",
+           '# status_name(status) the English name of a cnc_status or "unknown";',
+           "# status_row(status) its place in the header's enum (the rows of",
+           "# runtime/transitions.pyx's table) or -1.",
+           "from libc.stdint cimport int32_t, int64_t", "", "cdef enum ErrorNumber:"]
     for section in sections:
         if section.title is not None:
             out.append(f"    # {section.title} ({section.first}..{section.last})")
@@ -239,8 +314,8 @@ def write_pxi(sections: list[Section], statuses: list[Status]) -> str:
             "    int32_t TC_N_STATUSES",
             '    const char *error_format "tc_error_format"(int32_t number) noexcept nogil',
             '    const char *status_name "tc_status_name"(int32_t status) noexcept nogil',
-            '    int32_t status_row "tc_status_row"(int32_t status) noexcept nogil', ""]
-    return "\n".join(out)
+            '    int32_t status_row "tc_status_row"(int32_t status) noexcept nogil']
+    return "\n".join(out + write_constructors(sections)) + "\n"
 
 
 def write_python(sections: list[Section], statuses: list[Status]) -> str:
@@ -255,7 +330,12 @@ def write_python(sections: list[Section], statuses: list[Status]) -> str:
             "", "", "class ErrorNumber(enum.IntEnum):",
             "    \"\"\"The library's error catalogue (docs/errors.md); 600 to 699 are warnings.\"\"\""]
     out += [f"    {e.python} = {e.number}  # {_one_line(e.format)}" for s in sections for e in s.errors]
-    return "\n".join(out) + "\n"
+    out += ["", "    @property", "    def format(self) -> str:",
+            '        """The English format (printf-like) whose arguments CALLBACK_INFO.m_errorArguments holds."""',
+            "        return FORMATS[self.value]", "", "",
+            "# every error's English format, by number", "FORMATS = {"]
+    out += [f"    {e.number}: {e.format!r}," for s in sections for e in s.errors]
+    return "\n".join(out + ["}"]) + "\n"
 
 
 def _paragraph(text: str, width: int = 92) -> str:

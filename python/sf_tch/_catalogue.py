@@ -102,20 +102,26 @@ class ErrorNumber(enum.IntEnum):
     O_WORD = 310  # O-word '%s' at column %d: %s
     O_UNDEFINED = 311  # Subroutine '%s' at column %d is not defined: no 'sub' line was read before the call or follows it
     PROGRAM_TABLE_LIMIT = 312  # More than %d different %s in one program
-    ARC_CENTRE = 400  # Wrongly entered centre of circular interpolation %s at column %d: start %s = %g %s = %g, end %s = %g %s = %g, delta (%.7f) > 2*R (%.7f)
+    ARC_CENTRE = 400  # Wrongly entered centre of circular interpolation XY\nStart X = %g Y = %g | End X = %g Y = %g\nDelta (%.7f) > 2*R (%.7f)
     ARC_RADIUS = 401  # Arc radius %g too small for chord %g
     ARC_NO_CENTRE = 402  # Arc without centre (I J K or R)
     BAD_PLANE = 403  # Bad plane G%d
     BAD_G = 404  # Unknown G function G%g at column %d
     BAD_M = 405  # Bad M function M%g at column %d
     MACHINE_LIMIT = 406  # Axis %s position %g outside the machine limits <%g, %g>
-    ARC_RADII = 407  # Wrongly entered centre of circular interpolation %s at column %d: start %s = %g %s = %g, end %s = %g %s = %g, radius at start (%.7f) <> radius at end (%.7f)
+    ARC_RADII = 407  # Wrongly entered centre of circular interpolation XY\nStart X = %g Y = %g | End X = %g Y = %g\nRadius at start (%.7f) <> radius at end (%.7f)
     ISO_G = 408  # G%g at column %d is not TG G-code: %s; the ISO mode reads it: sf-tch compile --iso, sf_tch.compile(..., iso=True), GCODE_PARAMETERS.rezerva1 bit 0
     NO_FEED = 410  # G%g at column %d with feed 0: no F word was given (LinuxCNC refuses it)
     NO_MOTION_MODE = 411  # Axis word '%s' at column %d without a motion mode (G0 G1 G2 G3 or a canned cycle): %s
     NGC_G = 412  # G%g at column %d: %s
     NGC_WORD = 413  # '%s' at column %d: %s
     NGC_REFUSED = 414  # '%s' at column %d: %s; LinuxCNC stops with an error here (strict ISO mode)
+    ARC_CENTRE_XZ = 415  # Wrongly entered centre of circular interpolation XZ\nStart X = %g Z = %g | End X = %g Z = %g\nDelta (%.7f) > 2*R (%.7f)
+    ARC_CENTRE_YZ = 416  # Wrongly entered centre of circular interpolation YZ\nStart Y = %g Z = %g | End Y = %g Z = %g\nDelta (%.7f) > 2*R (%.7f)
+    ARC_CENTRE_ZX = 417  # Wrongly entered centre of circular interpolation ZX\nStart Z = %g X = %g | End Z = %g X = %g\nDelta (%.7f) > 2*R (%.7f)
+    ARC_RADII_XZ = 418  # Wrongly entered centre of circular interpolation XZ\nStart X = %g Z = %g | End X = %g Z = %g\nRadius at start (%.7f) <> radius at end (%.7f)
+    ARC_RADII_YZ = 419  # Wrongly entered centre of circular interpolation YZ\nStart Y = %g Z = %g | End Y = %g Z = %g\nRadius at start (%.7f) <> radius at end (%.7f)
+    ARC_RADII_ZX = 420  # Wrongly entered centre of circular interpolation ZX\nStart Z = %g X = %g | End Z = %g X = %g\nRadius at start (%.7f) <> radius at end (%.7f)
     COMP_NOT_FOUND = 500  # Intersection of equidistants not found
     COMP_ON_ARC = 501  # Compensation switched on or off on an arc
     COMP_PLANE_CHANGE = 502  # Plane changed while tool radius compensation is active
@@ -151,3 +157,129 @@ class ErrorNumber(enum.IntEnum):
     AXIS_TABLE_VALUE = 733  # Axis correction table '%s', grid point %.0f: %s
     AXIS_TABLES = 734  # Axis correction table '%s': %s
     SMOOTHING = 740  # Smoothing, Command %d, Command_Parameter[%d] = %g: %s
+
+    @property
+    def format(self) -> str:
+        """The English format (printf-like) whose arguments CALLBACK_INFO.m_errorArguments holds."""
+        return FORMATS[self.value]
+
+
+# every error's English format, by number
+FORMATS = {
+    1: "Cannot open file '%s'",
+    2: "Cannot read file '%s'",
+    3: "Cannot open INI file '%s'",
+    4: 'Out of memory (%s)',
+    5: 'Compilation interrupted',
+    6: 'No compiled program',
+    7: 'Driver callback %s returned %d',
+    8: 'Core busy: %s',
+    9: '%s not allowed in status %d (%s)',
+    10: '%s is not implemented yet',
+    11: 'Callback %d needs LoadFromIni first',
+    12: "File '%s' is larger than 1 GiB",
+    13: "'%s' is not a regular file",
+    14: '%s = %g is not a finite number',
+    15: '%s = %g is outside <%g, %g>',
+    16: "INI file '%s' line %d: %s",
+    20: "%s is not allowed inside a callback of the core's running activity",
+    21: 'StartCNCEx: unknown regime',
+    22: 'No M function waits for a confirmation',
+    23: 'An M function still waits for its confirmation (ToolChainCore_ConfirmMFunc)',
+    24: "%s: the move's path is not finite (%s)",
+    25: "Table file '%s' is larger than 64 MiB",
+    26: "Program '%s' is compressed (gzip): decompress it first (the Python package and sf-tch read .gz programs)",
+    27: 'SetGCodeParameters in status %d (%s): only the feeds may change while the program stands on its trajectory; %s',
+    100: "Unknown word '%s' at column %d",
+    101: "Bad number '%s' at column %d",
+    102: 'Address %s at column %d without a value',
+    103: "Unbalanced brackets: '(' at column %d not closed",
+    104: "Comment '(' at column %d not closed on this line",
+    105: 'Line longer than %d characters',
+    106: 'Bad value %g of address %s',
+    107: 'More than %d %s words on one line',
+    108: "Number '%s' at column %d is too large",
+    110: "Word '%s' at column %d: P is reserved for parameters P00..P99 (Pnn = value); %s",
+    111: "'%s' at column %d is not TG G-code: %s; the ISO mode reads it: sf-tch compile --iso, sf_tch.compile(..., iso=True), GCODE_PARAMETERS.rezerva1 bit 0",
+    112: "'%s' at column %d is not supported in the ISO compatibility mode: %s",
+    200: 'Division by zero',
+    201: 'Parameter P%g at column %d does not exist (P00..P99)',
+    202: "Syntax error in expression '%s' at column %d",
+    203: "Unknown function '%s' at column %d",
+    204: 'Argument out of domain in %s(%g)',
+    205: 'PLC address %g out of range (1..%d)',
+    206: 'G900 parameter stack %s',
+    207: "Expression '%s' does not give a finite number",
+    208: "Named parameter '%s' at column %d is not defined",
+    209: "Parameter '%s' at column %d cannot be read: %s",
+    210: 'Parameter #%g at column %d does not exist (#1..#5601)',
+    211: "Parameter '%s' at column %d is read-only",
+    300: "Undefined label '%s'",
+    301: "Label '%s' defined twice (first on line %d)",
+    302: 'END without FOR, WHILE or IF',
+    303: '%s without END',
+    304: 'Subroutine calls nested deeper than %d',
+    305: 'RETURN outside a subroutine',
+    306: 'More than %d blocks executed: endless loop?',
+    307: '%s outside a loop',
+    308: "Bad condition '%s' at column %d",
+    309: 'More than %d parts: program too large',
+    310: "O-word '%s' at column %d: %s",
+    311: "Subroutine '%s' at column %d is not defined: no 'sub' line was read before the call or follows it",
+    312: 'More than %d different %s in one program',
+    400: 'Wrongly entered centre of circular interpolation XY\nStart X = %g Y = %g | End X = %g Y = %g\nDelta (%.7f) > 2*R (%.7f)',
+    401: 'Arc radius %g too small for chord %g',
+    402: 'Arc without centre (I J K or R)',
+    403: 'Bad plane G%d',
+    404: 'Unknown G function G%g at column %d',
+    405: 'Bad M function M%g at column %d',
+    406: 'Axis %s position %g outside the machine limits <%g, %g>',
+    407: 'Wrongly entered centre of circular interpolation XY\nStart X = %g Y = %g | End X = %g Y = %g\nRadius at start (%.7f) <> radius at end (%.7f)',
+    408: 'G%g at column %d is not TG G-code: %s; the ISO mode reads it: sf-tch compile --iso, sf_tch.compile(..., iso=True), GCODE_PARAMETERS.rezerva1 bit 0',
+    410: 'G%g at column %d with feed 0: no F word was given (LinuxCNC refuses it)',
+    411: "Axis word '%s' at column %d without a motion mode (G0 G1 G2 G3 or a canned cycle): %s",
+    412: 'G%g at column %d: %s',
+    413: "'%s' at column %d: %s",
+    414: "'%s' at column %d: %s; LinuxCNC stops with an error here (strict ISO mode)",
+    415: 'Wrongly entered centre of circular interpolation XZ\nStart X = %g Z = %g | End X = %g Z = %g\nDelta (%.7f) > 2*R (%.7f)',
+    416: 'Wrongly entered centre of circular interpolation YZ\nStart Y = %g Z = %g | End Y = %g Z = %g\nDelta (%.7f) > 2*R (%.7f)',
+    417: 'Wrongly entered centre of circular interpolation ZX\nStart Z = %g X = %g | End Z = %g X = %g\nDelta (%.7f) > 2*R (%.7f)',
+    418: 'Wrongly entered centre of circular interpolation XZ\nStart X = %g Z = %g | End X = %g Z = %g\nRadius at start (%.7f) <> radius at end (%.7f)',
+    419: 'Wrongly entered centre of circular interpolation YZ\nStart Y = %g Z = %g | End Y = %g Z = %g\nRadius at start (%.7f) <> radius at end (%.7f)',
+    420: 'Wrongly entered centre of circular interpolation ZX\nStart Z = %g X = %g | End Z = %g X = %g\nRadius at start (%.7f) <> radius at end (%.7f)',
+    500: 'Intersection of equidistants not found',
+    501: 'Compensation switched on or off on an arc',
+    502: 'Plane changed while tool radius compensation is active',
+    503: 'Arc radius %g smaller than the tool radius %g',
+    504: 'Equidistants cross: the tool (radius %g) does not fit the contour',
+    505: 'More than %d blocks without motion in the compensation plane',
+    600: 'Tool radius compensation: %s',
+    601: 'Equidistant error on line %d: the tool cuts %g mm into the contour',
+    610: "G43 with H at column %d: TG's G43 switches on tool radius compensation with correction[2], it is no tool length offset (TG: & n; the ISO mode: G43 H n is & n)",
+    611: 'O%g at column %d at the start of the program moves the O axis; a program number? (the ISO mode: ignored)',
+    612: "G18 arc at column %d after an ISO header (G21 / G90): TG's G18 is the XZ plane with arcs turning the other way than ISO's ZX plane, which is TG's G-18 (the ISO mode: G18 is read as G-18)",
+    613: 'G%g at column %d with axis words sets the zero offset to them; the axes do not move (the ISO mode: G54..G59 keep the offset and the line moves)',
+    614: 'G%g at column %d at feed 0 (no F word yet, or F0) moves at GCODE_PARAMETERS motion[1].feed; LinuxCNC refuses a feed of 0 (the ISO mode: error 410)',
+    615: 'Axis words at column %d before any G0..G3 move as G1; LinuxCNC refuses axis words without a motion mode (the ISO mode: error 411)',
+    616: 'G4 at column %d with G%g: the line dwells and does not move (the ISO mode: the dwell, then the move)',
+    617: 'G%g at column %d with axis words moves as G1; ISO moves with the modal G%g (the ISO mode)',
+    620: "'%s' at column %d ignored (ISO compatibility mode)",
+    621: "'%s' at column %d: %s; LinuxCNC stops with an error here, the ISO compatibility mode %s",
+    700: 'ConnectCNCEx_Plane: %s = %g: %s',
+    701: 'ConnectCNCEx_Plane: no part at line %d of file %d',
+    702: 'ConnectCNCEx_Plane: no part with G-code index %d',
+    703: 'ConnectCNCEx_Plane: occurrence n = %d of M%d not found (%d in that direction)',
+    704: 'ConnectCNCEx_Plane: the point lies %g mm from the part with G-code index %d (tolerance %g mm)',
+    705: 'ConnectCNCEx_Plane: no motion to connect to in parts %d to %d (the program has %d)',
+    706: 'ConnectCNCEx_Plane: %s gave a point that is not finite',
+    720: "Tool table '%s' has no line $KOR",
+    721: "Tool table '%s' line %d: %s",
+    722: 'Tool correction D%g does not exist (D1..D99)',
+    723: "Tool correction '%s' at column %d: %s",
+    730: "Axis correction table '%s', header: %s",
+    731: "Axis correction table '%s', definition of basis axis %s: %s",
+    732: "Axis correction table '%s' has %.0f bytes; its header and definition block ask for %.0f",
+    733: "Axis correction table '%s', grid point %.0f: %s",
+    734: "Axis correction table '%s': %s",
+    740: 'Smoothing, Command %d, Command_Parameter[%d] = %g: %s',
+}

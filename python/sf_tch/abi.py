@@ -406,6 +406,7 @@ def _functions(tstr, dll_init_struct) -> tuple:
         ("ToolChainCore_IsBusy", c_int32, (c_uint32,)),
         ("ToolChainCore_GetLastError", c_int32, (c_uint32, _P(CALLBACK_INFO))),
         ("ToolChainCore_GetLastCallError", c_int32, (c_uint32, _P(CALLBACK_INFO))),
+        ("ToolChainCore_GetLastErrorColumn", c_int32, (c_uint32, c_int32, _P(c_int32))),
         ("ToolChainCore_FileToIdx", c_int32, (c_uint32, tstr)),
         ("ToolChainCore_IdxToFile", tstr, (c_uint32, c_int32)),
         ("ToolChainCore_GetGCodeSizeInfo", c_int32, (c_uint32, _P(GCODE_INFO))),
@@ -504,7 +505,7 @@ def _layouts_32(structures: dict, windows: bool) -> dict:
 
 # Beyond the vendor's list (docs/api.md, "Extensions"): the structures and functions this library adds.
 EXTENSION_STRUCTURES = ("TC_TOOLPATH_RECORD",)
-EXTENSION_FUNCTIONS = ("ToolChainCore_GetLastCallError", "ToolChainCore_GetToolpath", "ToolChainCore_SetLookAhead",
+EXTENSION_FUNCTIONS = ("ToolChainCore_GetLastCallError", "ToolChainCore_GetLastErrorColumn", "ToolChainCore_GetToolpath", "ToolChainCore_SetLookAhead",
                        "ToolChain_SetLogHook", "ToolChainCore_SetTimeScale", "ToolChainCore_ConfirmMFunc",
                        "ToolChainCore_LoadToolTable", "ToolChainCore_GetToolCorrection",
                        "ToolChainCore_SetToolCorrection", "ToolChainCore_LoadAxisCorrections",

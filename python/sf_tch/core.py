@@ -159,11 +159,11 @@ class _Events:
                 LOG.exception("listener of callback %d failed", number)
         return 0
 
-    def diagnostic(self, severity: str, info) -> Diagnostic:
+    def diagnostic(self, severity: str, info, column: int | None = None) -> Diagnostic:
         args = abi.library_text(info.m_errorArguments)
         file = abi.library_text(self.lib.ToolChainCore_IdxToFile(self.index, info.fileIdx))
         return Diagnostic(severity, _number(info.stringId), file, info.actLine, abi.library_text(info.m_fullError),
-                          tuple(args.split("\n")) if args else ())
+                          tuple(args.split("\n")) if args else (), column)
 
     def _on_output(self, user, tab, text, info) -> int:
         line = abi.library_text(text)
@@ -374,7 +374,9 @@ class Core:
         read = self.lib.ToolChainCore_GetLastCallError if refused_call else self.lib.ToolChainCore_GetLastError
         if read(self.index, ctypes.byref(info)) != 1:
             return None
-        return CncError.from_diagnostic(self._events.diagnostic("error", info))
+        column = ctypes.c_int32(0)      # kept beside the text (ToolChainCore_GetLastErrorColumn)
+        self.lib.ToolChainCore_GetLastErrorColumn(self.index, int(refused_call), ctypes.byref(column))
+        return CncError.from_diagnostic(self._events.diagnostic("error", info, column.value or None))
 
     def file_name(self, index: int) -> str:
         """IdxToFile: the name of a file index (special names for -1..-4)."""
@@ -508,7 +510,10 @@ class Core:
 
 
 def attach_column(diagnostic: Diagnostic, source_lines: list[str] | None) -> Diagnostic:
-    """The diagnostic with the column of its argument in its source line, when found."""
+    """The diagnostic with a column: the library's, else that of its argument in its
+    source line, when found."""
+    if diagnostic.column:
+        return diagnostic
     line = source_lines[diagnostic.line - 1] if source_lines and 1 <= diagnostic.line <= len(source_lines) else None
     column = locate_column(line, diagnostic.number, diagnostic.arguments, diagnostic.text)
     if column is None:

@@ -35,12 +35,15 @@ class Diagnostic:
     column: int | None = None
 
     def __str__(self) -> str:
-        """``file:line:col: error N: text``, the form compilers and editors read;
-        ``error N: text`` for an error of no file (e.g. a file that cannot be opened)."""
+        """``file:line:col: error N: text`` on one line, the form compilers and editors
+        read (a line break of the text, as in the vendor's three-line error 400, printed
+        as ``; ``); ``error N: text`` for an error of no file (e.g. a file that cannot be
+        opened)."""
+        text = self.text.replace("\n", "; ")
         if self.line <= 0 and self.file in _NO_FILE:
-            return f"{self.severity} {int(self.number)}: {self.text}"
+            return f"{self.severity} {int(self.number)}: {text}"
         place = f"{self.file}:{self.line}:" + (f"{self.column}:" if self.column else "")
-        return f"{place} {self.severity} {int(self.number)}: {self.text}"
+        return f"{place} {self.severity} {int(self.number)}: {text}"
 
     def to_dict(self) -> dict:
         """Plain types only (JSON-ready); ``fields``: the details of the longer messages
@@ -51,17 +54,24 @@ class Diagnostic:
                 "arguments": list(self.arguments), "fields": _fields(self.number, self.arguments)}
 
 
+# The arc-centre errors in the vendor's form: the plane and its two axes are in the text
+_ARC_FORMAT = re.compile(r"interpolation (\w+)\nStart (\w) = %g (\w) = %g \| End")
+_ARC_CENTRE = {400, 415, 416, 417}      # the chord longer than the diameter
+_ARC_RADII = {407, 418, 419, 420}       # the radii at start and end differ
+
+
 def _fields(number: int, arguments: tuple) -> dict:
     """The arguments of a message by name, where they are more than a word and its column."""
     a = arguments
     try:
-        if number in (ErrorNumber.ARC_CENTRE, ErrorNumber.ARC_RADII) and len(a) == 12:
-            fields = {"plane": a[0], "start": {a[2]: float(a[3]), a[4]: float(a[5])},
-                      "end": {a[6]: float(a[7]), a[8]: float(a[9])}}
-            if number == ErrorNumber.ARC_CENTRE:
-                fields.update(chord=float(a[10]), diameter=float(a[11]))
+        if number in _ARC_CENTRE | _ARC_RADII and len(a) == 6:
+            plane, first, second = _ARC_FORMAT.search(ErrorNumber(number).format).groups()
+            fields = {"plane": plane, "start": {first: float(a[0]), second: float(a[1])},
+                      "end": {first: float(a[2]), second: float(a[3])}}
+            if number in _ARC_CENTRE:
+                fields.update(chord=float(a[4]), diameter=float(a[5]))
             else:
-                fields.update(radius_start=float(a[10]), radius_end=float(a[11]))
+                fields.update(radius_start=float(a[4]), radius_end=float(a[5]))
             return fields
         if number == ErrorNumber.ARC_RADIUS and len(a) == 2:
             return {"radius": float(a[0]), "chord": float(a[1])}

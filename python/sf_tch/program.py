@@ -182,8 +182,12 @@ class CompileJob:
             last = self.core.last_error()
             if last is not None and last.number == ErrorNumber.CANCELLED:
                 raise last
-            if last is not None and not any(e.number == last.number and e.line == last.line for e in self.errors):
-                self.errors.append(last.diagnostic)
+            if last is not None:    # the library's record of it, with the column it keeps
+                same = [k for k, e in enumerate(self.errors) if e.number == last.number and e.line == last.line]
+                if same:
+                    self.errors[same[0]] = last.diagnostic
+                else:
+                    self.errors.append(last.diagnostic)
             errors = [attach_column(e, self._source_lines(e)) for e in self.errors]
             located = [attach_column(w, self._source_lines(w)) for w in self.warnings]
             program = Program(self.core, self.name, errors, located, self._arguments)

@@ -103,7 +103,7 @@ def cnc_status_name(int status):
 
 
 def error_text(int number, tuple args):
-    """set_error's text and '\n'-separated arguments for error `number` with `args`
+    """record_error's text and '\n'-separated arguments for error `number` with `args`
     (a str for %s, a number otherwise): test of the catalogue's table."""
     cdef ErrorInfo err
     cdef ErrArg a[16]
@@ -112,21 +112,7 @@ def error_text(int number, tuple args):
     for i in range(len(texts)):
         a[i].text = NULL if texts[i] is None else <const char *>texts[i]
         a[i].num = 0 if texts[i] is not None else args[i]
-    set_error(&err, number, -1, 0, a, len(texts))
-    return err.text.decode("latin-1"), err.args.decode("latin-1")
-
-
-def error_text(int number, tuple args):
-    """set_error's text and '\n'-separated arguments for error `number` with `args`
-    (a str for %s, a number otherwise): test of the catalogue's table."""
-    cdef ErrorInfo err
-    cdef ErrArg a[16]
-    cdef int i
-    texts = [arg.encode() if isinstance(arg, str) else None for arg in args[:16]]
-    for i in range(len(texts)):
-        a[i].text = NULL if texts[i] is None else <const char *>texts[i]
-        a[i].num = 0 if texts[i] is not None else args[i]
-    set_error(&err, number, -1, 0, a, len(texts))
+    record_error(&err, number, -1, 0, 0, a, len(texts))
     return err.text.decode("latin-1"), err.args.decode("latin-1")
 
 

@@ -28,7 +28,6 @@ cdef void _comp_deliver(CompState *S) noexcept nogil:
     """The kept warnings, in order, to `output` (text) and `warn` (numbered)."""
     cdef char text[300]
     cdef ErrorInfo info
-    cdef ErrArg args[2]
     cdef const CompWarning *w
     cdef int k
     for k in range(S.n_warnings):
@@ -37,13 +36,10 @@ cdef void _comp_deliver(CompState *S) noexcept nogil:
             snprintf(text, sizeof(text), "Warning: tool radius compensation: further warnings suppressed")
         else:
             if w.number == WARN_COMP:
-                args[0].num = 0; args[0].text = w.what
-                set_error(&info, WARN_COMP, w.file_idx, <int32_t>w.line, args, 1)
+                warn_comp(&info, w.file_idx, <int32_t>w.line, w.what)
                 snprintf(text, sizeof(text), "Warning: tool radius compensation, line %u: %s", w.line, w.what)
-            else:
-                args[0].num = w.line; args[0].text = NULL
-                args[1].num = w.depth; args[1].text = NULL
-                set_error(&info, w.number, w.file_idx, <int32_t>w.line, args, 2)
+            else:       # WARN_COMP_GOUGE
+                warn_comp_gouge(&info, w.file_idx, <int32_t>w.line, w.line, w.depth)
                 snprintf(text, sizeof(text), "Warning: tool radius compensation, line %u: %s", w.line, info.text)
             if S.warn != NULL:
                 info.n_lines = <int32_t>S.prog.n_lines
@@ -128,7 +124,7 @@ cdef int _chain_add(CompState *S, CompEl *b) noexcept nogil:
     cdef int res
     if S.n_st == 0:
         _start_chain(S, b)
-        return COMPILE_OK if _push(S, b) else comp_fail(S, ERR_OUT_OF_MEMORY, b.part, 0, 0)
+        return COMPILE_OK if _push(S, b) else err_out_of_memory(S.err, comp_file(S, b.part), comp_line(S, b.part))
     while True:
         a = &S.st[S.n_st - 1]
         res = corner_resolve(a, b, &S.cfg)
@@ -152,13 +148,13 @@ cdef int _chain_add(CompState *S, CompEl *b) noexcept nogil:
                 b.ps[0] = a.oe[0]; b.ps[1] = a.oe[1]
                 comp_warn(S, a.part, "intersection of equidistants not found, start point moved")
             else:
-                return comp_fail(S, ERR_COMP_NOT_FOUND, a.part, 0, 0)
+                return err_comp_not_found(S.err, comp_file(S, a.part), comp_line(S, a.part))
         if el_path_length(a) < -S.cfg.slack:
             # the corners trimmed a past itself: the offsets cross here
             if not (S.cfg.strategy & CORR_REMOVE_CROSSING) or not _can_pop(S, a) or pops >= S.cfg.depth:
                 if S.lenient:
                     break           # a stays as the offsets give it: the gouge check measures it
-                return comp_fail(S, ERR_COMP_CROSSING, a.part, fabs(a.d), 0)
+                return err_comp_crossing(S.err, comp_file(S, a.part), comp_line(S, a.part), fabs(a.d))
             comp_warn(S, a.part, "crossing part removed from the path")
             comp_discard(S, a.part)
             S.n_st -= 1
@@ -168,7 +164,7 @@ cdef int _chain_add(CompState *S, CompEl *b) noexcept nogil:
                 break
             continue
         break
-    return COMPILE_OK if _push(S, b) else comp_fail(S, ERR_OUT_OF_MEMORY, b.part, 0, 0)
+    return COMPILE_OK if _push(S, b) else err_out_of_memory(S.err, comp_file(S, b.part), comp_line(S, b.part))
 
 
 cdef void _chain_close_corner(CompState *S) noexcept nogil:
@@ -231,7 +227,7 @@ cdef int _chain_end_corners(CompState *S, bint fixed_end) noexcept nogil:
                 or S.n_st == 1:
             if S.lenient:
                 break
-            return comp_fail(S, ERR_COMP_CROSSING, a.part, fabs(a.d), 0)
+            return err_comp_crossing(S.err, comp_file(S, a.part), comp_line(S, a.part), fabs(a.d))
         comp_warn(S, a.part, "crossing last part removed from the path")
         comp_discard(S, a.part)
         S.n_st -= 1
@@ -240,9 +236,9 @@ cdef int _chain_end_corners(CompState *S, bint fixed_end) noexcept nogil:
     S.xs.last_part = S.st[S.n_st - 1].part if S.n_st > 0 else <size_t>-1
     if not _flush(S, 0):
         # no memory, or a crossing _chain_fallback reports (S.xs.err_*)
-        return comp_fail(S, ERR_OUT_OF_MEMORY, S.chain_first, 0, 0)
+        return err_out_of_memory(S.err, comp_file(S, S.chain_first), comp_line(S, S.chain_first))
     if not cross_chain_end(S):
-        return comp_fail(S, S.xs.err_number, S.xs.err_part, S.xs.err_arg, 0)
+        return comp_search_error(S)
     S.entry_part = -1
     return COMPILE_OK
 
@@ -271,7 +267,7 @@ cdef int _chain_fallback(CompState *S, int res) noexcept nogil:
     if res == COMPILE_OK:
         return res
     if S.xs.err_number != 0:
-        comp_fail(S, S.xs.err_number, S.xs.err_part, S.xs.err_arg, 0)
+        comp_search_error(S)
         S.xs.err_number = 0
     if not (S.cfg.strategy & CORR_REMOVE_CROSSING) or not S.chain_open or S.lenient or \
             (S.err.number != ERR_COMP_CROSSING and S.err.number != ERR_COMP_NOT_FOUND):
@@ -298,7 +294,7 @@ cdef int _chain_rebuild(CompState *S) noexcept nogil:
     S.lenient = not S.strict
     if not cl_check_chain(S, S.chain_first, S.chain_last, S.chain_ins0, False, False,
                           S.chain_last - S.chain_first):
-        res = comp_fail(S, S.xs.err_number, S.xs.err_part, S.xs.err_arg, 0)
+        res = comp_search_error(S)
         S.xs.err_number = 0
     S.lenient = lenient
     return res
@@ -400,7 +396,7 @@ cdef int _run_begin(CompState *S, size_t i) noexcept nogil:
     S.g0_never = (S.cfg.strategy & CORR_G0_NEVER_COMPENSATED) != 0
     S.plane = S.prog.parts[i].plane
     if not plane_axes(S.plane, &S.first, &S.second, &S.normal):
-        return comp_fail(S, ERR_COMP_PLANE_CHANGE, i, 0, 0)
+        return err_comp_plane_change(S.err, comp_file(S, i), comp_line(S, i))
     S.entry_part = -1
     S.next_fixed = False
     S.n_st = 0
@@ -422,13 +418,13 @@ cdef int _run_part(CompState *S, size_t k) noexcept nogil:
     cdef bint is_arc
     cdef int res
     if p.plane != S.plane:
-        return comp_fail(S, ERR_COMP_PLANE_CHANGE, k, 0, 0)
+        return err_comp_plane_change(S.err, comp_file(S, k), comp_line(S, k))
     S.role[k] = ROLE_FOLLOW
     if not _in_plane_motion(S, k, &is_arc):
         S.has_followers = True
         S.idle += 1
         if S.idle > LOOKAHEAD_PARTS and S.n_st > 0:
-            return comp_fail(S, ERR_COMP_LOOKAHEAD, k, LOOKAHEAD_PARTS, 0)
+            return err_comp_lookahead(S.err, comp_file(S, k), comp_line(S, k), LOOKAHEAD_PARTS)
         return COMPILE_OK
     S.idle = 0
     if S.first_motion and is_arc:
@@ -436,7 +432,7 @@ cdef int _run_part(CompState *S, size_t k) noexcept nogil:
         # to the arc's perpendicular and the arc is compensated whole
         S.first_motion = False
         if k == 0:
-            return comp_fail(S, ERR_COMP_ON_ARC, k, 0, 0)
+            return err_comp_on_arc(S.err, comp_file(S, k), comp_line(S, k))
         S.entry_arc = True
     elif S.first_motion:
         # the G41/G42 block: a line to the perpendicular of the next part (strategy 0)
@@ -473,7 +469,7 @@ cdef int _run_part(CompState *S, size_t k) noexcept nogil:
         if el.ro <= LENGTH_EPS * el.R:
             if el.ro < -LENGTH_EPS * el.R:
                 if not (S.cfg.strategy & CORR_DROP_NEGATIVE_ARCS):
-                    return comp_fail(S, ERR_COMP_NEGATIVE_ARC, k, el.R, fabs(el.d))
+                    return err_comp_negative_arc(S.err, comp_file(S, k), comp_line(S, k), el.R, fabs(el.d))
                 comp_warn(S, k, "arc with negative equidistant removed")
             # an offset of no radius is a point the neighbours' offsets pass through; the
             # arc leaves the cutting plan (correctionStrategy 0x200000): no driver sees it
@@ -492,7 +488,7 @@ cdef int _run_part(CompState *S, size_t k) noexcept nogil:
             S.next_fixed = False
             S.entry_part = -1
             if not _flush(S, 0) or not ins_line(S, k - 1, k, el.os):
-                return comp_fail(S, ERR_OUT_OF_MEMORY, k, 0, 0)
+                return err_out_of_memory(S.err, comp_file(S, k), comp_line(S, k))
             S.chain_fixed = False
             comp_warn(S, k, "compensation switched on before an arc: line to its perpendicular inserted")
     return _chain_fallback(S, _chain_add(S, &el))
@@ -515,7 +511,7 @@ cdef int _run_end(CompState *S, size_t j, bint g40) noexcept nogil:
         res = _chain_end(S, False, True)
         if res == COMPILE_OK and not S.chain_rebuilt:
             if not ins_line(S, k, k, pe):
-                return comp_fail(S, ERR_OUT_OF_MEMORY, k, 0, 0)
+                return err_out_of_memory(S.err, comp_file(S, k), comp_line(S, k))
             comp_warn(S, k, "compensation switched off after an arc: line to the programmed end inserted")
     else:
         res = _chain_end(S, False, exit_fixed)
@@ -534,7 +530,7 @@ cdef int _exit_part(CompState *S, size_t k) noexcept nogil:
     elif _in_plane_motion(S, k, &is_arc):
         S.exit_check = False
         if is_arc:
-            return comp_fail(S, ERR_COMP_ON_ARC, k, 0, 0)
+            return err_comp_on_arc(S.err, comp_file(S, k), comp_line(S, k))
     return COMPILE_OK
 
 
@@ -645,7 +641,7 @@ cdef int _merge(CompState *S, const MergeWatch *watch) noexcept nogil:
     if S.has_followers:
         settle = _settle
     if not program_merge(S.build, S.n_ins, S, _ins_after, _ins_make, settle, watch):
-        return comp_fail(S, ERR_OUT_OF_MEMORY, 0, 0, 0)
+        return err_out_of_memory(S.err, comp_file(S, 0), comp_line(S, 0))
     return COMPILE_OK
 
 
@@ -713,7 +709,7 @@ cdef int compensate_feed(void *ctx, size_t upto, bint last, size_t *more) noexce
             return COMPILE_OK
         _compatibility(S.prog)
     if not _role_room(S, upto):
-        S.result = comp_fail(S, ERR_OUT_OF_MEMORY, S.next if S.next < upto else 0, 0, 0)
+        S.result = err_out_of_memory(S.err, comp_file(S, S.next if S.next < upto else 0), comp_line(S, S.next if S.next < upto else 0))
         return S.result
     _view_take(S, upto)
     prog = S.prog
@@ -737,7 +733,7 @@ cdef int compensate_feed(void *ctx, size_t upto, bint last, size_t *more) noexce
     if res == COMPILE_OK and last and S.in_run:
         res = _run_end(S, upto, False)
     if res != COMPILE_OK and S.xs.err_number != 0:
-        comp_fail(S, S.xs.err_number, S.xs.err_part, S.xs.err_arg, 0)
+        comp_search_error(S)
     S.result = res
     more[0] = S.n_ins
     S.prog = &S.build.prog
@@ -750,7 +746,7 @@ cdef int compensate_end(CompState *S, const MergeWatch *watch) noexcept nogil:
     COMPILE_ERROR with err filled."""
     cdef int res = S.result
     if res == COMPILE_OK and not _role_room(S, S.prog.n_parts):
-        res = comp_fail(S, ERR_OUT_OF_MEMORY, 0, 0, 0)
+        res = err_out_of_memory(S.err, comp_file(S, 0), comp_line(S, 0))
     if res == COMPILE_OK:
         res = _merge(S, watch)
     _comp_deliver(S)

@@ -143,7 +143,7 @@ cdef int insert_arcs(ProgramBuilder *build, const GCODE_PARAMETERS *params, Erro
                 if d >= tol_min - ROUNDING_EPS and rad > LENGTH_EPS:
                     if not grow(<void **>&ins, &cap_ins, n_ins + 1, sizeof(ArcIns)):
                         free(ins)
-                        set_error(err, ERR_OUT_OF_MEMORY, prog.main_file_idx, 0, NULL, 0)
+                        err_out_of_memory(err, prog.main_file_idx, 0)
                         return COMPILE_ERROR
                     x = &ins[n_ins]
                     n_ins += 1
@@ -170,7 +170,7 @@ cdef int insert_arcs(ProgramBuilder *build, const GCODE_PARAMETERS *params, Erro
     merged = program_merge(build, n_ins, &arcs, _ia_after, _ia_make, NULL, NULL)
     free(ins)
     if not merged:
-        set_error(err, ERR_OUT_OF_MEMORY, prog.main_file_idx, 0, NULL, 0)
+        err_out_of_memory(err, prog.main_file_idx, 0)
         return COMPILE_ERROR
     return COMPILE_OK
 

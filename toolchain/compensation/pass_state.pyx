@@ -48,19 +48,27 @@ cdef void comp_gouge(CompState *S, size_t part, double depth) noexcept nogil:
         w.depth = depth
 
 
-cdef int comp_fail(CompState *S, int32_t number, size_t part, double a0, double a1) noexcept nogil:
-    """Error `number` on the line of part `part` (the main file when there is no such
-    part); COMPILE_ERROR."""
-    cdef ErrArg args[2]
-    cdef const Part *p
-    args[0].num = a0; args[0].text = NULL
-    args[1].num = a1; args[1].text = NULL
+cdef int32_t comp_file(const CompState *S, size_t part) noexcept nogil:
+    """The file of part `part`'s line for an error (the main file when there is no such part)."""
     if part >= S.prog.n_parts:
-        set_error(S.err, number, S.prog.main_file_idx, 0, args, 2)
-        return COMPILE_ERROR
-    p = &S.prog.parts[part]
-    set_error(S.err, number, part_settings(S.prog, p).file_idx, <int32_t>p.line, args, 2)
-    return COMPILE_ERROR
+        return S.prog.main_file_idx
+    return part_settings(S.prog, &S.prog.parts[part]).file_idx
+
+
+cdef int32_t comp_line(const CompState *S, size_t part) noexcept nogil:
+    """Part `part`'s line for an error (0 when there is no such part)."""
+    return <int32_t>S.prog.parts[part].line if part < S.prog.n_parts else 0
+
+
+cdef int comp_search_error(CompState *S) noexcept nogil:
+    """The error the crossing search left in S.xs (number, part, argument) recorded;
+    COMPILE_ERROR."""
+    cdef size_t part = S.xs.err_part
+    if S.xs.err_number == ERR_COMP_CROSSING:
+        return err_comp_crossing(S.err, comp_file(S, part), comp_line(S, part), S.xs.err_arg)
+    if S.xs.err_number == ERR_COMP_NOT_FOUND:
+        return err_comp_not_found(S.err, comp_file(S, part), comp_line(S, part))
+    return err_out_of_memory(S.err, comp_file(S, part), comp_line(S, part))
 
 
 cdef double comp_distance(const CompState *S, const Part *p) noexcept nogil:

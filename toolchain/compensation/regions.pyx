@@ -519,13 +519,13 @@ cdef int regions_rebuild(CompState *S) noexcept nogil:
     # the contour of the whole chain for the distances
     if not cl_load(S, C, S.chain_first, S.chain_last) or not _r_raw_curve(R, d) \
             or not _r_crossings(R, &n_nodes) or not _r_subs(R):
-        return comp_fail(S, ERR_OUT_OF_MEMORY, S.chain_first, 0, 0)
+        return err_out_of_memory(S.err, comp_file(S, S.chain_first), comp_line(S, S.chain_first))
     _r_classify(R, C, r, S.cfg.slack)
     if not _r_link(R, n_nodes):
-        return comp_fail(S, ERR_OUT_OF_MEMORY, S.chain_first, 0, 0)
+        return err_out_of_memory(S.err, comp_file(S, S.chain_first), comp_line(S, S.chain_first))
     best = _r_best_loop(R, orient, &n_loop)
     if best == -2:
-        return comp_fail(S, ERR_OUT_OF_MEMORY, S.chain_first, 0, 0)
+        return err_out_of_memory(S.err, comp_file(S, S.chain_first), comp_line(S, S.chain_first))
     if best < 0:
         return REGIONS_NOT_APPLICABLE   # the tool fits nowhere
     # enter at the first element (program order) whose tool side offset is in the loop
@@ -567,7 +567,7 @@ cdef int regions_rebuild(CompState *S) noexcept nogil:
         prev_piece = u.piece
     kept = <uint8_t *>tc_malloc(R.n_els)
     if kept == NULL:
-        return comp_fail(S, ERR_OUT_OF_MEMORY, S.chain_first, 0, 0)
+        return err_out_of_memory(S.err, comp_file(S, S.chain_first), comp_line(S, S.chain_first))
     for j in range(R.n_els):
         kept[j] = 0
     # the queued insertions of the chain and the warnings of the failed attempt go
@@ -580,7 +580,7 @@ cdef int regions_rebuild(CompState *S) noexcept nogil:
         p.ce[S.first] = at[0]; p.ce[S.second] = at[1]
     elif not ins_line(S, S.chain_first - 1, S.chain_first, at):
         free(kept)
-        return comp_fail(S, ERR_OUT_OF_MEMORY, S.chain_first, 0, 0)
+        return err_out_of_memory(S.err, comp_file(S, S.chain_first), comp_line(S, S.chain_first))
     last_part = S.chain_first
     for j in range(n_loop):
         u = &R.sub[R.loop[(start + j) % n_loop]]
@@ -590,7 +590,7 @@ cdef int regions_rebuild(CompState *S) noexcept nogil:
             if not ins_arc(S, last_part, u.p1, q.c, INS_G1 if R.pconn[u.piece] != PIECE_VERTEX else
                            (INS_G3 if q.dir > 0 else INS_G2)):
                 free(kept)
-                return comp_fail(S, ERR_OUT_OF_MEMORY, last_part, 0, 0)
+                return err_out_of_memory(S.err, comp_file(S, last_part), comp_line(S, last_part))
             if R.pconn[u.piece] == PIECE_TOOL and not kept[el_i]:
                 kept[el_i] = KEPT_INSERTED
             continue
@@ -610,5 +610,5 @@ cdef int regions_rebuild(CompState *S) noexcept nogil:
     if S.chain_exit_fixed:
         at[0] = R.els[R.n_els - 1].e[0]; at[1] = R.els[R.n_els - 1].e[1]
         if not ins_line(S, last_part, last_part, at):
-            return comp_fail(S, ERR_OUT_OF_MEMORY, last_part, 0, 0)
+            return err_out_of_memory(S.err, comp_file(S, last_part), comp_line(S, last_part))
     return COMPILE_OK

@@ -86,7 +86,7 @@ cdef int cp_g168(CState *st, const LineWords *lw) noexcept nogil:
         elif plane == -18:
             ax = 0.0; ay = 1.0; az = 0.0
         else:
-            return cerr_num(st, ERR_BAD_PLANE, plane)
+            return err_bad_plane(st.err, st.unit.file_idx, st.line, plane)
     if not set_rotation(st, val(lw, b'X') if has(lw, b'X') else 0.0, val(lw, b'Y') if has(lw, b'Y') else 0.0,
                         val(lw, b'Z') if has(lw, b'Z') else 0.0, ax, ay, az,
                         val(lw, b'R') if has(lw, b'R') else 0.0):
@@ -117,23 +117,23 @@ cdef int cp_g900(CState *st, const LineWords *lw, int col) noexcept nogil:
     cdef int s, a
     cdef double sv
     if not has(lw, b'S'):
-        return cerr_at(st, ERR_MISSING_VALUE, "S", col)
+        return err_missing_value(st.err, st.unit.file_idx, st.line, "S", col)
     sv = val(lw, b'S')
     s = to_int(sv)
     if s == 1:
         if st.n_pstack >= PARAM_STACK_DEPTH:
-            return cerr_text(st, ERR_PARAM_STACK, "overflow")
+            return err_param_stack(st.err, st.unit.file_idx, st.line, "overflow")
         st.pstack[st.n_pstack] = st.params
         st.n_pstack += 1
     elif s == 2:
         if st.n_pstack == 0:
-            return cerr_text(st, ERR_PARAM_STACK, "empty")
+            return err_param_stack(st.err, st.unit.file_idx, st.line, "empty")
         st.n_pstack -= 1
         st.params = st.pstack[st.n_pstack]
     elif s == 7:
         a = to_int(val(lw, b'A')) if has(lw, b'A') else -1
         if a < 0 or a > 9:
-            return cerr_bad_value(st, val(lw, b'A') if has(lw, b'A') else -1.0, "A")
+            return err_bad_value(st.err, st.unit.file_idx, st.line, val(lw, b'A') if has(lw, b'A') else -1.0, "A")
         if has(lw, b'F'): st.params.axisLimits[a].maxFeed = val(lw, b'F')
         if has(lw, b'C'): st.params.axisLimits[a].maxAcc = val(lw, b'C')
         if has(lw, b'D'): st.params.axisLimits[a].maxDec = val(lw, b'D')
@@ -160,7 +160,7 @@ cdef int cp_g900(CState *st, const LineWords *lw, int col) noexcept nogil:
     elif s == 70:
         if has(lw, b'D'): st.params.motion[7].dec = val(lw, b'D')
     else:
-        return cerr_bad_value(st, sv, "S")
+        return err_bad_value(st.err, st.unit.file_idx, st.line, sv, "S")
     return 0
 
 
@@ -186,10 +186,10 @@ cdef int cp_g167(CState *st, const LineWords *lw) noexcept nogil:
     st.g167[2] = val(lw, b'U') if has(lw, b'U') else 90.0
     st.g167[3] = val(lw, b'Q') if has(lw, b'Q') else <double>st.params.insertArcPlane
     if has(lw, b'Q') and not (to_int(st.g167[3]) == 0 or plane_axes(to_int(st.g167[3]), &ga, &gb, &gc)):
-        return cerr_num(st, ERR_BAD_PLANE, st.g167[3])
+        return err_bad_plane(st.err, st.unit.file_idx, st.line, st.g167[3])
     if not program_add_arc_region(st.build, st.prog.n_parts, st.g167_on, to_int(st.g167[3]),
                                   st.g167[0], st.g167[1], st.g167[2]):
-        return cerr(st, ERR_OUT_OF_MEMORY)
+        return err_out_of_memory(st.err, st.unit.file_idx, st.line)
     return 0
 
 
@@ -228,7 +228,9 @@ cdef int cp_read_g(CState *st, const LineWords *lw, int i, Block *b) noexcept no
         b.consumed |= bit_of(b'L') | bit_of(b'H')
     elif g >= 40 and g <= 48:
         if g == 43 and has(lw, b'H'):     # (the ISO mode took G43 above)
-            cwarn_num_col(st, WARN_G43_H, lw.gcol[i])
+            if warning_wanted(st):
+                warn_g43_h(&st.warning, st.unit.file_idx, st.line, lw.gcol[i])
+                cwarn(st)
         b.comp = g
     elif g == 53 or (g >= 54 and g <= 57) or g == 59:
         b.consumed |= axes
@@ -276,10 +278,9 @@ cdef int cp_read_m(CState *st, const LineWords *lw, int i, Block *b) noexcept no
     cdef const GCODE_PARAMETERS *pr = &st.params
     cdef int m = to_int(lw.m[i])
     if lw.m[i] != <double>m or m == 1000 or m < -6 or m > 1000000000 or (m < 0 and m != -5 and m != -6):
-        return cerr_num_at(st, ERR_BAD_M, lw.m[i], lw.mcol[i])
+        return err_bad_m(st.err, st.unit.file_idx, st.line, lw.m[i], lw.mcol[i])
     if st.iso and m == 98:
-        return cerr_hint(st, ERR_NGC_UNSUPPORTED, word_at_column(st, lw.mcol[i]), lw.mcol[i],
-                         "Fanuc-style subprograms (M98 / M99); an o-word call is read")
+        return err_ngc_unsupported(st.err, st.unit.file_idx, st.line, word_at_column(st, lw.mcol[i]), lw.mcol[i], "Fanuc-style subprograms (M98 / M99); an o-word call is read")
     if st.iso and not _ngc_m_known(m):
         if m >= 100 and m <= 199:
             if ngc_refused(st, word_at_column(st, lw.mcol[i]), lw.mcol[i],
@@ -319,8 +320,7 @@ cdef inline int cp_read_block(CState *st, LineWords *lw, Block *b) noexcept nogi
         if cp_read_m(st, lw, i, b) != 0:
             return R_ERR
     if lw.tool_values != 0 and b.shift != 92:
-        return cerr_hint(st, ERR_TOOL_WORD, word_at_column(st, lw.tool_values_col), lw.tool_values_col,
-                         "R0= .. R4= write the tool table on a line with G92 D")
+        return err_tool_word(st.err, st.unit.file_idx, st.line, word_at_column(st, lw.tool_values_col), lw.tool_values_col, "R0= .. R4= write the tool table on a line with G92 D")
     return 0
 
 
@@ -333,7 +333,7 @@ cdef int _x_parameters(CState *st, const LineWords *lw, const Block *b) noexcept
     if cp_g900(st, lw, b.g900_col) != 0:
         return R_ERR
     if not cp_plan_region(st):
-        return cerr(st, ERR_OUT_OF_MEMORY)
+        return err_out_of_memory(st.err, st.unit.file_idx, st.line)
     return 0
 
 
@@ -392,7 +392,7 @@ cdef int _x_path(CState *st, const LineWords *lw, const Block *b) noexcept nogil
                                            val(lw, b'R') if has(lw, b'R') else 0.0,
                                            val(lw, b'C') if has(lw, b'C') else 0.0,
                                            has(lw, b'D') and val(lw, b'D') != 0.0):
-            return cerr(st, ERR_OUT_OF_MEMORY)
+            return err_out_of_memory(st.err, st.unit.file_idx, st.line)
     return 0
 
 
@@ -460,8 +460,7 @@ cdef int _x_parts(CState *st, LineWords *lw, const Block *b) noexcept nogil:
         if st.ngc != NULL:
             st.ngc.cycle_il_set = False     # a series of cycles ends (G98's level is taken anew)
         if st.ngc != NULL and st.ngc.nurbs_open and motion != 52 and motion != 53:
-            return ngc_usage(st, 5.1 if motion == 51 else <double>motion, b.motion_col,
-                             "a NURBS block (G5.2) is open: G5.3 ends it")
+            return err_ngc_g(st.err, st.unit.file_idx, st.line, 5.1 if motion == 51 else <double>motion, b.motion_col, "a NURBS block (G5.2) is open: G5.3 ends it")
         st.motion = -1 if (motion == 80 or motion == 53) else motion
         if motion == 80:
             st.g80_line = st.line
@@ -487,7 +486,7 @@ cdef int _x_parts(CState *st, LineWords *lw, const Block *b) noexcept nogil:
             if b.motion < 0 and moving == 0 and not (lw.has_polar_r or lw.has_polar_a):
                 return 0                    # a line of the cycle without a position
             if moving == 0 and not (lw.has_polar_r or lw.has_polar_a):
-                return ngc_usage(st, motion, g_column(lw, motion), "the cycle has no axis words")
+                return err_ngc_g(st.err, st.unit.file_idx, st.line, motion, g_column(lw, motion), "the cycle has no axis words")
             return ngc_cycle(st, lw, motion, g_column(lw, motion))
         if motion < 0:
             if moving == 0:
@@ -595,7 +594,7 @@ cdef int _x_m_functions(CState *st, const LineWords *lw, int which, bint *ret, b
         if m == -5:
             _limits_off(st, lw)
             if not cp_plan_region(st):
-                return cerr(st, ERR_OUT_OF_MEMORY)
+                return err_out_of_memory(st.err, st.unit.file_idx, st.line)
         elif m == -6:
             if _g_index(st, lw) != 0:
                 return R_ERR
@@ -628,7 +627,7 @@ cdef int _x_flow(CState *st, const LineWords *lw, const Block *b, bint ret) noex
             return fl_call(st, lw.label, lw.label_len, 0, False, b.jump != 27, times)
         if has(lw, b'L'):
             return fl_call(st, NULL, 0, val(lw, b'L'), True, b.jump != 27, times)
-        return cerr_at(st, ERR_MISSING_VALUE, "L", b.jump_col)
+        return err_missing_value(st.err, st.unit.file_idx, st.line, "L", b.jump_col)
     if ret:
         return fl_return(st)
     return R_NEXT

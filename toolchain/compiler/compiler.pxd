@@ -276,6 +276,7 @@ ctypedef struct CState:
     size_t percent_open                     # ISO mode: start of the unit's opening '%' line (SIZE_MAX: none)
     NgcState *ngc                           # ISO mode: parameters, O-words, offsets, cycles (else NULL)
     int n_warnings
+    ErrorInfo warning               # the compile warning being reported (warning_wanted, cwarn)
     char word[64]                           # text of an offending word for messages
     LineWords lw                            # words of the current line
 

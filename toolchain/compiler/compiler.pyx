@@ -171,7 +171,7 @@ cdef int cp_run_lines(CState *st, Unit *u, bint main, size_t pos) noexcept nogil
             follow_publish(st.build.follow, st.prog.n_parts)         # between lines: all final
             if st.blocks > st.block_limit:
                 st.line = line
-                cerr_num(st, ERR_BLOCK_LIMIT, <double>(st.block_limit))
+                err_block_limit(st.err, st.unit.file_idx, st.line, <double>(st.block_limit))
                 return COMPILE_ERROR
             if main and st.inp.progress != NULL:
                 percent = <int>(pos * 100 / u.len)
@@ -183,7 +183,7 @@ cdef int cp_run_lines(CState *st, Unit *u, bint main, size_t pos) noexcept nogil
             eol = text + u.len
         st.line = line
         if <size_t>(eol - text) - pos > MAX_LINE_CHARS:
-            cerr_num(st, ERR_LINE_TOO_LONG, MAX_LINE_CHARS)
+            err_line_too_long(st.err, st.unit.file_idx, st.line, MAX_LINE_CHARS)
             return COMPILE_ERROR
         st.cur_pos = pos
         st.next_pos = <size_t>(eol - text) + 1
@@ -209,11 +209,11 @@ cdef int cp_run_lines(CState *st, Unit *u, bint main, size_t pos) noexcept nogil
     if k >= 0:
         st.line = line - 1 if line > 1 else 1
         if st.frames[k].kind == FR_FOR:
-            cerr_text(st, ERR_MISSING_END, "FOR")
+            err_missing_end(st.err, st.unit.file_idx, st.line, "FOR")
         elif st.frames[k].kind == FR_WHILE:
-            cerr_text(st, ERR_MISSING_END, "WHILE")
+            err_missing_end(st.err, st.unit.file_idx, st.line, "WHILE")
         else:
-            cerr_text(st, ERR_MISSING_END, "IF")
+            err_missing_end(st.err, st.unit.file_idx, st.line, "IF")
         return COMPILE_ERROR
     if ow_unclosed(st) != 0:
         return COMPILE_ERROR
@@ -272,7 +272,7 @@ cdef int compile_program(const CompileInput *inp, ProgramBuilder *build, ErrorIn
     cdef int i, result = COMPILE_OK
     cdef uint64_t lines = 0
     if st == NULL:
-        set_error(err, ERR_OUT_OF_MEMORY, inp.file_idx, 0, NULL, 0)
+        err_out_of_memory(err, inp.file_idx, 0)
         return COMPILE_ERROR
     memset(units, 0, sizeof(units))
     units[0].text = inp.prefix
@@ -294,7 +294,7 @@ cdef int compile_program(const CompileInput *inp, ProgramBuilder *build, ErrorIn
     st.unit = &units[1]
     st.block_limit = (inp.max_blocks if inp.max_blocks > 0 else DEFAULT_MAX_BLOCKS) + <int64_t>lines
     if st.iso and st.ngc == NULL:
-        set_error(err, ERR_OUT_OF_MEMORY, inp.file_idx, 0, NULL, 0)
+        err_out_of_memory(err, inp.file_idx, 0)
         result = COMPILE_ERROR
     elif not update_zero(st):
         result = COMPILE_ERROR

@@ -38,14 +38,9 @@ cdef const char *iso_g_hint(double gv) noexcept nogil:
 
 cdef int cp_unknown_g(CState *st, double gv, int col) noexcept nogil:
     cdef const char *hint = iso_g_hint(gv)
-    cdef ErrArg a[3]
     if hint == NULL:
-        return cerr_num_at(st, ERR_BAD_G, gv, col)
-    a[0].num = gv; a[0].text = NULL
-    a[1].num = col; a[1].text = NULL
-    a[2].num = 0; a[2].text = hint
-    set_error(st.err, ERR_ISO_G, st.unit.file_idx, st.line, a, 3)
-    return R_ERR
+        return err_bad_g(st.err, st.unit.file_idx, st.line, gv, col)
+    return err_iso_g(st.err, st.unit.file_idx, st.line, gv, col, hint)
 
 
 cdef const char *word_at_column(CState *st, int col) noexcept nogil:
@@ -124,18 +119,13 @@ cdef int cp_set_motion(CState *st, Block *b, int g, int col) noexcept nogil:
 cdef int cp_no_motion_mode(CState *st, const LineWords *lw, uint32_t moving) noexcept nogil:
     """ISO mode: error 411 for axis words without a motion mode, naming the line whose
     G80 cancelled it, or that none was set."""
-    cdef ErrArg a[3]
     cdef char why[96]
     cdef int col = axis_column(lw, moving)
     if st.g80_line > 0:
         c_snprintf(why, sizeof(why), "G80 on line %u cancelled it", st.g80_line)
     else:
         c_snprintf(why, sizeof(why), "none was set since the program start")
-    a[0].num = 0; a[0].text = word_at_column(st, col)
-    a[1].num = col; a[1].text = NULL
-    a[2].num = 0; a[2].text = why
-    set_error(st.err, ERR_NO_MOTION_MODE, st.unit.file_idx, st.line, a, 3)
-    return R_ERR
+    return err_no_motion_mode(st.err, st.unit.file_idx, st.line, word_at_column(st, col), col, why)
 
 
 cdef int iso_read_g(CState *st, const LineWords *lw, int i, Block *b) noexcept nogil:
@@ -145,7 +135,7 @@ cdef int iso_read_g(CState *st, const LineWords *lw, int i, Block *b) noexcept n
     cdef int col = lw.gcol[i], g = to_int(gv)
     cdef const char *why = ngc_unsupported(gv)
     if why != NULL:
-        return cerr_hint(st, ERR_NGC_UNSUPPORTED, word_at_column(st, col), col, why)
+        return err_ngc_unsupported(st.err, st.unit.file_idx, st.line, word_at_column(st, col), col, why)
     if gv == 20.0 or gv == 21.0:
         return 1                    # iso_units
     if gv == 90.1 or gv == 91.1:
@@ -161,7 +151,9 @@ cdef int iso_read_g(CState *st, const LineWords *lw, int i, Block *b) noexcept n
         b.length = g                # tools.pyx: G43 H n is & n, G49 is & 0
         b.consumed |= bit_of(b'H')
     elif gv == 44.0 or gv == 61.0 or gv == 61.1 or gv == 64.0:
-        cwarn_at(st, WARN_ISO_IGNORED, word_at_column(st, col), col)
+        if warning_wanted(st):
+            warn_iso_ignored(&st.warning, st.unit.file_idx, st.line, word_at_column(st, col), col)
+            cwarn(st)
         b.ngc_p = b.ngc_p or gv == 64.0
     elif gv == 80.0 or gv == 73.0 or gv == 74.0 or (gv >= 81.0 and gv <= 86.0 and gv == <double>g) or gv == 89.0:
         if cp_set_motion(st, b, g, col) != 0:
@@ -225,11 +217,13 @@ cdef int cp_pword(CState *st, LineWords *lw, const Block *b) noexcept nogil:
         arc = b.motion if b.motion >= 0 else st.motion
         if (arc == 2 or arc == 3) and lw.pword != 1.0:
             word = cword(st, lw.pword_at, lw.pword_at + lw.pword_len, lw.pword_len)
-            return cerr_hint(st, ERR_NGC_UNSUPPORTED, word, lw.col[15], "arcs of more than one turn")
+            return err_ngc_unsupported(st.err, st.unit.file_idx, st.line, word, lw.col[15], "arcs of more than one turn")
         if (arc == 2 or arc == 3) or lw.nm > 0:
             if lw.nm > 0:
                 word = cword(st, lw.pword_at, lw.pword_at + lw.pword_len, lw.pword_len)
-                cwarn_at(st, WARN_ISO_IGNORED, word, lw.col[15])
+                if warning_wanted(st):
+                    warn_iso_ignored(&st.warning, st.unit.file_idx, st.line, word, lw.col[15])
+                    cwarn(st)
             return 0
     if b.dwell:
         hint = ("G4 takes W (milliseconds), H, X or T (seconds); the ISO mode reads G4 P as seconds: "
@@ -242,7 +236,7 @@ cdef int cp_pword(CState *st, LineWords *lw, const Block *b) noexcept nogil:
         hint = ("a P word without '=' is ISO G-code (the ISO mode reads G4 P and G64 P: sf-tch compile "
                 "--iso, sf_tch.compile(..., iso=True), GCODE_PARAMETERS.rezerva1 bit 0)")
     word = cword(st, lw.pword_at, lw.pword_at + lw.pword_len, lw.pword_len)
-    return cerr_hint(st, ERR_P_WORD, word, lw.col[15], hint)
+    return err_p_word(st.err, st.unit.file_idx, st.line, word, lw.col[15], hint)
 
 
 cdef void cp_dialect_warnings(CState *st, const LineWords *lw, const Block *b) noexcept nogil:
@@ -252,33 +246,30 @@ cdef void cp_dialect_warnings(CState *st, const LineWords *lw, const Block *b) n
     cdef int arc = b.motion if b.motion >= 0 else st.motion
     cdef int col
     cdef uint32_t moving = lw.mask & axes_mask() & ~b.consumed
-    cdef ErrArg a[3]
     if lw.first_is_o and st.prog.n_parts == 0:
         moving &= ~bit_of(b'O')         # warning 611 below says it
-    if lw.first_is_o and st.prog.n_parts == 0:
-        a[0].num = val(lw, b'O'); a[0].text = NULL
-        a[1].num = lw.col[14]; a[1].text = NULL
-        cwarn(st, WARN_O_AT_START, a, 2)
-    if b.zero != 0 and b.zero != 53 and b.motion >= 0 and (lw.mask & axes_mask()):
-        a[0].num = b.zero; a[0].text = NULL
-        a[1].num = b.zero_col; a[1].text = NULL
-        cwarn(st, WARN_ZERO_WITH_MOVE, a, 2)
+        if warning_wanted(st):
+            warn_o_at_start(&st.warning, st.unit.file_idx, st.line, val(lw, b'O'), lw.col[14])
+            cwarn(st)
+    if b.zero != 0 and b.zero != 53 and b.motion >= 0 and (lw.mask & axes_mask()) and warning_wanted(st):
+        warn_zero_with_move(&st.warning, st.unit.file_idx, st.line, b.zero, b.zero_col)
+        cwarn(st)
     if st.plane == 18 and (arc == 2 or arc == 3) and (has(lw, b'I') or has(lw, b'K')) \
             and st.iso_header and not st.warned_g18:
         st.warned_g18 = True
         col = lw.col[8] if has(lw, b'I') else lw.col[10]
-        a[0].num = col; a[0].text = NULL
-        cwarn(st, WARN_G18_ARC, a, 1)
-    if b.dwell and b.motion >= 0 and b.motion <= 3:
-        a[0].num = g_column(lw, 4.0); a[0].text = NULL
-        a[1].num = b.motion; a[1].text = NULL
-        cwarn(st, WARN_DWELL_WITH_MOTION, a, 2)
-    if b.distance != 0 and b.motion < 0 and moving and st.motion != 1 and not b.dwell:
-        a[0].num = b.distance; a[0].text = NULL
-        a[1].num = g_column(lw, b.distance); a[1].text = NULL
-        a[2].num = st.motion; a[2].text = NULL
-        cwarn(st, WARN_G90_MOVES_G1, a, 3)
+        if warning_wanted(st):
+            warn_g18_arc(&st.warning, st.unit.file_idx, st.line, col)
+            cwarn(st)
+    if b.dwell and b.motion >= 0 and b.motion <= 3 and warning_wanted(st):
+        warn_dwell_with_motion(&st.warning, st.unit.file_idx, st.line, g_column(lw, 4.0), b.motion)
+        cwarn(st)
+    if b.distance != 0 and b.motion < 0 and moving and st.motion != 1 and not b.dwell and warning_wanted(st):
+        warn_g90_moves_g1(&st.warning, st.unit.file_idx, st.line, b.distance, g_column(lw, b.distance), st.motion)
+        cwarn(st)
     if b.motion < 0 and b.distance == 0 and moving and not b.dwell and b.g900_col == 0 \
             and not st.motion_given and not st.warned_bare_axes:
         st.warned_bare_axes = True
-        cwarn_num_col(st, WARN_BARE_AXES, axis_column(lw, moving))
+        if warning_wanted(st):
+            warn_bare_axes(&st.warning, st.unit.file_idx, st.line, axis_column(lw, moving))
+            cwarn(st)

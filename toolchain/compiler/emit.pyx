@@ -14,7 +14,7 @@ cdef void _non_finite_error(CState *st, const double *end) noexcept nogil:
         if not isfinite(end[a]):
             letter[0] = letter_of_axis(a)
             letter[1] = 0
-            cerr_bad_value(st, end[a], letter)
+            err_bad_value(st.err, st.unit.file_idx, st.line, end[a], letter)
             return
 
 
@@ -25,22 +25,22 @@ cdef Part *em_part(CState *st, int kind, int func, const double *end) noexcept n
     cdef Program *prog = st.prog
     cdef PartSettings s
     if prog.n_parts >= MAX_PARTS:
-        cerr_num(st, ERR_PART_LIMIT, MAX_PARTS)
+        err_part_limit(st.err, st.unit.file_idx, st.line, MAX_PARTS)
         return NULL
     if (prog.n_parts & 1023) == 0 and st.inp.cancel != NULL and TC_ATOMIC_LOAD(st.inp.cancel) != 0:
-        cerr(st, ERR_CANCELLED)         # an ending call: checked per part, one line may make millions
+        err_cancelled(st.err, st.unit.file_idx, st.line)         # an ending call: checked per part, one line may make millions
         return NULL
     if not coordinates_finite(end, AXES):
         _non_finite_error(st, end)
         return NULL
     p = program_add_part(st.build)
     if p == NULL:
-        cerr(st, ERR_OUT_OF_MEMORY)
+        err_out_of_memory(st.err, st.unit.file_idx, st.line)
         return NULL
     p.kind = kind
     p.func = func
     if not program_set_end(st.build, p, end):
-        cerr(st, ERR_OUT_OF_MEMORY)
+        err_out_of_memory(st.err, st.unit.file_idx, st.line)
         return NULL
     p.ce[0] = end[0]; p.ce[1] = end[1]; p.ce[2] = end[2]
     p.line = st.line
@@ -76,7 +76,7 @@ cdef int em_settings(CState *st, Part *p, const PartSettings *s) noexcept nogil:
     """The part's settings become s (a record shared with the parts that agree)."""
     cdef int64_t idx = program_settings_index(st.build, s)
     if idx < 0:
-        return cerr(st, ERR_OUT_OF_MEMORY)
+        return err_out_of_memory(st.err, st.unit.file_idx, st.line)
     p.settings = <uint32_t>idx
     return 0
 
@@ -113,7 +113,7 @@ cdef int em_pars(CState *st, const LineWords *lw, int g, int m) noexcept nogil:
     if bits == 0:
         return 0
     if not grow(<void **>&prog.pars, &st.build.cap_pars, prog.n_pars + <size_t>SF_POPCOUNT(bits), sizeof(float)):
-        return cerr(st, ERR_OUT_OF_MEMORY)
+        return err_out_of_memory(st.err, st.unit.file_idx, st.line)
     out = prog.pars + prog.n_pars
     while bits:
         letter = SF_CTZ(bits)
@@ -150,7 +150,7 @@ cdef int em_css(CState *st, Part *p, double x_start, double x_end) noexcept nogi
     cdef double r = min(fabs(x_start), fabs(x_end))
     cdef PartExtra *x = program_part_extra(st.build, p)
     if x == NULL:
-        return cerr(st, ERR_OUT_OF_MEMORY)
+        return err_out_of_memory(st.err, st.unit.file_idx, st.line)
     if r < 1.0:
         r = 1.0
     x.value = 1000.0 * part_settings(st.prog, p).spindle / (2.0 * M_PI * r)
@@ -168,26 +168,28 @@ cdef inline double val(const LineWords *lw, char letter) noexcept nogil:
 
 cdef int em_arc_error(CState *st, int fa, int sa, const double *s, const double *e, double rs,
                       double re, int col) noexcept nogil:
-    """Error 400 or 407 on one line: plane, column, start and end, the chord or the radii."""
-    cdef ErrArg a[12]
+    """The vendor's error 400 (the chord longer than the diameter) or 407 (the radii
+    differ), or their kin of the other planes (415..420): the start and end on the
+    plane's two axes (program coordinates), the chord and twice the start radius or
+    the two radii; the column of the first centre word beside the text."""
     cdef double chord = distance2d(e[fa] - s[fa], e[sa] - s[sa])
-    cdef int i
-    for i in range(12):
-        a[i].text = NULL
-        a[i].num = 0
-    a[0].text = plane_name(st.plane)
-    a[1].num = col
-    a[2].text = axis_name(fa); a[3].num = s[fa]
-    a[4].text = axis_name(sa); a[5].num = s[sa]
-    a[6].text = axis_name(fa); a[7].num = e[fa]
-    a[8].text = axis_name(sa); a[9].num = e[sa]
+    cdef int32_t fi = st.unit.file_idx
+    cdef int32_t line = st.line
     if chord > 2.0 * rs:
-        a[10].num = chord; a[11].num = 2.0 * rs
-        set_error(st.err, ERR_ARC_CENTRE, st.unit.file_idx, st.line, a, 12)
-    else:
-        a[10].num = rs; a[11].num = re
-        set_error(st.err, ERR_ARC_RADII, st.unit.file_idx, st.line, a, 12)
-    return R_ERR
+        if st.plane == 17:
+            return err_arc_centre(st.err, fi, line, col, s[fa], s[sa], e[fa], e[sa], chord, 2.0 * rs)
+        if st.plane == 18:
+            return err_arc_centre_xz(st.err, fi, line, col, s[fa], s[sa], e[fa], e[sa], chord, 2.0 * rs)
+        if st.plane == 19:
+            return err_arc_centre_yz(st.err, fi, line, col, s[fa], s[sa], e[fa], e[sa], chord, 2.0 * rs)
+        return err_arc_centre_zx(st.err, fi, line, col, s[fa], s[sa], e[fa], e[sa], chord, 2.0 * rs)
+    if st.plane == 17:
+        return err_arc_radii(st.err, fi, line, col, s[fa], s[sa], e[fa], e[sa], rs, re)
+    if st.plane == 18:
+        return err_arc_radii_xz(st.err, fi, line, col, s[fa], s[sa], e[fa], e[sa], rs, re)
+    if st.plane == 19:
+        return err_arc_radii_yz(st.err, fi, line, col, s[fa], s[sa], e[fa], e[sa], rs, re)
+    return err_arc_radii_zx(st.err, fi, line, col, s[fa], s[sa], e[fa], e[sa], rs, re)
 
 
 cdef bint ngc_arc_off(const CState *st, double rs, double re) noexcept nogil:
@@ -210,9 +212,8 @@ cdef int em_arc(CState *st, const LineWords *lw, Part *p, int *func, const doubl
     cdef double c[AXES]
     cdef double cm[AXES]
     cdef PartExtra *x
-    cdef ErrArg args[2]
     if not plane_axes(st.plane, &fa, &sa, &na):
-        return cerr_num(st, ERR_BAD_PLANE, st.plane)
+        return err_bad_plane(st.err, st.unit.file_idx, st.line, st.plane)
     if st.params.swapG2G3:
         dir = 5 - dir
     sx = s[fa]; sy = s[sa]; ex = e[fa]; ey = e[sa]
@@ -225,12 +226,9 @@ cdef int em_arc(CState *st, const LineWords *lw, Part *p, int *func, const doubl
         r = val(lw, b'R')
         d = distance2d(ex - sx, ey - sy)
         if d == 0.0 or r == 0.0:
-            return cerr(st, ERR_ARC_NO_CENTRE)
+            return err_arc_no_centre(st.err, st.unit.file_idx, st.line)
         if d > 2.0 * fabs(r) + tol:
-            args[0].num = r; args[0].text = NULL
-            args[1].num = d; args[1].text = NULL
-            set_error(st.err, ERR_ARC_RADIUS, st.unit.file_idx, st.line, args, 2)
-            return R_ERR
+            return err_arc_radius(st.err, st.unit.file_idx, st.line, r, d)
         h = r * r - d * d * 0.25
         h = sqrt(h) if h > 0.0 else 0.0
         sgn = 1.0 if dir == 3 else -1.0
@@ -245,7 +243,7 @@ cdef int em_arc(CState *st, const LineWords *lw, Part *p, int *func, const doubl
         # Q70 (TG) or G90.1 (ISO mode): the centre is absolute
         absolute = (has(lw, b'Q') and val(lw, b'Q') == 70.0) or (st.ngc != NULL and st.ngc.ijk_absolute)
         if absolute and st.ngc != NULL and st.ngc.ijk_absolute and not (has(lw, li) and has(lw, lj)):
-            return cerr(st, ERR_ARC_NO_CENTRE)      # LinuxCNC: G90.1 needs both
+            return err_arc_no_centre(st.err, st.unit.file_idx, st.line)      # LinuxCNC: G90.1 needs both
         if absolute:
             cx = val(lw, li) if has(lw, li) else sx
             cy = val(lw, lj) if has(lw, lj) else sy
@@ -253,11 +251,11 @@ cdef int em_arc(CState *st, const LineWords *lw, Part *p, int *func, const doubl
             cx = sx + (val(lw, li) if has(lw, li) else 0.0)
             cy = sy + (val(lw, lj) if has(lw, lj) else 0.0)
     else:
-        return cerr(st, ERR_ARC_NO_CENTRE)
+        return err_arc_no_centre(st.err, st.unit.file_idx, st.line)
     rs = distance2d(sx - cx, sy - cy)
     re = distance2d(ex - cx, ey - cy)
     if rs == 0.0:
-        return cerr(st, ERR_ARC_NO_CENTRE)
+        return err_arc_no_centre(st.err, st.unit.file_idx, st.line)
     if (fabs(rs - re) > tol and not st.iso) or (st.iso and ngc_arc_off(st, rs, re)):
         return em_arc_error(st, fa, sa, s, e, rs, re, col)
     for a in range(AXES):
@@ -269,7 +267,7 @@ cdef int em_arc(CState *st, const LineWords *lw, Part *p, int *func, const doubl
     to_machine(st, c, cm)
     x = program_part_extra(st.build, p)
     if x == NULL:
-        return cerr(st, ERR_OUT_OF_MEMORY)
+        return err_out_of_memory(st.err, st.unit.file_idx, st.line)
     x.cc[0] = cm[0]; x.cc[1] = cm[1]; x.cc[2] = cm[2]
     # ISO mode: an end off the start's circle (within the tolerance) is run as LinuxCNC
     # runs it, a spiral from the one radius to the other: the mean radius, its length
@@ -326,7 +324,6 @@ cdef inline int em_feed_check(CState *st, const LineWords *lw, int func, int col
     once a warning in the TG dialect, whose moves then run at motion[1].feed. ISO G93:
     every feed move has its F. col: the column to name, 0: the motion's G word, else
     its first axis word."""
-    cdef ErrArg a[3]
     cdef bint inverse_time = st.ngc != NULL and st.ngc.inverse_time
     if not (func == 1 or func == 2 or func == 3):
         return 0
@@ -337,18 +334,16 @@ cdef inline int em_feed_check(CState *st, const LineWords *lw, int func, int col
         return 0
     if col == 0:
         col = motion_column(lw, func)       # only a message needs it
-    a[0].num = func; a[0].text = NULL
-    a[1].num = col; a[1].text = NULL
     if inverse_time:
-        a[2].num = 0; a[2].text = "inverse time (G93) wants an F above 0 on every feed move"
-        set_error(st.err, ERR_NGC_G, st.unit.file_idx, st.line, a, 3)
-        return R_ERR
+        return err_ngc_g(st.err, st.unit.file_idx, st.line, func, col,
+                         "inverse time (G93) wants an F above 0 on every feed move")
     if st.iso:
-        set_error(st.err, ERR_NO_FEED, st.unit.file_idx, st.line, a, 2)
-        return R_ERR
+        return err_no_feed(st.err, st.unit.file_idx, st.line, func, col)
     if st.def_feed <= 0.0 and st.params.forceMode == 0 and not st.warned_feed:
         st.warned_feed = True
-        cwarn(st, WARN_NO_FEED, a, 2)
+        if warning_wanted(st):
+            warn_no_feed(&st.warning, st.unit.file_idx, st.line, func, col)
+            cwarn(st)
     return 0
 
 
@@ -376,7 +371,7 @@ cdef int em_move(CState *st, const LineWords *lw, int func, const double *newp, 
     elif func == 33 and (has(lw, b'K') or has(lw, b'F')):
         x = program_part_extra(st.build, p)
         if x == NULL:
-            return cerr(st, ERR_OUT_OF_MEMORY)
+            return err_out_of_memory(st.err, st.unit.file_idx, st.line)
         x.value = val(lw, b'K') if has(lw, b'K') else val(lw, b'F')
     memcpy(st.ppos, newp, AXES * sizeof(double))
     memcpy(st.mpos, e, sizeof(e))
@@ -397,7 +392,7 @@ cdef int em_dwell(CState *st, const LineWords *lw) noexcept nogil:
         return R_ERR
     x = program_part_extra(st.build, p)
     if x == NULL:
-        return cerr(st, ERR_OUT_OF_MEMORY)
+        return err_out_of_memory(st.err, st.unit.file_idx, st.line)
     if has(lw, b'W'):
         x.value = val(lw, b'W') / 1000.0
     elif has(lw, b'H'):
@@ -430,7 +425,7 @@ cdef int em_print(CState *st, const LineWords *lw, int m, const char *text, int 
     cdef int64_t off = program_add_text(st.build, text, <size_t>n)
     cdef Part *p
     if off < 0:
-        return cerr(st, ERR_OUT_OF_MEMORY)
+        return err_out_of_memory(st.err, st.unit.file_idx, st.line)
     p = em_part(st, PART_PRINT, m, st.mpos)
     if p == NULL:
         return R_ERR

@@ -10,44 +10,27 @@ from libc.string cimport memcpy
 cdef int ex_error(CState *st, const char *start, const char *eol) noexcept nogil:
     """Syntax error: the rest of the line from `start` (up to 40 characters, without
     trailing blanks or CR) and its column."""
-    return cerr_at(st, ERR_BAD_EXPRESSION, cword_rest(st, start, eol), column_of(st, start))
+    return err_bad_expression(st.err, st.unit.file_idx, st.line, cword_rest(st, start, eol), column_of(st, start))
 
 
 cdef int ex_plc_addr(CState *st, double addr, int size) noexcept nogil:
     """Byte address for a PLC access of `size` bytes, or -1 (error recorded)."""
-    cdef ErrArg a[2]
     if not (addr >= 1.0) or addr != floor(addr) or addr + size > PLC_MEMORY_BYTES or st.inp.plc == NULL:
-        a[0].num = addr; a[0].text = NULL
-        a[1].num = PLC_MEMORY_BYTES - size; a[1].text = NULL
-        set_error(st.err, ERR_BAD_PLC_ADDRESS, st.unit.file_idx, st.line, a, 2)
-        return -1
+        return err_bad_plc_address(st.err, st.unit.file_idx, st.line, addr, PLC_MEMORY_BYTES - size)
     return <int>addr
-
-
-cdef int ex_domain(CState *st, const char *fname, double x) noexcept nogil:
-    cdef ErrArg a[2]
-    a[0].num = 0; a[0].text = fname
-    a[1].num = x; a[1].text = NULL
-    set_error(st.err, ERR_MATH_DOMAIN, st.unit.file_idx, st.line, a, 2)
-    return R_ERR
 
 
 cdef int ex_overflow(CState *st, const char *number, const char *after, const char *eol) noexcept nogil:
     """ERR_NUMBER_OVERFLOW: the number at [number, after) is too large for a double;
     the column counts from 1 at the start of the line."""
-    cdef ErrArg a[2]
     cdef const char *line_start = st.unit.text + st.cur_pos
-    a[0].num = 0
-    a[0].text = cword(st, number, eol, <int>(after - number))
-    a[1].num = <double>(number - line_start + 1) if number >= line_start else 0.0
-    a[1].text = NULL
-    set_error(st.err, ERR_NUMBER_OVERFLOW, st.unit.file_idx, st.line, a, 2)
-    return R_ERR
+    return err_number_overflow(st.err, st.unit.file_idx, st.line, cword(st, number, eol, <int>(after - number)),
+                               number - line_start + 1 if number >= line_start else 0)
 
 
 cdef int ex_not_finite(CState *st, const char *start, const char *end) noexcept nogil:
     """ERR_NOT_FINITE_RESULT for the expression text [start, end)."""
-    return cerr_text(st, ERR_NOT_FINITE_RESULT, cword(st, start, end, <int>(end - start)))
+    return err_not_finite_result(st.err, st.unit.file_idx, st.line, cword(st, start, end, <int>(end - start)))
 
 
 cdef int ex_function(CState *st, const char *name, int n, double *args, int nargs,
@@ -76,8 +59,8 @@ cdef int ex_function(CState *st, const char *name, int n, double *args, int narg
                 or lx_eq(name, n, "LOG10") or lx_eq(name, n, "LOG") or lx_eq(name, n, "FLOOR") \
                 or lx_eq(name, n, "CEIL") or lx_eq(name, n, "READPLCLONG") \
                 or lx_eq(name, n, "READPLCDOUBLE") or want != 1:
-            return cerr_at(st, ERR_BAD_EXPRESSION, fname, column_of(st, name))
-        return cerr_at(st, ERR_UNKNOWN_FUNCTION, fname, column_of(st, name))
+            return err_bad_expression(st.err, st.unit.file_idx, st.line, fname, column_of(st, name))
+        return err_unknown_function(st.err, st.unit.file_idx, st.line, fname, column_of(st, name))
     if want == 0:
         out[0] = M_PI
     elif lx_eq(name, n, "SIN"): out[0] = sin(x * d2r)
@@ -85,18 +68,18 @@ cdef int ex_function(CState *st, const char *name, int n, double *args, int narg
     elif lx_eq(name, n, "TAN"): out[0] = tan(x * d2r)
     elif lx_eq(name, n, "ASIN") or lx_eq(name, n, "ACOS"):
         if x < -1.0 or x > 1.0:
-            return ex_domain(st, fname, x)
+            return err_math_domain(st.err, st.unit.file_idx, st.line, fname, x)
         out[0] = (asin(x) if fname[1] == b'S' else acos(x)) / d2r
     elif lx_eq(name, n, "ATAN"): out[0] = atan(x) / d2r
     elif lx_eq(name, n, "ATAN2"): out[0] = atan2(args[0], args[1]) / d2r
     elif lx_eq(name, n, "ABS") or lx_eq(name, n, "FABS"): out[0] = fabs(x)
     elif lx_eq(name, n, "SQRT"):
         if x < 0.0:
-            return ex_domain(st, fname, x)
+            return err_math_domain(st.err, st.unit.file_idx, st.line, fname, x)
         out[0] = sqrt(x)
     elif lx_eq(name, n, "LOG10") or lx_eq(name, n, "LOG"):
         if x <= 0.0:
-            return ex_domain(st, fname, x)
+            return err_math_domain(st.err, st.unit.file_idx, st.line, fname, x)
         out[0] = log10(x) if n == 5 else log(x)
     elif lx_eq(name, n, "HYPOT"): out[0] = hypot(args[0], args[1])
     elif lx_eq(name, n, "FLOOR"): out[0] = floor(x)
@@ -120,7 +103,7 @@ cdef int ex_function(CState *st, const char *name, int n, double *args, int narg
         memcpy(&iv, st.inp.plc + addr, 4)
         out[0] = iv
         if not (args[1] >= -2147483648.0 and args[1] <= 2147483647.0):
-            return ex_domain(st, fname, args[1])
+            return err_math_domain(st.err, st.unit.file_idx, st.line, fname, args[1])
         iv = <int32_t>args[1]
         memcpy(st.inp.plc + addr, &iv, 4)
     elif lx_eq(name, n, "WRITEPLCDOUBLE"):
@@ -131,7 +114,7 @@ cdef int ex_function(CState *st, const char *name, int n, double *args, int narg
         out[0] = dv
         memcpy(st.inp.plc + addr, &args[1], 8)
     else:
-        return cerr_at(st, ERR_UNKNOWN_FUNCTION, fname, column_of(st, name))
+        return err_unknown_function(st.err, st.unit.file_idx, st.line, fname, column_of(st, name))
     return 0
 
 
@@ -144,11 +127,11 @@ cdef int ex_param_index(CState *st, const char **pp, const char *eol) noexcept n
         nd += 1
         p += 1
     if nd == 0:
-        cerr_at(st, ERR_UNKNOWN_WORD, "P", column_of(st, p - 1))
+        err_unknown_word(st.err, st.unit.file_idx, st.line, "P", column_of(st, p - 1))
         return -1
     pp[0] = p
     if idx > 99 or (p < eol and lx_is_digit(p[0])):
-        cerr_num_at(st, ERR_BAD_PARAMETER, idx, column_of(st, pp[0] - nd - 1))
+        err_bad_parameter(st.err, st.unit.file_idx, st.line, idx, column_of(st, pp[0] - nd - 1))
         return -1
     return idx
 
@@ -172,7 +155,7 @@ cdef int ex_primary(CState *st, const char **pp, const char *eol, double *out, i
         if r == -3:
             return ex_overflow(st, number_start, p, eol)
         if r != 0:
-            return cerr_at(st, ERR_BAD_NUMBER, cword_at(st, name, eol), column_of(st, name))
+            return err_bad_number(st.err, st.unit.file_idx, st.line, cword_at(st, name, eol), column_of(st, name))
         pp[0] = p
         return 0
     if p[0] == b'(':
@@ -182,7 +165,7 @@ cdef int ex_primary(CState *st, const char **pp, const char *eol, double *out, i
             return R_ERR
         p = lx_skip_ws(p, eol)
         if p >= eol or p[0] != b')':
-            return cerr_num(st, ERR_UNBALANCED_BRACKETS, column_of(st, name))
+            return err_unbalanced_brackets(st.err, st.unit.file_idx, st.line, column_of(st, name))
         pp[0] = p + 1
         return 0
     if (p[0] == b'P' or p[0] == b'p') and p + 1 < eol and lx_is_digit(p[1]):
@@ -221,7 +204,7 @@ cdef int ex_primary(CState *st, const char **pp, const char *eol, double *out, i
                 if p < eol and p[0] == b')':
                     p += 1
                     break
-                return cerr_num(st, ERR_UNBALANCED_BRACKETS, column_of(st, open_at))
+                return err_unbalanced_brackets(st.err, st.unit.file_idx, st.line, column_of(st, open_at))
         if ex_function(st, name, n, args, nargs, out) != 0:
             return R_ERR
         if not isfinite(out[0]):        # e.g. ReadPLCDouble of a NaN
@@ -261,7 +244,7 @@ cdef int ex_power(CState *st, const char **pp, const char *eol, double *out, int
             return R_ERR
         out[0] = pow(out[0], rhs)
         if not isfinite(out[0]):
-            return ex_domain(st, "^", rhs)
+            return err_math_domain(st.err, st.unit.file_idx, st.line, "^", rhs)
     return 0
 
 
@@ -285,7 +268,7 @@ cdef int ex_product(CState *st, const char **pp, const char *eol, double *out, i
         if op == b'*':
             out[0] = out[0] * rhs
         elif rhs == 0.0:
-            return cerr(st, ERR_DIVISION_BY_ZERO)
+            return err_division_by_zero(st.err, st.unit.file_idx, st.line)
         elif op == b'/':
             out[0] = out[0] / rhs
         else:

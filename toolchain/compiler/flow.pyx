@@ -62,13 +62,13 @@ cdef int fl_skip(CState *st, int depth, bint stop_at_else, const char *what, int
             return 0
         pos = <size_t>(eol - u.text) + 1
         line += 1
-    return cerr_text(st, ERR_MISSING_END, what)
+    return err_missing_end(st.err, st.unit.file_idx, st.line, what)
 
 
 cdef Frame *fl_push(CState *st, int kind) noexcept nogil:
     cdef Frame *f
     if st.n_frames >= FRAME_DEPTH:
-        cerr_num(st, ERR_CALL_STACK_OVERFLOW, FRAME_DEPTH)
+        err_call_stack_overflow(st.err, st.unit.file_idx, st.line, FRAME_DEPTH)
         return NULL
     f = &st.frames[st.n_frames]
     st.n_frames += 1
@@ -83,21 +83,21 @@ cdef int fl_for(CState *st, const char *p, const char *eol) noexcept nogil:
     cdef Frame *f
     p = lx_skip_ws(p, eol)
     if p >= eol or lx_upper(p[0]) != b'P':
-        return cerr_at(st, ERR_BAD_CONDITION, cword_rest(st, p, eol), column_of(st, p))
+        return err_bad_condition(st.err, st.unit.file_idx, st.line, cword_rest(st, p, eol), column_of(st, p))
     p += 1
     idx = ex_param_index(st, &p, eol)
     if idx < 0:
         return R_ERR
     p = lx_skip_ws(p, eol)
     if p >= eol or p[0] != b'=':
-        return cerr_at(st, ERR_BAD_CONDITION, cword_rest(st, p, eol), column_of(st, p))
+        return err_bad_condition(st.err, st.unit.file_idx, st.line, cword_rest(st, p, eol), column_of(st, p))
     p += 1
     if ex_sum(st, &p, eol, &a, 0) != 0:
         return R_ERR
     p = lx_skip_ws(p, eol)
     n = lx_alpha_run(p, eol)
     if not lx_eq(p, n, "TO"):
-        return cerr_at(st, ERR_BAD_CONDITION, cword_rest(st, p, eol), column_of(st, p))
+        return err_bad_condition(st.err, st.unit.file_idx, st.line, cword_rest(st, p, eol), column_of(st, p))
     p += n
     if ex_sum(st, &p, eol, &b, 0) != 0:
         return R_ERR
@@ -105,7 +105,7 @@ cdef int fl_for(CState *st, const char *p, const char *eol) noexcept nogil:
     n = lx_alpha_run(p, eol)
     if n > 0:
         if not lx_eq(p, n, "STEP"):
-            return cerr_at(st, ERR_BAD_CONDITION, cword_rest(st, p, eol), column_of(st, p))
+            return err_bad_condition(st.err, st.unit.file_idx, st.line, cword_rest(st, p, eol), column_of(st, p))
         p += n
         if ex_sum(st, &p, eol, &s, 0) != 0:
             return R_ERR
@@ -135,7 +135,7 @@ cdef int fl_rest_of_line(CState *st, const char *p, const char *eol) noexcept no
     if status:
         return cerr_open_comment(st, gap, eol)
     if p < eol:
-        return cerr_at(st, ERR_UNKNOWN_WORD, cword_at(st, p, eol), column_of(st, p))
+        return err_unknown_word(st.err, st.unit.file_idx, st.line, cword_at(st, p, eol), column_of(st, p))
     return 0
 
 
@@ -195,13 +195,13 @@ cdef int fl_if(CState *st, const char *p, const char *eol) noexcept nogil:
         if not cond:
             return R_NEXT
         return fl_call_stmt(st, p + n, eol, lx_eq(p, n, "CALL"))
-    return cerr_at(st, ERR_BAD_CONDITION, cword_rest(st, p, eol), column_of(st, p))
+    return err_bad_condition(st.err, st.unit.file_idx, st.line, cword_rest(st, p, eol), column_of(st, p))
 
 
 cdef int fl_else(CState *st) noexcept nogil:
     cdef int found
     if st.n_frames == 0 or st.frames[st.n_frames - 1].kind != FR_IF:
-        return cerr(st, ERR_UNBALANCED_END)
+        return err_unbalanced_end(st.err, st.unit.file_idx, st.line)
     st.n_frames -= 1
     if fl_skip(st, 1, False, "ELSE", &found) != 0:
         return R_ERR
@@ -211,7 +211,7 @@ cdef int fl_else(CState *st) noexcept nogil:
 cdef int fl_end(CState *st) noexcept nogil:
     cdef Frame *f
     if st.n_frames == 0 or st.frames[st.n_frames - 1].kind == FR_CALL:
-        return cerr(st, ERR_UNBALANCED_END)
+        return err_unbalanced_end(st.err, st.unit.file_idx, st.line)
     f = &st.frames[st.n_frames - 1]
     if f.kind == FR_FOR:
         st.P[f.param] += f.step
@@ -239,8 +239,8 @@ cdef int fl_break(CState *st, bint cont) noexcept nogil:
         k -= 1
     if k < 0 or st.frames[k].kind == FR_CALL:
         if cont:
-            return cerr_text(st, ERR_BREAK_OUTSIDE_LOOP, "CONTINUE")
-        return cerr_text(st, ERR_BREAK_OUTSIDE_LOOP, "BREAK")
+            return err_break_outside_loop(st.err, st.unit.file_idx, st.line, "CONTINUE")
+        return err_break_outside_loop(st.err, st.unit.file_idx, st.line, "BREAK")
     if fl_skip(st, st.n_frames - k, False, "FOR", &found) != 0:
         return R_ERR
     if cont:
@@ -257,7 +257,7 @@ cdef int fl_return(CState *st) noexcept nogil:
     while st.n_frames > 0 and st.frames[st.n_frames - 1].kind != FR_CALL:
         st.n_frames -= 1
     if st.n_frames == 0:
-        return cerr(st, ERR_RETURN_WITHOUT_CALL)
+        return err_return_without_call(st.err, st.unit.file_idx, st.line)
     f = &st.frames[st.n_frames - 1]
     if f.repeat > 1:
         f.repeat -= 1
@@ -276,7 +276,6 @@ cdef int fl_target(CState *st, const char *name, int n, double num, bint has_num
     cdef Label *e = NULL
     cdef char buf[32]
     cdef int k
-    cdef ErrArg a
     if not st.unit.labels_built:
         if lb_build(st, st.unit) != 0:
             return R_ERR
@@ -289,13 +288,13 @@ cdef int fl_target(CState *st, const char *name, int n, double num, bint has_num
                 e = lb_find(st.unit, buf, k, 0)
         if e == NULL:
             c_snprintf(buf, sizeof(buf), "N%g", num)
-            return cerr_text(st, ERR_UNDEFINED_LABEL, buf)
+            return err_undefined_label(st.err, st.unit.file_idx, st.line, buf)
     else:
         e = lb_find(st.unit, name, n, 0)
         if e == NULL and n > 1 and (name[0] == b'L' or name[0] == b'l'):
             e = lb_find(st.unit, name + 1, n - 1, 0)    # G27 LNAME written without a blank
         if e == NULL:
-            return cerr_text(st, ERR_UNDEFINED_LABEL, cword(st, name, name + n, n))
+            return err_undefined_label(st.err, st.unit.file_idx, st.line, cword(st, name, name + n, n))
     st.jpos = e.pos
     st.jline = e.line
     return 0
@@ -312,7 +311,7 @@ cdef int fl_call(CState *st, const char *name, int n, double num, bint has_num, 
     if repeat <= 0:
         return R_NEXT
     if st.n_calls >= CALL_DEPTH:
-        return cerr_num(st, ERR_CALL_STACK_OVERFLOW, CALL_DEPTH)
+        return err_call_stack_overflow(st.err, st.unit.file_idx, st.line, CALL_DEPTH)
     f = fl_push(st, FR_CALL)
     if f == NULL:
         return R_ERR
@@ -341,4 +340,4 @@ cdef int fl_call_stmt(CState *st, const char *p, const char *eol, bint call) noe
         if fl_rest_of_line(st, p, eol) != 0:
             return R_ERR
         return fl_call(st, NULL, 0, v, True, call, 1)
-    return cerr_text(st, ERR_UNDEFINED_LABEL, cword_rest(st, p, eol))
+    return err_undefined_label(st.err, st.unit.file_idx, st.line, cword_rest(st, p, eol))

@@ -47,13 +47,9 @@ cdef int lb_insert(CState *st, Unit *u, const char *name, int n, int64_t nval, s
     cdef Label *old
     cdef Label entry
     cdef size_t old_cap, i
-    cdef ErrArg a[2]
     if e != NULL:
         if strict:
-            a[0].text = cword(st, name, name + n, n); a[0].num = 0
-            a[1].text = NULL; a[1].num = e.line
-            set_error(st.err, ERR_DUPLICATE_LABEL, u.file_idx, line, a, 2)
-            return R_ERR
+            return err_duplicate_label(st.err, u.file_idx, line, cword(st, name, name + n, n), e.line)
         return 0
     if (u.n_labels + 1) * 2 > u.cap_labels:     # keep the load under 1/2
         old = u.labels
@@ -63,7 +59,7 @@ cdef int lb_insert(CState *st, Unit *u, const char *name, int n, int64_t nval, s
         if u.labels == NULL:
             u.labels = old
             u.cap_labels = old_cap
-            return cerr(st, ERR_OUT_OF_MEMORY)
+            return err_out_of_memory(st.err, st.unit.file_idx, st.line)
         for i in range(old_cap):
             if old[i].used:
                 _lb_raw_put(u, &old[i])

@@ -104,7 +104,7 @@ cdef const char *ow_label_text(CState *st, const NgcLabel *lab) noexcept nogil:
 
 cdef int ow_error(CState *st, const NgcLabel *lab, const char *what) noexcept nogil:
     """Error 310 naming the construct, its column (the O word's) and what is wrong."""
-    return cerr_hint(st, ERR_O_WORD, ow_label_text(st, lab), st.ngc.col, what)
+    return err_o_word(st.err, st.unit.file_idx, st.line, ow_label_text(st, lab), st.ngc.col, what)
 
 
 cdef int ow_scan(CState *st, const NgcLabel *lab, uint32_t kinds, size_t pos, uint32_t line,
@@ -172,7 +172,7 @@ cdef NgcFrame *ow_push(CState *st, int kind, const NgcLabel *lab) noexcept nogil
     cdef NgcState *n = st.ngc
     cdef NgcFrame *f
     if n.n_frames >= NGC_FRAMES:
-        cerr_num(st, ERR_CALL_STACK_OVERFLOW, NGC_FRAMES)
+        err_call_stack_overflow(st.err, st.unit.file_idx, st.line, NGC_FRAMES)
         return NULL
     f = &n.frames[n.n_frames]
     n.n_frames += 1
@@ -240,10 +240,10 @@ cdef NgcSub *ow_sub_ahead(CState *st, const NgcLabel *lab) noexcept nogil:
     cdef NgcSub *sub
     cdef int found
     if ow_scan(st, lab, kw_bit(OW_SUB), st.next_pos, st.next_line, &found) != 0:
-        cerr_at(st, ERR_O_UNDEFINED, ow_label_text(st, lab), st.ngc.col)
+        err_o_undefined(st.err, st.unit.file_idx, st.line, ow_label_text(st, lab), st.ngc.col)
         return NULL
     if not grow(<void **>&n.subs, &n.cap_subs, n.n_subs + 1, sizeof(NgcSub)):
-        cerr(st, ERR_OUT_OF_MEMORY)
+        err_out_of_memory(st.err, st.unit.file_idx, st.line)
         return NULL
     sub = &n.subs[n.n_subs]
     n.n_subs += 1
@@ -280,7 +280,7 @@ cdef int ow_call(CState *st, const NgcLabel *lab, const char *p, const char *eol
         if sub == NULL:
             return R_ERR
     if n.level + 1 >= NGC_CALL_LEVELS:
-        return cerr_num(st, ERR_CALL_STACK_OVERFLOW, NGC_CALL_LEVELS - 1)
+        return err_call_stack_overflow(st.err, st.unit.file_idx, st.line, NGC_CALL_LEVELS - 1)
     f = ow_push(st, OF_CALL, lab)
     if f == NULL:
         return R_ERR
@@ -332,7 +332,7 @@ cdef int ow_return(CState *st, const NgcLabel *lab, const char *p, const char *e
                 kept += 1
         n.n_names = kept
         if not ngc_names_index(n):
-            return cerr(st, ERR_OUT_OF_MEMORY)
+            return err_out_of_memory(st.err, st.unit.file_idx, st.line)
     st.jpos = n.frames[k].pos
     st.jline = n.frames[k].line
     return R_JUMP
@@ -352,7 +352,7 @@ cdef int ow_sub(CState *st, const NgcLabel *lab, const char *p, const char *eol)
             sub = &n.subs[i]
     if sub == NULL:
         if not grow(<void **>&n.subs, &n.cap_subs, n.n_subs + 1, sizeof(NgcSub)):
-            return cerr(st, ERR_OUT_OF_MEMORY)
+            return err_out_of_memory(st.err, st.unit.file_idx, st.line)
         sub = &n.subs[n.n_subs]
         n.n_subs += 1
     sub.label = lab[0]
@@ -502,12 +502,11 @@ cdef int ow_statement(CState *st, const char *p, const char *eol) noexcept nogil
             q = lx_skip_ws(q, eol)
             k = lx_alpha_run(q, eol)
             if ow_keyword(q, k) != OW_CALL:
-                return cerr_hint(st, ERR_NGC_UNSUPPORTED, cword_rest(st, o, eol), column_of(st, o),
-                                 "a computed O-word label is read on a call only")
+                return err_ngc_unsupported(st.err, st.unit.file_idx, st.line, cword_rest(st, o, eol), column_of(st, o), "a computed O-word label is read on a call only")
             if not (fabs(v - floor(v + 0.5)) < 1e-4 and v > -0.5 and v < 999999999999.5):
                 c_snprintf(why, sizeof(why), "the computed label %g is no subroutine number "
                            "(a whole number 0 .. 999999999999)", v)
-                return cerr_hint(st, ERR_NGC_WORD, cword_rest(st, o, eol), column_of(st, o), why)
+                return err_ngc_word(st.err, st.unit.file_idx, st.line, cword_rest(st, o, eol), column_of(st, o), why)
             lab.number = <int64_t>floor(v + 0.5)
             lab.len = 0
             lab.name[0] = 0
@@ -526,7 +525,7 @@ cdef int ow_statement(CState *st, const char *p, const char *eol) noexcept nogil
         if ow_condition(st, q, eol, &cond) != 0:
             return R_ERR
         if not ow_if_seen(n, &lab, True):
-            return cerr(st, ERR_OUT_OF_MEMORY)
+            return err_out_of_memory(st.err, st.unit.file_idx, st.line)
         return R_NEXT if cond else ow_if_false(st, &lab)
     if kw == OW_ELSEIF or kw == OW_ELSE:
         # reached from a branch that ran: past the endif

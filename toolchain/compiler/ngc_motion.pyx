@@ -22,15 +22,6 @@ cdef inline int ngc_axis(int k) noexcept nogil:
     return axis_of_letter(axes[k])
 
 
-cdef int ngc_usage(CState *st, double g, int col, const char *what) noexcept nogil:
-    """Error 412: G function g at column col used as LinuxCNC does not allow it."""
-    cdef ErrArg a[3]
-    a[0].num = g; a[0].text = NULL
-    a[1].num = col; a[1].text = NULL
-    a[2].num = 0; a[2].text = what
-    set_error(st.err, ERR_NGC_G, st.unit.file_idx, st.line, a, 3)
-    return R_ERR
-
 
 # ------------------------------------------------------------- work offsets
 
@@ -57,8 +48,7 @@ cdef void ngc_store_shift(CState *st) noexcept nogil:
 cdef int ngc_select(CState *st, int coord, int col) noexcept nogil:
     """G54 .. G59.3."""
     if st.comp != 40:
-        return ngc_usage(st, 53.0 + coord if coord <= 6 else 59.0 + (coord - 6) / 10.0, col,
-                         "cutter compensation is on")
+        return err_ngc_g(st.err, st.unit.file_idx, st.line, 53.0 + coord if coord <= 6 else 59.0 + (coord - 6) / 10.0, col, "cutter compensation is on")
     st.ngc.coord = coord
     return ngc_use_offsets(st)
 
@@ -72,13 +62,11 @@ cdef int ngc_g10(CState *st, const LineWords *lw, int col) noexcept nogil:
     if l != 2.0 and l != 20.0:
         if has(lw, b'L'):
             col = lw.col[11]
-        return cerr_hint(st, ERR_NGC_UNSUPPORTED, word_at_column(st, col), col,
-                         "G10 sets work offsets with L2 or L20 (tool tables do not exist here)")
+        return err_ngc_unsupported(st.err, st.unit.file_idx, st.line, word_at_column(st, col), col, "G10 sets work offsets with L2 or L20 (tool tables do not exist here)")
     if not lw.has_pword or lw.pword != floor(lw.pword) or lw.pword < 0.0 or lw.pword > 9.0:
-        return ngc_usage(st, 10.0, col, "P must name a coordinate system 0..9")
+        return err_ngc_g(st.err, st.unit.file_idx, st.line, 10.0, col, "P must name a coordinate system 0..9")
     if has(lw, b'R') and val(lw, b'R') != 0.0:
-        return cerr_hint(st, ERR_NGC_UNSUPPORTED, word_at_column(st, lw.col[17]), lw.col[17],
-                         "rotated coordinate systems are not read")
+        return err_ngc_unsupported(st.err, st.unit.file_idx, st.line, word_at_column(st, lw.col[17]), lw.col[17], "rotated coordinate systems are not read")
     coord = <int>lw.pword if lw.pword > 0.0 else n.coord
     base = 5201 + 20 * coord
     for k in range(9):
@@ -110,11 +98,6 @@ cdef int ngc_shift_reset(CState *st, int how) noexcept nogil:
 
 # ------------------------------------------------------------- moves
 
-cdef int ngc_word_error(CState *st, const char *word, int col, const char *what) noexcept nogil:
-    """Error 413: a word at column col used as LinuxCNC does not allow it."""
-    return cerr_hint(st, ERR_NGC_WORD, word, col, what)
-
-
 cdef int ngc_polar(CState *st, LineWords *lw) noexcept nogil:
     """@ (distance) and ^ (angle) as the X Y words they stand for: from the program zero;
     a missing one is the current point's; in G91 both add to the current point's."""
@@ -122,15 +105,13 @@ cdef int ngc_polar(CState *st, LineWords *lw) noexcept nogil:
     cdef double a = atan2(st.ppos[1], st.ppos[0])
     cdef double x, y
     if has(lw, b'X') or has(lw, b'Y'):
-        return ngc_word_error(st, word_at_column(st, lw.polar_col), lw.polar_col,
-                              "polar coordinates do not mix with X or Y")
+        return err_ngc_word(st.err, st.unit.file_idx, st.line, word_at_column(st, lw.polar_col), lw.polar_col, "polar coordinates do not mix with X or Y")
     if st.absolute:
         if lw.has_polar_r: r = lw.polar_r
         if lw.has_polar_a: a = lw.polar_a * M_PI / 180.0
     else:
         if r == 0.0:
-            return ngc_word_error(st, word_at_column(st, lw.polar_col), lw.polar_col,
-                                  "an incremental polar move from the origin has no direction")
+            return err_ngc_word(st.err, st.unit.file_idx, st.line, word_at_column(st, lw.polar_col), lw.polar_col, "an incremental polar move from the origin has no direction")
         if lw.has_polar_r: r += lw.polar_r
         if lw.has_polar_a: a += lw.polar_a * M_PI / 180.0
     x = r * cos(a)
@@ -148,7 +129,7 @@ cdef int ngc_probe(CState *st, const LineWords *lw) noexcept nogil:
     nothing); #5061.. hold that point, #5070 = 1, as after a probe that tripped there."""
     cdef int k
     if st.comp != 40:
-        return ngc_usage(st, 38.2, motion_column(lw, 38), "cutter compensation is on")
+        return err_ngc_g(st.err, st.unit.file_idx, st.line, 38.2, motion_column(lw, 38), "cutter compensation is on")
     if em_motion(st, lw, 1, motion_column(lw, 38)) != 0:
         return R_ERR
     for k in range(9):
@@ -179,11 +160,11 @@ cdef int ngc_machine_move(CState *st, const LineWords *lw, int motion) noexcept 
     cdef uint32_t words = lw.mask & AXIS_LETTERS
     cdef int a, bit, col = g_column(lw, 53.0)
     if motion != 0 and motion != 1:
-        return ngc_usage(st, 53.0, col, "moves in machine coordinates with G0 or G1 only")
+        return err_ngc_g(st.err, st.unit.file_idx, st.line, 53.0, col, "moves in machine coordinates with G0 or G1 only")
     if st.comp != 40:
-        return ngc_usage(st, 53.0, col, "cutter compensation is on")
+        return err_ngc_g(st.err, st.unit.file_idx, st.line, 53.0, col, "cutter compensation is on")
     if not st.absolute:
-        return ngc_usage(st, 53.0, col, "machine coordinates are absolute (G90)")
+        return err_ngc_g(st.err, st.unit.file_idx, st.line, 53.0, col, "machine coordinates are absolute (G90)")
     memcpy(target, st.mpos, sizeof(target))
     while words:
         bit = SF_CTZ(words)
@@ -212,7 +193,7 @@ cdef int ngc_home(CState *st, const LineWords *lw, int home, int col) noexcept n
             n.params[base + k] = st.mpos[ngc_axis(k)]
         return R_NEXT
     if st.comp != 40:
-        return ngc_usage(st, home, col, "cutter compensation is on")
+        return err_ngc_g(st.err, st.unit.file_idx, st.line, home, col, "cutter compensation is on")
     memcpy(newp, st.ppos, sizeof(newp))
     while words:
         bit = SF_CTZ(words)
@@ -273,34 +254,34 @@ cdef int ngc_cycle(CState *st, const LineWords *lw, int g, int col) noexcept nog
     cdef bint reverse
     cdef char why[128]
     if st.feed == 0.0:
-        return ngc_usage(st, g, col, "feed 0: no F word was given (LinuxCNC refuses it)")
+        return err_ngc_g(st.err, st.unit.file_idx, st.line, g, col, "feed 0: no F word was given (LinuxCNC refuses it)")
     if st.comp != 40:
-        return ngc_usage(st, g, col, "cutter compensation is on")
+        return err_ngc_g(st.err, st.unit.file_idx, st.line, g, col, "cutter compensation is on")
     if n.inverse_time:
-        return ngc_usage(st, g, col, "inverse time feed (G93) is on")
+        return err_ngc_g(st.err, st.unit.file_idx, st.line, g, col, "inverse time feed (G93) is on")
     if not plane_axes(st.plane, &fa, &sa, &na) or st.plane == 18:
-        return ngc_usage(st, g, col, "canned cycles run in G17, G18 or G19")
+        return err_ngc_g(st.err, st.unit.file_idx, st.line, g, col, "canned cycles run in G17, G18 or G19")
     la = letter_of_axis(fa); lb = letter_of_axis(sa); lc = letter_of_axis(na)
     if lw.mask & AXIS_LETTERS & ~(bit_of(la) | bit_of(lb) | bit_of(lc)):
-        return ngc_usage(st, g, col, "only the axes of the plane and its normal move in a cycle")
+        return err_ngc_g(st.err, st.unit.file_idx, st.line, g, col, "only the axes of the plane and its normal move in a cycle")
     if not has(lw, lc) and not same:
-        return ngc_usage(st, g, col, "the first line of a cycle names the hole bottom (the normal axis)")
+        return err_ngc_g(st.err, st.unit.file_idx, st.line, g, col, "the first line of a cycle names the hole bottom (the normal axis)")
     if not has(lw, b'R') and not same:
-        return ngc_usage(st, g, col, "the first line of a cycle names the R level")
+        return err_ngc_g(st.err, st.unit.file_idx, st.line, g, col, "the first line of a cycle names the R level")
     repeat = 1
     if has(lw, b'L'):
         if val(lw, b'L') != floor(val(lw, b'L')) or val(lw, b'L') < 1.0:
-            return ngc_usage(st, g, col, "L repeats a positive whole number of times")
+            return err_ngc_g(st.err, st.unit.file_idx, st.line, g, col, "L repeats a positive whole number of times")
         repeat = to_int(val(lw, b'L'))
     q = val(lw, b'Q') * st.unit_scale if has(lw, b'Q') else n.cycle_q
     if (g == 73 or g == 83) and ((not has(lw, b'Q') and not same) or not (q > 0.0)):
-        return ngc_usage(st, g, col, "Q (the peck depth) must be above 0")
+        return err_ngc_g(st.err, st.unit.file_idx, st.line, g, col, "Q (the peck depth) must be above 0")
     dwell = lw.pword if lw.has_pword else n.cycle_p
     if (g == 82 or g == 86 or g == 89) and not lw.has_pword and not same:
-        return ngc_usage(st, g, col, "P (the dwell in seconds) is missing")
+        return err_ngc_g(st.err, st.unit.file_idx, st.line, g, col, "P (the dwell in seconds) is missing")
     reverse = g == 84 or g == 74
     if (g == 84 and n.spindle != 3) or (g == 74 and n.spindle != 4) or (g == 86 and n.spindle == 0):
-        return ngc_usage(st, g, col, "the spindle does not turn the way the cycle needs (M3 / M4)")
+        return err_ngc_g(st.err, st.unit.file_idx, st.line, g, col, "the spindle does not turn the way the cycle needs (M3 / M4)")
     n.cycle_r = val(lw, b'R') if has(lw, b'R') else n.cycle_r
     n.cycle_cc = val(lw, lc) if has(lw, lc) else n.cycle_cc
     n.cycle_q = q
@@ -322,8 +303,7 @@ cdef int ngc_cycle(CState *st, const LineWords *lw, int g, int col) noexcept nog
         inc_b = val(lw, lb) if has(lw, lb) else 0.0
         if lw.has_polar_r or lw.has_polar_a:
             if has(lw, b'X') or has(lw, b'Y') or st.plane != 17:
-                return ngc_word_error(st, word_at_column(st, lw.polar_col), lw.polar_col,
-                                      "polar coordinates are XY positions without X or Y")
+                return err_ngc_word(st.err, st.unit.file_idx, st.line, word_at_column(st, lw.polar_col), lw.polar_col, "polar coordinates are XY positions without X or Y")
             inc_r = lw.polar_r if lw.has_polar_r else 0.0
             inc_t = lw.polar_a * M_PI / 180.0 if lw.has_polar_a else 0.0
         r = n.cycle_r + old_cc
@@ -331,11 +311,11 @@ cdef int ngc_cycle(CState *st, const LineWords *lw, int g, int col) noexcept nog
         aa = st.ppos[fa]
         bb = st.ppos[sa]
     if r < z:
-        return ngc_usage(st, g, col, "the R level is below the hole bottom")
+        return err_ngc_g(st.err, st.unit.file_idx, st.line, g, col, "the R level is below the hole bottom")
     if _cycle_parts(g, repeat, r - z, q) > <double>(MAX_PARTS - st.prog.n_parts):
         c_snprintf(why, sizeof(why), "%d repeats of %g pecks make more parts than a program holds (%d)",
                    repeat, _cycle_pecks(g, r - z, q), <int>MAX_PARTS)
-        return ngc_usage(st, g, col, why)
+        return err_ngc_g(st.err, st.unit.file_idx, st.line, g, col, why)
     st.motion = g
     memcpy(target, st.ppos, sizeof(target))
     current = st.ppos[na]
@@ -351,8 +331,7 @@ cdef int ngc_cycle(CState *st, const LineWords *lw, int g, int col) noexcept nog
         bb += inc_b
         if inc_r != 0.0 or inc_t != 0.0:
             if aa == 0.0 and bb == 0.0:
-                return ngc_word_error(st, word_at_column(st, lw.polar_col), lw.polar_col,
-                                      "an incremental polar move from the origin has no direction")
+                return err_ngc_word(st.err, st.unit.file_idx, st.line, word_at_column(st, lw.polar_col), lw.polar_col, "an incremental polar move from the origin has no direction")
             radius = sqrt(aa * aa + bb * bb) + inc_r
             theta = atan2(bb, aa) + inc_t
             aa = radius * cos(theta)

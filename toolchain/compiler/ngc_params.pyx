@@ -46,12 +46,12 @@ cdef int ngc_name_read(CState *st, const char **pp, const char *eol, char *out, 
     while p < eol and p[0] != b'>':
         if p[0] != b' ' and p[0] != b'\t':
             if n >= NGC_NAME_CHARS - 1:
-                return cerr_at(st, ERR_BAD_EXPRESSION, cword_at(st, pp[0], eol), column_of(st, pp[0]))
+                return err_bad_expression(st.err, st.unit.file_idx, st.line, cword_at(st, pp[0], eol), column_of(st, pp[0]))
             out[n] = p[0] + 32 if (p[0] >= b'A' and p[0] <= b'Z') else p[0]
             n += 1
         p += 1
     if p >= eol or n == 0:
-        return cerr_at(st, ERR_BAD_EXPRESSION, cword_at(st, pp[0], eol), column_of(st, pp[0]))
+        return err_bad_expression(st.err, st.unit.file_idx, st.line, cword_at(st, pp[0], eol), column_of(st, pp[0]))
     out[n] = 0
     out_len[0] = n
     pp[0] = p + 1
@@ -115,7 +115,7 @@ cdef int ngc_name_set(CState *st, const char *name, int nlen, double value) noex
     cdef NgcName *e = ngc_name_find(n, name, nlen)
     if e == NULL:
         if not grow(<void **>&n.names, &n.cap_names, n.n_names + 1, sizeof(NgcName)):
-            return cerr(st, ERR_OUT_OF_MEMORY)
+            return err_out_of_memory(st.err, st.unit.file_idx, st.line)
         e = &n.names[n.n_names]
         n.n_names += 1
         e.level = -1 if name[0] == b'_' else n.level
@@ -125,7 +125,7 @@ cdef int ngc_name_set(CState *st, const char *name, int nlen, double value) noex
             n.n_locals += 1
         if 2 * n.n_names + 2 > n.n_slots:
             if not ngc_names_index(n):
-                return cerr(st, ERR_OUT_OF_MEMORY)
+                return err_out_of_memory(st.err, st.unit.file_idx, st.line)
         else:
             _name_slot_put(n, n.n_names - 1)
     e.value = value
@@ -231,12 +231,8 @@ cdef double ngc_number_get(CState *st, int idx) noexcept nogil:
 cdef int ngc_index(CState *st, double v, const char *at, const char *eol) noexcept nogil:
     """A parameter number: an integer (within 1e-4, as LinuxCNC reads one) in 1..5601."""
     cdef double r = floor(v + 0.5)
-    cdef ErrArg a[2]
     if not (fabs(v - r) < 1e-4 and r >= 1.0 and r < NGC_PARAMS):
-        a[0].num = v; a[0].text = NULL
-        a[1].num = column_of(st, at); a[1].text = NULL
-        set_error(st.err, ERR_NGC_PARAMETER, st.unit.file_idx, st.line, a, 2)
-        return -1
+        return err_ngc_parameter(st.err, st.unit.file_idx, st.line, v, column_of(st, at))
     return <int>r
 
 
@@ -255,15 +251,14 @@ cdef int ngc_param_read(CState *st, const char **pp, const char *eol, double *ou
             return R_ERR
         pp[0] = p
         if _host_value(name, nlen):
-            return cerr_hint(st, ERR_NGC_UNREADABLE, cword(st, at, eol, <int>(p - at)), column_of(st, at),
-                             "HAL pins and INI values are LinuxCNC's own")
+            return err_ngc_unreadable(st.err, st.unit.file_idx, st.line, cword(st, at, eol, <int>(p - at)), column_of(st, at), "HAL pins and INI values are LinuxCNC's own")
         e = ngc_name_find(st.ngc, name, nlen)
         if e != NULL:
             out[0] = e.value
             return 0
         if name[0] == b'_' and ngc_predefined(st, name, nlen, out):
             return 0
-        return cerr_at(st, ERR_NGC_UNDEFINED, cword(st, at, eol, <int>(p - at)), column_of(st, at))
+        return err_ngc_undefined(st.err, st.unit.file_idx, st.line, cword(st, at, eol, <int>(p - at)), column_of(st, at))
     if ngc_value(st, &p, eol, &v, depth + 1) != 0:
         return R_ERR
     idx = ngc_index(st, v, at, eol)
@@ -314,7 +309,7 @@ cdef int ngc_function(CState *st, const char **pp, const char *eol, int n, doubl
     elif lx_eq(name, n, "ABS"): out[0] = fabs(x)
     elif lx_eq(name, n, "ACOS") or lx_eq(name, n, "ASIN"):
         if x < -1.0 or x > 1.0:
-            return ex_domain(st, fname, x)
+            return err_math_domain(st.err, st.unit.file_idx, st.line, fname, x)
         out[0] = (acos(x) if fname[1] == b'C' else asin(x)) / d2r
     elif lx_eq(name, n, "COS"): out[0] = cos(x * d2r)
     elif lx_eq(name, n, "SIN"): out[0] = sin(x * d2r)
@@ -325,14 +320,14 @@ cdef int ngc_function(CState *st, const char **pp, const char *eol, int n, doubl
     elif lx_eq(name, n, "ROUND"): out[0] = round(x)
     elif lx_eq(name, n, "LN"):
         if x <= 0.0:
-            return ex_domain(st, fname, x)
+            return err_math_domain(st.err, st.unit.file_idx, st.line, fname, x)
         out[0] = log(x)
     elif lx_eq(name, n, "SQRT"):
         if x < 0.0:
-            return ex_domain(st, fname, x)
+            return err_math_domain(st.err, st.unit.file_idx, st.line, fname, x)
         out[0] = sqrt(x)
     else:
-        return cerr_at(st, ERR_UNKNOWN_FUNCTION, fname, column_of(st, name))
+        return err_unknown_function(st.err, st.unit.file_idx, st.line, fname, column_of(st, name))
     if not isfinite(out[0]):
         return ex_not_finite(st, name, p)
     pp[0] = p
@@ -369,7 +364,7 @@ cdef int ngc_value(CState *st, const char **pp, const char *eol, double *out, in
         if r == -3:
             return ex_overflow(st, p, q, eol)
         if r != 0:
-            return cerr_at(st, ERR_BAD_NUMBER, cword_at(st, p, eol), column_of(st, p))
+            return err_bad_number(st.err, st.unit.file_idx, st.line, cword_at(st, p, eol), column_of(st, p))
         p = q
         r = 0
     if r != 0:
@@ -423,16 +418,16 @@ cdef int _apply(CState *st, int op, double *left, double right, const char *at, 
     cdef double a = left[0]
     if op == OP_POWER:
         if a < 0.0 and right != floor(right):
-            return ex_domain(st, "**", right)       # LinuxCNC: a negative to a non-integer power
+            return err_math_domain(st.err, st.unit.file_idx, st.line, "**", right)       # LinuxCNC: a negative to a non-integer power
         left[0] = pow(a, right)
     elif op == OP_TIMES: left[0] = a * right
     elif op == OP_DIVIDE:
         if right == 0.0:
-            return cerr(st, ERR_DIVISION_BY_ZERO)
+            return err_division_by_zero(st.err, st.unit.file_idx, st.line)
         left[0] = a / right
     elif op == OP_MOD:
         if right == 0.0:
-            return cerr(st, ERR_DIVISION_BY_ZERO)
+            return err_division_by_zero(st.err, st.unit.file_idx, st.line)
         left[0] = fmod(a, right)
         if left[0] < 0.0:                           # LinuxCNC's MOD is never negative
             left[0] += fabs(right)
@@ -534,20 +529,16 @@ cdef int ngc_setting_read(CState *st, const char **pp, const char *eol) noexcept
     cdef const char *p = lx_skip_ws(at + 1, eol)
     cdef NgcSetting *s
     cdef double v, x
-    cdef ErrArg a[2]
     cdef char address[16]
     if n.n_settings >= NGC_LINE_SETTINGS:
-        a[0].num = NGC_LINE_SETTINGS; a[0].text = NULL
-        a[1].num = 0; a[1].text = "#"
-        set_error(st.err, ERR_TOO_MANY_WORDS, st.unit.file_idx, st.line, a, 2)
-        return R_ERR
+        return err_too_many_words(st.err, st.unit.file_idx, st.line, NGC_LINE_SETTINGS, "#")
     s = &n.settings[n.n_settings]
     s.number = 0
     if p < eol and p[0] == b'<':
         if ngc_name_read(st, &p, eol, s.name, &s.len) != 0:
             return R_ERR
         if s.name[0] == b'_' and (_host_value(s.name, s.len) or ngc_predefined(st, s.name, s.len, &x)):
-            return cerr_at(st, ERR_NGC_READ_ONLY, cword(st, at, eol, <int>(p - at)), column_of(st, at))
+            return err_ngc_read_only(st.err, st.unit.file_idx, st.line, cword(st, at, eol, <int>(p - at)), column_of(st, at))
     else:
         if ngc_value(st, &p, eol, &v, 1) != 0:
             return R_ERR
@@ -555,10 +546,10 @@ cdef int ngc_setting_read(CState *st, const char **pp, const char *eol) noexcept
         if s.number < 0:
             return R_ERR
         if _computed(s.number):
-            return cerr_at(st, ERR_NGC_READ_ONLY, cword(st, at, eol, <int>(p - at)), column_of(st, at))
+            return err_ngc_read_only(st.err, st.unit.file_idx, st.line, cword(st, at, eol, <int>(p - at)), column_of(st, at))
     p = lx_skip_ws(p, eol)
     if p >= eol or p[0] != b'=':
-        return cerr_at(st, ERR_UNKNOWN_WORD, cword_at(st, at, eol), column_of(st, at))
+        return err_unknown_word(st.err, st.unit.file_idx, st.line, cword_at(st, at, eol), column_of(st, at))
     p += 1
     if ngc_value(st, &p, eol, &s.value, 0) != 0:
         return R_ERR

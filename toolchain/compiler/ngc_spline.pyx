@@ -203,23 +203,19 @@ cdef int spl_curve(CState *st, const double *c, int n, int k, double umax, int s
 cdef int spl_check(CState *st, const LineWords *lw, double g, int col) noexcept nogil:
     """What every spline line needs: the XY plane, no other axis, a feed, no G93."""
     if st.plane != 17:
-        return ngc_usage(st, g, col, "splines are drawn in the XY plane (G17) only")
+        return err_ngc_g(st.err, st.unit.file_idx, st.line, g, col, "splines are drawn in the XY plane (G17) only")
     if lw.mask & AXIS_LETTERS & ~((1u << 23) | (1u << 24)):
-        return ngc_usage(st, g, col, "a spline moves X and Y only")
+        return err_ngc_g(st.err, st.unit.file_idx, st.line, g, col, "a spline moves X and Y only")
     if st.ngc.inverse_time:
-        return ngc_usage(st, g, col, "splines are not read in inverse time (G93)")
+        return err_ngc_g(st.err, st.unit.file_idx, st.line, g, col, "splines are not read in inverse time (G93)")
     return 0
 
 
 cdef int spl_feed(CState *st, double g, int col) noexcept nogil:
     """Error 410 for a spline at feed 0, naming its G word."""
-    cdef ErrArg a[2]
     if st.feed != 0.0:
         return 0
-    a[0].num = g; a[0].text = NULL
-    a[1].num = col; a[1].text = NULL
-    set_error(st.err, ERR_NO_FEED, st.unit.file_idx, st.line, a, 2)
-    return R_ERR
+    return err_no_feed(st.err, st.unit.file_idx, st.line, g, col)
 
 
 cdef void spl_end(CState *st, const LineWords *lw, double *x, double *y) noexcept nogil:
@@ -253,7 +249,7 @@ cdef int ngc_bezier(CState *st, const LineWords *lw, const Block *b, int motion,
     c[1] = st.ppos[1]
     if motion == 51:
         if not has_i and not has_j:
-            return ngc_usage(st, g, col, "I and J (the control point from the start) are missing")
+            return err_ngc_g(st.err, st.unit.file_idx, st.line, g, col, "I and J (the control point from the start) are missing")
         c[2] = c[0] + (val(lw, b'I') if has_i else 0.0)
         c[3] = c[1] + (val(lw, b'J') if has_j else 0.0)
         c[4] = ex
@@ -261,9 +257,9 @@ cdef int ngc_bezier(CState *st, const LineWords *lw, const Block *b, int motion,
         n.spline_pq_set = False
         return spl_curve(st, c, 2, 0, 1.0, 1, col)
     if not lw.has_pword or not has(lw, b'Q'):
-        return ngc_usage(st, g, col, "P and Q (the second control point from the end) are both needed")
+        return err_ngc_g(st.err, st.unit.file_idx, st.line, g, col, "P and Q (the second control point from the end) are both needed")
     if has_i != has_j or (not has_i and not goes_on):
-        return ngc_usage(st, g, col, "I and J are both needed (only a G5 right after another may leave "
+        return err_ngc_g(st.err, st.unit.file_idx, st.line, g, col, "I and J are both needed (only a G5 right after another may leave "
                          "both out)")
     pv = lw.pword * st.unit_scale           # (iso_units scales I J X Y, not P Q)
     qv = val(lw, b'Q') * st.unit_scale
@@ -289,7 +285,7 @@ cdef int ngc_bezier(CState *st, const LineWords *lw, const Block *b, int motion,
 cdef int _nurbs_add(CState *st, double x, double y, double w) noexcept nogil:
     cdef NgcState *n = st.ngc
     if not grow(<void **>&n.nurbs, &n.cap_nurbs, 3 * (n.n_nurbs + 1), sizeof(double)):
-        return cerr(st, ERR_OUT_OF_MEMORY)
+        return err_out_of_memory(st.err, st.unit.file_idx, st.line)
     n.nurbs[3 * n.n_nurbs] = x
     n.nurbs[3 * n.n_nurbs + 1] = y
     n.nurbs[3 * n.n_nurbs + 2] = w
@@ -305,12 +301,12 @@ cdef int ngc_nurbs(CState *st, const LineWords *lw, const Block *b, int motion, 
     cdef int k, cnt
     if motion == 53:
         if not n.nurbs_open:
-            return ngc_usage(st, 5.3, col, "no NURBS block (G5.2) is open")
+            return err_ngc_g(st.err, st.unit.file_idx, st.line, 5.3, col, "no NURBS block (G5.2) is open")
         n.nurbs_open = False
         k = n.nurbs_order
         cnt = <int>n.n_nurbs
         if cnt < k:
-            return ngc_usage(st, 5.3, col, "a NURBS needs at least as many control points as its order (L)")
+            return err_ngc_g(st.err, st.unit.file_idx, st.line, 5.3, col, "a NURBS needs at least as many control points as its order (L)")
         if spl_feed(st, 5.3, col) != 0:
             return R_ERR
         n.spline_pq_set = False
@@ -321,11 +317,11 @@ cdef int ngc_nurbs(CState *st, const LineWords *lw, const Block *b, int motion, 
         return R_ERR
     w = lw.pword if lw.has_pword else 1.0
     if not (w > 0.0):
-        return ngc_usage(st, 5.2, col, "a control point's weight (P) must be above 0")
+        return err_ngc_g(st.err, st.unit.file_idx, st.line, 5.2, col, "a control point's weight (P) must be above 0")
     if b.motion == 52 and not n.nurbs_open:
         order = val(lw, b'L') if has(lw, b'L') else 3.0
         if not (order >= 2.0 and order <= SPLINE_MAX_ORDER and order == floor(order)):
-            return ngc_usage(st, 5.2, col, "the order L must be a whole number from 2 to 16")
+            return err_ngc_g(st.err, st.unit.file_idx, st.line, 5.2, col, "the order L must be a whole number from 2 to 16")
         n.nurbs_open = True
         n.nurbs_order = <int>order
         n.n_nurbs = 0
@@ -334,7 +330,7 @@ cdef int ngc_nurbs(CState *st, const LineWords *lw, const Block *b, int motion, 
         if not (lw.mask & AXIS_LETTERS):
             return 0                        # G5.2 P alone: the first point's weight
     elif b.motion == 52:
-        return ngc_usage(st, 5.2, col, "a NURBS block is open already (G5.3 ends it)")
+        return err_ngc_g(st.err, st.unit.file_idx, st.line, 5.2, col, "a NURBS block is open already (G5.3 ends it)")
     x = n.nurbs[3 * (n.n_nurbs - 1)]
     y = n.nurbs[3 * (n.n_nurbs - 1) + 1]
     if has(lw, b'X'):

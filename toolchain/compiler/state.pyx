@@ -37,13 +37,6 @@ cdef inline char letter_of_axis(int a) noexcept nogil:
     return names[a]
 
 
-cdef const char *plane_name(int plane) noexcept nogil:
-    if plane == 17: return "XY"
-    if plane == 18: return "XZ"
-    if plane == 19: return "YZ"
-    return "ZX"
-
-
 cdef int g_column(const LineWords *lw, double g) noexcept nogil:
     """Column of G function g on the line (1 when it is modal, not written)."""
     cdef int i
@@ -63,21 +56,6 @@ cdef int axis_column(const LineWords *lw, uint32_t letters) noexcept nogil:
 
 
 # --------------------------------------------------------------- errors
-
-cdef int cerr(CState *st, int32_t number) noexcept nogil:
-    set_error(st.err, number, st.unit.file_idx, st.line, NULL, 0)
-    return R_ERR
-
-
-cdef int cerr_text(CState *st, int32_t number, const char *text) noexcept nogil:
-    set_error_text(st.err, number, st.unit.file_idx, st.line, text)
-    return R_ERR
-
-
-cdef int cerr_num(CState *st, int32_t number, double value) noexcept nogil:
-    set_error_num(st.err, number, st.unit.file_idx, st.line, value)
-    return R_ERR
-
 
 cdef const char *cword(CState *st, const char *p, const char *eol, int n) noexcept nogil:
     """Copies up to n (max 40) printable characters at p for an error message."""
@@ -117,50 +95,13 @@ cdef const char *cword_rest(CState *st, const char *p, const char *eol) noexcept
     return cword(st, p, eol, <int>(eol - p))
 
 
-cdef int cerr_at(CState *st, int32_t number, const char *word, int column) noexcept nogil:
-    """Error `number` with a word and its column (formats '%s ... column %d')."""
-    cdef ErrArg a[2]
-    a[0].num = 0; a[0].text = word
-    a[1].num = column; a[1].text = NULL
-    set_error(st.err, number, st.unit.file_idx, st.line, a, 2)
-    return R_ERR
-
-
-cdef int cerr_hint(CState *st, int32_t number, const char *word, int column, const char *hint) noexcept nogil:
-    """Error `number` with a word, its column and what TG expects instead."""
-    cdef ErrArg a[3]
-    a[0].num = 0; a[0].text = word
-    a[1].num = column; a[1].text = NULL
-    a[2].num = 0; a[2].text = hint
-    set_error(st.err, number, st.unit.file_idx, st.line, a, 3)
-    return R_ERR
-
-
-cdef int cerr_num_at(CState *st, int32_t number, double value, int column) noexcept nogil:
-    """Error `number` with a value and its column (formats '%g ... column %d')."""
-    cdef ErrArg a[2]
-    a[0].num = value; a[0].text = NULL
-    a[1].num = column; a[1].text = NULL
-    set_error(st.err, number, st.unit.file_idx, st.line, a, 2)
-    return R_ERR
-
-
-cdef int cerr_bad_value(CState *st, double v, const char *letter) noexcept nogil:
-    """Error 106: value v of address `letter` out of its range."""
-    cdef ErrArg a[2]
-    a[0].num = v; a[0].text = NULL
-    a[1].num = 0; a[1].text = letter
-    set_error(st.err, ERR_BAD_VALUE, st.unit.file_idx, st.line, a, 2)
-    return R_ERR
-
-
 cdef int number_gate(CState *st, double v, const char *address) noexcept nogil:
     """The one bound of every number that reaches a part (docs/dialect.md, "Numbers"):
     finite and within +-TC_MAX_WORD_VALUE; 0, or error 106 naming `address` (an
     address letter, a polar word, an ISO parameter such as #5221)."""
     if v >= -TC_MAX_WORD_VALUE and v <= TC_MAX_WORD_VALUE:
         return 0
-    return cerr_bad_value(st, v, address)
+    return err_bad_value(st.err, st.unit.file_idx, st.line, v, address)
 
 
 cdef int cerr_open_comment(CState *st, const char *p, const char *eol) noexcept nogil:
@@ -172,43 +113,35 @@ cdef int cerr_open_comment(CState *st, const char *p, const char *eol) noexcept 
         q -= 1
         if q[0] == b'(':
             open_at = q
-    return cerr_num(st, ERR_UNTERMINATED_COMMENT, column_of(st, open_at if open_at != NULL else p))
+    return err_unterminated_comment(st.err, st.unit.file_idx, st.line, column_of(st, open_at if open_at != NULL else p))
 
 
 # --------------------------------------------------------------- warnings
 
-cdef void cwarn(CState *st, int32_t number, const ErrArg *args, int n_args) noexcept nogil:
-    """A numbered compile warning (600..699) on the current line: to the host's
-    MathWarning (CompileInput.warn) and to the output log, like the compensation's."""
-    cdef ErrorInfo info
-    cdef char text[1100]
+cdef bint warning_wanted(CState *st) noexcept nogil:
+    """Whether a compile warning is still reported: False once MAX_COMPILE_WARNINGS were
+    (the first one beyond says so in the output log). The caller then fills
+    st.warning with its constructor and calls cwarn."""
     if st.n_warnings > MAX_COMPILE_WARNINGS:
-        return
+        return False
     st.n_warnings += 1
     if st.n_warnings > MAX_COMPILE_WARNINGS:
         if st.inp.output != NULL:
             st.inp.output(st.inp.ctx, 0, "Warning: G-code: further warnings suppressed")
-        return
-    set_error(&info, number, st.unit.file_idx, <int32_t>st.line, args, n_args)
-    info.n_lines = <int32_t>st.prog.n_lines
+        return False
+    return True
+
+
+cdef void cwarn(CState *st) noexcept nogil:
+    """The numbered compile warning (600..699) in st.warning, on the current line: to the
+    host's MathWarning (CompileInput.warn) and to the output log, like the compensation's."""
+    cdef char text[1100]
+    st.warning.n_lines = <int32_t>st.prog.n_lines
     if st.inp.warn != NULL:
-        st.inp.warn(st.inp.ctx, &info)
+        st.inp.warn(st.inp.ctx, &st.warning)
     if st.inp.output != NULL:
-        snprintf(text, sizeof(text), "Warning: G-code, line %u: %s", st.line, info.text)
+        snprintf(text, sizeof(text), "Warning: G-code, line %u: %s", st.line, st.warning.text)
         st.inp.output(st.inp.ctx, 0, text)
-
-
-cdef void cwarn_num_col(CState *st, int32_t number, int column) noexcept nogil:
-    cdef ErrArg a
-    a.num = column; a.text = NULL
-    cwarn(st, number, &a, 1)
-
-
-cdef void cwarn_at(CState *st, int32_t number, const char *word, int column) noexcept nogil:
-    cdef ErrArg a[2]
-    a[0].num = 0; a[0].text = word
-    a[1].num = column; a[1].text = NULL
-    cwarn(st, number, a, 2)
 
 
 cdef int ngc_refused(CState *st, const char *word, int column, const char *why,
@@ -216,15 +149,11 @@ cdef int ngc_refused(CState *st, const char *word, int column, const char *why,
     """ISO mode: a construct LinuxCNC refuses (`why`). Warning 621 and 0 (the caller
     compiles on as `instead` says: "ignores it", ...), or in the strict ISO mode error
     414 and R_ERR."""
-    cdef ErrArg a[4]
-    a[0].num = 0; a[0].text = word
-    a[1].num = column; a[1].text = NULL
-    a[2].num = 0; a[2].text = why
-    a[3].num = 0; a[3].text = instead
     if (<uint32_t>st.params.rezerva1 & GCODE_REZERVA1_ISO_STRICT) != 0:
-        set_error(st.err, ERR_NGC_REFUSED, st.unit.file_idx, st.line, a, 3)
-        return R_ERR
-    cwarn(st, WARN_NGC_REFUSED, a, 4)
+        return err_ngc_refused(st.err, st.unit.file_idx, st.line, word, column, why)
+    if warning_wanted(st):
+        warn_ngc_refused(&st.warning, st.unit.file_idx, st.line, word, column, why, instead)
+        cwarn(st)
     return 0
 
 
@@ -279,15 +208,12 @@ cdef void cp_reframe(CState *st) noexcept nogil:
 cdef bint registered(CState *st, int idx, const char *what) noexcept nogil:
     """idx of program_add_zero / _rotation / _radius is an entry; False with the error
     recorded when it is none (out of memory, or more than PROGRAM_TABLE_MAX `what`)."""
-    cdef ErrArg a[2]
     if idx >= 0:
         return True
     if idx == -2:
-        a[0].num = PROGRAM_TABLE_MAX; a[0].text = NULL
-        a[1].num = 0; a[1].text = what
-        set_error(st.err, ERR_PROGRAM_TABLE_LIMIT, st.unit.file_idx, st.line, a, 2)
+        err_program_table_limit(st.err, st.unit.file_idx, st.line, PROGRAM_TABLE_MAX, what)
     else:
-        cerr(st, ERR_OUT_OF_MEMORY)
+        err_out_of_memory(st.err, st.unit.file_idx, st.line)
     return False
 
 

@@ -11,8 +11,7 @@ cdef int tl_entry(CState *st, double v, int col, bint writable) noexcept nogil:
     -1 with the error recorded."""
     if v == floor(v) and v >= (1.0 if writable else 0.0) and v <= <double>TOOL_ENTRIES:
         return <int>v
-    return cerr_hint(st, ERR_TOOL_WORD, word_at_column(st, col), col,
-                     "G92 D writes the entries 1..99" if writable
+    return err_tool_word(st.err, st.unit.file_idx, st.line, word_at_column(st, col), col, "G92 D writes the entries 1..99" if writable
                      else "the table has the entries 1..99 (0: none)")
 
 
@@ -96,8 +95,7 @@ cdef int tl_write(CState *st, const LineWords *lw) noexcept nogil:
     cdef ToolWrite w
     cdef int entry, k
     if not has(lw, b'D'):
-        return cerr_hint(st, ERR_TOOL_WORD, word_at_column(st, lw.tool_values_col), lw.tool_values_col,
-                         "G92 D n names the entry that R0 .. R4 write")
+        return err_tool_word(st.err, st.unit.file_idx, st.line, word_at_column(st, lw.tool_values_col), lw.tool_values_col, "G92 D n names the entry that R0 .. R4 write")
     entry = tl_entry(st, val(lw, b'D'), lw.col[3], True)
     if entry < 0:
         return R_ERR
@@ -112,7 +110,7 @@ cdef int tl_write(CState *st, const LineWords *lw) noexcept nogil:
         st.err.line = <int32_t>st.line
         return R_ERR
     if not program_add_tool_write(st.build, &w):
-        return cerr(st, ERR_OUT_OF_MEMORY)
+        return err_out_of_memory(st.err, st.unit.file_idx, st.line)
     if entry == st.tool_d and tl_comp(st) != 0:
         return R_ERR
     if entry == st.tool_len and tl_lengths(st, entry) != 0:

@@ -59,16 +59,13 @@ cdef int cp_bad_word(CState *st, const char *p, const char *eol, int col, const 
     another dialect's (LinuxCNC O-words and # parameters, [ ] expressions)."""
     cdef int n = lx_ident_run(p, eol)
     if p[0] == b'#':
-        return cerr_hint(st, ERR_NOT_TG, cword_at(st, p, eol), col,
-                         "TG parameters are P00..P99 (P1 = value, X P1)")
+        return err_not_tg(st.err, st.unit.file_idx, st.line, cword_at(st, p, eol), col, "TG parameters are P00..P99 (P1 = value, X P1)")
     if p[0] == b'[':
-        return cerr_hint(st, ERR_NOT_TG, cword_at(st, p, eol), col,
-                         "TG expressions are written in ( ) brackets: X (P1 * 2)")
+        return err_not_tg(st.err, st.unit.file_idx, st.line, cword_at(st, p, eol), col, "TG expressions are written in ( ) brackets: X (P1 * 2)")
     if lw.first_is_o and n > 0 and _o_word_keyword(p, n):
-        return cerr_hint(st, ERR_NOT_TG, cword(st, p, eol, n), col,
-                         "O-word subroutines and loops are LinuxCNC G-code; TG uses labels "
+        return err_not_tg(st.err, st.unit.file_idx, st.line, cword(st, p, eol, n), col, "O-word subroutines and loops are LinuxCNC G-code; TG uses labels "
                          "(name:) with CALL / RETURN, and FOR / WHILE / IF ... END")
-    return cerr_at(st, ERR_UNKNOWN_WORD, cword_at(st, p, eol), col)
+    return err_unknown_word(st.err, st.unit.file_idx, st.line, cword_at(st, p, eol), col)
 
 
 cdef void _words_clear(LineWords *lw) noexcept nogil:
@@ -148,8 +145,7 @@ cdef int _word_p(CState *st, const char **pp, const char *eol, LineWords *lw) no
         return WORDS_MORE
     q = lx_skip_ws(p, eol)
     if not _value_starts(st, q, eol):
-        return cerr_hint(st, ERR_P_WORD, cword_at(st, w, eol), column_of(st, w),
-                         "an assignment is written Pnn = value")
+        return err_p_word(st.err, st.unit.file_idx, st.line, cword_at(st, w, eol), column_of(st, w), "an assignment is written Pnn = value")
     if _word_value(st, &q, eol, &v) != 0 or number_gate(st, v, "P") != 0:
         return R_ERR
     lw.has_pword = True
@@ -180,12 +176,11 @@ cdef int _word_address(CState *st, const char **pp, const char *eol, LineWords *
             pp[0] = q + n
             return WORDS_MORE
     if L == 79 and q < eol and q[0] == b'<':
-        return cerr_hint(st, ERR_NOT_TG, cword_at(st, w, eol), col,
-                         "O-word subroutines are LinuxCNC G-code; TG uses labels (name:) with CALL")
+        return err_not_tg(st.err, st.unit.file_idx, st.line, cword_at(st, w, eol), col, "O-word subroutines are LinuxCNC G-code; TG uses labels (name:) with CALL")
     if not st.iso and q < eol and (q[0] == b'[' or q[0] == b'#'):
         return cp_bad_word(st, q, eol, column_of(st, q), lw)      # LinuxCNC's (F#<_hal[..]>)
     if not _value_starts(st, q, eol):
-        return cerr_at(st, ERR_MISSING_VALUE, letter, col)
+        return err_missing_value(st.err, st.unit.file_idx, st.line, letter, col)
     if _word_value(st, &q, eol, &v) != 0:
         return R_ERR
     if L != 71 and L != 77 and L != 76 and number_gate(st, v, letter) != 0:
@@ -193,7 +188,7 @@ cdef int _word_address(CState *st, const char **pp, const char *eol, LineWords *
     pp[0] = q
     if L == 71:     # G
         if lw.ng >= MAX_WORD_LIST:
-            return _too_many(st, "G")
+            return err_too_many_words(st.err, st.unit.file_idx, st.line, MAX_WORD_LIST, "G")
         lw.g[lw.ng] = v
         lw.gcol[lw.ng] = col
         lw.ng += 1
@@ -201,7 +196,7 @@ cdef int _word_address(CState *st, const char **pp, const char *eol, LineWords *
             return WORDS_DONE       # G29: the rest of the line is a comment
     elif L == 77:   # M
         if lw.nm >= MAX_WORD_LIST:
-            return _too_many(st, "M")
+            return err_too_many_words(st.err, st.unit.file_idx, st.line, MAX_WORD_LIST, "M")
         lw.m[lw.nm] = v
         lw.mcol[lw.nm] = col
         lw.nm += 1
@@ -228,7 +223,7 @@ cdef int _word_polar(CState *st, const char **pp, const char *eol, LineWords *lw
     letter[0] = w[0]
     letter[1] = 0
     if not _value_starts(st, q, eol):
-        return cerr_at(st, ERR_MISSING_VALUE, letter, column_of(st, w))
+        return err_missing_value(st.err, st.unit.file_idx, st.line, letter, column_of(st, w))
     if _word_value(st, &q, eol, &v) != 0 or number_gate(st, v, letter) != 0:
         return R_ERR
     if not (lw.has_polar_r or lw.has_polar_a):
@@ -248,7 +243,7 @@ cdef int _word_amp(CState *st, const char **pp, const char *eol, LineWords *lw) 
     cdef const char *w = pp[0]
     cdef const char *q = lx_skip_ws(w + 1, eol)
     if not _value_starts(st, q, eol):
-        return cerr_at(st, ERR_MISSING_VALUE, "&", column_of(st, w))
+        return err_missing_value(st.err, st.unit.file_idx, st.line, "&", column_of(st, w))
     if _word_value(st, &q, eol, &lw.amp) != 0:
         return R_ERR
     lw.has_amp = True
@@ -279,11 +274,10 @@ cdef int _word_r_assignment(CState *st, const char **pp, const char *eol, LineWo
             k = 10 * k + (q[0] - 48)
         q += 1
     if k >= TOOL_VALUES or q - w > 2:
-        return cerr_hint(st, ERR_TOOL_WORD, cword(st, w, eol, <int>(q - w)), col,
-                         "G92 D writes R0 (the radius) .. R4 (the length of axis 4)")
+        return err_tool_word(st.err, st.unit.file_idx, st.line, cword(st, w, eol, <int>(q - w)), col, "G92 D writes R0 (the radius) .. R4 (the length of axis 4)")
     q = lx_skip_ws(lx_skip_ws(q, eol) + 1, eol)
     if not _value_starts(st, q, eol):
-        return cerr_at(st, ERR_MISSING_VALUE, cword(st, w, eol, 2), col)
+        return err_missing_value(st.err, st.unit.file_idx, st.line, cword(st, w, eol, 2), col)
     if _word_value(st, &q, eol, &lw.tool_value[k]) != 0:
         return R_ERR
     if lw.tool_values == 0:
@@ -366,9 +360,4 @@ cdef int cp_words(CState *st, const char *p, const char *eol, LineWords *lw) noe
         first = False
 
 
-cdef int _too_many(CState *st, const char *what) noexcept nogil:
-    cdef ErrArg a[2]
-    a[0].num = MAX_WORD_LIST; a[0].text = NULL
-    a[1].num = 0; a[1].text = what
-    set_error(st.err, ERR_TOO_MANY_WORDS, st.unit.file_idx, st.line, a, 2)
-    return R_ERR
+

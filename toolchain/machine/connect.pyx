@@ -51,7 +51,7 @@ cdef int _connect_search(Core *core, Machine *m, const GCODE_PARAMETERS *params,
                                       0, prog.n_parts, _part_calc, &pc, hit, err)
             callback_leave(core, SLOT_CONNECT_POINT_CALC)
             if pc.not_finite:
-                set_error_text(err, ERR_CONNECT_NOT_FINITE, -1, 0, "ConnectPointCalc")
+                err_connect_not_finite(err, -1, 0, "ConnectPointCalc")
                 return CONNECT_BAD_ARGUMENT
             return rc
         rc = connect_index_build(&ix, prog, pl, job.axes_calc, err)
@@ -93,7 +93,7 @@ cdef bint _connect_end_callback(Core *core, Machine *m, ConnectHit *hit, ErrorIn
         if finite:
             memcpy(hit.point, &point, sizeof(point))
         else:
-            set_error_text(err, ERR_CONNECT_NOT_FINITE, -1, 0, "ConnectPointCalcEnd")
+            err_connect_not_finite(err, -1, 0, "ConnectPointCalcEnd")
     callback_leave(core, SLOT_CONNECT_POINT_CALC_END)
     return finite
 
@@ -127,7 +127,7 @@ cdef void *connect_body(void *arg) noexcept nogil:
     cdef Callback cb
     cdef double point[AXES]
     cdef uint32_t moving, k
-    cdef ErrArg args[2]
+    cdef const char *unbounded
     cdef int32_t finish = EV_STOPPED, end_status = TC_KEEP
     cdef int rc
     tc_set_stage("the connection search")
@@ -150,10 +150,9 @@ cdef void *connect_body(void *arg) noexcept nogil:
             for k in range(AXES):
                 if (moving >> k) & 1:
                     (<double *>&dest.m_calcE)[k] = hit.point[k]
-            args[1].text = manual_path_not_finite(m.motion.position, &dest, AXES, &f.params.motion[3]) if rc == CONNECT_FOUND else NULL
-            if args[1].text != NULL:
-                args[0].text = "ConnectCNCEx_Plane"
-                set_error(err, ERR_PATH_NOT_FINITE, -1, 0, args, 2)
+            unbounded = manual_path_not_finite(m.motion.position, &dest, AXES, &f.params.motion[3]) if rc == CONNECT_FOUND else NULL
+            if unbounded != NULL:
+                err_path_not_finite(err, -1, 0, "ConnectCNCEx_Plane", unbounded)
                 rc = CONNECT_BAD_ARGUMENT
         if rc != CONNECT_FOUND:
             core_keep_error(core, False, err)
@@ -190,7 +189,8 @@ cdef int32_t core_connect(Core *core, uint32_t n_type, uint32_t n_coords, const 
     """ConnectCNCEx_Plane: 40, 41, then -31 (or a forward run)."""
     cdef ConnectJob *job = <ConnectJob *>job_new(CMD_CONNECT)
     if job == NULL:
-        return core_fail(core, ERR_OUT_OF_MEMORY, NULL)
+        err_out_of_memory(refusal(), -1, 0)
+        return core_fail(core, refusal())
     job.n_type = n_type
     job.n_coords = n_coords
     if n_coords > 0:

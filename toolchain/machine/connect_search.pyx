@@ -37,15 +37,8 @@ from libc.string cimport memset
 cdef int connect_bad_argument(ErrorInfo *err, const char *name, double value, const char *why) noexcept nogil:
     """Error 700 naming the argument, its value and why (e.g. "nType", 7, "no such
     connect type"); returns CONNECT_BAD_ARGUMENT."""
-    cdef ErrArg a[3]
     if err != NULL:
-        a[0].num = 0.0
-        a[0].text = name
-        a[1].num = value
-        a[1].text = NULL
-        a[2].num = 0.0
-        a[2].text = why
-        set_error(err, ERR_CONNECT_BAD_ARGUMENT, -1, 0, a, 3)
+        err_connect_bad_argument(err, -1, 0, name, value, why)
     return CONNECT_BAD_ARGUMENT
 
 
@@ -55,28 +48,15 @@ cdef int _cs_bad_coord(ErrorInfo *err, int k, double value, const char *why) noe
     return connect_bad_argument(err, name, value, why)
 
 
-cdef int _cs_numbers_error(ErrorInfo *err, int32_t number, int32_t file_idx, int32_t line,
-                        double a0, double a1, double a2, int n) noexcept nogil:
-    cdef ErrArg a[3]
-    if err != NULL:
-        a[0].num = a0
-        a[0].text = NULL
-        a[1].num = a1
-        a[1].text = NULL
-        a[2].num = a2
-        a[2].text = NULL
-        set_error(err, number, file_idx, line, a, n)
-    return CONNECT_OFF_PART if number == ERR_CONNECT_OFF_PART else CONNECT_NOT_FOUND
-
-
 cdef int _cs_no_motion(ErrorInfo *err, size_t first, size_t end, size_t n_parts) noexcept nogil:
-    return _cs_numbers_error(err, ERR_CONNECT_NO_MOTION, -1, 0, <double>min(first, n_parts),
-                          <double>min(end, n_parts), <double>n_parts, 3)
+    if err != NULL:
+        err_connect_no_motion(err, -1, 0, min(first, n_parts), min(end, n_parts), n_parts)
+    return CONNECT_NOT_FOUND
 
 
 cdef int _cs_no_memory(ErrorInfo *err) noexcept nogil:
     if err != NULL:
-        set_error(err, ERR_OUT_OF_MEMORY, -1, 0, NULL, 0)
+        err_out_of_memory(err, -1, 0)
     return CONNECT_NO_MEMORY
 
 
@@ -597,7 +577,9 @@ cdef int _cs_find_gindex(const Program *prog, const double *coords, int k, int64
         return CONNECT_BAD_ARGUMENT
     part[0] = _cs_part_of_gindex(prog, gindex)
     if part[0] < 0:
-        return _cs_numbers_error(err, ERR_CONNECT_NO_GINDEX, -1, 0, coords[k], 0.0, 0.0, 1)
+        if err != NULL:
+            err_connect_no_gindex(err, -1, 0, gindex)
+        return CONNECT_NOT_FOUND
     return CONNECT_FOUND
 
 
@@ -661,8 +643,10 @@ cdef int connect_exact_point(const Program *prog, const Placement *pl, const dou
     _cs_hit_nearest(prog, pl, <size_t>part, axes, coords, INFINITY, hit)
     if hit.distance > tolerance:
         p = &prog.parts[part]
-        return _cs_numbers_error(err, ERR_CONNECT_OFF_PART, part_settings(prog, p).file_idx, <int32_t>p.line,
-                              hit.distance, coords[10], tolerance, 3)
+        if err != NULL:
+            err_connect_off_part(err, part_settings(prog, p).file_idx, <int32_t>p.line, hit.distance,
+                                 <int64_t>coords[10], tolerance)
+        return CONNECT_OFF_PART
     return CONNECT_FOUND
 
 
@@ -686,8 +670,9 @@ cdef int connect_line(const Program *prog, const Placement *pl, const double *co
     while i < n and not (prog.parts[i].line == line and part_settings(prog, &prog.parts[i]).file_idx == file_idx):
         i += 1
     if i == n:
-        return _cs_numbers_error(err, ERR_CONNECT_NO_LINE, <int32_t>file_idx, <int32_t>line,
-                              <double>line, <double>file_idx, 0.0, 2)
+        if err != NULL:
+            err_connect_no_line(err, <int32_t>file_idx, <int32_t>line, line, file_idx)
+        return CONNECT_NOT_FOUND
     if at_end:
         while i + 1 < n and prog.parts[i + 1].line == line \
                 and part_settings(prog, &prog.parts[i + 1]).file_idx == file_idx:
@@ -740,5 +725,6 @@ cdef int connect_mfunc(const Program *prog, const Placement *pl, const double *c
                 _cs_hit_at(prog, pl, <size_t>i, False, hit)
                 return CONNECT_FOUND
         i += step
-    return _cs_numbers_error(err, ERR_CONNECT_NO_MFUNC, -1, 0, coords[0], <double>mfunc,
-                          <double>seen, 3)
+    if err != NULL:
+        err_connect_no_mfunc(err, -1, 0, n, mfunc, seen)
+    return CONNECT_NOT_FOUND

@@ -780,7 +780,8 @@ cdef int32_t core_goto(Core *core, const SIMPLE_GM_PARAMS *dest, uint32_t n_dest
     """GoToPosition / GoToPositionEx: a manual move; 50, then -50."""
     cdef GotoJob *job = <GotoJob *>job_new(CMD_GOTO)
     if job == NULL:
-        return core_fail(core, ERR_OUT_OF_MEMORY, NULL)
+        err_out_of_memory(refusal(), -1, 0)
+        return core_fail(core, refusal())
     job.dest = dest[0]
     if n_dest > 0:                      # GoToPosition(core, 0, NULL) moves nothing
         memcpy(&job.dest.m_calcE, coords, n_dest * sizeof(double))
@@ -795,15 +796,14 @@ cdef bint machine_prepare(Core *core, Job *job, ErrorInfo *err) noexcept nogil:
     machine stands. False (err set) refuses the activity."""
     cdef Machine *m = machine_of(core)
     cdef GotoJob *go = <GotoJob *>job
-    cdef ErrArg args[2]
+    cdef const char *unbounded
     if m == NULL:
-        set_error(err, ERR_OUT_OF_MEMORY, -1, 0, NULL, 0)
+        err_out_of_memory(err, -1, 0)
         return False
     if job.command == CMD_GOTO:
-        args[1].text = manual_path_not_finite(core.position, &go.dest, go.n_dest, &core.params.motion[5])
-        if args[1].text != NULL:
-            args[0].text = "GoToPosition"
-            set_error(err, ERR_PATH_NOT_FINITE, -1, 0, args, 2)
+        unbounded = manual_path_not_finite(core.position, &go.dest, go.n_dest, &core.params.motion[5])
+        if unbounded != NULL:
+            err_path_not_finite(err, -1, 0, "GoToPosition", unbounded)
             return False
     if m.program != core.program:
         machine_forget(core)

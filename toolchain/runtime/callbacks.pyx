@@ -116,12 +116,31 @@ cdef void core_output(Core *core, uint32_t tab, const char *text) noexcept nogil
     log_line(LOG_TOOLCHAIN, text)
 
 
+cdef void _one_line(char *out, size_t cap, const char *text) noexcept nogil:
+    # text into out (cap bytes, truncated, terminated), a line break as "; ": a log line
+    # stays one line (the vendor's error 400 has three)
+    cdef size_t n = 0
+    while text[0] != 0 and n + 1 < cap:
+        if text[0] == b'\n':
+            if n + 2 >= cap:
+                break
+            out[n] = b';'
+            out[n + 1] = b' '
+            n += 2
+        else:
+            out[n] = text[0]
+            n += 1
+        text += 1
+    out[n] = 0
+
+
 cdef void core_report_error(Core *core, const ErrorInfo *err) noexcept nogil:
     """Every error reaches the host at once: DispAndLocateError, AddOutputLog tab 0
     and the log. `err` must stay valid during the calls (a copy of the caller's)."""
     cdef Callback cb
     cdef CALLBACK_INFO info
     cdef char line[1400]
+    cdef int n
     cdef void *owned
     cdef char *narrow_text = narrow_to_host(err.text)
     cdef char *narrow_args = narrow_to_host(err.args)
@@ -140,8 +159,9 @@ cdef void core_report_error(Core *core, const ErrorInfo *err) noexcept nogil:
         callback_leave(core, SLOT_ADD_OUTPUT_LOG)
     free(narrow_text)
     free(narrow_args)
-    snprintf(line, sizeof(line), "core %d: error %d at file %d line %d: %s",
-             core.index, err.number, err.file_idx, err.line, err.text)
+    n = snprintf(line, sizeof(line), "core %d: error %d at file %d line %d: ",
+                 core.index, err.number, err.file_idx, err.line)
+    _one_line(line + n, sizeof(line) - n, err.text)
     log_line(LOG_TOOLCHAIN, line)
 
 

@@ -32,7 +32,7 @@ cdef pthread_once_t g_held_once
 
 cdef void _make_held_key() noexcept nogil:
     global tc_held_key_made
-    set_error(&g_out_of_memory_error.info, ERR_OUT_OF_MEMORY, -1, 0, NULL, 0)
+    err_out_of_memory(&g_out_of_memory_error.info, -1, 0)
     g_out_of_memory_error.refs = 1
     tc_held_key_made = pthread_key_create(&tc_held_key, _release_held) == 0
 
@@ -94,6 +94,18 @@ cdef PublishedError *core_swap_error_locked(Core *core, bint of_calls, Published
         old = core.error
         core.error = e
     return old
+
+
+cdef int32_t core_read_error_column(Core *core, bint of_calls, int32_t *column) noexcept nogil:
+    """The column of the error GetLastError (of_calls False) / GetLastCallError gives:
+    1 and *column filled, 0 when the core keeps no such error."""
+    cdef PublishedError *e
+    pthread_mutex_lock(&core.lock)
+    e = core.call_error if of_calls else core.error
+    if e != NULL:
+        column[0] = e.info.column
+    pthread_mutex_unlock(&core.lock)
+    return 1 if e != NULL else 0
 
 
 cdef int32_t core_read_error(Core *core, bint of_calls, CALLBACK_INFO *info) noexcept nogil:

@@ -94,10 +94,12 @@ cdef int32_t core_start_run(Core *core, int32_t regime, const char *add_code) no
     cdef int32_t command = run_command(regime)
     cdef RunJob *job
     if command < 0:
-        return core_fail(core, ERR_BAD_REGIME, NULL)
+        err_bad_regime(refusal(), -1, 0)
+        return core_fail(core, refusal())
     job = <RunJob *>job_new(command)
     if job == NULL:
-        return core_fail(core, ERR_OUT_OF_MEMORY, NULL)
+        err_out_of_memory(refusal(), -1, 0)
+        return core_fail(core, refusal())
     job.regime = regime
     if add_code != NULL:
         job.add_code = tc_strdup(add_code)
@@ -133,15 +135,17 @@ cdef int32_t core_start(Core *core, Job *job, const char *what) noexcept nogil:
     activity, sets the running status and starts its worker -- all in one critical
     section. Takes ownership of `job` (freed here on refusal). TOOL_CHAIN_SUCCESS or
     TOOL_CHAIN_ERROR (with the call's error; `what` names the call)."""
-    cdef int32_t status, after, err = 0
+    cdef int32_t status, after
+    cdef bint nothing_compiled = False
     cdef int32_t command = job.command
     cdef PublishedError *old_error
-    cdef ErrorInfo *refusal
+    cdef ErrorInfo *why
     cdef Activity a
     activity_of(command, &a)
     if tc_worker_core == <void *>core:
         job_free(job)
-        return core_fail(core, ERR_REENTRANT, what)
+        err_reentrant(refusal(), -1, 0, what)
+        return core_fail(core, refusal())
     pthread_mutex_lock(&core.lock)
     while True:
         status = core_status(core)
@@ -149,27 +153,28 @@ cdef int32_t core_start(Core *core, Job *job, const char *what) noexcept nogil:
         if after == TC_REFUSED:
             break
         if a.needs_program and core.program == NULL:
-            err = ERR_NOTHING_COMPILED
+            nothing_compiled = True
             break
         if not core.has_worker:
             break
         _join_locked(core, core.activity)   # finished: the join is short
-    if after == TC_REFUSED or err != 0:
+    if after == TC_REFUSED or nothing_compiled:
         pthread_mutex_unlock(&core.lock)
         job_free(job)
-        if err != 0:
-            return core_fail(core, err, NULL)
+        if nothing_compiled:
+            err_nothing_compiled(refusal(), -1, 0)
+            return core_fail(core, refusal())
         return core_refuse(core, what, status)
     if a.prepare != NULL:
-        refusal = <ErrorInfo *>tc_calloc(1, sizeof(ErrorInfo))
-        if refusal == NULL or not a.prepare(core, job, refusal):
+        why = <ErrorInfo *>tc_calloc(1, sizeof(ErrorInfo))
+        if why == NULL or not a.prepare(core, job, why):
             pthread_mutex_unlock(&core.lock)
             job_free(job)
-            if refusal != NULL:
-                core_fail_with(core, refusal)
-            free(refusal)
+            if why != NULL:
+                core_fail(core, why)
+            free(why)
             return TOOL_CHAIN_ERROR
-        free(refusal)
+        free(why)
     core.activity += 1
     TC_ATOMIC_STORE(&core.cancel, 0)
     TC_ATOMIC_STORE(&core.stop, 0)
@@ -184,7 +189,8 @@ cdef int32_t core_start(Core *core, Job *job, const char *what) noexcept nogil:
         pthread_mutex_unlock(&core.lock)
         published_error_release(old_error)
         job_free(job)
-        return core_fail(core, ERR_OUT_OF_MEMORY, NULL)
+        err_out_of_memory(refusal(), -1, 0)
+        return core_fail(core, refusal())
     core.has_worker = True
     pthread_mutex_unlock(&core.lock)
     published_error_release(old_error)
@@ -296,7 +302,8 @@ cdef int32_t core_end(Core *core, int32_t kind, const char *what, uint32_t n_coo
     if status_after(status, _end_command(kind), core.program != NULL) == TC_REFUSED:
         pthread_mutex_unlock(&core.lock)
         if tc_worker_core == <void *>core:
-            return core_fail(core, ERR_REENTRANT, what)
+            err_reentrant(refusal(), -1, 0, what)
+            return core_fail(core, refusal())
         return core_refuse(core, what, status)
     if n_coords > 0:                # applied after the activity (its worker stores where it stopped)
         memcpy(core.pending_position, coords, n_coords * sizeof(double))

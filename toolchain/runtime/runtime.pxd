@@ -126,12 +126,13 @@ cdef void core_warning(Core *core, const ErrorInfo *warning) noexcept nogil
 # copy to publish (err number 0: none, NULL; err NULL: "out of memory"), a reference
 # dropped, one published, one swapped in with core.lock held (the old one returned,
 # to release after unlocking), one read for the host (the calling thread holds it
-# until it reads again)
+# until it reads again), the column of the one the host would read
 cdef PublishedError *published_error_new(const ErrorInfo *err) noexcept nogil
 cdef void published_error_release(PublishedError *e) noexcept nogil
 cdef void core_keep_error(Core *core, bint of_calls, const ErrorInfo *err) noexcept nogil
 cdef PublishedError *core_swap_error_locked(Core *core, bint of_calls, PublishedError *e) noexcept nogil
 cdef int32_t core_read_error(Core *core, bint of_calls, CALLBACK_INFO *info) noexcept nogil
+cdef int32_t core_read_error_column(Core *core, bint of_calls, int32_t *column) noexcept nogil
 
 # the activities (lifecycle.pyx): the table's row of a command (False: it begins no
 # activity); the command of a StartCNCEx regime (-1: none); an empty job of a command

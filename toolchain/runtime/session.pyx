@@ -202,7 +202,8 @@ cdef int32_t session_confirm(Core *core) noexcept nogil:
     pthread_mutex_lock(&core.lock)
     if core.m_waiting == 0:
         pthread_mutex_unlock(&core.lock)
-        return core_fail(core, ERR_NO_M_PENDING, NULL)
+        err_no_m_pending(refusal(), -1, 0)
+        return core_fail(core, refusal())
     core.m_waiting = 0
     if core_status(core) > 0:           # a running activity takes the answer
         TC_ATOMIC_STORE(&core.m_answered, 1)
@@ -224,7 +225,8 @@ cdef int32_t session_standing_m(Core *core, const SIMPLE_GM_PARAMS *fun) noexcep
         return core_refuse(core, "MFunc", core_status(core))
     if core.m_waiting != 0:
         pthread_mutex_unlock(&core.lock)
-        return core_fail(core, ERR_M_PENDING, NULL)
+        err_m_pending(refusal(), -1, 0)
+        return core_fail(core, refusal())
     activity = core.activity
     pthread_mutex_unlock(&core.lock)
     if callback_enter(core, SLOT_DRIVER_M_FUNC, &cb):

@@ -31,16 +31,8 @@ cdef extern from *:
 
 
 cdef bint _parameter_error(ErrorInfo *err, int32_t command, int index, double value, const char *why) noexcept nogil:
-    cdef ErrArg a[4]
-    a[0].num = command
-    a[0].text = NULL
-    a[1].num = index
-    a[1].text = NULL
-    a[2].num = value
-    a[2].text = NULL
-    a[3].num = 0
-    a[3].text = why
-    set_error(err, ERR_SMOOTHING, -1, 0, a, 4)
+    """Error 740 naming Command_Parameter[index]; False (the setting is refused)."""
+    err_smoothing(err, -1, 0, command, index, value, why)
     return False
 
 

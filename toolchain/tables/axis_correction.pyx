@@ -44,24 +44,6 @@ cdef double _le_float(const unsigned char *p) noexcept nogil:
     return value
 
 
-cdef bint _fail(ErrorInfo *err, int32_t number, const char *name, const char *field, const char *why) noexcept nogil:
-    """`number` with the file, a field (NULL: none) and why; returns False."""
-    cdef ErrArg a[3]
-    cdef int n = 0
-    a[n].num = 0
-    a[n].text = name
-    n += 1
-    if field != NULL:
-        a[n].num = 0
-        a[n].text = field
-        n += 1
-    a[n].num = 0
-    a[n].text = why
-    n += 1
-    set_error(err, number, -1, 0, a, n)
-    return False
-
-
 cdef bint _value_text(char *why, size_t size, const char *what, double value) noexcept nogil:
     """why: what is wrong with a number that must be finite and within +-1e6 mm;
     False when it is good."""
@@ -80,7 +62,6 @@ cdef bint _axis_table_parse(const unsigned char *data, size_t length, const char
     malloc'ed, the caller frees them); False with err naming the file and the field
     (ERR_AXIS_TABLE_HEADER, _DEFINITION, _SIZE, _VALUE) and nothing allocated."""
     cdef AxisTable t
-    cdef ErrArg a[3]
     cdef char why[256]
     cdef char field[64]
     cdef const unsigned char *p
@@ -91,38 +72,35 @@ cdef bint _axis_table_parse(const unsigned char *data, size_t length, const char
     if length < AXIS_TABLE_HEADER:
         c_snprintf(why, sizeof(why), "the file has %llu bytes, the header alone 128",
                    <unsigned long long>length)
-        return _fail(err, ERR_AXIS_TABLE_HEADER, name, NULL, why)
+        err_axis_table_header(err, -1, 0, name, why)
+        return False
     while data[n_letters] != 0:             # ended by a NUL byte or an error by byte 4
         axis = _axis_of_letter(data[n_letters])
         if axis < 0:
             c_snprintf(why, sizeof(why), "byte %d (0x%02x) is no axis letter (X Y Z C B U V W A O)",
                        n_letters, data[n_letters])
-            return _fail(err, ERR_AXIS_TABLE_HEADER, name, NULL, why)
+            err_axis_table_header(err, -1, 0, name, why)
+            return False
         if n_letters > AXIS_TABLE_BASES_MAX:
-            return _fail(err, ERR_AXIS_TABLE_HEADER, name, NULL,
-                         "more than four axis letters: one corrected axis and at most three basis axes")
+            err_axis_table_header(err, -1, 0, name, "more than four axis letters: one corrected axis and at most three basis axes")
+            return False
         if n_letters == 0:
             t.axis = axis
         else:
             for b in range(n_letters - 1):
                 if t.bases[b] == axis:
                     c_snprintf(why, sizeof(why), "basis axis %c is named twice", _axis_letter(axis))
-                    return _fail(err, ERR_AXIS_TABLE_HEADER, name, NULL, why)
+                    err_axis_table_header(err, -1, 0, name, why)
+                    return False
             t.bases[n_letters - 1] = axis
         n_letters += 1
     if n_letters < 2:
-        return _fail(err, ERR_AXIS_TABLE_HEADER, name, NULL,
-                     "no basis axis: the letters name the corrected axis, then one to three basis axes")
+        err_axis_table_header(err, -1, 0, name, "no basis axis: the letters name the corrected axis, then one to three basis axes")
+        return False
     t.n_bases = n_letters - 1
     t.number = data[AXIS_TABLE_HEADER - 1]
     if length < <size_t>(AXIS_TABLE_HEADER + 12 * t.n_bases):
-        a[0].num = 0
-        a[0].text = name
-        a[1].num = <double>length
-        a[1].text = NULL
-        a[2].num = AXIS_TABLE_HEADER + 12 * t.n_bases
-        a[2].text = NULL
-        set_error(err, ERR_AXIS_TABLE_SIZE, -1, 0, a, 3)
+        err_axis_table_size(err, -1, 0, name, <double>length, AXIS_TABLE_HEADER + 12 * t.n_bases)
         return False
     for b in range(t.n_bases):
         p = data + AXIS_TABLE_HEADER + 12 * b
@@ -131,42 +109,33 @@ cdef bint _axis_table_parse(const unsigned char *data, size_t length, const char
         t.hi[b] = _le_float(p + 4)
         t.points[b] = _le_u32(p + 8)
         if _value_text(why, sizeof(why), "min", t.lo[b]) or _value_text(why, sizeof(why), "max", t.hi[b]):
-            return _fail(err, ERR_AXIS_TABLE_DEFINITION, name, field, why)
+            err_axis_table_definition(err, -1, 0, name, field, why)
+            return False
         if not (t.lo[b] < t.hi[b]):
             c_snprintf(why, sizeof(why), "min = %g is not below max = %g", t.lo[b], t.hi[b])
-            return _fail(err, ERR_AXIS_TABLE_DEFINITION, name, field, why)
+            err_axis_table_definition(err, -1, 0, name, field, why)
+            return False
         if t.points[b] < 2:
             c_snprintf(why, sizeof(why), "%u grid points: at least 2 (min and max)", t.points[b])
-            return _fail(err, ERR_AXIS_TABLE_DEFINITION, name, field, why)
+            err_axis_table_definition(err, -1, 0, name, field, why)
+            return False
         # the grid points asked for, exact in double for the message; in integers only
         # while below the table cap (two factors below 2^32 could wrap the third's product)
         asked *= t.points[b]
         if total <= MAX_TABLE_BYTES:
             total *= t.points[b]
     if total > MAX_TABLE_BYTES or <uint64_t>length != AXIS_TABLE_HEADER + 12 * <uint64_t>t.n_bases + 4 * total:
-        a[0].num = 0
-        a[0].text = name
-        a[1].num = <double>length
-        a[1].text = NULL
-        a[2].num = AXIS_TABLE_HEADER + 12.0 * t.n_bases + 4.0 * asked
-        a[2].text = NULL
-        set_error(err, ERR_AXIS_TABLE_SIZE, -1, 0, a, 3)
+        err_axis_table_size(err, -1, 0, name, <double>length, AXIS_TABLE_HEADER + 12.0 * t.n_bases + 4.0 * asked)
         return False
     p = data + AXIS_TABLE_HEADER + 12 * t.n_bases
     for i in range(total):
         value = _le_float(p + 4 * i)
         if _value_text(why, sizeof(why), "the correction", value):
-            a[0].num = 0
-            a[0].text = name
-            a[1].num = <double>i
-            a[1].text = NULL
-            a[2].num = 0
-            a[2].text = why
-            set_error(err, ERR_AXIS_TABLE_VALUE, -1, 0, a, 3)
+            err_axis_table_value(err, -1, 0, name, <double>i, why)
             return False
     t.values = <float *>tc_malloc(4 * total)
     if t.values == NULL:
-        set_error(err, ERR_OUT_OF_MEMORY, -1, 0, NULL, 0)
+        err_out_of_memory(err, -1, 0)
         return False
     for i in range(total):
         t.values[i] = <float>_le_float(p + 4 * i)
@@ -208,19 +177,23 @@ cdef bint axis_corrections_read(const char *const *paths, uint32_t n, AxisCorrec
     cdef bint good
     if n > AXIS_TABLES_MAX:
         c_snprintf(why, sizeof(why), "%u tables: at most 8 per core", n)
-        return _fail(err, ERR_AXIS_TABLES, paths[AXIS_TABLES_MAX], NULL, why)
+        err_axis_tables(err, -1, 0, paths[AXIS_TABLES_MAX], why)
+        return False
     if n == 0:
         out[0] = NULL
         return True
     tables = <AxisCorrections *>tc_calloc(1, sizeof(AxisCorrections))
     if tables == NULL:
-        set_error(err, ERR_OUT_OF_MEMORY, -1, 0, NULL, 0)
+        err_out_of_memory(err, -1, 0)
         return False
     tables.refs = 1
     for k in range(n):
         data = read_whole_file(paths[k], MAX_TABLE_BYTES, &length, &error)
         if data == NULL:
-            set_error_text(err, ERR_TABLE_TOO_LARGE if error == ERR_FILE_TOO_LARGE else error, -1, 0, paths[k])
+            if error == ERR_FILE_TOO_LARGE:
+                err_table_too_large(err, -1, 0, paths[k])
+            else:
+                file_error(err, error, -1, paths[k])
             axis_corrections_release(tables)
             return False
         good = _axis_table_parse(<const unsigned char *>data, length, paths[k], &tables.table[k], err)
@@ -234,7 +207,8 @@ cdef bint axis_corrections_read(const char *const *paths, uint32_t n, AxisCorrec
                 c_snprintf(why, sizeof(why), "its number %u is the number of '%.200s' too",
                            tables.table[k].number, paths[j])
                 axis_corrections_release(tables)
-                return _fail(err, ERR_AXIS_TABLES, paths[k], NULL, why)
+                err_axis_tables(err, -1, 0, paths[k], why)
+                return False
     out[0] = tables
     return True
 

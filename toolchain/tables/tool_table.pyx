@@ -40,14 +40,7 @@ cdef void _quote(char *out, size_t size, const char *s, const char *end) noexcep
 
 cdef bint _line_error(ErrorInfo *err, const char *name, int32_t line, const char *why) noexcept nogil:
     """ERR_TOOL_TABLE_LINE: the file, the line and why; returns False."""
-    cdef ErrArg a[3]
-    a[0].num = 0
-    a[0].text = name
-    a[1].num = line
-    a[1].text = NULL
-    a[2].num = 0
-    a[2].text = why
-    set_error(err, ERR_TOOL_TABLE_LINE, -1, line, a, 3)
+    err_tool_table_line(err, -1, line, name, line, why)
     return False
 
 
@@ -208,7 +201,7 @@ cdef bint _tool_table_parse(const char *text, size_t length, const char *name, T
         if not _parse_entry(s, e, name, number, given, &table, err):
             return False
     if not in_table:
-        set_error_text(err, ERR_TOOL_TABLE_NO_KEYWORD, -1, 0, name)
+        err_tool_table_no_keyword(err, -1, 0, name)
         return False
     out[0] = table
     return True
@@ -224,7 +217,10 @@ cdef bint tool_table_read(const char *path, ToolTable *out, ErrorInfo *err) noex
     tc_set_stage("reading a tool table")       # (the host's thread: cleared again below)
     text = read_whole_file(path, MAX_TABLE_BYTES, &length, &error)
     if text == NULL:
-        set_error_text(err, ERR_TABLE_TOO_LARGE if error == ERR_FILE_TOO_LARGE else error, -1, 0, path)
+        if error == ERR_FILE_TOO_LARGE:
+            err_table_too_large(err, -1, 0, path)
+        else:
+            file_error(err, error, -1, path)
         good = False
     else:
         good = _tool_table_parse(text, length, path, out, err)
@@ -240,28 +236,19 @@ cdef bint tool_table_set(ToolTable *table, int64_t entry, uint32_t programmed, c
     written, False and err set, for an entry outside 1..99 (ERR_TOOL_ENTRY) or a
     programmed value that is not finite or beyond +-1e6 mm (ERR_NOT_FINITE,
     ERR_OUT_OF_RANGE naming `D<entry> R<k>`)."""
-    cdef ErrArg a[4]
     cdef char field[32]
     cdef int k
     if entry < 1 or entry > TOOL_ENTRIES:
-        set_error_num(err, ERR_TOOL_ENTRY, -1, 0, <double>entry)
+        err_tool_entry(err, -1, 0, <double>entry)
         return False
     for k in range(TOOL_VALUES):
         if programmed & (1u << k):
             c_snprintf(field, sizeof(field), "D%d R%d", <int>entry, k)
-            a[0].num = 0
-            a[0].text = field
-            a[1].num = values[k]
-            a[1].text = NULL
             if not isfinite(values[k]):
-                set_error(err, ERR_NOT_FINITE, -1, 0, a, 2)
+                err_not_finite(err, -1, 0, field, values[k])
                 return False
             if not (-TC_MAX_LENGTH <= values[k] <= TC_MAX_LENGTH):
-                a[2].num = -TC_MAX_LENGTH
-                a[2].text = NULL
-                a[3].num = TC_MAX_LENGTH
-                a[3].text = NULL
-                set_error(err, ERR_OUT_OF_RANGE, -1, 0, a, 4)
+                err_out_of_range(err, -1, 0, field, values[k], -TC_MAX_LENGTH, TC_MAX_LENGTH)
                 return False
     for k in range(TOOL_VALUES):
         if programmed & (1u << k):

@@ -41,26 +41,24 @@ def _(host):
     host.set_params(0, absMode=1)
     number, line, _, text, _ = _error(host, SEED_PROGRAM)
     expect((400, 4), (number, line), "(stringId, actLine)")
-    if not text.startswith("Wrongly entered centre of circular interpolation XY"):
-        raise Differs("Wrongly entered centre of circular interpolation XY …", text[:60], "m_fullError")
+    if not text.startswith("Wrongly entered centre of circular interpolation XY\nStart X = "):
+        raise Differs("Wrongly entered centre of circular interpolation XY\\nStart X = …", text[:60], "m_fullError")
 
 
 @check("errors", "seed_absolute_400_arguments", S, "CALLBACK_INFO — errors and progress",
-       "error 400's arguments hold the start and end of the arc, the chord and twice the radius, one per line")
+       "error 400's arguments are exactly its format's six: the start and end of the arc, the chord and "
+       "twice the radius, one per line (a panel formats its own text with them)")
 def _(host):
     host.set_params(0, absMode=1)
     *_, args = _error(host, SEED_PROGRAM)
-    numbers = []
-    for a in args.split("\n"):
-        try:
-            numbers.append(float(a))
-        except ValueError:
-            pass
     want = [60.6051, 40.7723, 0.0, -2.5202, math.hypot(60.6051, 40.7723 + 2.5202), 2 * math.hypot(3.0336, 1.2601)]
-    got = [n for n in numbers if n != 17.0] if len(numbers) > 6 else numbers   # 17: this library's column
-    if len(got) < 6:
+    try:
+        got = [float(a) for a in args.split("\n")]
+    except ValueError:
+        raise Differs(want, args.split("\n"), "m_errorArguments") from None
+    if len(got) != 6:
         raise Differs(want, args.split("\n"), "m_errorArguments")
-    for w, g in zip(want, got[-6:]):
+    for w, g in zip(want, got):
         near(w, g, 1e-4, "m_errorArguments")
 
 
