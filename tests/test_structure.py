@@ -137,3 +137,39 @@ def test_an_error_recorded_by_hand(tmp_path):
     found = problems(tmp_path, files)
     assert len(found) == 1 and found[0].startswith("other.pyx:2: record_error used here: record an error with "
                                                    "its generated constructor")
+
+
+def test_a_core_field_named_outside_its_owners(tmp_path):
+    """core.pxd's groups of Core fields name their owners; another stage calls them."""
+    files = {name: textwrap.dedent(text).lstrip() for name, text in {
+        "lib.pxd": """
+            include "core.pxd"
+        """,
+        "core.pxd": """
+            ctypedef struct Core:
+                # -- the lock (owners: core runtime)
+                int lock
+                # -- what the host set (owners: configuration; lock: it writes,
+                # -- the others call it)
+                double params, rel_feed
+            cdef double config_rel_feed(Core *core) noexcept nogil
+        """,
+        "lib.pyx": """
+            include "configuration.pyx"
+            include "exports.pyx"
+        """,
+        "configuration.pyx": """
+            cdef double config_rel_feed(Core *core) noexcept nogil:
+                return core.rel_feed + core.lock
+        """,
+        "exports.pyx": """
+            cdef double set_feed(Core *core) noexcept nogil:
+                # core.params in a comment is no use
+                return config_rel_feed(core) + core.params
+        """,
+    }.items()}
+    assert problems(tmp_path, files) == [
+        "configuration.pyx:2: core.lock used by stage configuration: its owners (core runtime, core.pxd) "
+        "have the function to call",
+        "exports.pyx:3: core.params used by stage exports: its owners (configuration, core.pxd) "
+        "have the function to call"]

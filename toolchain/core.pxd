@@ -91,20 +91,31 @@ ctypedef struct FileTable:
     uint64_t clock
     int32_t n
 
+# the offline machine of a core: machine/machine.pxd defines it; only machine/ looks inside
+cdef struct Machine
+
+# One core. Its fields are grouped by who owns them: each group's "owners:" line names
+# the stages (a directory of toolchain/, or a top-level module) whose code may name
+# `core.<field>` (tools/check_structure.py rejects any other; the exports own none: they
+# validate and forward), and how the threads share the field: "lock" (read and written
+# under core.lock), "atomic" (TC_ATOMIC_*), or "worker" (the activity's own thread).
 ctypedef struct Core:
-    int32_t index
-    int32_t status              # cnc_status, atomic
-    int32_t cancel              # atomic: the activity must end now (reset, destroy)
-    int32_t stop                # atomic: StopCNCEx calls during the activity (0: none)
+    # -- identity and the lock (owners: core runtime configuration machine simulator toolpath)
+    int32_t index               # set once (core_get)
     pthread_mutex_t lock
     pthread_cond_t changed      # a worker was joined, a callback call ended
-    # the activity
+    # -- status and the activity's signals (owners: core runtime machine simulator; atomic)
+    int32_t status              # cnc_status: core_status / core_set_status (core.pxd)
+    int32_t cancel              # the activity must end now (reset, destroy)
+    int32_t stop                # StopCNCEx calls during the activity (0: none)
+    # -- the activity's thread (owners: runtime; lock)
     pthread_t worker
     bint has_worker             # a worker thread exists and nobody joined it yet
     bint joining                # a thread is joining it (the others wait on `changed`)
     uint64_t activity           # number of the current (or last) activity
     int32_t deferred_end        # EndKind asked from inside a callback: applied by the worker at its end
-    # configuration
+    # -- what the host set (owners: configuration core runtime machine simulator; lock:
+    # -- configuration writes them, the others read them as an activity begins)
     GCODE_PARAMETERS params
     MACHINE_PARAMETERS machine
     double user_params[100]
@@ -114,36 +125,38 @@ ctypedef struct Core:
     bint ini_loaded
     char driver[256]
     int64_t plan_window         # look-ahead of the feed planner in parts (SetLookAhead, INI lookAheadParts)
+    uint32_t breakpoint_line
+    int32_t breakpoint_file
     # the machine builder's tables and smoothing (any status; the offline machine takes a copy
     # and a reference as an activity begins, machine/output.pyx; a compilation a copy of the
     # tool table, compiler/tools.pyx, docs/tool-table.md "In programs")
     ToolTable tool_table        # LoadToolTable, SetToolCorrection, INI [Corrections] ToolTable
     AxisCorrections *axis_corrections   # LoadAxisCorrections, INI AxisTable1..8; NULL none (tables.pxd: references)
     SmoothingConfig smoothing   # SetSmoothing, INI [Smoothing]
+    # -- the host's speeds of the moment (owners: configuration core machine runtime simulator; atomic)
+    double time_scale           # TC_ATOMIC_*_D: the offline machine runs this many times real time
+    double rel_feed             # TC_ATOMIC_*_D; REL_FEED_MIN .. REL_FEED_MAX
+    int32_t clock_stepped       # the offline machine runs on the test-only stepped clock (machine/clock.pyx)
+    # -- callbacks, kept errors, file names (owners: runtime; lock)
     Callback callbacks[N_CALLBACK_SLOTS]
     int32_t in_flight[N_CALLBACK_SLOTS]     # calls of each slot running now, on any thread
-    FileTable files
-    # the file table entries the running compilation uses (never recycled meanwhile)
-    int32_t compile_files[3]    # main, prefix, postfix entries of the compilation that runs
-    # results
-    LoadedProgram *program      # NULL: nothing compiled (or the compilation failed)
     PublishedError *error       # error of the last activity (GetLastError); NULL none
     PublishedError *call_error  # error of the last refused call (GetLastCallError); NULL none
+    FileTable files
+    # -- the loaded program and where the machine stands (owners: core runtime machine simulator
+    # -- toolpath; lock)
+    int32_t compile_files[3]    # the file table entries the running compilation uses (never recycled meanwhile)
+    LoadedProgram *program      # NULL: nothing compiled (or the compilation failed)
     GCODE_INFO size_info        # of `program` at the current start position
     bint size_info_stale        # a reset could not measure it (out of memory): measured when read
-    # the machine
     double position[AXES]       # machine position: where the next run and compilation start
     double pending_position[AXES]   # ResetCNC's coordinates, applied once the activity it ends is over
     uint32_t n_pending
-    void *offline               # the offline machine (machine/machine.pyx Machine), made on first run
-    double time_scale           # atomic (TC_ATOMIC_*_D): the offline machine runs this many times real time
-    int32_t clock_stepped       # atomic: the offline machine runs on the test-only stepped clock (machine/clock.pyx)
-    double rel_feed             # atomic (TC_ATOMIC_*_D); REL_FEED_MIN .. REL_FEED_MAX
-    uint32_t breakpoint_line
-    int32_t breakpoint_file
-    Snapshot snap
+    Snapshot snap               # what GetPos reads (its own seqlock: runtime/snapshot.pyx)
+    # -- the offline machine (owners: machine; made on first run, never freed)
+    Machine *offline
+    # -- a run's driver session (owners: runtime; runtime/session.pyx)
     char *stop_code             # StopCNCEx's addCode, sent once the run stands (lock; owned)
-    # the M-function handshake (runtime/session.pyx)
     int32_t m_waiting           # the M function DriverMFunc answered TC_MFUNC_LATER for (M0: -1), 0 none (lock)
     int32_t m_answered          # atomic: the waiting M function of the running activity was answered
 

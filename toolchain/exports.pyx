@@ -81,7 +81,6 @@ cdef int32_t _load_from_ini(uint32_t intIdx, const char *iniFile, uint32_t *pnMa
     cdef int32_t result
     cdef ToolTable *tool_table
     cdef AxisCorrections *axis_tables = NULL
-    cdef AxisCorrections *old_axis_tables = NULL
     cdef bint has_tool_table = False, has_axis_tables = False
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
@@ -89,18 +88,11 @@ cdef int32_t _load_from_ini(uint32_t intIdx, const char *iniFile, uint32_t *pnMa
         err_ini_open(refusal(), -1, 0, "(null)")
         core_fail(core, refusal())
         return TOOL_CHAIN_XEXEC
-    pthread_mutex_lock(&core.lock)
-    if status_after(core_status(core), CMD_LOAD_INI, False) == TC_REFUSED:
-        pthread_mutex_unlock(&core.lock)
-        return core_refuse(core, "LoadFromIni", core_status(core))
     # read and parse into a copy without the lock (GetPos, GetLastError never wait
-    # for the file); store under the lock only when every value is good
-    settings.params = core.params
-    settings.plan_window = core.plan_window
-    settings.time_scale = TC_ATOMIC_LOAD_D(&core.time_scale)
-    settings.smoothing = core.smoothing
-    memcpy(settings.driver, core.driver, sizeof(settings.driver))
-    pthread_mutex_unlock(&core.lock)
+    # for the file); store only when every value is good
+    result = config_ini_begin(core, &settings)
+    if result != 0:
+        return result
     settings.tool_table_file = NULL
     settings.narrow_utf8 = -1
     memset(settings.axis_table_files, 0, sizeof(settings.axis_table_files))
@@ -128,23 +120,10 @@ cdef int32_t _load_from_ini(uint32_t intIdx, const char *iniFile, uint32_t *pnMa
         core_fail(core, &err)
         return TOOL_CHAIN_XEXEC
     normalise_gcode_parameters(&settings.params)
-    pthread_mutex_lock(&core.lock)
-    core.params = settings.params
-    core.plan_window = settings.plan_window
-    TC_ATOMIC_STORE_D(&core.time_scale, settings.time_scale)
-    memcpy(core.driver, settings.driver, sizeof(core.driver))
-    core.smoothing = settings.smoothing
-    if has_tool_table:
-        core.tool_table = tool_table[0]
-    if has_axis_tables:
-        old_axis_tables = core.axis_corrections
-        core.axis_corrections = axis_tables
-    core.ini_loaded = True
-    pthread_mutex_unlock(&core.lock)
+    config_ini_store(core, &settings, tool_table if has_tool_table else NULL, axis_tables, has_axis_tables)
     if settings.narrow_utf8 >= 0:
         set_narrow_utf8(settings.narrow_utf8)
     free(tool_table)
-    axis_corrections_release(old_axis_tables)
     if pnMaxCores != NULL:
         pnMaxCores[0] = TOOL_CHAIN_MAX_CORES
     return TOOL_CHAIN_SUCCESS
@@ -184,60 +163,13 @@ cdef public int32_t ToolChainCore_GetStructuresSize(uint32_t intIdx, uint32_t nI
 
 # ------------------------------------------------------------------ parameters
 
-cdef void _feeds_of(GCODE_PARAMETERS *params, const GCODE_PARAMETERS *source) noexcept nogil:
-    """The fields the feeds depend on (the ones SetGCodeParameters may change while the
-    program is stopped on its trajectory) copied from source into params."""
-    memcpy(params.motion, source.motion, sizeof(source.motion))
-    params.startAngle = source.startAngle
-    params.endAngle = source.endAngle
-    params.minAngleFeed = source.minAngleFeed
-    params.overrideInc = source.overrideInc
-    memcpy(params.arcFeedTable, source.arcFeedTable, sizeof(source.arcFeedTable))
-    memcpy(params.axisLimits, source.axisLimits, sizeof(source.axisLimits))
-
-
-cdef int32_t _refuse_while_stopped(Core *core, int32_t status) noexcept nogil:
-    err_parameters_while_stopped(refusal(), -1, 0, status, status_name(status),
-                                 "another field differs from GetGCodeParameters' (nothing was changed)")
-    return core_fail(core, refusal())
-
-
 cdef public int32_t ToolChainCore_SetGCodeParameters(uint32_t intIdx, const GCODE_PARAMETERS *p) noexcept nogil:
     cdef Core *core = core_get(intIdx)
-    cdef int32_t status
-    cdef GCODE_PARAMETERS params
-    cdef ErrorInfo err
-    cdef bint good
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
     if p == NULL:
         return TOOL_CHAIN_ERROR
-    pthread_mutex_lock(&core.lock)
-    status = core_status(core)
-    if status_after(status, CMD_SET_PARAMETERS, False) == TC_REFUSED:
-        pthread_mutex_unlock(&core.lock)
-        return core_refuse(core, "SetGCodeParameters", status)
-    if status == CNC_STATUS_STOPPED or status == CNC_STATUS_STOPPED_BY_M0:
-        # stopped on the trajectory: only what the feeds depend on may change; a
-        # structure that changes anything else is refused whole, so a panel can tell
-        params = p[0]
-        _feeds_of(&params, &core.params)
-        if memcmp(&params, &core.params, sizeof(GCODE_PARAMETERS)) != 0:
-            pthread_mutex_unlock(&core.lock)
-            return _refuse_while_stopped(core, status)
-        params = core.params
-        _feeds_of(&params, p)
-    else:
-        params = p[0]
-    good = check_gcode_parameters(&params, &err)
-    if good:
-        normalise_gcode_parameters(&params)
-        core.params = params
-    pthread_mutex_unlock(&core.lock)
-    if not good:
-        core_fail(core, &err)
-        return TOOL_CHAIN_ERROR
-    return TOOL_CHAIN_SUCCESS
+    return config_set_gcode_parameters(core, p)
 
 
 cdef public int32_t ToolChainCore_GetGCodeParameters(uint32_t intIdx, GCODE_PARAMETERS *p) noexcept nogil:
@@ -246,9 +178,7 @@ cdef public int32_t ToolChainCore_GetGCodeParameters(uint32_t intIdx, GCODE_PARA
         return TOOL_CHAIN_BAD_INTR_INDEX
     if p == NULL:
         return TOOL_CHAIN_ERROR
-    pthread_mutex_lock(&core.lock)
-    p[0] = core.params
-    pthread_mutex_unlock(&core.lock)
+    config_gcode_parameters(core, p)
     return TOOL_CHAIN_SUCCESS
 
 
@@ -258,9 +188,7 @@ cdef public int32_t ToolChainCore_GetMachineParameters(uint32_t intIdx, MACHINE_
         return TOOL_CHAIN_BAD_INTR_INDEX
     if p == NULL:
         return TOOL_CHAIN_ERROR
-    pthread_mutex_lock(&core.lock)
-    p[0] = core.machine
-    pthread_mutex_unlock(&core.lock)
+    config_machine_parameters(core, p)
     return TOOL_CHAIN_SUCCESS
 
 
@@ -274,9 +202,7 @@ cdef public int32_t ToolChainCore_SetMachineParameters(uint32_t intIdx, MACHINE_
     if not check_machine_parameters(p, &err):
         core_fail(core, &err)
         return TOOL_CHAIN_ERROR
-    pthread_mutex_lock(&core.lock)
-    core.machine = p[0]
-    pthread_mutex_unlock(&core.lock)
+    config_set_machine_parameters(core, p)
     return TOOL_CHAIN_SUCCESS
 
 
@@ -290,14 +216,7 @@ cdef public int32_t ToolChainCore_SetUserParams(uint32_t intIdx, const double *p
         return TOOL_CHAIN_ERROR
     if n == 100 and not user_params_finite(p):
         return TOOL_CHAIN_ERROR
-    pthread_mutex_lock(&core.lock)
-    if n == 100:
-        memcpy(core.user_params, p, sizeof(core.user_params))
-        core.has_user_params = True
-    else:
-        memset(core.user_params, 0, sizeof(core.user_params))
-        core.has_user_params = False
-    pthread_mutex_unlock(&core.lock)
+    config_set_user_params(core, p if n == 100 else NULL)
     return TOOL_CHAIN_SUCCESS
 
 
@@ -320,18 +239,7 @@ cdef public int32_t ToolChainCore_GCodePrefixPostfix(uint32_t intIdx, TGM_LPCSTR
         free(post)
         err_out_of_memory(refusal(), -1, 0)
         return core_fail(core, refusal())
-    pthread_mutex_lock(&core.lock)
-    if status_after(core_status(core), CMD_SET_PREFIX, False) == TC_REFUSED:
-        pthread_mutex_unlock(&core.lock)
-        free(pre)
-        free(post)
-        return core_refuse(core, "GCodePrefixPostfix", core_status(core))
-    free(core.prefix)
-    free(core.postfix)
-    core.prefix = pre
-    core.postfix = post
-    pthread_mutex_unlock(&core.lock)
-    return TOOL_CHAIN_SUCCESS
+    return config_set_prefix_postfix(core, pre, post)
 
 
 # ------------------------------------------------------------------ compilation
@@ -455,51 +363,27 @@ cdef public TGM_LPCTSTR ToolChain_IdxToFile(int32_t fileIdx) noexcept nogil:
 
 cdef public int32_t ToolChainCore_GetGCodeSizeInfo(uint32_t intIdx, GCODE_INFO *p) noexcept nogil:
     cdef Core *core = core_get(intIdx)
-    cdef int32_t result = TOOL_CHAIN_ERROR
-    cdef bint stale
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
     if p == NULL or core_status(core) == CNC_STATUS_COMPILING:
         return TOOL_CHAIN_ERROR
-    pthread_mutex_lock(&core.lock)
-    stale = core.program != NULL and core.size_info_stale
-    pthread_mutex_unlock(&core.lock)
-    if stale and not core_refresh_size_info(core):     # a reset could not measure it
-        err_out_of_memory(refusal(), -1, 0)
-        return core_fail(core, refusal())
-    pthread_mutex_lock(&core.lock)
-    if core.program != NULL:
-        p[0] = core.size_info
-        result = TOOL_CHAIN_SUCCESS
-    pthread_mutex_unlock(&core.lock)
-    return result
+    return core_size_info(core, p)
 
 
 cdef public double ToolChainCore_GetGCodeRunTime(uint32_t intIdx, int32_t fileIdx) noexcept nogil:
     cdef Core *core = core_get(intIdx)
-    cdef double seconds = -1.0
     if core == NULL or fileIdx < 0 or fileIdx >= MAX_FILES:
         return -1.0
-    pthread_mutex_lock(&core.lock)
-    if fileIdx < core.files.n:
-        seconds = core.files.run_times[fileIdx]
-    pthread_mutex_unlock(&core.lock)
-    return seconds
+    return core_file_run_time(core, fileIdx)
 
 
 cdef public int32_t ToolChainCore_SetGCodeRunTime(uint32_t intIdx, int32_t fileIdx, double seconds) noexcept nogil:
     cdef Core *core = core_get(intIdx)
-    cdef int32_t result = TOOL_CHAIN_ERROR
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
-    if fileIdx < 0 or not (seconds >= 0.0) or not isfinite(seconds):
+    if fileIdx < 0 or fileIdx >= MAX_FILES or not (seconds >= 0.0) or not isfinite(seconds):
         return TOOL_CHAIN_ERROR
-    pthread_mutex_lock(&core.lock)
-    if fileIdx < core.files.n:
-        core.files.run_times[fileIdx] = seconds
-        result = TOOL_CHAIN_SUCCESS
-    pthread_mutex_unlock(&core.lock)
-    return result
+    return TOOL_CHAIN_SUCCESS if core_set_file_run_time(core, fileIdx, seconds) else TOOL_CHAIN_ERROR
 
 
 # ------------------------------------------------------------------ running
@@ -615,7 +499,7 @@ cdef public int32_t ToolChainCore_SetRelFeed(uint32_t intIdx, double relFeed) no
         relFeed = REL_FEED_MIN
     elif relFeed > REL_FEED_MAX:
         relFeed = REL_FEED_MAX
-    TC_ATOMIC_STORE_D(&core.rel_feed, relFeed)
+    config_set_rel_feed(core, relFeed)
     return TOOL_CHAIN_SUCCESS
 
 
@@ -623,10 +507,7 @@ cdef public int32_t ToolChainCore_SetBreakpoint(uint32_t intIdx, uint32_t editor
     cdef Core *core = core_get(intIdx)
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
-    pthread_mutex_lock(&core.lock)
-    core.breakpoint_line = editorLine
-    core.breakpoint_file = fileIdx
-    pthread_mutex_unlock(&core.lock)
+    config_set_breakpoint(core, editorLine, fileIdx)
     return TOOL_CHAIN_SUCCESS
 
 
@@ -648,19 +529,11 @@ cdef public int32_t ToolChainCore_StatusCNC(uint32_t intIdx) noexcept nogil:
 
 cdef public int32_t ToolChainCore_GetPos(uint32_t intIdx, int32_t reserved, SIMPLE_GM_PARAMS *pos, GM_PARAMS_ENHANCED *enh) noexcept nogil:
     cdef Core *core = core_get(intIdx)
-    cdef SnapshotData view
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
     if pos == NULL and enh == NULL:
         return TOOL_CHAIN_ERROR
-    snapshot_read(&core.snap, &view)
-    if pos != NULL:
-        pos[0] = view.pos
-    if enh != NULL:
-        enh[0] = view.enh
-        enh.m_statusCNC = core_status(core)
-        if not machine_moving(enh.m_statusCNC):     # the machine's own: the override of the moment
-            enh.m_relFeed = TC_ATOMIC_LOAD_D(&core.rel_feed)
+    core_read_position(core, pos, enh)
     return TOOL_CHAIN_SUCCESS
 
 
@@ -693,7 +566,7 @@ cdef public int32_t ToolChainCore_SetCallBack(uint32_t intIdx, uint32_t fceNo, i
     slot = callback_slot(fceNo)
     if slot < 0:
         return TOOL_CHAIN_ERROR
-    if fceNo > 1000 and fn != NULL and not core.ini_loaded:
+    if fceNo > 1000 and fn != NULL and not config_ini_loaded(core):
         _fail_ini_first(core, fceNo)
         return TOOL_CHAIN_ERROR
     callback_set(core, slot, fn, userData)
@@ -738,9 +611,7 @@ cdef public int32_t ToolChainCore_SetLookAhead(uint32_t intIdx, int32_t parts) n
         return TOOL_CHAIN_BAD_INTR_INDEX
     if parts < -1:
         return TOOL_CHAIN_ERROR
-    pthread_mutex_lock(&core.lock)
-    core.plan_window = parts
-    pthread_mutex_unlock(&core.lock)
+    config_set_plan_window(core, parts)
     return TOOL_CHAIN_SUCCESS
 
 
@@ -752,7 +623,7 @@ cdef public int32_t ToolChainCore_SetTimeScale(uint32_t intIdx, double scale) no
         return TOOL_CHAIN_BAD_INTR_INDEX
     if not (0.0 < scale <= 1e6):
         return TOOL_CHAIN_ERROR
-    TC_ATOMIC_STORE_D(&core.time_scale, scale)
+    config_set_time_scale(core, scale)
     return TOOL_CHAIN_SUCCESS
 
 
@@ -817,9 +688,7 @@ cdef int32_t _load_tool_table(uint32_t intIdx, const char *fileName) noexcept no
         free(table)
         core_fail(core, &err)
         return TOOL_CHAIN_ERROR
-    pthread_mutex_lock(&core.lock)
-    core.tool_table = table[0]
-    pthread_mutex_unlock(&core.lock)
+    config_set_tool_table(core, table)
     free(table)
     return TOOL_CHAIN_SUCCESS
 
@@ -830,9 +699,7 @@ cdef public int32_t ToolChainCore_GetToolCorrection(uint32_t intIdx, uint32_t en
         return TOOL_CHAIN_BAD_INTR_INDEX
     if values == NULL or entry < 1 or entry > TOOL_ENTRIES:
         return TOOL_CHAIN_ERROR
-    pthread_mutex_lock(&core.lock)
-    memcpy(values, core.tool_table.entry[entry].value, sizeof(core.tool_table.entry[entry].value))
-    pthread_mutex_unlock(&core.lock)
+    config_tool_correction(core, entry, values)
     return TOOL_CHAIN_SUCCESS
 
 
@@ -840,17 +707,12 @@ cdef public int32_t ToolChainCore_SetToolCorrection(uint32_t intIdx, uint32_t en
                                                     const double *values) noexcept nogil:
     cdef Core *core = core_get(intIdx)
     cdef ErrorInfo err
-    cdef bint good
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
     if programmed >> TOOL_VALUES or (values == NULL and programmed != 0):
         return TOOL_CHAIN_ERROR
-    pthread_mutex_lock(&core.lock)
-    good = tool_table_set(&core.tool_table, entry, programmed, values, &err)
-    pthread_mutex_unlock(&core.lock)
-    if not good:
-        core_fail(core, &err)
-        return TOOL_CHAIN_ERROR
+    if not config_set_tool_correction(core, entry, programmed, values, &err):
+        return core_fail(core, &err)
     return TOOL_CHAIN_SUCCESS
 
 
@@ -875,7 +737,6 @@ cdef public int32_t ToolChainCore_LoadAxisCorrections(uint32_t intIdx, uint32_t 
 cdef int32_t _load_axis_corrections(uint32_t intIdx, uint32_t nFiles, const char *const *fileNames) noexcept nogil:
     cdef Core *core = core_get(intIdx)
     cdef AxisCorrections *tables = NULL
-    cdef AxisCorrections *old
     cdef ErrorInfo err
     cdef uint32_t k
     cdef bint good
@@ -894,11 +755,7 @@ cdef int32_t _load_axis_corrections(uint32_t intIdx, uint32_t nFiles, const char
     if not good:
         core_fail(core, &err)
         return TOOL_CHAIN_ERROR
-    pthread_mutex_lock(&core.lock)
-    old = core.axis_corrections
-    core.axis_corrections = tables
-    pthread_mutex_unlock(&core.lock)
-    axis_corrections_release(old)
+    config_set_axis_corrections(core, tables)
     return TOOL_CHAIN_SUCCESS
 
 
@@ -909,9 +766,7 @@ cdef public int32_t ToolChainCore_CorrectPosition(uint32_t intIdx, const double 
         return TOOL_CHAIN_BAD_INTR_INDEX
     if position == NULL or corrected == NULL or not coordinates_finite(position, 10):
         return TOOL_CHAIN_ERROR
-    pthread_mutex_lock(&core.lock)
-    tables = axis_corrections_ref(core.axis_corrections)
-    pthread_mutex_unlock(&core.lock)
+    tables = config_axis_corrections_ref(core)
     axis_correction_apply(tables, position, corrected)
     axis_corrections_release(tables)
     return TOOL_CHAIN_SUCCESS
@@ -920,17 +775,12 @@ cdef public int32_t ToolChainCore_CorrectPosition(uint32_t intIdx, const double 
 cdef public int32_t ToolChainCore_SetSmoothing(uint32_t intIdx, int32_t command, const double *params) noexcept nogil:
     cdef Core *core = core_get(intIdx)
     cdef ErrorInfo err
-    cdef bint good
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
     if params == NULL or (command != SMOOTHING_COMMAND_SPLINE and command != SMOOTHING_COMMAND_IIR):
         return TOOL_CHAIN_ERROR
-    pthread_mutex_lock(&core.lock)
-    good = smoothing_set(&core.smoothing, command, params, &err)
-    pthread_mutex_unlock(&core.lock)
-    if not good:
-        core_fail(core, &err)
-        return TOOL_CHAIN_ERROR
+    if not config_set_smoothing(core, command, params, &err):
+        return core_fail(core, &err)
     return TOOL_CHAIN_SUCCESS
 
 
@@ -940,14 +790,7 @@ cdef public int32_t ToolChainCore_GetSmoothing(uint32_t intIdx, int32_t command,
         return TOOL_CHAIN_BAD_INTR_INDEX
     if params == NULL or (command != SMOOTHING_COMMAND_SPLINE and command != SMOOTHING_COMMAND_IIR):
         return TOOL_CHAIN_ERROR
-    pthread_mutex_lock(&core.lock)
-    if command == SMOOTHING_COMMAND_SPLINE:
-        params[0] = core.smoothing.spline[0]
-        params[1] = core.smoothing.spline[1]
-        params[2] = params[3] = 0.0
-    else:
-        memcpy(params, core.smoothing.iir, sizeof(core.smoothing.iir))
-    pthread_mutex_unlock(&core.lock)
+    config_smoothing_parameters(core, command, params)
     return TOOL_CHAIN_SUCCESS
 
 
@@ -966,9 +809,7 @@ cdef public int32_t ToolChainCore_SmoothSamples(uint32_t intIdx, const double *s
         if not smoothing_sample_good(samples + 10 * i):
             return TOOL_CHAIN_ERROR
     if nSamples > 0:
-        pthread_mutex_lock(&core.lock)
-        config = core.smoothing
-        pthread_mutex_unlock(&core.lock)
+        config_smoothing(core, &config)
         if not smoother_init(&smoother, &config, STEP_US * 1e-6, samples):
             tc_set_stage("the smoothing")
             err_out_of_memory(refusal(), -1, 0)

@@ -72,6 +72,7 @@ include "runtime/file_names.pyx"
 include "runtime/lifecycle.pyx"
 include "runtime/session.pyx"
 include "core.pyx"
+include "configuration.pyx"             # what a host sets on a core
 include "machine/motion.pyx"
 include "machine/clock.pyx"
 include "machine/output.pyx"

@@ -137,10 +137,8 @@ cdef void *simulation_body(void *arg) noexcept nogil:
         session_end(&session)
         if first_error.number != 0:
             core_keep_error(core, False, first_error)
-        pthread_mutex_lock(&core.lock)
         if params.calcTime and complete and 0 <= prog.main_file_idx < MAX_FILES:
-            core.files.run_times[prog.main_file_idx] = run_time
-        pthread_mutex_unlock(&core.lock)
+            core_set_file_run_time(core, prog.main_file_idx, run_time)
         placed_plan_free(&plan)
     loaded_program_release(loaded)
     free(params)

@@ -13,7 +13,9 @@ first. This script reads that include tree the way Cython does (the .pxd, then t
   (d) a function or variable of one stage used by another stage without a face
       declaring it (a stage: a directory of toolchain/, or a top-level module);
   (e) a name only some files may use (RESTRICTED) used elsewhere: an error is recorded
-      by its generated constructor, never by record_error with hand-filled arguments.
+      by its generated constructor, never by record_error with hand-filled arguments;
+  (f) `core.<field>` of a Core field (core.pxd) in a stage its group's "owners:" line
+      does not name: the face says who owns each field, the others call its owners.
 
 Plain Python, no dependencies; it reads the sources as text, not as Cython does:
 top-level definitions start at column 0, a function's parameters and its cdef/for/
@@ -314,9 +316,51 @@ def private(name: str) -> bool:
     return name.startswith("_") and not name.startswith("__")
 
 
+CORE_GROUP = re.compile(r"^\s*# -- (.*)$")
+OWNERS = re.compile(r"\(owners: ([^;)]*)")
+CORE_FIELD_USE = re.compile(r"\bcore\.(\w+)")
+
+
+def core_owners(source) -> dict:
+    """Core's fields (core.pxd, `ctypedef struct Core:`) -> the stages that own them,
+    from the `# -- ... (owners: a b c; ...)` line(s) heading each group of fields."""
+    owners, current, header, inside = {}, set(), [], False
+    for line in source.raw:
+        if line.startswith("ctypedef struct Core:"):
+            inside = True
+            continue
+        if not inside:
+            continue
+        if line and not line[0].isspace():
+            break
+        group = CORE_GROUP.match(line)
+        if group:
+            header.append(group.group(1))
+            m = OWNERS.search(" ".join(header))
+            if m:
+                current = set(m.group(1).replace(",", " ").split())
+            continue
+        header = []
+        code = line.split("#", 1)[0].strip()
+        if code:
+            for name in declarator_names(code):
+                owners[name] = current
+    return owners
+
+
 def check(toolchain: Path, root: str = "libSF_TCh.pyx") -> list:
     sources, pos = include_tree(toolchain, root)
     problems = []
+    core_face = next((src for src in sources if src.rel == "core.pxd"), None)
+    owners = core_owners(core_face) if core_face is not None else {}
+    for src in sources:
+        code = strip_code("\n".join(src.raw))
+        for number, text in enumerate(code, 1):
+            for m in CORE_FIELD_USE.finditer(text):
+                field = m.group(1)
+                if field in owners and stage(src.rel) not in owners[field]:
+                    problems.append((src.rel, number, f"core.{field} used by stage {stage(src.rel)}: its owners "
+                                     f"({' '.join(sorted(owners[field]))}, core.pxd) have the function to call"))
     first_def = {}          # name -> (position, source) of its first definition or declaration
     definer = {}            # name -> the source that defines it (a body, a type, a value)
     for src in sources:

@@ -100,7 +100,7 @@ cdef int32_t machine_test_clock(Core *core, uint64_t key, double seconds) noexce
         return TOOL_CHAIN_ERROR
     TC_ATOMIC_STORE(&core.clock_stepped, 1 if seconds >= 0.0 else 0)
     pthread_mutex_lock(&core.lock)
-    m = <Machine *>core.offline         # never freed once made; none: nothing moves yet
+    m = core.offline                    # never freed once made; none: nothing moves yet
     pthread_mutex_unlock(&core.lock)
     if m == NULL:
         return TOOL_CHAIN_SUCCESS

@@ -139,7 +139,7 @@ ctypedef struct MachineEvent:
     int32_t kind                # ME_ENTRY, ME_MFUNC, ME_PRINT
     size_t part
 
-ctypedef struct Machine:
+cdef struct Machine:
     Motion motion
     Output output               # the step's position to the drives (output.pyx)
     pthread_t pacer

@@ -19,7 +19,7 @@ from libc.math cimport fabs, isfinite
 
 cdef Machine *machine_of(Core *core) noexcept nogil:
     """The core's machine, made on first use (with core.lock held)."""
-    cdef Machine *m = <Machine *>core.offline
+    cdef Machine *m = core.offline
     if m == NULL:
         m = <Machine *>tc_calloc(1, sizeof(Machine))
         if m == NULL:
@@ -34,7 +34,7 @@ cdef Machine *machine_of(Core *core) noexcept nogil:
 cdef void machine_forget(Core *core) noexcept nogil:
     """With core.lock held and no activity: the machine's place is dropped (ResetCNC,
     a new program, DestroyCNC); the next forward run starts at the program's start."""
-    cdef Machine *m = <Machine *>core.offline
+    cdef Machine *m = core.offline
     if m == NULL:
         return
     loaded_program_release(m.program)
@@ -290,7 +290,7 @@ cdef void *_pacer_body(void *arg) noexcept nogil:
     and publishes GetPos. A tick's work ends after a millisecond of wall time, so at
     any time scale GetPos moves, and a stop or an end is seen, every millisecond."""
     cdef Core *core = <Core *>arg
-    cdef Machine *m = <Machine *>core.offline
+    cdef Machine *m = core.offline
     cdef Motion *mo = &m.motion
     cdef double last = clock_now(), budget = 0.0, scale, tick_end
     cdef double dt = STEP_US * 1e-6
@@ -627,7 +627,7 @@ cdef Machine *machine_worker_begin(Job *job, Feeder *f) noexcept nogil:
     memset(f, 0, sizeof(Feeder))
     f.params = <GCODE_PARAMETERS *>tc_malloc(sizeof(GCODE_PARAMETERS))
     pthread_mutex_lock(&core.lock)
-    m = <Machine *>core.offline           # machine_prepare made it and its place
+    m = core.offline           # machine_prepare made it and its place
     if f.params != NULL:
         f.params[0] = core.params
     if m != NULL:

@@ -93,3 +93,26 @@ cdef const char *core_idx_to_file(Core *core, int32_t idx) noexcept nogil:
         name = core.files.names[idx]
     pthread_mutex_unlock(&core.lock)
     return name
+
+
+cdef double core_file_run_time(Core *core, int32_t idx) noexcept nogil:
+    """GetGCodeRunTime: the run time the last simulation measured for entry idx (0 ..
+    MAX_FILES - 1); -1 for an entry not in use."""
+    cdef double seconds = -1.0
+    pthread_mutex_lock(&core.lock)
+    if idx < core.files.n:
+        seconds = core.files.run_times[idx]
+    pthread_mutex_unlock(&core.lock)
+    return seconds
+
+
+cdef bint core_set_file_run_time(Core *core, int32_t idx, double seconds) noexcept nogil:
+    """SetGCodeRunTime: the run time of entry idx (0 .. MAX_FILES - 1); False for an
+    entry not in use."""
+    cdef bint used
+    pthread_mutex_lock(&core.lock)
+    used = idx < core.files.n
+    if used:
+        core.files.run_times[idx] = seconds
+    pthread_mutex_unlock(&core.lock)
+    return used

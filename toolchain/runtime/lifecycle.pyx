@@ -262,6 +262,26 @@ cdef LoadedProgram *_apply_end_locked(Core *core, int32_t kind) noexcept nogil:
     return dropped
 
 
+cdef int32_t core_size_info(Core *core, GCODE_INFO *out) noexcept nogil:
+    """GetGCodeSizeInfo: the loaded program's extents at the current start position
+    (measured now when a reset could not); TOOL_CHAIN_ERROR without a program, or with
+    the error reported when there is no memory to measure them."""
+    cdef bint stale
+    cdef int32_t result = TOOL_CHAIN_ERROR
+    pthread_mutex_lock(&core.lock)
+    stale = core.program != NULL and core.size_info_stale
+    pthread_mutex_unlock(&core.lock)
+    if stale and not core_refresh_size_info(core):
+        err_out_of_memory(refusal(), -1, 0)
+        return core_fail(core, refusal())
+    pthread_mutex_lock(&core.lock)
+    if core.program != NULL:
+        out[0] = core.size_info
+        result = TOOL_CHAIN_SUCCESS
+    pthread_mutex_unlock(&core.lock)
+    return result
+
+
 cdef bint core_refresh_size_info(Core *core) noexcept nogil:
     """GetGCodeSizeInfo of the core's program from the current machine position: a
     pass over the immutable program, outside the lock. False when out of memory: the

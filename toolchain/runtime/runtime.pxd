@@ -99,6 +99,7 @@ cdef int32_t status_after(int32_t status, int32_t command, bint has_program) noe
 cdef void snapshot_init(Snapshot *snap) noexcept nogil
 cdef void snapshot_publish(Snapshot *snap, const SnapshotData *data) noexcept nogil
 cdef void snapshot_read(Snapshot *snap, SnapshotData *out) noexcept nogil
+cdef void core_read_position(Core *core, SIMPLE_GM_PARAMS *pos, GM_PARAMS_ENHANCED *enh) noexcept nogil
 
 # a compiled program published (it takes prog over), one more reader, one reader less
 cdef LoadedProgram *loaded_program_new(Program *prog, const GCODE_INFO *extent,
@@ -154,6 +155,7 @@ cdef int32_t core_end(Core *core, int32_t kind, const char *what, uint32_t n_coo
 # GetGCodeSizeInfo's extent measured again from the start position (False: out of memory,
 # size_info_stale set)
 cdef bint core_refresh_size_info(Core *core) noexcept nogil
+cdef int32_t core_size_info(Core *core, GCODE_INFO *out) noexcept nogil
 
 # a run's driver session (session.pyx): opened for a run in a regime (holds: waiting M
 # functions hold it until answered); DriverInitialize, DriverEnd; a part as it begins
@@ -181,6 +183,9 @@ cdef void session_cells(SnapshotData *view, int32_t kind, int32_t func, bint wai
 cdef void session_lengths(SnapshotData *view, const RunCounts *c, double cut_len, double rapid_len,
                           double fill) noexcept nogil
 
-# the file table: FileToIdx, IdxToFile
+# the file table: FileToIdx, IdxToFile, a file's run time read (-1: no such entry)
+# and set (False: no such entry)
 cdef int32_t core_file_to_idx(Core *core, const char *name) noexcept nogil
 cdef const char *core_idx_to_file(Core *core, int32_t idx) noexcept nogil
+cdef double core_file_run_time(Core *core, int32_t idx) noexcept nogil
+cdef bint core_set_file_run_time(Core *core, int32_t idx, double seconds) noexcept nogil

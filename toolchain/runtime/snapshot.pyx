@@ -77,3 +77,18 @@ cdef void snapshot_read(Snapshot *snap, SnapshotData *out) noexcept nogil:
         after = tc_seq_load(&slot.seq)
         if before == after:
             return
+
+
+cdef void core_read_position(Core *core, SIMPLE_GM_PARAMS *pos, GM_PARAMS_ENHANCED *enh) noexcept nogil:
+    """GetPos: the last published snapshot into pos and enh (either may be NULL), with
+    the status of the moment and, while the machine does not move, the host's feed
+    override (a moving machine publishes the override of its own step)."""
+    cdef SnapshotData view
+    snapshot_read(&core.snap, &view)
+    if pos != NULL:
+        pos[0] = view.pos
+    if enh != NULL:
+        enh[0] = view.enh
+        enh.m_statusCNC = core_status(core)
+        if not machine_moving(enh.m_statusCNC):
+            enh.m_relFeed = TC_ATOMIC_LOAD_D(&core.rel_feed)
