@@ -72,6 +72,9 @@ def _broken(tmp_path, old, new, source=gen.CATALOGUE):
     ('"Compilation interrupted"', '"Compilation interrupted %ld"', "unsupported conversion"),
     ('"Compilation interrupted"', '"Compilation interrupted: 100 °C"', "printable ASCII"),
     ('meaning = \'reading failed', 'meanng = \'reading failed', "unknown key"),
+    ('name = "ERR_ARC_CENTRE"\ncolumn = true', 'name = "ERR_ARC_CENTRE"\ncolumn = 1', "true or false"),
+    ('name = "ERR_BAD_NUMBER"\n', 'name = "ERR_BAD_NUMBER"\ncolumn = true\n', "a column in the format and beside it"),
+    ('name = "ERR_DRIVER_REFUSED"\n', 'name = "ERR_DRIVER_REFUSED"\nstage = true\n', "the stage is the format's one"),
 ])
 def test_the_generator_refuses_a_broken_catalogue(tmp_path, old, new, complaint):
     catalogue, header = _broken(tmp_path, old, new)
