@@ -765,14 +765,3 @@ cdef void compensate_free(CompState *S) noexcept nogil:
     S.st = NULL
     S.ins = NULL
 
-
-cdef int compensate_program(ProgramBuilder *build, const GCODE_PARAMETERS *params, ErrorInfo *err,
-                            output_fn output, warn_fn warn, void *ctx) noexcept nogil:
-    """The whole pass on a complete program in the caller's thread: Part.ce,
-    PartExtra.radius and the inserted parts of every part with comp 41/42; COMPILE_OK or
-    COMPILE_ERROR with err filled."""
-    cdef CompState S
-    cdef size_t more
-    compensate_begin(&S, build, params, err, output, warn, ctx)
-    compensate_feed(&S, build.prog.n_parts, True, &more)
-    return compensate_end(&S, NULL)
