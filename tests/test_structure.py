@@ -50,19 +50,25 @@ BASE = {name: textwrap.dedent(text).lstrip() for name, text in {
     """,
     "stage/second.pyx": """
         cdef double _helper(double v) noexcept nogil:
+            \"\"\"v itself.\"\"\"
             return v
         include "stage/nested.pyx"
         cdef double later(double v) noexcept nogil:
+            # a comment before the docstring leaves it the first statement
+            r\"\"\"Twice v.\"\"\"
             return _helper(v) + nested(v)
         cdef double second_only(double v) noexcept nogil:
+            \"\"\"v past the first.\"\"\"
             return early(NULL) + v
     """,
     "stage/nested.pyx": """
         cdef double nested(double v) noexcept nogil:
+            \"\"\"v through the helper.\"\"\"
             return _helper(v)
     """,
     "other.pyx": """
         cdef double other(Point *p) noexcept nogil:
+            \"\"\"Another stage's use of the face.\"\"\"
             return later(p.y)                   # another stage: through the face
     """,
 }.items()}
@@ -92,7 +98,7 @@ def test_a_name_used_before_the_file_defining_it(tmp_path):
 def test_a_private_name_used_from_another_file(tmp_path):
     # nested.pyx, included inside second.pyx, is another file all the same
     assert problems(tmp_path, BASE) == [
-        "stage/nested.pyx:2: private _helper of stage/second.pyx used here: give it a public name and declare it in its face"]
+        "stage/nested.pyx:3: private _helper of stage/second.pyx used here: give it a public name and declare it in its face"]
 
 
 def test_a_private_name_declared_in_a_face(tmp_path):
@@ -108,14 +114,14 @@ def test_a_type_in_a_pyx(tmp_path):
     files["stage/nested.pyx"] = files["stage/nested.pyx"].replace("_helper(v)", "v")
     files["stage/second.pyx"] += "cdef enum Mode:\n    MODE_A = 1\nctypedef double (*hook)(double) noexcept nogil\n"
     assert problems(tmp_path, files) == [
-        "stage/second.pyx:8: type Mode defined in a .pyx: it belongs in its stage's face",
-        "stage/second.pyx:10: type hook defined in a .pyx: it belongs in its stage's face"]
+        "stage/second.pyx:12: type Mode defined in a .pyx: it belongs in its stage's face",
+        "stage/second.pyx:14: type hook defined in a .pyx: it belongs in its stage's face"]
 
 
 def test_the_command_line_prints_file_and_line(tmp_path, capsys):
     assert check_structure.main([str(tree(tmp_path, BASE)), "--root", "lib.pyx"]) == 1
     out = capsys.readouterr().out.splitlines()
-    assert out == [f"{tmp_path / 'stage/nested.pyx'}:2: private _helper of stage/second.pyx used here: "
+    assert out == [f"{tmp_path / 'stage/nested.pyx'}:3: private _helper of stage/second.pyx used here: "
                    "give it a public name and declare it in its face"]
 
 
@@ -124,7 +130,7 @@ def test_a_function_another_stage_uses_without_a_face(tmp_path):
     files["stage/nested.pyx"] = files["stage/nested.pyx"].replace("_helper(v)", "v")
     files["other.pyx"] = files["other.pyx"].replace("later(p.y)", "later(p.y) + nested(p.x)")
     assert problems(tmp_path, files) == [
-        "other.pyx:2: nested of stage/nested.pyx is used by another stage: declare it in its stage's face"]
+        "other.pyx:3: nested of stage/nested.pyx is used by another stage: declare it in its stage's face"]
 
 
 def test_an_error_recorded_by_hand(tmp_path):
@@ -135,5 +141,27 @@ def test_an_error_recorded_by_hand(tmp_path):
     files["face.pxd"] += "cdef void record_error(double v) noexcept nogil\n"
     files["other.pyx"] = files["other.pyx"].replace("return later(p.y)", "record_error(p.x)\n    return later(p.y)")
     found = problems(tmp_path, files)
-    assert len(found) == 1 and found[0].startswith("other.pyx:2: record_error used here: record an error with "
+    assert len(found) == 1 and found[0].startswith("other.pyx:3: record_error used here: record an error with "
                                                    "its generated constructor")
+
+
+def test_a_function_without_a_docstring(tmp_path):
+    """Every function of a .pyx opens with its docstring; a comment or a string later in
+    the body is none, and the faces' inline functions and declarations are not asked."""
+    files = dict(BASE)
+    files["stage/nested.pyx"] = files["stage/nested.pyx"].replace("_helper(v)", "v")
+    files["stage/second.pyx"] = files["stage/second.pyx"].replace('    """v itself."""\n', "")
+    files["other.pyx"] += ("cdef double commented(double v) noexcept nogil:\n"
+                           "    # what it does, in a comment\n"
+                           "    cdef double w = v\n"
+                           "    \"\"\"too late for a docstring\"\"\"\n"
+                           "    return w\n"
+                           "def documented(v):\n"
+                           "    \"\"\"v unchanged.\"\"\"\n"
+                           "    return v\n")
+    files["face.pxd"] += "cdef inline double bare(double v) noexcept nogil:\n    return v\n"
+    assert problems(tmp_path, files) == [
+        "stage/second.pyx:1: _helper has no docstring: say what it does (and why, where it is not plain) "
+        "in a line under its signature",
+        "other.pyx:4: commented has no docstring: say what it does (and why, where it is not plain) "
+        "in a line under its signature"]

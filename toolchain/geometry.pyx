@@ -378,6 +378,8 @@ cdef double _line_nearest(const Segment *g, uint32_t axes, const double *q) noex
 # pieces where f' is monotonic: each holds at most one minimum, where f' turns from
 # negative to positive; with the two ends they are every candidate.
 cdef inline double _arc_df(const ArcDistanceFn *f, double theta) noexcept nogil:
+    """f'(theta), the derivative of the squared distance to the arc at turn theta (the formula
+    above)."""
     cdef double chi = f.chi0 + f.sigma * theta
     cdef double d = 2.0 * (f.L2 * theta - f.b)
     if f.plane_axes == 2:
@@ -388,6 +390,7 @@ cdef inline double _arc_df(const ArcDistanceFn *f, double theta) noexcept nogil:
 
 
 cdef inline double _arc_ddf(const ArcDistanceFn *f, double theta) noexcept nogil:
+    """f''(theta), whose zeros split the arc into pieces where f' is monotonic."""
     cdef double t = cos(f.chi0 + f.sigma * theta)
     if f.plane_axes == 2:
         return 2.0 * (f.r * f.rho * t + f.L2)

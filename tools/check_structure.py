@@ -13,7 +13,9 @@ first. This script reads that include tree the way Cython does (the .pxd, then t
   (d) a function or variable of one stage used by another stage without a face
       declaring it (a stage: a directory of toolchain/, or a top-level module);
   (e) a name only some files may use (RESTRICTED) used elsewhere: an error is recorded
-      by its generated constructor, never by record_error with hand-filled arguments.
+      by its generated constructor, never by record_error with hand-filled arguments;
+  (f) a function of a .pyx (a cdef, cpdef or def at column 0 with a body) without a
+      docstring: the .pyx keeps what each function does, the face only a line.
 
 Plain Python, no dependencies; it reads the sources as text, not as Cython does:
 top-level definitions start at column 0, a function's parameters and its cdef/for/
@@ -151,6 +153,7 @@ class Source:
         self.types = []         # (line, name) of struct/union/enum/ctypedef
         self.uses = {}          # name -> [lines]
         self.includes = []      # (line, relative path)
+        self.undocumented = []  # (line, name) of functions whose body opens with no docstring
         for number, line in enumerate(self.raw, 1):
             m = INCLUDE.match(line)
             if m:
@@ -171,9 +174,15 @@ class Source:
 
     def _parse(self):
         block = None            # (kind, locals) of the top-level statement being read
+        opening = None          # (line, name) of a function whose body has not begun yet
         for line, indent, text in logical_lines(strip_code("\n".join(self.raw))):
+            if opening is not None and (indent == 0 or text != '""'):
+                self.undocumented.append(opening)       # its first statement is no string
+            opening = None
             if indent == 0:
                 block = self._top(line, text)
+                if block and block[0] == "func":
+                    opening = block[2]
                 continue
             kind = block[0] if block else None
             if kind == "func":
@@ -237,7 +246,7 @@ class Source:
             self._define(name, line, ("inline" if inline else "func") if body else "declaration")
             self._use(rest[:paren], line, hidden={name})
             self._use(rest[paren:], line, hidden=params)
-            return ("func", params) if body else None
+            return ("func", params, (line, name)) if body else None
         names = declarator_names(rest)
         for name in names:
             self._define(name, line, "value")
@@ -356,6 +365,10 @@ def check(toolchain: Path, root: str = "libSF_TCh.pyx") -> list:
         for name, lines in src.uses.items():
             if name in RESTRICTED and src.rel not in RESTRICTED[name][0]:
                 problems.append((src.rel, lines[0], f"{name} used here: {RESTRICTED[name][1]}"))
+        if src.rel.endswith(".pyx"):
+            for line, name in src.undocumented:
+                problems.append((src.rel, line, f"{name} has no docstring: say what it does (and why, "
+                                 "where it is not plain) in a line under its signature"))
         for name, lines in src.uses.items():
             if private(name) and name in definer and definer[name] is not src and name not in src.defines:
                 problems.append((src.rel, lines[0], f"private {name} of {definer[name].rel} used here: "

@@ -66,6 +66,8 @@ cdef int fl_skip(CState *st, int depth, bint stop_at_else, const char *what, int
 
 
 cdef Frame *fl_push(CState *st, int kind) noexcept nogil:
+    """A new frame of `kind` on the block stack; NULL with the stack overflow error when
+    FRAME_DEPTH are open."""
     cdef Frame *f
     if st.n_frames >= FRAME_DEPTH:
         err_call_stack_overflow(st.err, st.unit.file_idx, st.line, FRAME_DEPTH)
@@ -140,6 +142,8 @@ cdef int fl_rest_of_line(CState *st, const char *p, const char *eol) noexcept no
 
 
 cdef int fl_while(CState *st, const char *p, const char *eol) noexcept nogil:
+    """WHILE cond: a true condition opens a loop frame (its END jumps back to this line), a
+    false one skips past the matching END."""
     cdef bint cond
     cdef int found
     cdef Frame *f
@@ -199,6 +203,7 @@ cdef int fl_if(CState *st, const char *p, const char *eol) noexcept nogil:
 
 
 cdef int fl_else(CState *st) noexcept nogil:
+    """ELSE reached from the IF's true branch: closes the IF's frame and skips past its END."""
     cdef int found
     if st.n_frames == 0 or st.frames[st.n_frames - 1].kind != FR_IF:
         return err_unbalanced_end(st.err, st.unit.file_idx, st.line)
@@ -209,6 +214,8 @@ cdef int fl_else(CState *st) noexcept nogil:
 
 
 cdef int fl_end(CState *st) noexcept nogil:
+    """END of the innermost block: a FOR steps its parameter and jumps back while it is within
+    its end (a step of 0 forever), a WHILE jumps back to test again, an IF is closed."""
     cdef Frame *f
     if st.n_frames == 0 or st.frames[st.n_frames - 1].kind == FR_CALL:
         return err_unbalanced_end(st.err, st.unit.file_idx, st.line)
@@ -253,6 +260,8 @@ cdef int fl_break(CState *st, bint cont) noexcept nogil:
 
 
 cdef int fl_return(CState *st) noexcept nogil:
+    """RETURN: leaves the blocks of the current call; a call repeated (G25 n) jumps to its
+    target again, else back after the call. Error without a call."""
     cdef Frame *f
     while st.n_frames > 0 and st.frames[st.n_frames - 1].kind != FR_CALL:
         st.n_frames -= 1

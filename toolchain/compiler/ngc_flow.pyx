@@ -11,6 +11,8 @@ from libc.math cimport floor, fabs
 
 
 cdef int ow_keyword(const char *p, int n) noexcept nogil:
+    """The O word's keyword of the n letters at p (OW_SUB .. OW_CONTINUE), case-insensitive; 0
+    for none."""
     if lx_eq(p, n, "SUB"): return OW_SUB
     if lx_eq(p, n, "ENDSUB"): return OW_ENDSUB
     if lx_eq(p, n, "CALL"): return OW_CALL
@@ -30,6 +32,7 @@ cdef int ow_keyword(const char *p, int n) noexcept nogil:
 
 
 cdef inline uint32_t kw_bit(int kw) noexcept nogil:
+    """A keyword's bit in a mask of the keywords a scan looks for."""
     return 1u << kw
 
 
@@ -88,6 +91,7 @@ cdef const char *ow_line(const char *p, const char *eol, NgcLabel *lab, int *kw)
 
 
 cdef bint ow_same(const NgcLabel *a, const NgcLabel *b) noexcept nogil:
+    """Whether two O labels are the same: equal numbers, or (both named) equal names."""
     if a.number >= 0 or b.number >= 0:
         return a.number == b.number
     return a.len == b.len and memcmp(a.name, b.name, a.len) == 0
@@ -138,6 +142,9 @@ cdef int ow_scan(CState *st, const NgcLabel *lab, uint32_t kinds, size_t pos, ui
 
 cdef void _scan_remember(NgcScan *seen, const char *text, size_t pos, uint32_t kinds, const NgcLabel *lab,
                          int found, size_t skip_pos, size_t jpos, uint32_t lines) noexcept nogil:
+    """Records a scan in its slot: what it looked for from where, and what it found (found 0:
+    nothing), its lines counted from the start so a scan from the same place of another pass
+    answers at once."""
     seen.text = text
     seen.pos = pos
     seen.kinds = kinds
@@ -169,6 +176,8 @@ cdef int ow_skip_to(CState *st, const NgcLabel *lab, uint32_t kinds, const char 
 
 
 cdef NgcFrame *ow_push(CState *st, int kind, const NgcLabel *lab) noexcept nogil:
+    """A new frame of kind `kind` for label lab on the O word stack; NULL with the error when
+    NGC_FRAMES are open."""
     cdef NgcState *n = st.ngc
     cdef NgcFrame *f
     if n.n_frames >= NGC_FRAMES:
@@ -471,6 +480,8 @@ cdef bint ow_if_seen(NgcState *n, const NgcLabel *lab, bint add) noexcept nogil:
 
 
 cdef void _if_key_put(NgcState *n, uint64_t key) noexcept nogil:
+    """Puts an `if` label's key into the open-addressed table of executed ones (room for it is
+    there)."""
     cdef size_t i = <size_t>(key * 11400714819323198485ULL) & (n.cap_if_keys - 1)
     while n.if_keys[i] != 0:
         i = (i + 1) & (n.cap_if_keys - 1)

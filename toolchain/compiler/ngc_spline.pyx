@@ -283,6 +283,8 @@ cdef int ngc_bezier(CState *st, const LineWords *lw, const Block *b, int motion,
 
 
 cdef int _nurbs_add(CState *st, double x, double y, double w) noexcept nogil:
+    """One more control point (x, y, weight) of the open G5.2 block; error 4 when memory is
+    exhausted."""
     cdef NgcState *n = st.ngc
     if not grow(<void **>&n.nurbs, &n.cap_nurbs, 3 * (n.n_nurbs + 1), sizeof(double)):
         return err_out_of_memory(st.err, st.unit.file_idx, st.line)

@@ -14,6 +14,7 @@ cdef inline double clock_now() noexcept nogil:
 
 
 cdef inline bint clock_stepped(Core *core) noexcept nogil:
+    """Whether the core's machine runs on the test-only stepped clock."""
     return TC_ATOMIC_LOAD(&core.clock_stepped) != 0
 
 

@@ -93,6 +93,9 @@ cdef bint _is_breakpoint(Feeder *f, const Entry *e) noexcept nogil:
 
 
 cdef void _entry_identity(Feeder *f, Entry *e, const Program *prog, const Part *p, size_t part) noexcept nogil:
+    """An entry's identity for part `part` (its kind, function, line, file, G-code index, feed,
+    the motion's sequence number) and zeroed motion fields (no speed, no limit, a trapezoid
+    ramp) for the feeder to fill."""
     cdef const PartSettings *s = part_settings(prog, p)
     e.part = part
     e.motion_seq = f.motions
@@ -420,6 +423,8 @@ cdef bint _next_event(Machine *m, MachineEvent *ev) noexcept nogil:
 
 
 cdef void _notified(Machine *m) noexcept nogil:
+    """The notifier is done with its event; the stepped clock, waiting for an empty queue, is
+    woken when none is left."""
     pthread_mutex_lock(&m.lock)
     m.notifying = False
     if m.ev_n == 0:

@@ -183,11 +183,13 @@ cdef bint smoothing_sample_good(const double *sample) noexcept nogil:
 
 
 cdef void smoother_free(Smoother *s) noexcept nogil:
+    """Frees the spline's buffer."""
     free(s.ring)
     s.ring = NULL
 
 
 cdef inline double *_row(Smoother *s, uint64_t sample) noexcept nogil:
+    """The row of the ring buffer that holds `sample` (ten axes)."""
     return s.ring + (sample % (<uint64_t>s.span + 1)) * SMOOTHING_AXES
 
 
@@ -234,6 +236,9 @@ cdef void _splice(Smoother *s, uint64_t k) noexcept nogil:
 
 
 cdef void _spline_push(Smoother *s, const double *sample, double *out) noexcept nogil:
+    """The spline's step: the sample into the buffer; where the third difference at the buffer's
+    middle exceeds the jerk limit the buffer is spliced (_splice); out: the sample `span` steps
+    back, the output's delay."""
     cdef uint64_t k = s.pushed
     cdef uint64_t c = k - <uint64_t>(s.span / 2) - 2     # the sample checked: the quintic's middle
     cdef double *newest = _row(s, k)
