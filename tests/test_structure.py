@@ -165,3 +165,37 @@ def test_a_function_without_a_docstring(tmp_path):
         "in a line under its signature",
         "other.pyx:4: commented has no docstring: say what it does (and why, where it is not plain) "
         "in a line under its signature"]
+
+
+def test_a_literal_tolerance(tmp_path):
+    """A number with a negative exponent in code is a tolerance without a name: it is
+    named in geometry.pxd (the tolerances' face), which alone may write one; C text (a
+    #define in a `cdef extern from *` block), comments, docstrings and other numbers
+    are not code of that kind."""
+    files = dict(BASE)
+    files["stage/second.pyx"] = files["stage/second.pyx"].replace("_helper", "helper")
+    files["lib.pxd"] += 'include "geometry.pxd"\n'
+    files["geometry.pxd"] = textwrap.dedent('''
+        cdef extern from *:
+            """
+            #define TC_NEAR 1e-9
+            """
+            const double NEAR "TC_NEAR"
+        cdef inline bint close(double d) noexcept nogil:
+            """Whether d is within 1e-8 of nothing."""
+            return d <= 1e-8
+    ''').lstrip()
+    files["stage/nested.pyx"] = textwrap.dedent('''
+        cdef double nested(double v) noexcept nogil:
+            """v through the helper, unless it is below 1e-9 (not code)."""
+            if v < 1e-9:                        # 1e-9: a comment is no code
+                return 0.0
+            return helper(v) * 1e6 + NEAR + 2.5E-7 * v / .5e-3
+    ''').lstrip()
+    assert problems(tmp_path, files) == [
+        "stage/nested.pyx:3: literal 1e-9: name it (a tolerance in geometry.pxd, with its unit and "
+        "what it guards; a stage's own constant in its stage's block)",
+        "stage/nested.pyx:5: literal .5e-3: name it (a tolerance in geometry.pxd, with its unit and "
+        "what it guards; a stage's own constant in its stage's block)",
+        "stage/nested.pyx:5: literal 2.5E-7: name it (a tolerance in geometry.pxd, with its unit and "
+        "what it guards; a stage's own constant in its stage's block)"]

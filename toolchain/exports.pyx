@@ -1087,7 +1087,7 @@ cdef public int32_t ToolChainCore_SmoothSamples(uint32_t intIdx, const double *s
         pthread_mutex_lock(&core.lock)
         config = core.smoothing
         pthread_mutex_unlock(&core.lock)
-        if not smoother_init(&smoother, &config, STEP_US * 1e-6, samples):
+        if not smoother_init(&smoother, &config, STEP_US * SECONDS_PER_US, samples):
             tc_set_stage("the smoothing")
             err_out_of_memory(refusal(), -1, 0)
             core_fail(core, refusal())

@@ -435,7 +435,7 @@ cdef double _root(const ArcDistanceFn *f, double lo, double hi) noexcept nogil:
         step = x - fx / ddf if ddf > 0.0 else lo - 1.0
         if not (step > lo and step < hi):
             step = 0.5 * (lo + hi)
-        if fabs(step - x) <= 1e-15 * (1.0 + fabs(x)) or hi - lo <= 1e-15 * (1.0 + fabs(x)):
+        if fabs(step - x) <= ROOT_REL_EPS * (1.0 + fabs(x)) or hi - lo <= ROOT_REL_EPS * (1.0 + fabs(x)):
             return step
         x = step
     return x

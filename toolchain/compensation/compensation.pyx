@@ -196,7 +196,7 @@ cdef void _chain_close_corner(CompState *S) noexcept nogil:
     a = &S.st[S.n_st - 1]
     b = &S.st[0]
     if not b.first or b.fixed_start or a.d != b.d or a.ins != INS_NONE \
-            or distance2d(a.e[0] - b.s[0], a.e[1] - b.s[1]) > 1e-9:
+            or distance2d(a.e[0] - b.s[0], a.e[1] - b.s[1]) > LENGTH_EPS:
         return
     el_tangent(a, True, ta)
     el_tangent(b, False, tb)

@@ -103,7 +103,7 @@ cdef int x_meet(const XPiece *p, const XPiece *q, double slack, double *pts) noe
         dx = p.e[0] - p.s[0]; dy = p.e[1] - p.s[1]
         ex = q.e[0] - q.s[0]; ey = q.e[1] - q.s[1]
         den = dx * ey - dy * ex
-        if den * den <= ANGLE_EPS * ANGLE_EPS * (dx * dx + dy * dy) * (ex * ex + ey * ey) + 1e-300:
+        if den * den <= ANGLE_EPS * ANGLE_EPS * (dx * dx + dy * dy) * (ex * ex + ey * ey) + UNDERFLOW_EPS:
             return 0
         # both ends of one on the same side of the other: no crossing
         t = (q.s[0] - p.s[0]) * dy - (q.s[1] - p.s[1]) * dx

@@ -245,7 +245,7 @@ cdef double _r_end_slack(const Regions *R, double r) noexcept nogil:
     there: rounding the coordinates by delta (a few eps times the chain's largest
     coordinate m) moves their meets up to sqrt(2 r delta) from the joint; r = 0.15 mm
     1500 mm from the origin: about 3e-7 mm. The slack is 16 sqrt(r m eps), at least
-    1e-7 mm."""
+    MEET_EPS."""
     cdef size_t j
     cdef double m = 1.0
     cdef const CompEl *el
@@ -254,7 +254,7 @@ cdef double _r_end_slack(const Regions *R, double r) noexcept nogil:
         m = fmax(m, fmax(fmax(fabs(el.s[0]), fabs(el.s[1])), fmax(fabs(el.e[0]), fabs(el.e[1]))))
         if el.kind == EL_ARC:
             m = fmax(m, fmax(fabs(el.c[0]), fabs(el.c[1])))
-    return fmax(1e-7, 16.0 * sqrt(r * m * DBL_EPSILON))
+    return fmax(MEET_EPS, 16.0 * sqrt(r * m * DBL_EPSILON))
 
 
 cdef bint _r_touch(const Regions *R, size_t i, size_t k, double x, double y) noexcept nogil:
@@ -263,8 +263,8 @@ cdef bint _r_touch(const Regions *R, size_t i, size_t k, double x, double y) noe
     near the ends of pieces that share no node is a crossing."""
     cdef const XPiece *a = &R.pc[i]
     cdef const XPiece *b = &R.pc[k]
-    if (x_near(a.s, x, y, 1e-7) or x_near(a.e, x, y, 1e-7)) and \
-            (x_near(b.s, x, y, 1e-7) or x_near(b.e, x, y, 1e-7)):
+    if (x_near(a.s, x, y, MEET_EPS) or x_near(a.e, x, y, MEET_EPS)) and \
+            (x_near(b.s, x, y, MEET_EPS) or x_near(b.e, x, y, MEET_EPS)):
         return True
     if (R.pn0[i] == R.pn0[k] or R.pn0[i] == R.pn1[k]) and x_near(a.s, x, y, R.end_slack):
         return True

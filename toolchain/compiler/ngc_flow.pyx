@@ -514,7 +514,7 @@ cdef int ow_statement(CState *st, const char *p, const char *eol) noexcept nogil
             k = lx_alpha_run(q, eol)
             if ow_keyword(q, k) != OW_CALL:
                 return err_ngc_unsupported(st.err, st.unit.file_idx, st.line, cword_rest(st, o, eol), column_of(st, o), "a computed O-word label is read on a call only")
-            if not (fabs(v - floor(v + 0.5)) < 1e-4 and v > -0.5 and v < 999999999999.5):
+            if not (fabs(v - floor(v + 0.5)) < NGC_TOLERANCE_WHOLE and v > -0.5 and v < 999999999999.5):
                 c_snprintf(why, sizeof(why), "the computed label %g is no subroutine number "
                            "(a whole number 0 .. 999999999999)", v)
                 return err_ngc_word(st.err, st.unit.file_idx, st.line, cword_rest(st, o, eol), column_of(st, o), why)

@@ -13,8 +13,12 @@ cdef extern from *:
     """
     /* LinuxCNC's TOLERANCE_EQUAL: EQ and NE compare within it */
     #define NGC_TOLERANCE_EQUAL 1e-6
+    /* a value this close to a whole number is that number where one is wanted (a
+       parameter number, a computed O label), as LinuxCNC reads one */
+    #define NGC_TOLERANCE_WHOLE 1e-4
     """
     double NGC_TOLERANCE_EQUAL
+    double NGC_TOLERANCE_WHOLE
 
 
 cdef NgcState *ngc_new() noexcept nogil:
@@ -236,9 +240,10 @@ cdef double ngc_number_get(CState *st, int idx) noexcept nogil:
 
 
 cdef int ngc_index(CState *st, double v, const char *at, const char *eol) noexcept nogil:
-    """A parameter number: an integer (within 1e-4, as LinuxCNC reads one) in 1..5601."""
+    """A parameter number: an integer (within NGC_TOLERANCE_WHOLE, as LinuxCNC reads one) in
+    1..5601."""
     cdef double r = floor(v + 0.5)
-    if not (fabs(v - r) < 1e-4 and r >= 1.0 and r < NGC_PARAMS):
+    if not (fabs(v - r) < NGC_TOLERANCE_WHOLE and r >= 1.0 and r < NGC_PARAMS):
         return err_ngc_parameter(st.err, st.unit.file_idx, st.line, v, column_of(st, at))
     return <int>r
 

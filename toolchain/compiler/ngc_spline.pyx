@@ -138,7 +138,7 @@ cdef bint spl_circle(const double *a, const double *m, const double *b, double *
     cdef double d = 2.0 * (ax * by - ay * bx)
     cdef double a2 = ax * ax + ay * ay, b2 = bx * bx + by * by
     cdef double ux, uy
-    if fabs(d) <= 1e-12 * (a2 + b2):
+    if fabs(d) <= ANGLE_EPS * (a2 + b2):
         return False
     ux = (by * a2 - ay * b2) / d
     uy = (ax * b2 - bx * a2) / d

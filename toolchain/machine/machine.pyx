@@ -296,14 +296,14 @@ cdef void *_pacer_body(void *arg) noexcept nogil:
     cdef Machine *m = <Machine *>core.offline
     cdef Motion *mo = &m.motion
     cdef double last = clock_now(), budget = 0.0, scale, tick_end
-    cdef double dt = STEP_US * 1e-6
+    cdef double dt = STEP_US * SECONDS_PER_US
     cdef uint32_t n_steps = 0
     cdef bint halted = False, cut
     cdef uint64_t told = mo.consumed     # entries done when the notifier was last woken
     tc_set_stage("the offline machine")
     while not halted and not TC_ATOMIC_LOAD(&core.cancel):
         budget += clock_take(core, m, &last)
-        tick_end = last + 1e-3
+        tick_end = last + TICK_S
         scale = TC_ATOMIC_LOAD_D(&core.time_scale)
         if budget > 1.0 * scale and not clock_stepped(core):
             budget = 1.0 * scale            # the thread was held up: the machine does not jump

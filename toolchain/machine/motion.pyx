@@ -287,7 +287,7 @@ cdef void _move_override(Motion *m, double dt) noexcept nogil:
     """One step of dt seconds of the override towards its target, by overrideInc per 100 us:
     held at 1 in a rapid with disableG0FeedOverride, at most 1 when it scales time; a change of
     speed (not of time) replans."""
-    cdef double step = m.ovr_inc * dt / (STEP_US * 1e-6)
+    cdef double step = m.ovr_inc * dt / (STEP_US * SECONDS_PER_US)
     cdef double target = m.ovr_target
     cdef Entry *e
     if m.ovr_timing and target > 1.0:
