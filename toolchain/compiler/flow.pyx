@@ -33,35 +33,56 @@ cdef int fl_line_kind(const char *p, const char *eol) noexcept nogil:
     return 0
 
 
-cdef int fl_skip(CState *st, int depth, bint stop_at_else, const char *what, int *found) noexcept nogil:
-    """Scans from the next line to the END closing `depth` open blocks (or an ELSE
-    at depth 1). st.jpos/jline: the line after it; st.cur_pos/line of the END/ELSE
-    itself in st.skip_pos/skip_line. found: 2 ELSE, 3 END."""
+cdef bint fl_scan(CState *st, size_t pos, uint32_t line, line_test_fn test, void *ctx,
+                  int *found) noexcept nogil:
+    """The lines of the unit from `pos` (numbered from `line`) on, up to the first one
+    `test` answers (not 0): found = its answer, st.skip_pos / skip_line that line,
+    st.jpos / jline the line after it. False when the text ends first (nothing
+    recorded). The one forward scan of skipped lines: a block's END or ELSE
+    (fl_skip), an O label's statement (ngc_flow.pyx ow_scan)."""
     cdef Unit *u = st.unit
-    cdef size_t pos = st.next_pos
-    cdef uint32_t line = st.next_line
     cdef const char *eol
     cdef int kind
     while pos < u.len:
         eol = <const char *>memchr(u.text + pos, b'\n', u.len - pos)
         if eol == NULL:
             eol = u.text + u.len
-        kind = fl_line_kind(u.text + pos, eol)
-        if kind == 1:
-            depth += 1
-        elif kind == 3:
-            depth -= 1
-        elif kind == 2 and depth == 1 and stop_at_else:
-            depth = 0
-        if depth == 0:
+        kind = test(ctx, u.text + pos, eol)
+        if kind != 0:
             found[0] = kind
             st.skip_pos = pos
             st.skip_line = line
             st.jpos = <size_t>(eol - u.text) + 1
             st.jline = line + 1
-            return 0
+            return True
         pos = <size_t>(eol - u.text) + 1
         line += 1
+    return False
+
+
+cdef int _block_end_test(void *ctx, const char *p, const char *eol) noexcept nogil:
+    """fl_skip's line test: the blocks a line opens or closes counted; the END that
+    closes the last (3), or an ELSE at depth 1 when one ends the scan (2), stops it."""
+    cdef BlockSkip *b = <BlockSkip *>ctx
+    cdef int kind = fl_line_kind(p, eol)
+    if kind == 1:
+        b.depth += 1
+    elif kind == 3:
+        b.depth -= 1
+    elif kind == 2 and b.depth == 1 and b.stop_at_else:
+        b.depth = 0
+    return kind if b.depth == 0 else 0
+
+
+cdef int fl_skip(CState *st, int depth, bint stop_at_else, const char *what, int *found) noexcept nogil:
+    """Scans from the next line to the END closing `depth` (at least 1) open blocks (or
+    an ELSE at depth 1). st.jpos/jline: the line after it; st.cur_pos/line of the
+    END/ELSE itself in st.skip_pos/skip_line. found: 2 ELSE, 3 END."""
+    cdef BlockSkip b
+    b.depth = depth
+    b.stop_at_else = stop_at_else
+    if fl_scan(st, st.next_pos, st.next_line, _block_end_test, &b, found):
+        return 0
     return err_missing_end(st.err, st.unit.file_idx, st.line, what)
 
 

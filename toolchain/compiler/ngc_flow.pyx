@@ -5,8 +5,9 @@
 # `return` / `endsub`, its local named parameters vanish), `if / elseif / else / endif`,
 # `while / endwhile`, `do / while`, `repeat / endrepeat`, `break`, `continue`. The
 # statements of a construct share its O number or name; a skipped part is found by
-# scanning forward for that label, as LinuxCNC does, so labels are literal (o100,
-# o<name>), and only a call may compute its label (o[#1 + 2] call).
+# scanning forward for that label (flow.pyx fl_scan, the scan of TG's skipped blocks
+# too), as LinuxCNC does, so labels are literal (o100, o<name>), and only a call may
+# compute its label (o[#1 + 2] call).
 from libc.math cimport floor, fabs
 
 
@@ -111,32 +112,34 @@ cdef int ow_error(CState *st, const NgcLabel *lab, const char *what) noexcept no
     return err_o_word(st.err, st.unit.file_idx, st.line, ow_label_text(st, lab), st.ngc.col, what)
 
 
+cdef int _label_test(void *ctx, const char *p, const char *eol) noexcept nogil:
+    """ow_scan's line test: the keyword (not 0) of a statement of the label with one of
+    the keywords wanted, else 0."""
+    cdef const LabelScan *want = <const LabelScan *>ctx
+    cdef NgcLabel other
+    cdef int kw
+    if ow_line(p, eol, &other, &kw) != NULL and (want.kinds & kw_bit(kw)) and ow_same(&other, want.label):
+        return kw
+    return 0
+
+
 cdef int ow_scan(CState *st, const NgcLabel *lab, uint32_t kinds, size_t pos, uint32_t line,
                  int *found) noexcept nogil:
     """From the line at pos on: the first statement of label lab with a keyword in kinds.
     st.skip_pos / skip_line: that line; st.jpos / jline: the line after it. 0 found,
     1 not found (nothing recorded)."""
     cdef Unit *u = st.unit
-    cdef const char *eol
-    cdef NgcLabel other
-    cdef int kw
     cdef NgcScan *seen = &st.ngc.scans[(pos ^ (pos >> 6) ^ kinds) % NGC_SCANS]
-    cdef size_t start = pos
-    cdef uint32_t first_line = line
+    cdef LabelScan want
     if seen.text == u.text and seen.pos == pos and seen.kinds == kinds and ow_same(&seen.label, lab) \
             and seen.label.number == lab.number:
         return _scan_answer(st, seen, line, found)
-    while pos < u.len:
-        eol = <const char *>memchr(u.text + pos, b'\n', u.len - pos)
-        if eol == NULL:
-            eol = u.text + u.len
-        if ow_line(u.text + pos, eol, &other, &kw) != NULL and (kinds & kw_bit(kw)) and ow_same(&other, lab):
-            _scan_remember(seen, u.text, start, kinds, lab, kw, pos, <size_t>(eol - u.text) + 1,
-                           line - first_line)
-            return _scan_answer(st, seen, first_line, found)
-        pos = <size_t>(eol - u.text) + 1
-        line += 1
-    _scan_remember(seen, u.text, start, kinds, lab, 0, 0, 0, 0)
+    want.label = lab
+    want.kinds = kinds
+    if fl_scan(st, pos, line, _label_test, &want, found):
+        _scan_remember(seen, u.text, pos, kinds, lab, found[0], st.skip_pos, st.jpos, st.skip_line - line)
+        return 0
+    _scan_remember(seen, u.text, pos, kinds, lab, 0, 0, 0, 0)
     return 1
 
 
