@@ -50,6 +50,24 @@ def test_the_catalogue_is_the_python_enum_and_the_page():
     assert [int(n) for n in re.findall(r"^\| (\d+) \| `(?:ERR|WARN)_", page, re.M)] == [e.number for e in errors]
 
 
+def test_the_statuses_have_one_form_in_python():
+    """abi.py's generated STATUS_ ints are the statuses' one list in Python (abi needs
+    nothing but ctypes): the generated _catalogue.py has none, sf_tch.Status is built
+    from abi's, in their order, and keeps what a status has besides its value."""
+    import pickle
+
+    import sf_tch._catalogue as catalogue
+    from sf_tch import Status, abi
+    assert not hasattr(catalogue, "Status")
+    assert "class Status" not in gen.write_python(gen.read_catalogue(ROOT / gen.CATALOGUE)[1])
+    ints = [(name[len("STATUS_"):], value) for name, value in vars(abi).items() if name.startswith("STATUS_")]
+    assert ints and [(s.name, s.value) for s in Status] == ints
+    assert Status(-31) is Status.STOPPED and Status.STOPPED == abi.STATUS_STOPPED
+    assert Status.FORWARD.busy and not Status.AT_END.busy and not Status.INVALID.busy
+    assert Status.__doc__.startswith("cnc_status of a core")
+    assert pickle.loads(pickle.dumps(Status.AT_START)) is Status.AT_START
+
+
 def _broken(tmp_path, old, new, source=gen.CATALOGUE):
     """A copy of the catalogue and the header with `old` replaced by `new` (once) in `source`."""
     paths = {}

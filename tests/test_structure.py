@@ -50,19 +50,25 @@ BASE = {name: textwrap.dedent(text).lstrip() for name, text in {
     """,
     "stage/second.pyx": """
         cdef double _helper(double v) noexcept nogil:
+            \"\"\"v itself.\"\"\"
             return v
         include "stage/nested.pyx"
         cdef double later(double v) noexcept nogil:
+            # a comment before the docstring leaves it the first statement
+            r\"\"\"Twice v.\"\"\"
             return _helper(v) + nested(v)
         cdef double second_only(double v) noexcept nogil:
+            \"\"\"v past the first.\"\"\"
             return early(NULL) + v
     """,
     "stage/nested.pyx": """
         cdef double nested(double v) noexcept nogil:
+            \"\"\"v through the helper.\"\"\"
             return _helper(v)
     """,
     "other.pyx": """
         cdef double other(Point *p) noexcept nogil:
+            \"\"\"Another stage's use of the face.\"\"\"
             return later(p.y)                   # another stage: through the face
     """,
 }.items()}
@@ -92,7 +98,7 @@ def test_a_name_used_before_the_file_defining_it(tmp_path):
 def test_a_private_name_used_from_another_file(tmp_path):
     # nested.pyx, included inside second.pyx, is another file all the same
     assert problems(tmp_path, BASE) == [
-        "stage/nested.pyx:2: private _helper of stage/second.pyx used here: give it a public name and declare it in its face"]
+        "stage/nested.pyx:3: private _helper of stage/second.pyx used here: give it a public name and declare it in its face"]
 
 
 def test_a_private_name_declared_in_a_face(tmp_path):
@@ -108,14 +114,14 @@ def test_a_type_in_a_pyx(tmp_path):
     files["stage/nested.pyx"] = files["stage/nested.pyx"].replace("_helper(v)", "v")
     files["stage/second.pyx"] += "cdef enum Mode:\n    MODE_A = 1\nctypedef double (*hook)(double) noexcept nogil\n"
     assert problems(tmp_path, files) == [
-        "stage/second.pyx:8: type Mode defined in a .pyx: it belongs in its stage's face",
-        "stage/second.pyx:10: type hook defined in a .pyx: it belongs in its stage's face"]
+        "stage/second.pyx:12: type Mode defined in a .pyx: it belongs in its stage's face",
+        "stage/second.pyx:14: type hook defined in a .pyx: it belongs in its stage's face"]
 
 
 def test_the_command_line_prints_file_and_line(tmp_path, capsys):
     assert check_structure.main([str(tree(tmp_path, BASE)), "--root", "lib.pyx"]) == 1
     out = capsys.readouterr().out.splitlines()
-    assert out == [f"{tmp_path / 'stage/nested.pyx'}:2: private _helper of stage/second.pyx used here: "
+    assert out == [f"{tmp_path / 'stage/nested.pyx'}:3: private _helper of stage/second.pyx used here: "
                    "give it a public name and declare it in its face"]
 
 
@@ -124,7 +130,7 @@ def test_a_function_another_stage_uses_without_a_face(tmp_path):
     files["stage/nested.pyx"] = files["stage/nested.pyx"].replace("_helper(v)", "v")
     files["other.pyx"] = files["other.pyx"].replace("later(p.y)", "later(p.y) + nested(p.x)")
     assert problems(tmp_path, files) == [
-        "other.pyx:2: nested of stage/nested.pyx is used by another stage: declare it in its stage's face"]
+        "other.pyx:3: nested of stage/nested.pyx is used by another stage: declare it in its stage's face"]
 
 
 def test_an_error_recorded_by_hand(tmp_path):
@@ -135,7 +141,7 @@ def test_an_error_recorded_by_hand(tmp_path):
     files["face.pxd"] += "cdef void record_error(double v) noexcept nogil\n"
     files["other.pyx"] = files["other.pyx"].replace("return later(p.y)", "record_error(p.x)\n    return later(p.y)")
     found = problems(tmp_path, files)
-    assert len(found) == 1 and found[0].startswith("other.pyx:2: record_error used here: record an error with "
+    assert len(found) == 1 and found[0].startswith("other.pyx:3: record_error used here: record an error with "
                                                    "its generated constructor")
 
 
@@ -160,16 +166,74 @@ def test_a_core_field_named_outside_its_owners(tmp_path):
         """,
         "configuration.pyx": """
             cdef double config_rel_feed(Core *core) noexcept nogil:
+                '''The feed override.'''
                 return core.rel_feed + core.lock
         """,
         "exports.pyx": """
             cdef double set_feed(Core *core) noexcept nogil:
-                # core.params in a comment is no use
+                '''core.params in a docstring is no use.'''
+                # nor in a comment: core.params
                 return config_rel_feed(core) + core.params
         """,
     }.items()}
     assert problems(tmp_path, files) == [
-        "configuration.pyx:2: core.lock used by stage configuration: its owners (core runtime, core.pxd) "
+        "configuration.pyx:3: core.lock used by stage configuration: its owners (core runtime, core.pxd) "
         "have the function to call",
-        "exports.pyx:3: core.params used by stage exports: its owners (configuration, core.pxd) "
+        "exports.pyx:4: core.params used by stage exports: its owners (configuration, core.pxd) "
         "have the function to call"]
+
+
+def test_a_function_without_a_docstring(tmp_path):
+    """Every function of a .pyx opens with its docstring; a comment or a string later in
+    the body is none, and the faces' inline functions and declarations are not asked."""
+    files = dict(BASE)
+    files["stage/nested.pyx"] = files["stage/nested.pyx"].replace("_helper(v)", "v")
+    files["stage/second.pyx"] = files["stage/second.pyx"].replace('    """v itself."""\n', "")
+    files["other.pyx"] += ("cdef double commented(double v) noexcept nogil:\n"
+                           "    # what it does, in a comment\n"
+                           "    cdef double w = v\n"
+                           "    \"\"\"too late for a docstring\"\"\"\n"
+                           "    return w\n"
+                           "def documented(v):\n"
+                           "    \"\"\"v unchanged.\"\"\"\n"
+                           "    return v\n")
+    files["face.pxd"] += "cdef inline double bare(double v) noexcept nogil:\n    return v\n"
+    assert problems(tmp_path, files) == [
+        "stage/second.pyx:1: _helper has no docstring: say what it does (and why, where it is not plain) "
+        "in a line under its signature",
+        "other.pyx:4: commented has no docstring: say what it does (and why, where it is not plain) "
+        "in a line under its signature"]
+
+
+def test_a_literal_tolerance(tmp_path):
+    """A number with a negative exponent in code is a tolerance without a name: it is
+    named in geometry.pxd (the tolerances' face), which alone may write one; C text (a
+    #define in a `cdef extern from *` block), comments, docstrings and other numbers
+    are not code of that kind."""
+    files = dict(BASE)
+    files["stage/second.pyx"] = files["stage/second.pyx"].replace("_helper", "helper")
+    files["lib.pxd"] += 'include "geometry.pxd"\n'
+    files["geometry.pxd"] = textwrap.dedent('''
+        cdef extern from *:
+            """
+            #define TC_NEAR 1e-9
+            """
+            const double NEAR "TC_NEAR"
+        cdef inline bint close(double d) noexcept nogil:
+            """Whether d is within 1e-8 of nothing."""
+            return d <= 1e-8
+    ''').lstrip()
+    files["stage/nested.pyx"] = textwrap.dedent('''
+        cdef double nested(double v) noexcept nogil:
+            """v through the helper, unless it is below 1e-9 (not code)."""
+            if v < 1e-9:                        # 1e-9: a comment is no code
+                return 0.0
+            return helper(v) * 1e6 + NEAR + 2.5E-7 * v / .5e-3
+    ''').lstrip()
+    assert problems(tmp_path, files) == [
+        "stage/nested.pyx:3: literal 1e-9: name it (a tolerance in geometry.pxd, with its unit and "
+        "what it guards; a stage's own constant in its stage's block)",
+        "stage/nested.pyx:5: literal .5e-3: name it (a tolerance in geometry.pxd, with its unit and "
+        "what it guards; a stage's own constant in its stage's block)",
+        "stage/nested.pyx:5: literal 2.5E-7: name it (a tolerance in geometry.pxd, with its unit and "
+        "what it guards; a stage's own constant in its stage's block)"]

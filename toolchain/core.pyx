@@ -15,6 +15,8 @@ cdef public uint8_t TGM_Data[524288]
 
 
 cdef void _init_cores() noexcept nogil:
+    """Every core's initial state: locks, default parameters, override and time scale 1, no
+    breakpoint, no files, an empty snapshot; the core mode 2."""
     cdef int i
     cdef Core *core
     for i in range(TOOL_CHAIN_MAX_CORES):
@@ -89,14 +91,17 @@ cdef int32_t core_refuse(Core *core, const char *what, int32_t status) noexcept 
 # ------------------------------------------------------------------ compilation
 
 cdef void _compile_progress(void *ctx, int percent) noexcept nogil:
+    """The compiler's progress callback: SetStatusBarProgress of the core."""
     core_progress(<Core *>ctx, <uint32_t>percent)
 
 
 cdef void _compile_output(void *ctx, int tab, const char *text) noexcept nogil:
+    """The compiler's output callback (PRINT and the like): AddOutputLog of the core."""
     core_output(<Core *>ctx, <uint32_t>tab, text)
 
 
 cdef void _compile_warn(void *ctx, const ErrorInfo *warning) noexcept nogil:
+    """The compiler's warning callback: MathWarning (2001) of the core."""
     core_warning(<Core *>ctx, warning)
 
 

@@ -6,7 +6,8 @@ from libc.string cimport memset, strlen
 
 
 cdef int _whole(double v) noexcept nogil:
-    # A %d argument as C's int: NaN 0, beyond int's range its nearest end (no undefined cast).
+    """A %d argument as C's int: NaN 0, beyond int's range its nearest end (no undefined
+    cast)."""
     if not (v == v):
         return 0
     if v >= 2147483647.0:
@@ -17,7 +18,8 @@ cdef int _whole(double v) noexcept nogil:
 
 
 cdef size_t _append(char *buf, size_t cap, size_t pos, const char *s, size_t n) noexcept nogil:
-    # Copies n bytes of s at buf[pos], truncating at cap - 1; keeps buf terminated.
+    """Copies n bytes of s to buf[pos], truncated at cap - 1, buf kept terminated; the new
+    end."""
     cdef size_t i = 0
     while i < n and pos + 1 < cap:
         buf[pos] = s[i]
@@ -100,4 +102,5 @@ cdef void record_error(ErrorInfo *err, int32_t number, int32_t file_idx, int32_t
 
 
 cdef void clear_error(ErrorInfo *err) noexcept nogil:
+    """No error: every field of err zeroed (number 0)."""
     memset(err, 0, sizeof(ErrorInfo))

@@ -17,6 +17,9 @@ cdef extern from *:
 # ------------------------------------------------------------------ lifecycle
 
 cdef public int32_t ToolChainCore_Init(const DLL_INIT_STRUCT *p) noexcept nogil:
+    """Init: checks DLL_INIT_STRUCT (every directory given, Local_Core_Mode 0..2), then keeps
+    the core mode, the log's directory and the macros' directory. -1 on a bad structure or when
+    a text cannot be converted."""
     global g_core_mode
     cdef char *owned_dll_dir
     cdef char *owned_macros_dir
@@ -68,6 +71,7 @@ cdef int32_t _ini_read_tables(IniSettings *settings, ToolTable *tool_table, bint
 
 
 cdef public int32_t ToolChainCore_LoadFromIni(uint32_t intIdx, TGM_LPCTSTR iniFile, uint32_t *pnMaxCores) noexcept nogil:
+    """LoadFromIni: the INI file's name converted from the host's text, then _load_from_ini."""
     cdef char *owned
     cdef int32_t result = _load_from_ini(intIdx, text_from_host(iniFile, &owned), pnMaxCores)
     free(owned)
@@ -75,6 +79,9 @@ cdef public int32_t ToolChainCore_LoadFromIni(uint32_t intIdx, TGM_LPCTSTR iniFi
 
 
 cdef int32_t _load_from_ini(uint32_t intIdx, const char *iniFile, uint32_t *pnMaxCores) noexcept nogil:
+    """LoadFromIni on one core: every key read into a copy of the core's settings, the tables it
+    names read, and only when all are good the copy taken (under the lock); the number of cores
+    in *pnMaxCores. 1 (XEXEC) with the reason in GetLastCallError otherwise, nothing changed."""
     cdef Core *core = core_get(intIdx)
     cdef IniSettings settings
     cdef ErrorInfo err
@@ -130,6 +137,7 @@ cdef int32_t _load_from_ini(uint32_t intIdx, const char *iniFile, uint32_t *pnMa
 
 
 cdef public int32_t ToolChainCore_DestroyCNC(uint32_t intIdx) noexcept nogil:
+    """DestroyCNC: ends whatever the core does and drops its program (status 0)."""
     cdef Core *core = core_get(intIdx)
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
@@ -137,12 +145,16 @@ cdef public int32_t ToolChainCore_DestroyCNC(uint32_t intIdx) noexcept nogil:
 
 
 cdef public TGM_LPCTSTR ToolChainCore_GetVersionString(uint32_t intIdx) noexcept nogil:
+    """GetVersionString: the library's name, version and build time in the host's text; an empty
+    text for a bad core."""
     if core_get(intIdx) == NULL:
         return text_to_host_kept("")
     return text_to_host_kept(TC_VERSION_STRING)
 
 
 cdef public int32_t ToolChainCore_GetStructuresSize(uint32_t intIdx, uint32_t nItems, uint32_t *items) noexcept nogil:
+    """GetStructuresSize: up to nItems numbers, [0] how many sizes follow (8), then the sizes of
+    the ABI's structures, so a host can check it talks to a compatible library."""
     cdef uint32_t sizes[9]
     cdef uint32_t i
     sizes[0] = 8
@@ -164,6 +176,8 @@ cdef public int32_t ToolChainCore_GetStructuresSize(uint32_t intIdx, uint32_t nI
 # ------------------------------------------------------------------ parameters
 
 cdef public int32_t ToolChainCore_SetGCodeParameters(uint32_t intIdx, const GCODE_PARAMETERS *p) noexcept nogil:
+    """SetGCodeParameters: its arguments checked, then configuration's rule
+    (config_set_gcode_parameters)."""
     cdef Core *core = core_get(intIdx)
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
@@ -173,6 +187,7 @@ cdef public int32_t ToolChainCore_SetGCodeParameters(uint32_t intIdx, const GCOD
 
 
 cdef public int32_t ToolChainCore_GetGCodeParameters(uint32_t intIdx, GCODE_PARAMETERS *p) noexcept nogil:
+    """GetGCodeParameters: a copy of the core's GCODE_PARAMETERS taken under the lock."""
     cdef Core *core = core_get(intIdx)
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
@@ -183,6 +198,7 @@ cdef public int32_t ToolChainCore_GetGCodeParameters(uint32_t intIdx, GCODE_PARA
 
 
 cdef public int32_t ToolChainCore_GetMachineParameters(uint32_t intIdx, MACHINE_PARAMETERS *p) noexcept nogil:
+    """GetMachineParameters: a copy of the core's MACHINE_PARAMETERS taken under the lock."""
     cdef Core *core = core_get(intIdx)
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
@@ -193,6 +209,7 @@ cdef public int32_t ToolChainCore_GetMachineParameters(uint32_t intIdx, MACHINE_
 
 
 cdef public int32_t ToolChainCore_SetMachineParameters(uint32_t intIdx, MACHINE_PARAMETERS *p) noexcept nogil:
+    """SetMachineParameters: checked (the error through GetLastCallError), then the core's."""
     cdef Core *core = core_get(intIdx)
     cdef ErrorInfo err
     if core == NULL:
@@ -207,6 +224,8 @@ cdef public int32_t ToolChainCore_SetMachineParameters(uint32_t intIdx, MACHINE_
 
 
 cdef public int32_t ToolChainCore_SetUserParams(uint32_t intIdx, const double *p, uint32_t n) noexcept nogil:
+    """SetUserParams: n = 100 presets P00..P99 (finite) for the next compilations, n = 0 clears
+    the preset; any other n is -1."""
     cdef Core *core = core_get(intIdx)
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
@@ -221,6 +240,8 @@ cdef public int32_t ToolChainCore_SetUserParams(uint32_t intIdx, const double *p
 
 
 cdef public int32_t ToolChainCore_GCodePrefixPostfix(uint32_t intIdx, TGM_LPCSTR prefix, TGM_LPCSTR postfix) noexcept nogil:
+    """GCodePrefixPostfix: the G-code compiled before and after every main program (NULL or
+    empty: none), copied in UTF-8; refused while the status does not allow it."""
     cdef Core *core = core_get(intIdx)
     cdef char *pre = NULL
     cdef char *post = NULL
@@ -245,6 +266,8 @@ cdef public int32_t ToolChainCore_GCodePrefixPostfix(uint32_t intIdx, TGM_LPCSTR
 # ------------------------------------------------------------------ compilation
 
 cdef public int32_t ToolChainCore_CompileFromFile(uint32_t intIdx, TGM_LPCTSTR fileName) noexcept nogil:
+    """CompileFromFile: the file's name converted from the host's text, then
+    _compile_from_file."""
     cdef char *owned
     cdef int32_t result = _compile_from_file(intIdx, text_from_host(fileName, &owned))
     free(owned)
@@ -252,6 +275,9 @@ cdef public int32_t ToolChainCore_CompileFromFile(uint32_t intIdx, TGM_LPCTSTR f
 
 
 cdef int32_t _compile_from_file(uint32_t intIdx, const char *fileName) noexcept nogil:
+    """CompileFromFile on one core: a name that is missing, too long or names no readable file
+    is refused now (the status unchanged); otherwise the compile worker starts, reading the file
+    in its thread."""
     cdef Core *core = core_get(intIdx)
     cdef int32_t unreadable
     if core == NULL:
@@ -274,6 +300,8 @@ cdef int32_t _compile_from_file(uint32_t intIdx, const char *fileName) noexcept 
 
 
 cdef public int32_t ToolChainCore_CompileFromMemory(uint32_t intIdx, TGM_LPCTSTR fileName, TGM_LPCSTR code) noexcept nogil:
+    """CompileFromMemory: the name from the host's text and the G-code in UTF-8, then
+    _compile_from_memory."""
     cdef char *owned
     cdef char *utf8 = narrow_from_host(code)    # the G-code in UTF-8 (Windows: from the ANSI code page)
     cdef const char *source = code
@@ -287,6 +315,8 @@ cdef public int32_t ToolChainCore_CompileFromMemory(uint32_t intIdx, TGM_LPCTSTR
 
 
 cdef int32_t _compile_from_memory(uint32_t intIdx, const char *fileName, const char *code) noexcept nogil:
+    """CompileFromMemory on one core: the text copied (the host may free its own at once) and
+    the compile worker started; -1 for a missing or too long name."""
     cdef Core *core = core_get(intIdx)
     cdef char *source
     if core == NULL:
@@ -302,6 +332,7 @@ cdef int32_t _compile_from_memory(uint32_t intIdx, const char *fileName, const c
 
 
 cdef public int32_t ToolChainCore_IsBusy(uint32_t intIdx) noexcept nogil:
+    """IsBusy: 1 while the core compiles, simulates or moves (a positive status), else 0."""
     cdef Core *core = core_get(intIdx)
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
@@ -309,6 +340,8 @@ cdef public int32_t ToolChainCore_IsBusy(uint32_t intIdx) noexcept nogil:
 
 
 cdef public int32_t ToolChainCore_GetLastError(uint32_t intIdx, CALLBACK_INFO *info) noexcept nogil:
+    """GetLastError: the error of the last compilation or run into info (1), or 0 when it
+    succeeded."""
     cdef Core *core = core_get(intIdx)
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
@@ -318,6 +351,8 @@ cdef public int32_t ToolChainCore_GetLastError(uint32_t intIdx, CALLBACK_INFO *i
 
 
 cdef public int32_t ToolChainCore_GetLastCallError(uint32_t intIdx, CALLBACK_INFO *info) noexcept nogil:
+    """GetLastCallError: the error of the last call on the core that was refused with a reason
+    (1), or 0."""
     cdef Core *core = core_get(intIdx)
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
@@ -327,6 +362,8 @@ cdef public int32_t ToolChainCore_GetLastCallError(uint32_t intIdx, CALLBACK_INF
 
 
 cdef public int32_t ToolChainCore_GetLastErrorColumn(uint32_t intIdx, int32_t ofCalls, int32_t *column) noexcept nogil:
+    """GetLastErrorColumn: the column of the word in error of the error GetLastError (ofCalls 0)
+    or GetLastCallError (1) gives."""
     cdef Core *core = core_get(intIdx)
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
@@ -336,10 +373,13 @@ cdef public int32_t ToolChainCore_GetLastErrorColumn(uint32_t intIdx, int32_t of
 
 
 cdef public int32_t ToolChain_GetLastError(CALLBACK_INFO *info) noexcept nogil:
+    """The vendor's older single-core GetLastError: core 0's."""
     return ToolChainCore_GetLastError(0, info)
 
 
 cdef public int32_t ToolChainCore_FileToIdx(uint32_t intIdx, TGM_LPCTSTR fileName) noexcept nogil:
+    """FileToIdx: the index of a file name in the core's file table (the special names their
+    negative indexes)."""
     cdef Core *core = core_get(intIdx)
     cdef char *owned
     cdef int32_t result
@@ -351,6 +391,8 @@ cdef public int32_t ToolChainCore_FileToIdx(uint32_t intIdx, TGM_LPCTSTR fileNam
 
 
 cdef public TGM_LPCTSTR ToolChainCore_IdxToFile(uint32_t intIdx, int32_t fileIdx) noexcept nogil:
+    """IdxToFile: the name of a file index in the host's text; __unknown__ for an unknown index
+    or a bad core, never NULL."""
     cdef Core *core = core_get(intIdx)
     if core == NULL:
         return text_to_host_kept("__unknown__")
@@ -358,10 +400,14 @@ cdef public TGM_LPCTSTR ToolChainCore_IdxToFile(uint32_t intIdx, int32_t fileIdx
 
 
 cdef public TGM_LPCTSTR ToolChain_IdxToFile(int32_t fileIdx) noexcept nogil:
+    """The vendor's older single-core IdxToFile: core 0's."""
     return ToolChainCore_IdxToFile(0, fileIdx)
 
 
 cdef public int32_t ToolChainCore_GetGCodeSizeInfo(uint32_t intIdx, GCODE_INFO *p) noexcept nogil:
+    """GetGCodeSizeInfo: the compiled program's extent (as written, compensated, both rotated by
+    G168), measured again first when a reset moved the start; -1 while compiling or without a
+    program."""
     cdef Core *core = core_get(intIdx)
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
@@ -371,6 +417,8 @@ cdef public int32_t ToolChainCore_GetGCodeSizeInfo(uint32_t intIdx, GCODE_INFO *
 
 
 cdef public double ToolChainCore_GetGCodeRunTime(uint32_t intIdx, int32_t fileIdx) noexcept nogil:
+    """GetGCodeRunTime: the run time in seconds of a file index (the last simulation's with
+    calcTime, or the host's); negative when unknown."""
     cdef Core *core = core_get(intIdx)
     if core == NULL or fileIdx < 0 or fileIdx >= MAX_FILES:
         return -1.0
@@ -378,6 +426,7 @@ cdef public double ToolChainCore_GetGCodeRunTime(uint32_t intIdx, int32_t fileId
 
 
 cdef public int32_t ToolChainCore_SetGCodeRunTime(uint32_t intIdx, int32_t fileIdx, double seconds) noexcept nogil:
+    """SetGCodeRunTime: the host's run time (finite, >= 0) of a known file index."""
     cdef Core *core = core_get(intIdx)
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
@@ -389,6 +438,9 @@ cdef public int32_t ToolChainCore_SetGCodeRunTime(uint32_t intIdx, int32_t fileI
 # ------------------------------------------------------------------ running
 
 cdef public int32_t ToolChainCore_ResetCNC(uint32_t intIdx, int32_t regime, uint32_t nCoords, const double *coords) noexcept nogil:
+    """ResetCNC: ends any activity and sets where the next run and compilation start: regime 1
+    only marks the program start, otherwise the first nCoords coordinates (finite) from
+    coords."""
     cdef Core *core = core_get(intIdx)
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
@@ -402,6 +454,8 @@ cdef public int32_t ToolChainCore_ResetCNC(uint32_t intIdx, int32_t regime, uint
 
 
 cdef public int32_t ToolChainCore_StartCNCEx(uint32_t intIdx, int32_t regime, TGM_LPCSTR addCode) noexcept nogil:
+    """StartCNCEx: a run in `regime` (10, 20 the simulator; 30-33 the offline machine),
+    addCode's M functions in UTF-8 sent first."""
     cdef Core *core = core_get(intIdx)
     cdef char *utf8
     cdef int32_t result
@@ -416,6 +470,8 @@ cdef public int32_t ToolChainCore_StartCNCEx(uint32_t intIdx, int32_t regime, TG
 
 
 cdef public int32_t ToolChainCore_StopCNCEx(uint32_t intIdx, TGM_LPCSTR addCode) noexcept nogil:
+    """StopCNCEx: a controlled stop on the trajectory; addCode's M functions (UTF-8) sent once
+    it stands."""
     cdef Core *core = core_get(intIdx)
     cdef char *utf8
     cdef int32_t result
@@ -441,6 +497,8 @@ cdef int32_t not_implemented(uint32_t intIdx, const char *what) noexcept nogil:
 
 
 cdef public int32_t ToolChainCore_ConnectCNCEx_Plane(uint32_t intIdx, uint32_t nType, uint32_t nCoords, const double *coords, TGM_LPCSTR addCode, uint32_t axesForCalc, uint32_t axesForConnect, int32_t stateAfter) noexcept nogil:
+    """ConnectCNCEx_Plane: checks the arguments (at most 11 finite coordinates, stateAfter 0 or
+    2), then the connection back onto the trajectory in the machine's worker (core_connect)."""
     cdef char *utf8
     cdef int32_t result
     if core_get(intIdx) == NULL:
@@ -458,6 +516,8 @@ cdef public int32_t ToolChainCore_ConnectCNCEx_Plane(uint32_t intIdx, uint32_t n
 
 
 cdef public int32_t ToolChainCore_GoToPosition(uint32_t intIdx, uint32_t nCoords, const double *coords) noexcept nogil:
+    """GoToPosition: a manual straight move to the first nCoords (finite) absolute
+    coordinates."""
     cdef Core *core = core_get(intIdx)
     cdef SIMPLE_GM_PARAMS dest
     if core == NULL:
@@ -470,6 +530,8 @@ cdef public int32_t ToolChainCore_GoToPosition(uint32_t intIdx, uint32_t nCoords
 
 
 cdef public int32_t ToolChainCore_GoToPositionEx(uint32_t intIdx, const SIMPLE_GM_PARAMS *dest) noexcept nogil:
+    """GoToPositionEx: a manual line (m_func 1) or arc (2 CW, 3 CCW) to dest's end, with finite
+    coordinates."""
     cdef Core *core = core_get(intIdx)
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
@@ -481,6 +543,8 @@ cdef public int32_t ToolChainCore_GoToPositionEx(uint32_t intIdx, const SIMPLE_G
 
 
 cdef public int32_t ToolChainCore_MFunc(uint32_t intIdx, const SIMPLE_GM_PARAMS *fun, int32_t bDirectToPLC) noexcept nogil:
+    """MFunc: the M function `fun` to DriverMFunc on the caller's thread while the machine
+    stands (bDirectToPLC unused: the offline machine has no PLC)."""
     cdef Core *core = core_get(intIdx)
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
@@ -490,6 +554,8 @@ cdef public int32_t ToolChainCore_MFunc(uint32_t intIdx, const SIMPLE_GM_PARAMS 
 
 
 cdef public int32_t ToolChainCore_SetRelFeed(uint32_t intIdx, double relFeed) noexcept nogil:
+    """SetRelFeed: the feed override, clamped to the interpolator's 0.01..2; the machine reaches
+    it gradually. NaN is -1."""
     cdef Core *core = core_get(intIdx)
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
@@ -504,6 +570,7 @@ cdef public int32_t ToolChainCore_SetRelFeed(uint32_t intIdx, double relFeed) no
 
 
 cdef public int32_t ToolChainCore_SetBreakpoint(uint32_t intIdx, uint32_t editorLine, int32_t fileIdx) noexcept nogil:
+    """SetBreakpoint: the one built-in breakpoint (line and file index) a run stops before."""
     cdef Core *core = core_get(intIdx)
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
@@ -512,6 +579,8 @@ cdef public int32_t ToolChainCore_SetBreakpoint(uint32_t intIdx, uint32_t editor
 
 
 cdef public int32_t ToolChainCore_ResetStatusCNC(uint32_t intIdx, uint32_t mode) noexcept nogil:
+    """ResetStatusCNC: in a negative status, mode 0 drops the compiled program (status 0), mode
+    1 declares the machine out of the trajectory (-50)."""
     cdef Core *core = core_get(intIdx)
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
@@ -521,6 +590,8 @@ cdef public int32_t ToolChainCore_ResetStatusCNC(uint32_t intIdx, uint32_t mode)
 
 
 cdef public int32_t ToolChainCore_StatusCNC(uint32_t intIdx) noexcept nogil:
+    """StatusCNC: the core's cnc_status, lock-free (a panel polls it); CNC_STATUS_INVALID for a
+    bad core."""
     cdef Core *core = core_get(intIdx)
     if core == NULL:
         return CNC_STATUS_INVALID
@@ -528,6 +599,9 @@ cdef public int32_t ToolChainCore_StatusCNC(uint32_t intIdx) noexcept nogil:
 
 
 cdef public int32_t ToolChainCore_GetPos(uint32_t intIdx, int32_t reserved, SIMPLE_GM_PARAMS *pos, GM_PARAMS_ENHANCED *enh) noexcept nogil:
+    """GetPos: the last published snapshot of the run (either pointer may be NULL, not both)
+    with the status of now, and the override of now while the machine does not move; never waits
+    for a lock."""
     cdef Core *core = core_get(intIdx)
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
@@ -538,7 +612,9 @@ cdef public int32_t ToolChainCore_GetPos(uint32_t intIdx, int32_t reserved, SIMP
 
 
 cdef public int32_t ToolChainCore_LoadCNCCalcPlugIn(TGM_LPCTSTR fileName, uint32_t flags, int64_t userValue) noexcept nogil:
-    # Plug-ins (kinematics) are not supported yet: the documented error code.
+    """LoadCNCCalcPlugIn: plug-ins (kinematics) are not supported yet: an empty name unloads (1:
+    nothing is loaded), any other is the documented -1 with an error saying so; -1 while a core
+    is busy."""
     cdef int i
     cdef char *owned
     cdef const char *name
@@ -559,6 +635,9 @@ cdef public int32_t ToolChainCore_LoadCNCCalcPlugIn(TGM_LPCTSTR fileName, uint32
 # ------------------------------------------------------------------ callbacks
 
 cdef public int32_t ToolChainCore_SetCallBack(uint32_t intIdx, uint32_t fceNo, intptr_t userData, void *fn) noexcept nogil:
+    """SetCallBack: callback fceNo of the core (NULL clears it); the driver's callbacks (above
+    1000) only after LoadFromIni. Returns once no call of the old function runs on another
+    thread."""
     cdef Core *core = core_get(intIdx)
     cdef int32_t slot
     if core == NULL:
@@ -574,6 +653,8 @@ cdef public int32_t ToolChainCore_SetCallBack(uint32_t intIdx, uint32_t fceNo, i
 
 
 cdef void _fail_ini_first(Core *core, uint32_t number) noexcept nogil:
+    """SetCallBack of a driver callback before LoadFromIni: the error that says the INI comes
+    first."""
     err_ini_first(refusal(), -1, 0, number)
     core_fail(core, refusal())
 
@@ -581,15 +662,18 @@ cdef void _fail_ini_first(Core *core, uint32_t number) noexcept nogil:
 # ------------------------------------------------------------------ logging
 
 cdef public int32_t ToolChainCore_SetLogValue(uint32_t value) noexcept nogil:
+    """SetLogValue: the mask of what is logged."""
     log_set_mask(value)
     return TOOL_CHAIN_SUCCESS
 
 
 cdef public uint32_t ToolChainCore_GetLogValue() noexcept nogil:
+    """GetLogValue: the mask of what is logged."""
     return g_log_mask
 
 
 cdef public void ToolChain_LogANSI(TGM_LPCSTR text) noexcept nogil:
+    """LogANSI: one line of the host's text appended to the log (UTF-8 in the file)."""
     cdef char *utf8 = narrow_from_host(text)    # the log file is UTF-8 (Windows: from the ANSI code page)
     if utf8 != NULL:
         text = utf8
@@ -598,14 +682,19 @@ cdef public void ToolChain_LogANSI(TGM_LPCSTR text) noexcept nogil:
 
 
 cdef public void ToolChain_FlushLogFile() noexcept nogil:
+    """FlushLogFile: the log written out to its file."""
     log_flush()
 
 
 cdef public int32_t ToolChain_SetLogHook(intptr_t userData, void *fn) noexcept nogil:
+    """SetLogHook: every log line (source, text) also to one C function, on the thread that
+    logs."""
     return log_set_hook(userData, fn)
 
 
 cdef public int32_t ToolChainCore_SetLookAhead(uint32_t intIdx, int32_t parts) noexcept nogil:
+    """SetLookAhead: the feed planner's window for the next compilations: 0 the vendor's 8
+    parts, n parts, or -1 unlimited."""
     cdef Core *core = core_get(intIdx)
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
@@ -618,6 +707,7 @@ cdef public int32_t ToolChainCore_SetLookAhead(uint32_t intIdx, int32_t parts) n
 # ------------------------------------------------------------------ offline machine (extension)
 
 cdef public int32_t ToolChainCore_SetTimeScale(uint32_t intIdx, double scale) noexcept nogil:
+    """SetTimeScale: the offline machine's speed against real time, in (0, 1e6]."""
     cdef Core *core = core_get(intIdx)
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
@@ -628,6 +718,8 @@ cdef public int32_t ToolChainCore_SetTimeScale(uint32_t intIdx, double scale) no
 
 
 cdef public int32_t ToolChainCore_ConfirmMFunc(uint32_t intIdx) noexcept nogil:
+    """ConfirmMFunc: confirms the M function the machine waits at after DriverMFunc answered
+    TC_MFUNC_LATER."""
     cdef Core *core = core_get(intIdx)
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
@@ -635,6 +727,8 @@ cdef public int32_t ToolChainCore_ConfirmMFunc(uint32_t intIdx) noexcept nogil:
 
 
 cdef public int32_t ToolChainCore_TestClock(uint32_t intIdx, uint64_t key, double seconds) noexcept nogil:
+    """Test-only TestClock: the offline machine's stepped clock (with TC_TEST_CLOCK_KEY), so
+    tests step the machine instead of sleeping."""
     cdef Core *core = core_get(intIdx)
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
@@ -642,6 +736,8 @@ cdef public int32_t ToolChainCore_TestClock(uint32_t intIdx, uint64_t key, doubl
 
 
 cdef public int64_t ToolChain_TestAllocFail(uint64_t key, int64_t nth) noexcept nogil:
+    """Test-only TestAllocFail: with TC_TEST_ALLOC_KEY the nth allocation from now fails, once,
+    so tests can fail each allocation of an operation in turn."""
     if key != TC_TEST_ALLOC_KEY or nth < 0:
         return -1
     return tc_alloc_fail_nth(nth)
@@ -651,6 +747,8 @@ cdef public int64_t ToolChain_TestAllocFail(uint64_t key, int64_t nth) noexcept 
 
 cdef public int32_t ToolChainCore_GetToolpath(uint32_t intIdx, TC_TOOLPATH_RECORD *out, uint64_t capacity,
                                               uint64_t first, uint64_t *total) noexcept nogil:
+    """GetToolpath: the compiled program as TC_TOOLPATH_RECORDs from `first` into the host's
+    memory (at most capacity), the number of records in *total; -1 while compiling."""
     cdef Core *core = core_get(intIdx)
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
@@ -662,6 +760,7 @@ cdef public int32_t ToolChainCore_GetToolpath(uint32_t intIdx, TC_TOOLPATH_RECOR
 # ------------------------------------------------------------------ correction tables and smoothing (extension)
 
 cdef public int32_t ToolChainCore_LoadToolTable(uint32_t intIdx, TGM_LPCTSTR fileName) noexcept nogil:
+    """LoadToolTable: the file's name converted from the host's text, then _load_tool_table."""
     cdef char *owned
     cdef int32_t result = _load_tool_table(intIdx, text_from_host(fileName, &owned))
     free(owned)
@@ -669,6 +768,8 @@ cdef public int32_t ToolChainCore_LoadToolTable(uint32_t intIdx, TGM_LPCTSTR fil
 
 
 cdef int32_t _load_tool_table(uint32_t intIdx, const char *fileName) noexcept nogil:
+    """LoadToolTable on one core: the TAB0.KOR file read without the lock, then the core's tool
+    table; the core's unchanged when it cannot be read."""
     cdef Core *core = core_get(intIdx)
     cdef ToolTable *table
     cdef ErrorInfo err
@@ -694,6 +795,7 @@ cdef int32_t _load_tool_table(uint32_t intIdx, const char *fileName) noexcept no
 
 
 cdef public int32_t ToolChainCore_GetToolCorrection(uint32_t intIdx, uint32_t entry, double *values) noexcept nogil:
+    """GetToolCorrection: the values of tool table entry 1..TOOL_ENTRIES."""
     cdef Core *core = core_get(intIdx)
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
@@ -705,6 +807,8 @@ cdef public int32_t ToolChainCore_GetToolCorrection(uint32_t intIdx, uint32_t en
 
 cdef public int32_t ToolChainCore_SetToolCorrection(uint32_t intIdx, uint32_t entry, uint32_t programmed,
                                                     const double *values) noexcept nogil:
+    """SetToolCorrection: the values of one entry of the core's tool table, `programmed` the
+    mask of those given; checked, the reason through GetLastCallError."""
     cdef Core *core = core_get(intIdx)
     cdef ErrorInfo err
     if core == NULL:
@@ -718,7 +822,8 @@ cdef public int32_t ToolChainCore_SetToolCorrection(uint32_t intIdx, uint32_t en
 
 cdef public int32_t ToolChainCore_LoadAxisCorrections(uint32_t intIdx, uint32_t nFiles,
                                                       const TGM_LPCTSTR *fileNames) noexcept nogil:
-    # the names as UTF-8 (the first nine: a ninth is named in the error of too many)
+    """LoadAxisCorrections: the names converted from the host's text (one more than the tables
+    allowed, for the error of too many), then _load_axis_corrections."""
     cdef const char *names[AXIS_TABLES_MAX + 1]
     cdef char *owned[AXIS_TABLES_MAX + 1]
     cdef uint32_t n = nFiles if nFiles <= AXIS_TABLES_MAX + 1 else AXIS_TABLES_MAX + 1
@@ -735,6 +840,8 @@ cdef public int32_t ToolChainCore_LoadAxisCorrections(uint32_t intIdx, uint32_t 
 
 
 cdef int32_t _load_axis_corrections(uint32_t intIdx, uint32_t nFiles, const char *const *fileNames) noexcept nogil:
+    """LoadAxisCorrections on one core: the ACHS3D??.KOR files read without the lock, then they
+    replace the core's tables (a run keeps the ones it took, by their owner count)."""
     cdef Core *core = core_get(intIdx)
     cdef AxisCorrections *tables = NULL
     cdef ErrorInfo err
@@ -760,6 +867,8 @@ cdef int32_t _load_axis_corrections(uint32_t intIdx, uint32_t nFiles, const char
 
 
 cdef public int32_t ToolChainCore_CorrectPosition(uint32_t intIdx, const double *position, double *corrected) noexcept nogil:
+    """CorrectPosition: a position (ten finite coordinates) with the core's axis correction
+    tables applied."""
     cdef Core *core = core_get(intIdx)
     cdef AxisCorrections *tables
     if core == NULL:
@@ -773,6 +882,8 @@ cdef public int32_t ToolChainCore_CorrectPosition(uint32_t intIdx, const double 
 
 
 cdef public int32_t ToolChainCore_SetSmoothing(uint32_t intIdx, int32_t command, const double *params) noexcept nogil:
+    """SetSmoothing: the spline (Command -2) or IIR filter (-1) of the machine's output in the
+    vendor's units, checked."""
     cdef Core *core = core_get(intIdx)
     cdef ErrorInfo err
     if core == NULL:
@@ -785,6 +896,7 @@ cdef public int32_t ToolChainCore_SetSmoothing(uint32_t intIdx, int32_t command,
 
 
 cdef public int32_t ToolChainCore_GetSmoothing(uint32_t intIdx, int32_t command, double *params) noexcept nogil:
+    """GetSmoothing: the spline's two values (the rest 0) or the IIR filter's four."""
     cdef Core *core = core_get(intIdx)
     if core == NULL:
         return TOOL_CHAIN_BAD_INTR_INDEX
@@ -796,6 +908,9 @@ cdef public int32_t ToolChainCore_GetSmoothing(uint32_t intIdx, int32_t command,
 
 cdef public int32_t ToolChainCore_SmoothSamples(uint32_t intIdx, const double *samples, uint64_t nSamples,
                                                 double *out, uint64_t *settledFrom) noexcept nogil:
+    """SmoothSamples: the core's spline and IIR filter run over the host's samples (ten axes
+    each, one per 100 us step) into out (which may be samples); *settledFrom: the first sample
+    from which the output stays settled. -1 if a sample or an output is not finite."""
     cdef Core *core = core_get(intIdx)
     cdef SmoothingConfig config
     cdef Smoother smoother
@@ -810,7 +925,7 @@ cdef public int32_t ToolChainCore_SmoothSamples(uint32_t intIdx, const double *s
             return TOOL_CHAIN_ERROR
     if nSamples > 0:
         config_smoothing(core, &config)
-        if not smoother_init(&smoother, &config, STEP_US * 1e-6, samples):
+        if not smoother_init(&smoother, &config, STEP_US * SECONDS_PER_US, samples):
             tc_set_stage("the smoothing")
             err_out_of_memory(refusal(), -1, 0)
             core_fail(core, refusal())

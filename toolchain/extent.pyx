@@ -18,6 +18,7 @@ cdef inline void _widen(GCODE_SIZE *size, const double *point, int axes) noexcep
 
 
 cdef inline void _widen_axis(GCODE_SIZE *size, int k, double value) noexcept nogil:
+    """The size's minimum and maximum on axis k grown to take in value."""
     cdef double *lo = <double *>&size.m_minimalPos
     cdef double *hi = <double *>&size.m_maximalPos
     if value < lo[k]:
@@ -52,6 +53,7 @@ cdef void _widen_arc(GCODE_SIZE *size, const double *s, const double *e, const d
 
 
 cdef inline void _start_size(GCODE_SIZE *size, const double *start) noexcept nogil:
+    """A size that holds only the start: start, end, minimum and maximum all at it."""
     memcpy(&size.m_startPos, start, sizeof(P10DOUBLE))
     memcpy(&size.m_minimalPos, start, sizeof(P10DOUBLE))
     memcpy(&size.m_maximalPos, start, sizeof(P10DOUBLE))

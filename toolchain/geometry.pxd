@@ -20,11 +20,16 @@ cdef extern from *:
     #define TC_LENGTH_EPS 1e-9
     #define TC_ROUNDING_EPS 1e-12
     #define TC_CLOSED_EPS 1e-6
+    #define TC_MEET_EPS 1e-7
+    #define TC_ROOT_REL_EPS 1e-15
+    #define TC_SPEED2_REL_EPS 1e-9
+    #define TC_UNDERFLOW_EPS 1e-300
     #define TC_NO_LIMIT 1e12
     """
     # radians, or the sine of an angle: directions closer than this are one (the ends
     # of an arc that meet within it make a full turn; lines this near parallel do not
-    # cross); a unit vector's component this small is none
+    # cross; three points this near a line have no circle); a unit vector's component
+    # this small is none
     const double ANGLE_EPS "TC_ANGLE_EPS"
     # radians: an arc of the tool path that sweeps no more is no arc; a corner that
     # turns no more is tangent (G167 inserts no arc there)
@@ -37,6 +42,20 @@ cdef extern from *:
     const double ROUNDING_EPS "TC_ROUNDING_EPS"
     # mm: a contour whose last point comes this close to its first is closed
     const double CLOSED_EPS "TC_CLOSED_EPS"
+    # mm: two pieces of a compensated contour's regions that meet this close to an end
+    # of each touch there, they do not cross; the least slack of a joint (rounding
+    # moves tangent pieces' meets farther on large coordinates: regions.pyx)
+    const double MEET_EPS "TC_MEET_EPS"
+    # relative to 1 + |x| (radians): a Newton step or bracket of the nearest point on an
+    # arc this small has found the root to the last bits of a double
+    const double ROOT_REL_EPS "TC_ROOT_REL_EPS"
+    # relative to the squared entry speed: a squared exit speed less than this below the
+    # lowest that braking allows is rounding (the plan keeps floats), not a plan that
+    # brakes harder than the part can
+    const double SPEED2_REL_EPS "TC_SPEED2_REL_EPS"
+    # mm^4: a squared cross product this small is zero even where ANGLE_EPS^2 times the
+    # squared lengths underflows (lines of no length have no direction: no crossing)
+    const double UNDERFLOW_EPS "TC_UNDERFLOW_EPS"
     # mm/s^2: an acceleration of a motion class that is 0, or not below this, is no
     # limit, and stands for it (ramps instant in practice, the closed forms finite)
     const double NO_LIMIT "TC_NO_LIMIT"

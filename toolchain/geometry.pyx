@@ -378,6 +378,8 @@ cdef double _line_nearest(const Segment *g, uint32_t axes, const double *q) noex
 # pieces where f' is monotonic: each holds at most one minimum, where f' turns from
 # negative to positive; with the two ends they are every candidate.
 cdef inline double _arc_df(const ArcDistanceFn *f, double theta) noexcept nogil:
+    """f'(theta), the derivative of the squared distance to the arc at turn theta (the formula
+    above)."""
     cdef double chi = f.chi0 + f.sigma * theta
     cdef double d = 2.0 * (f.L2 * theta - f.b)
     if f.plane_axes == 2:
@@ -388,6 +390,7 @@ cdef inline double _arc_df(const ArcDistanceFn *f, double theta) noexcept nogil:
 
 
 cdef inline double _arc_ddf(const ArcDistanceFn *f, double theta) noexcept nogil:
+    """f''(theta), whose zeros split the arc into pieces where f' is monotonic."""
     cdef double t = cos(f.chi0 + f.sigma * theta)
     if f.plane_axes == 2:
         return 2.0 * (f.r * f.rho * t + f.L2)
@@ -432,7 +435,7 @@ cdef double _root(const ArcDistanceFn *f, double lo, double hi) noexcept nogil:
         step = x - fx / ddf if ddf > 0.0 else lo - 1.0
         if not (step > lo and step < hi):
             step = 0.5 * (lo + hi)
-        if fabs(step - x) <= 1e-15 * (1.0 + fabs(x)) or hi - lo <= 1e-15 * (1.0 + fabs(x)):
+        if fabs(step - x) <= ROOT_REL_EPS * (1.0 + fabs(x)) or hi - lo <= ROOT_REL_EPS * (1.0 + fabs(x)):
             return step
         x = step
     return x

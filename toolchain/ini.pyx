@@ -8,6 +8,7 @@ from libc.string cimport strchr
 
 
 cdef char *_ini_strip(char *s) noexcept nogil:
+    """s without its leading blanks and trailing blanks and CR (cut in place)."""
     cdef char *end
     while s[0] == b' ' or s[0] == b'\t':
         s += 1

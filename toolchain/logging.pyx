@@ -38,6 +38,7 @@ cdef void log_set_dir(const char *directory) noexcept nogil:
 
 
 cdef const char *log_file_path() noexcept nogil:
+    """Path of SF_TCh.log: in $SF_TCH_LOG_DIR, else in Init's directory, else in '.'."""
     cdef const char *d = getenv("SF_TCH_LOG_DIR")
     if d == NULL or d[0] == 0:
         d = g_log_dir
@@ -48,6 +49,7 @@ cdef const char *log_file_path() noexcept nogil:
 
 
 cdef void log_set_mask(uint32_t mask) noexcept nogil:
+    """The mask of what is logged; without LOG_TO_FILE the file is closed."""
     global g_log_file, g_log_mask
     pthread_mutex_lock(&g_log_lock)
     g_log_mask = mask
@@ -84,6 +86,8 @@ cdef void log_line(uint32_t source, const char *text) noexcept nogil:
 
 
 cdef void log_to_hook(uint32_t source, const char *text) noexcept nogil:
+    """A log line to the host's hook (if set) in its narrow text; a line the hook itself logs
+    does not reach it again."""
     global tc_in_log_hook
     cdef char *narrow
     if tc_in_log_hook:
@@ -114,6 +118,7 @@ cdef int32_t log_set_hook(intptr_t user, void *fn) noexcept nogil:
 
 
 cdef void log_flush() noexcept nogil:
+    """Writes out what the log file holds."""
     pthread_mutex_lock(&g_log_lock)
     if g_log_file != NULL:
         fflush(g_log_file)

@@ -8,6 +8,7 @@ from libc.math cimport isfinite
 from libc.stdlib cimport strtoll
 
 cdef inline bint _num_only_blanks(const char *s) noexcept nogil:
+    """Whether only blanks (space, tab) are left of s: a number's text must end there."""
     while s[0] == b' ' or s[0] == b'\t':
         s += 1
     return s[0] == 0

@@ -162,6 +162,8 @@ cdef bint check_gcode_parameters(const GCODE_PARAMETERS *p, ErrorInfo *err) noex
 
 cdef bint _axes_in_bounds(ErrorInfo *err, const char *field, const P10DOUBLE *values,
                           double lo, double hi) noexcept nogil:
+    """Whether every axis of a MACHINE_PARAMETERS field lies in [lo, hi]; else the error naming
+    MACHINE_PARAMETERS.field.axis and its value."""
     cdef const double *v = <const double *>values
     cdef const char *axes = "xyzcbuvwao"
     cdef char name[96]
@@ -209,6 +211,7 @@ cdef bint coordinates_finite(const double *values, uint32_t n) noexcept nogil:
 
 
 cdef bint strncasecmp_prefix(const char *s, const char *prefix) noexcept nogil:
+    """Whether s starts with prefix, ASCII case ignored."""
     cdef size_t i = 0
     while prefix[i] != 0:
         if s[i] == 0 or (s[i] | 0x20) != (prefix[i] | 0x20):

@@ -10,6 +10,8 @@ from libc.string cimport memcpy
 
 
 cdef void placement_init(Placement *pl, const Program *prog, const double *start) noexcept nogil:
+    """A run of prog placed at `start`: the delta from the compile's start on each axis, and
+    whether any is not 0."""
     cdef int k
     memcpy(pl.start, start, sizeof(pl.start))
     pl.moved = False
@@ -87,6 +89,7 @@ cdef void _size_union(GCODE_INFO *into, const GCODE_INFO *later) noexcept nogil:
 
 
 cdef void _size_shift(GCODE_INFO *info, const double *delta) noexcept nogil:
+    """Every position of the four extents of info moved by delta."""
     cdef int s, k
     for s in range(4):
         for k in range(AXES):

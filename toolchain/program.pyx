@@ -6,11 +6,13 @@ from includes.tgm_cnc cimport SIMPLE_GM_PARAMS, P10DOUBLE, P26FLOAT
 
 
 cdef void program_init(Program *prog) noexcept nogil:
+    """An empty program: no parts, no arrays, the main file unknown (-1)."""
     memset(prog, 0, sizeof(Program))
     prog.main_file_idx = -1
 
 
 cdef void program_free(Program *prog) noexcept nogil:
+    """Frees every array of the program and leaves it empty (program_init)."""
     free(prog.parts)
     free(prog.extras)
     free(prog.settings)
@@ -30,6 +32,7 @@ cdef void program_free(Program *prog) noexcept nogil:
 
 
 cdef void program_builder_init(ProgramBuilder *build) noexcept nogil:
+    """An empty builder: no capacity yet, an empty program."""
     memset(build, 0, sizeof(ProgramBuilder))
     program_init(&build.prog)
 
@@ -59,12 +62,16 @@ cdef void program_builder_trim(ProgramBuilder *build) noexcept nogil:
 
 
 cdef inline void _part_defaults(Part *p) noexcept nogil:
+    """A new part's fields: zeros (settings record 0, the defaults), plane G17, no compensation
+    (G40)."""
     memset(p, 0, sizeof(Part))      # settings 0: the defaults
     p.plane = 17
     p.comp = 40
 
 
 cdef inline uint32_t _settings_hash(const PartSettings *s) noexcept nogil:
+    """FNV-1a over a PartSettings' words, folded to a slot of settings_seen
+    (program_settings_index finds a recent record again by it)."""
     cdef const uint32_t *w = <const uint32_t *>s
     cdef uint32_t h = 2166136261u
     cdef int k
@@ -474,6 +481,7 @@ cdef const double *part_shift(const Program *prog, const Part *p) noexcept nogil
 
 
 cdef inline void _p10(P10DOUBLE *dst, const double *src) noexcept nogil:
+    """Ten axes (a double[10]) into a P10DOUBLE of the ABI."""
     memcpy(dst, src, sizeof(P10DOUBLE))
 
 

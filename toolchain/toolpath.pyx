@@ -17,6 +17,8 @@ cdef LoadedProgram *toolpath_acquire(Core *core, Placement *placement) noexcept 
 
 
 cdef inline uint32_t _record_flags(const Part *p) noexcept nogil:
+    """The TC_TOOLPATH_* flags of a part's record (per minute, inserted, continuous M,
+    helix)."""
     cdef uint32_t flags = 0
     if p.flags & FLAG_FEED_PER_MIN:
         flags |= TC_TOOLPATH_FEED_PER_MINUTE

@@ -15,7 +15,13 @@ first. This script reads that include tree the way Cython does (the .pxd, then t
   (e) a name only some files may use (RESTRICTED) used elsewhere: an error is recorded
       by its generated constructor, never by record_error with hand-filled arguments;
   (f) `core.<field>` of a Core field (core.pxd) in a stage its group's "owners:" line
-      does not name: the face says who owns each field, the others call its owners.
+      does not name: the face says who owns each field, the others call its owners;
+  (g) a function of a .pyx (a cdef, cpdef or def at column 0 with a body) without a
+      docstring: the .pyx keeps what each function does, the face only a line;
+  (h) a literal tolerance: a number with a negative exponent (1e-9) in code outside
+      the tolerances' face (TOLERANCES): a tolerance is named there, with its unit and
+      what it guards; a stage's own constant (a unit, a limit of its own) is named in
+      its stage's block. C text (a `cdef extern from *` block's #defines) is not code.
 
 Plain Python, no dependencies; it reads the sources as text, not as Cython does:
 top-level definitions start at column 0, a function's parameters and its cdef/for/
@@ -35,6 +41,10 @@ INCLUDE = re.compile(r'^\s*include\s+"([^"]+)"')
 TYPE_BLOCK = re.compile(r"^(?:cdef|ctypedef)\s+(?:packed\s+)?(struct|union|enum)\b\s*(\w*)")
 FUNC_POINTER = re.compile(r"\(\s*\*\s*(\w+)\s*\)")
 # name -> the files that may use it, and why
+# the face where the tolerances are named, with their units and reasons
+TOLERANCES = "geometry.pxd"
+# a number with a negative exponent: 1e-9, 2.5E-7, .5e-3
+TOLERANCE_LITERAL = re.compile(r"(?<![\w.])(?:\d+\.?\d*|\.\d+)[eE]-\d+(?!\w)")
 RESTRICTED = {
     "record_error": ({"errors.pyx", "errors.pxd", "catalogue.pxi"},
                      "record an error with its generated constructor (err_...), whose arguments Cython checks"),
@@ -153,6 +163,8 @@ class Source:
         self.types = []         # (line, name) of struct/union/enum/ctypedef
         self.uses = {}          # name -> [lines]
         self.includes = []      # (line, relative path)
+        self.undocumented = []  # (line, name) of functions whose body opens with no docstring
+        self.tolerances = []    # (line, literal) of numbers with a negative exponent in code
         for number, line in enumerate(self.raw, 1):
             m = INCLUDE.match(line)
             if m:
@@ -173,9 +185,18 @@ class Source:
 
     def _parse(self):
         block = None            # (kind, locals) of the top-level statement being read
-        for line, indent, text in logical_lines(strip_code("\n".join(self.raw))):
+        opening = None          # (line, name) of a function whose body has not begun yet
+        code = strip_code("\n".join(self.raw))
+        for number, text in enumerate(code, 1):
+            self.tolerances += [(number, m.group(0)) for m in TOLERANCE_LITERAL.finditer(text)]
+        for line, indent, text in logical_lines(code):
+            if opening is not None and (indent == 0 or text != '""'):
+                self.undocumented.append(opening)       # its first statement is no string
+            opening = None
             if indent == 0:
                 block = self._top(line, text)
+                if block and block[0] == "func":
+                    opening = block[2]
                 continue
             kind = block[0] if block else None
             if kind == "func":
@@ -239,7 +260,7 @@ class Source:
             self._define(name, line, ("inline" if inline else "func") if body else "declaration")
             self._use(rest[:paren], line, hidden={name})
             self._use(rest[paren:], line, hidden=params)
-            return ("func", params) if body else None
+            return ("func", params, (line, name)) if body else None
         names = declarator_names(rest)
         for name in names:
             self._define(name, line, "value")
@@ -400,6 +421,14 @@ def check(toolchain: Path, root: str = "libSF_TCh.pyx") -> list:
         for name, lines in src.uses.items():
             if name in RESTRICTED and src.rel not in RESTRICTED[name][0]:
                 problems.append((src.rel, lines[0], f"{name} used here: {RESTRICTED[name][1]}"))
+        if src.rel != TOLERANCES:
+            for line, literal in src.tolerances:
+                problems.append((src.rel, line, f"literal {literal}: name it (a tolerance in {TOLERANCES}, with "
+                                 "its unit and what it guards; a stage's own constant in its stage's block)"))
+        if src.rel.endswith(".pyx"):
+            for line, name in src.undocumented:
+                problems.append((src.rel, line, f"{name} has no docstring: say what it does (and why, "
+                                 "where it is not plain) in a line under its signature"))
         for name, lines in src.uses.items():
             if private(name) and name in definer and definer[name] is not src and name not in src.defines:
                 problems.append((src.rel, lines[0], f"private {name} of {definer[name].rel} used here: "

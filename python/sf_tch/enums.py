@@ -1,11 +1,30 @@
 """The numbers of the C ABI as :class:`enum.IntEnum` (they compare equal to the plain
 ints the library returns): statuses, run regimes, callbacks, return codes, error
-numbers, part kinds, G and M functions, planes, compensation sides. Status and
-ErrorNumber are generated (tools/gen_catalogue.py) from the header and the error
-catalogue, toolchain/errors.toml."""
+numbers, part kinds, G and M functions, planes, compensation sides. Status is built
+from abi's STATUS_ ints, ErrorNumber generated from the error catalogue
+(toolchain/errors.toml); both by tools/gen_catalogue.py, the statuses from the header's
+enum cnc_status."""
 import enum
 
-from ._catalogue import ErrorNumber, Status  # noqa: F401 (re-exported)
+from . import abi
+from ._catalogue import ErrorNumber  # noqa: F401 (re-exported)
+
+
+class _StatusBase(enum.IntEnum):
+    """What every status has besides its value (Status's base: an IntEnum without members)."""
+
+    @property
+    def busy(self) -> bool:
+        """True while the core works (compiles, runs, moves)."""
+        return self > 0
+
+
+# the one list of the statuses in Python is abi.py's block of STATUS_<name> ints (abi
+# needs nothing but ctypes, so it cannot import this): Status names them without STATUS_
+Status = _StatusBase("Status", [(name[len("STATUS_"):], value) for name, value in vars(abi).items()
+                                if name.startswith("STATUS_") and isinstance(value, int)],
+                     module=__name__, qualname="Status")
+Status.__doc__ = "cnc_status of a core (ToolChainCore_StatusCNC); positive: something runs."
 
 
 class ReturnCode(enum.IntEnum):

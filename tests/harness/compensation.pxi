@@ -6,6 +6,19 @@
 cdef double _compensate_seconds = 0.0
 
 
+cdef int compensate_program(ProgramBuilder *build, const GCODE_PARAMETERS *params, ErrorInfo *err,
+                            output_fn output, warn_fn warn, void *ctx) noexcept nogil:
+    """The compensation's whole pass on a complete program in the caller's thread (the
+    core feeds it beside the compiler instead, pipeline.pyx): Part.ce, PartExtra.radius
+    and the inserted parts of every part with comp 41/42; COMPILE_OK or COMPILE_ERROR
+    with err filled. Test-only: the library has no caller for it."""
+    cdef CompState S
+    cdef size_t more
+    compensate_begin(&S, build, params, err, output, warn, ctx)
+    compensate_feed(&S, build.prog.n_parts, True, &more)
+    return compensate_end(&S, NULL)
+
+
 def last_seconds():
     """Wall time of the last compensate_program call."""
     return _compensate_seconds

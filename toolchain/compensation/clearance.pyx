@@ -164,6 +164,7 @@ cdef double _cl_piece_gap(const XPiece *t, const XPiece *g, double stop) noexcep
 
 
 cdef inline void cl_box_empty(double *b) noexcept nogil:
+    """A box (x0, y0, x1, y1) that covers nothing: any union makes it the other box."""
     b[0] = 1e300; b[1] = 1e300; b[2] = -1e300; b[3] = -1e300
 
 
@@ -570,6 +571,8 @@ cdef inline int64_t _cl_queue(Clearance *C, const XPiece *own, size_t skip_a, si
 
 
 cdef inline void _cl_line(XPiece *t, const double *a, const double *b, size_t part) noexcept nogil:
+    """t becomes a line piece of part `part` from a to b, its geometry (box, length)
+    computed."""
     t.kind = EL_LINE
     t.s[0] = a[0]; t.s[1] = a[1]
     t.e[0] = b[0]; t.e[1] = b[1]
@@ -1011,6 +1014,7 @@ cdef bint cl_check_chain(CompState *S, size_t first, size_t last, size_t ins0, b
 
 
 cdef void cl_free(Clearance *C) noexcept nogil:
+    """Frees the gouge check's arrays and leaves them NULL."""
     free(C.el)
     free(C.off)
     free(C.cand)

@@ -88,6 +88,9 @@ cdef bint _flush(CompState *S, size_t keep) noexcept nogil:
 
 
 cdef bint _push(CompState *S, const CompEl *el) noexcept nogil:
+    """One more open element on the stack; past about four times the search depth, all but the
+    last depth + 1 are written (they can no longer change) and a chain's path before them is
+    checked for gouges at once. False when memory is exhausted or the check fails."""
     if not grow(<void **>&S.st, &S.cap_st, S.n_st + 1, sizeof(CompEl)):
         return False
     S.st[S.n_st] = el[0]
@@ -101,13 +104,16 @@ cdef bint _push(CompState *S, const CompEl *el) noexcept nogil:
 
 
 cdef inline bint _can_pop(const CompState *S, const CompEl *a) noexcept nogil:
-    # the first element of a chain is removable only with 0x10000 and a perpendicular entry
+    """Whether a crossing may remove element a: the first of a chain only with
+    CORR_ALLOW_FIRST_LAST_CROSS (0x10000) and a perpendicular entry (its start not fixed)."""
     if a.first:
         return (S.cfg.strategy & CORR_ALLOW_FIRST_LAST_CROSS) != 0 and not a.fixed_start
     return True
 
 
 cdef void _start_chain(CompState *S, CompEl *b) noexcept nogil:
+    """Element b opens a chain: its tool path starts at its offset point, or where it was
+    programmed when the entry is fixed (a ramp, strategy 1, G0)."""
     b.first = True
     b.fixed_start = S.next_fixed
     if b.fixed_start:
@@ -190,7 +196,7 @@ cdef void _chain_close_corner(CompState *S) noexcept nogil:
     a = &S.st[S.n_st - 1]
     b = &S.st[0]
     if not b.first or b.fixed_start or a.d != b.d or a.ins != INS_NONE \
-            or distance2d(a.e[0] - b.s[0], a.e[1] - b.s[1]) > 1e-9:
+            or distance2d(a.e[0] - b.s[0], a.e[1] - b.s[1]) > LENGTH_EPS:
         return
     el_tangent(a, True, ta)
     el_tangent(b, False, tb)
@@ -595,10 +601,14 @@ cdef inline size_t _next_follow(const CompState *S, size_t k, size_t n) noexcept
 
 
 cdef size_t _ins_after(void *ctx, size_t rec) noexcept nogil:
+    """program_merge's inserted_after_fn: the part insertion rec follows."""
     return (<CompState *>ctx).ins[rec].after
 
 
 cdef void _ins_make(void *ctx, size_t rec, Part *out, const Part *before, const Part *after) noexcept nogil:
+    """program_merge's make_inserted_fn: insertion rec's part (an arc round its corner or a
+    line of the tool path), with the line, feed and compensation of the part before it or, by
+    src_next, after it."""
     cdef CompState *S = <CompState *>ctx
     cdef const InsRec *r = &S.ins[rec]
     _inserted_part(S.build, out, before, after if r.src_next else before, r, S.params)
@@ -755,6 +765,8 @@ cdef int compensate_end(CompState *S, const MergeWatch *watch) noexcept nogil:
 
 
 cdef void compensate_free(CompState *S) noexcept nogil:
+    """Frees the pass's state (crossings, clearance, regions, its arrays); safe to call
+    twice."""
     cross_free(&S.xs)
     cl_free(&S.cl)
     regions_free(&S.rg)
@@ -765,14 +777,3 @@ cdef void compensate_free(CompState *S) noexcept nogil:
     S.st = NULL
     S.ins = NULL
 
-
-cdef int compensate_program(ProgramBuilder *build, const GCODE_PARAMETERS *params, ErrorInfo *err,
-                            output_fn output, warn_fn warn, void *ctx) noexcept nogil:
-    """The whole pass on a complete program in the caller's thread: Part.ce,
-    PartExtra.radius and the inserted parts of every part with comp 41/42; COMPILE_OK or
-    COMPILE_ERROR with err filled."""
-    cdef CompState S
-    cdef size_t more
-    compensate_begin(&S, build, params, err, output, warn, ctx)
-    compensate_feed(&S, build.prog.n_parts, True, &more)
-    return compensate_end(&S, NULL)

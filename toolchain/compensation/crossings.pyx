@@ -32,10 +32,12 @@ cdef extern from *:
 
 
 cdef inline bint box_hit(const double *a, const double *b, double t) noexcept nogil:
+    """Whether boxes a and b (x0, y0, x1, y1) overlap or come within t of each other."""
     return a[0] <= b[2] + t and b[0] <= a[2] + t and a[1] <= b[3] + t and b[1] <= a[3] + t
 
 
 cdef inline void box_union(double *a, const double *b) noexcept nogil:
+    """Box a grown to cover box b too."""
     if b[0] < a[0]: a[0] = b[0]
     if b[1] < a[1]: a[1] = b[1]
     if b[2] > a[2]: a[2] = b[2]
@@ -101,7 +103,7 @@ cdef int x_meet(const XPiece *p, const XPiece *q, double slack, double *pts) noe
         dx = p.e[0] - p.s[0]; dy = p.e[1] - p.s[1]
         ex = q.e[0] - q.s[0]; ey = q.e[1] - q.s[1]
         den = dx * ey - dy * ex
-        if den * den <= ANGLE_EPS * ANGLE_EPS * (dx * dx + dy * dy) * (ex * ex + ey * ey) + 1e-300:
+        if den * den <= ANGLE_EPS * ANGLE_EPS * (dx * dx + dy * dy) * (ex * ex + ey * ey) + UNDERFLOW_EPS:
             return 0
         # both ends of one on the same side of the other: no crossing
         t = (q.s[0] - p.s[0]) * dy - (q.s[1] - p.s[1]) * dx
@@ -124,6 +126,7 @@ cdef int x_meet(const XPiece *p, const XPiece *q, double slack, double *pts) noe
 
 
 cdef inline bint x_near(const double *a, double x, double y, double slack) noexcept nogil:
+    """Whether point a lies within `slack` of (x, y) (squared distances: no root)."""
     return (a[0] - x) * (a[0] - x) + (a[1] - y) * (a[1] - y) < slack * slack
 
 
@@ -236,6 +239,10 @@ cdef void _x_regroup(XState *X, size_t upto) noexcept nogil:
 
 
 cdef bint _x_add(XState *X, const XPiece *q, size_t depth) noexcept nogil:
+    """A final piece into the search: the window drops pieces more than `depth` parts back (a
+    provisional join among them: ERR_COMP_NOT_FOUND, the loop round it lies farther back), the
+    arrays grow or shift, and the group boxes take its box. False when memory is exhausted or
+    with X.err_* set."""
     cdef size_t cap, shift, j, size
     cdef double *g
     cdef int lev
@@ -284,6 +291,7 @@ cdef bint _x_add(XState *X, const XPiece *q, size_t depth) noexcept nogil:
 
 
 cdef void cross_free(XState *X) noexcept nogil:
+    """Frees the search's pieces, group boxes and provisional joins."""
     free(X.prov)
     cdef int lev
     free(X.pc)

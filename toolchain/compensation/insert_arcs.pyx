@@ -186,10 +186,12 @@ cdef void _ia_set(Part *q, int a, int b, double va, double vb) noexcept nogil:
 
 
 cdef size_t _ia_after(void *ctx, size_t rec) noexcept nogil:
+    """program_merge's inserted_after_fn: the part insertion rec follows."""
     return (<ArcInsertions *>ctx).items[rec].after
 
 
 cdef void _ia_make(void *ctx, size_t rec, Part *out, const Part *before, const Part *after) noexcept nogil:
+    """program_merge's make_inserted_fn: G167's arc between the two lines of insertion rec."""
     cdef ArcInsertions *arcs = <ArcInsertions *>ctx
     _ia_part(arcs.build, out, before, after, &arcs.items[rec])
 

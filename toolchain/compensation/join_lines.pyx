@@ -63,6 +63,8 @@ cdef inline bint _joinable_kind(const Program *prog, const Part *p) noexcept nog
 
 
 cdef inline bint _same_cut(const Program *prog, const Part *a, const Part *b) noexcept nogil:
+    """Whether parts a and b cut alike (flags, compensation, radius, plane, axes and settings):
+    only then may they join into one line."""
     return (a.flags == b.flags and a.comp == b.comp and a.comp_slot == b.comp_slot
             and a.radius_idx == b.radius_idx and a.plane == b.plane and a.axes_idx == b.axes_idx
             and (a.settings == b.settings or settings_equal(part_settings(prog, a), part_settings(prog, b))))

@@ -75,7 +75,7 @@ cdef void el_tangent(const CompEl *el, bint at_end, double *t) noexcept nogil:
 
 
 cdef inline void _pick(const double *pts, const double *ref, double *out) noexcept nogil:
-    # of two roots, the one nearer the reference point
+    """Of two crossings (pts[0..1], pts[2..3]), the one nearer ref into out."""
     cdef int k = 0 if distance2d(pts[0] - ref[0], pts[1] - ref[1]) <= distance2d(pts[2] - ref[0], pts[3] - ref[1]) else 2
     out[0] = pts[k]; out[1] = pts[k + 1]
 

@@ -78,6 +78,9 @@ cdef double comp_distance(const CompState *S, const Part *p) noexcept nogil:
 
 
 cdef bint ins_add(CompState *S, const CompEl *el) noexcept nogil:
+    """Records el's corner insertion (el.ins: a line or an arc round the programmed corner el.e,
+    to el.ins_end) as a part after el's part, with el's attributes; False when memory is
+    exhausted."""
     cdef InsRec *rec
     if S.n_ins == S.cap_ins:
         if not grow(<void **>&S.ins, &S.cap_ins, S.n_ins + 1, sizeof(InsRec)):

@@ -31,6 +31,7 @@ from libc.float cimport DBL_EPSILON
 
 
 cdef int _r_split_cmp(const void *a, const void *b) noexcept nogil:
+    """qsort's order of the split points: by piece, then by position along it."""
     cdef const RSplit *x = <const RSplit *>a
     cdef const RSplit *y = <const RSplit *>b
     if x.piece != y.piece:
@@ -41,6 +42,7 @@ cdef int _r_split_cmp(const void *a, const void *b) noexcept nogil:
 
 
 cdef inline double _r_len(const XPiece *q) noexcept nogil:
+    """Length of a piece: a line's, or an arc's sweep times its radius."""
     if q.kind == EL_LINE:
         return distance2d(q.e[0] - q.s[0], q.e[1] - q.s[1])
     return q.sweep * q.r
@@ -61,13 +63,15 @@ cdef void _r_point(const XPiece *q, double t, double *out) noexcept nogil:
 
 
 cdef void regions_free(Regions *R) noexcept nogil:
+    """Frees every array of the regions and leaves them empty."""
     free(R.els); free(R.pc); free(R.pel); free(R.pconn); free(R.pn0); free(R.pn1); free(R.sp)
     free(R.sub); free(R.alias); free(R.out_start); free(R.out_list); free(R.loop); free(R.g1)
     memset(R, 0, sizeof(Regions))
 
 
 cdef bint _r_piece_room(Regions *R, size_t need) noexcept nogil:
-    # the five arrays grow alike from the same capacity
+    """Room for `need` pieces in the five arrays that grow alike (the pieces, their elements,
+    kinds and two nodes). False when memory is exhausted."""
     cdef size_t c1 = R.cap_pc, c2 = R.cap_pc, c3 = R.cap_pc, c4 = R.cap_pc, c5 = R.cap_pc
     if not grow(<void **>&R.pc, &c1, need, sizeof(XPiece)) or \
             not grow(<void **>&R.pel, &c2, need, sizeof(size_t)) or \
@@ -80,12 +84,16 @@ cdef bint _r_piece_room(Regions *R, size_t need) noexcept nogil:
 
 
 cdef size_t _r_node(const Regions *R, size_t v) noexcept nogil:
+    """The node v stands for: the end of its chain of aliases (nodes merged where pieces
+    meet)."""
     while R.alias[v] != v:
         v = R.alias[v]
     return v
 
 
 cdef XPiece *_r_new_piece(Regions *R, size_t el, int ptype, size_t n0, size_t n1) noexcept nogil:
+    """A new zeroed piece of element el, of kind ptype, from node n0 to node n1; NULL when
+    memory is exhausted."""
     cdef XPiece *q
     if not _r_piece_room(R, R.n_pc + 1):
         return NULL
@@ -218,6 +226,8 @@ cdef bint _r_raw_curve(Regions *R, double d) noexcept nogil:
 
 
 cdef bint _r_add_split(Regions *R, size_t piece, double pos, double x, double y, size_t node) noexcept nogil:
+    """A split of `piece` at `pos` along it, the point (x, y) and its node; False when memory is
+    exhausted."""
     cdef RSplit *s
     if not grow(<void **>&R.sp, &R.cap_sp, R.n_sp + 1, sizeof(RSplit)):
         return False
@@ -235,7 +245,7 @@ cdef double _r_end_slack(const Regions *R, double r) noexcept nogil:
     there: rounding the coordinates by delta (a few eps times the chain's largest
     coordinate m) moves their meets up to sqrt(2 r delta) from the joint; r = 0.15 mm
     1500 mm from the origin: about 3e-7 mm. The slack is 16 sqrt(r m eps), at least
-    1e-7 mm."""
+    MEET_EPS."""
     cdef size_t j
     cdef double m = 1.0
     cdef const CompEl *el
@@ -244,7 +254,7 @@ cdef double _r_end_slack(const Regions *R, double r) noexcept nogil:
         m = fmax(m, fmax(fmax(fabs(el.s[0]), fabs(el.s[1])), fmax(fabs(el.e[0]), fabs(el.e[1]))))
         if el.kind == EL_ARC:
             m = fmax(m, fmax(fabs(el.c[0]), fabs(el.c[1])))
-    return fmax(1e-7, 16.0 * sqrt(r * m * DBL_EPSILON))
+    return fmax(MEET_EPS, 16.0 * sqrt(r * m * DBL_EPSILON))
 
 
 cdef bint _r_touch(const Regions *R, size_t i, size_t k, double x, double y) noexcept nogil:
@@ -253,8 +263,8 @@ cdef bint _r_touch(const Regions *R, size_t i, size_t k, double x, double y) noe
     near the ends of pieces that share no node is a crossing."""
     cdef const XPiece *a = &R.pc[i]
     cdef const XPiece *b = &R.pc[k]
-    if (x_near(a.s, x, y, 1e-7) or x_near(a.e, x, y, 1e-7)) and \
-            (x_near(b.s, x, y, 1e-7) or x_near(b.e, x, y, 1e-7)):
+    if (x_near(a.s, x, y, MEET_EPS) or x_near(a.e, x, y, MEET_EPS)) and \
+            (x_near(b.s, x, y, MEET_EPS) or x_near(b.e, x, y, MEET_EPS)):
         return True
     if (R.pn0[i] == R.pn0[k] or R.pn0[i] == R.pn1[k]) and x_near(a.s, x, y, R.end_slack):
         return True
@@ -484,6 +494,8 @@ cdef bint _r_chain_elements(CompState *S, Regions *R, double *d) noexcept nogil:
 
 
 cdef double _r_contour_area(const Regions *R) noexcept nogil:
+    """Twice the signed area the contour's elements enclose (shoelace over the chords, plus each
+    arc's segment): its sign is the contour's turn."""
     cdef size_t j
     cdef double a = 0.0, al
     cdef const CompEl *el

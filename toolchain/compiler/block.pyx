@@ -96,6 +96,8 @@ cdef int cp_g168(CState *st, const LineWords *lw) noexcept nogil:
 
 
 cdef void _feed_set(CState *st, const LineWords *lw, int k) noexcept nogil:
+    """G900 S20/30/31/32/41/50: motion class k's feed (F), acceleration (C), deceleration (D)
+    and ramp type (R), those the line gives."""
     if has(lw, b'F'): st.params.motion[k].feed = val(lw, b'F')
     if has(lw, b'C'): st.params.motion[k].acc = val(lw, b'C')
     if has(lw, b'D'): st.params.motion[k].dec = val(lw, b'D')
@@ -103,6 +105,8 @@ cdef void _feed_set(CState *st, const LineWords *lw, int k) noexcept nogil:
 
 
 cdef uint32_t _axis_flags(const LineWords *lw) noexcept nogil:
+    """The mask of the axes whose address on the line is not 0 (G900 S10 / S11: the axes the
+    angle and feed rules ignore)."""
     cdef uint32_t m = 0
     cdef int a, bit
     for a in range(AXES):
@@ -171,6 +175,7 @@ cdef bint cp_plan_region(CState *st) noexcept nogil:
 
 
 cdef bint _is_m(const GCODE_PARAMETERS *pr, int m, int32_t number) noexcept nogil:
+    """Whether M function m is the one a parameter assigns a role (number 0: none assigned)."""
     return number != 0 and m == number
 
 
@@ -414,6 +419,7 @@ cdef int _x_shift(CState *st, const LineWords *lw, const Block *b) noexcept nogi
 
 
 cdef bint _is_cycle(int motion) noexcept nogil:
+    """Whether a motion is a canned cycle (G73, G74, G81..G89)."""
     return motion == 73 or motion == 74 or (motion >= 81 and motion <= 89)
 
 

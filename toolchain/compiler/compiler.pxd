@@ -284,6 +284,14 @@ ctypedef struct CState:
 cdef enum:
     EXPR_DEPTH = 64     # nesting of brackets/functions (stack safety on garbage input)
 
+# ---- flow.pyx: the forward scan of skipped lines (fl_scan), shared with ngc_flow.pyx
+# a line's answer to a scan: 0 read on, else the scan stops at that line with it
+ctypedef int (*line_test_fn)(void *ctx, const char *p, const char *eol) noexcept nogil
+
+ctypedef struct BlockSkip:      # fl_skip's scan: the blocks still open
+    int depth                   # an END closes one, a FOR / WHILE / IF ... THEN opens one
+    bint stop_at_else           # an ELSE at depth 1 ends the scan too
+
 # ---- emit.pyx
 cdef enum:
     # X Y Z C B U V W A O as letter bits
@@ -337,6 +345,10 @@ cdef enum:
     OW_ENDREPEAT = 13
     OW_BREAK = 14
     OW_CONTINUE = 15
+
+ctypedef struct LabelScan:      # ow_scan's: the statements of one O label it looks for
+    const NgcLabel *label
+    uint32_t kinds              # the keywords' bits (kw_bit)
 
 # ---- ngc_spline.pyx
 cdef enum:

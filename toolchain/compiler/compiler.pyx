@@ -82,6 +82,8 @@ cdef int cp_line(CState *st, const char *p, const char *eol) noexcept nogil:
 # ------------------------------------------------------------- the run loop
 
 cdef uint32_t count_lines(const char *text, size_t n) noexcept nogil:
+    """Lines in text[0, n): a last line without a line break counts; 0 for no text (text may
+    then be NULL)."""
     cdef const char *p = text
     cdef const char *end
     cdef const char *q
@@ -99,6 +101,8 @@ cdef uint32_t count_lines(const char *text, size_t n) noexcept nogil:
 
 
 cdef inline bint _percent_line(const char *p, const char *eol) noexcept nogil:
+    """Whether the line at p starts, after blanks, with '%' (the ISO mode's program
+    delimiter)."""
     p = lx_skip_ws(p, eol)
     return p < eol and p[0] == b'%'
 
@@ -221,6 +225,9 @@ cdef int cp_run_lines(CState *st, Unit *u, bint main, size_t pos) noexcept nogil
 
 
 cdef void cp_init(CState *st, const CompileInput *inp, ProgramBuilder *build, ErrorInfo *err) noexcept nogil:
+    """The compiler's state at the start of a compilation: the input's parameters, P values and
+    start position, the modal defaults (G17, G1, G40, per minute; in the ISO mode LinuxCNC's G80
+    and its state), the host's arc feed table."""
     cdef int a
     st.inp = inp
     st.build = build

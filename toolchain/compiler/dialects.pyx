@@ -37,6 +37,8 @@ cdef const char *iso_g_hint(double gv) noexcept nogil:
 
 
 cdef int cp_unknown_g(CState *st, double gv, int col) noexcept nogil:
+    """A G function TG does not have: where ISO has it, the error says what TG expects instead;
+    else the plain unknown-G error."""
     cdef const char *hint = iso_g_hint(gv)
     if hint == NULL:
         return err_bad_g(st.err, st.unit.file_idx, st.line, gv, col)

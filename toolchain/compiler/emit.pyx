@@ -159,10 +159,13 @@ cdef int em_css(CState *st, Part *p, double x_start, double x_end) noexcept nogi
 
 
 cdef inline bint has(const LineWords *lw, char letter) noexcept nogil:
+    """Whether the line has the address `letter`."""
     return (lw.mask >> (<int>letter - 65)) & 1
 
 
 cdef inline double val(const LineWords *lw, char letter) noexcept nogil:
+    """The value of address `letter` on the line (meaningful only where `has` says it is
+    there)."""
     return lw.v[<int>letter - 65]
 
 
@@ -413,6 +416,8 @@ cdef int em_dwell_seconds(CState *st, double seconds) noexcept nogil:
 
 
 cdef int em_mfunc(CState *st, const LineWords *lw, int m, bint continuous) noexcept nogil:
+    """An M function part (continuous: FLAG_CONTINUOUS_M, it does not stop the motion) with the
+    line's addresses."""
     cdef Part *p = em_part(st, PART_MFUNC, m, st.mpos)
     if p == NULL:
         return R_ERR
@@ -422,6 +427,7 @@ cdef int em_mfunc(CState *st, const LineWords *lw, int m, bint continuous) noexc
 
 
 cdef int em_print(CState *st, const LineWords *lw, int m, const char *text, int n) noexcept nogil:
+    """A PRINT part: its text kept in the program's texts, with the line's addresses."""
     cdef int64_t off = program_add_text(st.build, text, <size_t>n)
     cdef Part *p
     if off < 0:

@@ -137,6 +137,9 @@ cdef int ex_param_index(CState *st, const char **pp, const char *eol) noexcept n
 
 
 cdef int ex_primary(CState *st, const char **pp, const char *eol, double *out, int depth) noexcept nogil:
+    """A number, a ( ) bracket, a parameter Pnn or a function call name(a, b); errors for what
+    is none of them, unbalanced brackets, a number out of range, a result that is not finite, or
+    nesting past EXPR_DEPTH."""
     cdef const char *p = lx_skip_ws(pp[0], eol)
     cdef const char *name
     cdef const char *number_start
@@ -231,6 +234,8 @@ cdef int ex_unary(CState *st, const char **pp, const char *eol, double *out, int
 
 
 cdef int ex_power(CState *st, const char **pp, const char *eol, double *out, int depth) noexcept nogil:
+    """a ^ b (right-associative through ex_unary: 2^-1 = 0.5); error when the result is not
+    finite."""
     cdef const char *p
     cdef double rhs
     if ex_primary(st, pp, eol, out, depth) != 0:
@@ -249,6 +254,8 @@ cdef int ex_power(CState *st, const char **pp, const char *eol, double *out, int
 
 
 cdef int ex_product(CState *st, const char **pp, const char *eol, double *out, int depth) noexcept nogil:
+    """Products: *, / and % left to right; division by zero and a result that is not finite are
+    errors ('//' starts a comment, not an operator)."""
     cdef const char *p
     cdef const char *start = lx_skip_ws(pp[0], eol)
     cdef double rhs
@@ -278,6 +285,7 @@ cdef int ex_product(CState *st, const char **pp, const char *eol, double *out, i
 
 
 cdef int ex_sum(CState *st, const char **pp, const char *eol, double *out, int depth) noexcept nogil:
+    """Sums: + and - left to right over products; a result that is not finite is an error."""
     cdef const char *p
     cdef const char *start = lx_skip_ws(pp[0], eol)
     cdef double rhs

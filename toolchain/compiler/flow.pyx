@@ -33,39 +33,62 @@ cdef int fl_line_kind(const char *p, const char *eol) noexcept nogil:
     return 0
 
 
-cdef int fl_skip(CState *st, int depth, bint stop_at_else, const char *what, int *found) noexcept nogil:
-    """Scans from the next line to the END closing `depth` open blocks (or an ELSE
-    at depth 1). st.jpos/jline: the line after it; st.cur_pos/line of the END/ELSE
-    itself in st.skip_pos/skip_line. found: 2 ELSE, 3 END."""
+cdef bint fl_scan(CState *st, size_t pos, uint32_t line, line_test_fn test, void *ctx,
+                  int *found) noexcept nogil:
+    """The lines of the unit from `pos` (numbered from `line`) on, up to the first one
+    `test` answers (not 0): found = its answer, st.skip_pos / skip_line that line,
+    st.jpos / jline the line after it. False when the text ends first (nothing
+    recorded). The one forward scan of skipped lines: a block's END or ELSE
+    (fl_skip), an O label's statement (ngc_flow.pyx ow_scan)."""
     cdef Unit *u = st.unit
-    cdef size_t pos = st.next_pos
-    cdef uint32_t line = st.next_line
     cdef const char *eol
     cdef int kind
     while pos < u.len:
         eol = <const char *>memchr(u.text + pos, b'\n', u.len - pos)
         if eol == NULL:
             eol = u.text + u.len
-        kind = fl_line_kind(u.text + pos, eol)
-        if kind == 1:
-            depth += 1
-        elif kind == 3:
-            depth -= 1
-        elif kind == 2 and depth == 1 and stop_at_else:
-            depth = 0
-        if depth == 0:
+        kind = test(ctx, u.text + pos, eol)
+        if kind != 0:
             found[0] = kind
             st.skip_pos = pos
             st.skip_line = line
             st.jpos = <size_t>(eol - u.text) + 1
             st.jline = line + 1
-            return 0
+            return True
         pos = <size_t>(eol - u.text) + 1
         line += 1
+    return False
+
+
+cdef int _block_end_test(void *ctx, const char *p, const char *eol) noexcept nogil:
+    """fl_skip's line test: the blocks a line opens or closes counted; the END that
+    closes the last (3), or an ELSE at depth 1 when one ends the scan (2), stops it."""
+    cdef BlockSkip *b = <BlockSkip *>ctx
+    cdef int kind = fl_line_kind(p, eol)
+    if kind == 1:
+        b.depth += 1
+    elif kind == 3:
+        b.depth -= 1
+    elif kind == 2 and b.depth == 1 and b.stop_at_else:
+        b.depth = 0
+    return kind if b.depth == 0 else 0
+
+
+cdef int fl_skip(CState *st, int depth, bint stop_at_else, const char *what, int *found) noexcept nogil:
+    """Scans from the next line to the END closing `depth` (at least 1) open blocks (or
+    an ELSE at depth 1). st.jpos/jline: the line after it; st.cur_pos/line of the
+    END/ELSE itself in st.skip_pos/skip_line. found: 2 ELSE, 3 END."""
+    cdef BlockSkip b
+    b.depth = depth
+    b.stop_at_else = stop_at_else
+    if fl_scan(st, st.next_pos, st.next_line, _block_end_test, &b, found):
+        return 0
     return err_missing_end(st.err, st.unit.file_idx, st.line, what)
 
 
 cdef Frame *fl_push(CState *st, int kind) noexcept nogil:
+    """A new frame of `kind` on the block stack; NULL with the stack overflow error when
+    FRAME_DEPTH are open."""
     cdef Frame *f
     if st.n_frames >= FRAME_DEPTH:
         err_call_stack_overflow(st.err, st.unit.file_idx, st.line, FRAME_DEPTH)
@@ -140,6 +163,8 @@ cdef int fl_rest_of_line(CState *st, const char *p, const char *eol) noexcept no
 
 
 cdef int fl_while(CState *st, const char *p, const char *eol) noexcept nogil:
+    """WHILE cond: a true condition opens a loop frame (its END jumps back to this line), a
+    false one skips past the matching END."""
     cdef bint cond
     cdef int found
     cdef Frame *f
@@ -199,6 +224,7 @@ cdef int fl_if(CState *st, const char *p, const char *eol) noexcept nogil:
 
 
 cdef int fl_else(CState *st) noexcept nogil:
+    """ELSE reached from the IF's true branch: closes the IF's frame and skips past its END."""
     cdef int found
     if st.n_frames == 0 or st.frames[st.n_frames - 1].kind != FR_IF:
         return err_unbalanced_end(st.err, st.unit.file_idx, st.line)
@@ -209,6 +235,8 @@ cdef int fl_else(CState *st) noexcept nogil:
 
 
 cdef int fl_end(CState *st) noexcept nogil:
+    """END of the innermost block: a FOR steps its parameter and jumps back while it is within
+    its end (a step of 0 forever), a WHILE jumps back to test again, an IF is closed."""
     cdef Frame *f
     if st.n_frames == 0 or st.frames[st.n_frames - 1].kind == FR_CALL:
         return err_unbalanced_end(st.err, st.unit.file_idx, st.line)
@@ -253,6 +281,8 @@ cdef int fl_break(CState *st, bint cont) noexcept nogil:
 
 
 cdef int fl_return(CState *st) noexcept nogil:
+    """RETURN: leaves the blocks of the current call; a call repeated (G25 n) jumps to its
+    target again, else back after the call. Error without a call."""
     cdef Frame *f
     while st.n_frames > 0 and st.frames[st.n_frames - 1].kind != FR_CALL:
         st.n_frames -= 1

@@ -6,6 +6,8 @@ from libc.stdint cimport uint64_t
 
 
 cdef uint64_t lb_hash_name(const char *s, int n) noexcept nogil:
+    """FNV-1a of a name, case-insensitive (labels, and the ISO mode's names and if labels, hash
+    with it)."""
     cdef uint64_t h = 1469598103934665603ULL
     cdef int i
     for i in range(n):
@@ -14,6 +16,7 @@ cdef uint64_t lb_hash_name(const char *s, int n) noexcept nogil:
 
 
 cdef uint64_t lb_hash_num(int64_t v) noexcept nogil:
+    """A number label's hash: Fibonacci multiplication with its high bits folded in."""
     cdef uint64_t h = <uint64_t>v * 0x9E3779B97F4A7C15ULL
     return h ^ (h >> 29) ^ 0x5bd1e995ULL
 
@@ -76,6 +79,8 @@ cdef int lb_insert(CState *st, Unit *u, const char *name, int n, int64_t nval, s
 
 
 cdef void _lb_raw_put(Unit *u, const Label *src) noexcept nogil:
+    """A label into the open-addressed table by its hash (room for it is there; no duplicate
+    check)."""
     cdef uint64_t h = lb_hash_name(src.name, src.len) if src.name != NULL else lb_hash_num(src.nval)
     cdef size_t mask = u.cap_labels - 1
     cdef size_t i = <size_t>h & mask
@@ -132,6 +137,7 @@ cdef int lb_build(CState *st, Unit *u) noexcept nogil:
 
 
 cdef void lb_free(Unit *u) noexcept nogil:
+    """Frees the unit's label table: built again when a jump needs it."""
     free(u.labels)
     u.labels = NULL
     u.cap_labels = 0

@@ -15,24 +15,29 @@ cdef extern from *:
 
 
 cdef inline bint lx_is_digit(char c) noexcept nogil:
+    """Whether c is a decimal digit."""
     return c >= b'0' and c <= b'9'
 
 
 cdef inline bint lx_is_alpha(char c) noexcept nogil:
+    """Whether c is an ASCII letter."""
     return (c >= b'A' and c <= b'Z') or (c >= b'a' and c <= b'z')
 
 
 cdef inline bint lx_is_ident(char c) noexcept nogil:
+    """Whether c may continue an identifier: a letter, a digit or '_'."""
     return lx_is_alpha(c) or lx_is_digit(c) or c == b'_'
 
 
 cdef inline char lx_upper(char c) noexcept nogil:
+    """c in upper case (ASCII letters only)."""
     if c >= b'a' and c <= b'z':
         return c - 32
     return c
 
 
 cdef inline const char *lx_skip_ws(const char *p, const char *eol) noexcept nogil:
+    """p past the blanks (space, tab, CR, form feed, vertical tab), at most to eol."""
     while p < eol and (p[0] == b' ' or p[0] == b'\t' or p[0] == b'\r' or p[0] == b'\f' or p[0] == b'\v'):
         p += 1
     return p
@@ -76,6 +81,7 @@ cdef bint lx_eq(const char *p, int n, const char *kw) noexcept nogil:
 
 
 cdef bint lx_same_name(const char *a, int na, const char *b, int nb) noexcept nogil:
+    """Whether two names of given lengths are equal, case-insensitive."""
     cdef int i
     if na != nb:
         return False

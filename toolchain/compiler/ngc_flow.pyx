@@ -5,12 +5,15 @@
 # `return` / `endsub`, its local named parameters vanish), `if / elseif / else / endif`,
 # `while / endwhile`, `do / while`, `repeat / endrepeat`, `break`, `continue`. The
 # statements of a construct share its O number or name; a skipped part is found by
-# scanning forward for that label, as LinuxCNC does, so labels are literal (o100,
-# o<name>), and only a call may compute its label (o[#1 + 2] call).
+# scanning forward for that label (flow.pyx fl_scan, the scan of TG's skipped blocks
+# too), as LinuxCNC does, so labels are literal (o100, o<name>), and only a call may
+# compute its label (o[#1 + 2] call).
 from libc.math cimport floor, fabs
 
 
 cdef int ow_keyword(const char *p, int n) noexcept nogil:
+    """The O word's keyword of the n letters at p (OW_SUB .. OW_CONTINUE), case-insensitive; 0
+    for none."""
     if lx_eq(p, n, "SUB"): return OW_SUB
     if lx_eq(p, n, "ENDSUB"): return OW_ENDSUB
     if lx_eq(p, n, "CALL"): return OW_CALL
@@ -30,6 +33,7 @@ cdef int ow_keyword(const char *p, int n) noexcept nogil:
 
 
 cdef inline uint32_t kw_bit(int kw) noexcept nogil:
+    """A keyword's bit in a mask of the keywords a scan looks for."""
     return 1u << kw
 
 
@@ -88,6 +92,7 @@ cdef const char *ow_line(const char *p, const char *eol, NgcLabel *lab, int *kw)
 
 
 cdef bint ow_same(const NgcLabel *a, const NgcLabel *b) noexcept nogil:
+    """Whether two O labels are the same: equal numbers, or (both named) equal names."""
     if a.number >= 0 or b.number >= 0:
         return a.number == b.number
     return a.len == b.len and memcmp(a.name, b.name, a.len) == 0
@@ -107,37 +112,42 @@ cdef int ow_error(CState *st, const NgcLabel *lab, const char *what) noexcept no
     return err_o_word(st.err, st.unit.file_idx, st.line, ow_label_text(st, lab), st.ngc.col, what)
 
 
+cdef int _label_test(void *ctx, const char *p, const char *eol) noexcept nogil:
+    """ow_scan's line test: the keyword (not 0) of a statement of the label with one of
+    the keywords wanted, else 0."""
+    cdef const LabelScan *want = <const LabelScan *>ctx
+    cdef NgcLabel other
+    cdef int kw
+    if ow_line(p, eol, &other, &kw) != NULL and (want.kinds & kw_bit(kw)) and ow_same(&other, want.label):
+        return kw
+    return 0
+
+
 cdef int ow_scan(CState *st, const NgcLabel *lab, uint32_t kinds, size_t pos, uint32_t line,
                  int *found) noexcept nogil:
     """From the line at pos on: the first statement of label lab with a keyword in kinds.
     st.skip_pos / skip_line: that line; st.jpos / jline: the line after it. 0 found,
     1 not found (nothing recorded)."""
     cdef Unit *u = st.unit
-    cdef const char *eol
-    cdef NgcLabel other
-    cdef int kw
     cdef NgcScan *seen = &st.ngc.scans[(pos ^ (pos >> 6) ^ kinds) % NGC_SCANS]
-    cdef size_t start = pos
-    cdef uint32_t first_line = line
+    cdef LabelScan want
     if seen.text == u.text and seen.pos == pos and seen.kinds == kinds and ow_same(&seen.label, lab) \
             and seen.label.number == lab.number:
         return _scan_answer(st, seen, line, found)
-    while pos < u.len:
-        eol = <const char *>memchr(u.text + pos, b'\n', u.len - pos)
-        if eol == NULL:
-            eol = u.text + u.len
-        if ow_line(u.text + pos, eol, &other, &kw) != NULL and (kinds & kw_bit(kw)) and ow_same(&other, lab):
-            _scan_remember(seen, u.text, start, kinds, lab, kw, pos, <size_t>(eol - u.text) + 1,
-                           line - first_line)
-            return _scan_answer(st, seen, first_line, found)
-        pos = <size_t>(eol - u.text) + 1
-        line += 1
-    _scan_remember(seen, u.text, start, kinds, lab, 0, 0, 0, 0)
+    want.label = lab
+    want.kinds = kinds
+    if fl_scan(st, pos, line, _label_test, &want, found):
+        _scan_remember(seen, u.text, pos, kinds, lab, found[0], st.skip_pos, st.jpos, st.skip_line - line)
+        return 0
+    _scan_remember(seen, u.text, pos, kinds, lab, 0, 0, 0, 0)
     return 1
 
 
 cdef void _scan_remember(NgcScan *seen, const char *text, size_t pos, uint32_t kinds, const NgcLabel *lab,
                          int found, size_t skip_pos, size_t jpos, uint32_t lines) noexcept nogil:
+    """Records a scan in its slot: what it looked for from where, and what it found (found 0:
+    nothing), its lines counted from the start so a scan from the same place of another pass
+    answers at once."""
     seen.text = text
     seen.pos = pos
     seen.kinds = kinds
@@ -169,6 +179,8 @@ cdef int ow_skip_to(CState *st, const NgcLabel *lab, uint32_t kinds, const char 
 
 
 cdef NgcFrame *ow_push(CState *st, int kind, const NgcLabel *lab) noexcept nogil:
+    """A new frame of kind `kind` for label lab on the O word stack; NULL with the error when
+    NGC_FRAMES are open."""
     cdef NgcState *n = st.ngc
     cdef NgcFrame *f
     if n.n_frames >= NGC_FRAMES:
@@ -471,6 +483,8 @@ cdef bint ow_if_seen(NgcState *n, const NgcLabel *lab, bint add) noexcept nogil:
 
 
 cdef void _if_key_put(NgcState *n, uint64_t key) noexcept nogil:
+    """Puts an `if` label's key into the open-addressed table of executed ones (room for it is
+    there)."""
     cdef size_t i = <size_t>(key * 11400714819323198485ULL) & (n.cap_if_keys - 1)
     while n.if_keys[i] != 0:
         i = (i + 1) & (n.cap_if_keys - 1)
@@ -503,7 +517,7 @@ cdef int ow_statement(CState *st, const char *p, const char *eol) noexcept nogil
             k = lx_alpha_run(q, eol)
             if ow_keyword(q, k) != OW_CALL:
                 return err_ngc_unsupported(st.err, st.unit.file_idx, st.line, cword_rest(st, o, eol), column_of(st, o), "a computed O-word label is read on a call only")
-            if not (fabs(v - floor(v + 0.5)) < 1e-4 and v > -0.5 and v < 999999999999.5):
+            if not (fabs(v - floor(v + 0.5)) < NGC_TOLERANCE_WHOLE and v > -0.5 and v < 999999999999.5):
                 c_snprintf(why, sizeof(why), "the computed label %g is no subroutine number "
                            "(a whole number 0 .. 999999999999)", v)
                 return err_ngc_word(st.err, st.unit.file_idx, st.line, cword_rest(st, o, eol), column_of(st, o), why)

@@ -147,6 +147,8 @@ cdef int ngc_rapid_to(CState *st, const double *newp) noexcept nogil:
 
 
 cdef int ngc_feed_to(CState *st, const double *newp, int col) noexcept nogil:
+    """A G1 of a canned cycle to newp's X, Y and Z (the cycle's feed moves), its words as if
+    written on the line at column col."""
     cdef LineWords words
     words.mask = (1u << 23) | (1u << 24) | (1u << 25)
     words.v[23] = newp[0]; words.v[24] = newp[1]; words.v[25] = newp[2]

@@ -13,8 +13,12 @@ cdef extern from *:
     """
     /* LinuxCNC's TOLERANCE_EQUAL: EQ and NE compare within it */
     #define NGC_TOLERANCE_EQUAL 1e-6
+    /* a value this close to a whole number is that number where one is wanted (a
+       parameter number, a computed O label), as LinuxCNC reads one */
+    #define NGC_TOLERANCE_WHOLE 1e-4
     """
     double NGC_TOLERANCE_EQUAL
+    double NGC_TOLERANCE_WHOLE
 
 
 cdef NgcState *ngc_new() noexcept nogil:
@@ -28,6 +32,7 @@ cdef NgcState *ngc_new() noexcept nogil:
 
 
 cdef void ngc_free(NgcState *n) noexcept nogil:
+    """Frees the ISO mode's state and its arrays; n may be NULL."""
     if n != NULL:
         free(n.name_slots)
         free(n.names)
@@ -59,6 +64,7 @@ cdef int ngc_name_read(CState *st, const char **pp, const char *eol, char *out, 
 
 
 cdef bint _same(const char *a, int na, const char *b, int nb) noexcept nogil:
+    """Whether two names of given lengths are the same bytes."""
     return na == nb and memcmp(a, b, na) == 0
 
 
@@ -111,6 +117,8 @@ cdef NgcName *ngc_name_find(NgcState *n, const char *name, int nlen) noexcept no
 
 
 cdef int ngc_name_set(CState *st, const char *name, int nlen, double value) noexcept nogil:
+    """Sets a named parameter, adding it when the current call level does not see one (#<_name>
+    global, others local to the level); error 4 when memory is exhausted."""
     cdef NgcState *n = st.ngc
     cdef NgcName *e = ngc_name_find(n, name, nlen)
     if e == NULL:
@@ -216,6 +224,9 @@ cdef bint _positional(int idx) noexcept nogil:
 
 
 cdef double ngc_number_get(CState *st, int idx) noexcept nogil:
+    """The value of numbered parameter idx: the few LinuxCNC computes (5220 the coordinate
+    system, 5400 the tool, 5420-5428 the position in program units) from the compiler's state,
+    the rest as set."""
     cdef int a
     cdef const char *axes = "XYZABCUVW"
     if idx == 5220:
@@ -229,9 +240,10 @@ cdef double ngc_number_get(CState *st, int idx) noexcept nogil:
 
 
 cdef int ngc_index(CState *st, double v, const char *at, const char *eol) noexcept nogil:
-    """A parameter number: an integer (within 1e-4, as LinuxCNC reads one) in 1..5601."""
+    """A parameter number: an integer (within NGC_TOLERANCE_WHOLE, as LinuxCNC reads one) in
+    1..5601."""
     cdef double r = floor(v + 0.5)
-    if not (fabs(v - r) < 1e-4 and r >= 1.0 and r < NGC_PARAMS):
+    if not (fabs(v - r) < NGC_TOLERANCE_WHOLE and r >= 1.0 and r < NGC_PARAMS):
         return err_ngc_parameter(st.err, st.unit.file_idx, st.line, v, column_of(st, at))
     return <int>r
 
@@ -407,6 +419,8 @@ cdef int _operator(const char **pp, const char *eol) noexcept nogil:
 
 
 cdef int _precedence(int op) noexcept nogil:
+    """An operator's binding, LinuxCNC's: ** 6, * / MOD 5, + - 4, the comparisons 3, AND OR XOR
+    2."""
     if op == OP_POWER: return 6
     if op <= OP_MOD: return 5
     if op <= OP_MINUS: return 4
@@ -415,6 +429,9 @@ cdef int _precedence(int op) noexcept nogil:
 
 
 cdef int _apply(CState *st, int op, double *left, double right, const char *at, const char *end) noexcept nogil:
+    """left = left op right, as LinuxCNC computes them (EQ / NE within NGC_TOLERANCE_EQUAL, MOD
+    never negative); the error of a division by zero, a negative to a fractional power or a
+    result that is not finite."""
     cdef double a = left[0]
     if op == OP_POWER:
         if a < 0.0 and right != floor(right):

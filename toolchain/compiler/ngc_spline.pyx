@@ -138,7 +138,7 @@ cdef bint spl_circle(const double *a, const double *m, const double *b, double *
     cdef double d = 2.0 * (ax * by - ay * bx)
     cdef double a2 = ax * ax + ay * ay, b2 = bx * bx + by * by
     cdef double ux, uy
-    if fabs(d) <= 1e-12 * (a2 + b2):
+    if fabs(d) <= ANGLE_EPS * (a2 + b2):
         return False
     ux = (by * a2 - ay * b2) / d
     uy = (ax * b2 - bx * a2) / d
@@ -283,6 +283,8 @@ cdef int ngc_bezier(CState *st, const LineWords *lw, const Block *b, int motion,
 
 
 cdef int _nurbs_add(CState *st, double x, double y, double w) noexcept nogil:
+    """One more control point (x, y, weight) of the open G5.2 block; error 4 when memory is
+    exhausted."""
     cdef NgcState *n = st.ngc
     if not grow(<void **>&n.nurbs, &n.cap_nurbs, 3 * (n.n_nurbs + 1), sizeof(double)):
         return err_out_of_memory(st.err, st.unit.file_idx, st.line)

@@ -33,6 +33,7 @@ cdef inline int axis_of_letter(char c) noexcept nogil:
 
 
 cdef inline char letter_of_axis(int a) noexcept nogil:
+    """The address letter of axis 0..9 in the library's order X Y Z C B U V W A O."""
     cdef const char *names = "XYZCBUVWAO"
     return names[a]
 

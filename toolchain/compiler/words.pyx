@@ -6,10 +6,12 @@ from libc.string cimport memchr
 
 
 cdef inline uint32_t bit_of(char c) noexcept nogil:
+    """The bit of an address letter (A..Z) in a word mask."""
     return 1u << (<int>c - 65)
 
 
 cdef uint32_t axes_mask() noexcept nogil:
+    """The mask of the ten axis letters X Y Z C B U V W A O."""
     return (bit_of(b'X') | bit_of(b'Y') | bit_of(b'Z') | bit_of(b'C') | bit_of(b'B') | bit_of(b'U')
             | bit_of(b'V') | bit_of(b'W') | bit_of(b'A') | bit_of(b'O'))
 
@@ -48,6 +50,8 @@ cdef inline int _word_value(CState *st, const char **pp, const char *eol, double
 
 
 cdef bint _o_word_keyword(const char *p, int n) noexcept nogil:
+    """Whether the n letters at p are a LinuxCNC O word's keyword (sub, call, while, if ...): a
+    TG line that uses one is told so."""
     return (lx_eq(p, n, "SUB") or lx_eq(p, n, "ENDSUB") or lx_eq(p, n, "CALL") or lx_eq(p, n, "RETURN")
             or lx_eq(p, n, "DO") or lx_eq(p, n, "WHILE") or lx_eq(p, n, "ENDWHILE") or lx_eq(p, n, "IF")
             or lx_eq(p, n, "ELSEIF") or lx_eq(p, n, "ELSE") or lx_eq(p, n, "ENDIF") or lx_eq(p, n, "REPEAT")
@@ -69,6 +73,8 @@ cdef int cp_bad_word(CState *st, const char *p, const char *eol, int col, const 
 
 
 cdef void _words_clear(LineWords *lw) noexcept nogil:
+    """An empty line of words: no addresses, G or M words, texts, label, P words, polar words or
+    tool values."""
     lw.mask = 0
     lw.ng = 0
     lw.nm = 0

@@ -14,6 +14,7 @@ cdef inline double clock_now() noexcept nogil:
 
 
 cdef inline bint clock_stepped(Core *core) noexcept nogil:
+    """Whether the core's machine runs on the test-only stepped clock."""
     return TC_ATOMIC_LOAD(&core.clock_stepped) != 0
 
 
@@ -35,7 +36,7 @@ cdef double clock_take(Core *core, Machine *m, double *last) noexcept nogil:
     pthread_mutex_unlock(&m.lock)
     last[0] = clock_now()
     # a whole number of steps: a margin far below one step keeps the last from rounding away
-    return steps * (STEP_US * 1e-6) + 1e-9 if steps > 0 else 0.0
+    return steps * (STEP_US * SECONDS_PER_US) + STEP_MARGIN_S if steps > 0 else 0.0
 
 
 cdef void clock_pause(Core *core, Machine *m, double *budget, bint handed_over) noexcept nogil:
@@ -50,7 +51,7 @@ cdef void clock_pause(Core *core, Machine *m, double *budget, bint handed_over) 
     if not clock_stepped(core):
         tc_sleep_seconds(0.001)
         return
-    if budget[0] >= STEP_US * 1e-6 or not handed_over:
+    if budget[0] >= STEP_US * SECONDS_PER_US or not handed_over:
         tc_sleep_seconds(0.00005)
         return
     budget[0] = 0.0
@@ -113,7 +114,7 @@ cdef int32_t machine_test_clock(Core *core, uint64_t key, double seconds) noexce
             tc_cond_wait_seconds(&m.wake, &m.lock, 0.001)
         if m.pacer_state != PACER_NONE:
             run = m.pacer_runs
-            m.granted += <uint64_t>(seconds / (STEP_US * 1e-6) + 0.5)
+            m.granted += <uint64_t>(seconds / (STEP_US * SECONDS_PER_US) + 0.5)
             pthread_cond_broadcast(&m.wake)
             while not _settled(core, m, run):
                 tc_cond_wait_seconds(&m.wake, &m.lock, 0.001)

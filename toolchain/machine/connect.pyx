@@ -9,6 +9,8 @@
 # GetLastError.
 
 cdef inline bint _connect_continues(uint32_t n_type) noexcept nogil:
+    """Whether a connect type goes on forward after the connection (10-12, 40-42, 44) rather
+    than standing there."""
     return n_type in (10, 11, 12, 40, 41, 42, 44)
 
 

@@ -43,18 +43,22 @@ cdef int connect_bad_argument(ErrorInfo *err, const char *name, double value, co
 
 
 cdef int _cs_bad_coord(ErrorInfo *err, int k, double value, const char *why) noexcept nogil:
+    """The bad-argument error naming coords[k], its value and why."""
     cdef char name[16]
     c_snprintf(name, sizeof(name), "coords[%d]", k)
     return connect_bad_argument(err, name, value, why)
 
 
 cdef int _cs_no_motion(ErrorInfo *err, size_t first, size_t end, size_t n_parts) noexcept nogil:
+    """The error of a range [first, end) (clamped to the program) without a motion part to
+    connect to: CONNECT_NOT_FOUND. err may be NULL."""
     if err != NULL:
         err_connect_no_motion(err, -1, 0, min(first, n_parts), min(end, n_parts), n_parts)
     return CONNECT_NOT_FOUND
 
 
 cdef int _cs_no_memory(ErrorInfo *err) noexcept nogil:
+    """Out of memory: the error (err may be NULL) and CONNECT_NO_MEMORY."""
     if err != NULL:
         err_out_of_memory(err, -1, 0)
     return CONNECT_NO_MEMORY
@@ -72,6 +76,8 @@ cdef bint _cs_whole(const double *coords, int k, double lo, double hi, int64_t *
 
 
 cdef bint _cs_finite_point(const double *point, uint32_t axes, ErrorInfo *err) noexcept nogil:
+    """Whether the point's coordinates on the axes of the mask are finite; else the bad-argument
+    error of the first that is not."""
     cdef int k
     for k in range(AXES):
         if (axes >> k) & 1 and not isfinite(point[k]):
@@ -81,6 +87,7 @@ cdef bint _cs_finite_point(const double *point, uint32_t axes, ErrorInfo *err) n
 
 
 cdef inline uint32_t _cs_mask(uint32_t axes) noexcept nogil:
+    """The mask of axes the distance is measured in: 0 means all (CONNECT_ALL_AXES)."""
     return CONNECT_ALL_AXES if axes == 0 else axes
 
 
@@ -165,6 +172,8 @@ cdef void _cs_hit_nearest(const Program *prog, const Placement *pl, size_t i, ui
 
 
 cdef inline double _cs_limit_d2(double max_distance) noexcept nogil:
+    """maxConnectionDistance squared, the bound the search compares with; 0, negative or not
+    finite: no bound (INFINITY)."""
     if max_distance > 0.0 and isfinite(max_distance):
         return max_distance * max_distance
     return INFINITY
@@ -339,6 +348,7 @@ cdef void _cs_morton_keys(const double *part_box, size_t m, int n_dims, uint64_t
 
 
 cdef void connect_index_free(ConnectIndex *ix) noexcept nogil:
+    """Frees the connection index's arrays and leaves it empty."""
     free(ix.items)
     free(ix.boxes)
     free(ix.span)

@@ -19,6 +19,20 @@ cdef enum:
     LOOK_RING = 64              # entries held ahead (the plan's window of 8 and room for the feeder)
     STEP_US = 100               # the vendor's time base: overrideInc is per 100 us
 
+cdef extern from *:
+    """
+    #define TC_SECONDS_PER_US 1e-6
+    #define TC_TICK_S 1e-3
+    #define TC_STEP_MARGIN_S 1e-9
+    """
+    const double SECONDS_PER_US "TC_SECONDS_PER_US"     # a step in seconds: STEP_US * SECONDS_PER_US
+    # s of wall time a tick of the machine's thread works before it publishes GetPos
+    # and looks for a stop or an end
+    const double TICK_S "TC_TICK_S"
+    # s: added to a whole number of granted steps so that rounding does not lose the last
+    # (far below one step)
+    const double STEP_MARGIN_S "TC_STEP_MARGIN_S"
+
 cdef enum MotionState:
     MS_RUNNING = 0
     MS_WAIT_M = 1               # a waiting M function: stands until it is confirmed

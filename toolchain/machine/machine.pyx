@@ -93,6 +93,9 @@ cdef bint _is_breakpoint(Feeder *f, const Entry *e) noexcept nogil:
 
 
 cdef void _entry_identity(Feeder *f, Entry *e, const Program *prog, const Part *p, size_t part) noexcept nogil:
+    """An entry's identity for part `part` (its kind, function, line, file, G-code index, feed,
+    the motion's sequence number) and zeroed motion fields (no speed, no limit, a trapezoid
+    ramp) for the feeder to fill."""
     cdef const PartSettings *s = part_settings(prog, p)
     e.part = part
     e.motion_seq = f.motions
@@ -293,14 +296,14 @@ cdef void *_pacer_body(void *arg) noexcept nogil:
     cdef Machine *m = core.offline
     cdef Motion *mo = &m.motion
     cdef double last = clock_now(), budget = 0.0, scale, tick_end
-    cdef double dt = STEP_US * 1e-6
+    cdef double dt = STEP_US * SECONDS_PER_US
     cdef uint32_t n_steps = 0
     cdef bint halted = False, cut
     cdef uint64_t told = mo.consumed     # entries done when the notifier was last woken
     tc_set_stage("the offline machine")
     while not halted and not TC_ATOMIC_LOAD(&core.cancel):
         budget += clock_take(core, m, &last)
-        tick_end = last + 1e-3
+        tick_end = last + TICK_S
         scale = TC_ATOMIC_LOAD_D(&core.time_scale)
         if budget > 1.0 * scale and not clock_stepped(core):
             budget = 1.0 * scale            # the thread was held up: the machine does not jump
@@ -420,6 +423,8 @@ cdef bint _next_event(Machine *m, MachineEvent *ev) noexcept nogil:
 
 
 cdef void _notified(Machine *m) noexcept nogil:
+    """The notifier is done with its event; the stepped clock, waiting for an empty queue, is
+    woken when none is left."""
     pthread_mutex_lock(&m.lock)
     m.notifying = False
     if m.ev_n == 0:

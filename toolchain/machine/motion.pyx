@@ -20,10 +20,13 @@ cdef extern from *:
 
 
 cdef inline double _eq(double acc, int32_t ramp) noexcept nogil:
+    """The constant acceleration equivalent to a ramp of `ramp`'s shape (ramp_equivalent_acc),
+    short for the profiles here."""
     return ramp_equivalent_acc(acc, ramp)
 
 
 cdef inline double entry_length(const Entry *e) noexcept nogil:
+    """The length an entry traverses along its segment (forward or backward)."""
     return fabs(e.s_to - e.s_from)
 
 
@@ -208,6 +211,8 @@ cdef void _end_entry(Motion *m) noexcept nogil:
 
 
 cdef inline void _log(Motion *m, int32_t kind, size_t part) noexcept nogil:
+    """Records an event (ME_ENTRY, ME_MFUNC, ME_PRINT) of part `part` for the machine's thread
+    to tell the driver."""
     m.log_kind[m.n_log] = kind
     m.log_part[m.n_log] = part
     m.n_log += 1
@@ -279,7 +284,10 @@ cdef int motion_begin_entry(Motion *m) noexcept nogil:
 
 
 cdef void _move_override(Motion *m, double dt) noexcept nogil:
-    cdef double step = m.ovr_inc * dt / (STEP_US * 1e-6)
+    """One step of dt seconds of the override towards its target, by overrideInc per 100 us:
+    held at 1 in a rapid with disableG0FeedOverride, at most 1 when it scales time; a change of
+    speed (not of time) replans."""
+    cdef double step = m.ovr_inc * dt / (STEP_US * SECONDS_PER_US)
     cdef double target = m.ovr_target
     cdef Entry *e
     if m.ovr_timing and target > 1.0:

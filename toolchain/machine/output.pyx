@@ -37,7 +37,7 @@ cdef void output_start(Output *o, Core *core, const double *start) noexcept nogi
     o.delay = 0
     if o.config.spline[0] == 0.0 and iir_axes == 0:
         return
-    if not smoother_init(&o.smoother, &o.config, STEP_US * 1e-6, start):
+    if not smoother_init(&o.smoother, &o.config, STEP_US * SECONDS_PER_US, start):
         core_keep_error(core, False, NULL)
         return
     o.filtering = True

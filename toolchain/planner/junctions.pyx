@@ -33,6 +33,8 @@ cdef double junction_cosine(const double *t_end, const double *t_start, uint32_t
 
 
 cdef inline double junction_degrees(double cosine) noexcept nogil:
+    """The angle in degrees (0..180) between two tangents whose cosine is given, clamped where
+    rounding leaves it past +-1."""
     if cosine > 1.0:
         return 0.0
     if cosine < -1.0:

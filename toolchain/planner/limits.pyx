@@ -71,6 +71,8 @@ cdef inline double _cos_start(const PlanRegion *s) noexcept nogil:
 
 
 cdef void cursor_init(PlanCursor *c, const Program *prog, const GCODE_PARAMETERS *params) noexcept nogil:
+    """A cursor at the program's start: the host's settings in force, no plan region applied
+    yet."""
     c.prog = prog
     plan_settings_from_params(&c.cur, params)
     c.region = 0
@@ -88,6 +90,9 @@ cdef inline const PlanRegion *cursor_settings(PlanCursor *c, size_t part) noexce
 
 
 cdef const PlanRegion *_cursor_advance(PlanCursor *c, size_t part) noexcept nogil:
+    """The settings in force at part `part` (later than the last one asked): the plan regions
+    (G900) that begin by then applied, counted in programmed parts (inserted ones do not
+    count)."""
     cdef const Program *prog = c.prog
     while c.next_part <= part:
         if not (prog.parts[c.next_part].flags & FLAG_INSERTED):

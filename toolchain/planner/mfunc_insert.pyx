@@ -31,6 +31,8 @@ cdef extern from *:
     const double MFI_REL_TOL "TC_MFI_REL_TOL"
 
 cdef bint _mfi_target_add(MfuncTargets *t, size_t part, double q, int32_t mfunc) noexcept nogil:
+    """One more place for M function `mfunc`: q mm into `part`, numbered in the order found
+    (several at one place keep it). False when memory is exhausted."""
     if not grow(<void **>&t.items, &t.cap, t.n + 1, sizeof(MfuncTarget)):
         return False
     t.items[t.n].part = part
@@ -89,6 +91,8 @@ cdef double _mfi_ramp_distance_to(double v0, double v1, double T, int32_t ramp, 
 
 
 cdef void _mfi_fall(MfiScan *sc, double pos) noexcept nogil:
+    """The speed fell below the cut's first threshold at path position pos: slow from here, the
+    table's M function before a slow-down placed its distance before pos."""
     sc.state = MFI_SLOW
     if sc.table[MFI_BEFORE_SLOW_DOWN].mFunc != 0:
         sc.ok = sc.ok and _mfi_place(sc, pos - sc.table[MFI_BEFORE_SLOW_DOWN].distance,
@@ -96,6 +100,8 @@ cdef void _mfi_fall(MfiScan *sc, double pos) noexcept nogil:
 
 
 cdef void _mfi_rise(MfiScan *sc, double pos) noexcept nogil:
+    """The speed is back at the second threshold at path position pos: fast from here, the
+    table's M function after a slow-down placed its distance after pos."""
     sc.state = MFI_FAST
     if sc.table[MFI_AFTER_SLOW_DOWN].mFunc != 0:
         sc.ok = sc.ok and _mfi_place(sc, pos + sc.table[MFI_AFTER_SLOW_DOWN].distance,
@@ -186,6 +192,8 @@ cdef bint _mfi_find_targets(const Program *prog, const GCODE_PARAMETERS *params,
 
 
 cdef int _mfi_target_compare(const void *a, const void *b) noexcept nogil:
+    """qsort's order of the places: by part, then by distance into it, then in the order
+    found."""
     cdef const MfuncTarget *x = <const MfuncTarget *>a
     cdef const MfuncTarget *y = <const MfuncTarget *>b
     if x.part != y.part:
@@ -196,6 +204,8 @@ cdef int _mfi_target_compare(const void *a, const void *b) noexcept nogil:
 
 
 cdef bint _mfi_item_add(MfuncInsertions *ins, size_t after, const Part *made) noexcept nogil:
+    """One more part for the merge to insert after part `after`: an M function or a piece of a
+    split part. False when memory is exhausted."""
     if not grow(<void **>&ins.items, &ins.cap, ins.n + 1, sizeof(MfuncInsertion)):
         return False
     ins.items[ins.n].after = after
@@ -345,14 +355,18 @@ cdef bint _mfi_make_insertions(ProgramBuilder *build, MfuncTargets *targets, Mfu
 
 
 cdef size_t _mfi_after_of(void *ctx, size_t rec) noexcept nogil:
+    """program_merge's inserted_after_fn: the part insertion rec follows."""
     return (<MfuncInsertions *>ctx).items[rec].after
 
 
 cdef void _mfi_make(void *ctx, size_t rec, Part *out, const Part *before, const Part *after) noexcept nogil:
+    """program_merge's make_inserted_fn: insertion rec's part, made beforehand."""
     out[0] = (<MfuncInsertions *>ctx).items[rec].made
 
 
 cdef bint mfunc_insert_wanted(const GCODE_PARAMETERS *params) noexcept nogil:
+    """Whether the plan inserts M functions: MfuncInsertType 1 with some entry of
+    mFuncInsertTable naming one (the pipeline then plans the program in one piece)."""
     cdef int k
     if params.MfuncInsertType != 1:
         return False

@@ -85,6 +85,8 @@ cdef bint _general_node(NodeSource *src, size_t k, const PlanRegion *s, bint wan
 
 
 cdef void _end_tangent(const NodeSource *src, size_t k, double *t) noexcept nogil:
+    """The tangent of part k at its end (its segment as the plan sees it: placed or as
+    compiled)."""
     cdef Segment g
     _node_segment(src, k, &g)
     segment_tangent(&g, g.length, t)
@@ -261,6 +263,8 @@ cdef int plan_program(ProgramBuilder *build, const GCODE_PARAMETERS *params, uin
 
 cdef int _plan_once(Program *prog, const GCODE_PARAMETERS *params, uint32_t enhanced,
                     int64_t window) noexcept nogil:
+    """One plan of the whole program: prog.plan allocated and filled; COMPILE_ERROR (no plan)
+    when out of memory."""
     if not plan_alloc(prog, params, enhanced, window):
         return COMPILE_ERROR
     if plan_range(prog, params, enhanced, window, 0, prog.n_parts) != COMPILE_OK:
@@ -291,6 +295,7 @@ cdef bint plan_alloc(Program *prog, const GCODE_PARAMETERS *params, uint32_t enh
 
 
 cdef void plan_drop(Program *prog) noexcept nogil:
+    """Frees the program's plan: it has none."""
     free(prog.plan)
     prog.plan = NULL
 
@@ -319,6 +324,7 @@ cdef int plan_range(const Program *prog, const GCODE_PARAMETERS *params, uint32_
 
 
 cdef bint _head_room(PlacedPlan *head, size_t need) noexcept nogil:
+    """Room for `need` part plans in head.head; False when memory is exhausted."""
     return grow(<void **>&head.head, &head.cap_head, need, sizeof(PartPlan))
 
 
@@ -451,6 +457,7 @@ cdef bint placed_plan_make(PlacedPlan *pp, const Program *prog, const Placement 
 
 
 cdef void placed_plan_free(PlacedPlan *pp) noexcept nogil:
+    """Frees a placed run's plan of its head and leaves it empty."""
     free(pp.head)
     pp.head = NULL
     pp.n_head = 0

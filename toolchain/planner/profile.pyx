@@ -23,7 +23,7 @@ cdef inline void profile_plan(Profile *p, const PlanNode *nd, double v_in, const
     cdef double out2 = min(next.entry2 if next != NULL else 0.0, in2 + 2.0 * a * L)
     cdef double lowest2 = in2 - nd.brake2
     cdef double v_out, peak, peak2, cruise
-    if out2 < lowest2 - 1e-9 * in2:   # (not where rounding alone puts it below)
+    if out2 < lowest2 - SPEED2_REL_EPS * in2:   # (not where rounding alone puts it below)
         out2 = lowest2
     if next != NULL and out2 == next.jin2:
         v_out = next.jin

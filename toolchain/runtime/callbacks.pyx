@@ -70,6 +70,8 @@ cdef bint callback_enter(Core *core, int32_t slot, Callback *cb) noexcept nogil:
 
 
 cdef void callback_leave(Core *core, int32_t slot) noexcept nogil:
+    """Closes a call callback_enter opened: one call fewer in flight on the slot (SetCallBack
+    waits for none before it returns) and on this thread."""
     global tc_in_callbacks
     tc_in_callbacks -= 1
     pthread_mutex_lock(&core.lock)
@@ -93,6 +95,8 @@ cdef void callback_set(Core *core, int32_t slot, void *fn, intptr_t user) noexce
 
 
 cdef void fill_callback_info(const ErrorInfo *err, CALLBACK_INFO *info) noexcept nogil:
+    """The CALLBACK_INFO of an error: number, lines, line, file index, and its texts (err's own:
+    valid while err is)."""
     info.stringId = err.number
     info.nLines = err.n_lines
     info.actLine = err.line
@@ -117,8 +121,8 @@ cdef void core_output(Core *core, uint32_t tab, const char *text) noexcept nogil
 
 
 cdef void _one_line(char *out, size_t cap, const char *text) noexcept nogil:
-    # text into out (cap bytes, truncated, terminated), a line break as "; ": a log line
-    # stays one line (the vendor's error 400 has three)
+    """text into out (cap bytes, truncated, terminated), a line break as "; ": a log line
+    stays one line (the vendor's error 400 has three)."""
     cdef size_t n = 0
     while text[0] != 0 and n + 1 < cap:
         if text[0] == b'\n':
@@ -166,6 +170,8 @@ cdef void core_report_error(Core *core, const ErrorInfo *err) noexcept nogil:
 
 
 cdef void core_progress(Core *core, uint32_t percent) noexcept nogil:
+    """SetStatusBarProgress (32): the percent done of a compilation or a simulation, when the
+    host set it."""
     cdef Callback cb
     if callback_enter(core, SLOT_SET_STATUS_BAR_PROGRESS, &cb):
         (<TC_SetStatusBarProgress>cb.fn)(cb.user, percent)
@@ -173,6 +179,8 @@ cdef void core_progress(Core *core, uint32_t percent) noexcept nogil:
 
 
 cdef void core_status_text(Core *core, const char *text, int32_t file_idx, int32_t n_lines) noexcept nogil:
+    """SetStatusBarText (2): a status text on pane 0 in the host's text, with the file and
+    number of lines, when the host set it."""
     cdef Callback cb
     cdef CALLBACK_INFO info
     cdef void *owned

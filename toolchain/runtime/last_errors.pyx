@@ -31,6 +31,8 @@ cdef pthread_once_t g_held_once
 
 
 cdef void _make_held_key() noexcept nogil:
+    """Once per process: the never-freed 'out of memory' error, and the key whose destructor
+    releases the errors a thread read when it ends."""
     global tc_held_key_made
     err_out_of_memory(&g_out_of_memory_error.info, -1, 0)
     g_out_of_memory_error.refs = 1

@@ -220,6 +220,8 @@ cdef bint _join_locked(Core *core, uint64_t activity) noexcept nogil:
 
 
 cdef int32_t _end_command(int32_t kind) noexcept nogil:
+    """The status table's command of an end kind (reset, destroy, drop program, out of the
+    trajectory)."""
     if kind == END_RESET: return CMD_RESET
     if kind == END_DESTROY: return CMD_DESTROY
     if kind == END_DROP_PROGRAM: return CMD_DROP_PROGRAM
@@ -358,6 +360,9 @@ cdef void core_finish_to(Core *core, int32_t status) noexcept nogil:
 
 
 cdef void _finish(Core *core, int32_t event, int32_t status) noexcept nogil:
+    """An activity's end in its worker: an end deferred from a callback applied, else (unless an
+    ending call cancelled it) the status of `event`, or `status` itself; the program a deferred
+    end drops released, the extent measured again after a reset."""
     cdef LoadedProgram *dropped = NULL
     cdef int32_t kind, after
     pthread_mutex_lock(&core.lock)

@@ -109,6 +109,8 @@ cdef bint session_add_code(Session *s, const char *code, const double *position,
 
 
 cdef void _add_code_part(SIMPLE_GM_PARAMS *gm, int32_t number, const double *position) noexcept nogil:
+    """The SIMPLE_GM_PARAMS of addCode's M function `number`: its M cell alone set (the
+    others INVALID_VALUE_F), file __exec__, standing at `position`."""
     cdef float *cells = <float *>&gm.m_pars
     cdef int k
     memset(gm, 0, sizeof(SIMPLE_GM_PARAMS))

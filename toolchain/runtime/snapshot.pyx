@@ -44,6 +44,7 @@ cdef extern from *:
     void tc_acquire_fence() nogil
 
 cdef void snapshot_init(Snapshot *snap) noexcept nogil:
+    """An empty snapshot (file index -1 in both slots) and its writers' lock."""
     memset(snap, 0, sizeof(Snapshot))
     pthread_mutex_init(&snap.write_lock, NULL)
     snap.slots[0].data.pos.m_fileIdx = -1
@@ -51,6 +52,8 @@ cdef void snapshot_init(Snapshot *snap) noexcept nogil:
 
 
 cdef void snapshot_publish(Snapshot *snap, const SnapshotData *data) noexcept nogil:
+    """Publishes `data` for GetPos: written into the slot readers do not use, under its sequence
+    counter, then made current; readers never wait."""
     cdef SnapshotSlot *slot
     cdef uint32_t next_slot
     pthread_mutex_lock(&snap.write_lock)

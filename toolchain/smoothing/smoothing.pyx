@@ -24,10 +24,15 @@ cdef extern from *:
     #define TC_SETTLED_MM 1e-6        /* the filtered output has settled within this of its input, mm */
     #define TC_IIR_TAU_MAX 1.0        /* the IIR filter's slowest time constant, s: a stopped machine
                                          rests within ~30 tau of a step across the 1e6 mm range */
+    #define TC_IIR_PER_REGISTER 1e-6  /* p, q and f per unit of their registers (which hold them x 1e6) */
+    #define TC_IIR_SERIES_BELOW 1e-6  /* |d| T^2 below which the transition's three-term series is
+                                         exact to the last bit (the next term, x^3 / 720, < 2e-21) */
     """
     double TC_SMOOTHING_MAX
     double TC_SETTLED_MM
     double TC_IIR_TAU_MAX
+    double TC_IIR_PER_REGISTER
+    double TC_IIR_SERIES_BELOW
 
 
 cdef bint _parameter_error(ErrorInfo *err, int32_t command, int index, double value, const char *why) noexcept nogil:
@@ -63,7 +68,8 @@ cdef bint smoothing_check(const SmoothingConfig *config, int32_t command, ErrorI
         for k in range(3):
             if config.iir[k] == 0.0:
                 return _parameter_error(err, command, k, 0.0, "an IIR filter on some axis needs p, q and f above 0")
-        tau = _iir_slowest_time(config.iir[0] * 1e-6, config.iir[1] * 1e-6, config.iir[2] * 1e-6)
+        tau = _iir_slowest_time(config.iir[0] * TC_IIR_PER_REGISTER, config.iir[1] * TC_IIR_PER_REGISTER,
+                                config.iir[2] * TC_IIR_PER_REGISTER)
         if not (tau <= TC_IIR_TAU_MAX):
             c_snprintf(why, sizeof(why), "with p, q and f the filter's slowest time constant is %g s, "
                        "above 1 s: a stopped machine would not come to rest", tau)
@@ -120,7 +126,7 @@ cdef void _iir_transition(Smoother *s, double p, double q, double f) noexcept no
     cdef double a1 = p * w, a0 = q * w * w
     cdef double sigma = -0.5 * a1, d = sigma * sigma - a0
     cdef double ec, es, r, e_high, shrink, x
-    if fabs(d) * T * T < 1e-6:
+    if fabs(d) * T * T < TC_IIR_SERIES_BELOW:
         x = d * T * T
         ec = exp(sigma * T) * (1.0 + x / 2.0 + x * x / 24.0)
         es = exp(sigma * T) * T * (1.0 + x / 6.0 + x * x / 120.0)
@@ -164,7 +170,8 @@ cdef bint smoother_init(Smoother *s, const SmoothingConfig *config, double perio
             memcpy(s.ring + row * SMOOTHING_AXES, start, SMOOTHING_AXES * sizeof(double))
     s.iir_axes = <uint32_t>config.iir[3] & 0x3FF
     if s.iir_axes != 0:
-        _iir_transition(s, config.iir[0] * 1e-6, config.iir[1] * 1e-6, config.iir[2] * 1e-6)
+        _iir_transition(s, config.iir[0] * TC_IIR_PER_REGISTER, config.iir[1] * TC_IIR_PER_REGISTER,
+                        config.iir[2] * TC_IIR_PER_REGISTER)
     memcpy(s.held, start, sizeof(s.held))
     memcpy(s.position, start, sizeof(s.position))
     for k in range(SMOOTHING_AXES):
@@ -183,11 +190,13 @@ cdef bint smoothing_sample_good(const double *sample) noexcept nogil:
 
 
 cdef void smoother_free(Smoother *s) noexcept nogil:
+    """Frees the spline's buffer."""
     free(s.ring)
     s.ring = NULL
 
 
 cdef inline double *_row(Smoother *s, uint64_t sample) noexcept nogil:
+    """The row of the ring buffer that holds `sample` (ten axes)."""
     return s.ring + (sample % (<uint64_t>s.span + 1)) * SMOOTHING_AXES
 
 
@@ -234,6 +243,9 @@ cdef void _splice(Smoother *s, uint64_t k) noexcept nogil:
 
 
 cdef void _spline_push(Smoother *s, const double *sample, double *out) noexcept nogil:
+    """The spline's step: the sample into the buffer; where the third difference at the buffer's
+    middle exceeds the jerk limit the buffer is spliced (_splice); out: the sample `span` steps
+    back, the output's delay."""
     cdef uint64_t k = s.pushed
     cdef uint64_t c = k - <uint64_t>(s.span / 2) - 2     # the sample checked: the quintic's middle
     cdef double *newest = _row(s, k)

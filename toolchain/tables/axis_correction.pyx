@@ -29,15 +29,18 @@ cdef int _axis_of_letter(unsigned char c) noexcept nogil:
 
 
 cdef char _axis_letter(int axis) noexcept nogil:
+    """The letter (upper case) of axis 0..9 in the library's order X Y Z C B U V W A O."""
     cdef const char *letters = "XYZCBUVWAO"
     return letters[axis]
 
 
 cdef uint32_t _le_u32(const unsigned char *p) noexcept nogil:
+    """A little-endian ULONG of the file at p (byte for byte: any host, any alignment)."""
     return <uint32_t>p[0] | (<uint32_t>p[1] << 8) | (<uint32_t>p[2] << 16) | (<uint32_t>p[3] << 24)
 
 
 cdef double _le_float(const unsigned char *p) noexcept nogil:
+    """A little-endian FLOAT of the file at p, as a double."""
     cdef uint32_t bits = _le_u32(p)
     cdef float value
     memcpy(&value, &bits, 4)

@@ -17,6 +17,7 @@ from libc.string cimport memset
 
 
 cdef inline bint _blank(char c) noexcept nogil:
+    """Whether c is a blank of a TAB0.KOR line (space, tab, CR)."""
     return c == b' ' or c == b'\t' or c == b'\r'
 
 
@@ -68,6 +69,7 @@ cdef int _value_slot(char name) noexcept nogil:
 
 
 cdef const char *_slot_name(int slot) noexcept nogil:
+    """The name of a tool value slot for the errors: the radius, or the length of axis 1..4."""
     if slot == 0: return "radius"
     if slot == 1: return "length of axis 1"
     if slot == 2: return "length of axis 2"
