@@ -252,36 +252,38 @@ cdef void _feed(Feeder *f) noexcept nogil:
 
 cdef void _publish(Core *core, Machine *m) noexcept nogil:
     """GetPos from the machine's state (the pacer's thread; the worker's before and
-    after the pacer runs): its cells as the run's session shows them."""
+    after the pacer runs): where it stands, the entry it is in, as the run's session
+    counts them."""
     cdef Motion *mo = &m.motion
-    cdef SnapshotData view
+    cdef Standing s
     cdef Entry *e = motion_entry(mo, 0) if mo.count > 0 else NULL
-    memset(&view, 0, sizeof(view))
-    view.pos.m_fileIdx = -1
-    output_view(&m.output, mo, &view.pos)       # output stage: commanded, smoothed, corrected
-    session_cells(&view, e.kind if e != NULL else -1, e.func if e != NULL else 0,
-                  e != NULL and mo.state == MS_WAIT_M, <const double *>&view.pos.m_calcS,
+    standing_clear(&s)
+    output_view(&m.output, mo, &s)      # output stage: commanded, smoothed, corrected
+    standing_part(&s, e.kind if e != NULL else -1, e.func if e != NULL else 0,
+                  e != NULL and mo.state == MS_WAIT_M,
                   part_shift(&m.program.prog, &m.program.prog.parts[e.part])
                   if e != NULL and m.program != NULL and e.part < m.program.prog.n_parts else NULL)
     if e != NULL:
-        view.pos.m_editorLine = e.line
-        view.pos.m_fileIdx = e.file_idx
-        view.pos.m_gCodeIndex = e.gcode_index
+        s.part.m_editorLine = e.line
+        s.part.m_fileIdx = e.file_idx
+        s.part.m_gCodeIndex = e.gcode_index
         if e.kind == PART_MOTION:
-            view.enh.m_actPartLen = entry_length(e)
-            view.enh.m_actPartRemain = entry_length(e) - mo.d
-            view.enh.m_setFeed = e.feed
-            view.enh.m_calcFeed = e.vmax * 60.0
+            s.part_len = entry_length(e)
+            s.part_remain = entry_length(e) - mo.d
+            s.set_feed = e.feed
+            s.calc_feed = e.vmax * 60.0
         if m.program != NULL and e.file_idx == m.program.prog.main_file_idx:
-            view.enh.m_MasterEditorLine = e.line
-    session_lengths(&view, &m.counts, mo.cut_len, mo.rapid_len,
-                    100.0 * min(mo.count, mo.window) / mo.window if mo.window > 0 else 0.0)
-    view.enh.m_actFeed = mo.v * 60.0 * (mo.ovr if mo.ovr_timing else 1.0)
-    view.enh.m_relFeed = mo.ovr
-    view.enh.m_MasterFileIdx = <uint32_t>(m.program.prog.main_file_idx if m.program != NULL else -1)
-    view.enh.m_statusCNC = core_status(core)
-    view.enh.m_cncRunTime = mo.run_time
-    snapshot_publish(&core.snap, &view)
+            s.master_line = e.line
+    s.counts = m.counts
+    s.cut_len = mo.cut_len
+    s.rapid_len = mo.rapid_len
+    s.fill = 100.0 * min(mo.count, mo.window) / mo.window if mo.window > 0 else 0.0
+    s.act_feed = mo.v * 60.0 * (mo.ovr if mo.ovr_timing else 1.0)
+    s.rel_feed = mo.ovr
+    s.master_file = <uint32_t>(m.program.prog.main_file_idx if m.program != NULL else -1)
+    s.status = core_status(core)
+    s.run_time = mo.run_time
+    getpos_publish(&core.snap, &s)
 
 
 cdef void *_pacer_body(void *arg) noexcept nogil:
