@@ -26,7 +26,7 @@ cdef Machine *machine_of(Core *core) noexcept nogil:
             return NULL
         pthread_mutex_init(&m.lock, NULL)
         pthread_cond_init(&m.wake, NULL)
-        m.cur_motion = PART_NONE
+        place_forget(&m.place)
         core.offline = m
     return m
 
@@ -41,34 +41,8 @@ cdef void machine_forget(Core *core) noexcept nogil:
     placed_plan_free(&m.plan)
     m.plan_made = False
     output_forget(&m.output)            # output stage: no filter state, no tables
-    m.cur_motion = PART_NONE
     m.program = NULL
-    m.part = 0
-    m.part_s = 0.0
-    m.began = False
-    m.n_history = 0
-    m.history_lost = False
-    m.cut_len = m.rapid_len = m.run_time = 0.0
-    memset(&m.counts, 0, sizeof(RunCounts))
-
-
-cdef void machine_history_push(Machine *m, size_t part) noexcept nogil:
-    """Remembers a motion part run (for backward runs): when HISTORY_DEPTH are held,
-    the oldest tenth goes at once."""
-    cdef size_t cap
-    if m.n_history == HISTORY_DEPTH:
-        memmove(m.history, m.history + HISTORY_DEPTH // 10,
-                (HISTORY_DEPTH - HISTORY_DEPTH // 10) * sizeof(size_t))
-        m.n_history -= HISTORY_DEPTH // 10
-        m.history_lost = True
-    if m.n_history == m.cap_history:
-        cap = min(max(2 * m.cap_history, <size_t>1024), <size_t>HISTORY_DEPTH)
-        if not resize(<void **>&m.history, cap, sizeof(size_t)):
-            m.history_lost = True
-            return
-        m.cap_history = cap
-    m.history[m.n_history] = part
-    m.n_history += 1
+    place_forget(&m.place)
 
 
 # ------------------------------------------------------------------ entries
@@ -205,17 +179,18 @@ cdef bint _backward_entry(Feeder *f, Entry *e) noexcept nogil:
     Its junction limit is the one where it meets the part retraced before it (that
     part's start)."""
     cdef Machine *m = f.m
+    cdef const Place *at = &m.place
     cdef const Program *prog = f.prog
     cdef size_t k, back
     cdef double from_s = -1.0
     if f.back_current and f.next == 0:
-        k = m.part
-        from_s = m.part_s
+        k = at.part
+        from_s = at.s
     else:
         back = f.next - (1 if f.back_current else 0)
-        if back >= m.n_history:
+        if back >= at.n_history:
             return False
-        k = m.history[m.n_history - 1 - back]
+        k = at.history[at.n_history - 1 - back]
     _entry_identity(f, e, prog, &prog.parts[k], k)
     segment_of_placed_part(prog, k, &m.placement, &e.seg)
     e.s_from = from_s if from_s >= 0.0 else e.seg.length
@@ -274,7 +249,7 @@ cdef void _publish(Core *core, Machine *m) noexcept nogil:
             s.calc_feed = e.vmax * 60.0
         if m.program != NULL and e.file_idx == m.program.prog.main_file_idx:
             s.master_line = e.line
-    s.counts = m.counts
+    s.counts = m.place.counts
     s.cut_len = mo.cut_len
     s.rapid_len = mo.rapid_len
     s.fill = 100.0 * min(mo.count, mo.window) / mo.window if mo.window > 0 else 0.0
@@ -378,7 +353,7 @@ cdef void _hand_over(Machine *m, bint wake) noexcept nogil:
         m.events[(m.ev_first + m.ev_n) % EVENT_QUEUE].part = part
         m.ev_n += 1
         if mo.log_kind[k] == ME_ENTRY and m.program != NULL and part < m.program.prog.n_parts:
-            session_count(&m.counts, &m.program.prog.parts[part])
+            session_count(&m.place.counts, &m.program.prog.parts[part])
         k += 1
     m.news = True
     pthread_cond_broadcast(&m.wake)
@@ -435,56 +410,10 @@ cdef int32_t _finish_event(Machine *m, int32_t regime) noexcept nogil:
     if state == MS_M0:
         return EV_M0
     if state == MS_END:
-        if regime == RUN_BACKWARD and m.history_lost:
+        if regime == RUN_BACKWARD and m.place.history_lost:
             return EV_STOPPED       # the remembered path ended before the program's start
         return EV_DONE
     return EV_STOPPED
-
-
-cdef void _keep_place(Machine *m, const Feeder *f) noexcept nogil:
-    """After the run: where the machine is on the program, and what it ran before."""
-    cdef Motion *mo = &m.motion
-    cdef const Program *prog = f.prog
-    cdef Entry *e
-    cdef size_t removed
-    cdef bint inside
-    if f.regime == RUN_BACKWARD:
-        # entries [0, consumed) were retraced; the current one, if any, is the part it is in now
-        removed = <size_t>mo.consumed + (1 if mo.count > 0 else 0)
-        removed -= 1 if f.back_current and removed > 0 else 0
-        m.n_history -= min(removed, m.n_history)
-        if mo.count > 0:
-            e = motion_entry(mo, 0)
-            m.part = e.part
-            m.part_s = e.s_from - mo.d
-            m.began = True
-        elif not m.history_lost:
-            m.part = 0                  # back at the start: a run begins with the program again
-            m.part_s = 0.0
-            m.began = False
-        elif mo.consumed > 0:
-            m.part = mo.ring[(mo.consumed - 1) % LOOK_RING].part
-            m.part_s = 0.0
-            m.began = False
-        m.cur_motion = m.part if m.began else PART_NONE
-        return
-    if mo.count > 0:
-        e = motion_entry(mo, 0)
-        m.part = e.part
-        m.part_s = mo.d
-        m.began = mo.started
-    elif not mo.complete:               # it stands where the feeder is to go on
-        m.part = f.next
-        m.part_s = 0.0
-        m.began = False
-    else:
-        m.part = prog.n_parts
-        m.part_s = 0.0
-        m.began = False
-    inside = mo.count > 0 and m.began and motion_entry(mo, 0).kind == PART_MOTION
-    if not inside and m.cur_motion != PART_NONE:
-        machine_history_push(m, <size_t>m.cur_motion)      # it stands after the part it ran last
-        m.cur_motion = PART_NONE
 
 
 cdef void _drain(Feeder *f) noexcept nogil:
@@ -495,9 +424,7 @@ cdef void _drain(Feeder *f) noexcept nogil:
     while _next_event(m, &ev):
         if (ev.kind == ME_ENTRY and f.regime != RUN_BACKWARD and f.prog != NULL and ev.part < f.prog.n_parts
                 and f.prog.parts[ev.part].kind == PART_MOTION):
-            if m.cur_motion != PART_NONE:
-                machine_history_push(m, <size_t>m.cur_motion)
-            m.cur_motion = <int64_t>ev.part
+            place_motion_begins(&m.place, ev.part)
         _notify(f, &ev)
         _notified(m)
 
@@ -555,36 +482,21 @@ cdef void _run_setup(Core *core, Machine *m, Feeder *f, int32_t regime, const do
     f.first = True
     f.any_motion = False
     f.motions = 0
-    f.next = m.part if regime != RUN_BACKWARD else 0
-    f.back_current = m.part < prog.n_parts and m.part_s > 0.0 and prog.parts[m.part].kind == PART_MOTION
+    f.next = m.place.part if regime != RUN_BACKWARD else 0
+    f.back_current = place_inside_motion(&m.place, prog)
     if not m.plan_made:                 # the first run where the placement holds: its plan
         placed_plan_make(&m.plan, prog, &m.placement)
         m.plan_made = True
     session_open(&m.session, core, regime, True)
     _motion_setup(core, mo, f, start)
     mo.window = _window(prog.planned_with.window)
-    mo.d = m.part_s if regime != RUN_BACKWARD else 0.0
-    mo.started = m.began and regime != RUN_BACKWARD
-    mo.cut_len = m.cut_len
-    mo.rapid_len = m.rapid_len
-    mo.run_time = m.run_time
+    place_resume(&m.place, mo, regime == RUN_BACKWARD)
 
 
 cdef void _run_keep(Core *core, Machine *m, const Feeder *f) noexcept nogil:
-    """With core.lock held, after a run along the program: the machine's place, its
-    lengths and times, and the core's position follow the run. Stopped at a waiting
-    M function the driver was given, the stop answered it: the place is after it."""
-    cdef Entry *e
-    _keep_place(m, f)
-    if m.motion.count > 0 and m.motion.state == MS_STOPPED:
-        e = motion_entry(&m.motion, 0)
-        if e.kind == PART_MFUNC and e.waits and m.session.signalled_m == e.part:
-            m.part = e.part + 1
-            m.part_s = 0.0
-            m.began = False
-    m.cut_len = m.motion.cut_len
-    m.rapid_len = m.motion.rapid_len
-    m.run_time = m.motion.run_time
+    """With core.lock held, after a run along the program: the machine's place and
+    the core's position follow the run."""
+    place_after_run(&m.place, &m.motion, f.prog, f.regime == RUN_BACKWARD, f.next, m.session.signalled_m)
     memcpy(core.position, m.motion.position, sizeof(core.position))
 
 
@@ -810,7 +722,7 @@ cdef bint machine_prepare(Core *core, Job *job, ErrorInfo *err) noexcept nogil:
     if m.program != core.program:
         machine_forget(core)
         m.program = loaded_program_ref(core.program)
-    if m.program != NULL and m.part == 0 and m.part_s == 0.0 and m.n_history == 0:
+    if m.program != NULL and place_at_start(&m.place):
         placement_init(&m.placement, &m.program.prog, core.position)    # a run from the start
         placed_plan_free(&m.plan)       # the run makes the plan of this placement
         m.plan_made = False
