@@ -37,6 +37,11 @@ cdef enum MotionEvent:          # motion_step's report (bits; the entries in Mot
     ME_HALT = 0x8               # the state left MS_RUNNING for good (stopped, M0, end)
     LOG_SIZE = 256
 
+# One entry of the look-ahead ring: what the step needs of a part, nothing it would
+# have to derive again. `node` is the entry as the planner's profile and backward pass
+# see it: the feeder writes its limits (vmax, ceiling, acc, dec, ramp), the step's
+# plan its junction under the override and its braking (jin, jin2, brake2, entry2)
+# whenever it plans the entries before it; its other fields are not used.
 ctypedef struct Entry:
     size_t part
     uint64_t motion_seq         # motion entries of the run before it (the window counts motion parts)
@@ -53,18 +58,16 @@ ctypedef struct Entry:
     double dwell                # seconds
     Segment seg                 # placed geometry of a motion part
     double s_from, s_to         # the traverse along seg: forward 0 -> length, backward s -> 0
-    double vmax                 # mm/s: its limit at 100 % override (the plan's v_cap, or the regime's feed)
-    double v_ceiling            # mm/s no override passes (the plan's)
-    double jin                  # mm/s: the junction limit at its start, the way it runs (the plan's)
-    double acc, dec             # equivalent accelerations of its ramps (planner.pxd)
-    int32_t ramp
+    PlanNode node               # node.vmax: its limit at 100 % override, mm/s (the plan's v_cap, or the
+                                # regime's feed); node.ceiling: the limit no override passes (the plan's);
+                                # node.acc, node.dec: equivalent accelerations of its ramps (planner.pxd)
+    double v_junction           # mm/s: the junction limit at its start, the way it runs (the plan's)
     double dyn_extra            # the dynamic G41/G42 correction at rest, mm (0: none)
     int32_t dyn_side            # +1 G41 (the tool left of its way), -1 G42
     int dyn_first, dyn_second   # the plane's axes
 
 ctypedef struct Motion:
     Entry ring[LOOK_RING]       # entry k of the run at ring[k % LOOK_RING]
-    PlanNode nodes[LOOK_RING]   # the entries as the backward pass sees them, at the same index
     uint64_t produced           # atomic: entries written (the feeder)
     uint64_t consumed           # atomic: entries done (the step)
     int32_t fed_all             # atomic: the feeder wrote its last entry

@@ -84,9 +84,9 @@ cdef void _entry_identity(Feeder *f, Entry *e, const Program *prog, const Part *
     e.break_before = False
     e.dwell = 0.0
     e.s_from = e.s_to = 0.0
-    e.vmax = e.v_ceiling = e.jin = 0.0
-    e.acc = e.dec = NO_LIMIT
-    e.ramp = RAMP_TRAPEZOID
+    e.node.vmax = e.node.ceiling = e.v_junction = 0.0
+    e.node.acc = e.node.dec = NO_LIMIT
+    e.node.ramp = RAMP_TRAPEZOID
     e.dyn_extra = 0.0
 
 
@@ -111,31 +111,31 @@ cdef void _entry_limits(Entry *e, const PartPlan *pp) noexcept nogil:
     """A motion entry's limits as the plan holds them (the profile is made from them).
     A part the plan passed through without length has none: only a placed plan that
     could not be made (out of memory) leaves one with length, which then creeps."""
-    e.vmax = pp.v_cap if pp.v_cap > 0.0 else 1.0 / 60.0
-    e.v_ceiling = max(<double>pp.v_ceiling, e.vmax)
-    e.jin = pp.v_junction
-    e.acc = pp.acc if pp.acc > 0.0 else NO_LIMIT
-    e.dec = pp.dec if pp.dec > 0.0 else NO_LIMIT
-    e.ramp = pp.ramp
+    e.node.vmax = pp.v_cap if pp.v_cap > 0.0 else 1.0 / 60.0
+    e.node.ceiling = max(<double>pp.v_ceiling, e.node.vmax)
+    e.v_junction = pp.v_junction
+    e.node.acc = pp.acc if pp.acc > 0.0 else NO_LIMIT
+    e.node.dec = pp.dec if pp.dec > 0.0 else NO_LIMIT
+    e.node.ramp = pp.ramp
 
 
 cdef void _class_limits(Entry *e, const GCODE_FEED *cls) noexcept nogil:
     """A motion class's feed (when set) caps the entry, its ramps replace the plan's
     (motion[2] backward, motion[4] regime 31)."""
     if cls.feed > 0.0:
-        e.vmax = min(e.vmax, cls.feed / 60.0)
-        e.v_ceiling = min(e.v_ceiling, e.vmax)
-        e.jin = min(e.jin, e.vmax)
+        e.node.vmax = min(e.node.vmax, cls.feed / 60.0)
+        e.node.ceiling = min(e.node.ceiling, e.node.vmax)
+        e.v_junction = min(e.v_junction, e.node.vmax)
     _class_ramps(e, cls)
 
 
 cdef void _class_ramps(Entry *e, const GCODE_FEED *cls) noexcept nogil:
     """A motion class's ramps (an acceleration of 0: the entry's own)."""
-    e.ramp = RAMP_SINE if cls.rampType == RAMP_SINE else RAMP_TRAPEZOID
+    e.node.ramp = RAMP_SINE if cls.rampType == RAMP_SINE else RAMP_TRAPEZOID
     if 0.0 < cls.acc < NO_LIMIT:
-        e.acc = ramp_equivalent_acc(cls.acc, e.ramp)
+        e.node.acc = ramp_equivalent_acc(cls.acc, e.node.ramp)
     if 0.0 < cls.dec < NO_LIMIT:
-        e.dec = ramp_equivalent_acc(cls.dec, e.ramp)
+        e.node.dec = ramp_equivalent_acc(cls.dec, e.node.ramp)
 
 
 cdef bint _forward_entry(Feeder *f, Entry *e) noexcept nogil:
@@ -196,7 +196,7 @@ cdef bint _backward_entry(Feeder *f, Entry *e) noexcept nogil:
     e.s_from = from_s if from_s >= 0.0 else e.seg.length
     e.s_to = 0.0
     _entry_limits(e, placed_plan_part(&m.plan, k))
-    e.jin = placed_plan_part(&m.plan, f.back_last).v_junction if f.next > 0 else 0.0
+    e.v_junction = placed_plan_part(&m.plan, f.back_last).v_junction if f.next > 0 else 0.0
     _class_limits(e, &f.params.motion[2])
     _dynamic_correction(e, prog, &prog.parts[k], f.params)
     f.back_last = k
@@ -246,7 +246,7 @@ cdef void _publish(Core *core, Machine *m) noexcept nogil:
             s.part_len = entry_length(e)
             s.part_remain = entry_length(e) - mo.d
             s.set_feed = e.feed
-            s.calc_feed = e.vmax * 60.0
+            s.calc_feed = e.node.vmax * 60.0
         if m.program != NULL and e.file_idx == m.program.prog.main_file_idx:
             s.master_line = e.line
     s.counts = m.place.counts
@@ -681,10 +681,10 @@ cdef void _manual_entry(Motion *mo, const SIMPLE_GM_PARAMS *dest, uint32_t n_des
     e.s_from = 0.0
     e.s_to = e.seg.length
     feed = _manual_feed(dest, cls)
-    e.vmax = feed / 60.0 if feed > 0.0 else 1.0 / 60.0
-    e.v_ceiling = e.vmax
+    e.node.vmax = feed / 60.0 if feed > 0.0 else 1.0 / 60.0
+    e.node.ceiling = e.node.vmax
     e.feed = feed
-    e.acc = e.dec = NO_LIMIT
+    e.node.acc = e.node.dec = NO_LIMIT
     _class_ramps(e, cls)
     TC_STORE_U64(&mo.produced, 1)
     TC_ATOMIC_STORE(&mo.fed_all, 1)
