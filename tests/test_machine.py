@@ -355,6 +355,26 @@ def test_backward_then_forward_is_one_continuous_path(mh):
             assert distance_to_part(records, k, xyz) <= EPS
 
 
+@pytest.mark.parametrize("text, radius", [(ARCS, 0.0), (SQUARE_G42, 2.0), (circle_chords(), 0.0)],
+                         ids=["arcs", "square_g42", "chords"])
+def test_the_place_keeps_its_invariants(mh, text, radius):
+    """After every run the machine's place on the program (machine.pxd Place) holds
+    what the face says of it: forward runs stopped anywhere (in a move, at the waiting
+    M5, in the dwell), backward ones stopped and run to the start, one that breaks off
+    where the remembered path ends, one that runs to the end."""
+    load(mh, text, radius=radius)
+    sequences = [[(30, 1.55), (30, 0.01), (32, 0.3)],
+                 [(30, 3.9), (32, 0.5), (32, -1.0)],
+                 [(30, 0.05), (30, 0.7), (32, 0.3), (30, 2.2), (33, 0.4), (31, 0.6), (32, 0.8), (30, -1.0),
+                  (32, 0.2), (32, -1.0)]]
+    for runs in sequences:
+        mh.forget(0)
+        assert mh.place(0) == (0, 0.0, False, []) and mh.place_violations(0) == []
+        for regime, stop_at in runs:
+            mh.run(0, regime, stop_at=stop_at)
+            assert mh.place_violations(0) == [], (regime, stop_at, mh.place(0)[:3])
+
+
 @pytest.mark.parametrize("timing", [0, 1], ids=["feed_cap", "time_scale"])
 def test_the_override_moves_by_overrideInc_per_step(mh, timing):
     load(mh, "G1 X300 F6000\n", interpolatorConfig0=timing)

@@ -66,6 +66,39 @@ ctypedef struct SnapshotData:
     SIMPLE_GM_PARAMS pos
     GM_PARAMS_ENHANCED enh
 
+ctypedef struct RunCounts:      # GetPos's counters of a run so far (runtime/session.pyx session_count)
+    int32_t n_work, n_rapid     # moves begun: G1 G2 G3, and G0
+    int32_t rapid_to_work, work_to_rapid
+    int32_t n_m                 # M functions
+    int32_t last_motion         # the last move: 0 none yet, 1 a rapid, 2 a cut
+
+# Where a run stands, as its publisher knows it: everything GetPos shows is made from
+# it by one function (getpos_publish, runtime/snapshot.pyx), whoever publishes -- the
+# machine's pacer, the simulation, an ending call, an addCode M function that waits.
+# standing_clear gives a standing machine that shows nothing but its position;
+# standing_part the part it is in.
+ctypedef struct Standing:
+    # the part as the driver got it (the simulation: GetPos shows its fields), else its
+    # identity (m_editorLine, m_fileIdx -1: none, m_gCodeIndex); m_func the number shown
+    # (standing_part); m_s, m_e: the part's start and end (the simulation), else the
+    # commanded position (the interpolator's). Its m_pars, m_calcS, m_calcE are not shown
+    SIMPLE_GM_PARAMS part
+    double output[AXES]         # where the tool is (after the spline and the IIR filter): m_calcS, the axis cells
+    double drives[AXES]         # what the drives are sent (the axis corrections added): m_calcE
+    bint cells                  # m_pars shows the cells below (else all 26 are 0)
+    bint shows_shift            # the part's G92 shift in the I J K L Q R D E S H cells
+    double shift[AXES]
+    float g_cell, m_cell        # the G and M cells (INVALID_VALUE_F: absent)
+    RunCounts counts
+    double cut_len, rapid_len   # so far, mm (the N and T cells too)
+    double fill                 # how full the look-ahead is, percent (the P cell)
+    double set_feed, calc_feed  # of the motion part it is in (mm/min): programmed, its limit at 100 %
+    double part_len, part_remain
+    double act_feed, rel_feed   # the actual feed (mm/min) and override
+    uint32_t master_line, master_file
+    int32_t status
+    double run_time             # machine seconds of the run so far
+
 ctypedef struct SnapshotSlot:
     uint32_t seq            # odd while a writer writes this slot
     SnapshotData data
@@ -74,6 +107,7 @@ ctypedef struct Snapshot:
     uint32_t current        # the slot readers read; a writer writes the other one
     pthread_mutex_t write_lock
     SnapshotSlot slots[2]
+    Standing shown          # what the last publication was made from (write_lock)
 
 # Every distinct file name a core has been given, each stored once and never moved
 # or rewritten: the pointer IdxToFile returns stays valid while a host holds it

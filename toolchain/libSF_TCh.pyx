@@ -74,6 +74,7 @@ include "runtime/session.pyx"
 include "core.pyx"
 include "configuration.pyx"             # what a host sets on a core
 include "machine/motion.pyx"
+include "machine/place.pyx"
 include "machine/clock.pyx"
 include "machine/output.pyx"
 include "machine/machine.pyx"

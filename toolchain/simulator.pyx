@@ -31,28 +31,33 @@ cdef bint check_limits(Core *core, const MACHINE_PARAMETERS *machine, const SIMP
     return inside
 
 
-cdef void _show_part(SnapshotData *view, const Program *prog, size_t i, const SIMPLE_GM_PARAMS *gm,
-                     RunCounts *counts, double *lengths, double run_time) noexcept nogil:
-    """GetPos after part i: standing at its end, the counters and lengths so far."""
+cdef void _show_part(Standing *s, const Program *prog, size_t i, const SIMPLE_GM_PARAMS *gm,
+                     double *lengths, double run_time) noexcept nogil:
+    """Where the run stands after part i: at its end, the part as the driver got it,
+    the counters and lengths so far; the feeds and lengths of the last motion part
+    and the last line of the main file stay shown until another replaces them."""
     cdef const Part *p = &prog.parts[i]
-    cdef GM_PARAMS_ENHANCED *enh = &view.enh
     cdef double length
-    view.pos = gm[0]
-    view.pos.m_calcS = gm.m_calcE
-    session_count(counts, p)
-    session_cells(view, p.kind, p.func, p.kind == PART_MFUNC and m_function_waits(
-        p.func, (p.flags & FLAG_CONTINUOUS_M) != 0), <const double *>&gm.m_calcE, part_shift(prog, p))
+    s.part = gm[0]
+    memcpy(s.output, &gm.m_calcE, sizeof(s.output))
+    memcpy(s.drives, &gm.m_calcE, sizeof(s.drives))
+    session_count(&s.counts, p)
+    standing_part(s, p.kind, p.func, p.kind == PART_MFUNC and m_function_waits(
+        p.func, (p.flags & FLAG_CONTINUOUS_M) != 0), part_shift(prog, p))
     if p.kind == PART_MOTION:
         length = gm.m_pars.N
         lengths[0 if p.func == 0 else 1] += length
-        enh.m_actPartLen = length
-        enh.m_actPartRemain = 0.0
-        enh.m_setFeed = part_settings(prog, p).feed
-        enh.m_calcFeed = plan_calc_feed(prog, i)
-    session_lengths(view, counts, lengths[1], lengths[0], 100.0)
-    enh.m_MasterEditorLine = p.line if part_settings(prog, p).file_idx == prog.main_file_idx else enh.m_MasterEditorLine
-    enh.m_MasterFileIdx = <uint32_t>prog.main_file_idx
-    enh.m_cncRunTime = run_time
+        s.part_len = length
+        s.part_remain = 0.0
+        s.set_feed = part_settings(prog, p).feed
+        s.calc_feed = plan_calc_feed(prog, i)
+    s.cut_len = lengths[1]
+    s.rapid_len = lengths[0]
+    s.fill = 100.0
+    if part_settings(prog, p).file_idx == prog.main_file_idx:
+        s.master_line = p.line
+    s.master_file = <uint32_t>prog.main_file_idx
+    s.run_time = run_time
 
 
 cdef void *simulation_body(void *arg) noexcept nogil:
@@ -65,10 +70,9 @@ cdef void *simulation_body(void *arg) noexcept nogil:
     cdef Session session
     cdef GCODE_PARAMETERS *params = <GCODE_PARAMETERS *>tc_malloc(sizeof(GCODE_PARAMETERS))
     cdef MACHINE_PARAMETERS *machine = <MACHINE_PARAMETERS *>tc_malloc(sizeof(MACHINE_PARAMETERS))
-    cdef SnapshotData *view = <SnapshotData *>tc_calloc(1, sizeof(SnapshotData))
+    cdef Standing *shown = <Standing *>tc_calloc(1, sizeof(Standing))
     cdef ErrorInfo *first_error = <ErrorInfo *>tc_calloc(1, sizeof(ErrorInfo))
     cdef SIMPLE_GM_PARAMS gm
-    cdef RunCounts counts
     cdef char *stop_code
     cdef double start[AXES]
     cdef double lengths[2]              # rapids, cuts
@@ -82,7 +86,6 @@ cdef void *simulation_body(void *arg) noexcept nogil:
     cdef const Part *p
     tc_set_stage("the simulation")
     worker_thread_mark(core)
-    memset(&counts, 0, sizeof(counts))
     lengths[0] = lengths[1] = 0.0
     pthread_mutex_lock(&core.lock)
     loaded = loaded_program_ref(core.program)       # core_start made sure there is one
@@ -91,7 +94,7 @@ cdef void *simulation_body(void *arg) noexcept nogil:
         machine[0] = core.machine
     memcpy(start, core.position, sizeof(start))
     pthread_mutex_unlock(&core.lock)
-    if loaded == NULL or params == NULL or machine == NULL or view == NULL or first_error == NULL:
+    if loaded == NULL or params == NULL or machine == NULL or shown == NULL or first_error == NULL:
         core_keep_error(core, False, NULL)         # out of memory
         stopped = True
     else:
@@ -99,9 +102,9 @@ cdef void *simulation_body(void *arg) noexcept nogil:
         n = prog.n_parts
         placement_init(&placement, prog, start)
         placed_plan_make(&plan, prog, &placement)      # the times of a run from here
-        view.pos.m_fileIdx = -1
-        view.enh.m_relFeed = TC_ATOMIC_LOAD_D(&core.rel_feed)
-        snapshot_publish(&core.snap, view)
+        standing_clear(shown)
+        shown.rel_feed = TC_ATOMIC_LOAD_D(&core.rel_feed)
+        getpos_publish(&core.snap, shown)
         session_open(&session, core, job.regime, False)
         session_begin(&session, start)
         session_add_code(&session, job.add_code, start, 0, False)
@@ -123,16 +126,16 @@ cdef void *simulation_body(void *arg) noexcept nogil:
             if testing and p.kind == PART_MOTION:
                 check_limits(core, machine, &gm, p, first_error)
             session_part(&session, prog, i, &gm)
-            _show_part(view, prog, i, &gm, &counts, lengths, run_time)
-            view.enh.m_relFeed = TC_ATOMIC_LOAD_D(&core.rel_feed)
-            snapshot_publish(&core.snap, view)
+            _show_part(shown, prog, i, &gm, lengths, run_time)
+            shown.rel_feed = TC_ATOMIC_LOAD_D(&core.rel_feed)
+            getpos_publish(&core.snap, shown)
             percent = <uint32_t>((i + 1) * 100 // n)
             if percent != last_percent:
                 last_percent = percent
                 core_progress(core, percent)
         if stopped:
             stop_code = session_take_stop_code(core)
-            session_add_code(&session, stop_code, <const double *>&view.pos.m_calcS, 0, True)
+            session_add_code(&session, stop_code, shown.output, 0, True)
             free(stop_code)
         session_end(&session)
         if first_error.number != 0:
@@ -143,7 +146,7 @@ cdef void *simulation_body(void *arg) noexcept nogil:
     loaded_program_release(loaded)
     free(params)
     free(machine)
-    free(view)
+    free(shown)
     free(first_error)
     job_free(&job.head)
     core_finish(core, EV_STOPPED if stopped else EV_DONE)

@@ -208,7 +208,50 @@ def place(int core_idx):
     cdef size_t k
     if m == NULL:
         return None
-    return (m.part, m.part_s, m.began, [m.history[k] for k in range(m.n_history)])
+    return (m.place.part, m.place.s, m.place.began, [m.place.history[k] for k in range(m.place.n_history)])
+
+
+def place_violations(int core_idx):
+    """The invariants of the machine's place (machine.pxd Place) it breaks now: a list
+    of texts, empty when it holds them all (lengths to 1e-9 mm)."""
+    cdef Core *core = core_get(core_idx)
+    cdef Machine *m = <Machine *>core.offline
+    cdef const Place *p
+    cdef const Program *prog
+    cdef Segment seg
+    cdef double length = 0.0
+    cdef bint motion
+    cdef size_t k
+    cdef list bad = []
+    if m == NULL or m.program == NULL:
+        return bad
+    p = &m.place
+    prog = &m.program.prog
+    if p.part > prog.n_parts:
+        bad.append(f"part {p.part} > n_parts {prog.n_parts}")
+        return bad
+    motion = p.part < prog.n_parts and prog.parts[p.part].kind == PART_MOTION
+    if p.part == prog.n_parts and (p.s != 0.0 or p.began):
+        bad.append(f"after the last part with s {p.s}, began {p.began}")
+    if motion:
+        segment_of_placed_part(prog, p.part, &m.placement, &seg)
+        length = seg.length
+    if not (0.0 <= p.s <= length + 1e-9):
+        bad.append(f"s {p.s} outside [0, {length}] of part {p.part}")
+    if p.s > 0.0 and not (motion and p.began):
+        bad.append(f"s {p.s} > 0 in part {p.part} (motion {motion}, began {p.began})")
+    if p.current != (<int64_t>p.part if p.began and motion else PART_NONE):
+        bad.append(f"current {p.current} in part {p.part} (motion {motion}, began {p.began})")
+    if p.n_history > HISTORY_DEPTH:
+        bad.append(f"{p.n_history} parts in the history")
+    for k in range(p.n_history):
+        if p.history[k] >= prog.n_parts or prog.parts[p.history[k]].kind != PART_MOTION:
+            bad.append(f"history[{k}] = {p.history[k]} is no motion part")
+        elif k > 0 and p.history[k] <= p.history[k - 1]:
+            bad.append(f"history[{k}] = {p.history[k]} after {p.history[k - 1]}")
+        elif p.history[k] >= p.part:
+            bad.append(f"history[{k}] = {p.history[k]} not before part {p.part}")
+    return bad
 
 
 def destroy_all():

@@ -72,7 +72,7 @@ cdef int _connect_search(Core *core, Machine *m, const GCODE_PARAMETERS *params,
                                       params.maxConnectionDistance, hit, err)
     if t == 20 or t == 21:
         return connect_mfunc(prog, pl, job.coords, job.n_coords, t == 21,
-                             <int64_t>m.part if m.part < prog.n_parts else -1, job.status_before, hit, err)
+                             <int64_t>m.place.part if m.place.part < prog.n_parts else -1, job.status_before, hit, err)
     if t == 46:
         return connect_exact_point(prog, pl, job.coords, job.n_coords, job.axes_calc,
                                    params.tolerance[6] if params.tolerance[6] > 0.0 else 0.01, hit, err)
@@ -98,23 +98,6 @@ cdef bint _connect_end_callback(Core *core, Machine *m, ConnectHit *hit, ErrorIn
             err_connect_not_finite(err, -1, 0, "ConnectPointCalcEnd")
     callback_leave(core, SLOT_CONNECT_POINT_CALC_END)
     return finite
-
-
-cdef void _connect_place(Machine *m, const ConnectHit *hit) noexcept nogil:
-    """The machine's place after the connection: inside the part found, the motion
-    parts before it remembered for backward runs."""
-    cdef const Program *prog = &m.program.prog
-    cdef size_t k, first
-    m.part = hit.part
-    m.part_s = hit.s
-    m.began = hit.s > 0.0
-    m.n_history = 0
-    first = hit.part - HISTORY_DEPTH if hit.part > HISTORY_DEPTH else 0
-    m.history_lost = first > 0
-    for k in range(first, hit.part):
-        if prog.parts[k].kind == PART_MOTION:
-            machine_history_push(m, k)
-    m.cur_motion = <int64_t>hit.part if m.began and prog.parts[hit.part].kind == PART_MOTION else PART_NONE
 
 
 cdef void *connect_body(void *arg) noexcept nogil:
@@ -165,7 +148,7 @@ cdef void *connect_body(void *arg) noexcept nogil:
             finish = machine_manual_move(core, m, &f, &dest, AXES, &f.params.motion[3])
             if finish == EV_DONE:
                 pthread_mutex_lock(&core.lock)
-                _connect_place(m, &hit)
+                place_connect(&m.place, &m.program.prog, hit.part, hit.s)
                 pthread_mutex_unlock(&core.lock)
                 session_open(&m.session, core, RUN_FORWARD, True)
                 if not session_add_code(&m.session, job.add_code, m.motion.position, CNC_STATUS_SENDING_CONNECT_M, False):

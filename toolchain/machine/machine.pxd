@@ -3,14 +3,15 @@
 # StartCNCEx 30-33, StopCNCEx, the M-function handshake, breakpoints, manual moves,
 # ConnectCNCEx_Plane. Its files:
 #   motion.pyx          the interpolator as a pure step: motion_step(m, dt) along a ring of entries
+#   place.pyx           where the machine is on its program (Place): dropped, resumed, left by a run
 #   clock.pyx           the machine's time: the wall clock times the scale, or the test-only stepped clock
 #   output.pyx          the output stage: each step's position through the spline, the IIR filter and
 #                       the axis corrections to the drives (and GetPos); the spline's delay of the events
 #   machine.pyx         a run: the feeder and notifier (the activity's worker) and the pacer thread
 #   connect_search.pyx  where on a program ConnectCNCEx_Plane connects to (pure, typed)
 #   connect.pyx         the connection as an activity: search, move there, run on
-# Owns Machine (the machine of one core, Core.offline: its place on the program
-# outlives the runs), Motion and the search's index. Called by the lifecycle
+# Owns Machine (the machine of one core, Core.offline), its Place on the program
+# (outlives the runs), Motion and the search's index. Called by the lifecycle
 # (runtime/lifecycle.pyx: prepare and forget a core's machine, its workers) and the
 # exports (GoTo, M confirmations, ConnectCNCEx_Plane, StopCNCEx's addCode).
 
@@ -50,6 +51,11 @@ cdef enum MotionEvent:          # motion_step's report (bits; the entries in Mot
     ME_HALT = 0x8               # the state left MS_RUNNING for good (stopped, M0, end)
     LOG_SIZE = 256
 
+# One entry of the look-ahead ring: what the step needs of a part, nothing it would
+# have to derive again. `node` is the entry as the planner's profile and backward pass
+# see it: the feeder writes its limits (vmax, ceiling, acc, dec, ramp), the step's
+# plan its junction under the override and its braking (jin, jin2, brake2, entry2)
+# whenever it plans the entries before it; its other fields are not used.
 ctypedef struct Entry:
     size_t part
     uint64_t motion_seq         # motion entries of the run before it (the window counts motion parts)
@@ -66,18 +72,16 @@ ctypedef struct Entry:
     double dwell                # seconds
     Segment seg                 # placed geometry of a motion part
     double s_from, s_to         # the traverse along seg: forward 0 -> length, backward s -> 0
-    double vmax                 # mm/s: its limit at 100 % override (the plan's v_cap, or the regime's feed)
-    double v_ceiling            # mm/s no override passes (the plan's)
-    double jin                  # mm/s: the junction limit at its start, the way it runs (the plan's)
-    double acc, dec             # equivalent accelerations of its ramps (planner.pxd)
-    int32_t ramp
+    PlanNode node               # node.vmax: its limit at 100 % override, mm/s (the plan's v_cap, or the
+                                # regime's feed); node.ceiling: the limit no override passes (the plan's);
+                                # node.acc, node.dec: equivalent accelerations of its ramps (planner.pxd)
+    double v_junction           # mm/s: the junction limit at its start, the way it runs (the plan's)
     double dyn_extra            # the dynamic G41/G42 correction at rest, mm (0: none)
     int32_t dyn_side            # +1 G41 (the tool left of its way), -1 G42
     int dyn_first, dyn_second   # the plane's axes
 
 ctypedef struct Motion:
     Entry ring[LOOK_RING]       # entry k of the run at ring[k % LOOK_RING]
-    PlanNode nodes[LOOK_RING]   # the entries as the backward pass sees them, at the same index
     uint64_t produced           # atomic: entries written (the feeder)
     uint64_t consumed           # atomic: entries done (the step)
     int32_t fed_all             # atomic: the feeder wrote its last entry
@@ -137,11 +141,47 @@ ctypedef struct Output:
     OutputEvent *events         # events[first .. first + n) wait for their step
     size_t first, n, cap
 
-# ---- machine.pyx: a run's threads and the machine's place on the program
+# ---- place.pyx: where the machine is on its program
+cdef enum:
+    HISTORY_DEPTH = 100000      # motion parts a backward run can retrace
+    PART_NONE = -1              # no part: an entry that is no part of the program (a manual move)
+
+# The machine's place on its program (Machine.place): one record that outlives the
+# runs. A run along the program starts from it (place_resume) and leaves it where the
+# run stood (place_after_run); the notifier moves `current` into the history as
+# motion parts begin (place_motion_begins) and the pacer counts them (counts); a
+# connection puts it where it connects (place_connect); ResetCNC, DestroyCNC and a new
+# program drop it (place_forget). Nothing else writes it. Between activities it holds:
+#   - part <= n_parts of Machine.program; part == n_parts: after the last part, with
+#     s == 0 and not began;
+#   - 0 <= s <= the part's length; s > 0 only in a motion part that began
+#     (place_inside_motion): a forward run goes on s along it, a backward run retraces
+#     it from there first;
+#   - began: the part's start was told to the driver (DriverGFunc): a forward run that
+#     goes on in it does not tell it again;
+#   - current: the motion part it stands in and began (not in the history yet), else
+#     PART_NONE -- forward, the last one the notifier saw begin, so after a run that
+#     ResetStatusCNC cut short it may be the last one whose start was told;
+#   - history: the motion parts run before, oldest first, each once, at most
+#     HISTORY_DEPTH (history_lost: older ones were dropped, or memory ran out): what a
+#     backward run retraces, newest first;
+#   - at the program's start (place_at_start): part 0, s 0, nothing run;
+#   - cut_len, rapid_len, run_time, counts: the totals of the runs since it was dropped
+#     (GetPos; a run moves them on from these).
+ctypedef struct Place:
+    size_t part                 # the part it is in
+    double s                    # path length done along it (mm)
+    bint began
+    int64_t current
+    size_t *history             # history[0 .. n_history), a buffer of cap_history
+    size_t n_history, cap_history
+    bint history_lost
+    double cut_len, rapid_len, run_time
+    RunCounts counts            # GetPos's counters (the pacer's while a run moves)
+
+# ---- machine.pyx: a run's threads
 cdef enum:
     EVENT_QUEUE = 1024          # events between the pacer and the notifier
-    HISTORY_DEPTH = 100000      # motion parts a backward run can retrace
-    PART_NONE = -1              # an entry that is no part of the program (a manual move)
     RUN_MANUAL = 50             # the regime of a manual move (GoToPosition), as its status
 
 cdef enum PacerState:            # what the stepped clock's stepper waits for (clock.pyx)
@@ -163,15 +203,7 @@ cdef struct Machine:
     Placement placement         # where that program runs (the machine position of its first start)
     PlacedPlan plan             # its plan as a run placed there sees it (made by the first run)
     bint plan_made
-    int64_t cur_motion          # the motion part it runs or ran last (PART_NONE: none)
-    size_t part                 # the part it is in (n_parts: after the last)
-    double part_s               # path length done along that part
-    bint began                  # the part's start was reported (DriverGFunc)
-    size_t *history             # motion parts it ran before `part`, oldest first
-    size_t n_history, cap_history
-    bint history_lost           # older ones were dropped (HISTORY_DEPTH)
-    double cut_len, rapid_len, run_time
-    RunCounts counts            # GetPos's counters (the pacer's while a run moves)
+    Place place                 # where it is on that program (place.pyx)
     # the run's driver session (the worker's: feeder and notifier)
     Session session
     # pacer -> notifier

@@ -26,7 +26,7 @@ cdef Machine *machine_of(Core *core) noexcept nogil:
             return NULL
         pthread_mutex_init(&m.lock, NULL)
         pthread_cond_init(&m.wake, NULL)
-        m.cur_motion = PART_NONE
+        place_forget(&m.place)
         core.offline = m
     return m
 
@@ -41,34 +41,8 @@ cdef void machine_forget(Core *core) noexcept nogil:
     placed_plan_free(&m.plan)
     m.plan_made = False
     output_forget(&m.output)            # output stage: no filter state, no tables
-    m.cur_motion = PART_NONE
     m.program = NULL
-    m.part = 0
-    m.part_s = 0.0
-    m.began = False
-    m.n_history = 0
-    m.history_lost = False
-    m.cut_len = m.rapid_len = m.run_time = 0.0
-    memset(&m.counts, 0, sizeof(RunCounts))
-
-
-cdef void machine_history_push(Machine *m, size_t part) noexcept nogil:
-    """Remembers a motion part run (for backward runs): when HISTORY_DEPTH are held,
-    the oldest tenth goes at once."""
-    cdef size_t cap
-    if m.n_history == HISTORY_DEPTH:
-        memmove(m.history, m.history + HISTORY_DEPTH // 10,
-                (HISTORY_DEPTH - HISTORY_DEPTH // 10) * sizeof(size_t))
-        m.n_history -= HISTORY_DEPTH // 10
-        m.history_lost = True
-    if m.n_history == m.cap_history:
-        cap = min(max(2 * m.cap_history, <size_t>1024), <size_t>HISTORY_DEPTH)
-        if not resize(<void **>&m.history, cap, sizeof(size_t)):
-            m.history_lost = True
-            return
-        m.cap_history = cap
-    m.history[m.n_history] = part
-    m.n_history += 1
+    place_forget(&m.place)
 
 
 # ------------------------------------------------------------------ entries
@@ -113,9 +87,9 @@ cdef void _entry_identity(Feeder *f, Entry *e, const Program *prog, const Part *
     e.break_before = False
     e.dwell = 0.0
     e.s_from = e.s_to = 0.0
-    e.vmax = e.v_ceiling = e.jin = 0.0
-    e.acc = e.dec = NO_LIMIT
-    e.ramp = RAMP_TRAPEZOID
+    e.node.vmax = e.node.ceiling = e.v_junction = 0.0
+    e.node.acc = e.node.dec = NO_LIMIT
+    e.node.ramp = RAMP_TRAPEZOID
     e.dyn_extra = 0.0
 
 
@@ -140,31 +114,31 @@ cdef void _entry_limits(Entry *e, const PartPlan *pp) noexcept nogil:
     """A motion entry's limits as the plan holds them (the profile is made from them).
     A part the plan passed through without length has none: only a placed plan that
     could not be made (out of memory) leaves one with length, which then creeps."""
-    e.vmax = pp.v_cap if pp.v_cap > 0.0 else 1.0 / 60.0
-    e.v_ceiling = max(<double>pp.v_ceiling, e.vmax)
-    e.jin = pp.v_junction
-    e.acc = pp.acc if pp.acc > 0.0 else NO_LIMIT
-    e.dec = pp.dec if pp.dec > 0.0 else NO_LIMIT
-    e.ramp = pp.ramp
+    e.node.vmax = pp.v_cap if pp.v_cap > 0.0 else 1.0 / 60.0
+    e.node.ceiling = max(<double>pp.v_ceiling, e.node.vmax)
+    e.v_junction = pp.v_junction
+    e.node.acc = pp.acc if pp.acc > 0.0 else NO_LIMIT
+    e.node.dec = pp.dec if pp.dec > 0.0 else NO_LIMIT
+    e.node.ramp = pp.ramp
 
 
 cdef void _class_limits(Entry *e, const GCODE_FEED *cls) noexcept nogil:
     """A motion class's feed (when set) caps the entry, its ramps replace the plan's
     (motion[2] backward, motion[4] regime 31)."""
     if cls.feed > 0.0:
-        e.vmax = min(e.vmax, cls.feed / 60.0)
-        e.v_ceiling = min(e.v_ceiling, e.vmax)
-        e.jin = min(e.jin, e.vmax)
+        e.node.vmax = min(e.node.vmax, cls.feed / 60.0)
+        e.node.ceiling = min(e.node.ceiling, e.node.vmax)
+        e.v_junction = min(e.v_junction, e.node.vmax)
     _class_ramps(e, cls)
 
 
 cdef void _class_ramps(Entry *e, const GCODE_FEED *cls) noexcept nogil:
     """A motion class's ramps (an acceleration of 0: the entry's own)."""
-    e.ramp = RAMP_SINE if cls.rampType == RAMP_SINE else RAMP_TRAPEZOID
+    e.node.ramp = RAMP_SINE if cls.rampType == RAMP_SINE else RAMP_TRAPEZOID
     if 0.0 < cls.acc < NO_LIMIT:
-        e.acc = ramp_equivalent_acc(cls.acc, e.ramp)
+        e.node.acc = ramp_equivalent_acc(cls.acc, e.node.ramp)
     if 0.0 < cls.dec < NO_LIMIT:
-        e.dec = ramp_equivalent_acc(cls.dec, e.ramp)
+        e.node.dec = ramp_equivalent_acc(cls.dec, e.node.ramp)
 
 
 cdef bint _forward_entry(Feeder *f, Entry *e) noexcept nogil:
@@ -208,23 +182,24 @@ cdef bint _backward_entry(Feeder *f, Entry *e) noexcept nogil:
     Its junction limit is the one where it meets the part retraced before it (that
     part's start)."""
     cdef Machine *m = f.m
+    cdef const Place *at = &m.place
     cdef const Program *prog = f.prog
     cdef size_t k, back
     cdef double from_s = -1.0
     if f.back_current and f.next == 0:
-        k = m.part
-        from_s = m.part_s
+        k = at.part
+        from_s = at.s
     else:
         back = f.next - (1 if f.back_current else 0)
-        if back >= m.n_history:
+        if back >= at.n_history:
             return False
-        k = m.history[m.n_history - 1 - back]
+        k = at.history[at.n_history - 1 - back]
     _entry_identity(f, e, prog, &prog.parts[k], k)
     segment_of_placed_part(prog, k, &m.placement, &e.seg)
     e.s_from = from_s if from_s >= 0.0 else e.seg.length
     e.s_to = 0.0
     _entry_limits(e, placed_plan_part(&m.plan, k))
-    e.jin = placed_plan_part(&m.plan, f.back_last).v_junction if f.next > 0 else 0.0
+    e.v_junction = placed_plan_part(&m.plan, f.back_last).v_junction if f.next > 0 else 0.0
     _class_limits(e, &f.params.motion[2])
     _dynamic_correction(e, prog, &prog.parts[k], f.params)
     f.back_last = k
@@ -255,36 +230,38 @@ cdef void _feed(Feeder *f) noexcept nogil:
 
 cdef void _publish(Core *core, Machine *m) noexcept nogil:
     """GetPos from the machine's state (the pacer's thread; the worker's before and
-    after the pacer runs): its cells as the run's session shows them."""
+    after the pacer runs): where it stands, the entry it is in, as the run's session
+    counts them."""
     cdef Motion *mo = &m.motion
-    cdef SnapshotData view
+    cdef Standing s
     cdef Entry *e = motion_entry(mo, 0) if mo.count > 0 else NULL
-    memset(&view, 0, sizeof(view))
-    view.pos.m_fileIdx = -1
-    output_view(&m.output, mo, &view.pos)       # output stage: commanded, smoothed, corrected
-    session_cells(&view, e.kind if e != NULL else -1, e.func if e != NULL else 0,
-                  e != NULL and mo.state == MS_WAIT_M, <const double *>&view.pos.m_calcS,
+    standing_clear(&s)
+    output_view(&m.output, mo, &s)      # output stage: commanded, smoothed, corrected
+    standing_part(&s, e.kind if e != NULL else -1, e.func if e != NULL else 0,
+                  e != NULL and mo.state == MS_WAIT_M,
                   part_shift(&m.program.prog, &m.program.prog.parts[e.part])
                   if e != NULL and m.program != NULL and e.part < m.program.prog.n_parts else NULL)
     if e != NULL:
-        view.pos.m_editorLine = e.line
-        view.pos.m_fileIdx = e.file_idx
-        view.pos.m_gCodeIndex = e.gcode_index
+        s.part.m_editorLine = e.line
+        s.part.m_fileIdx = e.file_idx
+        s.part.m_gCodeIndex = e.gcode_index
         if e.kind == PART_MOTION:
-            view.enh.m_actPartLen = entry_length(e)
-            view.enh.m_actPartRemain = entry_length(e) - mo.d
-            view.enh.m_setFeed = e.feed
-            view.enh.m_calcFeed = e.vmax * 60.0
+            s.part_len = entry_length(e)
+            s.part_remain = entry_length(e) - mo.d
+            s.set_feed = e.feed
+            s.calc_feed = e.node.vmax * 60.0
         if m.program != NULL and e.file_idx == m.program.prog.main_file_idx:
-            view.enh.m_MasterEditorLine = e.line
-    session_lengths(&view, &m.counts, mo.cut_len, mo.rapid_len,
-                    100.0 * min(mo.count, mo.window) / mo.window if mo.window > 0 else 0.0)
-    view.enh.m_actFeed = mo.v * 60.0 * (mo.ovr if mo.ovr_timing else 1.0)
-    view.enh.m_relFeed = mo.ovr
-    view.enh.m_MasterFileIdx = <uint32_t>(m.program.prog.main_file_idx if m.program != NULL else -1)
-    view.enh.m_statusCNC = core_status(core)
-    view.enh.m_cncRunTime = mo.run_time
-    snapshot_publish(&core.snap, &view)
+            s.master_line = e.line
+    s.counts = m.place.counts
+    s.cut_len = mo.cut_len
+    s.rapid_len = mo.rapid_len
+    s.fill = 100.0 * min(mo.count, mo.window) / mo.window if mo.window > 0 else 0.0
+    s.act_feed = mo.v * 60.0 * (mo.ovr if mo.ovr_timing else 1.0)
+    s.rel_feed = mo.ovr
+    s.master_file = <uint32_t>(m.program.prog.main_file_idx if m.program != NULL else -1)
+    s.status = core_status(core)
+    s.run_time = mo.run_time
+    getpos_publish(&core.snap, &s)
 
 
 cdef void *_pacer_body(void *arg) noexcept nogil:
@@ -379,7 +356,7 @@ cdef void _hand_over(Machine *m, bint wake) noexcept nogil:
         m.events[(m.ev_first + m.ev_n) % EVENT_QUEUE].part = part
         m.ev_n += 1
         if mo.log_kind[k] == ME_ENTRY and m.program != NULL and part < m.program.prog.n_parts:
-            session_count(&m.counts, &m.program.prog.parts[part])
+            session_count(&m.place.counts, &m.program.prog.parts[part])
         k += 1
     m.news = True
     pthread_cond_broadcast(&m.wake)
@@ -438,56 +415,10 @@ cdef int32_t _finish_event(Machine *m, int32_t regime) noexcept nogil:
     if state == MS_M0:
         return EV_M0
     if state == MS_END:
-        if regime == RUN_BACKWARD and m.history_lost:
+        if regime == RUN_BACKWARD and m.place.history_lost:
             return EV_STOPPED       # the remembered path ended before the program's start
         return EV_DONE
     return EV_STOPPED
-
-
-cdef void _keep_place(Machine *m, const Feeder *f) noexcept nogil:
-    """After the run: where the machine is on the program, and what it ran before."""
-    cdef Motion *mo = &m.motion
-    cdef const Program *prog = f.prog
-    cdef Entry *e
-    cdef size_t removed
-    cdef bint inside
-    if f.regime == RUN_BACKWARD:
-        # entries [0, consumed) were retraced; the current one, if any, is the part it is in now
-        removed = <size_t>mo.consumed + (1 if mo.count > 0 else 0)
-        removed -= 1 if f.back_current and removed > 0 else 0
-        m.n_history -= min(removed, m.n_history)
-        if mo.count > 0:
-            e = motion_entry(mo, 0)
-            m.part = e.part
-            m.part_s = e.s_from - mo.d
-            m.began = True
-        elif not m.history_lost:
-            m.part = 0                  # back at the start: a run begins with the program again
-            m.part_s = 0.0
-            m.began = False
-        elif mo.consumed > 0:
-            m.part = mo.ring[(mo.consumed - 1) % LOOK_RING].part
-            m.part_s = 0.0
-            m.began = False
-        m.cur_motion = m.part if m.began else PART_NONE
-        return
-    if mo.count > 0:
-        e = motion_entry(mo, 0)
-        m.part = e.part
-        m.part_s = mo.d
-        m.began = mo.started
-    elif not mo.complete:               # it stands where the feeder is to go on
-        m.part = f.next
-        m.part_s = 0.0
-        m.began = False
-    else:
-        m.part = prog.n_parts
-        m.part_s = 0.0
-        m.began = False
-    inside = mo.count > 0 and m.began and motion_entry(mo, 0).kind == PART_MOTION
-    if not inside and m.cur_motion != PART_NONE:
-        machine_history_push(m, <size_t>m.cur_motion)      # it stands after the part it ran last
-        m.cur_motion = PART_NONE
 
 
 cdef void _drain(Feeder *f) noexcept nogil:
@@ -498,9 +429,7 @@ cdef void _drain(Feeder *f) noexcept nogil:
     while _next_event(m, &ev):
         if (ev.kind == ME_ENTRY and f.regime != RUN_BACKWARD and f.prog != NULL and ev.part < f.prog.n_parts
                 and f.prog.parts[ev.part].kind == PART_MOTION):
-            if m.cur_motion != PART_NONE:
-                machine_history_push(m, <size_t>m.cur_motion)
-            m.cur_motion = <int64_t>ev.part
+            place_motion_begins(&m.place, ev.part)
         _notify(f, &ev)
         _notified(m)
 
@@ -558,36 +487,21 @@ cdef void _run_setup(Core *core, Machine *m, Feeder *f, int32_t regime, const do
     f.first = True
     f.any_motion = False
     f.motions = 0
-    f.next = m.part if regime != RUN_BACKWARD else 0
-    f.back_current = m.part < prog.n_parts and m.part_s > 0.0 and prog.parts[m.part].kind == PART_MOTION
+    f.next = m.place.part if regime != RUN_BACKWARD else 0
+    f.back_current = place_inside_motion(&m.place, prog)
     if not m.plan_made:                 # the first run where the placement holds: its plan
         placed_plan_make(&m.plan, prog, &m.placement)
         m.plan_made = True
     session_open(&m.session, core, regime, True)
     _motion_setup(core, mo, f, start)
     mo.window = _window(prog.planned_with.window)
-    mo.d = m.part_s if regime != RUN_BACKWARD else 0.0
-    mo.started = m.began and regime != RUN_BACKWARD
-    mo.cut_len = m.cut_len
-    mo.rapid_len = m.rapid_len
-    mo.run_time = m.run_time
+    place_resume(&m.place, mo, regime == RUN_BACKWARD)
 
 
 cdef void _run_keep(Core *core, Machine *m, const Feeder *f) noexcept nogil:
-    """With core.lock held, after a run along the program: the machine's place, its
-    lengths and times, and the core's position follow the run. Stopped at a waiting
-    M function the driver was given, the stop answered it: the place is after it."""
-    cdef Entry *e
-    _keep_place(m, f)
-    if m.motion.count > 0 and m.motion.state == MS_STOPPED:
-        e = motion_entry(&m.motion, 0)
-        if e.kind == PART_MFUNC and e.waits and m.session.signalled_m == e.part:
-            m.part = e.part + 1
-            m.part_s = 0.0
-            m.began = False
-    m.cut_len = m.motion.cut_len
-    m.rapid_len = m.motion.rapid_len
-    m.run_time = m.motion.run_time
+    """With core.lock held, after a run along the program: the machine's place and
+    the core's position follow the run."""
+    place_after_run(&m.place, &m.motion, f.prog, f.regime == RUN_BACKWARD, f.next, m.session.signalled_m)
     memcpy(core.position, m.motion.position, sizeof(core.position))
 
 
@@ -772,10 +686,10 @@ cdef void _manual_entry(Motion *mo, const SIMPLE_GM_PARAMS *dest, uint32_t n_des
     e.s_from = 0.0
     e.s_to = e.seg.length
     feed = _manual_feed(dest, cls)
-    e.vmax = feed / 60.0 if feed > 0.0 else 1.0 / 60.0
-    e.v_ceiling = e.vmax
+    e.node.vmax = feed / 60.0 if feed > 0.0 else 1.0 / 60.0
+    e.node.ceiling = e.node.vmax
     e.feed = feed
-    e.acc = e.dec = NO_LIMIT
+    e.node.acc = e.node.dec = NO_LIMIT
     _class_ramps(e, cls)
     TC_STORE_U64(&mo.produced, 1)
     TC_ATOMIC_STORE(&mo.fed_all, 1)
@@ -813,7 +727,7 @@ cdef bint machine_prepare(Core *core, Job *job, ErrorInfo *err) noexcept nogil:
     if m.program != core.program:
         machine_forget(core)
         m.program = loaded_program_ref(core.program)
-    if m.program != NULL and m.part == 0 and m.part_s == 0.0 and m.n_history == 0:
+    if m.program != NULL and place_at_start(&m.place):
         placement_init(&m.placement, &m.program.prog, core.position)    # a run from the start
         placed_plan_free(&m.plan)       # the run makes the plan of this placement
         m.plan_made = False

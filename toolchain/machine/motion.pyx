@@ -42,7 +42,7 @@ cdef void entry_point(const Entry *e, double d, double v, double *out) noexcept 
     segment_point_at(&e.seg, s, out)
     if e.dyn_extra == 0.0 or e.seg.length <= 0.0:
         return
-    extra = e.dyn_extra * (1.0 - min(v / e.vmax, 1.0)) if e.vmax > 0.0 else e.dyn_extra
+    extra = e.dyn_extra * (1.0 - min(v / e.node.vmax, 1.0)) if e.node.vmax > 0.0 else e.dyn_extra
     segment_tangent(&e.seg, s, t)
     # the way's own direction (not the traverse's): a backward run keeps the side
     out[e.dyn_first] -= e.dyn_side * extra * t[e.dyn_second]
@@ -59,21 +59,22 @@ cdef inline double _cap(const Motion *m, const Entry *e) noexcept nogil:
     limits no override passes (axes, centripetal acceleration, arc feed table); not
     scaled in rapids with disableG0FeedOverride, nor when the override scales time."""
     if m.ovr_timing or (e.rapid and m.ovr_off_in_rapids):
-        return e.vmax
-    return min(e.vmax * m.ovr, e.v_ceiling)
+        return e.node.vmax
+    return min(e.node.vmax * m.ovr, e.node.ceiling)
 
 
 cdef void _plan_current(Motion *m) noexcept nogil:
     """Plans the current motion entry again from where the machine is: the nodes of
     the entries the window sees after it (motion entries up to the window's count,
-    the ring's end, or a stop's end), their limits under the override, stops where
-    the machine stands (waiting M functions, dwells, M0, breakpoints); the backward
-    pass over them gives the highest exit, and the profile of what is left of the
-    entry runs from the present speed to it. Sets window_short when the ring's end,
-    not the window's, ended what it saw."""
+    the ring's end, or a stop's end) -- their junctions under the override, stops
+    where the machine stands (waiting M functions, dwells, M0, breakpoints), their
+    braking -- and the backward pass over them, in the ring, give the highest exit;
+    the profile of what is left of the entry runs from the present speed to it. Sets
+    window_short when the ring's end, not the window's, ended what it saw."""
     cdef Entry *cur = motion_entry(m, 0)
     cdef Entry *e
     cdef PlanNode *nd
+    cdef PlanNode now                   # the current entry: what is left of it
     cdef size_t k, last = m.count, base = <size_t>m.consumed
     cdef uint64_t window_end = cur.motion_seq + m.window
     cdef const PlanNode *next = NULL
@@ -85,15 +86,15 @@ cdef void _plan_current(Motion *m) noexcept nogil:
         e = motion_entry(m, k)
         if e.motion_seq >= window_end:
             break
-        nd = &m.nodes[(base + k) % LOOK_RING]
+        nd = &e.node
         nd.entry2 = -1.0                # the nodes changed: the pass computes them all
         length = entry_length(e)
         if m.stopping and k == m.stop_entry:
             length = m.stop_d
         if e.kind == PART_MOTION and entry_length(e) > 0.0:
             cap = _cap(m, e)
-            nd.jin = 0.0 if e.break_before else min(e.jin, min(cap_before, cap))
-            nd.brake2 = 2.0 * (_eq(m.stop_dec, m.stop_ramp) if m.stopping else e.dec) * length
+            nd.jin = 0.0 if e.break_before else min(e.v_junction, min(cap_before, cap))
+            nd.brake2 = 2.0 * (_eq(m.stop_dec, m.stop_ramp) if m.stopping else nd.dec) * length
             cap_before = cap
         else:                           # the speed passes through, or the machine stands there
             nd.jin = 0.0 if e.waits or e.m0 or e.kind == PART_DWELL or e.break_before else HUGE_VAL
@@ -104,14 +105,14 @@ cdef void _plan_current(Motion *m) noexcept nogil:
     m.window_short = (k == m.count and not m.complete and not m.stopping
                       and e.motion_seq + (1 if e.kind == PART_MOTION else 0) < window_end)
     if k > 1:
-        plan_backward(m.nodes, LOOK_RING - 1, base, base + k)
-        next = &m.nodes[(base + 1) % LOOK_RING]
+        plan_backward(&m.ring[0].node, sizeof(Entry), LOOK_RING - 1, base, base + k)
+        next = &motion_entry(m, 1).node
     # the current entry's node: what is left of it
-    nd = &m.nodes[base % LOOK_RING]
+    nd = &now
     length = entry_length(cur)
-    nd.acc = cur.acc
-    nd.dec = cur.dec
-    nd.ramp = cur.ramp
+    nd.acc = cur.node.acc
+    nd.dec = cur.node.dec
+    nd.ramp = cur.node.ramp
     if m.stopping:
         nd.dec = _eq(m.stop_dec, m.stop_ramp)
         nd.ramp = m.stop_ramp

@@ -124,14 +124,14 @@ cdef bint output_halted(const Output *o, const Motion *mo) noexcept nogil:
     return mo.state >= MS_STOPPED and output_settled(o)
 
 
-cdef void output_view(const Output *o, const Motion *mo, SIMPLE_GM_PARAMS *pos) noexcept nogil:
+cdef void output_view(const Output *o, const Motion *mo, Standing *s) noexcept nogil:
     """GetPos's positions: m_s = m_e the interpolator's (commanded), m_calcS after
     the spline and the IIR filter (where the machine is), m_calcE that with the axis
     corrections (what the drives are sent)."""
-    memcpy(&pos.m_s, mo.position, sizeof(P10DOUBLE))
-    pos.m_e = pos.m_s
+    memcpy(&s.part.m_s, mo.position, sizeof(P10DOUBLE))
+    s.part.m_e = s.part.m_s
     if o.filtering:
-        memcpy(&pos.m_calcS, o.smoothed, sizeof(P10DOUBLE))
+        memcpy(s.output, o.smoothed, sizeof(s.output))
     else:
-        memcpy(&pos.m_calcS, mo.position, sizeof(P10DOUBLE))
-    axis_correction_apply(o.tables, <const double *>&pos.m_calcS, <double *>&pos.m_calcE)
+        memcpy(s.output, mo.position, sizeof(s.output))
+    axis_correction_apply(o.tables, s.output, s.drives)

@@ -194,9 +194,11 @@ cdef double _plan_node(const PlanNode *nd, double v_in, const PlanNode *next, Re
     return pr.v_out
 
 
-cdef inline void plan_backward(PlanNode *ring, size_t mask, size_t first, size_t end) noexcept nogil:
+cdef inline void plan_backward(PlanNode *ring, size_t stride, size_t mask, size_t first, size_t end) noexcept nogil:
     """The backward pass over a window: each node j of (first, end) -- node j at
-    ring[j & mask], node `first` the one being planned -- gets entry2, the highest
+    (j & mask) * stride bytes from `ring` (stride: sizeof(PlanNode) in a ring of
+    nodes, the record's size in a ring of records that hold one), node `first` the
+    one being planned -- gets entry2, the highest
     squared speed it may be entered at: its junction's limit, or what it and the
     nodes after it can still brake away to rest at the window's end. The values only
     grow as the window's end moves on, and where one does not change none before it
@@ -206,7 +208,7 @@ cdef inline void plan_backward(PlanNode *ring, size_t mask, size_t first, size_t
     cdef PlanNode *nj
     while j > first + 1:
         j -= 1
-        nj = &ring[j & mask]
+        nj = <PlanNode *>(<char *>ring + (j & mask) * stride)
         v2 = min(nj.jin2, v2 + nj.brake2)
         if v2 == nj.entry2:
             break
@@ -401,7 +403,7 @@ cdef int _sweep(const Program *prog, const Placement *pl, const GCODE_PARAMETERS
             if _next_node(&src, &ring[made & mask]):
                 made += 1
         if made != planned_made:        # the window's end moved
-            plan_backward(ring, mask, i, made)
+            plan_backward(ring, sizeof(PlanNode), mask, i, made)
             planned_made = made
         if nd.part >= room:             # the head's plan grows (the compile's holds every part)
             if not _head_room(head, nd.part + 1):

@@ -104,7 +104,7 @@ cdef enum:
     RING_START = 256            # nodes; a deeper window grows the ring as far as it reaches
     PLAN_SPLIT_SEARCH = 65536   # parts plan_split_at looks through
 
-ctypedef struct PlanNode:       # a motion part with length, as the passes see it (and the machine's entries)
+ctypedef struct PlanNode:       # a motion part with length, as the passes see it (and each machine entry holds one)
     size_t part
     size_t seq                  # motion parts before it (the window counts motion parts)
     double length
@@ -195,13 +195,14 @@ cdef bint program_add_plan_region(ProgramBuilder *build, size_t first, const GCO
                                   int32_t stop_mode, int32_t arc_table) noexcept nogil
 
 # one part's profile: planned from its entry speed to the highest exit allowed, and
-# sampled; the backward pass over a window of nodes (the planner's and the machine's)
+# sampled; the backward pass over a window of nodes (the planner's ring of PlanNode, the
+# machine's ring of entries that hold one: node k `stride` bytes after node k - 1)
 cdef void profile_plan(Profile *p, const PlanNode *nd, double v_in, const PlanNode *next,
                        Reciprocals *rc) noexcept nogil
 cdef void profile_at(const Profile *p, double t, double *d, double *v) noexcept nogil
 cdef inline double profile_time(const Profile *p) noexcept nogil:
     return p.t1 + p.t2 + p.t3
-cdef void plan_backward(PlanNode *ring, size_t mask, size_t first, size_t end) noexcept nogil
+cdef void plan_backward(PlanNode *ring, size_t stride, size_t mask, size_t first, size_t end) noexcept nogil
 
 # the pipeline: plan the whole program, or in ranges split where the machine stands
 # (plan_alloc first); whether the plan inserts M functions (then it plans in one piece)

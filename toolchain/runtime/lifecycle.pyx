@@ -231,15 +231,13 @@ cdef int32_t _end_command(int32_t kind) noexcept nogil:
 cdef void _publish_position(Core *core, const double *position) noexcept nogil:
     """With core.lock held, GetPos after an end: standing at `position` (m_calcE: with
     the axis corrections, what the drives are sent), counters cleared."""
-    cdef SnapshotData view                 # on the stack: an end never goes without it
-    cdef SnapshotData *data = &view
-    memset(data, 0, sizeof(SnapshotData))
-    data.pos.m_fileIdx = -1
-    memcpy(&data.pos.m_s, position, sizeof(P10DOUBLE))
-    data.pos.m_e = data.pos.m_s
-    data.pos.m_calcS = data.pos.m_s
-    axis_correction_apply(core.axis_corrections, position, <double *>&data.pos.m_calcE)
-    snapshot_publish(&core.snap, data)
+    cdef Standing s                     # on the stack: an end never goes without it
+    standing_clear(&s)
+    memcpy(&s.part.m_s, position, sizeof(P10DOUBLE))
+    s.part.m_e = s.part.m_s
+    memcpy(s.output, position, sizeof(s.output))
+    axis_correction_apply(core.axis_corrections, position, s.drives)
+    getpos_publish(&core.snap, &s)
 
 
 cdef LoadedProgram *_apply_end_locked(Core *core, int32_t kind) noexcept nogil:

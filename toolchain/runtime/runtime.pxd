@@ -1,12 +1,13 @@
 # Face of the runtime of a core (runtime/): what every activity of a core needs
 # besides the core itself. Its files:
 #   transitions.pyx  the status machine as one table: the status a command leads to
-#   snapshot.pyx     the GetPos view: a double-buffered seqlock readers never wait on
+#   snapshot.pyx     the GetPos view: a double-buffered seqlock readers never wait on, and the
+#                    one function that makes it from where a run stands (Standing)
 #   programs.pyx     compiled programs with an owner count (published, shared, released)
 #   callbacks.pyx    the host's callbacks: counted while they run, the reports they carry
 #   last_errors.pyx  GetLastError / GetLastCallError: errors published by pointer swap
 #   lifecycle.pyx    the activities: command -> worker table, begin, end, join
-#   session.pyx      a run's driver session: callbacks in order, addCode, M handshakes, GetPos cells
+#   session.pyx      a run's driver session: callbacks in order, addCode, M handshakes, GetPos counters
 #   file_names.pyx   the file table (FileToIdx / IdxToFile)
 # The data it works on belongs to the core (core.pxd: Core, its Snapshot, FileTable,
 # Callback and LoadedProgram); the runtime owns the commands of the status machine and
@@ -72,12 +73,6 @@ cdef enum CallbackSlot:
 
 
 # ---- session.pyx: a run's driver session
-ctypedef struct RunCounts:      # GetPos's counters of a run so far
-    int32_t n_work, n_rapid     # moves begun: G1 G2 G3, and G0
-    int32_t rapid_to_work, work_to_rapid
-    int32_t n_m                 # M functions
-    int32_t last_motion         # the last move: 0 none yet, 1 a rapid, 2 a cut
-
 ctypedef struct Session:
     Core *core
     int32_t regime              # StartCNCEx's
@@ -95,11 +90,18 @@ cdef inline bint m_function_waits(int32_t m, bint continuous) noexcept nogil:
 # the status `command` leads to from `status`: a status, TC_KEEP or TC_REFUSED
 cdef int32_t status_after(int32_t status, int32_t command, bint has_program) noexcept nogil
 
-# GetPos: a snapshot set up, published by whoever moves the position, read by anyone
+# GetPos: a snapshot set up, read by anyone; what it shows published from where a
+# run stands (core.pxd Standing: the one place that makes the view), by whoever
+# moves the position; the standing of the last publication; a standing that shows
+# only its position, the part it is in (its kind, -1: none; waiting at an M
+# function; its G92 shift, NULL: none)
 cdef void snapshot_init(Snapshot *snap) noexcept nogil
-cdef void snapshot_publish(Snapshot *snap, const SnapshotData *data) noexcept nogil
 cdef void snapshot_read(Snapshot *snap, SnapshotData *out) noexcept nogil
 cdef void core_read_position(Core *core, SIMPLE_GM_PARAMS *pos, GM_PARAMS_ENHANCED *enh) noexcept nogil
+cdef void getpos_publish(Snapshot *snap, const Standing *s) noexcept nogil
+cdef void getpos_shown(Snapshot *snap, Standing *out) noexcept nogil
+cdef void standing_clear(Standing *s) noexcept nogil
+cdef void standing_part(Standing *s, int32_t kind, int32_t func, bint waiting, const double *shift) noexcept nogil
 
 # a compiled program published (it takes prog over), one more reader, one reader less
 cdef LoadedProgram *loaded_program_new(Program *prog, const GCODE_INFO *extent,
@@ -163,8 +165,7 @@ cdef int32_t core_size_info(Core *core, GCODE_INFO *out) noexcept nogil
 # after_stop: StopCNCEx's; False: a stop or an end came meanwhile); StopCNCEx's addCode kept, taken (the caller
 # frees it). The handshake: the machine's step takes an answer; ConfirmMFunc; MFunc
 # while nothing runs; none waits and no stop addCode is kept (an activity begins or
-# ends). GetPos: a part began (the counters); the cells where the machine stands; the
-# counters, lengths and the look-ahead's fill
+# ends). GetPos: a part began (the counters)
 cdef void session_open(Session *s, Core *core, int32_t regime, bint holds) noexcept nogil
 cdef void session_begin(Session *s, const double *start) noexcept nogil
 cdef void session_end(Session *s) noexcept nogil
@@ -178,10 +179,6 @@ cdef int32_t session_confirm(Core *core) noexcept nogil
 cdef int32_t session_standing_m(Core *core, const SIMPLE_GM_PARAMS *fun) noexcept nogil
 cdef void session_forget_locked(Core *core) noexcept nogil
 cdef void session_count(RunCounts *c, const Part *p) noexcept nogil
-cdef void session_cells(SnapshotData *view, int32_t kind, int32_t func, bint waiting,
-                        const double *position, const double *shift) noexcept nogil
-cdef void session_lengths(SnapshotData *view, const RunCounts *c, double cut_len, double rapid_len,
-                          double fill) noexcept nogil
 
 # the file table: FileToIdx, IdxToFile, a file's run time read (-1: no such entry)
 # and set (False: no such entry)

@@ -166,7 +166,7 @@ cdef bint _wait_answer(Session *s, const SIMPLE_GM_PARAMS *gm, uint32_t stops) n
     confirmed (GetPos shows it), a stop answers it (a StopCNCEx after `stops`) or the
     activity ends. False unless confirmed."""
     cdef Core *core = s.core
-    cdef SnapshotData view
+    cdef Standing at
     cdef bint confirmed
     pthread_mutex_lock(&core.lock)
     if core.m_waiting == 0:
@@ -174,13 +174,13 @@ cdef bint _wait_answer(Session *s, const SIMPLE_GM_PARAMS *gm, uint32_t stops) n
         pthread_mutex_unlock(&core.lock)
         return not TC_ATOMIC_LOAD(&core.cancel)
     pthread_mutex_unlock(&core.lock)
-    snapshot_read(&core.snap, &view)    # standing at it: m_func M + 10000, the M cell
-    view.pos.m_func = gm.m_func + 10000
-    view.pos.m_pars.M = gm.m_pars.M
-    view.pos.m_editorLine = 0
-    view.pos.m_fileIdx = TOOL_CHAIN_FILE_EXEC
-    view.enh.m_actFeed = 0.0
-    snapshot_publish(&core.snap, &view)
+    getpos_shown(&core.snap, &at)       # where the machine stands, at the M: m_func M + 10000, the M cell
+    at.part.m_func = gm.m_func + 10000
+    at.m_cell = gm.m_pars.M
+    at.part.m_editorLine = 0
+    at.part.m_fileIdx = TOOL_CHAIN_FILE_EXEC
+    at.act_feed = 0.0
+    getpos_publish(&core.snap, &at)
     pthread_mutex_lock(&core.lock)
     while (core.m_waiting != 0 and not TC_ATOMIC_LOAD(&core.cancel)
            and <uint32_t>TC_ATOMIC_LOAD(&core.stop) == stops):
@@ -267,57 +267,3 @@ cdef void session_count(RunCounts *c, const Part *p) noexcept nogil:
         c.last_motion = now
     elif p.kind == PART_MFUNC:
         c.n_m += 1
-
-
-cdef void session_cells(SnapshotData *view, int32_t kind, int32_t func, bint waiting,
-                        const double *position, const double *shift) noexcept nogil:
-    """GetPos's m_func and cells of the current part (a PartKind; any other value:
-    none) where the machine stands at `position`: M functions as M + 10000, the G cell
-    of a move or a dwell, the M cell of a waiting M function, the ten axes, and the
-    part's G92 shift (`shift`, ten axes; NULL: none) in the cells the structures
-    description gives them, I J K L Q R D E S H for X Y Z C B U V W A O; the other
-    cells absent."""
-    cdef float *cells = <float *>&view.pos.m_pars
-    cdef int k
-    for k in range(26):
-        cells[k] = INVALID_VALUE_F
-    if shift != NULL:
-        for k in range(AXES):
-            cells[_SHIFT_CELL[k]] = <float>shift[k]
-    for k in range(AXES):
-        cells[_AXIS_CELL[k]] = <float>position[k]
-    if kind == PART_MOTION or kind == PART_DWELL:
-        view.pos.m_func = func
-        view.pos.m_pars.G = <float>func
-    elif kind == PART_MFUNC:
-        view.pos.m_func = func + 10000
-        if waiting:
-            view.pos.m_pars.M = <float>func
-
-
-cdef void session_lengths(SnapshotData *view, const RunCounts *c, double cut_len, double rapid_len,
-                          double fill) noexcept nogil:
-    """GetPos's counters and lengths so far: the enhanced fields, the N and T cells,
-    and P, how full the look-ahead is (percent)."""
-    view.enh.m_nWorkCounter = c.n_work
-    view.enh.m_nG00Counter = c.n_rapid
-    view.enh.m_nG00ToWorkChanges = c.rapid_to_work
-    view.enh.m_nWorkToG00Changes = c.work_to_rapid
-    view.enh.m_nMCounter = c.n_m
-    view.enh.m_actWorkPartsLen = cut_len
-    view.enh.m_actG00PartsLen = rapid_len
-    view.enh.m_actPartsLen = cut_len + rapid_len
-    view.pos.m_pars.N = <float>cut_len
-    view.pos.m_pars.T = <float>rapid_len
-    view.pos.m_pars.P = <float>fill
-
-
-cdef extern from *:
-    """
-    /* m_pars cells of the ten axes X Y Z C B U V W A O (letter - 'A') */
-    static const int tc_axis_cells[10] = {23, 24, 25, 2, 1, 20, 21, 22, 0, 14};
-    /* m_pars cells of GetPos's G92 offsets of the ten axes: I J K L Q R D E S H */
-    static const int tc_shift_cells[10] = {8, 9, 10, 11, 16, 17, 3, 4, 18, 7};
-    """
-    const int *_AXIS_CELL "tc_axis_cells"
-    const int *_SHIFT_CELL "tc_shift_cells"
