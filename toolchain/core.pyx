@@ -195,7 +195,9 @@ cdef int _compile_job(Core *core, CompileJob *job, ProgramBuilder *build, GCODE_
     tc_set_stage("the automatic arcs")
     if result == COMPILE_OK:
         result = insert_arcs(build, &inp.params, err)
-    if result == COMPILE_OK and join_lines(build, &inp.params) != COMPILE_OK:
+    # the joins number the parts they keep on their pass, unless the plan inserts M
+    # functions (then the count comes after it)
+    if result == COMPILE_OK and join_lines(build, &inp.params, not mfunc_insert_wanted(&inp.params)) != COMPILE_OK:
         result = COMPILE_ERROR
         err_out_of_memory(err, job.files[0], 0)
     measured = measured and build.prog.n_parts == n_parts      # no automatic arcs came in, no lines joined
@@ -217,7 +219,7 @@ cdef int _compile_job(Core *core, CompileJob *job, ProgramBuilder *build, GCODE_
                                                    extent, measured) != COMPILE_OK:
         result = COMPILE_ERROR
         err_out_of_memory(err, job.files[0], 0)
-    if result == COMPILE_OK:
+    if result == COMPILE_OK and build.renumber:
         program_number_parts(&build.prog)   # the plan's insertions are in: the driver's indexes
     if result == COMPILE_OK and TC_ATOMIC_LOAD(&core.cancel):
         result = COMPILE_CANCELLED          # ended while it finished: nothing is published

@@ -269,6 +269,7 @@ ctypedef struct CompState:
     int n_warnings
     CompWarning warnings[MAX_WARNINGS]
     bint has_followers      # some compensated part has no motion in the plane
+    bint dropped            # some arc left the cutting plan (FLAG_DROPPED): the parts are numbered again
     XState xs               # crossings of parts that are not neighbours (crossings.pyx)
     Clearance cl            # the contour the tool path keeps away from (clearance.pyx)
     Regions rg              # a chain rebuilt from its regions (regions.pyx)
@@ -335,5 +336,6 @@ cdef void compensate_free(CompState *S) noexcept nogil
 # ... then the G167 arcs between G1 lines of the compensated program
 cdef int insert_arcs(ProgramBuilder *build, const GCODE_PARAMETERS *params, ErrorInfo *err) noexcept nogil
 # ... then tolerance[4] on the uncompensated arcs and the nearly collinear G1 parts
-# joined (tolerance[2], [3]; join_lines.pyx), before the extent and the plan
-cdef int join_lines(ProgramBuilder *build, const GCODE_PARAMETERS *params) noexcept nogil
+# joined (tolerance[2], [3]; join_lines.pyx), before the extent and the plan; `number`:
+# nothing is inserted after it, so it numbers the parts it keeps (program_number_parts)
+cdef int join_lines(ProgramBuilder *build, const GCODE_PARAMETERS *params, bint number) noexcept nogil

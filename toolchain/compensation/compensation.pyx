@@ -476,6 +476,7 @@ cdef int _run_part(CompState *S, size_t k) noexcept nogil:
             comp_discard(S, k)
             if not (S.prog.parts[k].flags & FLAG_HELIX):
                 S.prog.parts[k].flags |= FLAG_DROPPED
+                S.dropped = True
             return COMPILE_OK
         if el.ro < S.cfg.min_arc:
             # below the minimum arc radius (tolerance[4]): removed the same way
@@ -749,6 +750,8 @@ cdef int compensate_end(CompState *S, const MergeWatch *watch) noexcept nogil:
         res = err_out_of_memory(S.err, comp_file(S, 0), comp_line(S, 0))
     if res == COMPILE_OK:
         res = _merge(S, watch)
+    if S.dropped:
+        S.build.renumber = True
     _comp_deliver(S)
     compensate_free(S)
     return res

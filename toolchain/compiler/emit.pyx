@@ -430,4 +430,5 @@ cdef int em_print(CState *st, const LineWords *lw, int m, const char *text, int 
     if p == NULL:
         return R_ERR
     p.extra = <uint32_t>off
+    st.build.renumber = True        # no driver gets it: the next part's index moves (program_number_parts)
     return em_pars(st, lw, -10000, m)
