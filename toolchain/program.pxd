@@ -204,6 +204,8 @@ ctypedef struct ProgramBuilder:
     uint32_t settings_last                  # and the record it found last
     Follow *follow          # while a stage reads the parts beside the compiler, else NULL
     size_t prefaulted       # parts [0, prefaulted) of the capacity are faulted in (program_prefault)
+    size_t ready_parts, ready_pars, ready_extras, ready_settings    # bytes of each array faulted in
+                            # ahead of the compiler by the compiler itself (arrays.pxd ready_ahead)
     bint renumber           # the compiled G-code indexes are not the driver's (program_number_parts):
                             # a part was inserted (program_merge), joined away, dropped, or is a PRINT
 

@@ -111,6 +111,9 @@ cdef int64_t program_settings_find(ProgramBuilder *build, const PartSettings *s)
         if not program_grow_shared(build, <void **>&prog.settings, &build.cap_settings, prog.n_settings + 1,
                                    sizeof(PartSettings)):
             return -1
+    if not build.merging:
+        ready_ahead(prog.settings, (prog.n_settings + 1) * sizeof(PartSettings), &build.ready_settings,
+                    build.cap_settings * sizeof(PartSettings))
     i = prog.n_settings
     prog.settings[i] = s[0]
     prog.n_settings += 1
@@ -140,6 +143,9 @@ cdef Part *program_add_part(ProgramBuilder *build) noexcept nogil:
         return NULL
     if not program_grow_shared(build, <void **>&prog.parts, &build.cap_parts, prog.n_parts + 1, sizeof(Part)):
         return NULL
+    # where the thread beside the compiler did not ready the memory (it is busy), the
+    # compiler readies it a chunk at a time
+    ready_ahead(prog.parts, (prog.n_parts + 1) * sizeof(Part), &build.ready_parts, build.cap_parts * sizeof(Part))
     p = &prog.parts[prog.n_parts]
     prog.n_parts += 1
     _part_defaults(p)
@@ -158,6 +164,8 @@ cdef PartExtra *program_part_extra(ProgramBuilder *build, Part *p) noexcept nogi
             return NULL                 # a maker took more than the merge reserved: a bug
         if not program_grow_shared(build, <void **>&prog.extras, &build.cap_extras, need, sizeof(PartExtra)):
             return NULL
+    if not build.merging:
+        ready_ahead(prog.extras, need * sizeof(PartExtra), &build.ready_extras, build.cap_extras * sizeof(PartExtra))
     if prog.n_extras == 0:
         memset(&prog.extras[0], 0, sizeof(PartExtra))
         prog.n_extras = 1
@@ -195,6 +203,10 @@ cdef bint program_merge(ProgramBuilder *build, size_t n_ins, void *ctx, inserted
         return False
     if not resize(<void **>&prog.parts, total, sizeof(Part)):
         return False
+    # the memory the merge writes beyond the old parts, and the records its makers
+    # take, readied at once (one call each, not a fault a page)
+    ready_memory(&prog.parts[n], n_ins * sizeof(Part))
+    ready_memory(&prog.extras[prog.n_extras], n_ins * sizeof(PartExtra))
     build.merging = True
     parts = prog.parts
     build.cap_parts = total
@@ -235,9 +247,6 @@ cdef bint program_merge(ProgramBuilder *build, size_t n_ins, void *ctx, inserted
     return True
 
 
-cdef int32_t g_no_populate      # the kernel refused MADV_POPULATE_WRITE (before 5.14): a hint less
-
-
 cdef bint program_prefault(ProgramBuilder *build, size_t first, size_t count, size_t limit) noexcept nogil:
     """Faults in (zeroes) the memory of up to `count` parts from `first` on, or from
     where the last call stopped if that is further, below part `limit` and the
@@ -246,7 +255,6 @@ cdef bint program_prefault(ProgramBuilder *build, size_t first, size_t count, si
     Only a hint; False when there is nothing left to do (or the kernel cannot)."""
     cdef Program *prog = &build.prog
     cdef size_t end
-    cdef size_t lo, hi
     if first < build.prefaulted:
         first = build.prefaulted
     end = first + count
@@ -254,12 +262,9 @@ cdef bint program_prefault(ProgramBuilder *build, size_t first, size_t count, si
         end = limit
     if end > build.cap_parts:
         end = build.cap_parts
-    if first >= end or TC_ATOMIC_LOAD(&g_no_populate):
+    if first >= end:
         return False
-    lo = (<size_t>&prog.parts[first] + 0xFFF) & ~(<size_t>0xFFF)
-    hi = <size_t>&prog.parts[end] & ~(<size_t>0xFFF)
-    if lo < hi and madvise(<void *>lo, hi - lo, MADV_POPULATE_WRITE) != 0:
-        TC_ATOMIC_STORE(&g_no_populate, 1)
+    if not ready_memory(&prog.parts[first], (end - first) * sizeof(Part)):
         return False
     build.prefaulted = end
     return True

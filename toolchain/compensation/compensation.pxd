@@ -264,6 +264,7 @@ ctypedef struct CompState:
     size_t n_st, cap_st
     InsRec *ins
     size_t n_ins, cap_ins
+    size_t ready_ins        # bytes of ins faulted in ahead (arrays.pxd ready_ahead)
     int64_t entry_part      # ramp whose end is the start of the chain's first element
     bint next_fixed         # the next chain starts at an uncompensated point
     int n_warnings

@@ -672,6 +672,7 @@ cdef bint _role_room(CompState *S, size_t n) noexcept nogil:
         return True
     if not grow(<void **>&S.role, &S.cap_role, n, 1):
         return False
+    ready_memory(S.role + old, S.cap_role - old)        # one call, not a fault a page
     memset(S.role + old, ROLE_NONE, S.cap_role - old)
     return True
 

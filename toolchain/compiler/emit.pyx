@@ -114,6 +114,8 @@ cdef int em_pars(CState *st, const LineWords *lw, int g, int m) noexcept nogil:
         return 0
     if not grow(<void **>&prog.pars, &st.build.cap_pars, prog.n_pars + <size_t>SF_POPCOUNT(bits), sizeof(float)):
         return err_out_of_memory(st.err, st.unit.file_idx, st.line)
+    ready_ahead(prog.pars, (prog.n_pars + <size_t>SF_POPCOUNT(bits)) * sizeof(float), &st.build.ready_pars,
+                st.build.cap_pars * sizeof(float))
     out = prog.pars + prog.n_pars
     while bits:
         letter = SF_CTZ(bits)
