@@ -23,7 +23,9 @@ import gzip
 import hashlib
 import importlib.util
 import json
+import math
 import os
+import random
 import subprocess
 import sys
 import tempfile
@@ -55,6 +57,55 @@ def write_programs(directory: Path, lines: int) -> dict:
     return {"cam_job": cam, "long_path": long41, "long_path_g40": long40}
 
 
+def write_followers(path: Path, lines: int, seed: int = 7) -> None:
+    """A random walk of compensated stretches (G41 / G42 ... G40) whose parts the
+    compensation leaves where they sit -- Z moves, M functions, dwells -- between lines
+    that often run on in the same direction (joined, tolerance[2]) and tangent arcs."""
+    rnd = random.Random(seed)
+    out = ["G90 G17 F2000", "G0 X0 Y0 Z0"]
+    x = y = z = 0.0
+    dx, dy = 1.0, 0.0
+    side = 40
+    switched = False                        # G41 / G42 / G40 goes on with a line
+    while len(out) < lines:
+        r = rnd.random()
+        if r < 0.04 and not switched:
+            side = rnd.choice((40, 41, 42)) if side == 40 else 40
+            out.append(f"G{side}")
+            switched = True
+        elif r < 0.12:
+            z += rnd.choice((-1.0, 1.0, -0.5))
+            out.append(f"G1 Z{z:.3f}")
+            if rnd.random() < 0.5:          # a second one on: a run of followers to join
+                z += -0.5 if z > -20 else 0.5
+                out.append(f"G1 Z{z:.3f}")
+        elif r < 0.16:
+            out.append(rnd.choice(("M51", "M50", "M1001", "G4 H0.1")))
+        elif r < 0.22 and not switched:
+            # a quarter arc turning left (G3) or right (G2), tangent to the last line
+            turn = rnd.choice((2, 3))
+            rad = rnd.uniform(2, 6)
+            nx, ny = (-dy, dx) if turn == 3 else (dy, -dx)
+            cx, cy = x + nx * rad, y + ny * rad
+            ex, ey = cx + dx * rad, cy + dy * rad
+            out.append(f"G{turn} X{ex:.4f} Y{ey:.4f} I{cx - x:.4f} J{cy - y:.4f}")
+            x, y = ex, ey
+            dx, dy = nx, ny
+        else:
+            if rnd.random() < 0.3:
+                a = rnd.uniform(-2.5, 2.5)
+                dx, dy = math.cos(a) * dx - math.sin(a) * dy, math.sin(a) * dx + math.cos(a) * dy
+                n = math.hypot(dx, dy)
+                dx, dy = dx / n, dy / n
+            step = rnd.uniform(1, 10)
+            x, y = x + dx * step, y + dy * step
+            out.append(f"G1 X{x:.4f} Y{y:.4f}")
+            switched = False
+    out.append("G40")
+    out.append("G1 X0 Y0")
+    Path(path).write_text("\n".join(out) + "\n")
+
+
 def cases(directory: Path | None, corpus: Path | None, only=None) -> list:
     """(name, spec) of every case; spec: what the child compiles and how. The
     benchmark's programs are written into `directory` (None: none of them)."""
@@ -67,6 +118,12 @@ def cases(directory: Path | None, corpus: Path | None, only=None) -> list:
                                                              strategy=strategy, abs_mode=0, parts=parts)))
         out.append((f"long_path_g40_{lines}_r0", dict(path=str(programs["long_path_g40"]), radius=0.0,
                                                       strategy=None, abs_mode=0, parts=parts)))
+    if directory is not None:
+        followers = directory / "followers.nc"
+        write_followers(followers, SMALL)
+        for radius, strategy in ((0.0, None), (0.5, None), (0.5, 0xA0600)):
+            out.append((f"followers_{SMALL}_r{radius}" + (f"_{strategy:#x}" if strategy else ""),
+                        dict(path=str(followers), radius=radius, strategy=strategy, abs_mode=None, parts=True)))
     if corpus is not None:
         for path in sorted(corpus.iterdir()):
             if path.name in ("SOURCES.tsv", "rs274.json") or not path.is_file():
@@ -106,10 +163,9 @@ for name, spec in json.loads(sys.stdin.read()):
     kw = dict(params=params, name=path.name, keep_core=True)
     if spec.get("iso"):
         kw.update(iso=True, start=[0] * 10)
-    if spec.get("radius") is not None:
-        kw["radius"] = spec["radius"]
-    if spec.get("strategy") is not None:
-        kw["strategy"] = spec["strategy"]
+    # every case names its radius and strategy: a core keeps those of its last compile
+    kw["radius"] = spec.get("radius") or 0.0
+    kw["strategy"] = spec.get("strategy") or 0
     out = {}
     with sf_tch.compile(source, **kw) as program:
         diag = lambda d: [int(d.number), d.line, d.text.replace(str(path.parent), "DIR"), list(d.arguments), d.column]

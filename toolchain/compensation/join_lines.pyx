@@ -99,11 +99,22 @@ cdef inline int _longer_than_eps(double n2) noexcept nogil:
     return -1
 
 
-cdef int join_lines(ProgramBuilder *build, const GCODE_PARAMETERS *params, bint number) noexcept nogil:
+cdef void _settle_all(Program *prog, const uint8_t *settle) noexcept nogil:
+    """The followers' positions (compensate_end) in a pass of their own."""
+    cdef size_t r
+    for r in range(prog.n_parts):
+        if settle[r] == ROLE_FOLLOW:
+            settle_follower(&prog.parts[r], &prog.parts[r - 1].ce[0] if r > 0 else &prog.start[0])
+
+
+cdef int join_lines(ProgramBuilder *build, const GCODE_PARAMETERS *params, bint number,
+                    uint8_t *settle) noexcept nogil:
     """tolerance[4] on uncompensated arcs, tolerance[2] and [3] on consecutive G1 parts
     (above); the planning regions follow the parts. With `number` (nothing is inserted
     after it) the parts it keeps get the driver's G-code indexes on the way, as
-    program_number_parts gives them (build.renumber cleared). COMPILE_OK, or
+    program_number_parts gives them (build.renumber cleared); with `settle` (the
+    compensation's roles, freed here) the parts without motion in the plane first take
+    the compensated position they sit at, as the merge would have. COMPILE_OK, or
     COMPILE_ERROR when out of memory.
 
     Most G1 parts join nothing: the test of their turn compares squares first and
@@ -136,6 +147,9 @@ cdef int join_lines(ProgramBuilder *build, const GCODE_PARAMETERS *params, bint 
     # any or not; else only a program whose indexes need it is numbered
     number = number and (build.renumber or do_join)
     if not (min_arc > 0.0) and not do_join:
+        if settle != NULL:
+            _settle_all(prog, settle)
+            free(settle)
         if number:
             program_number_parts(prog)
             build.renumber = False
@@ -148,12 +162,19 @@ cdef int join_lines(ProgramBuilder *build, const GCODE_PARAMETERS *params, bint 
         dev2 = tol_dev * tol_dev if tol_dev > 0.0 else 0.0
         left_e = <double *>tc_malloc(6 * JOIN_RUN_MAX * sizeof(double))
         if left_e == NULL:
+            free(settle)
             return COMPILE_ERROR
         left_c = left_e + 3 * JOIN_RUN_MAX
     if number:
         numbering_begin(&numbering, prog)
     for r in range(n):
         p = &prog.parts[r]
+        if settle != NULL and settle[r] == ROLE_FOLLOW:
+            # the part before it, as the merge would have read it: where the joins put it
+            if do_join:
+                settle_follower(p, &prog.parts[w - 1].ce[0] if w > 0 else &prog.start[0])
+            else:
+                settle_follower(p, &prog.parts[r - 1].ce[0] if r > 0 else &prog.start[0])
         if min_arc > 0.0 and p.kind == PART_MOTION and (p.func == 2 or p.func == 3) and p.comp == 40 \
                 and part_extra(prog, p).radius < min_arc:
             p.func = 1                  # a line to its end point
@@ -258,4 +279,5 @@ cdef int join_lines(ProgramBuilder *build, const GCODE_PARAMETERS *params, bint 
     if number:
         numbering_end(&numbering, prog)
         build.renumber = False
+    free(settle)
     return COMPILE_OK
