@@ -12,11 +12,11 @@ cdef bint resize(void **buf, size_t count, size_t item) noexcept nogil
 # Memory readied ahead of an array's writer, a hint: when the writer comes within half
 # a READY_CHUNK of the bytes faulted in so far, the next READY_CHUNK of the capacity is
 # faulted in with one madvise(MADV_POPULATE_WRITE) instead of a page fault for each of
-# its 256 pages (on this VM the fault's trap costs more than zeroing the page:
+# its 32 pages (on this VM the fault's trap costs more than zeroing the page:
 # docs/benchmarks.md, "Page faults"). `ready`: bytes from the array's start faulted in
 # (0 for a new array; a realloc keeps them). False from ready_memory: the kernel cannot.
 cdef enum:
-    READY_CHUNK = 1 << 20
+    READY_CHUNK = 1 << 17   # 128 kB: what is readied beyond an array's end is in the peak memory
 
 cdef bint ready_memory(void *start, size_t length) noexcept nogil
 cdef void ready_more(void *buf, size_t used, size_t *ready, size_t cap) noexcept nogil

@@ -164,8 +164,7 @@ cdef PartExtra *program_part_extra(ProgramBuilder *build, Part *p) noexcept nogi
             return NULL                 # a maker took more than the merge reserved: a bug
         if not program_grow_shared(build, <void **>&prog.extras, &build.cap_extras, need, sizeof(PartExtra)):
             return NULL
-    if not build.merging:
-        ready_ahead(prog.extras, need * sizeof(PartExtra), &build.ready_extras, build.cap_extras * sizeof(PartExtra))
+    ready_ahead(prog.extras, need * sizeof(PartExtra), &build.ready_extras, build.cap_extras * sizeof(PartExtra))
     if prog.n_extras == 0:
         memset(&prog.extras[0], 0, sizeof(PartExtra))
         prog.n_extras = 1
@@ -203,10 +202,9 @@ cdef bint program_merge(ProgramBuilder *build, size_t n_ins, void *ctx, inserted
         return False
     if not resize(<void **>&prog.parts, total, sizeof(Part)):
         return False
-    # the memory the merge writes beyond the old parts, and the records its makers
-    # take, readied at once (one call each, not a fault a page)
+    # the memory the merge writes beyond the old parts, readied at once (one call, not
+    # a fault a page; the records its makers take are readied as they go)
     ready_memory(&prog.parts[n], n_ins * sizeof(Part))
-    ready_memory(&prog.extras[prog.n_extras], n_ins * sizeof(PartExtra))
     build.merging = True
     parts = prog.parts
     build.cap_parts = total
