@@ -20,6 +20,15 @@ with and without tool radius compensation.
    radius 0 (G41/G40 in the text, nothing to offset) and with radius 0.15 and strategy
    0xA0600 (loops removed, G1 joins, search depth 2000), against its own floor.
    --cam-only runs this step alone.
+7. --rows alone: the README's four rows -- the CAM job and the cutting program with a
+   first line "G41", each with radius 0 and with radius 0.15 and strategy 0xA0600 --
+   the median against the floor's median of the same file (the compiles of a program
+   take turns between its rows), the peak RSS above the process's memory before the
+   compile in bytes a line, and the compile's minor page faults (the kernel's count
+   for the process: faults taken on the hot path and pages faulted in ahead with
+   MADV_POPULATE_WRITE alike) a million lines. --against LIB compiles each row with
+   another libSF_TCh.so in turn (an older commit's: the child sets the prototypes of
+   the functions that library has).
 Every compile runs --runs times and the floor as often: the best counts (this shared VM
 backs fresh memory at very different speeds, so single runs vary up to 3x); the
 median is printed too. Each compile process starts --pause seconds after the last one
@@ -73,8 +82,8 @@ int main(int argc, char **argv) {
 """
 
 CHILD = r"""
-import ctypes, json, sys, time, threading
-from sf_tch import abi, library
+import ctypes, json, resource, sys, time, threading
+from sf_tch import abi, library_path
 
 def status_mb(key):
     # this process's own memory (ru_maxrss would still hold the parent's from before exec)
@@ -82,7 +91,12 @@ def status_mb(key):
         if line.startswith(key + ":"):
             return int(line.split()[1]) / 1024
 
-lib = library.load()
+# the prototypes of the functions the library has (SF_TCH_LIBRARY may name an older one)
+lib = ctypes.CDLL(library_path())
+for name, restype, argtypes in abi.FUNCTIONS:
+    if hasattr(lib, name):
+        getattr(lib, name).restype = restype
+        getattr(lib, name).argtypes = argtypes
 path = sys.argv[1].encode()
 p = abi.GCODE_PARAMETERS()
 lib.ToolChainCore_GetGCodeParameters(0, ctypes.byref(p))
@@ -93,6 +107,7 @@ if len(sys.argv) > 3:
 lib.ToolChainCore_SetGCodeParameters(0, ctypes.byref(p))
 pos, enh = abi.SIMPLE_GM_PARAMS(), abi.GM_PARAMS_ENHANCED()
 rss0 = status_mb("VmRSS")
+faults0 = resource.getrusage(resource.RUSAGE_SELF).ru_minflt
 t0 = time.perf_counter()
 assert lib.ToolChainCore_CompileFromFile(0, path) == 0
 worst = 0.0
@@ -108,11 +123,12 @@ while True:
         break
     time.sleep(0.001)
 t1 = time.perf_counter()
+faults = resource.getrusage(resource.RUSAGE_SELF).ru_minflt - faults0
 info = abi.CALLBACK_INFO()
 err = lib.ToolChainCore_GetLastError(0, ctypes.byref(info))
 rss = status_mb("VmHWM")
 print(json.dumps({"seconds": t1 - t0, "worst_poll_ms": worst * 1e3, "polls": polls,
-                  "peak_rss_mb": rss, "rss_before_mb": rss0,
+                  "peak_rss_mb": rss, "rss_before_mb": rss0, "minor_faults": faults,
                   "error": (info.m_fullError or b"").decode() if err == 1 else None}))
 lib.ToolChainCore_DestroyCNC(0)
 """
@@ -178,14 +194,17 @@ def median(results: list) -> float:
 PAUSE = 3.0     # s before each compile process (--pause)
 
 
-def compile_runs(prog: Path, runs: int, radius: float = 0.0, strategy: int | None = None) -> list:
-    """Each compile in a fresh process, PAUSE seconds after the last one (cold)."""
+def compile_runs(prog: Path, runs: int, radius: float = 0.0, strategy: int | None = None,
+                 library: str | None = None) -> list:
+    """Each compile in a fresh process, PAUSE seconds after the last one (cold);
+    `library`: another libSF_TCh.so (SF_TCH_LIBRARY)."""
     results = []
     extra = [] if strategy is None else [hex(strategy)]
+    env = None if library is None else dict(os.environ, SF_TCH_LIBRARY=library)
     for _ in range(runs):
         time.sleep(PAUSE)
         res = subprocess.run([sys.executable, "-c", CHILD, str(prog), str(radius)] + extra, check=True,
-                             capture_output=True, text=True)
+                             capture_output=True, text=True, env=env)
         results.append(json.loads(res.stdout.strip().splitlines()[-1]))
     return results
 
@@ -223,6 +242,52 @@ def cam_rows(tmp: Path, lines: int, runs: int) -> None:
               f"(target <= 150)")
 
 
+ROWS = (("radius 0", 0.0, None), ("radius 0.15, 0xA0600", 0.15, 0xA0600))
+
+
+def four_rows(tmp: Path, lines: int, runs: int, against: str | None = None) -> None:
+    """--rows: the README's four rows, the CAM job and the long cutting path ("G41"
+    first), each with radius 0 and with radius 0.15 and strategy 0xA0600: the median
+    of `runs` cold processes against the floor's median of the same file in the same
+    run, the peak RSS above the process's memory before the compile in bytes a line,
+    and the compile's minor page faults a million lines. A program's compiles take
+    turns between its rows (and with --against between the libraries), so the VM's
+    hour weighs on all alike."""
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+    from cam_job import write_cam_job
+    cam = tmp / "cam_job.nc"
+    write_cam_job(cam, lines)
+    cutting = tmp / "cutting41.nc"
+    write_program(cutting, lines, head="G41")
+    libraries = [("", None)] + ([(f" [{against}]", against)] if against else [])
+    print(f"{time.strftime('%Y-%m-%d %H:%M')}, load average {os.getloadavg()[0]:.2f} "
+          f"{os.getloadavg()[1]:.2f} {os.getloadavg()[2]:.2f}; {runs} cold processes {PAUSE:g} s apart per row")
+    for title, prog in (("CAM job", cam), ("long path", cutting)):
+        n_lines = prog.read_bytes().count(b"\n")
+        floor = floor_times(prog, tmp, runs)
+        f_med = statistics.median(floor)
+        print(f"{title}: {n_lines} lines, {prog.stat().st_size / 1e6:.1f} MB; floor median {f_med * 1e3:.1f} ms "
+              f"(best {min(floor) * 1e3:.1f})")
+        results = {}
+        for _ in range(runs):
+            for tag, library in libraries:
+                for row, radius, strategy in ROWS:
+                    r = compile_runs(prog, 1, radius, strategy, library)[0]
+                    assert r["error"] is None, r
+                    results.setdefault((tag, row), []).append(r)
+        for tag, _ in libraries:
+            for row, _, _ in ROWS:
+                rs = results[(tag, row)]
+                med = median(rs)
+                above = statistics.median((r["peak_rss_mb"] - r["rss_before_mb"]) * 2 ** 20 / n_lines for r in rs)
+                faults = statistics.median(r.get("minor_faults", 0) for r in rs) * 1e6 / n_lines
+                print(f"  {title}, {row}{tag}: median {med * 1e3:.1f} ms / floor {med / f_med:.2f} "
+                      f"(best {min(r['seconds'] for r in rs) / min(floor):.2f}; "
+                      f"{', '.join(f'{t * 1e3:.0f}' for t in sorted(r['seconds'] for r in rs))} ms); "
+                      f"peak RSS {statistics.median(r['peak_rss_mb'] for r in rs):.1f} MB, {above:.0f} bytes a line "
+                      f"above the process's {rs[0]['rss_before_mb']:.1f} MB; {faults:,.0f} minor faults a million lines")
+
+
 def main():
     global PAUSE
     ap = argparse.ArgumentParser()
@@ -230,6 +295,9 @@ def main():
     ap.add_argument("--runs", type=int, default=7)
     ap.add_argument("--keep", help="also copy the generated program here")
     ap.add_argument("--cam-only", action="store_true", help="only the CAM job of many contours (step 6)")
+    ap.add_argument("--rows", action="store_true",
+                    help="only the README's four rows: the CAM job and the long path, radius 0 and 0.15 + 0xA0600")
+    ap.add_argument("--against", help="with --rows: another libSF_TCh.so compiled in turn with this one")
     ap.add_argument("--pause", type=float, default=PAUSE, help="seconds before each compile process (cold)")
     args = ap.parse_args()
     PAUSE = args.pause
@@ -237,6 +305,9 @@ def main():
         tmp = Path(tmp)
         if args.cam_only:
             cam_rows(tmp, args.lines, args.runs)
+            return
+        if args.rows:
+            four_rows(tmp, args.lines, args.runs, args.against)
             return
         prog = tmp / "cutting.nc"
         write_program(prog, args.lines)

@@ -9,6 +9,24 @@
 cdef bint resize(void **buf, size_t count, size_t item) noexcept nogil
 
 
+# Memory readied ahead of an array's writer, a hint: when the writer comes within half
+# a READY_CHUNK of the bytes faulted in so far, the next READY_CHUNK of the capacity is
+# faulted in with one madvise(MADV_POPULATE_WRITE) instead of a page fault for each of
+# its 32 pages (on this VM the fault's trap costs more than zeroing the page:
+# docs/benchmarks.md, "Page faults"). `ready`: bytes from the array's start faulted in
+# (0 for a new array; a realloc keeps them). False from ready_memory: the kernel cannot.
+cdef enum:
+    READY_CHUNK = 1 << 17   # 128 kB: what is readied beyond an array's end is in the peak memory
+
+cdef bint ready_memory(void *start, size_t length) noexcept nogil
+cdef void ready_more(void *buf, size_t used, size_t *ready, size_t cap) noexcept nogil
+
+cdef inline void ready_ahead(void *buf, size_t used, size_t *ready, size_t cap) noexcept nogil:
+    # bytes [0, used) of buf are written (or about to be), [0, cap) allocated
+    if used + READY_CHUNK // 2 > ready[0] and ready[0] < cap:
+        ready_more(buf, used, ready, cap)
+
+
 cdef inline bint grow(void **buf, size_t *cap, size_t need, size_t item) noexcept nogil:
     # room for `need` items: the capacity doubles (from 256) until it holds them
     cdef size_t new_cap

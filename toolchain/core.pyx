@@ -106,11 +106,13 @@ cdef void _compile_warn(void *ctx, const ErrorInfo *warning) noexcept nogil:
 
 
 cdef int _compile_and_compensate(Core *core, CompileInput *inp, ProgramBuilder *build, ErrorInfo *err,
-                                 GCODE_INFO *extent, bint *measured) noexcept nogil:
+                                 GCODE_INFO *extent, bint *measured, uint8_t **settle) noexcept nogil:
     """The compiler, and the compensation's pass beside it in a thread of its own
     (pipeline.pyx), then the compensation's merge with the extent measured beside it
     (*measured: `extent` is filled): COMPILE_OK, or the compiler's failure, else the
-    compensation's (err filled)."""
+    compensation's (err filled). With no G167 arcs to insert, a merge that would only
+    settle the parts without motion in the plane leaves that to join_lines (*settle:
+    the roles it needs, else NULL)."""
     # the pass's state is written by the thread beside the compiler all the time: on
     # the heap, not on the compiler's stack next to the frames it writes
     cdef CompState *comp = <CompState *>tc_malloc(sizeof(CompState))
@@ -137,7 +139,7 @@ cdef int _compile_and_compensate(Core *core, CompileInput *inp, ProgramBuilder *
     if result == COMPILE_OK and build.prog.compensated:
         tc_set_stage("the compensation")
         extent_beside_begin(&beside, &build.prog)
-        result = compensate_end(comp, &beside.watch)
+        result = compensate_end(comp, &beside.watch, settle if insert_arcs_idle(&build.prog, &inp.params) else NULL)
         measured[0] = extent_beside_end(&beside, result == COMPILE_OK, extent)
         if result != COMPILE_OK:
             err[0] = comp_err[0]
@@ -158,6 +160,7 @@ cdef int _compile_job(Core *core, CompileJob *job, ProgramBuilder *build, GCODE_
     cdef bint measured
     cdef int result
     cdef char text[400]
+    cdef uint8_t *settle = NULL
     if job.text == NULL:
         job.text = read_whole_file(job.name, MAX_FILE_BYTES, &job.length, &read_error)
         if job.text == NULL:
@@ -195,12 +198,16 @@ cdef int _compile_job(Core *core, CompileJob *job, ProgramBuilder *build, GCODE_
     snprintf(text, sizeof(text), "Compiling %s", job.name)
     core_status_text(core, text, job.files[0], 0)
     core_progress(core, 0)
-    result = _compile_and_compensate(core, inp, build, err, extent, &measured)
+    result = _compile_and_compensate(core, inp, build, err, extent, &measured, &settle)
     n_parts = build.prog.n_parts
     tc_set_stage("the automatic arcs")
     if result == COMPILE_OK:
         result = insert_arcs(build, &inp.params, err)
-    if result == COMPILE_OK and join_lines(build, &inp.params) != COMPILE_OK:
+    # the joins number the parts they keep on their pass, unless the plan inserts M
+    # functions (then the count comes after it)
+    if result != COMPILE_OK:
+        free(settle)
+    elif join_lines(build, &inp.params, not mfunc_insert_wanted(&inp.params), settle) != COMPILE_OK:
         result = COMPILE_ERROR
         err_out_of_memory(err, job.files[0], 0)
     measured = measured and build.prog.n_parts == n_parts      # no automatic arcs came in, no lines joined
@@ -222,7 +229,7 @@ cdef int _compile_job(Core *core, CompileJob *job, ProgramBuilder *build, GCODE_
                                                    extent, measured) != COMPILE_OK:
         result = COMPILE_ERROR
         err_out_of_memory(err, job.files[0], 0)
-    if result == COMPILE_OK:
+    if result == COMPILE_OK and build.renumber:
         program_number_parts(&build.prog)   # the plan's insertions are in: the driver's indexes
     if result == COMPILE_OK and TC_ATOMIC_LOAD(&core.cancel):
         result = COMPILE_CANCELLED          # ended while it finished: nothing is published

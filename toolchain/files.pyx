@@ -55,7 +55,7 @@ cdef char *read_whole_file(const char *path, size_t max_bytes, size_t *length, i
     *error set (ERR_FILE_OPEN, ERR_NOT_REGULAR_FILE, ERR_FILE_READ,
     ERR_FILE_TOO_LARGE beyond max_bytes, ERR_OUT_OF_MEMORY). Reads until the end of the file, which
     may differ from the size the open told (a file being written, /proc files)."""
-    cdef size_t capacity, grown_capacity, used = 0
+    cdef size_t capacity, grown_capacity, used = 0, piece, ready = 0
     cdef int64_t n
     cdef char *buf
     cdef tc_file file
@@ -84,7 +84,13 @@ cdef char *read_whole_file(const char *path, size_t max_bytes, size_t *length, i
                 error[0] = ERR_OUT_OF_MEMORY
                 return NULL
             capacity = grown_capacity
-        n = tc_file_read(file, buf + used, capacity - 1 - used)
+        # read a chunk at a time into memory readied for it in one call (the copy of
+        # one large read would fault every fresh page in on its own)
+        piece = capacity - 1 - used
+        if piece > READY_CHUNK:
+            piece = READY_CHUNK
+        ready_ahead(buf, used, &ready, capacity)
+        n = tc_file_read(file, buf + used, piece)
         if n > 0:
             used += <size_t>n
         elif n == 0:

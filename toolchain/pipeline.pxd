@@ -31,9 +31,11 @@ cdef struct Follow:
 cdef enum:
     FOLLOW_BATCH = 4096     # parts: fewer are not worth waking the thread for
     FOLLOW_TAKE = 4096      # parts the thread consumes at most between two looks at the memory ahead
-    PREFAULT_AHEAD = 65536  # parts (10 MB) whose memory the thread readies ahead of the compiler
-    PREFAULT_CHUNK = 16384  # parts (2.4 MB) readied at a time between batches
-    PREFAULT_LOW = 32768    # parts readied ahead of the published ones below which that comes before a batch
+    # (the compiler readies what the thread has not a megabyte at a time itself, and
+    # what is readied beyond the last part is in the peak memory: docs/benchmarks.md)
+    PREFAULT_AHEAD = 16384  # parts (1.4 MB) whose memory the thread readies ahead of the compiler
+    PREFAULT_CHUNK = 4096   # parts (360 kB) readied at a time between batches
+    PREFAULT_LOW = 8192     # parts readied ahead of the published ones below which that comes before a batch
 
 # The extent measured beside the compensation's merge (program_merge), which moves
 # the parts from the last one down: a thread measures each range of parts as soon as

@@ -204,6 +204,19 @@ ctypedef struct ProgramBuilder:
     uint32_t settings_last                  # and the record it found last
     Follow *follow          # while a stage reads the parts beside the compiler, else NULL
     size_t prefaulted       # parts [0, prefaulted) of the capacity are faulted in (program_prefault)
+    size_t ready_parts, ready_pars, ready_extras, ready_settings    # bytes of each array faulted in
+                            # ahead of the compiler by the compiler itself (arrays.pxd ready_ahead)
+    bint renumber           # the compiled G-code indexes are not the driver's (program_number_parts):
+                            # a part was inserted (program_merge), joined away, dropped, or is a PRINT
+
+# program_number_parts' count, one part at a time (numbering_part)
+ctypedef struct PartNumbering:
+    int32_t last            # the last delivered part's index (INT32_MIN: none yet)
+    bint last_programmed    # ... and it was programmed (not inserted)
+    int32_t starts[AXES]    # start_gindex as compiled
+    bint mapped[AXES]       # start_gindex[k] is final
+    bint unmapped           # some axis is not
+    int32_t next_start      # the least starts[k] of those
 
 # The merge of parts a stage inserts (program.pyx program_merge): where insertion
 # `rec` goes (after which part), and how it is built from the part before it and the
@@ -278,6 +291,11 @@ cdef bint program_set_end(ProgramBuilder *build, Part *p, const double *end) noe
 cdef int program_add_zero(ProgramBuilder *build, const double *offset, const double *shift) noexcept nogil
 cdef const double *part_shift(const Program *prog, const Part *p) noexcept nogil
 cdef void program_number_parts(Program *prog) noexcept nogil
+# ... the same one part at a time, in the program's final order (a pass that visits the
+# parts anyway numbers them on the way: join_lines)
+cdef void numbering_begin(PartNumbering *N, const Program *prog) noexcept nogil
+cdef void numbering_part(PartNumbering *N, Program *prog, Part *p) noexcept nogil
+cdef void numbering_end(PartNumbering *N, Program *prog) noexcept nogil
 cdef int program_add_rotation(ProgramBuilder *build, const double *centre, const double *matrix) noexcept nogil
 cdef int64_t program_add_text(ProgramBuilder *build, const char *text, size_t n) noexcept nogil
 # ... a D word's signed radius (index >= 1; -1 out of memory), a G92 D (False: no memory)

@@ -118,6 +118,9 @@ cdef int64_t program_settings_find(ProgramBuilder *build, const PartSettings *s)
         if not program_grow_shared(build, <void **>&prog.settings, &build.cap_settings, prog.n_settings + 1,
                                    sizeof(PartSettings)):
             return -1
+    if not build.merging:
+        ready_ahead(prog.settings, (prog.n_settings + 1) * sizeof(PartSettings), &build.ready_settings,
+                    build.cap_settings * sizeof(PartSettings))
     i = prog.n_settings
     prog.settings[i] = s[0]
     prog.n_settings += 1
@@ -147,6 +150,9 @@ cdef Part *program_add_part(ProgramBuilder *build) noexcept nogil:
         return NULL
     if not program_grow_shared(build, <void **>&prog.parts, &build.cap_parts, prog.n_parts + 1, sizeof(Part)):
         return NULL
+    # where the thread beside the compiler did not ready the memory (it is busy), the
+    # compiler readies it a chunk at a time
+    ready_ahead(prog.parts, (prog.n_parts + 1) * sizeof(Part), &build.ready_parts, build.cap_parts * sizeof(Part))
     p = &prog.parts[prog.n_parts]
     prog.n_parts += 1
     _part_defaults(p)
@@ -165,6 +171,7 @@ cdef PartExtra *program_part_extra(ProgramBuilder *build, Part *p) noexcept nogi
             return NULL                 # a maker took more than the merge reserved: a bug
         if not program_grow_shared(build, <void **>&prog.extras, &build.cap_extras, need, sizeof(PartExtra)):
             return NULL
+    ready_ahead(prog.extras, need * sizeof(PartExtra), &build.ready_extras, build.cap_extras * sizeof(PartExtra))
     if prog.n_extras == 0:
         memset(&prog.extras[0], 0, sizeof(PartExtra))
         prog.n_extras = 1
@@ -187,6 +194,8 @@ cdef bint program_merge(ProgramBuilder *build, size_t n_ins, void *ctx, inserted
     cdef size_t k, w, r, after, run, next_w, told
     cdef Part *parts
     cdef Part made
+    if n_ins > 0:
+        build.renumber = True           # the driver's G-code indexes are no longer the compiled ones
     if n_ins == 0:
         if settle != NULL:
             settle(ctx, 0, n, <size_t>NO_INSERTION)
@@ -200,6 +209,9 @@ cdef bint program_merge(ProgramBuilder *build, size_t n_ins, void *ctx, inserted
         return False
     if not resize(<void **>&prog.parts, total, sizeof(Part)):
         return False
+    # the memory the merge writes beyond the old parts, readied at once (one call, not
+    # a fault a page; the records its makers take are readied as they go)
+    ready_memory(&prog.parts[n], n_ins * sizeof(Part))
     build.merging = True
     parts = prog.parts
     build.cap_parts = total
@@ -240,9 +252,6 @@ cdef bint program_merge(ProgramBuilder *build, size_t n_ins, void *ctx, inserted
     return True
 
 
-cdef int32_t g_no_populate      # the kernel refused MADV_POPULATE_WRITE (before 5.14): a hint less
-
-
 cdef bint program_prefault(ProgramBuilder *build, size_t first, size_t count, size_t limit) noexcept nogil:
     """Faults in (zeroes) the memory of up to `count` parts from `first` on, or from
     where the last call stopped if that is further, below part `limit` and the
@@ -251,7 +260,6 @@ cdef bint program_prefault(ProgramBuilder *build, size_t first, size_t count, si
     Only a hint; False when there is nothing left to do (or the kernel cannot)."""
     cdef Program *prog = &build.prog
     cdef size_t end
-    cdef size_t lo, hi
     if first < build.prefaulted:
         first = build.prefaulted
     end = first + count
@@ -259,12 +267,9 @@ cdef bint program_prefault(ProgramBuilder *build, size_t first, size_t count, si
         end = limit
     if end > build.cap_parts:
         end = build.cap_parts
-    if first >= end or TC_ATOMIC_LOAD(&g_no_populate):
+    if first >= end:
         return False
-    lo = (<size_t>&prog.parts[first] + 0xFFF) & ~(<size_t>0xFFF)
-    hi = <size_t>&prog.parts[end] & ~(<size_t>0xFFF)
-    if lo < hi and madvise(<void *>lo, hi - lo, MADV_POPULATE_WRITE) != 0:
-        TC_ATOMIC_STORE(&g_no_populate, 1)
+    if not ready_memory(&prog.parts[first], (end - first) * sizeof(Part)):
         return False
     build.prefaulted = end
     return True
@@ -438,40 +443,68 @@ cdef void program_number_parts(Program *prog) noexcept nogil:
     number. A part no callback gets (a PRINT line, an arc dropped from the cutting
     plan) takes the last number and moves none. So two inserted parts in a row no
     longer share a number, and PRINT lines, dropped arcs and parts joined away leave
-    no gap. start_gindex follows its part."""
+    no gap. start_gindex follows its part. (join_lines numbers the parts it keeps
+    the same way on its pass: numbering_begin, numbering_part, numbering_end.)"""
+    cdef PartNumbering N
     cdef size_t i
-    cdef Part *p
-    cdef int32_t last = INT32_MIN, compiled
-    cdef int32_t starts[AXES]
-    cdef bint delivered, last_programmed = False
-    cdef bint mapped[AXES]
-    cdef int k
-    for k in range(AXES):
-        starts[k] = prog.start_gindex[k]
-        mapped[k] = starts[k] == INT32_MAX or starts[k] == 0
+    numbering_begin(&N, prog)
     for i in range(prog.n_parts):
-        p = &prog.parts[i]
-        compiled = p.gcode_index
-        delivered = p.kind != PART_PRINT and not (p.flags & FLAG_DROPPED)
-        if last == INT32_MIN or (p.flags & FLAG_INDEX_SET):
-            pass                                    # the count starts here
-        elif not delivered:
-            p.gcode_index = last
-        elif p.flags & FLAG_INSERTED:
-            p.gcode_index = last + 1
-        else:
-            p.gcode_index = last + (2 if last_programmed else 1)
-        if not (p.flags & FLAG_INSERTED):
-            for k in range(AXES):
-                if not mapped[k] and compiled >= starts[k]:
-                    prog.start_gindex[k] = p.gcode_index
-                    mapped[k] = True
-        if delivered:
-            last = p.gcode_index
-            last_programmed = not (p.flags & FLAG_INSERTED)
+        numbering_part(&N, prog, &prog.parts[i])
+    numbering_end(&N, prog)
+
+
+cdef void _numbering_next_start(PartNumbering *N) noexcept nogil:
+    cdef int k
+    N.next_start = INT32_MAX
+    N.unmapped = False
     for k in range(AXES):
-        if not mapped[k] and last != INT32_MIN:
-            prog.start_gindex[k] = last + 2     # named after the last part: every part follows the start
+        if not N.mapped[k]:
+            N.unmapped = True
+            if N.starts[k] < N.next_start:
+                N.next_start = N.starts[k]
+
+
+cdef void numbering_begin(PartNumbering *N, const Program *prog) noexcept nogil:
+    cdef int k
+    N.last = INT32_MIN
+    N.last_programmed = False
+    for k in range(AXES):
+        N.starts[k] = prog.start_gindex[k]
+        N.mapped[k] = N.starts[k] == INT32_MAX or N.starts[k] == 0
+    _numbering_next_start(N)
+
+
+cdef void numbering_part(PartNumbering *N, Program *prog, Part *p) noexcept nogil:
+    """The next part in the program's final order (program_number_parts)."""
+    cdef int32_t compiled = p.gcode_index
+    cdef bint delivered = p.kind != PART_PRINT and not (p.flags & FLAG_DROPPED)
+    cdef int k
+    if N.last == INT32_MIN or (p.flags & FLAG_INDEX_SET):
+        pass                                    # the count starts here
+    elif not delivered:
+        p.gcode_index = N.last
+    elif p.flags & FLAG_INSERTED:
+        p.gcode_index = N.last + 1
+    else:
+        p.gcode_index = N.last + (2 if N.last_programmed else 1)
+    if N.unmapped and compiled >= N.next_start and not (p.flags & FLAG_INSERTED):
+        for k in range(AXES):
+            if not N.mapped[k] and compiled >= N.starts[k]:
+                prog.start_gindex[k] = p.gcode_index
+                N.mapped[k] = True
+        _numbering_next_start(N)
+    if delivered:
+        N.last = p.gcode_index
+        N.last_programmed = not (p.flags & FLAG_INSERTED)
+
+
+cdef void numbering_end(PartNumbering *N, Program *prog) noexcept nogil:
+    cdef int k
+    if not N.unmapped:
+        return
+    for k in range(AXES):
+        if not N.mapped[k] and N.last != INT32_MIN:
+            prog.start_gindex[k] = N.last + 2  # named after the last part: every part follows the start
 
 
 cdef const double *part_shift(const Program *prog, const Part *p) noexcept nogil:

@@ -16,7 +16,7 @@ cdef int compensate_program(ProgramBuilder *build, const GCODE_PARAMETERS *param
     cdef size_t more
     compensate_begin(&S, build, params, err, output, warn, ctx)
     compensate_feed(&S, build.prog.n_parts, True, &more)
-    return compensate_end(&S, NULL)
+    return compensate_end(&S, NULL, NULL)
 
 
 def last_seconds():

@@ -264,11 +264,13 @@ ctypedef struct CompState:
     size_t n_st, cap_st
     InsRec *ins
     size_t n_ins, cap_ins
+    size_t ready_ins        # bytes of ins faulted in ahead (arrays.pxd ready_ahead)
     int64_t entry_part      # ramp whose end is the start of the chain's first element
     bint next_fixed         # the next chain starts at an uncompensated point
     int n_warnings
     CompWarning warnings[MAX_WARNINGS]
     bint has_followers      # some compensated part has no motion in the plane
+    bint dropped            # some arc left the cutting plan (FLAG_DROPPED): the parts are numbered again
     XState xs               # crossings of parts that are not neighbours (crossings.pyx)
     Clearance cl            # the contour the tool path keeps away from (clearance.pyx)
     Regions rg              # a chain rebuilt from its regions (regions.pyx)
@@ -326,14 +328,26 @@ cdef bint program_add_arc_region(ProgramBuilder *build, size_t first, bint on, i
                                  double tol_max, double tol_min, double max_angle) noexcept nogil
 # the core's compile worker: the pass over build.prog, fed beside the compiler
 # (compensate_feed is a pipeline consume_fn), ended by the merge of its insertions
-# (watch: a stage reading the merged parts, may be NULL); COMPILE_OK or err filled
+# (watch: a stage reading the merged parts, may be NULL); COMPILE_OK or err filled.
+# `settle`: when the merge would insert nothing and only move the parts without motion
+# in the plane to the position they sit at, that is left to join_lines' pass (which
+# visits every part anyway) and *settle gets the parts' roles for it; NULL: the merge
+# does it
 cdef void compensate_begin(CompState *S, ProgramBuilder *build, const GCODE_PARAMETERS *params, ErrorInfo *err,
                            output_fn output, warn_fn warn, void *ctx) noexcept nogil
 cdef int compensate_feed(void *ctx, size_t upto, bint last, size_t *more) noexcept nogil
-cdef int compensate_end(CompState *S, const MergeWatch *watch) noexcept nogil
+cdef int compensate_end(CompState *S, const MergeWatch *watch, uint8_t **settle) noexcept nogil
 cdef void compensate_free(CompState *S) noexcept nogil
-# ... then the G167 arcs between G1 lines of the compensated program
+# ... then the G167 arcs between G1 lines of the compensated program (idle: it inserts
+# none, whatever the parts)
 cdef int insert_arcs(ProgramBuilder *build, const GCODE_PARAMETERS *params, ErrorInfo *err) noexcept nogil
+cdef bint insert_arcs_idle(const Program *prog, const GCODE_PARAMETERS *params) noexcept nogil
 # ... then tolerance[4] on the uncompensated arcs and the nearly collinear G1 parts
-# joined (tolerance[2], [3]; join_lines.pyx), before the extent and the plan
-cdef int join_lines(ProgramBuilder *build, const GCODE_PARAMETERS *params) noexcept nogil
+# joined (tolerance[2], [3]; join_lines.pyx), before the extent and the plan; `number`:
+# nothing is inserted after it, so it numbers the parts it keeps (program_number_parts);
+# `settle`: compensate_end's roles (freed here), or NULL
+cdef int join_lines(ProgramBuilder *build, const GCODE_PARAMETERS *params, bint number,
+                    uint8_t *settle) noexcept nogil
+# a part without motion in the plane takes the compensated position it sits at (`cur`:
+# the previous part's compensated end, or the program's start)
+cdef void settle_follower(Part *p, const double *cur) noexcept nogil

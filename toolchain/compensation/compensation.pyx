@@ -482,6 +482,7 @@ cdef int _run_part(CompState *S, size_t k) noexcept nogil:
             comp_discard(S, k)
             if not (S.prog.parts[k].flags & FLAG_HELIX):
                 S.prog.parts[k].flags |= FLAG_DROPPED
+                S.dropped = True
             return COMPILE_OK
         if el.ro < S.cfg.min_arc:
             # below the minimum arc radius (tolerance[4]): removed the same way
@@ -635,18 +636,29 @@ cdef void _settle(void *ctx, size_t first, size_t end, size_t rec) noexcept nogi
             if k == first and rec != <size_t>NO_INSERTION and plane_axes(prev.plane, &a, &b, &c):
                 cur[a] = S.ins[rec].end[0]
                 cur[b] = S.ins[rec].end[1]
-        if plane_axes(p.plane, &a, &b, &c):
-            p.ce[a] = cur[a]
-            p.ce[b] = cur[b]
+        settle_follower(p, cur)
         k = _next_follow(S, k + 1, end)
 
 
-cdef int _merge(CompState *S, const MergeWatch *watch) noexcept nogil:
+cdef void settle_follower(Part *p, const double *cur) noexcept nogil:
+    cdef int a, b, c
+    if plane_axes(p.plane, &a, &b, &c):
+        p.ce[a] = cur[a]
+        p.ce[b] = cur[b]
+
+
+cdef int _merge(CompState *S, const MergeWatch *watch, uint8_t **settle_later) noexcept nogil:
     """Step 5: the inserted parts go into the program (program_merge; `watch` may
     read the merged parts beside it), and on the way the parts without motion in the
-    plane take the compensated position they sit at."""
+    plane take the compensated position they sit at -- with nothing to insert, in
+    join_lines' pass when settle_later takes the roles."""
     cdef settle_parts_fn settle = NULL
     if S.n_ins == 0 and not S.has_followers:
+        return COMPILE_OK
+    if S.n_ins == 0 and settle_later != NULL:
+        settle_later[0] = S.role       # join_lines frees them
+        S.role = NULL
+        S.cap_role = 0
         return COMPILE_OK
     if S.has_followers:
         settle = _settle
@@ -681,6 +693,7 @@ cdef bint _role_room(CompState *S, size_t n) noexcept nogil:
         return True
     if not grow(<void **>&S.role, &S.cap_role, n, 1):
         return False
+    ready_memory(S.role + old, S.cap_role - old)        # one call, not a fault a page
     memset(S.role + old, ROLE_NONE, S.cap_role - old)
     return True
 
@@ -750,7 +763,7 @@ cdef int compensate_feed(void *ctx, size_t upto, bint last, size_t *more) noexce
     return res
 
 
-cdef int compensate_end(CompState *S, const MergeWatch *watch) noexcept nogil:
+cdef int compensate_end(CompState *S, const MergeWatch *watch, uint8_t **settle) noexcept nogil:
     """Step 5 after compensate_feed took the whole program: the merge (`watch`: see
     program_merge, may be NULL); then the warnings. Frees the state; COMPILE_OK or
     COMPILE_ERROR with err filled."""
@@ -758,7 +771,9 @@ cdef int compensate_end(CompState *S, const MergeWatch *watch) noexcept nogil:
     if res == COMPILE_OK and not _role_room(S, S.prog.n_parts):
         res = err_out_of_memory(S.err, comp_file(S, 0), comp_line(S, 0))
     if res == COMPILE_OK:
-        res = _merge(S, watch)
+        res = _merge(S, watch, settle)
+    if S.dropped:
+        S.build.renumber = True
     _comp_deliver(S)
     compensate_free(S)
     return res
@@ -776,4 +791,3 @@ cdef void compensate_free(CompState *S) noexcept nogil:
     S.role = NULL
     S.st = NULL
     S.ins = NULL
-

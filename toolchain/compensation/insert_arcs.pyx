@@ -58,6 +58,18 @@ cdef bint _ia_in_plane_line(const Program *prog, size_t k, int a, int b) noexcep
     return distance2d(g.end[a] - g.start[a], g.end[b] - g.start[b]) > LENGTH_EPS
 
 
+cdef bint insert_arcs_idle(const Program *prog, const GCODE_PARAMETERS *params) noexcept nogil:
+    """Whether insert_arcs leaves the program as it is: neither the host's mode nor a
+    G167 of the program switches the arcs on."""
+    cdef size_t k
+    if params.insertArcMode == 1:
+        return False
+    for k in range(prog.n_arc_regions):
+        if prog.arc_regions[k].on:
+            return False
+    return True
+
+
 cdef int insert_arcs(ProgramBuilder *build, const GCODE_PARAMETERS *params, ErrorInfo *err) noexcept nogil:
     """Inserts the automatic arcs; COMPILE_OK or COMPILE_ERROR (out of memory)."""
     cdef Program *prog = &build.prog

@@ -70,6 +70,13 @@ cdef inline bint _same_cut(const Program *prog, const Part *a, const Part *b) no
             and (a.settings == b.settings or settings_equal(part_settings(prog, a), part_settings(prog, b))))
 
 
+cdef inline void _unit(const double *d, double n, double *u) noexcept nogil:
+    """d / n (n > 0: d's length), as _direction divides."""
+    u[0] = d[0] / n
+    u[1] = d[1] / n
+    u[2] = d[2] / n
+
+
 cdef inline double _direction(const double *a, const double *b, double *u) noexcept nogil:
     """Unit vector from a to b (x y z) in u; the length."""
     cdef double n
@@ -84,39 +91,92 @@ cdef inline double _direction(const double *a, const double *b, double *u) noexc
     return n
 
 
-cdef int join_lines(ProgramBuilder *build, const GCODE_PARAMETERS *params) noexcept nogil:
+cdef inline int _longer_than_eps(double n2) noexcept nogil:
+    """Whether sqrt(n2) > LENGTH_EPS: 1, 0, or -1 when n2 is too close to tell
+    without the square root (the exact test then takes it)."""
+    if n2 > 4.0 * LENGTH_EPS * LENGTH_EPS:
+        return 1
+    if n2 < 0.25 * LENGTH_EPS * LENGTH_EPS:
+        return 0
+    return -1
+
+
+cdef void _settle_all(Program *prog, const uint8_t *settle) noexcept nogil:
+    """The followers' positions (compensate_end) in a pass of their own."""
+    cdef size_t r
+    for r in range(prog.n_parts):
+        if settle[r] == ROLE_FOLLOW:
+            settle_follower(&prog.parts[r], &prog.parts[r - 1].ce[0] if r > 0 else &prog.start[0])
+
+
+cdef int join_lines(ProgramBuilder *build, const GCODE_PARAMETERS *params, bint number,
+                    uint8_t *settle) noexcept nogil:
     """tolerance[4] on uncompensated arcs, tolerance[2] and [3] on consecutive G1 parts
-    (above); the planning regions follow the parts. COMPILE_OK, or COMPILE_ERROR when
-    out of memory."""
+    (above); the planning regions follow the parts. With `number` (nothing is inserted
+    after it) the parts it keeps get the driver's G-code indexes on the way, as
+    program_number_parts gives them (build.renumber cleared); with `settle` (the
+    compensation's roles, freed here) the parts without motion in the plane first take
+    the compensated position they sit at, as the merge would have. COMPILE_OK, or
+    COMPILE_ERROR when out of memory.
+
+    Most G1 parts join nothing: the test of their turn compares squares first and
+    takes the unit vectors (a square root, three divisions) only where the turn may
+    be within tolerance[2] -- the same quotients as always, so the same joins."""
     cdef Program *prog = &build.prog
     cdef size_t n = prog.n_parts, r, w = 0, run = 0, k, region = 0
     cdef size_t programmed = 0, kept_programmed = 0
     cdef double min_arc = params.tolerance[4]
     cdef double tol_angle = params.tolerance[2], tol_dev = params.tolerance[3]
-    cdef double cos_tol, dev2, len_new
+    cdef double cos_tol = 0.0, cos2_tol = 0.0, dev2 = 0.0, len_new, n2, dot
     cdef double run_start_e[3]          # where the run began (programmed, tool path)
     cdef double run_start_c[3]
-    cdef double u_last[3]
+    cdef double d_last[3]               # the last part's direction (tool path), its squared length
+    cdef double n2_last = 0.0
+    cdef double u_last[3]               # ... as a unit vector, once u_last_known
+    cdef double d_new[3]
     cdef double u_new[3]
     cdef double *left_e = NULL          # the end points the run leaves out
     cdef double *left_c = NULL
-    cdef bint join, last_ok = False, do_join
+    cdef bint join, last_ok = False, do_join, u_last_known = False, candidate
+    cdef int longer
+    cdef PartNumbering numbering
     cdef Part *p
     cdef Part *q
     cdef const double *before_e
     cdef const double *before_c
     do_join = tol_angle > 0.0 and tol_angle < 90.0
+    # the joins (when they run) visit every part: they number them whether they join
+    # any or not; else only a program whose indexes need it is numbered
+    number = number and (build.renumber or do_join)
     if not (min_arc > 0.0) and not do_join:
+        if settle != NULL:
+            _settle_all(prog, settle)
+            free(settle)
+        if number:
+            program_number_parts(prog)
+            build.renumber = False
         return COMPILE_OK
     if do_join:
         cos_tol = cos(tol_angle * (M_PI / 180.0))
+        # below (1 - 1e-9) of it the turn is beyond tolerance whatever the rounding
+        # of the unit vectors (a few units of 1e-16)
+        cos2_tol = cos_tol * cos_tol * (1.0 - 1e-9)
         dev2 = tol_dev * tol_dev if tol_dev > 0.0 else 0.0
         left_e = <double *>tc_malloc(6 * JOIN_RUN_MAX * sizeof(double))
         if left_e == NULL:
+            free(settle)
             return COMPILE_ERROR
         left_c = left_e + 3 * JOIN_RUN_MAX
+    if number:
+        numbering_begin(&numbering, prog)
     for r in range(n):
         p = &prog.parts[r]
+        if settle != NULL and settle[r] == ROLE_FOLLOW:
+            # the part before it, as the merge would have read it: where the joins put it
+            if do_join:
+                settle_follower(p, &prog.parts[w - 1].ce[0] if w > 0 else &prog.start[0])
+            else:
+                settle_follower(p, &prog.parts[r - 1].ce[0] if r > 0 else &prog.start[0])
         if min_arc > 0.0 and p.kind == PART_MOTION and (p.func == 2 or p.func == 3) and p.comp == 40 \
                 and part_extra(prog, p).radius < min_arc:
             p.func = 1                  # a line to its end point
@@ -124,6 +184,8 @@ cdef int join_lines(ProgramBuilder *build, const GCODE_PARAMETERS *params) noexc
             if not (p.flags & FLAG_CSS):
                 p.extra = 0             # no centre, no radius
         if not do_join:
+            if number:
+                numbering_part(&numbering, prog, p)
             continue
         if not (p.flags & FLAG_INSERTED):
             while region < prog.n_plan_regions and prog.plan_regions[region].first <= programmed:
@@ -132,27 +194,49 @@ cdef int join_lines(ProgramBuilder *build, const GCODE_PARAMETERS *params) noexc
                 prog.plan_regions[region].first = kept_programmed
                 region += 1
         join = False
+        candidate = False               # d_new holds q -> p (the tool path)
         if last_ok and _joinable_kind(prog, p) and run < JOIN_RUN_MAX:
             q = &prog.parts[w - 1]
             if _same_cut(prog, q, p):
-                len_new = _direction(q.ce, p.ce, u_new)
-                if (len_new > LENGTH_EPS and u_last[0] * u_new[0] + u_last[1] * u_new[1]
-                        + u_last[2] * u_new[2] > cos_tol):
-                    # the joined line from the run's start to p's end passes every end
-                    # point it leaves out, q's end among them, within tolerance[3]
-                    memcpy(&left_e[3 * run], q.e, 3 * sizeof(double))
-                    memcpy(&left_c[3 * run], q.ce, 3 * sizeof(double))
-                    join = True
-                    for k in range(run + 1):
-                        if (_point_line_distance2(run_start_c, p.ce, &left_c[3 * k]) > dev2
-                                or _point_line_distance2(run_start_e, p.e, &left_e[3 * k]) > dev2):
-                            join = False
-                            break
+                d_new[0] = p.ce[0] - q.ce[0]
+                d_new[1] = p.ce[1] - q.ce[1]
+                d_new[2] = p.ce[2] - q.ce[2]
+                candidate = True
+                n2 = d_new[0] * d_new[0] + d_new[1] * d_new[1] + d_new[2] * d_new[2]
+                dot = d_last[0] * d_new[0] + d_last[1] * d_new[1] + d_last[2] * d_new[2]
+                longer = _longer_than_eps(n2)
+                # the turn from d_last to d_new is within tolerance[2] only if
+                # dot > cos_tol |d_last| |d_new|; the exact test decides near it
+                if longer != 0 and dot > 0.0 and dot * dot >= cos2_tol * n2_last * n2:
+                    len_new = sqrt(n2)
+                    if len_new > 0.0:
+                        _unit(d_new, len_new, u_new)
+                    else:
+                        u_new[0] = d_new[0]; u_new[1] = d_new[1]; u_new[2] = d_new[2]
+                    if not u_last_known:
+                        _unit(d_last, sqrt(n2_last), u_last)
+                        u_last_known = True
+                    if (len_new > LENGTH_EPS and u_last[0] * u_new[0] + u_last[1] * u_new[1]
+                            + u_last[2] * u_new[2] > cos_tol):
+                        # the joined line from the run's start to p's end passes every end
+                        # point it leaves out, q's end among them, within tolerance[3]
+                        memcpy(&left_e[3 * run], q.e, 3 * sizeof(double))
+                        memcpy(&left_c[3 * run], q.ce, 3 * sizeof(double))
+                        join = True
+                        for k in range(run + 1):
+                            if (_point_line_distance2(run_start_c, p.ce, &left_c[3 * k]) > dev2
+                                    or _point_line_distance2(run_start_e, p.e, &left_e[3 * k]) > dev2):
+                                join = False
+                                break
         if join:
             prog.parts[w - 1] = p[0]    # the later part, from where the run began
             run += 1
+            d_last[0] = d_new[0]; d_last[1] = d_new[1]; d_last[2] = d_new[2]
+            n2_last = n2
             memcpy(u_last, u_new, sizeof(u_last))
         else:
+            if number and w > 0:
+                numbering_part(&numbering, prog, &prog.parts[w - 1])    # no part joins it any more
             if w != r:
                 prog.parts[w] = p[0]
             w += 1
@@ -168,7 +252,18 @@ cdef int join_lines(ProgramBuilder *build, const GCODE_PARAMETERS *params) noexc
                 if (w >= 2 and prog.parts[w - 2].axes_idx == p.axes_idx) or (w < 2 and _start_axes_equal(prog, p)):
                     memcpy(run_start_e, before_e, sizeof(run_start_e))
                     memcpy(run_start_c, before_c, sizeof(run_start_c))
-                    last_ok = _direction(run_start_c, p.ce, u_last) > LENGTH_EPS
+                    # the run's direction, as _direction(run_start_c, p.ce) gives it: when
+                    # p was a candidate, d_new is that difference already
+                    if not candidate:
+                        d_new[0] = p.ce[0] - before_c[0]
+                        d_new[1] = p.ce[1] - before_c[1]
+                        d_new[2] = p.ce[2] - before_c[2]
+                        n2 = d_new[0] * d_new[0] + d_new[1] * d_new[1] + d_new[2] * d_new[2]
+                    d_last[0] = d_new[0]; d_last[1] = d_new[1]; d_last[2] = d_new[2]
+                    n2_last = n2
+                    longer = _longer_than_eps(n2)
+                    last_ok = longer == 1 or (longer == -1 and sqrt(n2) > LENGTH_EPS)
+                    u_last_known = False
             if not (p.flags & FLAG_INSERTED):
                 kept_programmed += 1
         if not (p.flags & FLAG_INSERTED):
@@ -177,7 +272,14 @@ cdef int join_lines(ProgramBuilder *build, const GCODE_PARAMETERS *params) noexc
         while region < prog.n_plan_regions:     # regions from past the last part
             prog.plan_regions[region].first = kept_programmed
             region += 1
+        if w != n:
+            build.renumber = True
         prog.n_parts = w
         free(left_e)
+        if number and w > 0:
+            numbering_part(&numbering, prog, &prog.parts[w - 1])
+    if number:
+        numbering_end(&numbering, prog)
+        build.renumber = False
+    free(settle)
     return COMPILE_OK
-

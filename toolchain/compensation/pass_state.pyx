@@ -85,6 +85,7 @@ cdef bint ins_add(CompState *S, const CompEl *el) noexcept nogil:
     if S.n_ins == S.cap_ins:
         if not grow(<void **>&S.ins, &S.cap_ins, S.n_ins + 1, sizeof(InsRec)):
             return False
+    ready_ahead(S.ins, (S.n_ins + 1) * sizeof(InsRec), &S.ready_ins, S.cap_ins * sizeof(InsRec))
     rec = &S.ins[S.n_ins]
     S.n_ins += 1
     rec.after = el.part

@@ -114,6 +114,8 @@ cdef int em_pars(CState *st, const LineWords *lw, int g, int m) noexcept nogil:
         return 0
     if not grow(<void **>&prog.pars, &st.build.cap_pars, prog.n_pars + <size_t>SF_POPCOUNT(bits), sizeof(float)):
         return err_out_of_memory(st.err, st.unit.file_idx, st.line)
+    ready_ahead(prog.pars, (prog.n_pars + <size_t>SF_POPCOUNT(bits)) * sizeof(float), &st.build.ready_pars,
+                st.build.cap_pars * sizeof(float))
     out = prog.pars + prog.n_pars
     while bits:
         letter = SF_CTZ(bits)
@@ -436,4 +438,5 @@ cdef int em_print(CState *st, const LineWords *lw, int m, const char *text, int 
     if p == NULL:
         return R_ERR
     p.extra = <uint32_t>off
+    st.build.renumber = True        # no driver gets it: the next part's index moves (program_number_parts)
     return em_pars(st, lw, -10000, m)

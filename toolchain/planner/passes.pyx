@@ -322,6 +322,10 @@ cdef int plan_range(const Program *prog, const GCODE_PARAMETERS *params, uint32_
     (every motion before it ends at rest, the next one starts from rest), so the window
     may end there: the plan is the same as the whole program's. Two ranges may be
     planned at once. COMPILE_OK, or COMPILE_ERROR when out of memory."""
+    if end > first:
+        # the range's plan memory beyond the source text it reuses is fresh: readied in
+        # one call (each of the two threads its own range), not a fault a page
+        ready_memory(&prog.plan[first], (end - first) * sizeof(PartPlan))
     return _sweep(prog, NULL, params, enhanced, window, first, end, NULL)
 
 
