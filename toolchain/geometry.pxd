@@ -24,6 +24,7 @@ cdef extern from *:
     #define TC_ROOT_REL_EPS 1e-15
     #define TC_SPEED2_REL_EPS 1e-9
     #define TC_UNDERFLOW_EPS 1e-300
+    #define TC_COS2_REL_EPS 1e-9
     #define TC_NO_LIMIT 1e12
     """
     # radians, or the sine of an angle: directions closer than this are one (the ends
@@ -56,6 +57,10 @@ cdef extern from *:
     # mm^4: a squared cross product this small is zero even where ANGLE_EPS^2 times the
     # squared lengths underflows (lines of no length have no direction: no crossing)
     const double UNDERFLOW_EPS "TC_UNDERFLOW_EPS"
+    # relative to a squared cosine: a turn whose squared cosine is this much below the
+    # bound's is beyond it whatever the rounding of the unit vectors (a few 1e-16;
+    # join_lines tells turns from squares, the unit vectors only near the bound)
+    const double COS2_REL_EPS "TC_COS2_REL_EPS"
     # mm/s^2: an acceleration of a motion class that is 0, or not below this, is no
     # limit, and stands for it (ramps instant in practice, the closed forms finite)
     const double NO_LIMIT "TC_NO_LIMIT"

@@ -454,6 +454,7 @@ cdef void program_number_parts(Program *prog) noexcept nogil:
 
 
 cdef void _numbering_next_start(PartNumbering *N) noexcept nogil:
+    """The lowest compiled start index of an axis not yet mapped to its final number."""
     cdef int k
     N.next_start = INT32_MAX
     N.unmapped = False
@@ -465,6 +466,8 @@ cdef void _numbering_next_start(PartNumbering *N) noexcept nogil:
 
 
 cdef void numbering_begin(PartNumbering *N, const Program *prog) noexcept nogil:
+    """Starts numbering the parts in their final order (program_number_parts, or the
+    join's pass as it keeps them): nothing counted yet, the axes' start indexes to map."""
     cdef int k
     N.last = INT32_MIN
     N.last_programmed = False
@@ -499,6 +502,8 @@ cdef void numbering_part(PartNumbering *N, Program *prog, Part *p) noexcept nogi
 
 
 cdef void numbering_end(PartNumbering *N, Program *prog) noexcept nogil:
+    """After the last part: an axis start index no part reached is named after the last
+    part (every part follows the start)."""
     cdef int k
     if not N.unmapped:
         return

@@ -641,6 +641,8 @@ cdef void _settle(void *ctx, size_t first, size_t end, size_t rec) noexcept nogi
 
 
 cdef void settle_follower(Part *p, const double *cur) noexcept nogil:
+    """A part without motion in the plane inside a compensated run: its compensated end
+    on the plane's two axes is where the tool stands (`cur`)."""
     cdef int a, b, c
     if plane_axes(p.plane, &a, &b, &c):
         p.ce[a] = cur[a]

@@ -158,9 +158,7 @@ cdef int join_lines(ProgramBuilder *build, const GCODE_PARAMETERS *params, bint 
         return COMPILE_OK
     if do_join:
         cos_tol = cos(tol_angle * (M_PI / 180.0))
-        # below (1 - 1e-9) of it the turn is beyond tolerance whatever the rounding
-        # of the unit vectors (a few units of 1e-16)
-        cos2_tol = cos_tol * cos_tol * (1.0 - 1e-9)
+        cos2_tol = cos_tol * cos_tol * (1.0 - COS2_REL_EPS)
         dev2 = tol_dev * tol_dev if tol_dev > 0.0 else 0.0
         left_e = <double *>tc_malloc(6 * JOIN_RUN_MAX * sizeof(double))
         if left_e == NULL:
