@@ -118,6 +118,14 @@ def cases(directory: Path | None, corpus: Path | None, only=None) -> list:
                                                              strategy=strategy, abs_mode=0, parts=parts)))
         out.append((f"long_path_g40_{lines}_r0", dict(path=str(programs["long_path_g40"]), radius=0.0,
                                                       strategy=None, abs_mode=0, parts=parts)))
+        if parts:
+            # the plan's window unlimited and deeper than the vendor's 8 (ranges planned apart)
+            out.append((f"cam_job_{lines}_r0_window_unlimited", dict(path=str(programs["cam_job"]), radius=0.0,
+                                                                     strategy=None, abs_mode=0, parts=True,
+                                                                     look_ahead=-1)))
+            out.append((f"long_path_{lines}_r0.15_0xA0600_window_64",
+                        dict(path=str(programs["long_path"]), radius=0.15, strategy=0xA0600, abs_mode=0,
+                             parts=True, look_ahead=64)))
     if directory is not None:
         followers = directory / "followers.nc"
         write_followers(followers, SMALL)
@@ -166,6 +174,7 @@ for name, spec in json.loads(sys.stdin.read()):
     # every case names its radius and strategy: a core keeps those of its last compile
     kw["radius"] = spec.get("radius") or 0.0
     kw["strategy"] = spec.get("strategy") or 0
+    kw["look_ahead"] = spec.get("look_ahead") or 0
     out = {}
     with sf_tch.compile(source, **kw) as program:
         diag = lambda d: [int(d.number), d.line, d.text.replace(str(path.parent), "DIR"), list(d.arguments), d.column]

@@ -412,3 +412,33 @@ def test_size_info_original_and_rotated(core):
     assert (rotated.m_minimalPos.x, rotated.m_maximalPos.x) == pytest.approx((-5, 20))
     assert (rotated.m_minimalPos.y, rotated.m_maximalPos.y) == pytest.approx((0, 10))
     assert (size[3].m_maximalPos.y, size[1].m_maximalPos.y) == pytest.approx((10, 5))
+
+
+def test_the_plan_beside_the_joins_is_the_plan_after_them():
+    """A program of squares cut one after the other, each between two waiting M
+    functions (where the machine stands), none of whose lines join another: with the
+    joins on (tolerance[2], the default) the plan is made beside them, range by range
+    from both ends (pipeline.pyx PlanAhead); with them off it is made after them
+    (plan_beside_extent). The same parts, so the same plan: the same run time, the same
+    extents and tool path. Under the thread sanitizer (tests/test_sanitizers.py) the
+    ranges' threads are checked for races."""
+    rng = random.Random(11)
+    lines = ["G90 G17"]
+    for k in range(12000):
+        x, y, w = (k % 60) * 30.0, (k // 60) * 30.0, rng.uniform(5, 20)
+        lines += [f"G0 X{x - 2:.3f} Y{y - 2:.3f}", "M51", f"G1 X{x:.3f} Y{y:.3f} F{rng.choice((1500, 3000))}",
+                  f"G1 X{x + w:.3f}", f"G1 Y{y + w:.3f}", f"G1 X{x:.3f}", f"G1 Y{y:.3f}", "M50"]
+    text = "\n".join(lines) + "\n"
+    with sf_tch.Core() as c:
+        tolerance = list(c.params.tolerance)
+    assert 0.0 < tolerance[2] < 90.0                # the joins are on by default
+    results = []
+    for joins in (tolerance[2], 0.0):
+        tolerance[2] = joins
+        with sf_tch.compile(text, params={"calcTime": 1, "tolerance": tuple(tolerance)}, start=[0.0] * 10,
+                            keep_core=True) as program:
+            program.check()
+            records = program.toolpath.records
+            assert len(records) > 2 * 32768          # ranges of both threads (PLAN_AHEAD_STEP), and then some
+            results.append((records.tobytes(), bytes(program.size_info), program.run_time))
+    assert results[0] == results[1]

@@ -161,6 +161,8 @@ cdef int _compile_job(Core *core, CompileJob *job, ProgramBuilder *build, GCODE_
     cdef int result
     cdef char text[400]
     cdef uint8_t *settle = NULL
+    cdef PlanAhead plan_ahead
+    cdef bint ahead
     if job.text == NULL:
         job.text = read_whole_file(job.name, MAX_FILE_BYTES, &job.length, &read_error)
         if job.text == NULL:
@@ -203,14 +205,6 @@ cdef int _compile_job(Core *core, CompileJob *job, ProgramBuilder *build, GCODE_
     tc_set_stage("the automatic arcs")
     if result == COMPILE_OK:
         result = insert_arcs(build, &inp.params, err)
-    # the joins number the parts they keep on their pass, unless the plan inserts M
-    # functions (then the count comes after it)
-    if result != COMPILE_OK:
-        free(settle)
-    elif join_lines(build, &inp.params, not mfunc_insert_wanted(&inp.params), settle) != COMPILE_OK:
-        result = COMPILE_ERROR
-        err_out_of_memory(err, job.files[0], 0)
-    measured = measured and build.prog.n_parts == n_parts      # no automatic arcs came in, no lines joined
     # the spare room of the parts (the reserve, what was faulted in ahead) goes back
     # before the plan takes its memory: the peak is the parts and their plan
     if result == COMPILE_OK:
@@ -224,11 +218,35 @@ cdef int _compile_job(Core *core, CompileJob *job, ProgramBuilder *build, GCODE_
     else:
         free(job.text)
     job.text = NULL
+    # the plan made beside the joins where it can (pipeline.pyx), else after them
     tc_set_stage("the plan")
-    if result == COMPILE_OK and plan_beside_extent(build, &inp.params, machine_bits, inp.plan_window,
-                                                   extent, measured) != COMPILE_OK:
+    ahead = result == COMPILE_OK and plan_ahead_begin(&plan_ahead, build, &inp.params, machine_bits,
+                                                      inp.plan_window)
+    # the joins number the parts they keep on their pass, unless the plan inserts M
+    # functions (then the count comes after it)
+    tc_set_stage("the automatic arcs")
+    if result != COMPILE_OK:
+        free(settle)
+    elif join_lines(build, &inp.params, not mfunc_insert_wanted(&inp.params), settle,
+                    &plan_ahead.watch if ahead else NULL) != COMPILE_OK:
         result = COMPILE_ERROR
         err_out_of_memory(err, job.files[0], 0)
+    measured = measured and build.prog.n_parts == n_parts      # no automatic arcs came in, no lines joined
+    tc_set_stage("the plan")
+    if ahead:
+        if plan_ahead_end(&plan_ahead, build, result == COMPILE_OK, extent, measured) != COMPILE_OK \
+                and result == COMPILE_OK:
+            result = COMPILE_ERROR
+            err_out_of_memory(err, job.files[0], 0)
+        if result == COMPILE_OK:
+            program_builder_trim(build)         # what the joins took away
+    else:
+        if result == COMPILE_OK:
+            program_builder_trim(build)
+        if result == COMPILE_OK and plan_beside_extent(build, &inp.params, machine_bits, inp.plan_window,
+                                                       extent, measured) != COMPILE_OK:
+            result = COMPILE_ERROR
+            err_out_of_memory(err, job.files[0], 0)
     if result == COMPILE_OK and build.renumber:
         program_number_parts(&build.prog)   # the plan's insertions are in: the driver's indexes
     if result == COMPILE_OK and TC_ATOMIC_LOAD(&core.cancel):

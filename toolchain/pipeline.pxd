@@ -81,6 +81,36 @@ ctypedef struct PlanJob:
     int result
 
 
+# The plan made beside the joins (join_lines), which rewrite the parts from the first
+# one up: a thread plans the parts the joins have finished, a range at a time from a
+# part where the machine stands to the next one at least PLAN_AHEAD_STEP parts on (the
+# plan is the same as in one piece); once the joins are done, their thread measures
+# the extent (when the merge's thread has not) and plans from the program's end down
+# while the other goes on up, each range claimed under `lock`, until they meet. Taken
+# when the joins run (tolerance[2]) and the plan would be split anyway: not for small
+# programs, programs whose plan inserts M functions, or programs with G900 / M-5
+# regions (the joins renumber them).
+cdef enum:
+    PLAN_AHEAD_STEP = 32768     # parts: a range at least this long, where the program allows
+
+ctypedef struct PlanAhead:
+    Program view            # the program's header when the joins began: the plan reads the
+                            # parts through it (the joins change prog.n_parts)
+    const GCODE_PARAMETERS *params
+    uint32_t enhanced
+    int64_t window
+    PartsWatch watch        # given to join_lines
+    pthread_mutex_t lock
+    pthread_cond_t cond
+    pthread_t thread
+    bint started
+    size_t final_upto       # parts [0, final_upto) are final (guarded by `lock`)
+    size_t front            # the thread plans the parts from here on (guarded)
+    size_t back             # ... below here: the joins' thread planned the rest (guarded)
+    bint joined             # the joins are over: back is the program's end at first (guarded)
+    bint stop               # the joins failed: plan no more
+    int result              # COMPILE_ERROR: a range ran out of memory (guarded)
+
 # ---- what other stages call
 # the stage beside the compiler: set up, torn down; the compiler publishes parts
 # [0, n), pauses the thread while it grows an array it reads, hands over the rest and
@@ -97,3 +127,10 @@ cdef void extent_beside_begin(ExtentBeside *E, const Program *prog) noexcept nog
 cdef bint extent_beside_end(ExtentBeside *E, bint merged, GCODE_INFO *extent) noexcept nogil
 cdef int plan_beside_extent(ProgramBuilder *build, const GCODE_PARAMETERS *params, uint32_t enhanced,
                             int64_t window, GCODE_INFO *extent, bint measured) noexcept nogil
+# ... or the plan beside the joins: begun before join_lines (False: not taken, plan
+# beside the extent afterwards), ended after it (`joined`: it succeeded) with the
+# extent measured unless `measured`; plan_ahead_end's result is plan_program's
+cdef bint plan_ahead_begin(PlanAhead *A, ProgramBuilder *build, const GCODE_PARAMETERS *params,
+                           uint32_t enhanced, int64_t window) noexcept nogil
+cdef int plan_ahead_end(PlanAhead *A, ProgramBuilder *build, bint joined, GCODE_INFO *extent,
+                        bint measured) noexcept nogil

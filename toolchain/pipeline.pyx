@@ -19,14 +19,13 @@
 #     many short contours, would otherwise leave the zeroing to the compiler); a
 #     consumer that fell behind takes at most FOLLOW_TAKE parts at a time.
 # After the compiler, in the order they run: the extent measured beside the
-# compensation's merge (ExtentBeside), then the plan in two ranges beside the extent
-# when that was not measured yet (plan_beside_extent).
+# compensation's merge (ExtentBeside), then the plan made beside the joins (PlanAhead),
+# else in two ranges beside the extent when that was not measured yet
+# (plan_beside_extent).
 from libc.string cimport memset
 
 
 cdef void follow_init(Follow *F, ProgramBuilder *build, consume_fn consume, void *ctx) noexcept nogil:
-    """A Follow for `consume` on build's parts, not started yet (follow_publish starts its
-    thread at the first batch)."""
     memset(F, 0, sizeof(Follow))
     F.build = build
     F.consume = consume
@@ -37,7 +36,6 @@ cdef void follow_init(Follow *F, ProgramBuilder *build, consume_fn consume, void
 
 
 cdef void follow_destroy(Follow *F) noexcept nogil:
-    """Frees the Follow's lock and condition once its thread is joined."""
     pthread_cond_destroy(&F.cond)
     pthread_mutex_destroy(&F.lock)
 
@@ -132,8 +130,6 @@ cdef void follow_pause(Follow *F) noexcept nogil:
 
 
 cdef void follow_resume(Follow *F) noexcept nogil:
-    """The compiler, after it moved an array the consumer reads: the consumer may go on. F may
-    be NULL."""
     if F == NULL or not F.started:
         return
     pthread_mutex_lock(&F.lock)
@@ -170,9 +166,6 @@ cdef void follow_abandon(Follow *F) noexcept nogil:
 
 
 cdef void *_extent_beside_body(void *arg) noexcept nogil:
-    """The extent's thread: measures each range of parts as the merge makes it final, from the
-    top down (both extents, and as written when G168 rotates), until every part is measured or
-    the merge failed."""
     cdef ExtentBeside *E = <ExtentBeside *>arg
     cdef const Program *prog = E.prog
     cdef size_t lo, hi, last
@@ -201,8 +194,6 @@ cdef void *_extent_beside_body(void *arg) noexcept nogil:
 
 
 cdef void _extent_beside_final(void *ctx, size_t final_from, size_t total) noexcept nogil:
-    """The merge's MergeWatch.final: parts [final_from, total) are final; the first call starts
-    the extent's thread, later ones wake it."""
     cdef ExtentBeside *E = <ExtentBeside *>ctx
     pthread_mutex_lock(&E.lock)
     E.final_from = final_from
@@ -214,8 +205,6 @@ cdef void _extent_beside_final(void *ctx, size_t final_from, size_t total) noexc
 
 
 cdef void extent_beside_begin(ExtentBeside *E, const Program *prog) noexcept nogil:
-    """Before the compensation's merge: the extent's state, and the watch the merge calls as
-    parts become final (its thread starts at the first)."""
     memset(E, 0, sizeof(ExtentBeside))
     E.prog = prog
     E.last = NO_MOTION
@@ -249,7 +238,6 @@ cdef bint extent_beside_end(ExtentBeside *E, bint merged, GCODE_INFO *extent) no
 
 
 cdef void *_plan_body(void *arg) noexcept nogil:
-    """The plan's second thread: plans its range [first, n_parts) of the program."""
     cdef PlanJob *job = <PlanJob *>arg
     tc_set_stage("the plan")
     job.result = plan_range(job.prog, job.params, job.enhanced, job.window, job.first, job.prog.n_parts)
@@ -304,4 +292,127 @@ cdef int plan_in_two(Program *prog, const GCODE_PARAMETERS *params, uint32_t enh
     if result != COMPILE_OK or job.result != COMPILE_OK:
         plan_drop(prog)
         return COMPILE_ERROR
+    return COMPILE_OK
+
+
+cdef void _ahead_final(void *ctx, size_t upto) noexcept nogil:
+    cdef PlanAhead *A = <PlanAhead *>ctx
+    pthread_mutex_lock(&A.lock)
+    A.final_upto = upto
+    pthread_cond_broadcast(&A.cond)
+    pthread_mutex_unlock(&A.lock)
+
+
+cdef void *_ahead_body(void *arg) noexcept nogil:
+    """Plans ranges from the front: each from `front` to a part where the machine
+    stands at least PLAN_AHEAD_STEP parts on among the final ones, the rest up to
+    `back` once the joins are over."""
+    cdef PlanAhead *A = <PlanAhead *>arg
+    cdef size_t first, end, limit, s
+    cdef int res
+    tc_set_stage("the plan")
+    pthread_mutex_lock(&A.lock)
+    while not A.stop and A.result == COMPILE_OK and A.front < A.back:
+        first = A.front
+        limit = A.back if A.joined else A.final_upto
+        pthread_mutex_unlock(&A.lock)
+        s = plan_split_between(&A.view, first + PLAN_AHEAD_STEP, limit) if first + PLAN_AHEAD_STEP < limit else 0
+        pthread_mutex_lock(&A.lock)
+        if A.stop or A.result != COMPILE_OK or A.front >= A.back:
+            break
+        if s == 0 or s > A.back:
+            if not A.joined:
+                pthread_cond_wait(&A.cond, &A.lock)     # more final parts, or the joins' end
+                continue
+            s = A.back                  # the rest: the other thread plans from back down
+        end = s
+        A.front = end
+        pthread_mutex_unlock(&A.lock)
+        res = plan_range(&A.view, A.params, A.enhanced, A.window, first, end)
+        pthread_mutex_lock(&A.lock)
+        if res != COMPILE_OK:
+            A.result = res
+    pthread_mutex_unlock(&A.lock)
+    return NULL
+
+
+cdef bint plan_ahead_begin(PlanAhead *A, ProgramBuilder *build, const GCODE_PARAMETERS *params,
+                           uint32_t enhanced, int64_t window) noexcept nogil:
+    """Allocates the plan for the parts as they are (the joins only take some away)
+    and starts the thread; False (nothing started, the plan maybe allocated) when the
+    program does not take this way or no thread can be had."""
+    cdef Program *prog = &build.prog
+    cdef double tol_angle = params.tolerance[2]
+    memset(A, 0, sizeof(PlanAhead))
+    if (prog.n_parts < PLAN_BESIDE_MIN or mfunc_insert_wanted(params) or prog.n_plan_regions > 0
+            or not (tol_angle > 0.0 and tol_angle < 90.0)):
+        return False
+    if not plan_alloc(prog, params, enhanced, window):
+        return False
+    A.view = prog[0]
+    A.params = params
+    A.enhanced = enhanced
+    A.window = window
+    A.watch.final = _ahead_final
+    A.watch.ctx = A
+    A.back = prog.n_parts
+    A.result = COMPILE_OK
+    pthread_mutex_init(&A.lock, NULL)
+    pthread_cond_init(&A.cond, NULL)
+    A.started = pthread_create(&A.thread, NULL, _ahead_body, A) == 0
+    if not A.started:
+        pthread_cond_destroy(&A.cond)
+        pthread_mutex_destroy(&A.lock)
+    return A.started
+
+
+cdef int plan_ahead_end(PlanAhead *A, ProgramBuilder *build, bint joined, GCODE_INFO *extent,
+                        bint measured) noexcept nogil:
+    """After join_lines: the extent (unless `measured`), then ranges from the end down
+    until the thread's meet them; joins the thread. COMPILE_OK, or COMPILE_ERROR when
+    out of memory (no plan) or the joins failed."""
+    cdef Program *prog = &build.prog
+    cdef size_t first, end, s
+    cdef int res
+    pthread_mutex_lock(&A.lock)
+    if joined:
+        A.joined = True
+        A.back = prog.n_parts
+        A.final_upto = prog.n_parts
+    else:
+        A.stop = True
+    pthread_cond_broadcast(&A.cond)
+    pthread_mutex_unlock(&A.lock)
+    if joined:
+        # (the thread reads the parts through its view of the program as it was, with
+        # more parts: a range's plan does not depend on how many parts follow it)
+        if not measured:
+            program_extent(prog, extent)
+        pthread_mutex_lock(&A.lock)
+        while A.result == COMPILE_OK and A.front < A.back:
+            first = A.front
+            end = A.back
+            pthread_mutex_unlock(&A.lock)
+            s = plan_split_before(prog, end - PLAN_AHEAD_STEP, first) if end > first + PLAN_AHEAD_STEP else 0
+            pthread_mutex_lock(&A.lock)
+            if A.result != COMPILE_OK or A.front >= A.back:
+                break
+            if s <= A.front:
+                s = A.front                 # the rest: the thread's front takes no more
+            A.back = s
+            pthread_mutex_unlock(&A.lock)
+            res = plan_range(prog, A.params, A.enhanced, A.window, s, end)
+            pthread_mutex_lock(&A.lock)
+            if res != COMPILE_OK:
+                A.result = res
+        pthread_mutex_unlock(&A.lock)
+    pthread_join(A.thread, NULL)
+    pthread_cond_destroy(&A.cond)
+    pthread_mutex_destroy(&A.lock)
+    res = A.result if joined else COMPILE_ERROR
+    if res != COMPILE_OK:
+        plan_drop(prog)
+        return res
+    if prog.n_parts < A.view.n_parts:
+        resize(<void **>&prog.plan, prog.n_parts, sizeof(PartPlan))    # the joins took parts away
     return COMPILE_OK

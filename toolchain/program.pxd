@@ -240,6 +240,16 @@ ctypedef struct MergeWatch:
 cdef enum:
     MERGE_WATCH_STEP = 16384
 
+# ... and a stage that reads the parts beside a pass that rewrites them from the first
+# one up (join_lines): told, every PARTS_WATCH_STEP parts or so, that parts [0, upto)
+# are in their final place and will not change.
+ctypedef void (*parts_final_fn)(void *ctx, size_t upto) noexcept nogil
+ctypedef struct PartsWatch:
+    parts_final_fn final
+    void *ctx
+cdef enum:
+    PARTS_WATCH_STEP = 16384
+
 # Hooks a stage may call while it works (all optional: NULL function = none).
 # warn_fn: a numbered warning of the catalogue (errors.pxd WARN_*) with its location.
 ctypedef void (*warn_fn)(void *ctx, const ErrorInfo *warning) noexcept nogil

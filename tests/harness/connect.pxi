@@ -246,7 +246,7 @@ def compile(text, params=None, start=None, bint cancelled=False):
         if rc == COMPILE_OK:
             rc = insert_arcs(&c.build, &inp.params, &err)
         if rc == COMPILE_OK:
-            rc = join_lines(&c.build, &inp.params, False, NULL)
+            rc = join_lines(&c.build, &inp.params, False, NULL, NULL)
         if rc == COMPILE_OK:
             rc = plan_program(&c.build, &inp.params, 0, 0)
         if rc == COMPILE_OK:

@@ -345,9 +345,10 @@ cdef bint insert_arcs_idle(const Program *prog, const GCODE_PARAMETERS *params) 
 # ... then tolerance[4] on the uncompensated arcs and the nearly collinear G1 parts
 # joined (tolerance[2], [3]; join_lines.pyx), before the extent and the plan; `number`:
 # nothing is inserted after it, so it numbers the parts it keeps (program_number_parts);
-# `settle`: compensate_end's roles (freed here), or NULL
+# `settle`: compensate_end's roles (freed here), or NULL; `watch` (may be NULL) hears
+# how far the parts are final (the plan made beside it, pipeline.pyx)
 cdef int join_lines(ProgramBuilder *build, const GCODE_PARAMETERS *params, bint number,
-                    uint8_t *settle) noexcept nogil
+                    uint8_t *settle, const PartsWatch *watch) noexcept nogil
 # a part without motion in the plane takes the compensated position it sits at (`cur`:
 # the previous part's compensated end, or the program's start)
 cdef void settle_follower(Part *p, const double *cur) noexcept nogil

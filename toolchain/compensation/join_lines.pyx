@@ -110,20 +110,22 @@ cdef void _settle_all(Program *prog, const uint8_t *settle) noexcept nogil:
 
 
 cdef int join_lines(ProgramBuilder *build, const GCODE_PARAMETERS *params, bint number,
-                    uint8_t *settle) noexcept nogil:
+                    uint8_t *settle, const PartsWatch *watch) noexcept nogil:
     """tolerance[4] on uncompensated arcs, tolerance[2] and [3] on consecutive G1 parts
     (above); the planning regions follow the parts. With `number` (nothing is inserted
     after it) the parts it keeps get the driver's G-code indexes on the way, as
     program_number_parts gives them (build.renumber cleared); with `settle` (the
     compensation's roles, freed here) the parts without motion in the plane first take
-    the compensated position they sit at, as the merge would have. COMPILE_OK, or
-    COMPILE_ERROR when out of memory.
+    the compensated position they sit at, as the merge would have. `watch` hears, with
+    the joins, how far the parts kept are final (all but the last one kept: a join may
+    still replace it). COMPILE_OK, or COMPILE_ERROR when out of memory.
 
     Most G1 parts join nothing: the test of their turn compares squares first and
     takes the unit vectors (a square root, three divisions) only where the turn may
     be within tolerance[2] -- the same quotients as always, so the same joins."""
     cdef Program *prog = &build.prog
     cdef size_t n = prog.n_parts, r, w = 0, run = 0, k, region = 0
+    cdef size_t tell_at = PARTS_WATCH_STEP if watch != NULL else <size_t>-1     # kept parts to tell the watch at
     cdef size_t programmed = 0, kept_programmed = 0
     cdef double min_arc = params.tolerance[4]
     cdef double tol_angle = params.tolerance[2], tol_dev = params.tolerance[3]
@@ -238,6 +240,9 @@ cdef int join_lines(ProgramBuilder *build, const GCODE_PARAMETERS *params, bint 
             if w != r:
                 prog.parts[w] = p[0]
             w += 1
+            if w > tell_at:
+                tell_at = w + PARTS_WATCH_STEP
+                watch.final(watch.ctx, w - 1)   # numbered above, the kept parts before it too
             run = 0
             last_ok = False
             if _joinable_kind(prog, p):

@@ -306,12 +306,30 @@ cdef size_t plan_split_at(const Program *prog, size_t near) noexcept nogil:
     """A part at or after `near` (within PLAN_SPLIT_SEARCH parts) where the machine
     stands, so that the parts before it and from it on plan alone (plan_range); 0
     when there is none."""
+    return plan_split_between(prog, near, prog.n_parts)
+
+
+cdef size_t plan_split_between(const Program *prog, size_t near, size_t end) noexcept nogil:
+    """plan_split_at reading no part at or beyond `end`."""
     cdef size_t k, last = near + PLAN_SPLIT_SEARCH
-    if last > prog.n_parts:
-        last = prog.n_parts
+    if last > end:
+        last = end
     for k in range(near if near > 0 else 1, last):
         if prog.parts[k].kind != PART_MOTION and part_stops_motion(&prog.parts[k]):
             return k
+    return 0
+
+
+cdef size_t plan_split_before(const Program *prog, size_t near, size_t floor) noexcept nogil:
+    """The last part above `floor` and at or before `near` (within PLAN_SPLIT_SEARCH
+    parts) where the machine stands; 0 when there is none."""
+    cdef size_t k = near, stop = near - PLAN_SPLIT_SEARCH if near > PLAN_SPLIT_SEARCH else 0
+    if stop < floor:
+        stop = floor
+    while k > stop:
+        if prog.parts[k].kind != PART_MOTION and part_stops_motion(&prog.parts[k]):
+            return k
+        k -= 1
     return 0
 
 

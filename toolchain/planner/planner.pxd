@@ -214,6 +214,8 @@ cdef bint plan_alloc(Program *prog, const GCODE_PARAMETERS *params, uint32_t enh
                      int64_t window) noexcept nogil
 cdef void plan_drop(Program *prog) noexcept nogil
 cdef size_t plan_split_at(const Program *prog, size_t near) noexcept nogil
+cdef size_t plan_split_between(const Program *prog, size_t near, size_t end) noexcept nogil
+cdef size_t plan_split_before(const Program *prog, size_t near, size_t floor) noexcept nogil
 cdef int plan_range(const Program *prog, const GCODE_PARAMETERS *params, uint32_t enhanced,
                     int64_t window, size_t first, size_t end) noexcept nogil
 # a planned part's feed (mm/min): its speed limit at 100 % override
