@@ -442,3 +442,11 @@ def test_the_plan_beside_the_joins_is_the_plan_after_them():
             assert len(records) > 2 * 32768          # ranges of both threads (PLAN_AHEAD_STEP), and then some
             results.append((records.tobytes(), bytes(program.size_info), program.run_time))
     assert results[0] == results[1]
+
+
+def test_settings_records_are_compared_as_the_words_they_are(harness):
+    """program.pxd compares and hashes a PartSettings as SETTINGS_WORDS 64-bit words
+    (copied out, not read through a cast pointer): the record must be exactly that
+    long, without padding a field could leave undefined."""
+    size, words = harness.settings_layout()
+    assert size == words == 24

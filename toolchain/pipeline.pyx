@@ -26,6 +26,8 @@ from libc.string cimport memset
 
 
 cdef void follow_init(Follow *F, ProgramBuilder *build, consume_fn consume, void *ctx) noexcept nogil:
+    """A Follow for `consume` on build's parts, not started yet (follow_publish starts its
+    thread at the first batch)."""
     memset(F, 0, sizeof(Follow))
     F.build = build
     F.consume = consume
@@ -36,6 +38,7 @@ cdef void follow_init(Follow *F, ProgramBuilder *build, consume_fn consume, void
 
 
 cdef void follow_destroy(Follow *F) noexcept nogil:
+    """Frees the Follow's lock and condition once its thread is joined."""
     pthread_cond_destroy(&F.cond)
     pthread_mutex_destroy(&F.lock)
 
@@ -130,6 +133,8 @@ cdef void follow_pause(Follow *F) noexcept nogil:
 
 
 cdef void follow_resume(Follow *F) noexcept nogil:
+    """The compiler, after it moved an array the consumer reads: the consumer may go on. F may
+    be NULL."""
     if F == NULL or not F.started:
         return
     pthread_mutex_lock(&F.lock)
@@ -166,6 +171,9 @@ cdef void follow_abandon(Follow *F) noexcept nogil:
 
 
 cdef void *_extent_beside_body(void *arg) noexcept nogil:
+    """The extent's thread: measures each range of parts as the merge makes it final, from the
+    top down (both extents, and as written when G168 rotates), until every part is measured or
+    the merge failed."""
     cdef ExtentBeside *E = <ExtentBeside *>arg
     cdef const Program *prog = E.prog
     cdef size_t lo, hi, last
@@ -194,6 +202,8 @@ cdef void *_extent_beside_body(void *arg) noexcept nogil:
 
 
 cdef void _extent_beside_final(void *ctx, size_t final_from, size_t total) noexcept nogil:
+    """The merge's MergeWatch.final: parts [final_from, total) are final; the first call starts
+    the extent's thread, later ones wake it."""
     cdef ExtentBeside *E = <ExtentBeside *>ctx
     pthread_mutex_lock(&E.lock)
     E.final_from = final_from
@@ -205,6 +215,8 @@ cdef void _extent_beside_final(void *ctx, size_t final_from, size_t total) noexc
 
 
 cdef void extent_beside_begin(ExtentBeside *E, const Program *prog) noexcept nogil:
+    """Before the compensation's merge: the extent's state, and the watch the merge calls as
+    parts become final (its thread starts at the first)."""
     memset(E, 0, sizeof(ExtentBeside))
     E.prog = prog
     E.last = NO_MOTION
@@ -238,6 +250,7 @@ cdef bint extent_beside_end(ExtentBeside *E, bint merged, GCODE_INFO *extent) no
 
 
 cdef void *_plan_body(void *arg) noexcept nogil:
+    """The plan's second thread: plans its range [first, n_parts) of the program."""
     cdef PlanJob *job = <PlanJob *>arg
     tc_set_stage("the plan")
     job.result = plan_range(job.prog, job.params, job.enhanced, job.window, job.first, job.prog.n_parts)
@@ -296,6 +309,8 @@ cdef int plan_in_two(Program *prog, const GCODE_PARAMETERS *params, uint32_t enh
 
 
 cdef void _ahead_final(void *ctx, size_t upto) noexcept nogil:
+    """The joins' watch (PartsWatch): parts [0, upto) are final; the thread is woken
+    to plan them."""
     cdef PlanAhead *A = <PlanAhead *>ctx
     pthread_mutex_lock(&A.lock)
     A.final_upto = upto

@@ -72,6 +72,8 @@ ctypedef struct PartSettings:
     uint16_t zero_idx       # index into Program.zeros (active zero offset)
     uint16_t rot_idx        # index into Program.rotations (G168), 0 = not rotated
     int16_t file_idx        # file index (FileToIdx), -1 unknown
+cdef enum:
+    SETTINGS_WORDS = 3      # a PartSettings is 24 bytes without padding: compared and hashed as 3 words
 
 # What only some parts carry, in Program.extras (Part.extra): an arc's centre and
 # radius, the value of a dwell, a thread or a G96 part. Parts without one (lines,
@@ -326,9 +328,12 @@ cdef PartExtra *program_part_extra(ProgramBuilder *build, Part *p) noexcept nogi
 cdef int64_t program_settings_find(ProgramBuilder *build, const PartSettings *s) noexcept nogil
 
 cdef inline bint settings_equal(const PartSettings *a, const PartSettings *b) noexcept nogil:
-    # bit for bit (24 bytes, no padding)
-    cdef const uint64_t *x = <const uint64_t *>a
-    cdef const uint64_t *y = <const uint64_t *>b
+    # bit for bit (24 bytes, no padding), the words copied out: a record read through an
+    # integer pointer would break C's aliasing rule (fixed-size copies become loads)
+    cdef uint64_t x[SETTINGS_WORDS]
+    cdef uint64_t y[SETTINGS_WORDS]
+    memcpy(x, a, sizeof(x))
+    memcpy(y, b, sizeof(y))
     return x[0] == y[0] and x[1] == y[1] and x[2] == y[2]
 
 cdef inline int64_t program_settings_index(ProgramBuilder *build, const PartSettings *s) noexcept nogil:

@@ -6,11 +6,13 @@ from includes.tgm_cnc cimport SIMPLE_GM_PARAMS, P10DOUBLE, P26FLOAT
 
 
 cdef void program_init(Program *prog) noexcept nogil:
+    """An empty program: no parts, no arrays, the main file unknown (-1)."""
     memset(prog, 0, sizeof(Program))
     prog.main_file_idx = -1
 
 
 cdef void program_free(Program *prog) noexcept nogil:
+    """Frees every array of the program and leaves it empty (program_init)."""
     free(prog.parts)
     free(prog.extras)
     free(prog.settings)
@@ -30,6 +32,7 @@ cdef void program_free(Program *prog) noexcept nogil:
 
 
 cdef void program_builder_init(ProgramBuilder *build) noexcept nogil:
+    """An empty builder: no capacity yet, an empty program."""
     memset(build, 0, sizeof(ProgramBuilder))
     program_init(&build.prog)
 
@@ -59,16 +62,21 @@ cdef void program_builder_trim(ProgramBuilder *build) noexcept nogil:
 
 
 cdef inline void _part_defaults(Part *p) noexcept nogil:
+    """A new part's fields: zeros (settings record 0, the defaults), plane G17, no compensation
+    (G40)."""
     memset(p, 0, sizeof(Part))      # settings 0: the defaults
     p.plane = 17
     p.comp = 40
 
 
 cdef inline uint32_t _settings_hash(const PartSettings *s) noexcept nogil:
-    cdef const uint32_t *w = <const uint32_t *>s
+    """FNV-1a over a PartSettings' words, folded to a slot of settings_seen
+    (program_settings_index finds a recent record again by it)."""
+    cdef uint32_t w[2 * SETTINGS_WORDS]        # the words copied out (C's aliasing rule)
     cdef uint32_t h = 2166136261u
     cdef int k
-    for k in range(<int>(sizeof(PartSettings) // 4)):
+    memcpy(w, s, sizeof(w))
+    for k in range(2 * SETTINGS_WORDS):
         h = (h ^ w[k]) * 16777619u
     return (h ^ (h >> 15)) % SETTINGS_SEEN
 
@@ -361,13 +369,16 @@ cdef bint program_set_end(ProgramBuilder *build, Part *p, const double *end) noe
     seven as an entry of Program.axes (the last one again when they did not move).
     False when memory is exhausted."""
     cdef Program *prog = &build.prog
-    cdef const uint64_t *last
-    cdef const uint64_t *other = <const uint64_t *>(end + 3)
+    cdef uint64_t last[OTHER_AXES]
+    cdef uint64_t other[OTHER_AXES]
     p.e[0] = end[0]; p.e[1] = end[1]; p.e[2] = end[2]
     if prog.n_axes > 0:
         # the other seven axes bit for bit as the last entry's (what memcmp compares),
-        # without its call: every part asks
-        last = <const uint64_t *>&prog.axes[OTHER_AXES * (prog.n_axes - 1)]
+        # without its call: every part asks. The bits are copied out (fixed-size copies
+        # the C compiler turns into loads), not read through a cast pointer: a double
+        # read as an integer breaks C's aliasing rule.
+        memcpy(last, &prog.axes[OTHER_AXES * (prog.n_axes - 1)], sizeof(last))
+        memcpy(other, end + 3, sizeof(other))
         if (last[0] == other[0] and last[1] == other[1] and last[2] == other[2] and last[3] == other[3]
                 and last[4] == other[4] and last[5] == other[5] and last[6] == other[6]):
             p.axes_idx = <uint32_t>(prog.n_axes - 1)
@@ -451,6 +462,7 @@ cdef void program_number_parts(Program *prog) noexcept nogil:
 
 
 cdef void _numbering_next_start(PartNumbering *N) noexcept nogil:
+    """The lowest compiled start index of an axis not yet mapped to its final number."""
     cdef int k
     N.next_start = INT32_MAX
     N.unmapped = False
@@ -462,6 +474,8 @@ cdef void _numbering_next_start(PartNumbering *N) noexcept nogil:
 
 
 cdef void numbering_begin(PartNumbering *N, const Program *prog) noexcept nogil:
+    """Starts numbering the parts in their final order (program_number_parts, or the
+    join's pass as it keeps them): nothing counted yet, the axes' start indexes to map."""
     cdef int k
     N.last = INT32_MIN
     N.last_programmed = False
@@ -496,6 +510,8 @@ cdef void numbering_part(PartNumbering *N, Program *prog, Part *p) noexcept nogi
 
 
 cdef void numbering_end(PartNumbering *N, Program *prog) noexcept nogil:
+    """After the last part: an axis start index no part reached is named after the last
+    part (every part follows the start)."""
     cdef int k
     if not N.unmapped:
         return
@@ -511,6 +527,7 @@ cdef const double *part_shift(const Program *prog, const Part *p) noexcept nogil
 
 
 cdef inline void _p10(P10DOUBLE *dst, const double *src) noexcept nogil:
+    """Ten axes (a double[10]) into a P10DOUBLE of the ABI."""
     memcpy(dst, src, sizeof(P10DOUBLE))
 
 

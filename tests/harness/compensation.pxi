@@ -152,3 +152,9 @@ def piece_gap(tuple t_spec, tuple g_spec, double stop):
     if not _piece(&t, t_spec) or not _piece(&g, g_spec):
         raise ValueError("no piece")
     return bool(_cl_far(&t, &g, stop)), _cl_piece_gap(&t, &g, stop)
+
+
+def settings_layout():
+    """sizeof(PartSettings) and the words program.pxd compares and hashes it as
+    (settings_equal, _settings_hash): the two must agree."""
+    return sizeof(PartSettings), 8 * SETTINGS_WORDS
