@@ -287,7 +287,7 @@ cdef enum CompileResult:
 
 
 # ---- what other stages call
-from libc.string cimport memcpy
+from libc.string cimport memcpy, memcmp
 
 # a Program and its builder: empty, freed (what a failed compilation left), the
 # spare room of the large arrays given back before the plan is made (core.pyx)
@@ -328,13 +328,9 @@ cdef PartExtra *program_part_extra(ProgramBuilder *build, Part *p) noexcept nogi
 cdef int64_t program_settings_find(ProgramBuilder *build, const PartSettings *s) noexcept nogil
 
 cdef inline bint settings_equal(const PartSettings *a, const PartSettings *b) noexcept nogil:
-    # bit for bit (24 bytes, no padding), the words copied out: a record read through an
-    # integer pointer would break C's aliasing rule (fixed-size copies become loads)
-    cdef uint64_t x[SETTINGS_WORDS]
-    cdef uint64_t y[SETTINGS_WORDS]
-    memcpy(x, a, sizeof(x))
-    memcpy(y, b, sizeof(y))
-    return x[0] == y[0] and x[1] == y[1] and x[2] == y[2]
+    # bit for bit (24 bytes, no padding): a fixed-size memcmp tested for equality is
+    # inlined as word compares
+    return memcmp(a, b, sizeof(PartSettings)) == 0
 
 cdef inline int64_t program_settings_index(ProgramBuilder *build, const PartSettings *s) noexcept nogil:
     if build.settings_last < build.prog.n_settings and settings_equal(&build.prog.settings[build.settings_last], s):

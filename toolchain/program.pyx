@@ -369,18 +369,11 @@ cdef bint program_set_end(ProgramBuilder *build, Part *p, const double *end) noe
     seven as an entry of Program.axes (the last one again when they did not move).
     False when memory is exhausted."""
     cdef Program *prog = &build.prog
-    cdef uint64_t last[OTHER_AXES]
-    cdef uint64_t other[OTHER_AXES]
     p.e[0] = end[0]; p.e[1] = end[1]; p.e[2] = end[2]
     if prog.n_axes > 0:
-        # the other seven axes bit for bit as the last entry's (what memcmp compares),
-        # without its call: every part asks. The bits are copied out (fixed-size copies
-        # the C compiler turns into loads), not read through a cast pointer: a double
-        # read as an integer breaks C's aliasing rule.
-        memcpy(last, &prog.axes[OTHER_AXES * (prog.n_axes - 1)], sizeof(last))
-        memcpy(other, end + 3, sizeof(other))
-        if (last[0] == other[0] and last[1] == other[1] and last[2] == other[2] and last[3] == other[3]
-                and last[4] == other[4] and last[5] == other[5] and last[6] == other[6]):
+        # the other seven axes bit for bit as the last entry's: the C compiler inlines a
+        # memcmp of fixed size tested for equality as word compares (no call)
+        if memcmp(&prog.axes[OTHER_AXES * (prog.n_axes - 1)], end + 3, OTHER_AXES * sizeof(double)) == 0:
             p.axes_idx = <uint32_t>(prog.n_axes - 1)
             return True
     if not grow(<void **>&prog.axes, &build.cap_axes, OTHER_AXES * (prog.n_axes + 1), sizeof(double)):
