@@ -163,11 +163,6 @@ cdef double _cl_piece_gap(const XPiece *t, const XPiece *g, double stop) noexcep
     return _cl_arc_arc_inner(t, g, stop)
 
 
-cdef inline void cl_box_empty(double *b) noexcept nogil:
-    """A box (x0, y0, x1, y1) that covers nothing: any union makes it the other box."""
-    b[0] = 1e300; b[1] = 1e300; b[2] = -1e300; b[3] = -1e300
-
-
 cdef inline double *_cl_group(Clearance *C, size_t part) noexcept nogil:
     """The boxes of the group of the chain's parts that holds `part` (C.gbox); NULL:
     no memory."""
@@ -183,8 +178,8 @@ cdef double *_cl_group_add(Clearance *C, size_t g) noexcept nogil:
     if not grow(<void **>&C.gbox, &C.cap_gbox, g + 1, 8 * sizeof(double)):
         return NULL
     for k in range(C.n_gbox, g + 1):
-        cl_box_empty(&C.gbox[8 * k])
-        cl_box_empty(&C.gbox[8 * k + 4])
+        box_empty(&C.gbox[8 * k])
+        box_empty(&C.gbox[8 * k + 4])
     C.n_gbox = g + 1
     return &C.gbox[8 * g]
 
@@ -302,9 +297,9 @@ cdef inline bint _cl_boxes(Clearance *C) noexcept nogil:
             return False
         C.cap_g = ng
     for k in range(ng):
-        cl_box_empty(&C.g1[4 * k])
+        box_empty(&C.g1[4 * k])
     for k in range(ng / CL_G1 + 1):
-        cl_box_empty(&C.g2[4 * k])
+        box_empty(&C.g2[4 * k])
     C.max_off = 0.0
     for k in range(C.n):
         box_union(&C.g1[4 * (k / CL_G1)], C.el[k].box)
@@ -488,7 +483,7 @@ cdef int64_t _cl_flush(Clearance *C, size_t depth) noexcept nogil:
     C.n_measured = n
     if n == 0:
         return -1
-    cl_box_empty(box)
+    box_empty(box)
     for b in range(n):
         q = &C.batch[b]
         bb[0] = q.t.box[0] - q.r; bb[1] = q.t.box[1] - q.r; bb[2] = q.t.box[2] + q.r; bb[3] = q.t.box[3] + q.r
@@ -936,7 +931,7 @@ cdef bint _cl_far_check(CompState *S, size_t last, bint closed, bint skip_first,
         S.xs.err_part = last
         return False
     for bs in range(ns):
-        cl_box_empty(&cbox[4 * bs])
+        box_empty(&cbox[4 * bs])
     for b in range(n):
         box_union(&cbox[4 * (b / CL_SUPER)], &C.gbox[8 * b + 4])
     C.span = span

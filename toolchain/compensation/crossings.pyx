@@ -31,19 +31,6 @@ cdef extern from *:
     int __builtin_ctzll(unsigned long long) nogil
 
 
-cdef inline bint box_hit(const double *a, const double *b, double t) noexcept nogil:
-    """Whether boxes a and b (x0, y0, x1, y1) overlap or come within t of each other."""
-    return a[0] <= b[2] + t and b[0] <= a[2] + t and a[1] <= b[3] + t and b[1] <= a[3] + t
-
-
-cdef inline void box_union(double *a, const double *b) noexcept nogil:
-    """Box a grown to cover box b too."""
-    if b[0] < a[0]: a[0] = b[0]
-    if b[1] < a[1]: a[1] = b[1]
-    if b[2] > a[2]: a[2] = b[2]
-    if b[3] > a[3]: a[3] = b[3]
-
-
 cdef inline double _x_angle(const XPiece *q, double x, double y) noexcept nogil:
     """Angle of point (x, y) from q's start in q's direction, in [0, 2pi)."""
     return turn_from(q.s[0] - q.c[0], q.s[1] - q.c[1], x - q.c[0], y - q.c[1], q.dir)

@@ -289,7 +289,7 @@ cdef bint _r_crossings(Regions *R, size_t *n_nodes) noexcept nogil:
         return False
     R.cap_g1 = cap
     for gi in range(ng):
-        cl_box_empty(&R.g1[4 * gi])
+        box_empty(&R.g1[4 * gi])
     for i in range(n):
         box_union(&R.g1[4 * (i / CL_G1)], R.pc[i].box)
     R.n_sp = 0
