@@ -65,10 +65,8 @@ cdef enum CornerResult:
     CORNER_OK = 0
     CORNER_NOT_FOUND = 1
 
-# ---- crossings.pyx: the final pieces of a chain, searched by groups of boxes
+# ---- crossings.pyx: the final pieces of a chain, searched by their boxes
 cdef enum:
-    XLEV = 6                # levels of groups: 4 << 2L pieces (4 .. 4096)
-    XTOP = 4096             # pieces of a top-level group
     X_WRITE = 1             # cross_write: let _write_el write the element
     X_DONE = 2              # ... the element is already written (removed)
     X_FAIL = 0
@@ -94,9 +92,9 @@ ctypedef struct XPiece:
     unsigned char gprog     # bodies: the programmed element (gs .. gsweep) follows
 
 ctypedef struct XState:
-    XPiece *pc
-    size_t n, cap, base     # pieces [base, n) are searched
-    double *g[XLEV]         # boxes of the groups of each level
+    XPiece *pc              # the pieces, at the positions of their boxes in ix (room for cap)
+    size_t cap
+    BoxIndex ix             # their boxes: pieces [ix.base, ix.n) are searched
     size_t last_part        # part of the chain's last element (set when the chain ends)
     double start[2]         # programmed start of the chain's first element
     size_t *prov            # parts whose corner cross_join joined by a G1 (FIFO)
