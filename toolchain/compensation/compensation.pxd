@@ -106,10 +106,9 @@ ctypedef struct XState:
 # ---- clearance.pyx: the contour window the path is measured against
 cdef enum:
     CL_BLOCK = 16384        # parts of the chain whose contour window is held at a time
-    CL_G1 = 16              # contour elements per small box; a large box holds CL_G1 small ones
+    CL_G1 = 16              # pieces per group box of the regions' crossing search
     CL_BATCH = 16           # pieces of the path that share one search of the boxes
     CL_GROUP = 256          # at most so many parts of the chain per group of the far check's boxes
-    CL_SUPER = 16           # groups per coarse group (_cl_far_check)
 
 ctypedef struct ClPiece:
     XPiece t                # a piece of the tool path waiting for its batch's search
@@ -121,9 +120,7 @@ ctypedef struct Clearance:
     XPiece *el              # the programmed elements of the window, in part order
     double *off             # ... how far each one's end lies off its circle (arcs; lines 0)
     size_t n, cap
-    double *g1              # boxes of groups of CL_G1 elements
-    double *g2              # boxes of groups of CL_G1 * CL_G1 elements
-    size_t cap_g
+    BoxIndex ix             # the boxes of the window's elements
     double max_off          # the largest `off` of the window
     size_t lo, hi           # parts the window holds
     size_t el0, el_end      # the elements of the parts being walked (_cl_seam holds two ranges)
@@ -143,6 +140,7 @@ ctypedef struct Clearance:
     # only while `grouping` (a chain long enough for the far check)
     double *gbox
     size_t n_gbox, cap_gbox
+    BoxIndex far            # _cl_far_check: the groups' element boxes
     int group_shift         # a group holds 1 << group_shift parts
     bint grouping
     # the chain being checked (cl_chain_open): parts before `next` are done, the tool
