@@ -106,7 +106,6 @@ ctypedef struct XState:
 # ---- clearance.pyx: the contour window the path is measured against
 cdef enum:
     CL_BLOCK = 16384        # parts of the chain whose contour window is held at a time
-    CL_G1 = 16              # pieces per group box of the regions' crossing search
     CL_BATCH = 16           # pieces of the path that share one search of the boxes
     CL_GROUP = 256          # at most so many parts of the chain per group of the far check's boxes
 
@@ -188,8 +187,7 @@ ctypedef struct Regions:
     size_t n_sub, cap_sub
     size_t *loop            # sub-pieces of the loop kept, in order
     size_t cap_loop
-    double *g1              # boxes of groups of CL_G1 pieces
-    size_t cap_g1
+    BoxIndex ix             # the boxes of the pieces (where they cross: _r_crossings)
     double end_slack        # a meet this close to a node two pieces share is their touch (_r_end_slack)
 
 cdef enum:
