@@ -16,6 +16,7 @@ include "arrays.pyx"
 include "numbers.pyx"
 include "errors.pyx"
 include "geometry.pyx"
+include "box_index.pyx"
 include "program.pyx"
 
 # compile: text -> parts -> tool path -> extent -> feed plan

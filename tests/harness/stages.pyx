@@ -35,6 +35,7 @@ cdef void _fill(double *out, values, int n) except *:
 
 
 include "geometry.pxi"
+include "box_index.pxi"
 include "compensation.pxi"
 include "planner.pxi"
 include "connect.pxi"

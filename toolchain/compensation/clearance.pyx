@@ -13,10 +13,11 @@
 # (cl_chain_close), and then a closed contour's first parts against its last ones
 # (_cl_seam: neighbours round its start). A rebuilt chain is checked against its
 # whole contour (cl_check_chain). The contour is held CL_BLOCK parts (plus the window
-# either side) at a time in part order, moved on with the chain, with boxes of CL_G1
-# and CL_G1 * CL_G1 elements; CL_BATCH consecutive pieces share one search of the boxes.
+# either side) at a time in part order, moved on with the chain, its elements' boxes in
+# a box index (box_index.pxd); CL_BATCH consecutive pieces share one search of it.
 # Cheap proofs (_cl_far) settle most pairs, the rest is measured exactly
-# (_cl_piece_gap): O(n) on ordinary contours.
+# (_cl_piece_gap): O(n) on ordinary contours. At the chain's end its groups of parts
+# are searched against the far groups' boxes in a box index too: O(n log n).
 from libc.stdlib cimport free
 from libc.string cimport memmove, memcpy
 from libc.math cimport fabs, sqrt, M_PI
@@ -163,11 +164,6 @@ cdef double _cl_piece_gap(const XPiece *t, const XPiece *g, double stop) noexcep
     return _cl_arc_arc_inner(t, g, stop)
 
 
-cdef inline void cl_box_empty(double *b) noexcept nogil:
-    """A box (x0, y0, x1, y1) that covers nothing: any union makes it the other box."""
-    b[0] = 1e300; b[1] = 1e300; b[2] = -1e300; b[3] = -1e300
-
-
 cdef inline double *_cl_group(Clearance *C, size_t part) noexcept nogil:
     """The boxes of the group of the chain's parts that holds `part` (C.gbox); NULL:
     no memory."""
@@ -183,8 +179,8 @@ cdef double *_cl_group_add(Clearance *C, size_t g) noexcept nogil:
     if not grow(<void **>&C.gbox, &C.cap_gbox, g + 1, 8 * sizeof(double)):
         return NULL
     for k in range(C.n_gbox, g + 1):
-        cl_box_empty(&C.gbox[8 * k])
-        cl_box_empty(&C.gbox[8 * k + 4])
+        box_empty(&C.gbox[8 * k])
+        box_empty(&C.gbox[8 * k + 4])
     C.n_gbox = g + 1
     return &C.gbox[8 * g]
 
@@ -293,25 +289,16 @@ cdef bint _cl_group_elements(Clearance *C, size_t n0) noexcept nogil:
 
 
 cdef inline bint _cl_boxes(Clearance *C) noexcept nogil:
-    """The group boxes of the window (the elements' own boxes: a query box is grown by
-    the piece's radius) and C.max_off."""
-    cdef size_t k, ng = C.n / CL_G1 + 1
-    if ng > C.cap_g:
-        if not resize(<void **>&C.g1, ng, 4 * sizeof(double)) or \
-                not resize(<void **>&C.g2, ng / CL_G1 + 1, 4 * sizeof(double)):
-            return False
-        C.cap_g = ng
-    for k in range(ng):
-        cl_box_empty(&C.g1[4 * k])
-    for k in range(ng / CL_G1 + 1):
-        cl_box_empty(&C.g2[4 * k])
+    """The window's box index (the elements' own boxes: a query box is grown by the
+    piece's radius) and C.max_off."""
+    cdef size_t k
+    box_index_clear(&C.ix)
     C.max_off = 0.0
     for k in range(C.n):
-        box_union(&C.g1[4 * (k / CL_G1)], C.el[k].box)
+        if not box_index_append(&C.ix, C.el[k].box):
+            return False
         if C.off[k] > C.max_off:
             C.max_off = C.off[k]
-    for k in range(ng):
-        box_union(&C.g2[4 * (k / CL_G1)], &C.g1[4 * k])
     return True
 
 
@@ -430,48 +417,35 @@ cdef double cl_gap(const Clearance *C, XPiece *t, const XPiece *own, size_t skip
     measured; (size_t)-1 none)."""
     cdef double box[4]
     cdef double d
-    cdef size_t i, j, k, n1, n2
+    cdef int64_t k = -1
     cdef bint loose = False
     box[0] = t.box[0] - r; box[1] = t.box[1] - r; box[2] = t.box[2] + r; box[3] = t.box[3] + r
-    n1 = (C.n + CL_G1 - 1) / CL_G1
-    n2 = (n1 + CL_G1 - 1) / CL_G1
-    for i in range(n2):
-        if not box_hit(&C.g2[4 * i], box, 0.0):
-            continue
-        for j in range(i * CL_G1, min((i + 1) * CL_G1, n1)):
-            if not box_hit(&C.g1[4 * j], box, 0.0):
-                continue
-            for k in range(j * CL_G1, min((j + 1) * CL_G1, C.n)):
-                if not box_hit(C.el[k].box, box, 0.0):
-                    continue
-                d = _cl_element_gap(C, t, &C.el[k], own, skip_a, skip_b, depth, stop, &loose)
-                if d < stop:
-                    return d
-    return r
+    while True:
+        k = box_index_next(&C.ix, <size_t>(k + 1), C.n, box, 0.0)
+        if k < 0:
+            return r
+        d = _cl_element_gap(C, t, &C.el[k], own, skip_a, skip_b, depth, stop, &loose)
+        if d < stop:
+            return d
 
 
 cdef bint _cl_collect(Clearance *C, const double *box) noexcept nogil:
     """C.cand: the elements whose boxes meet `box`, in order (False: no memory)."""
-    cdef size_t i, j, k, n1, n2, c1, c2, n = 0
-    n1 = (C.n + CL_G1 - 1) / CL_G1
-    n2 = (n1 + CL_G1 - 1) / CL_G1
-    for i in range(n2):
-        if not box_hit(&C.g2[4 * i], box, 0.0):
-            continue
-        for j in range(i * CL_G1, min((i + 1) * CL_G1, n1)):
-            if not box_hit(&C.g1[4 * j], box, 0.0):
-                continue
-            if n + CL_G1 > C.cap_cand:
-                c1 = c2 = C.cap_cand        # the two arrays grow alike
-                if not grow(<void **>&C.cand, &c1, n + CL_G1, sizeof(size_t)) or \
-                        not grow(<void **>&C.cbox, &c2, n + CL_G1, 4 * sizeof(double)):
-                    return False
-                C.cap_cand = c1
-            for k in range(j * CL_G1, min((j + 1) * CL_G1, C.n)):
-                if box_hit(C.el[k].box, box, 0.0):
-                    C.cand[n] = k
-                    memcpy(&C.cbox[4 * n], C.el[k].box, 4 * sizeof(double))
-                    n += 1
+    cdef size_t c1, c2, n = 0
+    cdef int64_t k = -1
+    while True:
+        k = box_index_next(&C.ix, <size_t>(k + 1), C.n, box, 0.0)
+        if k < 0:
+            break
+        if n == C.cap_cand:
+            c1 = c2 = C.cap_cand            # the two arrays grow alike
+            if not grow(<void **>&C.cand, &c1, n + 1, sizeof(size_t)) or \
+                    not grow(<void **>&C.cbox, &c2, n + 1, 4 * sizeof(double)):
+                return False
+            C.cap_cand = c1
+        C.cand[n] = <size_t>k
+        memcpy(&C.cbox[4 * n], C.el[k].box, 4 * sizeof(double))
+        n += 1
     C.n_cand = n
     return True
 
@@ -488,7 +462,7 @@ cdef int64_t _cl_flush(Clearance *C, size_t depth) noexcept nogil:
     C.n_measured = n
     if n == 0:
         return -1
-    cl_box_empty(box)
+    box_empty(box)
     for b in range(n):
         q = &C.batch[b]
         bb[0] = q.t.box[0] - q.r; bb[1] = q.t.box[1] - q.r; bb[2] = q.t.box[2] + q.r; bb[3] = q.t.box[3] + q.r
@@ -912,68 +886,67 @@ cdef bint _cl_far_check(CompState *S, size_t last, bint closed, bint skip_first,
     """The chain's path against the contour of the parts farther apart than the search
     depth (both ways round a closed contour), which the walks above leave out: the
     depth bounds how far back parts may be removed, not where a gouge is seen. Per
-    group of parts (C.group_shift), the box of its pieces grown by their radius is tested
-    against the boxes of the far groups' elements (coarse groups of CL_SUPER first);
-    only a group whose box meets one is walked again, against those groups' elements,
-    the near ones not counted (C.only_far). Nothing on a chain that short. False with
-    S.xs.err_* filled."""
+    group of parts (C.group_shift), the box of its pieces grown by their radius is
+    searched in a box index of the groups' element boxes (C.far): O(log n) a group on
+    an ordinary contour, where only its neighbours' boxes meet it. Only a group that
+    meets a far group is walked again, against those groups' elements, the near ones
+    not counted (C.only_far). Nothing on a chain that short. False with S.xs.err_*
+    filled."""
     cdef Clearance *C = &S.cl
     cdef size_t first = C.first, span = last - first + 1, n = C.n_gbox, G = (<size_t>1) << C.group_shift
-    cdef size_t ns, a, b, bs, a0, a1, b0, b1
-    cdef double *cbox = NULL
-    cdef uint8_t *hot = NULL
+    cdef size_t a, b, k, n_hot, a0, a1, b0
+    cdef int64_t found
+    cdef size_t *hot = NULL
     cdef const double *pa
-    cdef bint ok = True, any_hot
+    cdef bint ok = True
     if not _cl_far_needed(C, last, closed):
         return True
-    ns = (n + CL_SUPER - 1) / CL_SUPER
-    cbox = <double *>tc_malloc(4 * ns * sizeof(double))
-    hot = <uint8_t *>tc_malloc(n)
-    if cbox == NULL or hot == NULL:
-        free(cbox)
-        free(hot)
-        S.xs.err_number = ERR_OUT_OF_MEMORY
-        S.xs.err_part = last
-        return False
-    for bs in range(ns):
-        cl_box_empty(&cbox[4 * bs])
+    hot = <size_t *>tc_malloc((n + 1) * sizeof(size_t))
+    box_index_clear(&C.far)
     for b in range(n):
-        box_union(&cbox[4 * (b / CL_SUPER)], &C.gbox[8 * b + 4])
+        if hot == NULL or not box_index_append(&C.far, &C.gbox[8 * b + 4]):
+            free(hot)
+            S.xs.err_number = ERR_OUT_OF_MEMORY
+            S.xs.err_part = last
+            return False
     C.span = span
     C.closed = closed
     for a in range(n):
         pa = &C.gbox[8 * a]
         a0 = first + a * G
         a1 = a0 + G - 1 if a0 + G - 1 < last else last
-        any_hot = False
-        for bs in range(ns):
-            b0 = first + bs * CL_SUPER * G
-            b1 = b0 + CL_SUPER * G - 1 if b0 + CL_SUPER * G - 1 < last else last
-            if not box_hit(&cbox[4 * bs], pa, 0.0) or _cl_all_near(C, a0, a1, b0, b1):
-                for b in range(bs * CL_SUPER, min((bs + 1) * CL_SUPER, n)):
-                    hot[b] = False
-                continue
-            for b in range(bs * CL_SUPER, min((bs + 1) * CL_SUPER, n)):
-                b0 = first + b * G
-                b1 = b0 + G - 1 if b0 + G - 1 < last else last
-                hot[b] = box_hit(&C.gbox[8 * b + 4], pa, 0.0) and not _cl_all_near(C, a0, a1, b0, b1)
-                any_hot = any_hot or hot[b]
-        if not any_hot:
+        # the far groups whose elements' box meets the group's pieces' box, in order,
+        # and the group itself (its pieces' own and next elements) at its place
+        n_hot = 0
+        found = -1
+        while True:
+            found = box_index_next(&C.far, <size_t>(found + 1), n, pa, 0.0)
+            if found < 0:
+                break
+            b0 = first + <size_t>found * G
+            if not _cl_all_near(C, a0, a1, b0, b0 + G - 1 if b0 + G - 1 < last else last):
+                hot[n_hot] = <size_t>found
+                n_hot += 1
+        if n_hot == 0:
             continue
-        # the window: the far groups the pieces may come close to and the group's own
-        # elements (its pieces' own and next elements), in part order
-        hot[a] = True
+        k = n_hot
+        while k > 0 and hot[k - 1] > a:
+            k -= 1
+        if k == 0 or hot[k - 1] != a:   # (a group of more parts than the depth is far from itself)
+            memmove(&hot[k + 1], &hot[k], (n_hot - k) * sizeof(size_t))
+            hot[k] = a
+            n_hot += 1
         C.n = 0
-        for b in range(n):
-            if hot[b]:
-                b0 = first + b * G
-                if b == a:
-                    C.el0 = C.n
-                ok = _cl_read(S, C, b0, b0 + G - 1 if b0 + G - 1 < last else last)
-                if b == a:
-                    C.el_end = C.n
-                if not ok:
-                    break
+        for k in range(n_hot):
+            b = hot[k]
+            b0 = first + b * G
+            if b == a:
+                C.el0 = C.n
+            ok = _cl_read(S, C, b0, b0 + G - 1 if b0 + G - 1 < last else last)
+            if b == a:
+                C.el_end = C.n
+            if not ok:
+                break
         if not ok or not _cl_boxes(C):
             S.xs.err_number = ERR_OUT_OF_MEMORY
             S.xs.err_part = a0
@@ -994,7 +967,6 @@ cdef bint _cl_far_check(CompState *S, size_t last, bint closed, bint skip_first,
     C.only_far = False
     C.closed = False
     C.n = 0                     # the next window is read afresh
-    free(cbox)
     free(hot)
     return ok
 
@@ -1022,12 +994,10 @@ cdef void cl_free(Clearance *C) noexcept nogil:
     C.off = NULL
     C.cand = NULL
     C.cbox = NULL
-    free(C.g1)
-    free(C.g2)
     free(C.gbox)
     C.gbox = NULL
     C.n_gbox = 0
     C.cap_gbox = 0
     C.el = NULL
-    C.g1 = NULL
-    C.g2 = NULL
+    box_index_free(&C.ix)
+    box_index_free(&C.far)

@@ -65,10 +65,8 @@ cdef enum CornerResult:
     CORNER_OK = 0
     CORNER_NOT_FOUND = 1
 
-# ---- crossings.pyx: the final pieces of a chain, searched by groups of boxes
+# ---- crossings.pyx: the final pieces of a chain, searched by their boxes
 cdef enum:
-    XLEV = 6                # levels of groups: 4 << 2L pieces (4 .. 4096)
-    XTOP = 4096             # pieces of a top-level group
     X_WRITE = 1             # cross_write: let _write_el write the element
     X_DONE = 2              # ... the element is already written (removed)
     X_FAIL = 0
@@ -94,9 +92,9 @@ ctypedef struct XPiece:
     unsigned char gprog     # bodies: the programmed element (gs .. gsweep) follows
 
 ctypedef struct XState:
-    XPiece *pc
-    size_t n, cap, base     # pieces [base, n) are searched
-    double *g[XLEV]         # boxes of the groups of each level
+    XPiece *pc              # the pieces, at the positions of their boxes in ix (room for cap)
+    size_t cap
+    BoxIndex ix             # their boxes: pieces [ix.base, ix.n) are searched
     size_t last_part        # part of the chain's last element (set when the chain ends)
     double start[2]         # programmed start of the chain's first element
     size_t *prov            # parts whose corner cross_join joined by a G1 (FIFO)
@@ -108,10 +106,8 @@ ctypedef struct XState:
 # ---- clearance.pyx: the contour window the path is measured against
 cdef enum:
     CL_BLOCK = 16384        # parts of the chain whose contour window is held at a time
-    CL_G1 = 16              # contour elements per small box; a large box holds CL_G1 small ones
     CL_BATCH = 16           # pieces of the path that share one search of the boxes
     CL_GROUP = 256          # at most so many parts of the chain per group of the far check's boxes
-    CL_SUPER = 16           # groups per coarse group (_cl_far_check)
 
 ctypedef struct ClPiece:
     XPiece t                # a piece of the tool path waiting for its batch's search
@@ -123,9 +119,7 @@ ctypedef struct Clearance:
     XPiece *el              # the programmed elements of the window, in part order
     double *off             # ... how far each one's end lies off its circle (arcs; lines 0)
     size_t n, cap
-    double *g1              # boxes of groups of CL_G1 elements
-    double *g2              # boxes of groups of CL_G1 * CL_G1 elements
-    size_t cap_g
+    BoxIndex ix             # the boxes of the window's elements
     double max_off          # the largest `off` of the window
     size_t lo, hi           # parts the window holds
     size_t el0, el_end      # the elements of the parts being walked (_cl_seam holds two ranges)
@@ -145,6 +139,7 @@ ctypedef struct Clearance:
     # only while `grouping` (a chain long enough for the far check)
     double *gbox
     size_t n_gbox, cap_gbox
+    BoxIndex far            # _cl_far_check: the groups' element boxes
     int group_shift         # a group holds 1 << group_shift parts
     bint grouping
     # the chain being checked (cl_chain_open): parts before `next` are done, the tool
@@ -192,8 +187,7 @@ ctypedef struct Regions:
     size_t n_sub, cap_sub
     size_t *loop            # sub-pieces of the loop kept, in order
     size_t cap_loop
-    double *g1              # boxes of groups of CL_G1 pieces
-    size_t cap_g1
+    BoxIndex ix             # the boxes of the pieces (where they cross: _r_crossings)
     double end_slack        # a meet this close to a node two pieces share is their touch (_r_end_slack)
 
 cdef enum:

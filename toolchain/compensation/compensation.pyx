@@ -281,8 +281,7 @@ cdef int _chain_fallback(CompState *S, int res) noexcept nogil:
     memcpy(&S.chain_err, S.err, sizeof(ErrorInfo))
     S.chain_global = True
     S.n_st = 0
-    S.xs.n = 0
-    S.xs.base = 0
+    box_index_clear(&S.xs.ix)
     S.xs.n_prov = 0
     S.xs.head_prov = 0
     return COMPILE_OK
@@ -331,8 +330,7 @@ cdef int _chain_retry(CompState *S, bint fixed_end, bint exit_fixed) noexcept no
     S.entry_arc = S.chain_entry_arc
     S.idle = 0
     S.n_st = 0
-    S.xs.n = 0
-    S.xs.base = 0
+    box_index_clear(&S.xs.ix)
     S.xs.n_prov = 0
     S.xs.head_prov = 0
     S.xs.err_number = 0

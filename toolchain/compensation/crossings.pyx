@@ -4,9 +4,9 @@
 # Every element is checked when it becomes final (compensation.pyx `_write_el`): its
 # tool path piece (ps -> pe) and then its inserted corner piece (pe -> ins_end) are
 # intersected with the final pieces of the same chain whose part lies at most `depth`
-# parts back (strategy 0x700). The pieces are kept in an array with bounding boxes per
-# group of 4, 16, 64 ... 4096 pieces, so the backward scan skips whole groups far away:
-# O(n * k) with a small k on ordinary contours.
+# parts back (strategy 0x700). The pieces' boxes are kept in the box index
+# (box_index.pxd), searched backwards from the newest piece, so the scan skips whole
+# groups far away: O(n * k) with a small k on ordinary contours.
 #
 # A crossing at X of a later piece P (part B) with an earlier piece Q (part A) means a
 # loop: with 0x80000 the path is cut there (Q ends at X, P starts at X, the parts
@@ -24,24 +24,8 @@
 # cut that kept the wrong side (a chain started inside a neck narrower than the tool)
 # is a gouge, and the chain is rebuilt from its regions (0x80000, regions.pyx).
 from libc.stdlib cimport free
-from libc.string cimport memmove, memcpy, memset
+from libc.string cimport memmove
 from libc.math cimport fabs, M_PI
-
-cdef extern from *:
-    int __builtin_ctzll(unsigned long long) nogil
-
-
-cdef inline bint box_hit(const double *a, const double *b, double t) noexcept nogil:
-    """Whether boxes a and b (x0, y0, x1, y1) overlap or come within t of each other."""
-    return a[0] <= b[2] + t and b[0] <= a[2] + t and a[1] <= b[3] + t and b[1] <= a[3] + t
-
-
-cdef inline void box_union(double *a, const double *b) noexcept nogil:
-    """Box a grown to cover box b too."""
-    if b[0] < a[0]: a[0] = b[0]
-    if b[1] < a[1]: a[1] = b[1]
-    if b[2] > a[2]: a[2] = b[2]
-    if b[3] > a[3]: a[3] = b[3]
 
 
 cdef inline double _x_angle(const XPiece *q, double x, double y) noexcept nogil:
@@ -154,39 +138,23 @@ cdef bint _x_prog_cross(const XPiece *p, const XPiece *q, double slack) noexcept
 
 cdef int64_t _x_find(const XState *X, XPiece *p, double slack, bint last, double *at) noexcept nogil:
     """The earlier piece p crosses first (nearest to p's start along p), -1 if none.
-    The last piece (p's predecessor) is not searched."""
-    cdef int64_t best = -1
+    The last piece (p's predecessor) is not searched; the others from the newest back,
+    those whose boxes come within `slack` of p's (the box index)."""
+    cdef int64_t best = -1, found
     cdef double best_pos = 1e300, pos, qpos
     cdef double pts[4]
     cdef XPiece *q
     cdef size_t j
     cdef int m, k
-    if X.n < 2:
+    if X.ix.n < 2:
         return -1
-    cdef size_t size
-    cdef int lev
-    cdef bint skipped
-    j = X.n - 1                         # candidates: indexes < j
-    while j > X.base:
-        # the largest group ending at j whose box misses p's is skipped whole (a group
-        # reaching below the window is still all in memory: see _x_add)
-        skipped = False
-        lev = (__builtin_ctzll(j) - 2) >> 1     # the largest level aligned at j (j > 0)
-        if lev >= XLEV:
-            lev = XLEV - 1
-        while lev >= 0:
-            if not box_hit(&X.g[lev][4 * ((j >> (2 * lev + 2)) - 1)], p.box, slack):
-                size = (<size_t>4) << (2 * lev)
-                j = j - size if j - size > X.base else X.base
-                skipped = True
-                break
-            lev -= 1
-        if skipped:
-            continue
-        j -= 1
+    j = X.ix.n - 1                      # candidates: indexes < j
+    while True:
+        found = box_index_prev(&X.ix, 0, j, p.box, slack)
+        if found < 0:
+            break
+        j = <size_t>found
         q = &X.pc[j]
-        if not box_hit(q.box, p.box, slack):
-            continue
         if last and q.first:
             continue                    # start/end overlap of a chain: the entry rules
         _x_sweep(p)
@@ -209,94 +177,37 @@ cdef int64_t _x_find(const XState *X, XPiece *p, double slack, bint last, double
     return best
 
 
-cdef inline void _x_fold(XState *X, int lev, size_t c) noexcept nogil:
-    """Group c of level lev is complete: its box goes into its group of level lev + 1."""
-    cdef const double *b = &X.g[lev][4 * c]
-    cdef double *g = &X.g[lev + 1][4 * (c >> 2)]
-    if (c & 3) == 0:
-        g[0] = b[0]; g[1] = b[1]; g[2] = b[2]; g[3] = b[3]
-    else:
-        box_union(g, b)
-
-
-cdef void _x_regroup(XState *X, size_t upto) noexcept nogil:
-    """Recomputes the group boxes of the groups holding piece `upto` (the last one)."""
-    cdef size_t k, g, size, c0, n
-    cdef int lev
-    cdef double *b
-    g = (upto >> 2) << 2
-    b = &X.g[0][4 * (upto >> 2)]
-    memcpy(b, X.pc[g].box, 4 * sizeof(double))
-    for k in range(g + 1, upto + 1):
-        box_union(b, X.pc[k].box)
-    for lev in range(1, XLEV):
-        # the complete subgroups (level lev - 1) of the group holding upto
-        size = (<size_t>4) << (2 * lev)
-        c0 = (upto / size) * 4
-        n = (upto + 1 - (upto / size) * size) / (size >> 2)
-        for k in range(n):
-            _x_fold(X, lev - 1, c0 + k)
-
-
 cdef bint _x_add(XState *X, const XPiece *q, size_t depth) noexcept nogil:
     """A final piece into the search: the window drops pieces more than `depth` parts back (a
     provisional join among them: ERR_COMP_NOT_FOUND, the loop round it lies farther back), the
-    arrays grow or shift, and the group boxes take its box. False when memory is exhausted or
-    with X.err_* set."""
-    cdef size_t cap, shift, j, size
-    cdef double *g
-    cdef int lev
+    pieces move with the box index's positions, and the index takes its box. False when memory
+    is exhausted or with X.err_* set."""
+    cdef size_t cap, shift, base = X.ix.base, n = X.ix.n
     # the search window: parts at most `depth` back
-    while X.base < X.n and q.part - X.pc[X.base].part > depth:
-        if X.pc[X.base].prov:
+    while base < n and q.part - X.pc[base].part > depth:
+        if X.pc[base].prov:
             # the loop around a provisional join is farther back than the search depth
             X.err_number = ERR_COMP_NOT_FOUND
-            X.err_part = X.pc[X.base].part
+            X.err_part = X.pc[base].part
             return False
-        X.base += 1
-    if X.base >= 2 * XTOP and X.base > X.n / 2:
-        shift = (X.base / XTOP) * XTOP
-        memmove(X.pc, &X.pc[shift], (X.n - shift) * sizeof(XPiece))
-        for lev in range(XLEV):
-            size = (<size_t>4) << (2 * lev)
-            memmove(X.g[lev], &X.g[lev][4 * (shift / size)], 4 * ((X.n - shift) / size + 1) * sizeof(double))
-        X.n -= shift
-        X.base -= shift
-    if X.n == X.cap:
+        base += 1
+    shift = box_index_drop(&X.ix, base)
+    if shift > 0:
+        memmove(X.pc, &X.pc[shift], (n - shift) * sizeof(XPiece))
+    if X.ix.n == X.cap:
         cap = X.cap
-        if not grow(<void **>&X.pc, &cap, X.n + 1, sizeof(XPiece)):
+        if not grow(<void **>&X.pc, &cap, X.ix.n + 1, sizeof(XPiece)):
             return False
-        for lev in range(XLEV):     # the group boxes of each level, for that capacity
-            size = (<size_t>4) << (2 * lev)
-            if not resize(<void **>&X.g[lev], cap / size + 1, 4 * sizeof(double)):
-                return False
         X.cap = cap
-    j = X.n
-    X.pc[j] = q[0]
-    X.n += 1
-    # the level-0 group box always covers its pieces; the box of a higher group covers
-    # its complete subgroups (folded in when one completes): _x_find reads complete
-    # groups only
-    g = &X.g[0][4 * (j >> 2)]
-    if (j & 3) == 0:
-        g[0] = q.box[0]; g[1] = q.box[1]; g[2] = q.box[2]; g[3] = q.box[3]
-    else:
-        box_union(g, q.box)
-    j += 1
-    lev = 0
-    while lev + 1 < XLEV and (j & (((<size_t>4) << (2 * lev)) - 1)) == 0:
-        _x_fold(X, lev, (j >> (2 * lev + 2)) - 1)
-        lev += 1
-    return True
+    X.pc[X.ix.n] = q[0]
+    return box_index_append(&X.ix, q.box)
 
 
 cdef void cross_free(XState *X) noexcept nogil:
     """Frees the search's pieces, group boxes and provisional joins."""
     free(X.prov)
-    cdef int lev
     free(X.pc)
-    for lev in range(XLEV):
-        free(X.g[lev])
+    box_index_free(&X.ix)
 
 
 cdef bint _x_cut(CompState *S, size_t qi, const double *at, size_t b_part, bint b_removed) noexcept nogil:
@@ -329,9 +240,9 @@ cdef bint _x_cut(CompState *S, size_t qi, const double *at, size_t b_part, bint 
     q.e[0] = at[0]; q.e[1] = at[1]
     q.sweep = 0.0
     x_geometry(q)
-    X.n = qi + 1
-    _x_regroup(X, qi)
-    return True
+    # q is the newest piece now, with its new box (it had room: no memory is taken)
+    box_index_truncate(&X.ix, qi)
+    return box_index_append(&X.ix, q.box)
 
 
 cdef int _x_crossing(CompState *S, XPiece *pp, size_t b_part, bint closing, double *at,
@@ -367,8 +278,7 @@ cdef int cross_write(CompState *S, CompEl *el) noexcept nogil:
     if S.lenient and not (S.cfg.strategy & CORR_REMOVE_CROSSING):
         return X_WRITE                  # nothing is cut: the gouge check measures the path
     if el.first:
-        X.n = 0
-        X.base = 0
+        box_index_clear(&X.ix)
         X.start[0] = el.s[0]; X.start[1] = el.s[1]
     # the last part of a closed contour crosses the first one where they meet (an inner
     # corner): the start and end rules of the chain, no loop
@@ -447,7 +357,7 @@ cdef int cross_write(CompState *S, CompEl *el) noexcept nogil:
     # the corner piece crosses: el's own piece is part of the loop; the rest of the
     # corner becomes an insertion after the earlier part
     comp_warn(S, el.part, "loop removed from the path (offsets of distant parts cross)")
-    X.n -= 1                            # el's own piece
+    box_index_truncate(&X.ix, X.ix.n - 1)  # el's own piece
     _x_cut(S, <size_t>qi, at, el.part, True)
     if distance2d(at[0] - pi.e[0], at[1] - pi.e[1]) >= S.cfg.slack:
         if not ins_add(S, el):
@@ -489,11 +399,10 @@ cdef bint cross_chain_end(CompState *S) noexcept nogil:
     cdef XState *X = &S.xs
     cdef size_t k
     X.last_part = <size_t>-1
-    for k in range(X.base, X.n):
+    for k in range(X.ix.base, X.ix.n):
         if X.pc[k].prov:
             X.err_number = ERR_COMP_NOT_FOUND
             X.err_part = X.pc[k].part
             return False
-    X.n = 0
-    X.base = 0
+    box_index_clear(&X.ix)
     return True

@@ -65,7 +65,8 @@ cdef void _r_point(const XPiece *q, double t, double *out) noexcept nogil:
 cdef void regions_free(Regions *R) noexcept nogil:
     """Frees every array of the regions and leaves them empty."""
     free(R.els); free(R.pc); free(R.pel); free(R.pconn); free(R.pn0); free(R.pn1); free(R.sp)
-    free(R.sub); free(R.alias); free(R.out_start); free(R.out_list); free(R.loop); free(R.g1)
+    free(R.sub); free(R.alias); free(R.out_start); free(R.out_list); free(R.loop)
+    box_index_free(&R.ix)
     memset(R, 0, sizeof(Regions))
 
 
@@ -275,7 +276,8 @@ cdef bint _r_crossings(Regions *R, size_t *n_nodes) noexcept nogil:
     """Splits where pieces cross (any two, whatever the search depth; not where both
     end: they touch there at a node already); crossing nodes are numbered after the
     end nodes (4 per element)."""
-    cdef size_t i, k, gi, ng, n = R.n_pc
+    cdef size_t i, k, n = R.n_pc
+    cdef int64_t found
     cdef double pts[4]
     cdef double pi_, pk, Li, Lk
     cdef double eps = LENGTH_EPS
@@ -283,40 +285,35 @@ cdef bint _r_crossings(Regions *R, size_t *n_nodes) noexcept nogil:
     cdef XPiece *a
     cdef XPiece *b
     cdef size_t node = 4 * R.n_els
-    cdef size_t cap = R.cap_g1
-    ng = n / CL_G1 + 1
-    if not grow(<void **>&R.g1, &cap, 4 * ng, sizeof(double)):
-        return False
-    R.cap_g1 = cap
-    for gi in range(ng):
-        cl_box_empty(&R.g1[4 * gi])
+    box_index_clear(&R.ix)
     for i in range(n):
-        box_union(&R.g1[4 * (i / CL_G1)], R.pc[i].box)
+        if not box_index_append(&R.ix, R.pc[i].box):
+            return False
     R.n_sp = 0
     for i in range(n):
         a = &R.pc[i]
         Li = _r_len(a)
-        for gi in range(i / CL_G1, ng):
-            if not box_hit(&R.g1[4 * gi], a.box, eps):
-                continue
-            for k in range(gi * CL_G1 if gi * CL_G1 > i + 1 else i + 1, min((gi + 1) * CL_G1, n)):
-                b = &R.pc[k]
-                if not box_hit(a.box, b.box, eps):
+        found = <int64_t>i
+        while True:
+            found = box_index_next(&R.ix, <size_t>(found + 1), n, a.box, eps)
+            if found < 0:
+                break
+            k = <size_t>found
+            b = &R.pc[k]
+            Lk = _r_len(b)
+            m = x_meet(a, b, eps, pts)
+            for h in range(m):
+                if not x_on(a, pts[2 * h], pts[2 * h + 1], eps, &pi_) or \
+                        not x_on(b, pts[2 * h], pts[2 * h + 1], eps, &pk):
                     continue
-                Lk = _r_len(b)
-                m = x_meet(a, b, eps, pts)
-                for h in range(m):
-                    if not x_on(a, pts[2 * h], pts[2 * h + 1], eps, &pi_) or \
-                            not x_on(b, pts[2 * h], pts[2 * h + 1], eps, &pk):
-                        continue
-                    if _r_touch(R, i, k, pts[2 * h], pts[2 * h + 1]):
-                        continue
-                    pi_ = 0.0 if pi_ < 0 else (Li if pi_ > Li else pi_)
-                    pk = 0.0 if pk < 0 else (Lk if pk > Lk else pk)
-                    if not _r_add_split(R, i, pi_, pts[2 * h], pts[2 * h + 1], node) or \
-                            not _r_add_split(R, k, pk, pts[2 * h], pts[2 * h + 1], node):
-                        return False
-                    node += 1
+                if _r_touch(R, i, k, pts[2 * h], pts[2 * h + 1]):
+                    continue
+                pi_ = 0.0 if pi_ < 0 else (Li if pi_ > Li else pi_)
+                pk = 0.0 if pk < 0 else (Lk if pk > Lk else pk)
+                if not _r_add_split(R, i, pi_, pts[2 * h], pts[2 * h + 1], node) or \
+                        not _r_add_split(R, k, pk, pts[2 * h], pts[2 * h + 1], node):
+                    return False
+                node += 1
     n_nodes[0] = node
     qsort(R.sp, R.n_sp, sizeof(RSplit), _r_split_cmp)
     return True

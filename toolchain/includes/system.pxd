@@ -1,5 +1,5 @@
 # C declarations of the compiler's builtins the library uses that Cython's own
-# includes lack: atomics and streaming stores. Gathered here, declared once (what
+# includes lack: atomics, streaming stores and bit counts. Gathered here, declared once (what
 # comes from the operating system: platform.pxd).
 from libc.stdint cimport int32_t, int64_t
 
@@ -73,3 +73,10 @@ cdef extern from *:
     """
     void tc_stream_up(void *dst, const void *src, size_t words) nogil
     void tc_stream_fence() nogil
+
+
+# Trailing and leading zero bits of a nonzero 64-bit word (the box index's levels:
+# the largest group that starts at a position, or fits in a count).
+cdef extern from *:
+    int __builtin_ctzll(unsigned long long) nogil
+    int __builtin_clzll(unsigned long long) nogil
