@@ -237,3 +237,22 @@ def test_a_literal_tolerance(tmp_path):
         "what it guards; a stage's own constant in its stage's block)",
         "stage/nested.pyx:5: literal 2.5E-7: name it (a tolerance in geometry.pxd, with its unit and "
         "what it guards; a stage's own constant in its stage's block)"]
+
+
+def test_a_field_or_enum_member_named_like_a_windows_macro(tmp_path):
+    """Cython writes a struct's fields and an enum's members into the C as they are
+    named, and <windows.h> defines `far`, `near`, `small`, `ERROR` ... as macros: the
+    mingw-w64 builds would not compile (a clearance field `far` did that). Such names
+    elsewhere (a local, a function) are mangled by Cython and pass."""
+    files = dict(BASE)
+    files["stage/second.pyx"] = files["stage/second.pyx"].replace("_helper", "helper")
+    files["face.pxd"] = files["face.pxd"].replace("    double x, y\n", "    double x, y\n    double far\n") \
+        .replace("    LIMIT = 4\n", "    LIMIT = 4\n    ERROR = 5\n")
+    files["stage/nested.pyx"] = files["stage/nested.pyx"].replace(
+        '"""v through the helper."""\n', '"""v through the helper."""\n    cdef double near = v\n') \
+        .replace("return _helper(v)", "return helper(near)")
+    found = problems(tmp_path, files)
+    assert [p.split(": ")[0] for p in found] == ["face.pxd:4", "face.pxd:7"]
+    assert found[0].endswith("far: a macro of the Windows headers, and Cython writes this name into the C as it "
+                             "is (the mingw-w64 builds fail): name it otherwise")
+    assert "ERROR: a macro of the Windows headers" in found[1]

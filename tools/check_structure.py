@@ -21,7 +21,10 @@ first. This script reads that include tree the way Cython does (the .pxd, then t
   (h) a literal tolerance: a number with a negative exponent (1e-9) in code outside
       the tolerances' face (TOLERANCES): a tolerance is named there, with its unit and
       what it guards; a stage's own constant (a unit, a limit of its own) is named in
-      its stage's block. C text (a `cdef extern from *` block's #defines) is not code.
+      its stage's block. C text (a `cdef extern from *` block's #defines) is not code;
+  (i) a struct field or enum member named like an object-like macro of the Windows
+      headers (WINDOWS_MACROS: `far`, `near`, `small`, `ERROR` ...): Cython writes
+      those names into the C as they are, and the mingw-w64 builds see the macro.
 
 Plain Python, no dependencies; it reads the sources as text, not as Cython does:
 top-level definitions start at column 0, a function's parameters and its cdef/for/
@@ -45,6 +48,11 @@ FUNC_POINTER = re.compile(r"\(\s*\*\s*(\w+)\s*\)")
 TOLERANCES = "geometry.pxd"
 # a number with a negative exponent: 1e-9, 2.5E-7, .5e-3
 TOLERANCE_LITERAL = re.compile(r"(?<![\w.])(?:\d+\.?\d*|\.\d+)[eE]-\d+(?!\w)")
+# object-like macros of <windows.h> and what it includes (windef.h, rpcndr.h,
+# objbase.h, winnt.h, wingdi.h) that a C field or enum constant could be named
+WINDOWS_MACROS = {"far", "near", "FAR", "NEAR", "small", "hyper", "interface", "pascal", "cdecl", "PASCAL",
+                  "CDECL", "IN", "OUT", "OPTIONAL", "CONST", "VOID", "TRUE", "FALSE", "ERROR", "DELETE",
+                  "ABSOLUTE", "RELATIVE", "TRANSPARENT", "OPAQUE", "CALLBACK", "WINAPI", "APIENTRY"}
 RESTRICTED = {
     "record_error": ({"errors.pyx", "errors.pxd", "catalogue.pxi"},
                      "record an error with its generated constructor (err_...), whose arguments Cython checks"),
@@ -165,6 +173,7 @@ class Source:
         self.includes = []      # (line, relative path)
         self.undocumented = []  # (line, name) of functions whose body opens with no docstring
         self.tolerances = []    # (line, literal) of numbers with a negative exponent in code
+        self.windows_names = [] # (line, name) of fields and enum members named like a Windows macro
         for number, line in enumerate(self.raw, 1):
             m = INCLUDE.match(line)
             if m:
@@ -203,10 +212,13 @@ class Source:
                 self._body(line, text, block[1])
             elif kind == "struct":
                 fields = declarator_names(text)
+                self.windows_names += [(line, f) for f in fields if f in WINDOWS_MACROS]
                 self._use(text, line, hidden=set(fields) | block[1])
             elif kind == "enum":
                 member = IDENT.match(text)
                 if member:
+                    if member.group(0) in WINDOWS_MACROS:
+                        self.windows_names.append((line, member.group(0)))
                     self._define(member.group(0), line, "value")
                     self._use(text[member.end():], line)
             elif kind == "extern":
@@ -425,6 +437,9 @@ def check(toolchain: Path, root: str = "libSF_TCh.pyx") -> list:
             for line, literal in src.tolerances:
                 problems.append((src.rel, line, f"literal {literal}: name it (a tolerance in {TOLERANCES}, with "
                                  "its unit and what it guards; a stage's own constant in its stage's block)"))
+        for line, name in src.windows_names:
+            problems.append((src.rel, line, f"{name}: a macro of the Windows headers, and Cython writes this "
+                             "name into the C as it is (the mingw-w64 builds fail): name it otherwise"))
         if src.rel.endswith(".pyx"):
             for line, name in src.undocumented:
                 problems.append((src.rel, line, f"{name} has no docstring: say what it does (and why, "

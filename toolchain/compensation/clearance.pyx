@@ -887,7 +887,7 @@ cdef bint _cl_far_check(CompState *S, size_t last, bint closed, bint skip_first,
     depth (both ways round a closed contour), which the walks above leave out: the
     depth bounds how far back parts may be removed, not where a gouge is seen. Per
     group of parts (C.group_shift), the box of its pieces grown by their radius is
-    searched in a box index of the groups' element boxes (C.far): O(log n) a group on
+    searched in a box index of the groups' element boxes (C.far_groups): O(log n) a group on
     an ordinary contour, where only its neighbours' boxes meet it. Only a group that
     meets a far group is walked again, against those groups' elements, the near ones
     not counted (C.only_far). Nothing on a chain that short. False with S.xs.err_*
@@ -902,9 +902,9 @@ cdef bint _cl_far_check(CompState *S, size_t last, bint closed, bint skip_first,
     if not _cl_far_needed(C, last, closed):
         return True
     hot = <size_t *>tc_malloc((n + 1) * sizeof(size_t))
-    box_index_clear(&C.far)
+    box_index_clear(&C.far_groups)
     for b in range(n):
-        if hot == NULL or not box_index_append(&C.far, &C.gbox[8 * b + 4]):
+        if hot == NULL or not box_index_append(&C.far_groups, &C.gbox[8 * b + 4]):
             free(hot)
             S.xs.err_number = ERR_OUT_OF_MEMORY
             S.xs.err_part = last
@@ -920,7 +920,7 @@ cdef bint _cl_far_check(CompState *S, size_t last, bint closed, bint skip_first,
         n_hot = 0
         found = -1
         while True:
-            found = box_index_next(&C.far, <size_t>(found + 1), n, pa, 0.0)
+            found = box_index_next(&C.far_groups, <size_t>(found + 1), n, pa, 0.0)
             if found < 0:
                 break
             b0 = first + <size_t>found * G
@@ -1000,4 +1000,4 @@ cdef void cl_free(Clearance *C) noexcept nogil:
     C.cap_gbox = 0
     C.el = NULL
     box_index_free(&C.ix)
-    box_index_free(&C.far)
+    box_index_free(&C.far_groups)

@@ -139,7 +139,7 @@ ctypedef struct Clearance:
     # only while `grouping` (a chain long enough for the far check)
     double *gbox
     size_t n_gbox, cap_gbox
-    BoxIndex far            # _cl_far_check: the groups' element boxes
+    BoxIndex far_groups     # _cl_far_check: the groups' element boxes (not `far`: a macro of windef.h)
     int group_shift         # a group holds 1 << group_shift parts
     bint grouping
     # the chain being checked (cl_chain_open): parts before `next` are done, the tool
