@@ -445,8 +445,9 @@ def test_the_plan_beside_the_joins_is_the_plan_after_them():
 
 
 def test_settings_records_are_compared_as_the_words_they_are(harness):
-    """program.pxd compares and hashes a PartSettings as SETTINGS_WORDS 64-bit words
-    (copied out, not read through a cast pointer): the record must be exactly that
-    long, without padding a field could leave undefined."""
+    """program.pxd compares a PartSettings byte for byte (settings_equal's memcmp) and
+    hashes it as SETTINGS_HASH_WORDS 32-bit words (copied out, not read through a cast
+    pointer): the record must be exactly that long, without padding a field could
+    leave undefined."""
     size, words = harness.settings_layout()
     assert size == words == 24

@@ -73,7 +73,7 @@ ctypedef struct PartSettings:
     uint16_t rot_idx        # index into Program.rotations (G168), 0 = not rotated
     int16_t file_idx        # file index (FileToIdx), -1 unknown
 cdef enum:
-    SETTINGS_WORDS = 3      # a PartSettings is 24 bytes without padding: compared and hashed as 3 words
+    SETTINGS_HASH_WORDS = 6 # a PartSettings' 24 bytes, no padding: the 32-bit words _settings_hash reads
 
 # What only some parts carry, in Program.extras (Part.extra): an arc's centre and
 # radius, the value of a dwell, a thread or a G96 part. Parts without one (lines,

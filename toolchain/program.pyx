@@ -72,11 +72,11 @@ cdef inline void _part_defaults(Part *p) noexcept nogil:
 cdef inline uint32_t _settings_hash(const PartSettings *s) noexcept nogil:
     """FNV-1a over a PartSettings' words, folded to a slot of settings_seen
     (program_settings_index finds a recent record again by it)."""
-    cdef uint32_t w[2 * SETTINGS_WORDS]        # the words copied out (C's aliasing rule)
+    cdef uint32_t w[SETTINGS_HASH_WORDS]       # the words copied out (C's aliasing rule)
     cdef uint32_t h = 2166136261u
     cdef int k
     memcpy(w, s, sizeof(w))
-    for k in range(2 * SETTINGS_WORDS):
+    for k in range(SETTINGS_HASH_WORDS):
         h = (h ^ w[k]) * 16777619u
     return (h ^ (h >> 15)) % SETTINGS_SEEN
 

@@ -155,6 +155,6 @@ def piece_gap(tuple t_spec, tuple g_spec, double stop):
 
 
 def settings_layout():
-    """sizeof(PartSettings) and the words program.pxd compares and hashes it as
-    (settings_equal, _settings_hash): the two must agree."""
-    return sizeof(PartSettings), 8 * SETTINGS_WORDS
+    """sizeof(PartSettings) and the bytes of the words _settings_hash reads: the two
+    must agree."""
+    return sizeof(PartSettings), 4 * SETTINGS_HASH_WORDS
