@@ -7,6 +7,9 @@
  *   GetLastError         error 400 one line further down
  *   StopCNCEx            while running forward: returns at once and stops 30 ms later,
  *                        so the machine stands 3 mm further at 100 mm/s
+ *   DestroyCNC           first waits for that late stop: it lands on the run it was
+ *                        meant for, never on a later check's (every check begins
+ *                        with DestroyCNC)
  *   GetVersionString     aborts with SHIM_CRASH set, hangs with SHIM_HANG set
  *
  * Built with -DREAL_LIBRARY="path of libSF_TCh.so". */
@@ -65,6 +68,11 @@ struct late_stop {
     char *add;
 };
 
+/* The late stop still to land (at most one: a second StopCNCEx waits for the first). */
+static pthread_mutex_t pending_lock = PTHREAD_MUTEX_INITIALIZER;
+static pthread_t pending;
+static int has_pending;
+
 static void *stop_later(void *arg)
 {
     struct late_stop *stop = arg;
@@ -76,21 +84,48 @@ static void *stop_later(void *arg)
     return NULL;
 }
 
+/* Waits until a late stop has landed; call with pending_lock held. */
+static void join_pending(void)
+{
+    if (has_pending) {
+        pthread_join(pending, NULL);
+        has_pending = 0;
+    }
+}
+
 /* Answers at once and stops 30 ms later (while moving; else as the real one). */
 int32_t ToolChainCore_StopCNCEx(uint32_t core, TGM_LPCSTR addCode)
 {
     int32_t (*fn)(uint32_t, TGM_LPCSTR) = real("ToolChainCore_StopCNCEx");
     int32_t (*status)(uint32_t) = real("ToolChainCore_StatusCNC");
+    struct late_stop *stop;
     if (status(core) != 30)
         return fn(core, addCode);
-    struct late_stop *stop = malloc(sizeof *stop);
-    pthread_t thread;
+    stop = malloc(sizeof *stop);
+    if (stop == NULL)
+        return fn(core, addCode);
     stop->core = core;
     stop->add = addCode ? strdup(addCode) : NULL;
-    if (pthread_create(&thread, NULL, stop_later, stop) != 0)
+    pthread_mutex_lock(&pending_lock);
+    join_pending();
+    if (pthread_create(&pending, NULL, stop_later, stop) != 0) {
+        pthread_mutex_unlock(&pending_lock);
+        free(stop->add);
+        free(stop);
         return fn(core, addCode);
-    pthread_detach(thread);
+    }
+    has_pending = 1;
+    pthread_mutex_unlock(&pending_lock);
     return 0;
+}
+
+int32_t ToolChainCore_DestroyCNC(uint32_t core)
+{
+    int32_t (*fn)(uint32_t) = real("ToolChainCore_DestroyCNC");
+    pthread_mutex_lock(&pending_lock);
+    join_pending();
+    pthread_mutex_unlock(&pending_lock);
+    return fn(core);
 }
 
 TGM_LPCTSTR ToolChainCore_GetVersionString(uint32_t core)
