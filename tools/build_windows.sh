@@ -53,8 +53,23 @@ unset LD_PRELOAD
 export WINEPREFIX="${WINEPREFIX:-$BUILD/wineprefix}" WINEDEBUG=-all WINEDLLOVERRIDES="mscoree,mshtml="
 mkdir -p "$WINEPREFIX"
 
+WINESERVER="$(dirname "$WINE")/wineserver"
+[ -x "$WINESERVER" ] || WINESERVER="$(command -v wineserver || true)"
+# the prefix first (wineboot, some 10 s), so that no panel run includes its making; then
+# one server for every run (persistent until the end), so that no run starts while the
+# last one's server is shutting down
+if [ ! -f "$WINEPREFIX/system.reg" ]; then
+    "$WINE" wineboot -i < /dev/null > "$BUILD/wineboot.log" 2>&1 || {
+        echo "build_windows: Wine could not make its prefix $WINEPREFIX:" >&2
+        cat "$BUILD/wineboot.log" >&2
+        exit 1
+    }
+    [ -n "$WINESERVER" ] && "$WINESERVER" -w
+fi
+[ -n "$WINESERVER" ] && "$WINESERVER" -p
+
 # run_panel REPORT [--program EXE] ARGS...: the panel (or EXE) under Wine, its report with
-# LF line ends
+# LF line ends; a failure names the run and shows how far its report got
 run_panel() {
     local report="$1" program=panel.exe
     shift
@@ -64,14 +79,16 @@ run_panel() {
     fi
     (cd "$RUN" && timeout 600 "$WINE" "$program" SF_TCh.dll "$@" < /dev/null > "$report.crlf" 2> "$report.stderr") || {
         status=$?
-        echo "build_windows: the panel failed under Wine (exit $status):" >&2
+        echo "build_windows: $program $* failed under Wine (exit $status; the panels exit 2 on" \
+             "their own errors); its stderr, then the last lines of its report $report:" >&2
         cat "$RUN/$report.stderr" >&2
+        tail -n 20 "$RUN/$report.crlf" | tr -d '\r' >&2
+        [ -n "$WINESERVER" ] && "$WINESERVER" -k
         exit 1
     }
     tr -d '\r' < "$RUN/$report.crlf" > "$RUN/$report"
     rm "$RUN/$report.crlf"
 }
-# the first run creates the prefix (wineboot, some 10 s); its messages are not the panel's
 run_panel report.txt
 # the same library in a host whose CRT locale writes a decimal comma, on every thread
 run_panel decimal-comma.txt --decimal-comma German_Germany.1252
@@ -85,8 +102,9 @@ done
 LC_ALL=cs_CZ.UTF-8 run_panel ansi-1250.txt --program ansi.exe
 LC_ALL=en_US.UTF-8 run_panel ansi-1252.txt --program ansi.exe
 run_panel linked.txt --program linked.exe
-# Wine's server lingers a few seconds after the last program: wait for it to end
-WINESERVER="$(dirname "$WINE")/wineserver"
-[ -x "$WINESERVER" ] || WINESERVER="$(command -v wineserver || true)"
-[ -n "$WINESERVER" ] && "$WINESERVER" -w
+# the persistent server ends with the last run
+if [ -n "$WINESERVER" ]; then
+    "$WINESERVER" -k
+    "$WINESERVER" -w
+fi
 echo "build_windows: $BUILD/SF_TCh.dll; the panel's report under Wine: $RUN/report.txt ($(wc -l < "$RUN/report.txt") lines)"
