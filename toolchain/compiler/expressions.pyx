@@ -314,10 +314,9 @@ cdef inline int ex_value(CState *st, const char **pp, const char *eol, double *o
     cdef const char *p = pp[0]
     cdef const char *q
     cdef int r
-    cdef bint neg = False
-    if p + 1 < eol and p[0] == b'-' and lx_is_digit(p[1]):
-        neg = True
-        p += 1
+    cdef bint neg = p < eol and p[0] == b'-'
+    if neg:
+        p += 1      # (not followed by a digit: the expression parser reads it from pp)
     if p < eol and lx_is_digit(p[0]):
         q = p
         r = lx_number(&q, eol, out)

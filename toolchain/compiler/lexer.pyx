@@ -123,6 +123,8 @@ cdef inline const char *lx_skip_gap(const char *p, const char *eol, int *status)
         p = lx_skip_ws(p, eol)
         if p >= eol:
             return eol
+        if lx_is_alpha(p[0]):
+            return p            # a word's letter (the usual)
         if p[0] == b'(':
             q = <const char *>memchr(p, b')', eol - p)
             if q == NULL:
