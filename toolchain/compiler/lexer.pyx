@@ -17,8 +17,13 @@ cdef extern from *:
        from '%' (37) on: all lie below '%' + 64. */
     static const uint64_t sf_lx_operators = (1ULL << ('+' - '%')) | (1ULL << ('-' - '%'))
         | (1ULL << ('*' - '%')) | (1ULL << ('/' - '%')) | (1ULL << 0) | (1ULL << ('^' - '%'));
+    /* The characters of identifiers (letters, digits, '_') at their codes, '.' elsewhere. */
+    static const char sf_lx_ident_chars[129] =
+        "................................................0123456789......."
+        "ABCDEFGHIJKLMNOPQRSTUVWXYZ...._.abcdefghijklmnopqrstuvwxyz.....";
     """
     const double sf_pow10_exact[23]
+    const char sf_lx_ident_chars[129]
     const uint64_t sf_lx_blanks
     const uint64_t sf_lx_operators
 
@@ -41,8 +46,8 @@ cdef inline bint lx_is_blank(char c) noexcept nogil:
 
 
 cdef inline bint lx_is_ident(char c) noexcept nogil:
-    """Whether c may continue an identifier: a letter, a digit or '_'."""
-    return lx_is_alpha(c) or lx_is_digit(c) or c == b'_'
+    """Whether c may continue an identifier: a letter, a digit or '_' (one look-up)."""
+    return <unsigned char>c < 128 and sf_lx_ident_chars[<unsigned char>c] != b'.'
 
 
 cdef inline char lx_upper(char c) noexcept nogil:
@@ -173,7 +178,7 @@ cdef int lx_number(const char **pp, const char *eol, double *out) noexcept nogil
         mant = mant * 10u + d
         p += 1
     ndig = <int>(p - start)
-    if p < eol and p[0] == b'.':
+    if p != eol and p[0] == b'.':       # (!=: the loop's own test, no flag kept through it)
         p += 1
         dot = p
         while p < eol:
@@ -187,9 +192,10 @@ cdef int lx_number(const char **pp, const char *eol, double *out) noexcept nogil
     if ndig == 0:
         return -1
     pp[0] = p
-    if p < eol and p[0] == b'.':        # a second '.' (a digit cannot follow: the loops took them)
+    if p != eol and p[0] == b'.':       # a second '.' (a digit cannot follow: the loops took them)
         return -2
-    if ndig <= 19 and mant <= 9007199254740992ULL and frac <= 22:
+    # up to 15 digits are below 2^53 with at most 15 decimals: one test for most numbers
+    if ndig <= 15 or (ndig <= 19 and mant <= 9007199254740992ULL and frac <= 22):
         out[0] = <double>mant / sf_pow10_exact[frac]
         return 0
     return _lx_number_strtod(start, p, out)
