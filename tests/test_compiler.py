@@ -325,6 +325,53 @@ def test_numbers_match_strtod(host):
     assert [p.e[0] for p in r.g] == [float(v) for v in values]
 
 
+def _decimal(rnd, int_digits, frac_digits, dot):
+    """A decimal text of the given digit counts: '' int digits make '.5', a dot without
+    decimals '5.'."""
+    whole = "".join(rnd.choice("0123456789") for _ in range(int_digits))
+    frac = "".join(rnd.choice("0123456789") for _ in range(frac_digits))
+    return whole + ("." + frac if dot else "")
+
+
+def test_number_forms_match_float(host):
+    """Every form of a plain number reads as Python's float() reads it (correctly rounded):
+    the exact path (up to 19 digits, mantissa up to 2^53, up to 22 decimals) and strtod's
+    (beyond any of these) alike, wherever the word stands on its line."""
+    rnd = random.Random(11)
+    values = ["9007199254740992", "9007199254740993", "900719925474099.3", "1234567890123456789",
+              "12345678901234567890", "0.5", "0.5000000000000000000000", "0.50000000000000000000000",
+              "0.0000000000000000000001", "0.00000000000000000000001", "5.", ".5", "0.", "000.000",
+              "00000000000000000000000001.5", "1" * 25, "3." + "3" * 30]
+    for _ in range(400):
+        int_digits = rnd.choice((0, 1, 2, 3, 4, 5, 8, 12, 15, 16, 17, 19, 20, 25))
+        frac_digits = rnd.choice((0, 1, 2, 3, 4, 6, 10, 15, 19, 22, 23, 30))
+        dot = frac_digits > 0 or int_digits == 0 or rnd.random() < 0.2
+        if int_digits + frac_digits == 0:
+            frac_digits = 1
+        values.append(_decimal(rnd, int_digits, frac_digits, dot))
+    # the word's surroundings: end of line, blanks, CR, a comment, the next word, lower case,
+    # a minus sign, blanks between the letter and the number
+    forms = ["G1 X{}\n", "G1 X{} Y1\n", "G1 X{}\r\n", "G1 X{}(c)Y1\n", "G1 X{} ; c\n", "g1 x{}\n",
+             "G1 X {}\n", "G1 X\t{} // c\n", "G1 X-{}\n", "G1 X -{} Y2\n"]
+    lines, expected = [], []
+    for k, v in enumerate(values):
+        form = forms[k % len(forms)]
+        lines.append(form.format(v))
+        expected.append(-float(v) if "-{}" in form else float(v))
+    r = ok(host, "G90\n" + "".join(lines), start=[0] * 10)
+    assert [p.e[0] for p in r.g] == expected
+
+
+@pytest.mark.parametrize("text", ["1.5", "0.25", "12345.678", "7", "0.0001"])
+def test_number_then_expression_agree(host, text):
+    """A number followed by an operator leaves the number's path for the expression
+    parser's: both read it the same."""
+    r = ok(host, f"G90\nG1 X{text}\nG1 X{text}+0\nG1 X ( {text} )\nG1 X{text} * 1\nG1 X-{text}\n"
+                 f"G1 X-{text}-0\nG1 X0-{text}\n", start=[0] * 10)
+    v = float(text)
+    assert [p.e[0] for p in r.g] == [v, v, v, v, -v, -v, -v]
+
+
 # ------------------------------------------------------------ program flow
 
 def test_loops_and_conditions(host):

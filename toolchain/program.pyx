@@ -143,7 +143,7 @@ cdef bint program_grow_shared(ProgramBuilder *build, void **buf, size_t *cap, si
     return ok
 
 
-cdef Part *program_add_part(ProgramBuilder *build) noexcept nogil:
+cdef inline Part *program_add_part(ProgramBuilder *build) noexcept nogil:
     """Appends a zeroed part (zero_idx 0, file -1); NULL when out of memory."""
     cdef Program *prog = &build.prog
     cdef Part *p
@@ -364,7 +364,7 @@ cdef int64_t program_add_text(ProgramBuilder *build, const char *text, size_t n)
     return <int64_t>off
 
 
-cdef bint program_set_end(ProgramBuilder *build, Part *p, const double *end) noexcept nogil:
+cdef inline bint program_set_end(ProgramBuilder *build, Part *p, const double *end) noexcept nogil:
     """Sets the programmed end of part p (all ten axes): x y z in the part, the other
     seven as an entry of Program.axes (the last one again when they did not move).
     False when memory is exhausted."""

@@ -359,11 +359,14 @@ cdef inline void _x_feed_mode(CState *st, const Block *b) noexcept nogil:
 
 cdef inline void _x_values(CState *st, const LineWords *lw, const Block *b) noexcept nogil:
     """3. F S T (unless a function of the line uses the letter), FF, FP."""
-    if not (b.consumed & bit_of(b'F')) and has(lw, b'F'):
+    cdef uint32_t given = lw.mask & ~b.consumed & (bit_of(b'F') | bit_of(b'S') | bit_of(b'T'))
+    if given == 0 and not (lw.has_fp or lw.has_ff):
+        return              # (most lines)
+    if given & bit_of(b'F'):
         st.feed = val(lw, b'F')
-    if not (b.consumed & bit_of(b'S')) and has(lw, b'S'):
+    if given & bit_of(b'S'):
         st.spindle = <float>val(lw, b'S')
-    if not (b.consumed & bit_of(b'T')) and has(lw, b'T'):
+    if given & bit_of(b'T'):
         st.tool = to_int(val(lw, b'T'))
     if lw.has_fp and st.params.forceMode != 1:
         st.fp = lw.fp

@@ -34,8 +34,8 @@ cdef int cp_line(CState *st, const char *p, const char *eol) noexcept nogil:
             if fl_rest_of_line(st, q + 1, eol) != 0:
                 return R_ERR
             return R_NEXT
-        a = lx_alpha_run(p, eol)
-        if a >= 2:
+        if n >= 2 and lx_is_alpha(p[0]) and lx_is_alpha(p[1]):     # (a keyword: two letters at least)
+            a = lx_alpha_run(p, eol)
             q = p + a
             if lx_eq(p, a, "IF"):
                 return fl_if(st, q, eol)

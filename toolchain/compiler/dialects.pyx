@@ -99,20 +99,31 @@ cdef const char *ngc_unsupported(double gv) noexcept nogil:
     return NULL
 
 
-cdef int cp_set_motion(CState *st, Block *b, int g, int col) noexcept nogil:
+cdef int _iso_second_motion(CState *st, Block *b, int g, int col) noexcept nogil:
+    """cp_set_motion's ISO rule for a second motion word g of the line: 1 when G80 leaves
+    the first one, 0 when g replaces it (with warning 621 unless the first was G80),
+    R_ERR (error 414, strict)."""
+    cdef char why[160]
+    if g == 80:
+        return 1
+    if b.motion != 80:
+        c_snprintf(why, sizeof(why), "a second motion word on the line after G%d "
+                   "(two G words of one modal group)", b.motion)
+        if ngc_refused(st, word_at_column(st, col), col, why, "runs the later one") != 0:
+            return R_ERR
+    return 0
+
+
+cdef inline int cp_set_motion(CState *st, Block *b, int g, int col) noexcept nogil:
     """A motion word (group 1) of the line into the block. TG: the later one counts. ISO
     mode, LinuxCNC's rule: G80 never replaces another motion word of the line, and
     another replaces a G80 (`G0 G90 G80` and `G80 G0` both leave G0); two motion words
     other than G80 LinuxCNC refuses: warning 621 (the later counts), error 414 strict."""
-    cdef char why[160]
+    cdef int r
     if st.iso and b.motion >= 0:
-        if g == 80:
-            return 0
-        if b.motion != 80:
-            c_snprintf(why, sizeof(why), "a second motion word on the line after G%d "
-                       "(two G words of one modal group)", b.motion)
-            if ngc_refused(st, word_at_column(st, col), col, why, "runs the later one") != 0:
-                return R_ERR
+        r = _iso_second_motion(st, b, g, col)
+        if r != 0:
+            return R_ERR if r < 0 else 0
     b.motion = g
     b.motion_col = col
     return 0

@@ -84,7 +84,13 @@ cdef int em_settings(CState *st, Part *p, const PartSettings *s) noexcept nogil:
 cdef extern from *:
     """
     #define SF_CTZ(x) __builtin_ctz(x)
-    #define SF_POPCOUNT(x) __builtin_popcount(x)
+    /* the bits of x counted in registers: without -mpopcnt __builtin_popcount is a
+       call into libgcc, once per part */
+    static inline int SF_POPCOUNT(uint32_t x) {
+        x = x - ((x >> 1) & 0x55555555u);
+        x = (x & 0x33333333u) + ((x >> 2) & 0x33333333u);
+        return (int)((((x + (x >> 4)) & 0x0F0F0F0Fu) * 0x01010101u) >> 24);
+    }
     """
     int SF_CTZ(uint32_t x) nogil
     int SF_POPCOUNT(uint32_t x) nogil

@@ -308,16 +308,15 @@ cdef int ex_sum(CState *st, const char **pp, const char *eol, double *out, int d
             return ex_not_finite(st, start, pp[0])
 
 
-cdef int ex_value(CState *st, const char **pp, const char *eol, double *out) noexcept nogil:
+cdef inline int ex_value(CState *st, const char **pp, const char *eol, double *out) noexcept nogil:
     """A word's value: a plain number takes the fast path, anything else the full
     expression parser."""
     cdef const char *p = pp[0]
     cdef const char *q
     cdef int r
-    cdef bint neg = False
-    if p + 1 < eol and p[0] == b'-' and lx_is_digit(p[1]):
-        neg = True
-        p += 1
+    cdef bint neg = p < eol and p[0] == b'-'
+    if neg:
+        p += 1      # (not followed by a digit: the expression parser reads it from pp)
     if p < eol and lx_is_digit(p[0]):
         q = p
         r = lx_number(&q, eol, out)
@@ -326,8 +325,7 @@ cdef int ex_value(CState *st, const char **pp, const char *eol, double *out) noe
         if r == 0:
             # done unless an operator follows (X10+P1)
             p = lx_skip_ws(q, eol)
-            if p >= eol or not (p[0] == b'+' or p[0] == b'-' or p[0] == b'*' or p[0] == b'/'
-                                or p[0] == b'%' or p[0] == b'^'):
+            if p >= eol or not lx_is_operator(p[0]):
                 pp[0] = q
                 return 0
             if p[0] == b'/' and p + 1 < eol and p[1] == b'/':

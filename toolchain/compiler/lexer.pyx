@@ -10,23 +10,44 @@ cdef extern from *:
     static const double sf_pow10_exact[23] = {
         1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14,
         1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+    /* The blanks (space, tab, CR, form feed, vertical tab) as bits of their codes. */
+    static const uint64_t sf_lx_blanks = (1ULL << ' ') | (1ULL << '\\t') | (1ULL << '\\r')
+        | (1ULL << '\\f') | (1ULL << '\\v');
+    /* The operators an expression continues with (+ - * / % ^) as bits of their codes
+       from '%' (37) on: all lie below '%' + 64. */
+    static const uint64_t sf_lx_operators = (1ULL << ('+' - '%')) | (1ULL << ('-' - '%'))
+        | (1ULL << ('*' - '%')) | (1ULL << ('/' - '%')) | (1ULL << 0) | (1ULL << ('^' - '%'));
+    /* The characters of identifiers (letters, digits, '_') at their codes, '.' elsewhere. */
+    static const char sf_lx_ident_chars[129] =
+        "................................................0123456789......."
+        "ABCDEFGHIJKLMNOPQRSTUVWXYZ...._.abcdefghijklmnopqrstuvwxyz.....";
     """
     const double sf_pow10_exact[23]
+    const char sf_lx_ident_chars[129]
+    const uint64_t sf_lx_blanks
+    const uint64_t sf_lx_operators
 
 
 cdef inline bint lx_is_digit(char c) noexcept nogil:
-    """Whether c is a decimal digit."""
-    return c >= b'0' and c <= b'9'
+    """Whether c is a decimal digit (one unsigned compare)."""
+    return <unsigned int>(<unsigned char>c) - 48u <= 9u
 
 
 cdef inline bint lx_is_alpha(char c) noexcept nogil:
-    """Whether c is an ASCII letter."""
-    return (c >= b'A' and c <= b'Z') or (c >= b'a' and c <= b'z')
+    """Whether c is an ASCII letter: with bit 5 set (lower case) it lies in 'a'..'z'
+    (one unsigned compare)."""
+    return <unsigned int>(<unsigned char>c | 32u) - 97u < 26u
+
+
+cdef inline bint lx_is_blank(char c) noexcept nogil:
+    """Whether c is a blank (space, tab, CR, form feed, vertical tab): a character above
+    ' ', the usual one, costs one compare."""
+    return <unsigned char>c <= 32 and (sf_lx_blanks >> <unsigned char>c) & 1
 
 
 cdef inline bint lx_is_ident(char c) noexcept nogil:
-    """Whether c may continue an identifier: a letter, a digit or '_'."""
-    return lx_is_alpha(c) or lx_is_digit(c) or c == b'_'
+    """Whether c may continue an identifier: a letter, a digit or '_' (one look-up)."""
+    return <unsigned char>c < 128 and sf_lx_ident_chars[<unsigned char>c] != b'.'
 
 
 cdef inline char lx_upper(char c) noexcept nogil:
@@ -36,9 +57,16 @@ cdef inline char lx_upper(char c) noexcept nogil:
     return c
 
 
+cdef inline bint lx_is_operator(char c) noexcept nogil:
+    """Whether c is an operator an expression continues with: + - * / % ^ (two compares
+    for a letter or a digit)."""
+    cdef unsigned int k = <unsigned int>(<unsigned char>c) - 37u
+    return k < 64u and (sf_lx_operators >> k) & 1
+
+
 cdef inline const char *lx_skip_ws(const char *p, const char *eol) noexcept nogil:
     """p past the blanks (space, tab, CR, form feed, vertical tab), at most to eol."""
-    while p < eol and (p[0] == b' ' or p[0] == b'\t' or p[0] == b'\r' or p[0] == b'\f' or p[0] == b'\v'):
+    while p < eol and lx_is_blank(p[0]):
         p += 1
     return p
 
@@ -100,6 +128,8 @@ cdef inline const char *lx_skip_gap(const char *p, const char *eol, int *status)
         p = lx_skip_ws(p, eol)
         if p >= eol:
             return eol
+        if lx_is_alpha(p[0]):
+            return p            # a word's letter (the usual)
         if p[0] == b'(':
             q = <const char *>memchr(p, b')', eol - p)
             if q == NULL:
@@ -112,50 +142,12 @@ cdef inline const char *lx_skip_gap(const char *p, const char *eol, int *status)
         return p
 
 
-cdef int lx_number(const char **pp, const char *eol, double *out) noexcept nogil:
-    """Plain decimal number (digits, optional '.', digits; no sign, no exponent: 'E'
-    is an address). Fast exact path when the digits fit 2^53 and at most 22 decimals,
-    else strtod (C locale) on a copy. 0 ok, -1 not a number, -2 bad number (e.g.
-    '1.2.3'), -3 a number too large for a double (pp is then past it)."""
-    cdef const char *p = pp[0]
-    cdef const char *start = p
-    cdef unsigned long long mant = 0
-    cdef int frac = 0, ndig = 0
-    cdef bint exact
+cdef int _lx_number_strtod(const char *start, const char *end, double *out) noexcept nogil:
+    """lx_number's number [start, end) that is no exact one (more than 19 digits, a
+    mantissa above 2^53 or more than 22 decimals): strtod (C locale) on a copy. 0 ok,
+    -2 longer than NUMBER_MAX_CHARS, -3 too large for a double."""
     cdef char buf[NUMBER_MAX_CHARS + 1]
-    cdef int n
-    cdef unsigned int d
-    # up to 19 digits fit a uint64 exactly; more digits go to c_strtod
-    while p < eol:
-        d = <unsigned int>(<unsigned char>p[0]) - 48u
-        if d > 9u:
-            break
-        if ndig < 19:
-            mant = mant * 10u + d
-        ndig += 1
-        p += 1
-    if p < eol and p[0] == b'.':
-        p += 1
-        while p < eol:
-            d = <unsigned int>(<unsigned char>p[0]) - 48u
-            if d > 9u:
-                break
-            if ndig < 19:
-                mant = mant * 10u + d
-                frac += 1
-            ndig += 1
-            p += 1
-    if ndig == 0:
-        return -1
-    if p < eol and (p[0] == b'.' or lx_is_digit(p[0])):
-        pp[0] = p
-        return -2
-    exact = ndig <= 19
-    pp[0] = p
-    if exact and mant <= 9007199254740992ULL and frac <= 22:
-        out[0] = <double>mant / sf_pow10_exact[frac]
-        return 0
-    n = <int>(p - start)
+    cdef int n = <int>(end - start)
     if n > NUMBER_MAX_CHARS:
         return -2
     memcpy(buf, start, n)
@@ -164,3 +156,46 @@ cdef int lx_number(const char **pp, const char *eol, double *out) noexcept nogil
     if not isfinite(out[0]):
         return -3
     return 0
+
+
+cdef int lx_number(const char **pp, const char *eol, double *out) noexcept nogil:
+    """Plain decimal number (digits, optional '.', digits; no sign, no exponent: 'E'
+    is an address). Fast exact path when the digits fit 2^53 and at most 22 decimals,
+    else strtod (C locale) on a copy. 0 ok, -1 not a number, -2 bad number (e.g.
+    '1.2.3'), -3 a number too large for a double (pp is then past it)."""
+    cdef const char *p = pp[0]
+    cdef const char *start = p
+    cdef const char *dot
+    cdef unsigned long long mant = 0
+    cdef int frac = 0, ndig
+    cdef unsigned int d
+    # every digit goes into mant: past 19 digits it wraps (unsigned arithmetic), but
+    # such a number is no exact one and _lx_number_strtod reads it
+    while p < eol:
+        d = <unsigned int>(<unsigned char>p[0]) - 48u
+        if d > 9u:
+            break
+        mant = mant * 10u + d
+        p += 1
+    ndig = <int>(p - start)
+    if p != eol and p[0] == b'.':       # (!=: the loop's own test, no flag kept through it)
+        p += 1
+        dot = p
+        while p < eol:
+            d = <unsigned int>(<unsigned char>p[0]) - 48u
+            if d > 9u:
+                break
+            mant = mant * 10u + d
+            p += 1
+        frac = <int>(p - dot)
+        ndig += frac
+    if ndig == 0:
+        return -1
+    pp[0] = p
+    if p != eol and p[0] == b'.':       # a second '.' (a digit cannot follow: the loops took them)
+        return -2
+    # up to 15 digits are below 2^53 with at most 15 decimals: one test for most numbers
+    if ndig <= 15 or (ndig <= 19 and mant <= 9007199254740992ULL and frac <= 22):
+        out[0] = <double>mant / sf_pow10_exact[frac]
+        return 0
+    return _lx_number_strtod(start, p, out)

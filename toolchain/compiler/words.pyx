@@ -173,20 +173,22 @@ cdef int _word_address(CState *st, const char **pp, const char *eol, LineWords *
     cdef char letter[2]
     letter[0] = <char>L
     letter[1] = 0
-    if L == 76 and q < eol and (lx_is_alpha(q[0]) or q[0] == b'_') \
-            and not ((q[0] == b'P' or q[0] == b'p') and q + 1 < eol and lx_is_digit(q[1])):
-        n = lx_ident_run(q, eol)
-        if lx_skip_ws(q + n, eol) >= eol or lx_skip_ws(q + n, eol)[0] != b'(':
-            lw.label = q          # L name: a label target
-            lw.label_len = n
-            pp[0] = q + n
-            return WORDS_MORE
-    if L == 79 and q < eol and q[0] == b'<':
-        return err_not_tg(st.err, st.unit.file_idx, st.line, cword_at(st, w, eol), col, "O-word subroutines are LinuxCNC G-code; TG uses labels (name:) with CALL")
-    if not st.iso and q < eol and (q[0] == b'[' or q[0] == b'#'):
-        return cp_bad_word(st, q, eol, column_of(st, q), lw)      # LinuxCNC's (F#<_hal[..]>)
-    if not _value_starts(st, q, eol):
-        return err_missing_value(st.err, st.unit.file_idx, st.line, letter, col)
+    # a digit after the letter (most words) is a value: none of the cases below
+    if q >= eol or not lx_is_digit(q[0]):
+        if L == 76 and q < eol and (lx_is_alpha(q[0]) or q[0] == b'_') \
+                and not ((q[0] == b'P' or q[0] == b'p') and q + 1 < eol and lx_is_digit(q[1])):
+            n = lx_ident_run(q, eol)
+            if lx_skip_ws(q + n, eol) >= eol or lx_skip_ws(q + n, eol)[0] != b'(':
+                lw.label = q          # L name: a label target
+                lw.label_len = n
+                pp[0] = q + n
+                return WORDS_MORE
+        if L == 79 and q < eol and q[0] == b'<':
+            return err_not_tg(st.err, st.unit.file_idx, st.line, cword_at(st, w, eol), col, "O-word subroutines are LinuxCNC G-code; TG uses labels (name:) with CALL")
+        if not st.iso and q < eol and (q[0] == b'[' or q[0] == b'#'):
+            return cp_bad_word(st, q, eol, column_of(st, q), lw)      # LinuxCNC's (F#<_hal[..]>)
+        if not _value_starts(st, q, eol):
+            return err_missing_value(st.err, st.unit.file_idx, st.line, letter, col)
     if _word_value(st, &q, eol, &v) != 0:
         return R_ERR
     if L != 71 and L != 77 and L != 76 and number_gate(st, v, letter) != 0:
