@@ -336,6 +336,40 @@ def test_size_info_of_a_large_compensated_program(rotated):
             assert info.m_size[0].m_maximalPos.x == info.m_size[2].m_maximalPos.x
 
 
+@pytest.mark.parametrize("middle_y", [300.001, 0.001])
+def test_size_info_after_the_joins_of_a_program_measured_beside_its_merge(middle_y):
+    """The extent measured beside the merge stays the program's when the joins that
+    follow leave out no end point on one of its bounds, and is measured again when
+    they do: a large compensated program (its extent measured beside the merge) ends
+    with three nearly collinear uncompensated lines the joins make one (tolerance[2]
+    0.03 degrees, [3] 0.005 mm); the end point they leave out is the program's
+    highest (300.001) or lies inside (0.001). The extents against the closed forms
+    over the toolpath, which no longer holds that point."""
+    import numpy as np
+    rng = random.Random(11)
+    lines = ["G0 X0 Y0"]
+    for k in range(5000):
+        x, y, w, h = rng.uniform(-200, 200), rng.uniform(-200, 200), rng.uniform(1, 8), rng.uniform(1, 8)
+        lines += [f"G0 X{x:.3f} Y{y - 1:.3f}", f"G42 G1 X{x:.3f} Y{y:.3f} F3000", f"G1 X{x + w:.3f}",
+                  f"G1 Y{y + h:.3f}", f"G1 X{x:.3f}", f"G1 Y{y:.3f}", f"G40 G1 X{x:.3f} Y{y - 1:.3f}"]
+    base = 300.0 if middle_y > 1 else 0.0
+    lines += [f"G0 X-50 Y{base}", f"G1 X0 Y{middle_y} F3000", f"G1 X50 Y{base}"]
+    with sf_tch.compile("\n".join(lines) + "\n", radius=0.2, params={"absMode": 1},
+                        start=[0.0] * 10) as program:
+        program.check()
+        tp = program.toolpath
+        assert len(tp.records) > 16384                          # the merge's thread measured
+        assert not (np.abs(tp.records["end"][:, 1] - middle_y) < 1e-9).any()    # joined away
+        info = program.size_info
+        for kind, tool in ((2, False), (3, True)):
+            lo, hi = _exact_xy_extent(tp, tool)
+            size = info.m_size[kind]
+            assert (size.m_minimalPos.x, size.m_minimalPos.y) == pytest.approx(tuple(lo), abs=1e-9)
+            assert (size.m_maximalPos.x, size.m_maximalPos.y) == pytest.approx(tuple(hi), abs=1e-9)
+        if middle_y > 1:
+            assert info.m_size[2].m_maximalPos.y == 300.0       # the point left out was the highest
+
+
 def test_test_regime_reports_machine_limit_violations(core):
     machine = abi.MACHINE_PARAMETERS()
     machine.minCoords.x, machine.maxCoords.x = 0.0, 50.0

@@ -227,11 +227,13 @@ cdef int _compile_job(Core *core, CompileJob *job, ProgramBuilder *build, GCODE_
     tc_set_stage("the automatic arcs")
     if result != COMPILE_OK:
         free(settle)
-    elif join_lines(build, &inp.params, not mfunc_insert_wanted(&inp.params), settle,
-                    &plan_ahead.watch if ahead else NULL) != COMPILE_OK:
-        result = COMPILE_ERROR
-        err_out_of_memory(err, job.files[0], 0)
-    measured = measured and build.prog.n_parts == n_parts      # no automatic arcs came in, no lines joined
+    else:
+        measured = measured and build.prog.n_parts == n_parts  # no automatic arcs came in
+        if join_lines(build, &inp.params, not mfunc_insert_wanted(&inp.params), settle,
+                      &plan_ahead.watch if ahead else NULL, extent if measured else NULL,
+                      &measured) != COMPILE_OK:
+            result = COMPILE_ERROR
+            err_out_of_memory(err, job.files[0], 0)
     tc_set_stage("the plan")
     if ahead:
         if plan_ahead_end(&plan_ahead, build, result == COMPILE_OK, extent, measured) != COMPILE_OK \

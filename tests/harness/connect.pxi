@@ -216,6 +216,7 @@ def compile(text, params=None, start=None, bint cancelled=False):
     cdef Compiled c = Compiled()
     cdef ErrorInfo err
     cdef int rc
+    cdef bint kept              # (no extent measured before the joins)
     cdef int32_t cancel = 1 if cancelled else 0
     cdef timespec t0, t1
     cdef bytes src = text.encode("latin-1")
@@ -246,7 +247,7 @@ def compile(text, params=None, start=None, bint cancelled=False):
         if rc == COMPILE_OK:
             rc = insert_arcs(&c.build, &inp.params, &err)
         if rc == COMPILE_OK:
-            rc = join_lines(&c.build, &inp.params, False, NULL, NULL)
+            rc = join_lines(&c.build, &inp.params, False, NULL, NULL, NULL, &kept)
         if rc == COMPILE_OK:
             rc = plan_program(&c.build, &inp.params, 0, 0)
         if rc == COMPILE_OK:

@@ -74,6 +74,7 @@ def plan_text(text, params=None, long long window=0, unsigned int enhanced=0, bi
     cdef size_t k
     cdef timespec t0, t1, t2
     cdef GCODE_INFO extent
+    cdef bint kept              # (no extent measured before the joins)
     cdef size_t split = 0
     cdef double run_time = 0.0
     program_builder_init(&build)
@@ -84,7 +85,7 @@ def plan_text(text, params=None, long long window=0, unsigned int enhanced=0, bi
     if rc == COMPILE_OK:
         rc = insert_arcs(&build, &inp.params, &err)
     if rc == COMPILE_OK:
-        rc = join_lines(&build, &inp.params, False, NULL, NULL)
+        rc = join_lines(&build, &inp.params, False, NULL, NULL, NULL, &kept)
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t1)
     timing = dict(compile=(t1.tv_sec - t0.tv_sec) + 1e-9 * (t1.tv_nsec - t0.tv_nsec), plan=0.0)
     if rc == COMPILE_OK:

@@ -340,9 +340,11 @@ cdef bint insert_arcs_idle(const Program *prog, const GCODE_PARAMETERS *params) 
 # joined (tolerance[2], [3]; join_lines.pyx), before the extent and the plan; `number`:
 # nothing is inserted after it, so it numbers the parts it keeps (program_number_parts);
 # `settle`: compensate_end's roles (freed here), or NULL; `watch` (may be NULL) hears
-# how far the parts are final (the plan made beside it, pipeline.pyx)
+# how far the parts are final (the plan made beside it, pipeline.pyx); `extent` (may be
+# NULL): the extent measured beside the merge, *extent_holds: it is still the program's
 cdef int join_lines(ProgramBuilder *build, const GCODE_PARAMETERS *params, bint number,
-                    uint8_t *settle, const PartsWatch *watch) noexcept nogil
+                    uint8_t *settle, const PartsWatch *watch, const GCODE_INFO *extent,
+                    bint *extent_holds) noexcept nogil
 # a part without motion in the plane takes the compensated position it sits at (`cur`:
 # the previous part's compensated end, or the program's start)
 cdef void settle_follower(Part *p, const double *cur) noexcept nogil

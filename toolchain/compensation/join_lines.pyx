@@ -109,8 +109,23 @@ cdef void _settle_all(Program *prog, const uint8_t *settle) noexcept nogil:
             settle_follower(&prog.parts[r], &prog.parts[r - 1].ce[0] if r > 0 else &prog.start[0])
 
 
+cdef inline bint _narrows(const GCODE_SIZE *size, const double *a, const double *b,
+                          const double *v) noexcept nogil:
+    """Whether leaving point v (x y z) out of a path that keeps the line a-b can narrow
+    the extent `size`: only where v lies beyond both a and b in some axis, on that
+    side's bound."""
+    cdef const double *lo = <const double *>&size.m_minimalPos
+    cdef const double *hi = <const double *>&size.m_maximalPos
+    cdef int k
+    for k in range(3):
+        if (v[k] < a[k] and v[k] < b[k] and v[k] <= lo[k]) or (v[k] > a[k] and v[k] > b[k] and v[k] >= hi[k]):
+            return True
+    return False
+
+
 cdef int join_lines(ProgramBuilder *build, const GCODE_PARAMETERS *params, bint number,
-                    uint8_t *settle, const PartsWatch *watch) noexcept nogil:
+                    uint8_t *settle, const PartsWatch *watch, const GCODE_INFO *extent,
+                    bint *extent_holds) noexcept nogil:
     """tolerance[4] on uncompensated arcs, tolerance[2] and [3] on consecutive G1 parts
     (above); the planning regions follow the parts. With `number` (nothing is inserted
     after it) the parts it keeps get the driver's G-code indexes on the way, as
@@ -118,7 +133,11 @@ cdef int join_lines(ProgramBuilder *build, const GCODE_PARAMETERS *params, bint 
     compensation's roles, freed here) the parts without motion in the plane first take
     the compensated position they sit at, as the merge would have. `watch` hears, with
     the joins, how far the parts kept are final (all but the last one kept: a join may
-    still replace it). COMPILE_OK, or COMPILE_ERROR when out of memory.
+    still replace it). `extent` (may be NULL): the extent measured before (beside the
+    merge); *extent_holds tells whether it is still the program's (no arc became a
+    line, no end point left out lay beyond its joined line on one of its bounds, no
+    rotation to undo).
+    COMPILE_OK, or COMPILE_ERROR when out of memory.
 
     Most G1 parts join nothing: the test of their turn compares squares first and
     takes the unit vectors (a square root, three divisions) only where the turn may
@@ -146,6 +165,7 @@ cdef int join_lines(ProgramBuilder *build, const GCODE_PARAMETERS *params, bint 
     cdef Part *q
     cdef const double *before_e
     cdef const double *before_c
+    extent_holds[0] = extent != NULL and settle == NULL     # (followers settled here move)
     do_join = tol_angle > 0.0 and tol_angle < 90.0
     # the joins (when they run) visit every part: they number them whether they join
     # any or not; else only a program whose indexes need it is numbered
@@ -181,6 +201,7 @@ cdef int join_lines(ProgramBuilder *build, const GCODE_PARAMETERS *params, bint 
                 and part_extra(prog, p).radius < min_arc:
             p.func = 1                  # a line to its end point
             p.flags = p.flags & ~FLAG_HELIX
+            extent_holds[0] = False     # (its extreme points are gone)
             if not (p.flags & FLAG_CSS):
                 p.extra = 0             # no centre, no radius
         if not do_join:
@@ -229,6 +250,17 @@ cdef int join_lines(ProgramBuilder *build, const GCODE_PARAMETERS *params, bint 
                                 join = False
                                 break
         if join:
+            # the run's end points left out leave the path: the extent narrows only where
+            # one lay beyond the joined line, on a bound (as written, under a rotation,
+            # the bounds are others: measured again)
+            if extent_holds[0]:
+                if prog.n_rotations > 1:
+                    extent_holds[0] = False
+                for k in range(run + 1):
+                    if (not extent_holds[0] or _narrows(&extent.m_size[2], run_start_e, p.e, &left_e[3 * k])
+                            or _narrows(&extent.m_size[3], run_start_c, p.ce, &left_c[3 * k])):
+                        extent_holds[0] = False
+                        break
             prog.parts[w - 1] = p[0]    # the later part, from where the run began
             run += 1
             d_last[0] = d_new[0]; d_last[1] = d_new[1]; d_last[2] = d_new[2]
