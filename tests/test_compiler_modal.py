@@ -113,3 +113,22 @@ def test_a_line_runs_in_one_order_whatever_the_order_written(host):
     for order in itertools.islice(itertools.permutations(words), 0, None, 997):
         r = ok(host, "G1 X1 Y1 F100\n" + " ".join(order) + "\n", start=[0] * 10)
         assert parts(r) == parts(spread), order
+
+
+def test_modal_groups_on_a_line_of_their_own_or_on_the_move(host):
+    """A line without a G function of groups 1, 2, 4 .. 10 (most: a move) skips those groups
+    (block.pyx's cp_block): the groups written on lines of their own, or on the moves' lines,
+    give the same parts."""
+    pairs = [("G91", "G1 X1 Y1 F100"), ("G95", "X2 Y3 F0.5"), ("G19", "G0 X4"), ("G94 G17", "X5 Z1"),
+             ("G90", "G1 Y2 F200"), ("G96 S100", "X7"), ("G97 G41", "G1 X8 Y1"), ("G40 G169", "G0 Y9")]
+    apart = "\n".join(f"{g}\n{move}" for g, move in pairs) + "\n"
+    together = "\n".join(f"{g} {move}" for g, move in pairs) + "\n"
+
+    def seen(r):
+        return [(q.kind, q.func, q.e, q.plane, q.per_min, q.comp, q.fp, q.feed, q.tool, q.zero) for q in r.parts]
+
+    a, b = ok(host, apart, start=[0] * 10), ok(host, together, start=[0] * 10)
+    assert len(a.parts) == len(pairs)
+    assert seen(a) == seen(b)
+    assert [q.plane for q in a.parts] == [17, 17, 19, 17, 17, 17, 17, 17]
+    assert [q.per_min for q in a.parts] == [1, 0, 1, 1, 1, 1, 1, 1]

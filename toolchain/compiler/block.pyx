@@ -206,6 +206,7 @@ cdef int cp_read_g(CState *st, const LineWords *lw, int i, Block *b) noexcept no
     cdef int g = to_int(gv), r
     cdef uint32_t axes = axes_mask()
     if st.iso:
+        b.settings = True           # (the ISO mode's groups are not told apart: all run)
         r = iso_read_g(st, lw, i, b)
         if r != 0:
             return r if r < 0 else 0
@@ -216,21 +217,25 @@ cdef int cp_read_g(CState *st, const LineWords *lw, int i, Block *b) noexcept no
             return R_ERR
         if g == 33:
             b.consumed |= bit_of(b'K') | bit_of(b'F')
-    elif g == 4:
+        return 0
+    if g == 4:
         b.dwell = True
         b.consumed |= bit_of(b'W') | bit_of(b'H') | bit_of(b'X') | bit_of(b'T')
-    elif g == 17 or g == 18 or g == 19 or g == -18:
-        b.plane = g
-    elif g == 21:
-        b.units = g
-    elif g == 29:
-        pass                # a comment
-    elif g == 24:
-        b.lathe_radius = True
-    elif g == 25 or g == 26 or g == 27:
+        return 0
+    if g == 29:
+        return 0            # a comment
+    if g == 25 or g == 26 or g == 27:
         b.jump = g
         b.jump_col = lw.gcol[i]
         b.consumed |= bit_of(b'L') | bit_of(b'H')
+        return 0
+    b.settings = True       # the others set groups 1, 2, 4 .. 10
+    if g == 17 or g == 18 or g == 19 or g == -18:
+        b.plane = g
+    elif g == 21:
+        b.units = g
+    elif g == 24:
+        b.lathe_radius = True
     elif g >= 40 and g <= 48:
         if g == 43 and has(lw, b'H'):     # (the ISO mode took G43 above)
             if warning_wanted(st):
@@ -642,26 +647,17 @@ cdef int _x_flow(CState *st, const LineWords *lw, const Block *b, bint ret) noex
     return R_NEXT
 
 
-cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
-    """Executes the words of one line: read into groups, the groups in the order above
-    (a group not on the line costs a test: most lines are a move and its words)."""
-    cdef Block b
-    cdef bint ret = False, end = False
-    if cp_read_block(st, lw, &b) != 0:
-        return R_ERR
-    if b.g900_col != 0 and _x_parameters(st, lw, &b) != 0:
-        return R_ERR
-    _x_feed_mode(st, &b)
-    _x_values(st, lw, &b)
+cdef int _x_settings(CState *st, const LineWords *lw, const Block *b) noexcept nogil:
+    """4. .. 10. Plane, units, compensation, coordinates, path, distance mode, shift."""
     if b.plane != 0:
         st.plane = b.plane
     if b.units == 21:
         st.iso_header = True
-    if (b.comp != 0 or b.length != 0 or lw.has_amp or has(lw, b'D')) and tl_select(st, lw, &b) != 0:
+    if (b.comp != 0 or b.length != 0 or lw.has_amp or has(lw, b'D')) and tl_select(st, lw, b) != 0:
         return R_ERR
-    if (b.zero != 0 or b.rotation != 0 or b.coord != 0) and _x_coordinates(st, lw, &b) != 0:
+    if (b.zero != 0 or b.rotation != 0 or b.coord != 0) and _x_coordinates(st, lw, b) != 0:
         return R_ERR
-    if (b.g167 or b.strategy != 0) and _x_path(st, lw, &b) != 0:
+    if (b.g167 or b.strategy != 0) and _x_path(st, lw, b) != 0:
         return R_ERR
     if b.distance != 0:
         st.absolute = b.distance == 90
@@ -670,7 +666,25 @@ cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
         st.ngc.ijk_absolute = b.ijk == 901
     if b.retract != 0:
         st.ngc.retract = b.retract
-    if (b.shift != 0 or b.shift_reset != 0 or b.g10 or b.home > 100) and _x_shift(st, lw, &b) != 0:
+    if (b.shift != 0 or b.shift_reset != 0 or b.g10 or b.home > 100) and _x_shift(st, lw, b) != 0:
+        return R_ERR
+    return 0
+
+
+cdef int cp_block(CState *st, LineWords *lw) noexcept nogil:
+    """Executes the words of one line: read into groups, the groups in the order above
+    (a group not on the line costs a test: most lines are a move and its words, and
+    set none of the groups 1, 2, 4 .. 10)."""
+    cdef Block b
+    cdef bint ret = False, end = False
+    if cp_read_block(st, lw, &b) != 0:
+        return R_ERR
+    if b.settings:
+        if b.g900_col != 0 and _x_parameters(st, lw, &b) != 0:
+            return R_ERR
+        _x_feed_mode(st, &b)
+    _x_values(st, lw, &b)
+    if (b.settings or lw.has_amp or has(lw, b'D')) and _x_settings(st, lw, &b) != 0:
         return R_ERR
     if not st.iso:
         if lw.first_is_o or b.zero != 0 or st.plane == 18 or b.dwell or b.motion < 0:

@@ -383,6 +383,7 @@ ctypedef struct Block:
     bint dwell              # G4
     bint lathe_radius       # G24
     bint g167               # automatic arcs
+    bint settings           # a G function of groups 1, 2, 4 .. 10 (ISO mode: any): cp_block runs them
     uint32_t consumed       # letters the line's functions use: no axis moves
     # the ISO compatibility mode (ngc_*.pyx): LinuxCNC's G functions of the line
     int home                # 28 30 (go home), 281 282 (G28.1 / G30.1: store)

@@ -82,22 +82,16 @@ cdef int cp_line(CState *st, const char *p, const char *eol) noexcept nogil:
 # ------------------------------------------------------------- the run loop
 
 cdef uint32_t count_lines(const char *text, size_t n) noexcept nogil:
-    """Lines in text[0, n): a last line without a line break counts; 0 for no text (text may
-    then be NULL)."""
-    cdef const char *p = text
-    cdef const char *end
-    cdef const char *q
-    cdef uint32_t lines = 0
+    """Lines in text[0, n): its line breaks, and a last line without one; 0 for no text (text
+    may then be NULL). A plain loop the C compiler vectorises: a memchr per line cost a call
+    a line."""
+    cdef uint32_t breaks = 0
+    cdef size_t i
     if n == 0:
         return 0                        # text may be NULL (no prefix): no pointer arithmetic on it
-    end = text + n
-    while p < end:
-        q = <const char *>memchr(p, b'\n', end - p)
-        lines += 1
-        if q == NULL:
-            break
-        p = q + 1
-    return lines
+    for i in range(n):
+        breaks += text[i] == b'\n'
+    return breaks + (text[n - 1] != b'\n')
 
 
 cdef inline bint _percent_line(const char *p, const char *eol) noexcept nogil:
