@@ -5,7 +5,7 @@ and its extents (GetGCodeSizeInfo).
 Speed work on the compiler must change none of it; tests/test_output_identity.py
 holds fixed programs, this draws new ones (lines of G words and addresses, numbers
 in every form the lexer reads and some it refuses, comments, a few statements),
-mostly valid, with radius compensation on a third of them.
+mostly valid, with radius compensation on a third of them, a quarter in the ISO mode.
 
     python tools/compile_diff.py --against OTHER_LIB [--seed 1] [--programs 3000]
 
@@ -25,8 +25,8 @@ CHILD = r"""
 import hashlib, json, sys
 from sf_tch.program import compile
 results = []
-for text, radius in json.load(open(sys.argv[1])):
-    kw = {"params": {"absMode": 1}, "start": [0.0] * 10}
+for text, radius, iso in json.load(open(sys.argv[1])):
+    kw = {"params": {"absMode": 1}, "start": [0.0] * 10, "iso": iso}
     if radius:
         kw["radius"] = radius
     with compile(text, **kw) as program:
@@ -44,7 +44,10 @@ ODD_NUMBERS = ["1.2.3", "12345678901234567890.5", "123456789012345678", "9007199
 ANY_LETTER = ["X", "Y", "Z", "F", "S", "T", "I", "J", "R", "x", "y", "G", "M", "N", "P", "L", "E", "A", "FP",
               "FF", "O"]
 G_WORDS = ["G0", "G1", "G01", "G2", "G3", "G4", "G17", "G90", "G91", "G41", "G42", "G40", "G1.5", "g1", "G 1",
-           "G80"]
+           "G80", "G0", "G1", "G1", "G2", "G3",
+           # modal groups beside the moves (planes, feed modes, offsets, rotation, arcs, strategy)
+           "G18", "G19", "G94", "G95", "G96", "G97", "G92", "G54", "G55", "G168", "G169", "G167", "G172", "G173",
+           "G21", "G24", "G43", "G25", "G29", "G900"]
 EXTRAS = ["(comment)", "; tail", "(unclosed", "%", "  ", "\t", "IF 1", "END", "label:", "GOTO label", "M30",
           "M2", "N10", "REM x", 'PRINT "a"', "&1"]
 
@@ -65,10 +68,11 @@ def random_line(rng: random.Random) -> str:
 
 
 def random_programs(seed: int, count: int) -> list:
-    """[text, radius] of `count` programs of 1..8 random lines after a first move."""
+    """[text, radius, ISO mode] of `count` programs of 1..8 random lines after a first
+    move; one in four in the ISO mode."""
     rng = random.Random(seed)
     return [["\n".join(["G1 X0 Y0 F1000"] + [random_line(rng) for _ in range(rng.randint(1, 8))]) + "\n",
-             rng.choice([0.0, 0.0, 0.2])] for _ in range(count)]
+             rng.choice([0.0, 0.0, 0.2]), rng.random() < 0.25] for _ in range(count)]
 
 
 def results_of(library: str | None, path: str) -> list:
@@ -101,7 +105,7 @@ def main() -> int:
     print(f"compile_diff: {len(programs)} programs (seed {args.seed}), {failed} end in an error, "
           f"{len(differ)} differ")
     for k in differ[:5]:
-        print(f"--- program {k} (radius {programs[k][1]}):\n{programs[k][0]}"
+        print(f"--- program {k} (radius {programs[k][1]}{', ISO mode' if programs[k][2] else ''}):\n{programs[k][0]}"
               f"this library:  {ours[k]}\nthe other one: {theirs[k]}")
     return 1 if differ else 0
 
