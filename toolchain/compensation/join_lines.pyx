@@ -123,6 +123,18 @@ cdef inline bint _narrows(const GCODE_SIZE *size, const double *a, const double 
     return False
 
 
+cdef bint _run_narrows(const GCODE_INFO *extent, const double *start_e, const double *start_c, const Part *p,
+                       const double *left_e, const double *left_c, size_t count) noexcept nogil:
+    """Whether the `count` end points a run leaves out (programmed, tool path) can narrow
+    the extents as run of a path that keeps the line from the run's start to p's end."""
+    cdef size_t k
+    for k in range(count):
+        if (_narrows(&extent.m_size[2], start_e, p.e, &left_e[3 * k])
+                or _narrows(&extent.m_size[3], start_c, p.ce, &left_c[3 * k])):
+            return True
+    return False
+
+
 cdef int join_lines(ProgramBuilder *build, const GCODE_PARAMETERS *params, bint number,
                     uint8_t *settle, const PartsWatch *watch, const GCODE_INFO *extent,
                     bint *extent_holds) noexcept nogil:
@@ -253,14 +265,9 @@ cdef int join_lines(ProgramBuilder *build, const GCODE_PARAMETERS *params, bint 
             # the run's end points left out leave the path: the extent narrows only where
             # one lay beyond the joined line, on a bound (as written, under a rotation,
             # the bounds are others: measured again)
-            if extent_holds[0]:
-                if prog.n_rotations > 1:
-                    extent_holds[0] = False
-                for k in range(run + 1):
-                    if (not extent_holds[0] or _narrows(&extent.m_size[2], run_start_e, p.e, &left_e[3 * k])
-                            or _narrows(&extent.m_size[3], run_start_c, p.ce, &left_c[3 * k])):
-                        extent_holds[0] = False
-                        break
+            if extent_holds[0] and (prog.n_rotations > 1 or _run_narrows(extent, run_start_e, run_start_c, p,
+                                                                         left_e, left_c, run + 1)):
+                extent_holds[0] = False
             prog.parts[w - 1] = p[0]    # the later part, from where the run began
             run += 1
             d_last[0] = d_new[0]; d_last[1] = d_new[1]; d_last[2] = d_new[2]
