@@ -40,6 +40,8 @@ exceed its target by at most 20 %: <= 1.8 x floor. The CAM job: radius 0 <= 1.3 
 floor, radius 0.15 <= 1.6 x floor (medians), peak RSS <= 150 MB. On a VM whose balloon reports free
 pages to the host the figures swing from round to round (benchmarks/fresh_memory.py).
 """
+from __future__ import annotations
+
 import argparse
 import json
 import statistics

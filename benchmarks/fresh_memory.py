@@ -11,6 +11,8 @@ freed), the first huge-page run of a round touches blocks the host has taken bac
 is slow; the second reuses the blocks the first just freed. The compile benchmark's
 figures swing with this (docs/benchmarks.md); run this before comparing rounds.
 """
+from __future__ import annotations
+
 import argparse
 import shutil
 import subprocess

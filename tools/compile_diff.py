@@ -12,6 +12,8 @@ mostly valid, with radius compensation on a third of them, a quarter in the ISO 
 This checkout's installed library (SF_TCH_LIBRARY picks another) against OTHER_LIB;
 exits 1 and shows the first programs whose results differ.
 """
+from __future__ import annotations
+
 import argparse
 import json
 import os
